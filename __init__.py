@@ -1,0 +1,30 @@
+"""Radiometer: physically based shading and radiometric analysis for Blender.
+
+The repository root is the extension package. Importing it must stay cheap and must not import
+``bpy``: the math packages (``radiometer.brdf``, ``radiometer.radiometry``) are used from plain
+Python too. Everything that touches Blender is imported inside ``register()``.
+"""
+
+__all__ = ["register", "unregister"]
+
+_registered_modules = []
+
+
+def _host_modules():
+    # Order matters: properties first (operators and panels refer to them), UI last.
+    from . import props, operators, panels, cli
+
+    return [props, operators, panels, cli]
+
+
+def register():
+    modules = _host_modules()
+    for module in modules:
+        module.register()
+        _registered_modules.append(module)
+
+
+def unregister():
+    # Exact mirror of register(): reverse order, only what was registered.
+    while _registered_modules:
+        _registered_modules.pop().unregister()
