@@ -1,0 +1,1 @@
+"""Pure-numpy radiometry core: units, photometry, analytic light irradiance, statistics (no bpy)."""
