@@ -1,0 +1,327 @@
+"""Numpy models of the Cycles closures that Radiometer realises BRDFs with (no bpy).
+
+Each function returns the BRDF value f in 1/sr (RGB, shape (..., 3)) WITHOUT the cosine factor, in
+the local frame z = normal, x = tangent. They are transcriptions of the Cycles 5.0 kernel code that
+ships inside the bpy wheel (``scripts/addons_core/cycles/source/kernel/closure/*.h``); the file
+and function each one follows is named in its docstring, so a Blender update can be re-checked.
+A rendered comparison (``shading.validate``) confirms them against Cycles itself.
+
+A closure network is a list of ``Term`` objects; ``evaluate_terms`` sums them.
+
+References
+----------
+Walter, Marschner, Li, Torrance (2007), "Microfacet models for refraction through rough surfaces",
+EGSR: GGX and Beckmann D, Smith Lambda, the rational Beckmann Lambda approximation.
+Heitz (2014), "Understanding the masking-shadowing function in microfacet-based BRDFs", JCGT 3(2):
+height-correlated Smith G = 1 / (1 + Lambda_i + Lambda_o).
+Schlick (1994), "An inexpensive BRDF model for physically-based rendering", CGF 13(3).
+Ashikhmin, Shirley (2000), "An anisotropic Phong BRDF model", JGT 5(2).
+Lafortune, Willems (1994), "Using the modified Phong reflectance model for physically based rendering".
+Fujii (2012) / Portsmouth et al. (2024, OpenPBR) "energy-preserving Oren-Nayar": Cycles' Oren-Nayar.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = [
+    "Term",
+    "evaluate_terms",
+    "microfacet",
+    "ashikhmin_shirley",
+    "phong_ramp",
+    "oren_nayar",
+    "lambert",
+    "fresnel_schlick",
+    "fresnel_conductor",
+]
+
+_EPS = 1e-12
+
+
+@dataclass
+class Term:
+    """One Cycles closure with its weight.
+
+    Attributes
+    ----------
+    closure : str
+        'diffuse' | 'oren_nayar' | 'microfacet' | 'ashikhmin_shirley' | 'phong_ramp' | 'mirror'.
+    color : tuple of 3 float
+        Weight per RGB channel (dimensionless).
+    distribution : str
+        'ggx' or 'beckmann' for 'microfacet'.
+    alpha_x, alpha_y : float
+        Microfacet width along tangent / bitangent (alpha = Blender roughness squared).
+    fresnel : str
+        'none' (F = 1), 'schlick' (uses ``f0``) or 'conductor' (uses ``ior`` and ``k``).
+    f0, ior, k : tuple of 3 float
+        Fresnel parameters (dimensionless).
+    roughness : float
+        Cycles Oren-Nayar roughness in [0, 1].
+    exponent : float
+        Phong exponent for 'phong_ramp'.
+    """
+
+    closure: str
+    color: tuple = (1.0, 1.0, 1.0)
+    distribution: str = "ggx"
+    alpha_x: float = 0.0
+    alpha_y: float = 0.0
+    fresnel: str = "none"
+    f0: tuple = (1.0, 1.0, 1.0)
+    ior: tuple = (1.5, 1.5, 1.5)
+    k: tuple = (0.0, 0.0, 0.0)
+    roughness: float = 0.0
+    exponent: float = 1.0
+    extra: dict = field(default_factory=dict)
+
+    def to_dict(self):
+        d = {"closure": self.closure, "color": [float(c) for c in self.color]}
+        if self.closure in ("microfacet", "ashikhmin_shirley", "mirror"):
+            d.update(distribution=self.distribution, alpha_x=float(self.alpha_x), alpha_y=float(self.alpha_y),
+                     fresnel=self.fresnel)
+            if self.fresnel == "schlick":
+                d["f0"] = [float(c) for c in self.f0]
+            if self.fresnel == "conductor":
+                d["ior"] = [float(c) for c in self.ior]
+                d["k"] = [float(c) for c in self.k]
+        if self.closure == "oren_nayar":
+            d["roughness"] = float(self.roughness)
+        if self.closure == "phong_ramp":
+            d["exponent"] = float(self.exponent)
+        return d
+
+
+def _rgb(value):
+    return np.broadcast_to(np.asarray(value, dtype=float), (3,))
+
+
+def fresnel_schlick(cos_theta, f0):
+    """Schlick Fresnel F = f0 + (1 - f0)(1 - cos)^5, RGB (..., 3).
+
+    Cycles' F82-tint model with a white edge tint is exactly this (``fresnel_f82`` with B = 0 in
+    ``closure/bsdf_util.h``; ``bsdf_microfacet_setup_fresnel_f82_tint`` sets B = 0 for tint 1).
+
+    References
+    ----------
+    Schlick (1994), eq. 15.
+    """
+    c = np.clip(np.asarray(cos_theta, dtype=float), 0.0, 1.0)[..., None]
+    s5 = (1.0 - c) ** 5
+    f0 = _rgb(f0)
+    return np.clip(f0 + (1.0 - f0) * s5, 0.0, 1.0)
+
+
+def fresnel_conductor(cos_theta, eta, k):
+    """Unpolarised Fresnel reflectance of a conductor with complex IOR eta + i k, RGB (..., 3).
+
+    With k = 0 this is the exact dielectric Fresnel reflectance (no total internal reflection for
+    light arriving from outside). Cycles: ``fresnel_conductor_polarized`` in ``closure/bsdf_util.h``.
+
+    References
+    ----------
+    Pharr, Jakob, Humphreys, "Physically Based Rendering" 4th ed., sec. 9.5 (FrComplex).
+    """
+    c = np.clip(np.asarray(cos_theta, dtype=float), 0.0, 1.0)[..., None]
+    n = np.asarray(eta, dtype=complex) + 1j * np.asarray(k, dtype=complex)
+    n = np.broadcast_to(n, (3,))
+    sin2 = 1.0 - c * c
+    sin2_t = sin2 / (n * n)
+    cos_t = np.sqrt(1.0 - sin2_t)
+    r_parl = (n * c - cos_t) / (n * c + cos_t)
+    r_perp = (c - n * cos_t) / (c + n * cos_t)
+    return 0.5 * (np.abs(r_parl) ** 2 + np.abs(r_perp) ** 2)
+
+
+def _lambda(distribution, ax, ay, v):
+    """Smith Lambda; Cycles ``bsdf_lambda_from_sqr_alpha_tan_n`` (closure/bsdf_microfacet.h)."""
+    vz2 = np.maximum(v[..., 2] ** 2, _EPS)
+    s = (ax * ax * v[..., 0] ** 2 + ay * ay * v[..., 1] ** 2) / vz2
+    if distribution == "ggx":
+        return 0.5 * (np.sqrt(1.0 + s) - 1.0)
+    # Beckmann: Cycles uses Walter et al.'s rational approximation (below their eq. 69), not erf.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = 1.0 / np.sqrt(np.maximum(s, _EPS))
+        lam = ((0.396 * a - 1.259) * a + 1.0) / ((2.181 * a + 3.535) * a)
+    return np.where(s < 0.39, 0.0, lam)
+
+
+def _ndf(distribution, ax, ay, h):
+    hx, hy, hz = h[..., 0], h[..., 1], np.maximum(h[..., 2], _EPS)
+    if distribution == "ggx":
+        t = hx * hx / (ax * ax) + hy * hy / (ay * ay) + hz * hz
+        return 1.0 / (np.pi * ax * ay * t * t)
+    e = (hx * hx / (ax * ax) + hy * hy / (ay * ay)) / (hz * hz)
+    return np.exp(-e) / (np.pi * ax * ay * hz ** 4)
+
+
+def _frame(wi, wo):
+    wi = np.asarray(wi, dtype=float)
+    wo = np.asarray(wo, dtype=float)
+    wi, wo = np.broadcast_arrays(wi, wo)
+    ci, co = wi[..., 2], wo[..., 2]
+    h = wi + wo
+    h = h / np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), _EPS)
+    return wi, wo, ci, co, h
+
+
+def microfacet(wi, wo, alpha_x, alpha_y, distribution="ggx", fresnel="none", f0=1.0, ior=1.5, k=0.0):
+    """Cycles microfacet reflection (Glossy / Metallic BSDF, OSL microfacet closures), 1/sr.
+
+    f = F(wi.h) D(h) G2(wi, wo) / (4 cos_i cos_o), with the height-correlated Smith
+    G2 = 1 / (1 + Lambda(wi) + Lambda(wo)) (``bsdf_microfacet_eval``, closure/bsdf_microfacet.h).
+
+    Parameters
+    ----------
+    wi, wo : array_like (..., 3)
+        Unit directions towards the light and the viewer, local frame.
+    alpha_x, alpha_y : float
+        Microfacet widths (alpha = Blender roughness ** 2).
+    distribution : {'ggx', 'beckmann'}
+    fresnel : {'none', 'schlick', 'conductor'}
+
+    References
+    ----------
+    Walter et al. (2007), eqs. 20, 33, 72; Heitz (2014), eq. 99.
+    """
+    wi, wo, ci, co, h = _frame(wi, wo)
+    ax = max(float(alpha_x), 1e-4)
+    ay = max(float(alpha_y), 1e-4)
+    valid = (ci > 0) & (co > 0)
+    D = _ndf(distribution, ax, ay, h)
+    G = 1.0 / (1.0 + _lambda(distribution, ax, ay, wi) + _lambda(distribution, ax, ay, wo))
+    cos_hi = np.sum(wi * h, axis=-1)
+    if fresnel == "schlick":
+        F = fresnel_schlick(cos_hi, f0)
+    elif fresnel == "conductor":
+        F = fresnel_conductor(cos_hi, ior, k)
+    else:
+        F = np.ones(cos_hi.shape + (3,))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = (D * G / (4.0 * np.maximum(ci, _EPS) * np.maximum(co, _EPS)))[..., None] * F
+    return np.where(valid[..., None], f, 0.0)
+
+
+def ashikhmin_shirley(wi, wo, alpha_x, alpha_y):
+    """Cycles' Glossy BSDF 'Ashikhmin-Shirley' distribution, F = 1, 1/sr.
+
+    f = sqrt((n_x + 1)(n_y + 1)) / (8 pi) (n.h)^e / ((h.k) max(cos_i, cos_o)),
+    n = 2 / alpha^2 - 2 (``bsdf_ashikhmin_shirley_eval``, closure/bsdf_ashikhmin_shirley.h).
+
+    References
+    ----------
+    Ashikhmin, Shirley (2000), eq. 4 with F = 1.
+    """
+    wi, wo, ci, co, h = _frame(wi, wo)
+    ax = np.clip(float(alpha_x), 1e-4, 1.0)
+    ay = np.clip(float(alpha_y), 1e-4, 1.0)
+    nx, ny = 2.0 / ax ** 2 - 2.0, 2.0 / ay ** 2 - 2.0
+    hz = np.maximum(h[..., 2], 1e-6)
+    sin2 = np.maximum(1.0 - hz * hz, _EPS)
+    e = (nx * h[..., 0] ** 2 + ny * h[..., 1] ** 2) / sin2
+    hk = np.maximum(np.abs(np.sum(h * wi, axis=-1)), 1e-6)
+    norm = np.sqrt((nx + 1.0) * (ny + 1.0)) / (8.0 * np.pi)
+    f = norm * hz ** e / (hk * np.maximum(np.maximum(ci, co), 1e-6))
+    valid = (ci > 0) & (co > 0)
+    return np.where(valid[..., None], f[..., None] * np.ones(3), 0.0)
+
+
+def phong_ramp(wi, wo, exponent):
+    """Cycles OSL ``phong_ramp`` with one colour: f = (n + 2) / (2 pi) cos^n(R(wi).wo), 1/sr.
+
+    This is the normalised modified Phong lobe (``bsdf_phong_ramp_eval``, closure/bsdf_phong_ramp.h).
+
+    References
+    ----------
+    Lafortune, Willems (1994), eq. for the normalised modified Phong specular term.
+    """
+    wi, wo, ci, co, _ = _frame(wi, wo)
+    r = 2.0 * ci[..., None] * np.array([0.0, 0.0, 1.0]) - wi
+    cos_ro = np.sum(r * wo, axis=-1)
+    valid = (ci > 0) & (co > 0) & (cos_ro > 0)
+    f = (exponent + 2.0) / (2.0 * np.pi) * np.maximum(cos_ro, 0.0) ** exponent
+    return np.where(valid[..., None], f[..., None] * np.ones(3), 0.0)
+
+
+def oren_nayar(wi, wo, roughness, albedo=1.0):
+    """Cycles' Oren-Nayar (Diffuse BSDF with roughness > 0) INCLUDING its albedo, 1/sr, RGB.
+
+    Transcribed from ``bsdf_oren_nayar_get_intensity`` / ``bsdf_oren_nayar_setup``
+    (closure/bsdf_oren_nayar.h): Fujii's single scattering A + B t with
+    A = 1 / (pi + sigma (pi/2 - 2/3)), B = sigma A, t = (l.v - cos_i cos_o) / max(cos_i, cos_o) when
+    positive, plus the OpenPBR energy-compensation term, which is NOT linear in the albedo rho:
+    f = rho [A + B t + E_ms(rho) (1 - E(cos_i)) (1 - E(cos_o))],
+    E_ms(rho) = rho^2 E_avg / (pi (1 - E_avg) (1 - rho (1 - E_avg))).
+
+    References
+    ----------
+    Fujii, "A tiny improvement of Oren-Nayar reflectance model" (mimosa-pudica.net, 2012).
+    Portsmouth, Kutz, Hill (2024), "EON: A practical energy-preserving rough diffuse BRDF", JCGT 14(1).
+    """
+    wi, wo, ci, co, _ = _frame(wi, wo)
+    rho = np.clip(_rgb(albedo), 0.0, 1.0)
+    sigma = float(np.clip(roughness, 0.0, 1.0))
+    valid = (ci > 0) & (co > 0)
+    if sigma < 1e-5:
+        return np.where(valid[..., None], np.ones(ci.shape + (3,)) * rho / np.pi, 0.0)
+    a = 1.0 / (np.pi + sigma * (np.pi / 2 - 2.0 / 3.0))
+    b = sigma * a
+    t = np.sum(wi * wo, axis=-1) - ci * co
+    t = np.where(t > 0, t / np.maximum(np.maximum(ci, co), _EPS), t)
+    single = a + b * t
+    e_avg = a * np.pi + ((2 * np.pi - 5.6) / 3.0) * b
+    e_ms = rho * rho * (e_avg / (1.0 - e_avg)) / (np.pi * (1.0 - rho * (1.0 - e_avg)))
+    e_l = a * np.pi + b * _g_on(ci)
+    e_v = a * np.pi + b * _g_on(co)
+    # Cycles multiplies the whole closure, E_ms included, by the colour weight (bsdf_alloc weight).
+    f = rho * (single[..., None] + ((1.0 - e_l) * (1.0 - e_v))[..., None] * e_ms)
+    return np.where(valid[..., None], f, 0.0)
+
+
+def _g_on(c):
+    """G(cos) of the EON model (``bsdf_oren_nayar_G``)."""
+    c = np.clip(c, 0.0, 1.0)
+    s = np.sqrt(np.maximum(1.0 - c * c, 0.0))
+    t = np.arccos(c)
+    near = c < 1e-6  # Cycles: Taylor fallback at grazing, where tan(theta) misbehaves
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g = s * (t - 2.0 / 3.0 - s * c) + (2.0 / 3.0) * (s / np.maximum(c, _EPS)) * (1.0 - s ** 3)
+    return np.where(near, (np.pi / 2 - 2.0 / 3.0) - c, g)
+
+
+def lambert(wi, wo):
+    """Lambertian 1/pi (Cycles Diffuse BSDF with roughness 0), 1/sr."""
+    wi, wo, ci, co, _ = _frame(wi, wo)
+    valid = (ci > 0) & (co > 0)
+    return np.where(valid[..., None], np.full(ci.shape + (3,), 1.0 / np.pi), 0.0)
+
+
+def evaluate_terms(terms, wi, wo):
+    """Sum of the closures in ``terms`` (list of ``Term``), f in 1/sr, RGB (..., 3)."""
+    total = None
+    for term in terms:
+        c = term.closure
+        if c == "diffuse":
+            f = lambert(wi, wo)
+        elif c == "oren_nayar":
+            # the albedo enters non-linearly (energy compensation): the term colour is the albedo.
+            f = oren_nayar(wi, wo, term.roughness, term.color)
+        elif c == "microfacet":
+            f = microfacet(wi, wo, term.alpha_x, term.alpha_y, term.distribution, term.fresnel,
+                           term.f0, term.ior, term.k)
+        elif c == "ashikhmin_shirley":
+            f = ashikhmin_shirley(wi, wo, term.alpha_x, term.alpha_y)
+        elif c == "phong_ramp":
+            f = phong_ramp(wi, wo, term.exponent)
+        elif c == "mirror":
+            # A delta lobe has no finite value off the mirror direction.
+            f = np.zeros(np.broadcast_shapes(np.shape(wi), np.shape(wo)))
+        else:
+            raise ValueError(f"unknown closure {c!r}")
+        if c != "oren_nayar":
+            f = f * _rgb(term.color)
+        total = f if total is None else total + f
+    if total is None:
+        total = np.zeros(np.broadcast_shapes(np.shape(wi), np.shape(wo)))
+    return total
