@@ -109,9 +109,12 @@ class LightSpec:
         object.__setattr__(self, "rgb_power", _frozen(as_finite_array(self.rgb_power, "rgb_power", (3,))))
         for name in ("radius", "spot_size", "spot_blend", "angle", "size", "size_y", "spread"):
             value = float(check_nonnegative(getattr(self, name), name))
+            if name in ("spot_size", "angle", "spread"):
+                # Blender stores angles in float32: float32(pi) is 8.7e-8 above float64 pi.
+                if value > np.pi + 1e-6:
+                    raise ValueError(f"{name} must be <= pi rad, got {value!r}")
+                value = min(value, np.pi)
             object.__setattr__(self, name, value)
-        if self.spot_size > np.pi or self.angle > np.pi or self.spread > np.pi:
-            raise ValueError("spot_size, angle and spread must be <= pi rad")
 
     # Derived quantities -------------------------------------------------------------------
     @property
@@ -447,9 +450,9 @@ def _spread_quadrature(spec, p, n):
     span = np.maximum(hi - lo, 0.0)
     rho = lo[..., None] + 0.5 * (rg + 1.0) * span[..., None]     # (N, A, R)
     w_r = 0.5 * rw * span[..., None]
-    # Point on the light relative to the receiver, world frame.
-    x = rho * dirs2[None, :, None, 0] - foot[:, None, None, 0]
-    y = rho * dirs2[None, :, None, 1] - foot[:, None, None, 1]
+    # Light point minus receiver = rho * (in-plane direction) - t * normal, world frame.
+    x = rho * dirs2[None, :, None, 0]
+    y = rho * dirs2[None, :, None, 1]
     vec = (x[..., None] * spec.axes[:, 0] + y[..., None] * spec.axes[:, 1]
            - t[:, None, None, None] * normal)            # receiver -> light point
     r2 = rho**2 + t[:, None, None] ** 2

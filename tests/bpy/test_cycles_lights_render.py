@@ -215,3 +215,66 @@ def test_delta_light_matches_cycles_to_1e4(clean_blender, case):
         assert np.all(measured[0] == 0.0)
     else:
         np.testing.assert_allclose(measured[0], analytic, rtol=1e-4, atol=0.0)
+
+
+# ---------------------------------------------------------------------------------------------
+# Extended lights: K independent seeds, |mean - analytic| < 3 standard errors (batch means).
+
+def _tilt(deg, axis=(0, 1, 0)):
+    t = math.radians(deg)
+    return _unit((math.sin(t), 0, math.cos(t))) if axis == (0, 1, 0) else _unit((0, math.sin(t), math.cos(t)))
+
+
+R = 0.5
+EXTENDED_CASES = {
+    **{f"sphere_soft_{soft}_{k}R".replace(".", "p"): (
+        dict(kind="POINT", location=(0, 0, k * R), energy=100.0, shadow_soft_size=R, use_soft_falloff=soft),
+        (0, 0, 0), (0, 0, 1)) for soft in (True, False) for k in (1.2, 2.0, 4.0)},
+    "sphere_soft_off_oblique_horizon": (
+        dict(kind="POINT", location=(0, 0, 0.6), energy=100.0, shadow_soft_size=R, use_soft_falloff=False),
+        (0, 0, 0), _tilt(80)),
+    "sphere_soft_on_oblique_horizon": (
+        dict(kind="POINT", location=(0, 0, 0.6), energy=100.0, shadow_soft_size=R, use_soft_falloff=True),
+        (0, 0, 0), _tilt(80)),
+    "spot_radius_soft_off": (
+        dict(kind="SPOT", location=(0, 0, 1.0), energy=100.0, shadow_soft_size=0.2, use_soft_falloff=False,
+             spot_size=math.radians(40), spot_blend=0.3), (0.3, 0, 0), (0, 0, 1)),
+    "spot_radius_soft_on": (
+        dict(kind="SPOT", location=(0, 0, 1.0), energy=100.0, shadow_soft_size=0.2, use_soft_falloff=True,
+             spot_size=math.radians(40), spot_blend=0.3), (0.3, 0, 0), (0, 0, 1)),
+    "sun_10deg_head_on": (dict(kind="SUN", location=(0, 0, 5), energy=3.0, angle=math.radians(10)),
+                          (0, 0, 0), (0, 0, 1)),
+    "sun_10deg_at_horizon": (dict(kind="SUN", location=(0, 0, 5), energy=3.0, angle=math.radians(10)),
+                             (0, 0, 0), _tilt(88)),
+    "area_square_normal": (dict(kind="AREA", location=(0, 0, 1), energy=100.0, shape="SQUARE", size=1.0),
+                           (0, 0, 0), (0, 0, 1)),
+    "area_square_oblique": (dict(kind="AREA", location=(0, 0, 1), energy=100.0, shape="SQUARE", size=1.0),
+                            (0.7, 0.2, 0), _tilt(60)),
+    "area_square_horizon_clipped": (dict(kind="AREA", location=(0, 0, 0.5), energy=100.0, shape="SQUARE",
+                                         size=2.0), (0.2, 0.1, 0), _tilt(85)),
+    "area_rect_rotated": (dict(kind="AREA", location=(0.2, -0.1, 1.2), forward=_unit((0.4, -0.2, -1)),
+                               energy=100.0, shape="RECTANGLE", size=1.5, size_y=0.4), (0, 0, 0), _tilt(30, (1, 0, 0))),
+    "area_disk_normal": (dict(kind="AREA", location=(0, 0, 1), energy=100.0, shape="DISK", size=1.0),
+                         (0, 0, 0), (0, 0, 1)),
+    "area_ellipse_oblique_scaled": (dict(kind="AREA", location=(0, 0, 1), forward=_unit((0.2, 0, -1)),
+                                         scale=(1.5, 0.7, 1.0), energy=100.0, shape="ELLIPSE", size=1.0,
+                                         size_y=0.6), (0.4, 0, 0), _tilt(45)),
+    "area_normalize_off": (dict(kind="AREA", location=(0, 0, 1), energy=10.0, shape="SQUARE", size=2.0,
+                                normalize=False), (0, 0, 0), (0, 0, 1)),
+    "area_spread30_center": (dict(kind="AREA", location=(0, 0, 1), energy=100.0, shape="SQUARE", size=1.0,
+                                  spread=math.radians(30)), (0, 0, 0), (0, 0, 1)),
+    "area_spread30_edge": (dict(kind="AREA", location=(0, 0, 1), energy=100.0, shape="SQUARE", size=1.0,
+                                spread=math.radians(30)), (0.55, 0.2, 0), _tilt(20)),
+    "area_spread60_disk": (dict(kind="AREA", location=(0, 0, 1), energy=100.0, shape="DISK", size=1.0,
+                                spread=math.radians(60)), (0.3, 0, 0), (0, 0, 1)),
+}
+
+
+@pytest.mark.parametrize("case", sorted(EXTENDED_CASES))
+def test_extended_light_matches_cycles_within_3_standard_errors(clean_blender, case):
+    light, point, normal = EXTENDED_CASES[case]
+    measured, analytic, spec = measure(light, point, normal, samples=512, seeds=tuple(range(1, 17)))
+    mean, se = stats.batch_mean(measured[:, 0])
+    print(f"{case}: cycles {mean:.6g} +- {se:.2g}  analytic {analytic[0]:.6g}  "
+          f"rel diff {mean / analytic[0] - 1:+.2e}  z {(mean - analytic[0]) / se:+.2f}")
+    assert abs(mean - analytic[0]) <= 3.0 * se
