@@ -1,0 +1,154 @@
+"""Leave the user's scene exactly as it was, whatever happens during a measurement.
+
+``preserved_scene`` snapshots every RNA property of the render-related structs (render, cycles,
+bake, image settings, colour management, view layers' passes), the camera, frame, active object,
+selection and world, plus the set of data-blocks in every ``bpy.data`` collection. On exit (normal,
+exception, KeyboardInterrupt) it restores the properties and removes every data-block created
+inside, so a measurement, even a failed or cancelled one, leaves no trace.
+"""
+
+import contextlib
+
+import bpy
+
+# bpy.data collections whose new members are removed on exit. Order matters a little: objects
+# before the meshes/lights/cameras they use, materials before images/node groups/texts.
+_DATA_COLLECTIONS = (
+    "objects", "meshes", "lights", "cameras", "materials", "node_groups", "images", "textures",
+    "worlds", "collections", "texts", "curves", "scenes",
+)
+
+# Properties whose values must not be written back (read-only at runtime or derived).
+_SKIP = {"rna_type", "is_evaluated", "original", "users", "session_uid", "is_missing"}
+
+
+def _rna_values(struct):
+    """Plain values of the writable, non-pointer RNA properties of ``struct``."""
+    values = {}
+    for prop in struct.bl_rna.properties:
+        ident = prop.identifier
+        if ident in _SKIP or prop.is_readonly or prop.type in {"POINTER", "COLLECTION"}:
+            continue
+        try:
+            value = getattr(struct, ident)
+        except (AttributeError, RuntimeError):
+            continue
+        if hasattr(value, "__len__") and not isinstance(value, str):
+            value = tuple(value) if prop.type != "ENUM" else set(value)
+        values[ident] = value
+    return values
+
+
+def _restore_values(struct, values):
+    for ident, value in values.items():
+        try:
+            if getattr(struct, ident) != value:
+                setattr(struct, ident, value)
+        except (AttributeError, TypeError, RuntimeError, ValueError):
+            # Properties that refuse a write (context-dependent enums) are left; they were not
+            # changed by us either, since we only write properties we can write.
+            pass
+
+
+def _render_structs(scene):
+    structs = {
+        "render": scene.render,
+        "image_settings": scene.render.image_settings,
+        "bake": scene.render.bake,
+        "view_settings": scene.view_settings,
+        "display_settings": scene.display_settings,
+        "scene": scene,
+    }
+    if hasattr(scene, "cycles"):
+        structs["cycles"] = scene.cycles
+    for i, layer in enumerate(scene.view_layers):
+        structs[f"view_layer{i}"] = layer
+        if hasattr(layer, "cycles"):
+            structs[f"view_layer{i}.cycles"] = layer.cycles
+    return structs
+
+
+def _data_pointers():
+    return {name: {id_.as_pointer() for id_ in getattr(bpy.data, name)} for name in _DATA_COLLECTIONS}
+
+
+def _selection(view_layer):
+    return {ob.name for ob in view_layer.objects if ob.select_get(view_layer=view_layer)}
+
+
+class SceneSnapshot:
+    def __init__(self, scene):
+        self.scene = scene
+        self.values = {key: _rna_values(s) for key, s in _render_structs(scene).items()}
+        self.camera = scene.camera
+        self.world = scene.world
+        self.frame = (scene.frame_current, scene.frame_subframe)
+        self.layers = []
+        for layer in scene.view_layers:
+            self.layers.append((layer, layer.objects.active, _selection(layer)))
+        self.data = _data_pointers()
+        self._remembered = []
+
+    def remember(self, struct, attr):
+        """Also restore ``struct.attr`` on exit (for data a measurement must change temporarily)."""
+        self._remembered.append((struct, attr, getattr(struct, attr)))
+
+    def restore(self):
+        scene = self.scene
+        for struct, attr, value in reversed(self._remembered):
+            if getattr(struct, attr) != value:
+                setattr(struct, attr, value)
+        self._remove_new_data()
+        for key, struct in _render_structs(scene).items():
+            if key in self.values:
+                _restore_values(struct, self.values[key])
+        if scene.camera != self.camera:
+            scene.camera = self.camera
+        if scene.world != self.world:
+            scene.world = self.world
+        if (scene.frame_current, scene.frame_subframe) != self.frame:
+            scene.frame_set(self.frame[0], subframe=self.frame[1])
+        for layer, active, selected in self.layers:
+            for ob in layer.objects:
+                want = ob.name in selected
+                if ob.select_get(view_layer=layer) != want:
+                    ob.select_set(want, view_layer=layer)
+            if layer.objects.active != active:
+                layer.objects.active = active
+
+    def _remove_new_data(self):
+        for name in _DATA_COLLECTIONS:
+            collection = getattr(bpy.data, name)
+            before = self.data[name]
+            for id_ in [i for i in collection if i.as_pointer() not in before]:
+                collection.remove(id_, do_unlink=True) if name != "scenes" else collection.remove(id_)
+
+
+@contextlib.contextmanager
+def preserved_scene(scene=None):
+    """Context manager: everything a measurement changes is undone on exit, even on error."""
+    scene = scene or bpy.context.scene
+    snapshot = SceneSnapshot(scene)
+    try:
+        yield snapshot
+    finally:
+        snapshot.restore()
+
+
+def scene_fingerprint(scene=None):
+    """A comparable summary of everything a measurement must leave untouched (used by tests)."""
+    scene = scene or bpy.context.scene
+    layer = bpy.context.view_layer
+    return {
+        "values": {key: _rna_values(s) for key, s in _render_structs(scene).items()},
+        "camera": scene.camera.name if scene.camera else None,
+        "world": scene.world.name if scene.world else None,
+        "frame": (scene.frame_current, scene.frame_subframe),
+        "active": layer.objects.active.name if layer.objects.active else None,
+        "selection": sorted(_selection(layer)),
+        "counts": {name: len(getattr(bpy.data, name)) for name in _DATA_COLLECTIONS},
+        "objects": sorted(
+            (ob.name, tuple(round(v, 12) for row in ob.matrix_world for v in row)) for ob in scene.objects
+        ),
+        "lights": sorted((l.name, l.energy) for l in bpy.data.lights),
+    }

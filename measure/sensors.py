@@ -1,0 +1,160 @@
+"""Irradiance at many points from one Cycles bake ("tiled sensors").
+
+Every meter becomes a tiny white Lambertian quad at its location facing its normal, all in ONE
+mesh. Its UVs give each quad a block of ``texels x texels`` pixels of a float image, and one
+``bpy.ops.object.bake(type='DIFFUSE', pass_filter={'DIRECT', 'INDIRECT'})`` fills them all with
+one scene sync. Baking DIFFUSE without COLOR stores the light a diffuse BSDF receives divided by its
+albedo, i.e. E / pi for a Lambertian sensor, so E = pi * pixel.
+
+Each texel of a block is an independent estimate (Cycles decorrelates pixels by per-pixel
+scrambling), so one bake already gives ``texels**2`` batches for a batch-means standard error;
+further bakes with new seeds add batches. The quads are invisible to every ray type but camera
+(Cycles bakes only objects visible to camera rays), so meters never shadow each other or the scene.
+
+Caller's duty: run inside ``scene_guard.preserved_scene`` (this creates and selects data-blocks).
+"""
+
+import math
+import time
+
+import bpy
+import numpy as np
+
+from ..errors import MeasurementCancelled
+
+SENSOR_NAME = "radiometer_sensor"
+
+
+def _orthonormal_tangents(normals):
+    """Two unit tangents per normal (any orthonormal completion; the quad is tiny)."""
+    helper = np.where(np.abs(normals[:, 2:3]) < 0.9, [[0.0, 0.0, 1.0]], [[1.0, 0.0, 0.0]])
+    t = np.cross(helper, normals)
+    t /= np.linalg.norm(t, axis=1, keepdims=True)
+    b = np.cross(normals, t)
+    return t, b
+
+
+def build_sensor(scene, points, normals, texels):
+    """Create the sensor object (linked to the scene collection) and its bake image."""
+    n = len(points)
+    blocks_per_row = int(math.ceil(math.sqrt(n)))
+    res = blocks_per_row * texels
+    # Half-size: small against the meter's surroundings, large against float32 position
+    # resolution (Cycles stores geometry as float32: ~1e-7 relative).
+    half = np.maximum(np.linalg.norm(points, axis=1), 1.0) * 2e-5
+    t, b = _orthonormal_tangents(normals)
+    corners = np.stack([-t - b, t - b, t + b, -t + b], axis=1) * half[:, None, None] + points[:, None, :]
+    verts = corners.reshape(-1, 3)
+    faces = np.arange(4 * n).reshape(n, 4)
+
+    mesh = bpy.data.meshes.new(SENSOR_NAME)
+    mesh.vertices.add(len(verts))
+    mesh.vertices.foreach_set("co", verts.astype(np.float32).ravel())
+    mesh.loops.add(4 * n)
+    mesh.loops.foreach_set("vertex_index", faces.ravel().astype(np.int32))
+    mesh.polygons.add(n)
+    mesh.polygons.foreach_set("loop_start", (np.arange(n) * 4).astype(np.int32))
+    mesh.polygons.foreach_set("loop_total", np.full(n, 4, np.int32))
+    mesh.update()
+    mesh.validate()
+
+    # UV block per quad; the quad spans its whole block so every texel centre lies inside.
+    ix, iy = np.arange(n) % blocks_per_row, np.arange(n) // blocks_per_row
+    u0, v0 = ix * texels / res, iy * texels / res
+    du = texels / res
+    uv = np.stack([np.c_[u0, v0], np.c_[u0 + du, v0], np.c_[u0 + du, v0 + du], np.c_[u0, v0 + du]], axis=1)
+    layer = mesh.uv_layers.new(name="sensor")
+    layer.data.foreach_set("uv", uv.reshape(-1).astype(np.float32))
+
+    material = bpy.data.materials.new(SENSOR_NAME)
+    tree = material.node_tree
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    bsdf.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    bsdf.inputs["Roughness"].default_value = 0.0
+    tree.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    image = bpy.data.images.new(SENSOR_NAME, res, res, alpha=False, float_buffer=True)
+    image.colorspace_settings.is_data = True  # store raw linear values, no view transform
+    tex = tree.nodes.new("ShaderNodeTexImage")
+    tex.image = image
+    tree.nodes.active = tex
+    mesh.materials.append(material)
+
+    obj = bpy.data.objects.new(SENSOR_NAME, mesh)
+    scene.collection.objects.link(obj)
+    for attr in ("visible_diffuse", "visible_glossy", "visible_transmission", "visible_volume_scatter", "visible_shadow"):
+        setattr(obj, attr, False)
+    obj.visible_camera = True  # Cycles skips objects invisible to camera rays when baking
+    return obj, image, blocks_per_row
+
+
+def _select_only(view_layer, obj):
+    for other in view_layer.objects:
+        if other.select_get(view_layer=view_layer):
+            other.select_set(False, view_layer=view_layer)
+    obj.select_set(True, view_layer=view_layer)
+    view_layer.objects.active = obj
+
+
+def bake_irradiance(scene, view_layer, points, normals, *, samples, texels=4, bakes=1, target_rel_error=None,
+                    max_bakes=64, progress=None, cancelled=None, seed0=0):
+    """Bake irradiance E (W/m^2 in the render's units, RGB) at ``points`` facing ``normals``.
+
+    Returns ``(estimates, info)`` where ``estimates`` has shape (batches, N, 3): one independent
+    estimate per texel per bake. With ``target_rel_error`` it keeps baking (new seeds) until the
+    95 % interval half-width of every meter is within that fraction of its mean, or ``max_bakes``.
+    """
+    from ..radiometry import stats
+
+    points = np.asarray(points, float)
+    normals = np.asarray(normals, float)
+    obj, image, per_row = build_sensor(scene, points, normals, texels)
+    _select_only(view_layer, obj)
+    res = per_row * texels
+    n = len(points)
+    ix, iy = np.arange(n) % per_row, np.arange(n) // per_row
+    estimates = []
+    started = time.perf_counter()
+    bake_seconds = 0.0
+    k = 0
+    while True:
+        if cancelled is not None and cancelled():
+            raise MeasurementCancelled("measurement cancelled; the scene was restored")
+        scene.cycles.seed = seed0 + k
+        t0 = time.perf_counter()
+        with bpy.context.temp_override(scene=scene, view_layer=view_layer, active_object=obj,
+                                       object=obj, selected_objects=[obj], selected_editable_objects=[obj]):
+            result = bpy.ops.object.bake(type="DIFFUSE", pass_filter={"DIRECT", "INDIRECT"}, margin=0,
+                                         use_clear=True, target="IMAGE_TEXTURES")
+        bake_seconds += time.perf_counter() - t0
+        if result != {"FINISHED"}:
+            raise RuntimeError(f"Cycles bake did not finish ({result})")
+        pixels = np.empty(res * res * 4, np.float32)
+        image.pixels.foreach_get(pixels)
+        pixels = pixels.reshape(res, res, 4)[..., :3].astype(np.float64)
+        # (res, res, 3) -> (per_row, texels, per_row, texels, 3) -> per meter (texels*texels, 3)
+        blocks = pixels.reshape(per_row, texels, per_row, texels, 3)
+        per_meter = blocks[iy, :, ix, :, :]  # (n, texels, texels, 3)
+        estimates.append(math.pi * per_meter.reshape(n, texels * texels, 3).transpose(1, 0, 2))
+        k += 1
+        if progress is not None:
+            progress(k, max(bakes, k))
+        if k < bakes:
+            continue
+        if target_rel_error is None or k >= max_bakes:
+            break
+        all_est = np.concatenate(estimates, axis=0)
+        luminance_like = all_est.mean(axis=2)
+        half_width = stats.t_half_width_95(luminance_like, axis=0)
+        mean = np.abs(luminance_like.mean(axis=0))
+        if np.all(half_width <= target_rel_error * np.maximum(mean, 1e-300)):
+            break
+    info = {
+        "bakes": k,
+        "texels_per_meter": texels * texels,
+        "samples_per_texel": int(scene.cycles.samples),
+        "bake_seconds": bake_seconds,
+        "seconds": time.perf_counter() - started,
+    }
+    return np.concatenate(estimates, axis=0), info

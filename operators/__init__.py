@@ -1,0 +1,8 @@
+"""Operators: thin wrappers that gather inputs, call one function of ``radiometer.api`` and report."""
+
+from ..registration import ModuleGroup
+
+# Submodules in registration order; each owns a ``classes`` tuple.
+_group = ModuleGroup(__name__, ("meter",))
+register = _group.register
+unregister = _group.unregister

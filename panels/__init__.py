@@ -1,0 +1,8 @@
+"""Panels and viewport overlays: they show settings and readings and contain no maths."""
+
+from ..registration import ModuleGroup
+
+# Submodules in registration order; each owns a ``classes`` tuple.
+_group = ModuleGroup(__name__, ("meter",))
+register = _group.register
+unregister = _group.unregister

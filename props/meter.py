@@ -1,0 +1,81 @@
+"""Meter settings and readings (on objects) and Radiometer's scene settings."""
+
+import bpy
+from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty,
+                       PointerProperty, StringProperty)
+
+from ..quality import PRESETS
+
+METER_KINDS = [
+    ("ILLUMINANCE", "Illuminance", "Cosine-corrected meter: irradiance (W/m²) and illuminance (lux) on its +Z side"),
+    ("LUMINANCE", "Luminance", "Spot meter along its -Z: radiance W/(m² sr) and luminance (cd/m²) in a cone"),
+    ("RADIANCE_MAP", "Radiance Map", "Panoramic 32-bit EXR of incident radiance at the point (delta lights "
+                                     "are invisible to camera rays and do not appear in it)"),
+]
+METHODS = [
+    ("auto", "Auto", "Closed forms where exact for this scene, rendering otherwise"),
+    ("analytic", "Analytic", "Closed forms for direct light (exact only when nothing else adds or blocks light)"),
+    ("render", "Render", "Cycles path tracing with a statistical error estimate"),
+]
+QUALITIES = [(name, name.title(), f"{p['samples']} samples x {p['texels']**2} texels x {p['bakes']} bake(s)")
+             for name, p in PRESETS.items()]
+EFFICACY_CONVENTIONS = [
+    ("BLENDER_683", "683 lm/W (Blender, glTF)", "K = 683 lm/W for every RGB watt, as Blender's glTF I/O"),
+    ("RADIANCE_179", "179 lm/W (Radiance)", "Equal-energy white over the visible range, as the Radiance renderer"),
+    ("CUSTOM", "Custom", "Your own luminous efficacy"),
+]
+_EFFICACY_VALUES = {"BLENDER_683": 683.0, "RADIANCE_179": 179.0}
+
+
+def _convention_changed(self, _context):
+    if self.efficacy_convention in _EFFICACY_VALUES:
+        self.efficacy = _EFFICACY_VALUES[self.efficacy_convention]
+
+
+class RadiometerMeterSettings(bpy.types.PropertyGroup):
+    is_meter: BoolProperty(name="Is Light Meter", default=False)
+    kind: EnumProperty(name="Kind", items=METER_KINDS, default="ILLUMINANCE")
+    acceptance_deg: FloatProperty(name="Acceptance", description="Full acceptance angle of the spot meter",
+                                  default=1.0, min=0.01, max=60.0, unit="NONE", subtype="NONE")
+    map_resolution: IntProperty(name="Map Height", description="Radiance map height in pixels (width = 2x)",
+                                default=128, min=8, max=4096)
+    # Reading (SI); written by radiometer.measure, persisted in the .blend.
+    has_reading: BoolProperty(default=False)
+    value_rgb: FloatVectorProperty(name="RGB", size=3, description="Irradiance W/m² or radiance W/(m² sr), RGB")
+    value: FloatProperty(name="Radiometric", description="Irradiance W/m² or radiance W/(m² sr) (CIE Y weighted)")
+    photometric: FloatProperty(name="Photometric", description="Illuminance (lux) or luminance (cd/m²)")
+    rel_std_error: FloatProperty(name="Relative Standard Error", default=0.0)
+    exact: BoolProperty(name="Exact", default=False)
+    method: StringProperty(name="Method")
+    samples: IntProperty(name="Samples")
+    seconds: FloatProperty(name="Seconds")
+    efficacy: FloatProperty(name="Efficacy (lm/W)")
+    notes: StringProperty(name="Notes")
+    map_path: StringProperty(name="Radiance Map", subtype="FILE_PATH")
+
+
+class RadiometerSceneSettings(bpy.types.PropertyGroup):
+    efficacy_convention: EnumProperty(name="Efficacy", items=EFFICACY_CONVENTIONS, default="BLENDER_683",
+                                      update=_convention_changed)
+    efficacy: FloatProperty(name="lm/W", description="Luminous efficacy K: lux = K x CIE Y of RGB irradiance",
+                            default=683.0, min=1.0, max=683.0)
+    method: EnumProperty(name="Method", items=METHODS, default="auto")
+    quality: EnumProperty(name="Quality", items=QUALITIES, default="standard")
+    target_rel_error: FloatProperty(name="Target Error", description="Keep sampling until the 95 % interval is "
+                                    "within this fraction (0 = use the quality preset as is)",
+                                    default=0.0, min=0.0, max=0.5, subtype="FACTOR")
+    show_overlay: BoolProperty(name="Readings in Viewport", default=True)
+    last_summary: StringProperty(name="Last Measurement")
+
+
+classes = (RadiometerMeterSettings, RadiometerSceneSettings)
+
+
+def register_extra():
+    bpy.types.Object.radiometer_meter = PointerProperty(type=RadiometerMeterSettings)
+    bpy.types.Scene.radiometer = PointerProperty(type=RadiometerSceneSettings)
+
+
+def unregister_extra():
+    del bpy.types.Scene.radiometer
+    del bpy.types.Object.radiometer_meter

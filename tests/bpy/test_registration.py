@@ -1,0 +1,65 @@
+"""Registration is an exact mirror image and settings survive save/reload (issue 2)."""
+
+import os
+
+import bpy
+import pytest
+
+
+def _snapshot():
+    return {
+        "types": set(dir(bpy.types)),
+        "object_props": set(bpy.types.Object.bl_rna.properties.keys()),
+        "scene_props": set(bpy.types.Scene.bl_rna.properties.keys()),
+        "material_props": set(bpy.types.Material.bl_rna.properties.keys()),
+        "add_menu": len(bpy.types.VIEW3D_MT_add._dyn_ui_initialize()) if hasattr(bpy.types.VIEW3D_MT_add, "_dyn_ui_initialize") else None,
+        "handlers": {name: len(getattr(bpy.app.handlers, name)) for name in dir(bpy.app.handlers)
+                     if not name.startswith("_") and isinstance(getattr(bpy.app.handlers, name), list)},
+        "keymaps": sum(len(km.keymap_items) for km in bpy.context.window_manager.keyconfigs.addon.keymaps)
+        if bpy.context.window_manager.keyconfigs.addon else 0,
+        "ops": set(dir(bpy.ops.radiometer)),
+    }
+
+
+def test_register_unregister_five_times_leaves_nothing_behind():
+    import radiometer
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    before = _snapshot()
+    for _ in range(5):
+        radiometer.register()
+        assert hasattr(bpy.types.Scene, "radiometer")
+        assert "radiometer_meter" in bpy.types.Object.bl_rna.properties.keys()
+        assert hasattr(bpy.ops.radiometer, "measure") and hasattr(bpy.ops.radiometer, "add_meter")
+        radiometer.unregister()
+        assert _snapshot() == before
+    assert not hasattr(bpy.types.Scene, "radiometer")
+
+
+def test_expected_operators_are_registered(clean_blender):
+    ops = set(dir(bpy.ops.radiometer))
+    for name in ("add_meter", "measure"):
+        assert name in ops
+
+
+def test_meter_settings_and_readings_survive_save_and_reload(clean_blender, tmp_path):
+    scene = bpy.context.scene
+    bpy.ops.radiometer.add_meter(kind="LUMINANCE", acceptance_deg=2.5)
+    meter = bpy.context.active_object
+    name = meter.name
+    meter.radiometer_meter.photometric = 123.25
+    meter.radiometer_meter.has_reading = True
+    meter.radiometer_meter.notes = "note a | note b"
+    scene.radiometer.efficacy_convention = "RADIANCE_179"
+    path = str(tmp_path / "saved.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    obj = bpy.data.objects[name]
+    m = obj.radiometer_meter
+    assert m.is_meter and m.kind == "LUMINANCE"
+    assert m.acceptance_deg == pytest.approx(2.5)
+    assert m.photometric == pytest.approx(123.25)
+    assert m.notes == "note a | note b"
+    assert bpy.context.scene.radiometer.efficacy == pytest.approx(179.0)
+    assert os.path.exists(path)
