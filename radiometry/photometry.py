@@ -146,22 +146,27 @@ def efficacy_of_spectrum(wavelengths_nm, spd):
     return K_M_LM_PER_W * np.trapz(s_in * photopic_v(wl_in), wl_in, axis=-1) / denom
 
 
-def blackbody_spd(wavelengths_nm, temperature_k):
+def blackbody_spd(wavelengths_nm, temperature_k, c2_m_k=C2_M_K):
     """Planck spectral radiance, W/(m^2 sr m), shape broadcast of (..., 1) temperature and (M,) wl.
 
-    L(l, T) = 2 h c^2 / l^5 / (exp(c2 / (l T)) - 1), computed with expm1 for accuracy.
+    L(l, T) = 2 h c^2 / l^5 / (exp(c2 / (l T)) - 1), computed with expm1 for accuracy. ``c2_m_k``
+    defaults to the exact SI value h c / k = 1.438777e-2 m K; CIE 015 (and colour-science) use
+    1.4388e-2 m K (ITS-90), which shifts efficacies by ~2e-5 relative.
     """
     wl_m = as_finite_array(wavelengths_nm, "wavelengths_nm") * 1e-9
     t = np.asarray(check_positive(temperature_k, "temperature_k"), dtype=np.float64)[..., np.newaxis]
     c1 = 2.0 * 6.626_070_15e-34 * 299_792_458.0**2
     with np.errstate(over="ignore"):  # exp overflow -> inf -> radiance 0 (deep Wien tail), intended
-        return c1 / wl_m**5 / np.expm1(C2_M_K / (wl_m * t))
+        return c1 / wl_m**5 / np.expm1(float(c2_m_k) / (wl_m * t))
 
 
-def blackbody_efficacy(temperature_k):
-    """Visible luminous efficacy of a blackbody, lm/W (:func:`efficacy_of_spectrum` of Planck)."""
+def blackbody_efficacy(temperature_k, c2_m_k=C2_M_K):
+    """Visible luminous efficacy of a blackbody, lm/W (:func:`efficacy_of_spectrum` of Planck).
+
+    About 114 lm/W at 2700 K: the named "blackbody at a temperature" efficacy convention.
+    """
     wl = cie.WAVELENGTHS_NM
-    return efficacy_of_spectrum(wl, blackbody_spd(wl, temperature_k))
+    return efficacy_of_spectrum(wl, blackbody_spd(wl, temperature_k, c2_m_k))
 
 
 def blackbody_rgb(temperature_k, colour_space="Rec.709"):
@@ -234,3 +239,8 @@ def nits_to_area_watts(nits, area_m2, colour=(1.0, 1.0, 1.0), colour_space="Rec.
     """Area-light power for a luminance: P = pi A L_v / (K Y_c), W (normalize on)."""
     area = check_positive(area_m2, "area_m2")
     return lumens_to_watts(np.pi * area * np.asarray(nits, dtype=np.float64), colour, colour_space, efficacy)
+
+
+# Named blackbody conventions (visible efficacy of Planck's law, exact SI c2), lm/W.
+EFFICACY["blackbody_2700K"] = float(blackbody_efficacy(2700.0))
+EFFICACY["blackbody_6500K"] = float(blackbody_efficacy(6500.0))
