@@ -10,4 +10,5 @@ that into a one-line message and exit code 2.
 SUBCOMMANDS = {
     "demo": "demo",
     "measure": "measure",
+    "brdf": "brdf",
 }
