@@ -10,20 +10,22 @@ from .errors import MeasurementCancelled, RadiometerError  # noqa: F401  (re-exp
 
 
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
-                        target_rel_error=None, progress=None, cancelled=None):
+                        target_rel_error=None, progress=None, cancelled=None, seed=0):
     """Irradiance (W/m^2) and illuminance (lux) on the side ``normal`` faces.
 
     ``location``: 3 numbers, or (N, 3) to measure N meters in one batch (one scene sync);
     ``normal``: 3 numbers or (N, 3). ``method``: "auto" (analytic where exact, else render),
     "analytic" or "render". ``quality``: "preview", "standard", "reference". ``target_rel_error``:
-    keep sampling until every 95 % interval is within this fraction. Returns an
+    keep sampling until every 95 % interval is within this fraction. ``seed``: first Cycles seed
+    (readings are deterministic for a given seed). Returns an
     ``IlluminanceReading`` (or a list of them for N locations) with ``irradiance_rgb``,
     ``irradiance``, ``illuminance``, ``rel_std_error``, ``method``, ``samples``, ``seconds``, ``notes``.
     """
     from .measure import meter
 
     return meter.measure_illuminance(location, normal, scene=scene, method=method, quality=quality,
-                                     target_rel_error=target_rel_error, progress=progress, cancelled=cancelled)
+                                     target_rel_error=target_rel_error, progress=progress, cancelled=cancelled,
+                                     seed=seed)
 
 
 def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):

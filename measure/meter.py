@@ -185,7 +185,7 @@ def _apply_occlusion(scene, depsgraph, spec, points_scene, values, note):
 # --- render -----------------------------------------------------------------------------------------
 
 def render_irradiance(scene, view_layer, points_scene, normals, preset, *, target_rel_error=None,
-                      progress=None, cancelled=None, needs=None, exclude=()):
+                      progress=None, cancelled=None, needs=None, exclude=(), seed=0):
     """Bake the sensors; returns (estimates (B, N, 3) in W/m^2 SI, info, render record)."""
     depsgraph = bpy.context.evaluated_depsgraph_get()
     needs = needs or render_settings.scene_needs(scene, depsgraph, exclude=exclude)
@@ -194,7 +194,8 @@ def render_irradiance(scene, view_layer, points_scene, normals, preset, *, targe
         record = render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs)
         estimates, info = sensors.bake_irradiance(
             scene, view_layer, points_scene, normals, samples=preset["samples"], texels=preset["texels"],
-            bakes=preset["bakes"], target_rel_error=target_rel_error, progress=progress, cancelled=cancelled)
+            bakes=preset["bakes"], target_rel_error=target_rel_error, progress=progress, cancelled=cancelled,
+            seed0=seed)
     # Cycles ignores the unit scale: it renders W per scene-unit^2. E_SI = E_render / scale^2.
     return estimates / scale ** 2, info, record
 
@@ -202,7 +203,7 @@ def render_irradiance(scene, view_layer, points_scene, normals, preset, *, targe
 # --- the public entry used by api.py ----------------------------------------------------------------
 
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
-                        target_rel_error=None, progress=None, cancelled=None, exclude=()):
+                        target_rel_error=None, progress=None, cancelled=None, exclude=(), seed=0):
     """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``."""
     scene = scene or bpy.context.scene
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
@@ -238,7 +239,8 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     else:
         estimates, run, record = render_irradiance(scene, view_layer, points_scene, normals, preset,
                                                    target_rel_error=target_rel_error, progress=progress,
-                                                   cancelled=cancelled, needs=decision["needs"], exclude=exclude)
+                                                   cancelled=cancelled, needs=decision["needs"], exclude=exclude,
+                                                   seed=seed)
         batches = estimates.shape[0]
         mean_rgb = estimates.mean(axis=0)
         se_rgb = estimates.std(axis=0, ddof=1) / math.sqrt(batches)

@@ -19,7 +19,8 @@ _DATA_COLLECTIONS = (
 )
 
 # Properties whose values must not be written back (read-only at runtime or derived).
-_SKIP = {"rna_type", "is_evaluated", "original", "users", "session_uid", "is_missing"}
+_SKIP = {"rna_type", "is_evaluated", "original", "users", "session_uid", "is_missing",
+         "use_nodes"}  # Scene.use_nodes is deprecated in 5.0 (reading it warns)
 
 
 def _rna_values(struct):
@@ -109,7 +110,10 @@ class SceneSnapshot:
         if (scene.frame_current, scene.frame_subframe) != self.frame:
             scene.frame_set(self.frame[0], subframe=self.frame[1])
         for layer, active, selected in self.layers:
+            layer.update()  # drop bases of objects removed above
             for ob in layer.objects:
+                if ob is None:
+                    continue
                 want = ob.name in selected
                 if ob.select_get(view_layer=layer) != want:
                     ob.select_set(want, view_layer=layer)

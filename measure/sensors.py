@@ -34,14 +34,27 @@ def _orthonormal_tangents(normals):
     return t, b
 
 
+def _nearest_light_distance(scene, points):
+    """Distance (scene units) from each point to the nearest light origin (inf without lights)."""
+    origins = [np.array(ob.matrix_world.translation) for ob in scene.objects
+               if ob.type == "LIGHT" and ob.data.type != "SUN"]
+    if not origins:
+        return np.full(len(points), np.inf)
+    d = np.linalg.norm(points[:, None, :] - np.array(origins)[None, :, :], axis=2)
+    return d.min(axis=1)
+
+
 def build_sensor(scene, points, normals, texels):
     """Create the sensor object (linked to the scene collection) and its bake image."""
     n = len(points)
     blocks_per_row = int(math.ceil(math.sqrt(n)))
     res = blocks_per_row * texels
-    # Half-size: small against the meter's surroundings, large against float32 position
-    # resolution (Cycles stores geometry as float32: ~1e-7 relative).
-    half = np.maximum(np.linalg.norm(points, axis=1), 1.0) * 2e-5
+    # Half-size: small against the distance to the nearest light (texels sample across the quad:
+    # the error is second order, (half / distance)^2 ~ 1e-8), yet well above float32 position
+    # resolution (Cycles stores geometry as float32: ~6e-8 relative) so the quad never collapses.
+    radius = np.linalg.norm(points, axis=1)
+    nearest = _nearest_light_distance(scene, points)
+    half = np.maximum(np.minimum(1e-4 * nearest, 2e-5 * np.maximum(radius, 1.0)), 4e-6 * np.maximum(radius, 1e-3))
     t, b = _orthonormal_tangents(normals)
     corners = np.stack([-t - b, t - b, t + b, -t + b], axis=1) * half[:, None, None] + points[:, None, :]
     verts = corners.reshape(-1, 3)
@@ -57,6 +70,13 @@ def build_sensor(scene, points, normals, texels):
     mesh.polygons.foreach_set("loop_total", np.full(n, 4, np.int32))
     mesh.update()
     mesh.validate()
+    # Exact normals: a face normal computed by Cycles from float32 corners that are 2e-5 m apart
+    # is off by ~1e-3 rad a few metres from the origin. Blender 5 "free" custom normals (a float
+    # vector attribute named custom_normal) carry the meter's normal at full float32 precision,
+    # and smooth shading makes Cycles use them.
+    free = mesh.attributes.new("custom_normal", "FLOAT_VECTOR", "POINT")
+    free.data.foreach_set("vector", np.repeat(normals, 4, axis=0).astype(np.float32).ravel())
+    mesh.shade_smooth()
 
     # UV block per quad; the quad spans its whole block so every texel centre lies inside.
     ix, iy = np.arange(n) % blocks_per_row, np.arange(n) // blocks_per_row
@@ -98,12 +118,15 @@ def _select_only(view_layer, obj):
 
 
 def bake_irradiance(scene, view_layer, points, normals, *, samples, texels=4, bakes=1, target_rel_error=None,
-                    max_bakes=64, progress=None, cancelled=None, seed0=0):
+                    max_samples=1 << 16, progress=None, cancelled=None, seed0=0):
     """Bake irradiance E (W/m^2 in the render's units, RGB) at ``points`` facing ``normals``.
 
     Returns ``(estimates, info)`` where ``estimates`` has shape (batches, N, 3): one independent
-    estimate per texel per bake. With ``target_rel_error`` it keeps baking (new seeds) until the
-    95 % interval half-width of every meter is within that fraction of its mean, or ``max_bakes``.
+    estimate per texel per bake, all with the same sample count. With ``target_rel_error`` the
+    preset's bakes act as a pilot: if some meter's 95 % interval half-width exceeds that fraction of
+    its mean, the per-texel sample count is raised by the 1/sqrt(N) law and the meters are baked
+    afresh (new seeds; pilot batches discarded so every batch has the same variance), until the
+    target is met or ``max_samples`` per texel is reached.
     """
     from ..radiometry import stats
 
@@ -114,20 +137,26 @@ def bake_irradiance(scene, view_layer, points, normals, *, samples, texels=4, ba
     res = per_row * texels
     n = len(points)
     ix, iy = np.arange(n) % per_row, np.arange(n) // per_row
-    estimates = []
     started = time.perf_counter()
     bake_seconds = 0.0
-    k = 0
-    while True:
+    seed = seed0
+    samples = int(samples)
+    total_bakes = 0
+
+    def one_bake():
+        nonlocal seed, bake_seconds, total_bakes
         if cancelled is not None and cancelled():
             raise MeasurementCancelled("measurement cancelled; the scene was restored")
-        scene.cycles.seed = seed0 + k
+        scene.cycles.seed = seed
+        scene.cycles.samples = samples
+        seed += 1
         t0 = time.perf_counter()
         with bpy.context.temp_override(scene=scene, view_layer=view_layer, active_object=obj,
                                        object=obj, selected_objects=[obj], selected_editable_objects=[obj]):
             result = bpy.ops.object.bake(type="DIFFUSE", pass_filter={"DIRECT", "INDIRECT"}, margin=0,
                                          use_clear=True, target="IMAGE_TEXTURES")
         bake_seconds += time.perf_counter() - t0
+        total_bakes += 1
         if result != {"FINISHED"}:
             raise RuntimeError(f"Cycles bake did not finish ({result})")
         pixels = np.empty(res * res * 4, np.float32)
@@ -136,25 +165,34 @@ def bake_irradiance(scene, view_layer, points, normals, *, samples, texels=4, ba
         # (res, res, 3) -> (per_row, texels, per_row, texels, 3) -> per meter (texels*texels, 3)
         blocks = pixels.reshape(per_row, texels, per_row, texels, 3)
         per_meter = blocks[iy, :, ix, :, :]  # (n, texels, texels, 3)
-        estimates.append(math.pi * per_meter.reshape(n, texels * texels, 3).transpose(1, 0, 2))
-        k += 1
-        if progress is not None:
-            progress(k, max(bakes, k))
-        if k < bakes:
-            continue
-        if target_rel_error is None or k >= max_bakes:
+        return math.pi * per_meter.reshape(n, texels * texels, 3).transpose(1, 0, 2)
+
+    while True:
+        estimates = []
+        for k in range(bakes):
+            estimates.append(one_bake())
+            if progress is not None:
+                progress(k + 1, bakes)
+        estimates = np.concatenate(estimates, axis=0)
+        if target_rel_error is None:
             break
-        all_est = np.concatenate(estimates, axis=0)
-        luminance_like = all_est.mean(axis=2)
-        half_width = stats.t_half_width_95(luminance_like, axis=0)
-        mean = np.abs(luminance_like.mean(axis=0))
-        if np.all(half_width <= target_rel_error * np.maximum(mean, 1e-300)):
+        grey = estimates.mean(axis=2)
+        mean = np.abs(grey.mean(axis=0))
+        half_width = stats.t_half_width_95(grey, axis=0)
+        lit = mean > 0
+        if not lit.any():
             break
+        ratio = np.max(half_width[lit] / mean[lit]) / target_rel_error
+        if ratio <= 1.0 or samples >= max_samples:
+            break
+        # 1/sqrt(N): N_new = N (ratio)^2, with 20 % margin for the noise of the pilot estimate.
+        samples = int(min(max_samples, math.ceil(samples * ratio ** 2 * 1.2)))
     info = {
-        "bakes": k,
+        "bakes": bakes,
+        "total_bakes": total_bakes,
         "texels_per_meter": texels * texels,
-        "samples_per_texel": int(scene.cycles.samples),
+        "samples_per_texel": samples,
         "bake_seconds": bake_seconds,
         "seconds": time.perf_counter() - started,
     }
-    return np.concatenate(estimates, axis=0), info
+    return estimates, info
