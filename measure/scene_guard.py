@@ -18,6 +18,10 @@ _DATA_COLLECTIONS = (
     "worlds", "collections", "texts", "curves", "scenes",
 )
 
+# Properties computed from others: writing them back would round-trip through the others
+# (white balance whitepoint <-> temperature/tint), so only their sources are restored.
+_DERIVED = {"white_balance_whitepoint"}
+
 # Properties whose values must not be written back (read-only at runtime or derived).
 _SKIP = {"rna_type", "is_evaluated", "original", "users", "session_uid", "is_missing",
          "use_nodes"}  # Scene.use_nodes is deprecated in 5.0 (reading it warns)
@@ -40,10 +44,18 @@ def _rna_values(struct):
     return values
 
 
+def _same(current, value):
+    if hasattr(current, "__len__") and not isinstance(current, (str, set)):
+        return tuple(current) == tuple(value)
+    return current == value
+
+
 def _restore_values(struct, values):
     for ident, value in values.items():
+        if ident in _DERIVED:
+            continue
         try:
-            if getattr(struct, ident) != value:
+            if not _same(getattr(struct, ident), value):
                 setattr(struct, ident, value)
         except (AttributeError, TypeError, RuntimeError, ValueError):
             # Properties that refuse a write (context-dependent enums) are left; they were not
@@ -152,7 +164,9 @@ def scene_fingerprint(scene=None):
         "selection": sorted(_selection(layer)),
         "counts": {name: len(getattr(bpy.data, name)) for name in _DATA_COLLECTIONS},
         "objects": sorted(
-            (ob.name, tuple(round(v, 12) for row in ob.matrix_world for v in row)) for ob in scene.objects
+            (ob.name, tuple(ob.location), tuple(ob.rotation_euler), tuple(ob.scale),
+             ob.parent.name if ob.parent else None, ob.hide_render, ob.hide_viewport)
+            for ob in scene.objects
         ),
         "lights": sorted((l.name, l.energy) for l in bpy.data.lights),
     }

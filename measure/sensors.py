@@ -117,6 +117,14 @@ def _select_only(view_layer, obj):
     view_layer.objects.active = obj
 
 
+def run_bake(scene, view_layer, obj):
+    """One Cycles bake of the sensor object (a function of its own so tests can make it fail)."""
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer, active_object=obj,
+                                   object=obj, selected_objects=[obj], selected_editable_objects=[obj]):
+        return bpy.ops.object.bake(type="DIFFUSE", pass_filter={"DIRECT", "INDIRECT"}, margin=0,
+                                   use_clear=True, target="IMAGE_TEXTURES")
+
+
 def bake_irradiance(scene, view_layer, points, normals, *, samples, texels=4, bakes=1, target_rel_error=None,
                     max_samples=1 << 16, progress=None, cancelled=None, seed0=0):
     """Bake irradiance E (W/m^2 in the render's units, RGB) at ``points`` facing ``normals``.
@@ -151,10 +159,7 @@ def bake_irradiance(scene, view_layer, points, normals, *, samples, texels=4, ba
         scene.cycles.samples = samples
         seed += 1
         t0 = time.perf_counter()
-        with bpy.context.temp_override(scene=scene, view_layer=view_layer, active_object=obj,
-                                       object=obj, selected_objects=[obj], selected_editable_objects=[obj]):
-            result = bpy.ops.object.bake(type="DIFFUSE", pass_filter={"DIRECT", "INDIRECT"}, margin=0,
-                                         use_clear=True, target="IMAGE_TEXTURES")
+        result = run_bake(scene, view_layer, obj)
         bake_seconds += time.perf_counter() - t0
         total_bakes += 1
         if result != {"FINISHED"}:
