@@ -34,6 +34,10 @@ class RADIOMETER_PT_brdf(bpy.types.Panel):
         for item in s.params:
             label = f"{item.name} [{item.unit}]" if item.unit else item.name
             row = box.row()
+            if item.optional:
+                row.prop(item, "use", text="")
+                row = row.row()
+                row.enabled = item.use
             if item.kind == "color":
                 row.prop(item, "color", text=label)
             elif item.kind == "float":

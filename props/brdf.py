@@ -7,6 +7,7 @@ the material unchanged and shows the error in the panel.
 """
 
 import bpy
+import numpy as np
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty, FloatVectorProperty,
                        PointerProperty, StringProperty)
 
@@ -35,14 +36,25 @@ def _material(owner):
 
 
 def _params_dict(settings):
+    """The parameters to pass: optional ones only when switched on, others only when not default
+    (so that, e.g., the Schlick f0 default does not clash with an explicit ior)."""
     out = {}
     for item in settings.params:
+        if item.optional and not item.use:
+            continue
         if item.kind == "color":
-            out[item.name] = list(item.color)
+            value = [float(c) for c in item.color]
+            if not item.optional and item.has_default and all(abs(c - item.default_value) < 1e-9 for c in value):
+                continue
         elif item.kind == "float":
-            out[item.name] = item.value
+            value = float(item.value)
+            if not item.optional and item.has_default and abs(value - item.default_value) < 1e-9 * max(1.0, abs(value)):
+                continue
         else:
-            out[item.name] = item.text
+            value = item.text
+            if not item.optional and value == item.default_text:
+                continue
+        out[item.name] = value
     return out
 
 
@@ -74,33 +86,40 @@ def _on_param_change(self, context):
 
 def sync_params(settings, model, values=None):
     """Rebuild the parameter collection for ``model`` from describe(); ``values`` override defaults."""
-    from ..brdf import describe
+    from ..shading.realise import param_specs
 
     values = values or {}
-    d = describe(model)
-    specs = d["params"] if isinstance(d, dict) else d
     _guard["busy"] = True
     try:
         settings.params.clear()
-        for s in specs:
+        for name, s in param_specs(model).items():
             item = settings.params.add()
-            item.name = s["name"]
+            item.name = name
             item.kind = s.get("kind", "float")
+            item.optional = bool(s.get("optional"))
+            item.use = name in values and values[name] is not None
             item.unit = s.get("unit", "") or ""
             item.description = s.get("description", "") or ""
-            v = values.get(s["name"], s.get("default"))
+            default = s.get("default")
+            item.has_default = default is not None
+            shown = values.get(name, default if default is not None else s.get("ui_default"))
             if item.kind == "color":
-                if v is not None:
-                    item.color = tuple(v) if hasattr(v, "__len__") else (v, v, v)
+                if default is not None:
+                    item.default_value = float(np.mean(default)) if hasattr(default, "__len__") else float(default)
+                if shown is not None:
+                    item.color = tuple(shown) if hasattr(shown, "__len__") else (shown,) * 3
             elif item.kind == "float":
-                if v is not None:
-                    item.value = float(v)
+                if default is not None:
+                    item.default_value = float(default)
+                if shown is not None:
+                    item.value = float(shown)
                 if s.get("min") is not None:
                     item.soft_min = float(s["min"])
                 if s.get("max") is not None:
                     item.soft_max = float(s["max"])
             else:
-                item.text = "" if v is None else str(v)
+                item.default_text = "" if default is None else str(default)
+                item.text = "" if shown is None else str(shown)
     finally:
         _guard["busy"] = False
 
@@ -117,25 +136,11 @@ def store_assignment(material, model, method, params, fidelity):
     settings = material.radiometer_brdf
     _guard["busy"] = True
     try:
-        if settings.model != model or len(settings.params) == 0:
-            settings.model = model
-            _guard["busy"] = False
+        settings.model = model
+        settings.method = method
+        if _params_dict(settings) != params or len(settings.params) == 0:
             sync_params(settings, model, params)
             _guard["busy"] = True
-        else:
-            current = {p.name for p in settings.params}
-            if params:
-                for item in settings.params:
-                    if item.name in params:
-                        v = params[item.name]
-                        if item.kind == "color":
-                            item.color = tuple(v) if hasattr(v, "__len__") else (v, v, v)
-                        elif item.kind == "float":
-                            item.value = float(v)
-                        else:
-                            item.text = str(v)
-            del current
-        settings.method = method
         settings.applied = True
         settings.error = ""
         settings.fidelity_kind = fidelity.kind
@@ -150,7 +155,13 @@ def store_assignment(material, model, method, params, fidelity):
 
 class RADIOMETER_PG_brdf_param(bpy.types.PropertyGroup):
     # name (StringProperty) comes from PropertyGroup
-    kind: StringProperty(default="float")
+    kind: StringProperty(default="float")  # 'float' | 'color' | 'option'
+    optional: BoolProperty(default=False)
+    use: BoolProperty(name="Use", default=False, update=_on_param_change,
+                      description="Pass this optional parameter (e.g. ior instead of f0)")
+    has_default: BoolProperty(default=True)
+    default_value: FloatProperty(default=0.0)
+    default_text: StringProperty(default="")
     unit: StringProperty(default="")
     description: StringProperty(default="")
     soft_min: FloatProperty(default=0.0)

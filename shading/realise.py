@@ -90,37 +90,37 @@ def _lib():
     return brdf
 
 
-def _param_specs(model):
+def param_specs(model):
+    """{name: spec dict} from ``describe(model)``; options (e.g. variant) get kind 'option'."""
     d = _lib().describe(model)
-    specs = d["params"] if isinstance(d, dict) else d
-    return {s["name"]: s for s in specs}
+    specs = {s["name"]: dict(s) for s in (d.get("parameters") or d.get("params") or [])}
+    for name, opt in (d.get("options") or {}).items():
+        specs[name] = {"name": name, "kind": "option", "default": opt["default"], "values": list(opt["values"]),
+                       "optional": False, "unit": "", "description": f"one of {', '.join(map(str, opt['values']))}"}
+    return specs
 
 
-def resolve_params(model, params):
-    """Defaults from ``describe(model)`` updated by ``params``; validated.
-
-    Raises
-    ------
-    RadiometerError
-        Unknown model or parameter, wrong colour length, NaN/inf, or outside [min, max].
-    """
+def _check_given(model, params):
+    """Validate user parameters (names, shapes, finiteness, ranges); return them cleaned."""
     lib = _lib()
     if model not in lib.names():
         raise RadiometerError(f"unknown BRDF model {model!r}; choose one of {', '.join(lib.names())}")
-    specs = _param_specs(model)
+    specs = param_specs(model)
     unknown = [k for k in params if k not in specs]
     if unknown:
         raise RadiometerError(f"{model} has no parameter {', '.join(unknown)}; it takes {', '.join(specs)}")
     out = {}
-    for name, spec in specs.items():
-        value = params.get(name, spec.get("default"))
-        if value is None:
-            out[name] = None
-            continue
-        if isinstance(value, str):
+    for name, value in params.items():
+        spec = specs[name]
+        if spec["kind"] == "option":
+            if value not in spec["values"]:
+                raise RadiometerError(f"{model}.{name} must be one of {spec['values']}, got {value!r}")
             out[name] = value
             continue
-        arr = np.asarray(value, dtype=float)
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise RadiometerError(f"{model}.{name} must be a number, got {value!r}") from None
         if spec.get("kind") == "color":
             if arr.ndim == 0:
                 arr = np.full(3, float(arr))
@@ -131,11 +131,33 @@ def resolve_params(model, params):
         if not np.all(np.isfinite(arr)):
             raise RadiometerError(f"{model}.{name} must be finite, got {value!r}")
         lo, hi = spec.get("min"), spec.get("max")
+        unit = f" {spec['unit']}" if spec.get("unit") not in (None, "", "1") else ""
         if lo is not None and np.any(arr < lo):
-            raise RadiometerError(f"{model}.{name} = {value!r} is below its minimum {lo}")
+            raise RadiometerError(f"{model}.{name} = {value!r}{unit} is below its minimum {lo}{unit}")
         if hi is not None and np.any(arr > hi):
-            raise RadiometerError(f"{model}.{name} = {value!r} is above its maximum {hi}")
+            raise RadiometerError(f"{model}.{name} = {value!r}{unit} is above its maximum {hi}{unit}")
         out[name] = arr.tolist() if arr.ndim else float(arr)
+    # cross-parameter rules (kd + ks <= 1, one Fresnel mode ...) belong to the library: ask it
+    try:
+        lib.evaluate(model, np.array([0.0, 0.0, 1.0]), np.array([0.0, 0.0, 1.0]), **out)
+    except ValueError as exc:
+        raise RadiometerError(f"{model}: {exc}") from None
+    return out
+
+
+def resolve_params(model, params):
+    """Defaults from ``describe(model)`` updated by ``params`` (validated); optional ones may be None.
+
+    Raises
+    ------
+    RadiometerError
+        Unknown model or parameter, wrong colour length, NaN/inf, outside [min, max], or a
+        cross-parameter rule of the library (e.g. kd + ks <= 1, one Fresnel mode).
+    """
+    given = _check_given(model, params)
+    out = {}
+    for name, spec in param_specs(model).items():
+        out[name] = given.get(name, spec.get("default"))
     return out
 
 
@@ -155,24 +177,21 @@ def _alphas(p, default=0.3):
 
 
 def _fresnel(p, given):
-    """(fresnel, f0, ior, k) from the params; the user's explicit choice wins (eta+k > ior > f0)."""
-    def has(name):
-        return p.get(name) is not None and (name in given or name == "f0")
-
-    if (has("k") or has("eta")) and p.get("eta") is not None:
+    """(fresnel, f0, ior, k) as the library chooses it: eta+k (conductor), ior (dielectric) or f0 (Schlick)."""
+    if p.get("eta") is not None and p.get("k") is not None:
         return "conductor", (1.0,) * 3, _rgb(p.get("eta")), _rgb(p.get("k"), 0.0)
-    if "ior" in given and p.get("ior") is not None:
-        return "conductor", (1.0,) * 3, _rgb(p.get("ior")), (0.0, 0.0, 0.0)
-    if p.get("f0") is not None:
-        return "schlick", _rgb(p.get("f0")), (1.5,) * 3, (0.0,) * 3
     if p.get("ior") is not None:
+        # Cycles' conductor Fresnel with k = 0 is the exact dielectric Fresnel (outside incidence)
         return "conductor", (1.0,) * 3, _rgb(p.get("ior")), (0.0, 0.0, 0.0)
-    return "none", (1.0,) * 3, (1.5,) * 3, (0.0,) * 3
+    f0 = _rgb(p.get("f0"), 1.0)
+    if all(abs(v - 1.0) < 1e-12 for v in f0):
+        return "none", (1.0,) * 3, (1.5,) * 3, (0.0,) * 3  # Schlick with f0 = 1 is F = 1
+    return "schlick", f0, (1.5,) * 3, (0.0,) * 3
 
 
-def _f_model(model, p):
+def _f_model(model, given):
     lib = _lib()
-    kwargs = {k: v for k, v in p.items() if v is not None}
+    kwargs = dict(given)  # only what the user gave: the library applies its own defaults
 
     def f(wi, wo):
         return np.asarray(lib.evaluate(model, wi, wo, **kwargs), dtype=float) * np.ones(3)
@@ -236,7 +255,9 @@ def limit_for_nodes(terms):
 
 
 def _microfacet_candidates(lobe_alpha, fresnel=("none", (1.0,) * 3, (1.5,) * 3, (0.0,) * 3),
-                           aniso=False, distributions=("ggx", "beckmann"), diffuse=True, spec_linear="rgb"):
+                           aniso=False, distributions=("ggx", "beckmann"), diffuse=True, spec_linear="rgb",
+                           diffuse_color=None):
+    """Candidates 'microfacet lobe (+ diffuse)'; ``diffuse_color`` fixes the diffuse term (the model's kd)."""
     fr, f0, ior, k = fresnel
     cands = []
     for dist in distributions:
@@ -245,10 +266,10 @@ def _microfacet_candidates(lobe_alpha, fresnel=("none", (1.0,) * 3, (1.5,) * 3, 
             ay = float(x[1]) if aniso else ax
             terms = [C.Term("microfacet", distribution=dist, alpha_x=ax, alpha_y=ay, fresnel=fr, f0=f0, ior=ior, k=k)]
             if diffuse:
-                terms.insert(0, C.Term("diffuse"))
+                terms.insert(0, C.Term("diffuse", color=diffuse_color or (1.0, 1.0, 1.0)))
             return terms
 
-        lin = (("rgb",) if diffuse else ()) + (spec_linear,)
+        lin = ((None if diffuse_color else "rgb",) if diffuse else ()) + (spec_linear,)
         x0 = tuple(lobe_alpha) if aniso else (lobe_alpha[0],)
         cands.append(F.Candidate(
             name=f"{'diffuse + ' if diffuse else ''}{dist} microfacet", build=build, x0=x0, linear=lin,
@@ -292,23 +313,25 @@ def _realise(model, method, p, given):
             return [C.Term("diffuse", color=kd), C.Term("phong_ramp", color=ks, exponent=n)], None, width, notes
         notes.append("Phong lobe (around the mirror direction) fitted with a microfacet lobe")
         # Blinn-Phong half-vector exponent ~ 4 n_phong; Walter (2007): alpha ~ sqrt(2 / (n + 2))
-        return None, None, width, _microfacet_candidates([math.sqrt(2.0 / (4 * n + 2.0))]) + notes
+        return None, None, width, _microfacet_candidates([math.sqrt(2.0 / (4 * n + 2.0))], diffuse_color=kd) + notes
     if model == "blinn_phong":
         n = float(p.get("n", 10.0))
         alpha = math.sqrt(2.0 / (n + 2.0))
         notes.append("Blinn-Phong exponent fitted with a microfacet alpha (Walter 2007: alpha ~ sqrt(2/(n+2)))")
-        return None, None, alpha, _microfacet_candidates([alpha]) + notes
+        kd = _rgb(p.get("kd"), 0.0)
+        return None, None, alpha, _microfacet_candidates([alpha], diffuse_color=kd) + notes
     if model == "torrance_sparrow":
         ax, ay = _alphas(p)
         fr = _fresnel(p, given)
         notes.append("V-cavity G replaced by the height-correlated Smith G of Cycles' Beckmann; alpha refitted")
-        cands = _microfacet_candidates([ax], fresnel=fr, distributions=("beckmann", "ggx"),
+        cands = _microfacet_candidates([ax], fresnel=fr, distributions=("beckmann", "ggx"), diffuse=False,
                                        spec_linear="scalar")
         return None, None, ax, cands + notes
     if model == "ward":
         ax, ay = _alphas(p, 0.2)
         notes.append("Ward's Gaussian lobe fitted with an anisotropic Beckmann/GGX lobe (F = 1)")
-        return None, None, min(ax, ay), _microfacet_candidates([ax, ay], aniso=True) + notes
+        kd = _rgb(p.get("kd"), 0.0)
+        return None, None, min(ax, ay), _microfacet_candidates([ax, ay], aniso=True, diffuse_color=kd) + notes
     if model == "ashikhmin_shirley":
         nu, nv = float(p.get("n_u", 100.0)), float(p.get("n_v", 100.0))
         rs = _rgb(p.get("Rs"), 0.05)
@@ -337,9 +360,24 @@ def realise(model, method="nodes", **params):
     """
     if method not in METHODS:
         raise RadiometerError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
-    p = resolve_params(model, params)
-    key = (model, method, tuple(sorted((k, _freeze(v)) for k, v in p.items())), tuple(sorted(params)))
-    return _realise_cached(key)
+    given = _check_given(model, params)
+    key = (model, method, tuple(sorted((k, _freeze(v)) for k, v in given.items())))
+    terms, fid = _realise_cached(key)
+    return list(terms), fid
+
+
+def _same_terms(a, b, rtol=1e-9):
+    if len(a) != len(b):
+        return False
+    for s, t in zip(a, b):
+        if s.closure != t.closure:
+            return False
+        for name in ("alpha_x", "alpha_y", "roughness"):
+            if not math.isclose(getattr(s, name), getattr(t, name), rel_tol=rtol, abs_tol=1e-12):
+                return False
+        if not np.allclose(s.color, t.color, rtol=rtol, atol=1e-12):
+            return False
+    return True
 
 
 def _freeze(v):
@@ -348,12 +386,13 @@ def _freeze(v):
 
 @functools.lru_cache(maxsize=256)
 def _realise_cached(key):
-    model, method, items, given = key
-    p = {k: (list(v) if isinstance(v, tuple) else v) for k, v in items}
+    model, method, items = key
+    given = {k: (list(v) if isinstance(v, tuple) else v) for k, v in items}
+    p = {name: given.get(name, spec.get("default")) for name, spec in param_specs(model).items()}
     terms, _, width, extra = _realise(model, method, p, set(given))
     cands = [c for c in extra if isinstance(c, F.Candidate)]
     notes = [s for s in extra if isinstance(s, str)]
-    f_model = _f_model(model, p)
+    f_model = _f_model(model, given)
     fitted = {}
     if terms is None:
         result = F.fit(cands, f_model, lobe_width=width)
@@ -365,7 +404,7 @@ def _realise_cached(key):
         analytic_exact = True
     if method == "nodes":
         limited = limit_for_nodes(terms)
-        if limited != terms:
+        if not _same_terms(limited, terms):
             notes.append("closure parameters clamped to what Blender's nodes accept")
             analytic_exact = False
         terms = limited

@@ -1,0 +1,121 @@
+"""assign_brdf, Material.radiometer_brdf re-editing, operators: what they do to a material.
+
+Reference values: the Cycles node conventions read from the kernel (roughness r -> alpha = r^2),
+and the parameters passed in.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+
+@pytest.fixture
+def lib(clean_blender):
+    try:
+        from radiometer import brdf
+
+        brdf.names()
+    except (ImportError, AttributeError):
+        pytest.skip("radiometer.brdf is not available yet")
+    return brdf
+
+
+def _inner(node, bl_idname):
+    return [n for n in node.node_tree.nodes if n.bl_idname == bl_idname]
+
+
+def test_assign_builds_group_keeps_user_nodes(lib):
+    from radiometer.shading.assign import GROUP_NODE_NAME, assign_brdf
+
+    mat = bpy.data.materials.new("m")
+    tree = mat.node_tree
+    out = tree.get_output_node("ALL")
+    user = out.inputs["Surface"].links[0].from_node  # the default Principled BSDF
+    fid = assign_brdf(mat, "ggx", alpha=0.36, f0=0.04)
+    assert fid.kind == "exact" and fid.rms_rel_diff < 1e-3
+    node = tree.nodes[GROUP_NODE_NAME]
+    assert out.inputs["Surface"].links[0].from_node == node
+    assert user.name in tree.nodes  # kept, only disconnected
+    assert user.name in fid.notes
+    metallic = _inner(node, "ShaderNodeBsdfMetallic")[0]
+    assert math.isclose(metallic.inputs["Roughness"].default_value, 0.6, rel_tol=1e-6)  # sqrt(0.36)
+    assert metallic.fresnel_type == "F82"
+    assert tuple(metallic.inputs["Edge Tint"].default_value)[:3] == (1.0, 1.0, 1.0)
+    s = mat.radiometer_brdf
+    assert s.model == "ggx" and s.applied and s.fidelity_kind == "exact"
+
+
+def test_reedit_parameter_updates_material(lib):
+    from radiometer.shading.assign import GROUP_NODE_NAME, assign_brdf
+
+    mat = bpy.data.materials.new("m")
+    assign_brdf(mat, "ggx", alpha=0.25, f0=0.04)
+    group = mat.node_tree.nodes[GROUP_NODE_NAME].node_tree
+    item = next(p for p in mat.radiometer_brdf.params if p.name == "alpha")
+    item.value = 0.64  # update callback re-applies
+    node = mat.node_tree.nodes[GROUP_NODE_NAME]
+    assert node.node_tree == group  # rebuilt in place, same data-block
+    metallic = _inner(node, "ShaderNodeBsdfMetallic")[0]
+    assert math.isclose(metallic.inputs["Roughness"].default_value, 0.8, rel_tol=1e-6)
+    assert len([g for g in bpy.data.node_groups if g.name.startswith("Radiometer")]) == 1
+
+
+def test_bad_parameters_raise_and_leave_material_unchanged(lib):
+    from radiometer.errors import RadiometerError
+    from radiometer.shading.assign import GROUP_NODE_NAME, assign_brdf
+
+    mat = bpy.data.materials.new("m")
+    assign_brdf(mat, "ggx", alpha=0.25, f0=0.04)
+    n_nodes = len(mat.node_tree.nodes)
+    for bad in ({"alpha": float("nan")}, {"alpha": -0.1}, {"nonsense": 1.0}):
+        with pytest.raises(RadiometerError):
+            assign_brdf(mat, "ggx", **bad)
+    with pytest.raises(RadiometerError):
+        assign_brdf(mat, "no_such_model")
+    assert len(mat.node_tree.nodes) == n_nodes
+    metallic = _inner(mat.node_tree.nodes[GROUP_NODE_NAME], "ShaderNodeBsdfMetallic")[0]
+    assert math.isclose(metallic.inputs["Roughness"].default_value, 0.5, rel_tol=1e-6)
+    # through the property: error stored, material unchanged
+    item = next(p for p in mat.radiometer_brdf.params if p.name == "alpha")
+    item.value = -1.0
+    assert mat.radiometer_brdf.error
+    assert math.isclose(metallic.inputs["Roughness"].default_value, 0.5, rel_tol=1e-6)
+
+
+def test_switch_to_osl_and_back_removes_only_our_nodes(lib):
+    from radiometer.shading.assign import GROUP_NODE_NAME, OSL_NODE_NAME, assign_brdf
+
+    mat = bpy.data.materials.new("m")
+    assign_brdf(mat, "lambert")
+    assign_brdf(mat, "phong", method="osl", n=20.0)
+    names = set(mat.node_tree.nodes.keys())
+    assert OSL_NODE_NAME in names and GROUP_NODE_NAME not in names
+    assert not [g for g in bpy.data.node_groups if g.name.startswith("Radiometer")]
+    fid = assign_brdf(mat, "lambert")
+    assert fid.kind == "exact"
+    assert OSL_NODE_NAME not in mat.node_tree.nodes
+    assert not bpy.context.scene.cycles.shading_system  # never switched on in the user's scene
+
+
+def test_operator_poll_and_execute(lib):
+    scene = bpy.context.scene
+    mesh = bpy.data.meshes.new("m")
+    obj = bpy.data.objects.new("o", mesh)
+    scene.collection.objects.link(obj)
+    bpy.context.view_layer.objects.active = obj
+    assert not bpy.ops.radiometer.assign_brdf.poll()  # no material yet
+    mat = bpy.data.materials.new("m")
+    mesh.materials.append(mat)
+    with bpy.context.temp_override(object=obj, material=mat):
+        assert bpy.ops.radiometer.assign_brdf.poll()
+        mat.radiometer_brdf.model = "ward"
+        assert bpy.ops.radiometer.assign_brdf() == {"FINISHED"}
+    s = mat.radiometer_brdf
+    assert s.applied and s.fidelity_kind == "approximate" and s.fidelity_rms > 0
+    assert "RMS" in s.fidelity_summary
+    from radiometer.operators.brdf import RADIOMETER_OT_assign_brdf
+
+    assert {"REGISTER", "UNDO"} <= RADIOMETER_OT_assign_brdf.bl_options
