@@ -41,7 +41,7 @@ def main(path=os.path.join(HERE, "brdf_fidelity.md")):
     from radiometer.shading import closures as C
     from radiometer.shading import validate as V
     from radiometer.shading.assign import assign_brdf
-    from radiometer.shading.realise import resolve_params
+    from radiometer.shading.realise import check_params
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     radiometer.register()
@@ -60,7 +60,7 @@ def main(path=os.path.join(HERE, "brdf_fidelity.md")):
                 if any(t.closure == "mirror" for t in fid.terms):
                     rows.append((model, params, method, fid.kind, "delta", "", "n/a (delta lobe)", "", fid.closure))
                     continue
-                kwargs = {k: v for k, v in resolve_params(model, params).items() if v is not None}
+                kwargs = check_params(model, params)
                 rendered = V.render_f(mat, wi, wo, osl=(method == "osl"))
                 model_f = np.asarray(brdf.evaluate(model, wi, wo, **kwargs), dtype=float) * np.ones(3)
                 closure_f = C.evaluate_terms(fid.terms, wi, wo)

@@ -42,12 +42,11 @@ def run(args):
     import numpy as np
 
     from .. import brdf
-    from ..errors import RadiometerError
-    from ..shading.realise import realise, resolve_params
+    from ..shading.realise import check_params, realise, resolve_params
 
     params = parse_params(args.param)
-    resolved = resolve_params(args.model, params)  # raises for unknown model / params / bad values
-    kwargs = {k: v for k, v in resolved.items() if v is not None}
+    kwargs = check_params(args.model, params)  # raises for unknown model / params / bad values
+    resolved = resolve_params(args.model, params)
     albedo = {}
     for deg in ALBEDO_ANGLES_DEG:
         a = np.asarray(brdf.albedo(args.model, math.radians(deg), **kwargs), dtype=float)

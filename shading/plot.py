@@ -13,9 +13,9 @@ def write_plot(model, path, **params):
     RadiometerError
         Unknown model/parameter, the library has no plotting module, or the directory is missing.
     """
-    from .realise import resolve_params
+    from .realise import check_params
 
-    p = resolve_params(model, params)
+    p = check_params(model, params)
     directory = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(directory):
         raise RadiometerError(f"cannot write {path}: directory {directory} does not exist")
@@ -23,5 +23,5 @@ def write_plot(model, path, **params):
         from ..brdf import plots
     except ImportError:
         raise RadiometerError("radiometer.brdf.plots is not available in this version") from None
-    plots.plot_summary(model, path, **{k: v for k, v in p.items() if v is not None})
+    plots.plot_summary(model, path, **p)
     return path

@@ -100,7 +100,7 @@ def param_specs(model):
     return specs
 
 
-def _check_given(model, params):
+def check_params(model, params):
     """Validate user parameters (names, shapes, finiteness, ranges); return them cleaned."""
     lib = _lib()
     if model not in lib.names():
@@ -154,7 +154,7 @@ def resolve_params(model, params):
         Unknown model or parameter, wrong colour length, NaN/inf, outside [min, max], or a
         cross-parameter rule of the library (e.g. kd + ks <= 1, one Fresnel mode).
     """
-    given = _check_given(model, params)
+    given = check_params(model, params)
     out = {}
     for name, spec in param_specs(model).items():
         out[name] = given.get(name, spec.get("default"))
@@ -360,7 +360,7 @@ def realise(model, method="nodes", **params):
     """
     if method not in METHODS:
         raise RadiometerError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
-    given = _check_given(model, params)
+    given = check_params(model, params)
     key = (model, method, tuple(sorted((k, _freeze(v)) for k, v in given.items())))
     terms, fid = _realise_cached(key)
     return list(terms), fid

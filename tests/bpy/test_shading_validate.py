@@ -144,11 +144,11 @@ def test_library_models_render_within_stated_fidelity(clean_blender, model, meth
     if model not in brdf.names():
         pytest.skip(f"{model} not in the library yet")
     from radiometer.shading.assign import assign_brdf
-    from radiometer.shading.realise import resolve_params
+    from radiometer.shading.realise import check_params
 
     mat = bpy.data.materials.new(model)
     fid = assign_brdf(mat, model, method, **params)
-    kwargs = {k: v for k, v in resolve_params(model, params).items() if v is not None}
+    kwargs = check_params(model, params)
     wi, wo = V.config_directions()
     rendered = V.render_f(mat, wi, wo, osl=(method == "osl"))
     # 1) Cycles renders exactly the closure network the fidelity was measured on
