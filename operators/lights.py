@@ -1,0 +1,73 @@
+"""Set a light's power in lumens, candela, lux (sun) or nits (area)."""
+
+import bpy
+from bpy.props import EnumProperty, FloatProperty
+
+from ..errors import RadiometerError
+
+_UNIT_ITEMS = [
+    ("LUMEN", "Lumens (lm)", "Luminous flux (point, spot: of the equivalent point light; area: total)"),
+    ("CANDELA", "Candela (cd)", "Luminous intensity of a point or spot light"),
+    ("LUX", "Lux (lx)", "Illuminance on a surface facing the sun"),
+    ("NIT", "Nits (cd/m²)", "Luminance of an area light's surface"),
+]
+
+
+class RADIOMETER_OT_set_light_power(bpy.types.Operator):
+    """Set the active light's power from a photometric quantity (scene's luminous efficacy)"""
+
+    bl_idname = "radiometer.set_light_power"
+    bl_label = "Set Photometric Power"
+    bl_options = {"REGISTER", "UNDO"}
+
+    unit: EnumProperty(name="Unit", items=_UNIT_ITEMS, default="LUMEN")
+    value: FloatProperty(name="Value", default=800.0, min=0.0)
+
+    @classmethod
+    def poll(cls, context):
+        ob = context.active_object
+        if ob is None or ob.type != "LIGHT":
+            cls.poll_message_set("select a light")
+            return False
+        return True
+
+    def execute(self, context):
+        from ..measure import light_power
+
+        try:
+            energy = light_power.set_photometric_power(context.active_object, self.unit, self.value, context.scene)
+        except RadiometerError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"{context.active_object.name}: energy set to {energy:.6g}")
+        return {"FINISHED"}
+
+
+class RADIOMETER_PT_light_power(bpy.types.Panel):
+    bl_label = "Radiometer Photometry"
+    bl_idname = "RADIOMETER_PT_light_power"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "data"
+
+    @classmethod
+    def poll(cls, context):
+        return context.light is not None and context.active_object is not None
+
+    def draw(self, context):
+        from ..measure import light_power
+
+        layout = self.layout
+        ob = context.active_object
+        for unit, (types, label) in light_power.UNITS.items():
+            if ob.data.type in types:
+                try:
+                    value = light_power.photometric_power(ob, unit, context.scene)
+                    layout.label(text=f"{value:.6g} {label}")
+                except RadiometerError as exc:
+                    layout.label(text=str(exc), icon="ERROR")
+        layout.label(text=f"K = {context.scene.radiometer.efficacy:g} lm/W")
+        layout.operator("radiometer.set_light_power")
+
+
+classes = (RADIOMETER_OT_set_light_power, RADIOMETER_PT_light_power)
