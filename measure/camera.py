@@ -102,7 +102,14 @@ def _render_exr(scene, folder, name, width, height):
     return exr.read_rgb(path + ".exr")
 
 
-def _prepare(scene, preset):
+def _prepare(scene, preset, snapshot):
+    # Blender hides lights from camera rays by default (visible_camera False). A luminance meter
+    # or a radiance probe must see the light sources' surfaces, so they are shown for the render
+    # and restored afterwards by the snapshot.
+    for obj in scene.objects:
+        if obj.type == "LIGHT" and not obj.visible_camera:
+            snapshot.remember(obj, "visible_camera")
+            obj.visible_camera = True
     depsgraph = bpy.context.evaluated_depsgraph_get()
     needs = render_settings.scene_needs(scene, depsgraph)
     return render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs)
@@ -136,8 +143,8 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     samples_each = max(1, preset["samples"] * preset["texels"] ** 2 // 4)
     estimates = []
     try:
-        with scene_guard.preserved_scene(scene):
-            record = _prepare(scene, dict(preset, samples=samples_each))
+        with scene_guard.preserved_scene(scene) as snapshot:
+            record = _prepare(scene, dict(preset, samples=samples_each), snapshot)
             cam = _temp_camera(scene, points[0], rotation_quat=Vector(d).to_track_quat("-Z", "Y"))
             cam.data.type = "PERSP"
             cam.data.sensor_fit = "HORIZONTAL"
@@ -170,7 +177,8 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}",
              f"perspective camera, cone {acceptance_deg:g} deg full angle, cos^3 pixel weights, "
              f"{len(y)} independent renders (batch means)",
-             "delta lights (radius 0) are invisible to camera rays and cannot be seen by a luminance meter"]
+             "delta lights (radius 0) are invisible to camera rays and cannot be seen by a luminance meter",
+             "light objects are made visible to camera rays during the render (Blender hides them by default)"]
     return LuminanceReading(
         radiance_rgb=tuple(map(float, mean)), radiance=radiance, luminance=efficacy * radiance,
         rel_std_error=(se / abs(radiance)) if radiance else (0.0 if se == 0 else math.inf),
@@ -194,8 +202,8 @@ def capture_radiance_map(location, path, *, resolution=128, scene=None, quality=
     folder = tempfile.mkdtemp(prefix="radiometer_")
     started = time.perf_counter()
     try:
-        with scene_guard.preserved_scene(scene):
-            record = _prepare(scene, preset)
+        with scene_guard.preserved_scene(scene) as snapshot:
+            record = _prepare(scene, preset, snapshot)
             cam = _temp_camera(scene, points[0], euler=_PANO_EULER)
             cam.data.type = "PANO"
             cam.data.panorama_type = "EQUIRECTANGULAR"

@@ -165,7 +165,7 @@ def scene_fingerprint(scene=None):
         "counts": {name: len(getattr(bpy.data, name)) for name in _DATA_COLLECTIONS},
         "objects": sorted(
             (ob.name, tuple(ob.location), tuple(ob.rotation_euler), tuple(ob.scale),
-             ob.parent.name if ob.parent else None, ob.hide_render, ob.hide_viewport)
+             ob.parent.name if ob.parent else None, ob.hide_render, ob.hide_viewport, ob.visible_camera)
             for ob in scene.objects
         ),
         "lights": sorted((l.name, l.energy) for l in bpy.data.lights),
