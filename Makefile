@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.radiometer-installed
 
-.PHONY: setup demo test test-fast test-bpy bench zip validate clean
+.PHONY: setup demo test test-fast test-bpy test-lts bench zip validate clean
 
 setup: $(STAMP)
 
@@ -28,7 +28,24 @@ test-fast: setup
 	$(PY) -m pytest -q tests --ignore=tests/bpy
 
 bench: setup
-	$(PY) -m bench.run
+	$(PY) bench/run.py
+
+# The bpy tier on Blender 4.5 LTS (bpy 4.5.15 from PyPI, Python 3.11) in its own venv, same pinned deps.
+VENV_LTS := .venv-lts
+PY_LTS := $(VENV_LTS)/bin/python
+BPY_LTS := 4.5.15
+STAMP_LTS := $(VENV_LTS)/.radiometer-installed-$(BPY_LTS)
+
+$(STAMP_LTS): requirements.txt
+	$(PYTHON) -m venv $(VENV_LTS)
+	$(PY_LTS) -m pip install --quiet --upgrade pip
+	$(PY_LTS) -m pip install --quiet bpy==$(BPY_LTS) $$(grep -v -e '^bpy==' -e '^#' -e '^$$' requirements.txt)
+	ln -sfn "$(CURDIR)" "$$($(PY_LTS) -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/radiometer"
+	$(PY_LTS) -c "import radiometer, bpy; print('radiometer LTS setup ok, bpy', bpy.app.version_string)"
+	touch $(STAMP_LTS)
+
+test-lts: $(STAMP_LTS)
+	$(PY_LTS) -m pytest -q tests/bpy
 
 validate: setup
 	$(PY) -m radiometer.tools.extension validate
