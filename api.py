@@ -57,3 +57,73 @@ def measure_meters(objects=None, *, scene=None, quality=None, progress=None, can
     from .measure import meters
 
     return meters.measure_meters(objects, scene=scene, quality=quality, progress=progress, cancelled=cancelled)
+
+
+def check_inverse_square(light, *, scene=None, distances=None, method="auto", quality="standard",
+                         tolerance=0.01, target_rel_error=None, seed=0, plot=None):
+    """Sweep a meter facing ``light`` (object or name) along its axis and compare E with I/d^2.
+
+    ``distances`` in m from the light's centre (default: 0.6 to 60 source sizes, kept in front of
+    the first surface). The light is measured alone (other lights and the world switched off,
+    surfaces kept). Returns an ``InverseSquareResult``: ``exponent`` (+ ``exponent_se``) of the
+    far-field fit of log E vs log d, ``passed``, ``near_field_limit`` (m; 0 when the law holds at
+    every distance tried, inf when never reached), ``five_times``, ``causes`` and ``rows``
+    (distance m, measured W/m^2, predicted I/d^2 W/m^2, rel_deviation, rel_std_error, ...).
+    ``plot``: PNG path. A sun raises RadiometerError (no position).
+    """
+    from .measure import analysis
+
+    return analysis.check_inverse_square(light, scene=scene, distances=distances, method=method, quality=quality,
+                                         tolerance=tolerance, target_rel_error=target_rel_error, seed=seed, plot=plot)
+
+
+def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, method="auto", quality="standard",
+                     tolerance=0.01, target_rel_error=None, seed=0, plot=None):
+    """Tilt a meter at ``location`` (scene coordinates; default 2 source sizes, at least 1 m, in front
+    of the light; the origin for a sun) from facing ``light`` to 89 deg; compare E(theta)/E(0) with
+    cos(theta). Returns a ``CosineResult``: ``max_rel_deviation``, ``passed``, ``onset_deg``,
+    ``horizon_onset_deg``, ``causes`` and ``rows`` (angle deg, measured W/m^2, predicted cos,
+    ratio, rel_deviation, ratio_rel_se, ...).
+    """
+    from .measure import analysis
+
+    return analysis.check_cosine_law(light, scene=scene, location=location, angles_deg=angles_deg, method=method,
+                                     quality=quality, tolerance=tolerance, target_rel_error=target_rel_error,
+                                     seed=seed, plot=plot)
+
+
+def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, method="auto", quality="standard",
+                     target_rel_error=None, seed=0, png=None, csv=None):
+    """Illuminance on a grid over a plane object's local XY (its +Z side), in one measurement.
+
+    ``resolution=(nx, ny)`` or ``spacing`` (m); neither: EN 12464-1 p = 0.2 x 5^log10(d). Returns a
+    ``GridResult`` with ``lux`` (ny, nx), ``points`` (ny, nx, 3) scene coordinates, ``stats``
+    (avg, min, max in lux, u0 = min/avg). ``png``: isolux image; ``csv``: point table.
+    """
+    from .measure import analysis
+
+    return analysis.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,
+                                     quality=quality, target_rel_error=target_rel_error, seed=seed, png=png,
+                                     csv_path=csv)
+
+
+def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.0, 1.0), samples=(4, 16, 64, 256),
+                      target_error=0.01, replicas=8, reference_samples=None, seed=0, plot=None):
+    """Rendered error and time at increasing samples for a meter, a plane (4 x 4 grid) or a location.
+
+    Error against the analytic value when exact for the scene, else a high-sample render. Returns a
+    ``ConvergenceResult`` with ``rows`` (samples, seconds, rms_error, std_error), ``fit`` (slopes of
+    log error vs log samples and vs log seconds), ``samples_for_target`` and ``seconds_for_target``.
+    """
+    from .measure import analysis
+
+    return analysis.convergence_study(target, scene=scene, location=location, normal=normal, samples=samples,
+                                      target_error=target_error, replicas=replicas,
+                                      reference_samples=reference_samples, seed=seed, plot=plot)
+
+
+def export_report(out_dir, *, scene=None, quality=None, method=None, convergence=True):
+    """Write report.json, report.md and PNG plots for every meter, light and work plane into ``out_dir``."""
+    from .measure import report
+
+    return report.export_report(out_dir, scene=scene, quality=quality, method=method, convergence=convergence)

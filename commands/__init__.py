@@ -11,4 +11,7 @@ SUBCOMMANDS = {
     "demo": "demo",
     "measure": "measure",
     "brdf": "brdf",
+    "check": "check",
+    "grid": "grid",
+    "report": "report",
 }

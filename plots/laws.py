@@ -17,18 +17,18 @@ def inverse_square_plot(path, distances, measured, predicted, rel_std_error, *, 
     ax1.loglog(d, p, "-", color="0.4", label="I/d² (far-field intensity)")
     ax1.errorbar(d, m, yerr=3 * s * np.abs(m), fmt="o", ms=3, color="C0", label="measured (±3 s.e.)")
     ax1.set_ylabel(f"irradiance E ({unit})")
-    ax1.legend(loc="lower left", fontsize=8)
     ax1.set_title(title, fontsize=10)
     dev = 100 * (m - p) / p
     ax2.semilogx(d, dev, "o-", ms=3, color="C0")
     ax2.fill_between(d, -100 * (tolerance + 3 * s), 100 * (tolerance + 3 * s), color="C2", alpha=0.2,
                      label=f"±{100 * tolerance:g} % + 3 s.e.")
     ax2.axhline(0, color="0.4", lw=0.8)
-    for x, style, label in ((near_field_limit, "--", "near-field limit"), (rule_distance, ":", "5 x source size")):
+    for x, style, colour, label in ((near_field_limit, "--", "C3", "near-field limit"),
+                                    (rule_distance, ":", "C4", "5 x source size")):
         if x and np.isfinite(x):
-            for ax in (ax1, ax2):
-                ax.axvline(x, ls=style, color="C3")
-            ax2.text(x, ax2.get_ylim()[0], f" {label}\n {x:.3g} m", color="C3", fontsize=7, va="bottom")
+            ax1.axvline(x, ls=style, color=colour, label=f"{label} {x:.3g} m")
+            ax2.axvline(x, ls=style, color=colour)
+    ax1.legend(loc="lower left", fontsize=8)
     ax2.set_xlabel("distance d (m)")
     ax2.set_ylabel("deviation from I/d² (%)")
     ax2.legend(loc="lower right", fontsize=8)

@@ -1,0 +1,44 @@
+"""`grid`: illuminance on a work-plane grid (EN 12464-1 spacing by default), with CSV and isolux PNG."""
+
+HELP = "measure illuminance on a grid over a plane (E_avg, E_min, E_max, U0), optional CSV and isolux PNG"
+NEEDS_SCENE = True
+
+
+def add_arguments(parser):
+    parser.add_argument("--plane", metavar="NAME", help="plane object (default: the first 'Work Plane')")
+    size = parser.add_mutually_exclusive_group()
+    size.add_argument("--spacing", type=float, metavar="M", help="cell size in m (default EN 12464-1)")
+    size.add_argument("--resolution", type=int, nargs=2, metavar=("NX", "NY"), help="points along x and y")
+    parser.add_argument("--csv", metavar="FILE", help="write the points and values as CSV")
+    parser.add_argument("--png", metavar="FILE", help="write a false-colour isolux image")
+    parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
+    parser.add_argument("--method", choices=("auto", "analytic", "render"), default="auto")
+
+
+def run(args):
+    import bpy
+
+    from ..errors import RadiometerError
+    from ..measure import analysis, report
+
+    scene = bpy.context.scene
+    if args.plane:
+        plane = scene.objects.get(args.plane)
+        if plane is None:
+            raise RadiometerError(f"no object named {args.plane!r} in scene {scene.name!r}")
+    else:
+        planes = report.work_planes(scene)
+        if not planes:
+            raise RadiometerError("no work plane in the scene: name one with --plane NAME")
+        plane = planes[0]
+    g = analysis.illuminance_grid(plane, resolution=args.resolution, spacing=args.spacing, scene=scene,
+                                  method=args.method, quality=args.quality, png=args.png, csv_path=args.csv)
+    s = g.stats
+    print(f"grid {g.target}: {g.nx} x {g.ny} points, cells {g.spacing[0]:.3g} x {g.spacing[1]:.3g} m"
+          + (f" ({g.spacing_rule})" if g.spacing_rule else ""))
+    print(f"E_avg {s['avg']:.5g} lx  E_min {s['min']:.5g} lx  E_max {s['max']:.5g} lx  U0 {s['u0']:.3f}  "
+          f"[{g.method}, {g.seconds:.2f} s]")
+    for path in (args.csv, args.png):
+        if path:
+            print(f"wrote {path}")
+    return g.to_dict()

@@ -1,0 +1,257 @@
+"""A full analysis report of a scene: meters, law checks per light, work-plane grids, convergence.
+
+``export_report(out_dir)`` writes ``report.json`` (everything, SI units), ``report.md`` (readable
+tables linking the PNG plots) and the plots/CSV files next to them. Every part runs on its own: an
+item that cannot be analysed (a sun for inverse square, an empty plane) is recorded with the reason
+and the rest continues. Work planes: mesh objects whose name contains "work plane" (any case) or
+that carry the custom property ``radiometer_work_plane``.
+"""
+
+import json
+import math
+import os
+import re
+import time
+
+import bpy
+
+from ..errors import RadiometerError
+from . import analysis, meters
+
+
+def work_planes(scene):
+    return [ob for ob in scene.objects if ob.type == "MESH"
+            and ("work plane" in ob.name.lower() or bool(ob.get("radiometer_work_plane", False)))]
+
+
+def _slug(name):
+    return re.sub(r"[^A-Za-z0-9]+", "_", name).strip("_").lower() or "item"
+
+
+def _fmt(value, spec=".4g"):
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "n/a" if value is None or math.isnan(value) else "∞"
+    return format(value, spec)
+
+
+def export_report(out_dir, *, scene=None, quality=None, method=None, convergence=True,
+                  convergence_samples=(4, 16, 64), progress=None):
+    """Analyse the scene and write report.json, report.md and PNG plots into ``out_dir``.
+
+    ``quality``/``method`` default to the scene's Radiometer settings. Returns the report dict
+    (also written as report.json) with ``paths`` and ``summary`` (the text table).
+    """
+    scene = scene or bpy.context.scene
+    out = os.path.abspath(out_dir)
+    try:
+        os.makedirs(out, exist_ok=True)
+    except OSError as exc:
+        raise RadiometerError(f"cannot create report folder {out}: {exc.strerror}") from None
+    settings = meters.scene_settings(scene, quality) if hasattr(scene, "radiometer") else \
+        {"method": "auto", "quality": quality or "standard", "target_rel_error": None}
+    if method:
+        settings["method"] = method
+    q, m = settings["quality"], settings["method"]
+    started = time.perf_counter()
+    report = {"scene": scene.name, "file": bpy.data.filepath, "quality": q, "method": m,
+              "meters": [], "inverse_square": [], "cosine": [], "grids": [], "convergence": None, "errors": []}
+
+    def step(label):
+        if progress is not None:
+            progress(label)
+
+    # Meters (readings are not written to the objects: a report leaves the scene as it was).
+    objs = [ob for ob in scene.objects if ob.radiometer_meter.is_meter] if hasattr(bpy.types.Object,
+                                                                                   "radiometer_meter") else []
+    if objs:
+        step("meters")
+        try:
+            for st in meters.plan_steps(scene, objs):
+                if st[0] == "RADIANCE_MAP":
+                    continue  # maps are images, not numbers for a report table
+                for obj, reading in meters.run_step(scene, st, settings):
+                    report["meters"].append(dict(name=obj.name, **reading.to_dict()))
+        except RadiometerError as exc:
+            report["errors"].append(f"meters: {exc}")
+    # Law checks per light.
+    for light in analysis.scene_lights_to_check(scene):
+        step(f"laws {light.name}")
+        slug = _slug(light.name)
+        try:
+            r = analysis.check_inverse_square(light, scene=scene, method=m, quality=q,
+                                              plot=os.path.join(out, f"inverse_square_{slug}.png"))
+            report["inverse_square"].append(r.to_dict())
+        except RadiometerError as exc:
+            report["inverse_square"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
+        try:
+            r = analysis.check_cosine_law(light, scene=scene, method=m, quality=q,
+                                          plot=os.path.join(out, f"cosine_{slug}.png"))
+            report["cosine"].append(r.to_dict())
+        except RadiometerError as exc:
+            report["cosine"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
+    # Grids on work planes.
+    for plane in work_planes(scene):
+        step(f"grid {plane.name}")
+        slug = _slug(plane.name)
+        try:
+            g = analysis.illuminance_grid(plane, scene=scene, method=m, quality=q,
+                                          png=os.path.join(out, f"isolux_{slug}.png"),
+                                          csv_path=os.path.join(out, f"grid_{slug}.csv"))
+            report["grids"].append(g.to_dict())
+        except RadiometerError as exc:
+            report["grids"].append({"target": plane.name, "error": str(exc)})
+    # A short convergence study on the first illuminance meter (else the first work plane).
+    if convergence:
+        target = next((ob for ob in objs if ob.radiometer_meter.kind == "ILLUMINANCE"), None)
+        target = target or next(iter(work_planes(scene)), None)
+        if target is not None:
+            step("convergence")
+            try:
+                c = analysis.convergence_study(target, scene=scene, samples=convergence_samples,
+                                               plot=os.path.join(out, "convergence.png"))
+                report["convergence"] = c.to_dict()
+            except RadiometerError as exc:
+                report["convergence"] = {"target": target.name, "error": str(exc)}
+    report["seconds"] = time.perf_counter() - started
+    report["summary"] = summary_table(report)
+    report["paths"] = {"json": os.path.join(out, "report.json"), "markdown": os.path.join(out, "report.md")}
+    with open(report["paths"]["json"], "w", encoding="utf-8") as f:
+        json.dump(analysis._plain(report), f, indent=2)
+    with open(report["paths"]["markdown"], "w", encoding="utf-8") as f:
+        f.write(markdown(report))
+    return report
+
+
+def summary_table(report):
+    """Plain-text summary: one line per meter, light check and grid."""
+    lines = []
+    if report["meters"]:
+        lines.append(f"{'meter':<24} {'reading':>12} {'unit':<6} {'± 1 s.e.':>9}  method")
+        for r in report["meters"]:
+            lum = r.get("quantity") == "luminance"
+            value = r["luminance"] if lum else r["illuminance"]
+            err = "exact" if r["exact"] else f"{100 * r['rel_std_error']:.2f} %"
+            lines.append(f"{r['name']:<24} {value:>12.5g} {'cd/m²' if lum else 'lx':<6} {err:>9}  {r['method']}")
+        lines.append("")
+    lines.append(f"{'light':<18} {'kind':<6} {'1/d² exponent':>16} {'near field (m)':>15} {'1/d²':>5} "
+                 f"{'cos max dev':>12} {'cos':>5}")
+    cos_by = {c["light"]: c for c in report["cosine"]}
+    for r in report["inverse_square"]:
+        c = cos_by.get(r["light"], {})
+        if "error" in r:
+            inv = f"{'n/a':>16} {'n/a':>15} {'--':>5}"
+        else:
+            inv = (f"{_fmt(r['exponent'], '.4f'):>9} ± {_fmt(r['exponent_se'], '.1g'):<4} "
+                   f"{_fmt(r['near_field_limit'], '.3g'):>15} {'ok' if r['passed'] else 'FLAG':>5}")
+        cos = (f"{'n/a':>12} {'--':>5}" if "error" in c or not c else
+               f"{100 * c['max_rel_deviation']:>10.3g} % {'ok' if c['passed'] else 'FLAG':>5}")
+        lines.append(f"{r['light']:<18} {r['kind']:<6} {inv} {cos}")
+    for g in report["grids"]:
+        lines.append("")
+        if "error" in g:
+            lines.append(f"grid {g['target']}: {g['error']}")
+        else:
+            s = g["stats"]
+            lines.append(f"grid {g['target']} ({g['nx']} x {g['ny']}): E_avg {s['avg']:.4g} lx, E_min {s['min']:.4g}, "
+                         f"E_max {s['max']:.4g}, U0 {s['u0']:.3f}  [{g['method']}]")
+    c = report.get("convergence")
+    if c and "error" not in c:
+        lines.append("")
+        lines.append(f"convergence ({c['target']}): error ~ N^{c['fit']['slope']:.2f}; "
+                     f"{100 * c['target_error']:g} % needs ~{c['samples_for_target']:.3g} samples per reading, "
+                     f"~{c['seconds_for_target']:.3g} s")
+    return "\n".join(lines)
+
+
+def _img(path):
+    return f"![{os.path.basename(path)}]({os.path.basename(path)})\n\n" if path else ""
+
+
+def markdown(report):
+    """report.md: tables of every result with the plots inline (relative links)."""
+    md = [f"# Radiometer report: {report['scene']}\n",
+          f"File `{report['file'] or '(unsaved)'}`; quality `{report['quality']}`, method `{report['method']}`; "
+          f"{report['seconds']:.1f} s. Units: lux, W/m², m, deg.\n",
+          "```\n" + report["summary"] + "\n```\n"]
+    if report["errors"]:
+        md.append("**Errors:** " + "; ".join(report["errors"]) + "\n")
+    if report["meters"]:
+        md.append("## Meters\n\n| meter | value | unit | rel. s.e. | method |\n|---|---:|---|---:|---|")
+        for r in report["meters"]:
+            lum = r.get("quantity") == "luminance"
+            err = "exact" if r["exact"] else f"{100 * r['rel_std_error']:.2f} %"
+            value = r["luminance"] if lum else r["illuminance"]
+            md.append(f"| {r['name']} | {value:.5g} | {'cd/m²' if lum else 'lx'} | {err} | {r['method']} |")
+        md.append("")
+    md.append("## Inverse-square law\n")
+    for r in report["inverse_square"]:
+        md.append(f"### {r['light']} ({r['kind']})\n")
+        if "error" in r:
+            md.append(f"Not checked: {r['error']}\n")
+            continue
+        md.append(f"{'PASSED' if r['passed'] else 'FLAGGED'}: exponent {_fmt(r['exponent'], '.4f')} ± "
+                  f"{_fmt(r['exponent_se'], '.2g')} (fit from {_fmt(r['fit_from'], '.3g')} m), near-field limit "
+                  f"{_fmt(r['near_field_limit'], '.4g')} m, source size {r['source_size']:.3g} m (five-times rule "
+                  f"{r['five_times']['rule_distance']:.3g} m: {'holds' if r['five_times']['rule_holds'] else 'does not hold'}"
+                  f"), measured by {r['method']}.\n")
+        for cause in r["causes"]:
+            md.append(f"- cause: {cause}")
+        for note in r["notes"]:
+            md.append(f"- note: {note}")
+        md.append("\n| d (m) | E measured (W/m²) | I/d² (W/m²) | deviation | rel. s.e. | light's model dev. | ok |\n"
+                  "|---:|---:|---:|---:|---:|---:|---|")
+        for row in r["rows"]:
+            md.append(f"| {row['distance']:.4g} | {row['measured']:.5g} | {row['predicted']:.5g} | "
+                      f"{100 * row['rel_deviation']:+.3g} % | {100 * row['rel_std_error']:.2g} % | "
+                      f"{100 * row['model_deviation']:+.3g} % | {'✓' if row['ok'] else '✗'} |")
+        md.append("")
+        md.append(_img(r.get("plot")))
+    md.append("## Cosine law\n")
+    for c in report["cosine"]:
+        md.append(f"### {c['light']} ({c['kind']})\n")
+        if "error" in c:
+            md.append(f"Not checked: {c['error']}\n")
+            continue
+        md.append(f"{'PASSED' if c['passed'] else 'FLAGGED'} at {tuple(round(v, 3) for v in c['location'])}: max "
+                  f"deviation {100 * c['max_rel_deviation']:.3g} % at {c['max_at_deg']:g} deg; onset "
+                  f"{_fmt(c['onset_deg'], 'g')} deg; source reaches the horizon at {c['horizon_onset_deg']:.3g} deg.\n")
+        for cause in c["causes"]:
+            md.append(f"- cause: {cause}")
+        md.append("\n| θ (deg) | E(θ)/E(0) | cos θ | deviation | rel. s.e. | ok |\n|---:|---:|---:|---:|---:|---|")
+        for row in c["rows"]:
+            md.append(f"| {row['angle']:g} | {row['ratio']:.5g} | {row['predicted']:.5g} | "
+                      f"{100 * row['rel_deviation']:+.3g} % | {100 * row['ratio_rel_se']:.2g} % | "
+                      f"{'✓' if row['ok'] else '✗'} |")
+        md.append("")
+        md.append(_img(c.get("plot")))
+    if report["grids"]:
+        md.append("## Work-plane grids\n")
+        for g in report["grids"]:
+            md.append(f"### {g['target']}\n")
+            if "error" in g:
+                md.append(f"Not measured: {g['error']}\n")
+                continue
+            s = g["stats"]
+            md.append(f"{g['nx']} x {g['ny']} points ({g['spacing'][0]:.3g} x {g['spacing'][1]:.3g} m cells"
+                      f"{'; ' + g['spacing_rule'] if g['spacing_rule'] else ''}), {g['method']}.\n\n"
+                      f"| E_avg (lx) | E_min (lx) | E_max (lx) | U0 |\n|---:|---:|---:|---:|\n"
+                      f"| {s['avg']:.4g} | {s['min']:.4g} | {s['max']:.4g} | {s['u0']:.3f} |\n")
+            md.append(_img(g.get("image")))
+            if g.get("csv"):
+                md.append(f"Data: [{os.path.basename(g['csv'])}]({os.path.basename(g['csv'])})\n")
+    c = report.get("convergence")
+    if c:
+        md.append("## Convergence\n")
+        if "error" in c:
+            md.append(f"Not run: {c['error']}\n")
+        else:
+            md.append(f"Target {c['target']}; reference {c['reference_kind']}. Fit: error ∝ N^{c['fit']['slope']:.3f} ± "
+                      f"{c['fit']['slope_se']:.2g} (ideal -0.5); {100 * c['target_error']:g} % needs "
+                      f"{c['samples_for_target']:.3g} samples per reading, {c['seconds_for_target']:.3g} s.\n\n"
+                      "| samples/texel | samples/reading | seconds | RMS error | stated s.e. |\n|---:|---:|---:|---:|---:|")
+            for row in c["rows"]:
+                md.append(f"| {row['samples_per_texel']} | {row['samples']} | {row['seconds']:.3g} | "
+                          f"{100 * row['rms_error']:.3g} % | {100 * row['std_error']:.3g} % |")
+            md.append("")
+            md.append(_img(c.get("plot")))
+    return "\n".join(md) + "\n"

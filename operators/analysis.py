@@ -1,0 +1,317 @@
+"""Analysis operators: law checks (one light or all), work-plane grid, convergence study, report.
+
+Thin: gather inputs, call ``radiometer.api``, store the results in ``scene.radiometer_analysis``
+(shown by the sidebar), load the PNG plots into Blender's images and report one line.
+"""
+
+import math
+import os
+import tempfile
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty
+
+from .. import api
+from ..errors import RadiometerError
+
+_ALL = "__ALL__"
+_light_items_cache = []  # Blender needs the enum strings kept alive
+
+
+def _light_items(_self, context):
+    items = [(_ALL, "All Lights", "Check every light that renders")]
+    scene = context.scene if context else None
+    if scene is not None:
+        items += [(ob.name, ob.name, f"{ob.data.type.title()} light") for ob in scene.objects
+                  if ob.type == "LIGHT" and not ob.hide_render]
+    _light_items_cache[:] = items
+    return _light_items_cache
+
+
+def output_dir(context):
+    """The settings' output folder as an absolute path (a temp folder for unsaved files), created."""
+    raw = context.scene.radiometer_analysis.output_dir or "//radiometer/"
+    if raw.startswith("//") and not bpy.data.filepath:
+        path = os.path.join(tempfile.gettempdir(), "radiometer")
+    else:
+        path = bpy.path.abspath(raw)
+    os.makedirs(path, exist_ok=True)
+    return path
+
+
+def load_image(context, path):
+    """Load (or reload) a PNG into bpy.data.images and show it in any open Image Editor."""
+    image = bpy.data.images.load(path, check_existing=True)
+    image.reload()
+    screen = context.screen if hasattr(context, "screen") else None
+    for area in (screen.areas if screen else ()):
+        if area.type == "IMAGE_EDITOR":
+            area.spaces.active.image = image
+    return image
+
+
+def _has_lights(cls, context):
+    if context.scene is None or not hasattr(context.scene, "radiometer_analysis"):
+        cls.poll_message_set("Radiometer is not registered for this scene")
+        return False
+    if not any(ob.type == "LIGHT" and not ob.hide_render for ob in context.scene.objects):
+        cls.poll_message_set("the scene has no lights that render: add a light")
+        return False
+    return True
+
+
+def _law_item(settings, light):
+    item = settings.laws.get(light.name)
+    if item is None:
+        item = settings.laws.add()
+        item.name = light.name
+    item.kind = light.data.type
+    return item
+
+
+def _targets(self, context):
+    scene = context.scene
+    if self.light == _ALL:
+        return [ob for ob in scene.objects if ob.type == "LIGHT" and not ob.hide_render]
+    return [scene.objects[self.light]]
+
+
+def _slug(name):
+    from ..measure.report import _slug as slug
+
+    return slug(name)
+
+
+class RADIOMETER_OT_check_inverse_square(bpy.types.Operator):
+    """Sweep a meter facing the light along its axis and compare with I/d² (near-field limit, exponent)"""
+
+    bl_idname = "radiometer.check_inverse_square"
+    bl_label = "Check Inverse Square"
+    bl_options = {"REGISTER", "UNDO"}
+
+    light: EnumProperty(name="Light", items=_light_items)
+
+    @classmethod
+    def poll(cls, context):
+        return _has_lights(cls, context)
+
+    def execute(self, context):
+        settings = context.scene.radiometer_analysis
+        out = output_dir(context)
+        lines = []
+        for light in _targets(self, context):
+            item = _law_item(settings, light)
+            if light.data.type == "SUN":
+                item.inverse_checked, item.inverse_note = False, "sun: no position, inverse square does not apply"
+                if self.light != _ALL:
+                    self.report({"ERROR"}, f"{light.name}: a sun has no position, the inverse-square law does not "
+                                           "apply; check its cosine law")
+                    return {"CANCELLED"}
+                continue
+            try:
+                r = api.check_inverse_square(light, scene=context.scene, method=context.scene.radiometer.method,
+                                             quality=context.scene.radiometer.quality,
+                                             plot=os.path.join(out, f"inverse_square_{_slug(light.name)}.png"))
+            except RadiometerError as exc:
+                self.report({"ERROR"}, f"{light.name}: {exc}")
+                return {"CANCELLED"}
+            item.inverse_checked, item.inverse_note = True, ""
+            item.exponent = r.exponent if math.isfinite(r.exponent) else 0.0
+            item.exponent_se = r.exponent_se if math.isfinite(r.exponent_se) else 0.0
+            item.near_field_limit = r.near_field_limit if math.isfinite(r.near_field_limit) else -1.0
+            item.inverse_passed = r.passed
+            item.causes = " | ".join(r.causes)
+            item.inverse_plot = r.plot
+            load_image(context, r.plot)
+            lines.append(f"{light.name}: {'ok' if r.passed else 'flagged'}, exponent {r.exponent:.4f}, near field "
+                         f"{r.near_field_limit:.3g} m")
+        self.report({"INFO"}, "; ".join(lines) or "no point, spot or area light to check")
+        return {"FINISHED"}
+
+
+class RADIOMETER_OT_check_cosine_law(bpy.types.Operator):
+    """Tilt a meter from facing the light to 89 degrees and compare E(θ)/E(0) with cos θ"""
+
+    bl_idname = "radiometer.check_cosine_law"
+    bl_label = "Check Cosine Law"
+    bl_options = {"REGISTER", "UNDO"}
+
+    light: EnumProperty(name="Light", items=_light_items)
+    at_cursor: BoolProperty(name="At 3D Cursor", default=False,
+                            description="Measure at the 3D cursor instead of in front of the light")
+
+    @classmethod
+    def poll(cls, context):
+        return _has_lights(cls, context)
+
+    def execute(self, context):
+        settings = context.scene.radiometer_analysis
+        out = output_dir(context)
+        lines = []
+        location = tuple(context.scene.cursor.location) if self.at_cursor else None
+        for light in _targets(self, context):
+            item = _law_item(settings, light)
+            try:
+                r = api.check_cosine_law(light, scene=context.scene, location=location,
+                                         method=context.scene.radiometer.method,
+                                         quality=context.scene.radiometer.quality,
+                                         plot=os.path.join(out, f"cosine_{_slug(light.name)}.png"))
+            except RadiometerError as exc:
+                self.report({"ERROR"}, f"{light.name}: {exc}")
+                return {"CANCELLED"}
+            item.cosine_checked = True
+            item.cosine_max_dev = min(r.max_rel_deviation, 1e9)
+            item.cosine_onset = r.onset_deg if math.isfinite(r.onset_deg) else -1.0
+            item.cosine_passed = r.passed
+            if r.causes:
+                item.causes = " | ".join(r.causes)
+            item.cosine_plot = r.plot
+            load_image(context, r.plot)
+            lines.append(f"{light.name}: {'ok' if r.passed else 'flagged'}, max deviation "
+                         f"{100 * r.max_rel_deviation:.3g} % at {r.max_at_deg:g} deg")
+        self.report({"INFO"}, "; ".join(lines))
+        return {"FINISHED"}
+
+
+def create_work_plane(context, height, size=(4.0, 4.0)):
+    """A render-hidden plane at ``height`` (scene units) covering the scene's meshes (or 4 x 4)."""
+    import numpy as np
+
+    corners = [np.array(ob.matrix_world) @ np.r_[list(c), 1.0] for ob in context.scene.objects
+               if ob.type == "MESH" and not ob.hide_render for c in ob.bound_box]
+    if corners:
+        pts = np.array(corners)[:, :2]
+        (x0, y0), (x1, y1) = pts.min(axis=0), pts.max(axis=0)
+    else:
+        x0, y0, x1, y1 = -size[0] / 2, -size[1] / 2, size[0] / 2, size[1] / 2
+    if x1 - x0 <= 0 or y1 - y0 <= 0:
+        x0, y0, x1, y1 = -size[0] / 2, -size[1] / 2, size[0] / 2, size[1] / 2
+    mesh = bpy.data.meshes.new("Work Plane")
+    mesh.from_pydata([(x0, y0, 0), (x1, y0, 0), (x1, y1, 0), (x0, y1, 0)], [], [(0, 1, 2, 3)])
+    obj = bpy.data.objects.new("Work Plane", mesh)
+    obj.location = (0.0, 0.0, height)
+    obj.hide_render = True  # an imaginary reference surface: it must not block or reflect light
+    obj.display_type = "WIRE"
+    context.scene.collection.objects.link(obj)
+    return obj
+
+
+class RADIOMETER_OT_illuminance_grid(bpy.types.Operator):
+    """Measure illuminance on a grid over the work plane: E_avg, E_min, E_max, U0, isolux image and CSV"""
+
+    bl_idname = "radiometer.illuminance_grid"
+    bl_label = "Illuminance Grid"
+    bl_options = {"REGISTER", "UNDO"}
+
+    create_plane: BoolProperty(name="Create Work Plane", default=False,
+                               description="Create a render-hidden plane at the set height when none is picked")
+
+    @classmethod
+    def poll(cls, context):
+        if context.scene is None or not hasattr(context.scene, "radiometer_analysis"):
+            cls.poll_message_set("Radiometer is not registered for this scene")
+            return False
+        return True
+
+    def execute(self, context):
+        settings = context.scene.radiometer_analysis
+        plane = settings.work_plane
+        if plane is None or plane.name not in context.scene.objects:
+            if not self.create_plane:
+                self.report({"ERROR"}, "pick a work plane in the sidebar, or create one (Create Work Plane)")
+                return {"CANCELLED"}
+            plane = create_work_plane(context, settings.plane_height)
+            settings.work_plane = plane
+        out = output_dir(context)
+        slug = _slug(plane.name)
+        kwargs = {"resolution": (settings.resolution_x, settings.resolution_y)} if settings.use_resolution else \
+            {"spacing": settings.spacing or None}
+        try:
+            g = api.illuminance_grid(plane, scene=context.scene, method=context.scene.radiometer.method,
+                                     quality=context.scene.radiometer.quality,
+                                     png=os.path.join(out, f"isolux_{slug}.png"),
+                                     csv=os.path.join(out, f"grid_{slug}.csv"), **kwargs)
+        except RadiometerError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        s = g.stats
+        settings.grid_target, settings.grid_nx, settings.grid_ny = g.target, g.nx, g.ny
+        settings.grid_avg, settings.grid_min, settings.grid_max = s["avg"], s["min"], s["max"]
+        settings.grid_u0 = s["u0"] if math.isfinite(s["u0"]) else 0.0
+        settings.grid_method, settings.grid_image, settings.grid_csv = g.method, g.image, g.csv
+        load_image(context, g.image)
+        if settings.colour_plane:
+            from ..measure import analysis
+
+            analysis.colour_plane(g, scene=context.scene)
+        self.report({"INFO"}, f"{g.target}: E_avg {s['avg']:.4g} lx, E_min {s['min']:.4g} lx, U0 {s['u0']:.3f} "
+                              f"({g.nx} x {g.ny} points)")
+        return {"FINISHED"}
+
+
+class RADIOMETER_OT_convergence_study(bpy.types.Operator):
+    """Render the active meter (or plane) at increasing samples; fit error vs time; samples for the target"""
+
+    bl_idname = "radiometer.convergence_study"
+    bl_label = "Convergence Study"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        ob = context.active_object
+        if context.scene is None or not hasattr(context.scene, "radiometer_analysis"):
+            cls.poll_message_set("Radiometer is not registered for this scene")
+            return False
+        if ob is None or not ((ob.radiometer_meter.is_meter and ob.radiometer_meter.kind == "ILLUMINANCE")
+                              or ob.type == "MESH"):
+            cls.poll_message_set("make an illuminance meter or a plane the active object")
+            return False
+        return True
+
+    def execute(self, context):
+        settings = context.scene.radiometer_analysis
+        out = output_dir(context)
+        try:
+            c = api.convergence_study(context.active_object, scene=context.scene, target_error=settings.target_error,
+                                      plot=os.path.join(out, "convergence.png"))
+        except RadiometerError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        settings.conv_target = c.target
+        settings.conv_slope, settings.conv_slope_se = c.fit["slope"], c.fit["slope_se"]
+        settings.conv_samples = min(c.samples_for_target, 1e12)
+        settings.conv_seconds = min(c.seconds_for_target, 1e12)
+        settings.conv_plot = c.plot
+        load_image(context, c.plot)
+        self.report({"INFO"}, f"{c.target}: error ~ N^{c.fit['slope']:.2f}; {100 * c.target_error:g} % needs "
+                              f"~{c.samples_for_target:.3g} samples, ~{c.seconds_for_target:.3g} s")
+        return {"FINISHED"}
+
+
+class RADIOMETER_OT_export_report(bpy.types.Operator):
+    """Write report.json, report.md and plots: meters, law checks for every light, grids, convergence"""
+
+    bl_idname = "radiometer.export_report"
+    bl_label = "Export Report"
+    bl_options = {"REGISTER", "UNDO"}
+
+    convergence: BoolProperty(name="Convergence Study", default=True)
+
+    @classmethod
+    def poll(cls, context):
+        return _has_lights(cls, context)
+
+    def execute(self, context):
+        settings = context.scene.radiometer_analysis
+        try:
+            result = api.export_report(output_dir(context), scene=context.scene, convergence=self.convergence)
+        except RadiometerError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        settings.report_path = result["paths"]["markdown"]
+        self.report({"INFO"}, f"Report written to {result['paths']['markdown']}")
+        return {"FINISHED"}
+
+
+classes = (RADIOMETER_OT_check_inverse_square, RADIOMETER_OT_check_cosine_law, RADIOMETER_OT_illuminance_grid,
+           RADIOMETER_OT_convergence_study, RADIOMETER_OT_export_report)

@@ -1,0 +1,81 @@
+"""Analysis settings and the last results (law checks, grid, convergence, report) on the scene.
+
+``bpy.types.Scene.radiometer_analysis``: what the sidebar shows; written by the analysis operators.
+"""
+
+import bpy
+from bpy.props import (BoolProperty, CollectionProperty, FloatProperty, IntProperty, PointerProperty,
+                       StringProperty)
+
+
+def _is_mesh(_self, obj):
+    return obj.type == "MESH"
+
+
+class RadiometerLawResult(bpy.types.PropertyGroup):
+    """One light's last law checks (name = light name)."""
+
+    kind: StringProperty(name="Type")
+    inverse_checked: BoolProperty(default=False)
+    inverse_note: StringProperty(name="Inverse Square", description="Why it was not checked")
+    exponent: FloatProperty(name="Exponent", description="Fitted exponent of E vs d over the far field (ideal -2)")
+    exponent_se: FloatProperty(name="Exponent s.e.")
+    near_field_limit: FloatProperty(name="Near-Field Limit", description="Distance beyond which the deviation "
+                                    "from I/d² stays within tolerance, m (0: everywhere; -1: never)", unit="LENGTH")
+    inverse_passed: BoolProperty(name="Inverse Square Passed")
+    cosine_checked: BoolProperty(default=False)
+    cosine_max_dev: FloatProperty(name="Cosine Max Deviation", description="max |E(θ)/(E(0) cos θ) - 1|",
+                                  subtype="FACTOR")
+    cosine_onset: FloatProperty(name="Onset (deg)", description="Smallest failing tilt (-1: none)")
+    cosine_passed: BoolProperty(name="Cosine Passed")
+    causes: StringProperty(name="Causes")
+    inverse_plot: StringProperty(name="Inverse-Square Plot", subtype="FILE_PATH")
+    cosine_plot: StringProperty(name="Cosine Plot", subtype="FILE_PATH")
+
+
+class RadiometerAnalysisSettings(bpy.types.PropertyGroup):
+    output_dir: StringProperty(name="Output", subtype="DIR_PATH", default="//radiometer/",
+                               description="Folder for plots, CSV files and reports (// = next to the .blend)")
+    work_plane: PointerProperty(name="Work Plane", type=bpy.types.Object, poll=_is_mesh,
+                                description="Plane object whose local XY carries the grid (its +Z side)")
+    plane_height: FloatProperty(name="Height", default=0.75, unit="LENGTH",
+                                description="Height of a new work plane (EN 12464-1 desks: 0.75 m)")
+    use_resolution: BoolProperty(name="Fixed Resolution", default=False,
+                                 description="Use a fixed number of points instead of a spacing")
+    resolution_x: IntProperty(name="X", default=10, min=1, max=500)
+    resolution_y: IntProperty(name="Y", default=10, min=1, max=500)
+    spacing: FloatProperty(name="Spacing", default=0.0, min=0.0, unit="LENGTH",
+                           description="Cell size (0 = EN 12464-1: p = 0.2 x 5^log10(d))")
+    colour_plane: BoolProperty(name="Colour in Viewport", default=False,
+                               description="Add a coloured copy of the grid (colour attribute) over the plane")
+    target_error: FloatProperty(name="Target Error", default=0.01, min=1e-4, max=0.5, subtype="FACTOR",
+                                description="Relative error the convergence study solves for")
+    laws: CollectionProperty(type=RadiometerLawResult)
+    grid_target: StringProperty(name="Grid")
+    grid_nx: IntProperty()
+    grid_ny: IntProperty()
+    grid_avg: FloatProperty(name="E_avg (lx)")
+    grid_min: FloatProperty(name="E_min (lx)")
+    grid_max: FloatProperty(name="E_max (lx)")
+    grid_u0: FloatProperty(name="U0")
+    grid_method: StringProperty()
+    grid_image: StringProperty(subtype="FILE_PATH")
+    grid_csv: StringProperty(subtype="FILE_PATH")
+    conv_target: StringProperty(name="Convergence")
+    conv_slope: FloatProperty(name="Slope")
+    conv_slope_se: FloatProperty()
+    conv_samples: FloatProperty(name="Samples for Target")
+    conv_seconds: FloatProperty(name="Seconds for Target")
+    conv_plot: StringProperty(subtype="FILE_PATH")
+    report_path: StringProperty(name="Report", subtype="FILE_PATH")
+
+
+classes = (RadiometerLawResult, RadiometerAnalysisSettings)
+
+
+def register_extra():
+    bpy.types.Scene.radiometer_analysis = PointerProperty(type=RadiometerAnalysisSettings)
+
+
+def unregister_extra():
+    del bpy.types.Scene.radiometer_analysis
