@@ -120,7 +120,7 @@ class RADIOMETER_OT_check_inverse_square(bpy.types.Operator):
             item.exponent_se = r.exponent_se if math.isfinite(r.exponent_se) else 0.0
             item.near_field_limit = r.near_field_limit if math.isfinite(r.near_field_limit) else -1.0
             item.inverse_passed = r.passed
-            item.causes = " | ".join(r.causes)
+            item.inverse_causes = " | ".join(r.causes)
             item.inverse_plot = r.plot
             load_image(context, r.plot)
             lines.append(f"{light.name}: {'ok' if r.passed else 'flagged'}, exponent {r.exponent:.4f}, near field "
@@ -163,8 +163,7 @@ class RADIOMETER_OT_check_cosine_law(bpy.types.Operator):
             item.cosine_max_dev = min(r.max_rel_deviation, 1e9)
             item.cosine_onset = r.onset_deg if math.isfinite(r.onset_deg) else -1.0
             item.cosine_passed = r.passed
-            if r.causes:
-                item.causes = " | ".join(r.causes)
+            item.cosine_causes = " | ".join(r.causes)
             item.cosine_plot = r.plot
             load_image(context, r.plot)
             lines.append(f"{light.name}: {'ok' if r.passed else 'flagged'}, max deviation "

@@ -48,9 +48,9 @@ class RADIOMETER_PT_analysis(bpy.types.Panel):
                 else:
                     r.label(text="")
                     r.label(text="")
-                if item.causes:
-                    for cause in item.causes.split(" | "):
-                        table.label(text="   " + cause[:110], icon="INFO")
+                for label, causes in (("1/d²", item.inverse_causes), ("cos", item.cosine_causes)):
+                    for cause in causes.split(" | ") if causes else ():
+                        table.label(text=f"   {label}: {cause[:110]}", icon="INFO")
 
 
 class RADIOMETER_PT_grid(bpy.types.Panel):

@@ -28,7 +28,8 @@ class RadiometerLawResult(bpy.types.PropertyGroup):
                                   subtype="FACTOR")
     cosine_onset: FloatProperty(name="Onset (deg)", description="Smallest failing tilt (-1: none)")
     cosine_passed: BoolProperty(name="Cosine Passed")
-    causes: StringProperty(name="Causes")
+    inverse_causes: StringProperty(name="Inverse-Square Causes")
+    cosine_causes: StringProperty(name="Cosine Causes")
     inverse_plot: StringProperty(name="Inverse-Square Plot", subtype="FILE_PATH")
     cosine_plot: StringProperty(name="Cosine Plot", subtype="FILE_PATH")
 
