@@ -3,26 +3,35 @@
 ``realise(model, method, **params) -> (terms, Fidelity)``. ``method`` is 'nodes' (a node group:
 Cycles on any device and EEVEE) or 'osl' (a Script node: Cycles CPU with Open Shading Language).
 
-Mapping table (what each model becomes; "exact" means the closure is the same formula, which the
-measured ``rms_rel_diff`` then confirms to < 1e-3; otherwise the closure parameters are fitted):
+Mapping table (what each model becomes). "exact" means the closure is the same formula AND the
+measured ``rms_rel_diff`` against the library is <= 1e-3; everything else is "approximate" with its
+measured numbers (closure parameters fitted where the formulas differ):
 
 ================== ======================================= ====================================
 model              nodes                                   osl
 ================== ======================================= ====================================
 lambert            Diffuse BSDF (exact)                    diffuse() (exact)
-oren_nayar         Diffuse BSDF roughness (exact only for  oren_nayar_diffuse_bsdf (same)
-                   variant='cycles', else fitted)
-phong              Diffuse + Glossy GGX/Beckmann (fitted)  diffuse + phong_ramp (exact)
-blinn_phong        Diffuse + Glossy GGX/Beckmann (fitted)  same closures via microfacet()
-torrance_sparrow   Metallic Beckmann, Smith G (fitted)     generalized_schlick/conductor_bsdf
-ggx, beckmann      Metallic (F82, white tint = Schlick;    generalized_schlick_bsdf /
-                   or physical conductor for ior, eta+k);  conductor_bsdf / microfacet (exact)
+oren_nayar         Diffuse BSDF roughness: exact for       oren_nayar_diffuse_bsdf (same)
+                   variant='cycles' (sigma = roughness),
+                   else roughness fitted (~7 % RMS)
+phong              Diffuse + Glossy GGX/Beckmann, fitted   diffuse + phong_ramp (exact)
+                   (~65 % RMS: no Phong lobe in nodes)
+blinn_phong        Glossy GGX/Beckmann, fitted (~66 %:     diffuse + phong_ramp, exponent
+                   the lobe lacks 1/(4 cos_i cos_o) G)     fitted (~13-16 % RMS)
+torrance_sparrow   Glossy/Metallic Beckmann, Smith G,      microfacet / generalized_schlick /
+                   alpha fitted (~3 % RMS)                 conductor_bsdf (same fit)
+ggx                Metallic (F82 white tint = Schlick, or  generalized_schlick_bsdf /
+                   physical conductor for ior, eta+k);     conductor_bsdf / microfacet (exact)
                    Glossy when F = 1 (exact within node
-                   limits: alpha <= 1, Metallic aspect
+                   limits: alpha <= 1, Metallic
                    alpha_y/alpha_x >= 0.1)
-ward               Diffuse + anisotropic Glossy (fitted)   same
+beckmann           same as ggx; approximate (~0.3 % RMS):  same
+                   Cycles uses Walter's rational Smith
+                   Lambda, the library the exact erf form
+ward               Diffuse + anisotropic Glossy Beckmann   same
+                   fitted (~7 % RMS)
 ashikhmin_shirley  Diffuse + Glossy 'Ashikhmin-Shirley'    same
-                   (F = 1) or Metallic GGX (fitted)
+                   (F = 1) or Metallic GGX, fitted (~12 %)
 mirror             Glossy/Metallic, roughness 0 (delta)    reflection / microfacet alpha 0
 ================== ======================================= ====================================
 
@@ -319,7 +328,16 @@ def _realise(model, method, p, given):
         alpha = math.sqrt(2.0 / (n + 2.0))
         notes.append("Blinn-Phong exponent fitted with a microfacet alpha (Walter 2007: alpha ~ sqrt(2/(n+2)))")
         kd = _rgb(p.get("kd"), 0.0)
-        return None, None, alpha, _microfacet_candidates([alpha], diffuse_color=kd) + notes
+        cands = _microfacet_candidates([alpha], diffuse_color=kd)
+        if method == "osl":
+            # a Phong lobe around the mirror direction has no 1/cos factors either; n_phong ~ n / 4
+            def build_phong(x):
+                return [C.Term("diffuse", color=kd), C.Term("phong_ramp", exponent=float(x[0]))]
+
+            cands.append(F.Candidate("diffuse + phong_ramp", build_phong, x0=(max(n / 4.0, 1.0),),
+                                     linear=(None, "rgb"), bounds=((0.0, math.log(1e6)),),
+                                     fitted_names=("phong_exponent",)))
+        return None, None, alpha, cands + notes
     if model == "torrance_sparrow":
         ax, ay = _alphas(p)
         fr = _fresnel(p, given)

@@ -119,3 +119,35 @@ def test_operator_poll_and_execute(lib):
     from radiometer.operators.brdf import RADIOMETER_OT_assign_brdf
 
     assert {"REGISTER", "UNDO"} <= RADIOMETER_OT_assign_brdf.bl_options
+
+
+def test_plot_operator_writes_and_loads_image_or_says_why(lib, tmp_path):
+    import importlib.util
+
+    mesh = bpy.data.meshes.new("m")
+    obj = bpy.data.objects.new("o", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    mat = bpy.data.materials.new("m")
+    mesh.materials.append(mat)
+    mat.radiometer_brdf.model = "ggx"
+    has_plots = importlib.util.find_spec("radiometer.brdf.plots") is not None
+    with bpy.context.temp_override(object=obj, material=mat):
+        if has_plots:
+            assert bpy.ops.radiometer.brdf_plot() == {"FINISHED"}
+            assert any(img.name.startswith("brdf_ggx") for img in bpy.data.images)
+        else:
+            with pytest.raises(RuntimeError, match="not available"):
+                bpy.ops.radiometer.brdf_plot()
+
+
+def test_panel_fidelity_text(lib):
+    from radiometer.panels.brdf import format_fidelity
+    from radiometer.shading.assign import assign_brdf
+
+    mat = bpy.data.materials.new("m")
+    assert format_fidelity(mat.radiometer_brdf) == ""
+    assign_brdf(mat, "ward")
+    text = format_fidelity(mat.radiometer_brdf)
+    assert text.startswith("approximate: RMS ") and "albedo" in text
+    assign_brdf(mat, "lambert")
+    assert format_fidelity(mat.radiometer_brdf) == "exact"
