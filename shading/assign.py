@@ -3,7 +3,8 @@
 What happens to the material's existing nodes: nothing is deleted. Radiometer adds ONE node (a
 group node named ``Radiometer BRDF`` or a Script node named ``Radiometer BRDF (OSL)``) and links it
 to the Material Output's Surface. A user node that was linked there is only disconnected (it stays
-in the tree, and its name is reported in ``Fidelity.notes``). Switching methods removes only
+in the tree, moved 300 px up-left so it does not sit under Radiometer's node, and its name is
+reported in ``Fidelity.notes``). Switching methods removes only
 Radiometer's own previous node (and its node group when nothing else uses it).
 """
 
@@ -122,7 +123,9 @@ def assign_brdf(material, model, method="nodes", **params):
             notes.append("render with Cycles on the CPU with Open Shading Language enabled (Render Properties)")
 
     for node_prev in previous:
-        notes.append(f"previous surface node '{node_prev.name}' disconnected (kept in the tree)")
+        # out of the way of Radiometer's node, never deleted
+        node_prev.location = (node_prev.location.x - 300, node_prev.location.y + 300)
+        notes.append(f"previous surface node '{node_prev.name}' disconnected and moved up-left (kept in the tree)")
     if not surface.links or surface.links[0].from_socket != out_socket:
         tree.links.new(out_socket, surface)
 
