@@ -54,4 +54,13 @@ def run(args):
 
     write_json(os.path.join(out, "demo.json"), result)
     print(f"\nWrote {os.path.join(out, 'demo.json')}")
+    # The analysis report: law checks per light, the EN 12464-1 grid on the Work Plane, convergence.
+    from ..measure import report
+
+    print("\nAnalysis report (law checks per light, work-plane grid, convergence):")
+    rep = report.export_report(os.path.join(out, "report"), scene=scene, quality=args.quality,
+                               convergence_samples=(4, 16, 64))
+    print(rep["summary"])
+    print(f"\nWrote {rep['paths']['markdown']} ({rep['seconds']:.1f} s)")
+    result["report"] = rep["paths"]
     return result

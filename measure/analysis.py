@@ -802,7 +802,7 @@ def _convergence_points(target, scene, location, normal):
         if obj.radiometer_meter.kind != "ILLUMINANCE":
             raise RadiometerError(f"{obj.name!r} is a {obj.radiometer_meter.kind.lower()} meter: the study uses "
                                   "illuminance meters")
-        mw = np.array(obj.matrix_world, float)
+        mw = np.array(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).matrix_world, float)
         z = mw[:3, 2] / np.linalg.norm(mw[:3, 2])
         return mw[None, :3, 3], z[None, :], f"meter {obj.name}"
     if obj.type == "MESH":
