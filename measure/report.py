@@ -141,8 +141,9 @@ def summary_table(report):
         if "error" in r:
             inv = f"{'n/a':>16} {'n/a':>15} {'--':>5}"
         else:
+            limit = "not reached" if r["near_field_limit"] is None else _fmt(r["near_field_limit"], ".3g")
             inv = (f"{_fmt(r['exponent'], '.4f'):>9} ± {_fmt(r['exponent_se'], '.1g'):<4} "
-                   f"{_fmt(r['near_field_limit'], '.3g'):>15} {'ok' if r['passed'] else 'FLAG':>5}")
+                   f"{limit:>15} {'ok' if r['passed'] else 'FLAG':>5}")
         cos = (f"{'n/a':>12} {'--':>5}" if "error" in c or not c else
                f"{100 * c['max_rel_deviation']:>10.3g} % {'ok' if c['passed'] else 'FLAG':>5}")
         lines.append(f"{r['light']:<18} {r['kind']:<6} {inv} {cos}")
@@ -191,7 +192,7 @@ def markdown(report):
             continue
         md.append(f"{'PASSED' if r['passed'] else 'FLAGGED'}: exponent {_fmt(r['exponent'], '.4f')} ± "
                   f"{_fmt(r['exponent_se'], '.2g')} (fit from {_fmt(r['fit_from'], '.3g')} m), near-field limit "
-                  f"{_fmt(r['near_field_limit'], '.4g')} m, source size {r['source_size']:.3g} m (five-times rule "
+                  f"{'not reached' if r['near_field_limit'] is None else _fmt(r['near_field_limit'], '.4g') + ' m'}, source size {r['source_size']:.3g} m (five-times rule "
                   f"{r['five_times']['rule_distance']:.3g} m: {'holds' if r['five_times']['rule_holds'] else 'does not hold'}"
                   f"), measured by {r['method']}.\n")
         for cause in r["causes"]:
