@@ -140,7 +140,8 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     folder = tempfile.mkdtemp(prefix="radiometer_")
     started = time.perf_counter()
     renders = max(4, preset["bakes"] * 4)
-    samples_each = max(1, preset["samples"] * preset["texels"] ** 2 // 4)
+    # A camera pixel averages many paths already: a quarter of the sensor budget per render.
+    samples_each = max(1, preset["samples"] * preset["texels"] ** 2 // 16)
     estimates = []
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
