@@ -201,8 +201,11 @@ def _mixture_select(u1, pd):
 
 
 def _diffuse_probability(kd, ks):
+    """Probability of choosing the cosine lobe; clamped to [0.1, 0.9] so that neither lobe is
+    ever unsampled (e.g. Ashikhmin-Shirley with Rs = 0 still has a specular lobe, F -> 1 at grazing)."""
     wd, ws = _luminance_weight(kd), _luminance_weight(ks)
-    return 0.5 if wd + ws <= 0 else wd / (wd + ws)
+    pd = 0.5 if wd + ws <= 0 else wd / (wd + ws)
+    return min(0.9, max(0.1, pd))
 
 
 def _check_sum(p, a, b, model):

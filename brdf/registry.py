@@ -158,9 +158,9 @@ def reflectance(cos_theta, **fresnel_params):
 def albedo(model, theta_i, n_samples=ALBEDO_SAMPLES, **params):
     """Directional albedo ρ(θi) = ∫ f(wi, wo) cos θo dωo over the upper hemisphere (dimensionless).
 
-    Deterministic: a Hammersley point set of ``n_samples`` points feeds two strategies, cosine
-    hemisphere sampling and the model's own importance sampling (by reciprocity, sampling wo
-    "given wi"), combined with the balance heuristic (multiple importance sampling). The model
+    Deterministic: a Hammersley point set of ``n_samples`` points feeds three strategies, cosine
+    and uniform hemisphere sampling and the model's own importance sampling (by reciprocity, sampling wo
+    "given wi"), combined with the power heuristic (multiple importance sampling, Veach 1997). The model
     sampler follows the lobe, so sharp lobes (alpha 1e-4, exponents 1e6) are as accurate as broad
     ones. Measured accuracy with the default 4096 points: see README/tests (|error| < 2e-3 for
     all models and parameter ranges tested against 65536-point references; lambert is exact).
@@ -189,28 +189,42 @@ def albedo(model, theta_i, n_samples=ALBEDO_SAMPLES, **params):
     else:
         u1, u2 = hammersley(int(n_samples))
         idx = np.nonzero(ok)[0]
-        chunk = max(1, 200_000 // int(n_samples))
+        chunk = max(1, 100_000 // int(n_samples))
         for start in range(0, idx.size, chunk):
             sel = idx[start:start + chunk]
             wi = wi_all[sel][:, None, :]  # (C, 1, 3)
             total = np.zeros((sel.size, 3))
-            strategies = [np.broadcast_to(_cosine_dirs(u1, u2), (sel.size, u1.size, 3))]
+            strategies = [np.broadcast_to(_cosine_dirs(u1, u2), (sel.size, u1.size, 3)),
+                          np.broadcast_to(_uniform_dirs(u1, u2), (sel.size, u1.size, 3))]
             if m.samplable:
                 x, _ = m.sample(np.broadcast_to(wi, (sel.size, u1.size, 3)), u1[None, :], u2[None, :], p)
                 strategies.append(normalize(x))
-            for x in strategies:
-                pdf_sum = np.maximum(0.0, x[..., 2]) / math.pi
+            for k, x in enumerate(strategies):
+                wi_b = np.broadcast_to(wi, x.shape)
+                pdfs = [np.maximum(0.0, x[..., 2]) / math.pi, np.full(x.shape[:-1], 0.5 / math.pi)]
                 if m.samplable:
-                    pdf_sum = pdf_sum + m.pdf(x, np.broadcast_to(wi, x.shape), p)
-                f = _eval_unit(m, p, np.broadcast_to(wi, x.shape), x)
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    contrib = f * (np.maximum(0.0, x[..., 2]) / pdf_sum)[..., None]
-                # pdf_sum = 0 only where f cos = 0 too (outside every strategy's support).
+                    pdfs.append(m.pdf(x, wi_b, p))
+                f = _eval_unit(m, p, wi_b, x)
+                # Power heuristic (β = 2): a cosine sample that lands in a needle-like lobe gets
+                # weight ~ (p_cos/p_lobe)², not the ~1/N spike the balance heuristic leaves.
+                with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                    contrib = f * (np.maximum(0.0, x[..., 2]) * pdfs[k]
+                                   / sum(q * q for q in pdfs))[..., None]
+                # The denominator is 0 only where this strategy's own pdf is 0 (f cos = 0 there).
                 contrib = np.where(np.isfinite(contrib), contrib, 0.0)
                 total += contrib.sum(axis=1) / u1.size
             out[sel] = total
     out = np.where(nan[:, None], np.nan, out)
     return out.reshape(theta.shape + (3,))
+
+
+def _uniform_dirs(u1, u2):
+    # Uniform hemisphere (density 1/(2π)): covers grazing outgoing directions, where the cosine
+    # density vanishes but f can be large (Oren-Nayar's tan β term at grazing incidence).
+    z = u1
+    r = np.sqrt(np.maximum(0.0, 1 - z * z))
+    phi = 2 * math.pi * u2
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
 
 
 def _cosine_dirs(u1, u2):
