@@ -58,6 +58,7 @@ def normalize(v):
     """
     v = np.asarray(v, dtype=float)
     with np.errstate(all="ignore"):
+        has_nan = np.isnan(v).any(axis=-1, keepdims=True)  # before the inf substitution below
         is_inf = np.isinf(v)
         any_inf = is_inf.any(axis=-1, keepdims=True)
         v = np.where(any_inf, np.where(is_inf, np.sign(v), 0.0), v)
@@ -67,7 +68,7 @@ def normalize(v):
         norm = np.sqrt(np.sum(v * v, axis=-1, keepdims=True))
         out = v / np.where(norm > 0, norm, 1.0)
         # NaN in any component poisons the whole vector (np.max already propagates NaN).
-        return np.where(np.isnan(v).any(axis=-1, keepdims=True), np.nan, out)
+        return np.where(has_nan, np.nan, out)
 
 
 def same_hemisphere(a, b):
