@@ -98,7 +98,8 @@ def sphere_image(model, light_dir=(1.0, 1.0, 1.0), resolution=160, irradiance=1.
 
     View direction +z (towards the camera); a distant light from ``light_dir`` gives normal
     irradiance ``irradiance`` [W/m²]; pixel = f(wi, wo) cos θi E. The tangent at every point is the
-    projection of the image "up" axis (0, 1, 0), so anisotropic models stretch along it.
+    projection of the image "up" axis (0, 1, 0): alpha_x / n_u act along screen-vertical, alpha_y / n_v along
+    screen-horizontal.
     """
     r = (np.arange(resolution) + 0.5) / resolution * 2 - 1
     x, y = np.meshgrid(r, -r)
