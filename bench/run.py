@@ -174,7 +174,7 @@ def bench_batching():
         build()
         api.measure_illuminance((0.0, 0.0, z), method="render")  # warm-up
         times, bake_share = {}, {}
-        reps = {1: 7, 10: 5, 100: 5, 1000: 3}
+        reps = {1: 9, 10: 7, 100: 7, 1000: 3}
         for n in counts:
             pts, normals = scenes.meter_points(n, half_width=1.5, z=z, seed=n)
             ts, shares = [], []
