@@ -127,3 +127,16 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, convergence
     from .measure import report
 
     return report.export_report(out_dir, scene=scene, quality=quality, method=method, convergence=convergence)
+
+
+def assign_brdf(material, model, method="nodes", **params):
+    """Give ``material`` the parametric BRDF ``model`` (a name from ``radiometer.brdf.names()``).
+
+    ``method``: "nodes" (a node group: Cycles on any device, EEVEE) or "osl" (a Script node: Cycles
+    on the CPU with Open Shading Language enabled). Returns the ``Fidelity`` of the mapping onto
+    Cycles' closures: kind "exact" or "approximate" with the measured RMS relative difference and
+    directional-albedo difference. The material stays re-editable from its Radiometer BRDF panel.
+    """
+    from .shading import assign
+
+    return assign.assign_brdf(material, model, method=method, **params)

@@ -63,6 +63,14 @@ def default_map_path(name):
     return os.path.join(folder, f"{safe}.exr")
 
 
+def _scratch_folder():
+    try:
+        return tempfile.mkdtemp(prefix="radiometer_")
+    except OSError as exc:
+        raise RadiometerError(f"cannot create a temporary folder for the render ({exc.strerror}: "
+                              f"{tempfile.gettempdir()}); set TMPDIR to a writable folder") from None
+
+
 def _temp_camera(scene, location_scene, rotation_quat=None, euler=None):
     cam_data = bpy.data.cameras.new("radiometer_camera")
     cam = bpy.data.objects.new("radiometer_camera", cam_data)
@@ -137,7 +145,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     w = np.where(off_axis <= half, np.cos(off_axis) ** 3, 0.0)
     w /= w.sum()
     unit_area = scene.unit_settings.scale_length ** 2  # Cycles renders per scene-unit^2
-    folder = tempfile.mkdtemp(prefix="radiometer_")
+    folder = _scratch_folder()
     started = time.perf_counter()
     renders = max(4, preset["bakes"] * 4)
     # A camera pixel averages many paths already: a quarter of the sensor budget per render.
@@ -200,7 +208,7 @@ def capture_radiance_map(location, path, *, resolution=128, scene=None, quality=
         raise RadiometerError(f"cannot write {path}: its folder does not exist")
     preset = quality_presets.preset(quality)
     space, weights, efficacy = meter.scene_photometry(scene)
-    folder = tempfile.mkdtemp(prefix="radiometer_")
+    folder = _scratch_folder()
     started = time.perf_counter()
     try:
         with scene_guard.preserved_scene(scene) as snapshot:

@@ -20,7 +20,7 @@ import time
 import bpy
 import numpy as np
 
-from ..errors import MeasurementCancelled
+from ..errors import MeasurementCancelled, RadiometerError
 
 SENSOR_NAME = "radiometer_sensor"
 
@@ -54,7 +54,9 @@ def build_sensor(scene, points, normals, texels):
     # resolution (Cycles stores geometry as float32: ~6e-8 relative) so the quad never collapses.
     radius = np.linalg.norm(points, axis=1)
     nearest = _nearest_light_distance(scene, points)
-    half = np.maximum(np.minimum(1e-4 * nearest, 2e-5 * np.maximum(radius, 1.0)), 4e-6 * np.maximum(radius, 1e-3))
+    # The floor is 8 float32 steps of the coordinates (6e-8 relative each): enough for a valid
+    # quad (its normal comes from the custom normals, not from the vertices).
+    half = np.maximum(np.minimum(1e-4 * nearest, 2e-5 * np.maximum(radius, 1.0)), 5e-7 * np.maximum(radius, 1e-3))
     t, b = _orthonormal_tangents(normals)
     corners = np.stack([-t - b, t - b, t + b, -t + b], axis=1) * half[:, None, None] + points[:, None, :]
     verts = corners.reshape(-1, 3)
@@ -163,7 +165,8 @@ def bake_irradiance(scene, view_layer, points, normals, *, samples, texels=4, ba
         bake_seconds += time.perf_counter() - t0
         total_bakes += 1
         if result != {"FINISHED"}:
-            raise RuntimeError(f"Cycles bake did not finish ({result})")
+            raise RadiometerError(f"the Cycles bake did not finish ({', '.join(sorted(result))}); "
+                                  "the scene was restored")
         pixels = np.empty(res * res * 4, np.float32)
         image.pixels.foreach_get(pixels)
         pixels = pixels.reshape(res, res, 4)[..., :3].astype(np.float64)

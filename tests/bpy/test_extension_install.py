@@ -21,7 +21,7 @@ def test_zip_builds_and_keeps_dev_files_out(tmp_path):
     assert result.returncode == 0, result.stdout + result.stderr
     names = zipfile.ZipFile(path).namelist()
     assert "blender_manifest.toml" in names and "__init__.py" in names
-    assert "radiometry/__init__.py" in names and "measure/sensors.py" in names
+    assert "brdf/__init__.py" in names and "radiometry/__init__.py" in names and "measure/sensors.py" in names
     for excluded in ("tests/", "bench/", ".ci/", "Makefile", "requirements.txt", "tools/", "docs/"):
         assert not any(n.startswith(excluded) for n in names), excluded
 
@@ -35,7 +35,8 @@ def test_install_enable_run_disable_in_fresh_process(tmp_path):
         module = "bl_ext.user_default.radiometer"
         assert addon_utils.check(module)[1], "not enabled"
         assert "{tmp_path}" in sys.modules[module].__file__, sys.modules[module].__file__
-        for op in ("add_meter", "measure"):
+        for op in ("add_meter", "measure", "assign_brdf", "check_inverse_square", "check_cosine_law",
+                   "illuminance_grid", "set_light_power"):
             assert hasattr(bpy.ops.radiometer, op), op
         bpy.ops.radiometer.add_meter(kind="ILLUMINANCE")
         assert bpy.context.active_object.radiometer_meter.is_meter

@@ -63,3 +63,19 @@ def test_meter_settings_and_readings_survive_save_and_reload(clean_blender, tmp_
     assert m.notes == "note a | note b"
     assert bpy.context.scene.radiometer.efficacy == pytest.approx(179.0)
     assert os.path.exists(path)
+
+
+def test_api_assign_brdf_returns_fidelity(clean_blender):
+    from radiometer import api
+
+    mat = bpy.data.materials.new("m")
+    fidelity = api.assign_brdf(mat, "lambert", method="nodes", albedo=0.5)
+    assert fidelity.kind == "exact"
+    assert mat.radiometer_brdf.model == "lambert"
+
+
+def test_all_ui_operators_registered(clean_blender):
+    ops = set(dir(bpy.ops.radiometer))
+    for name in ("add_meter", "measure", "assign_brdf", "brdf_plot", "check_inverse_square", "check_cosine_law",
+                 "illuminance_grid", "convergence_study", "export_report", "set_light_power"):
+        assert name in ops, name

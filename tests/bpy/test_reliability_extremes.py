@@ -63,14 +63,9 @@ def test_light_behind_the_meter_reads_zero(clean_blender, build, method):
     assert r.irradiance == 0.0 and r.rel_std_error == 0.0
 
 
-FAR_BUG = ("measure/sensors.build_sensor sizes the sensor quad with a floor of 4e-6 * |position|: at "
-           "x = 1e4 m the quad's half-size is 0.04 m, 2 m from the light, so the texels average E over a "
-           "4 cm patch: bias -(h/r)^2 ~ -4e-4, reading 1.98868 vs 1.98944 W/m^2, 7x its stated rel. s.e. 5.5e-5 "
-           "(texel spread cannot see a symmetric averaging bias)")
 
 
-@pytest.mark.parametrize("method", ["analytic", pytest.param("render", marks=pytest.mark.xfail(strict=True,
-                                                                                              reason=FAR_BUG))])
+@pytest.mark.parametrize("method", ["analytic", "render"])
 def test_meter_far_from_the_origin(clean_blender, build, method):
     """A meter at x = 1e4 m with the light 2 m above it (float32 spacing there is ~1 mm)."""
     scene = black(build)

@@ -107,9 +107,6 @@ def test_bake_that_returns_cancelled_gives_clear_error(clean_blender, build, pri
     assert all_data_names() == names
 
 
-@pytest.mark.xfail(strict=True, reason="sensors.bake_irradiance raises a bare RuntimeError when the bake does "
-                                       "not finish; api.py promises RadiometerError for a failed measurement "
-                                       "(the CLI turns only RadiometerError into a one-line message)")
 def test_failed_bake_is_a_radiometer_error(clean_blender, build, private_tmp, monkeypatch):
     user_scene(build)
     monkeypatch.setattr(sensors, "run_bake", lambda *a, **k: {"CANCELLED"})
@@ -223,9 +220,6 @@ def test_temp_dir_that_is_a_file(clean_blender, build, tmp_path, monkeypatch):
     one_line(info.value)
 
 
-@pytest.mark.xfail(strict=True, reason="camera.measure_luminance/capture_radiance_map call tempfile.mkdtemp "
-                                       "without catching OSError: an unusable temp folder surfaces as a raw "
-                                       "NotADirectoryError/PermissionError instead of a RadiometerError")
 def test_temp_dir_that_is_a_file_is_a_radiometer_error(clean_blender, build, tmp_path, monkeypatch):
     user_scene(build)
     not_a_dir = tmp_path / "file"
