@@ -26,12 +26,8 @@ import math
 
 import numpy as np
 
-try:  # scipy is not bundled with Blender: fall back to the (slower) scalar math.erfc.
-    from scipy.special import erfc as _erfc
-except ImportError:  # pragma: no cover - exercised only inside Blender
-    _erfc = np.vectorize(math.erfc, otypes=[float])
-
 from .frame import dot, normalize
+from .special import erfc as _erfc  # numpy only: Blender's Python has no scipy
 
 __all__ = [
     "ggx_D", "beckmann_D", "D", "ggx_lambda", "beckmann_lambda", "smith_lambda", "G1",

@@ -24,6 +24,9 @@ def run(args):
     if not lights:
         raise RadiometerError(f"scene {scene.name!r} has no lights to check")
     if args.plots:
+        from ..plots import require_matplotlib
+
+        require_matplotlib()  # asked for plots: say at once, before the checks, that they cannot be made
         os.makedirs(args.plots, exist_ok=True)
     out = {"scene": scene.name, "inverse_square": [], "cosine": [], "meters": [], "grids": [], "convergence": None}
     for light in lights:

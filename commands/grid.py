@@ -21,6 +21,10 @@ def run(args):
     from ..errors import RadiometerError
     from ..measure import analysis, report
 
+    if args.png:
+        from ..plots import require_matplotlib
+
+        require_matplotlib()  # asked for an image: say at once, before measuring, that it cannot be made
     scene = bpy.context.scene
     if args.plane:
         plane = scene.objects.get(args.plane)

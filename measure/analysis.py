@@ -20,11 +20,21 @@ import time
 import bpy
 import numpy as np
 
+from .. import plots as _plots
 from ..errors import RadiometerError
 from ..radiometry import convergence as conv_math
 from ..radiometry import grid as grid_math
 from ..radiometry import laws
 from . import meter, render_settings, scene_guard, scene_lights
+
+
+def _can_plot(notes):
+    """True if matplotlib is installed; else add the reason to ``notes`` (the numbers need no plot)."""
+    if _plots.matplotlib_available():
+        return True
+    notes.append("no plot written: " + _plots.missing_message())
+    return False
+
 
 DEFAULT_ANGLES_DEG = (0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 75.0, 80.0, 85.0, 87.0, 89.0)
 #: Offset of grid points along the plane's normal, scene units: above a visible desk top, far
@@ -392,7 +402,7 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
         exponent_se=float(exponent_se), near_field_limit=float(limit), far_field_passed=far_passed,
         source_size=size, five_times=rule, intensity=intensity, axis=tuple(axis.tolist()), tolerance=tolerance,
         rows=rows, causes=causes, notes=notes, fit_from=fit_from, seconds=seconds)
-    if plot:
+    if plot and _can_plot(result.notes):
         write_inverse_square_plot(result, plot)
     return result
 
@@ -565,7 +575,7 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
         onset_deg=analysis["onset_deg"], horizon_onset_deg=horizon, source_angular_radius_deg=math.degrees(alpha),
         location=tuple(loc.tolist()), facing=tuple(facing.tolist()), tilt_toward=tuple(toward.tolist()),
         tolerance=tolerance, rows=rows, causes=causes, notes=notes, seconds=seconds)
-    if plot:
+    if plot and _can_plot(result.notes):
         write_cosine_plot(result, plot)
     return result
 
@@ -669,7 +679,7 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
         irradiance=irr, rel_std_error=se, points=points, local_extent=(x0, x1, y0, y1),
         normal=tuple(normal.tolist()), stats=grid_math.grid_stats(lux), method=readings[0].method,
         exact=all(r.exact for r in readings), seconds=seconds, notes=notes, spacing_rule=rule)
-    if png:
+    if png and _can_plot(result.notes):
         result.write_png(png)
     if csv_path:
         result.write_csv(csv_path)
@@ -682,7 +692,7 @@ def colour_plane(result, scene=None, name=None):
     Creates (or replaces) an object named ``Isolux <plane>`` hidden in renders; set the viewport's
     Solid shading colour to Attribute to see it. Returns the object.
     """
-    import matplotlib
+    matplotlib = _plots.require_matplotlib()  # RadiometerError in Blender's own Python
 
     scene = _scene(scene)
     name = name or f"Isolux {result.target}"
@@ -784,7 +794,7 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
         target=label, reference_kind=kind, reference=reference.tolist(), rows=rows, fit=fit.to_dict(),
         target_error=float(target_error), samples_for_target=fit.samples_for(target_error),
         seconds_for_target=fit.seconds_for(target_error), notes=notes)
-    if plot:
+    if plot and _can_plot(result.notes):
         write_convergence_plot(result, plot)
     return result
 

@@ -15,6 +15,7 @@ import time
 
 import bpy
 
+from .. import plots
 from ..errors import RadiometerError
 from . import analysis, meters
 
@@ -60,6 +61,8 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, convergence
         if progress is not None:
             progress(label)
 
+    if not plots.matplotlib_available():
+        report["errors"].append("no plots: " + plots.missing_message())
     # Meters (readings are not written to the objects: a report leaves the scene as it was).
     objs = [ob for ob in scene.objects if ob.radiometer_meter.is_meter] if hasattr(bpy.types.Object,
                                                                                    "radiometer_meter") else []

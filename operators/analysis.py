@@ -12,6 +12,7 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty
 
 from .. import api
+from .. import plots
 from ..errors import RadiometerError
 
 _ALL = "__ALL__"
@@ -40,7 +41,9 @@ def output_dir(context):
 
 
 def load_image(context, path):
-    """Load (or reload) a PNG into bpy.data.images and show it in any open Image Editor."""
+    """Load (or reload) a PNG into bpy.data.images and show it in any open Image Editor (None: no PNG)."""
+    if not path:  # no plot was written (matplotlib missing): the numbers stand on their own
+        return None
     image = bpy.data.images.load(path, check_existing=True)
     image.reload()
     screen = context.screen if hasattr(context, "screen") else None
@@ -48,6 +51,12 @@ def load_image(context, path):
         if area.type == "IMAGE_EDITOR":
             area.spaces.active.image = image
     return image
+
+
+def warn_without_plots(operator):
+    """Tell the user once per run that images are skipped where matplotlib is missing."""
+    if not plots.matplotlib_available():
+        operator.report({"WARNING"}, plots.missing_message())
 
 
 def _has_lights(cls, context):
@@ -98,6 +107,7 @@ class RADIOMETER_OT_check_inverse_square(bpy.types.Operator):
     def execute(self, context):
         settings = context.scene.radiometer_analysis
         out = output_dir(context)
+        warn_without_plots(self)
         lines = []
         for light in _targets(self, context):
             item = _law_item(settings, light)
@@ -147,6 +157,7 @@ class RADIOMETER_OT_check_cosine_law(bpy.types.Operator):
     def execute(self, context):
         settings = context.scene.radiometer_analysis
         out = output_dir(context)
+        warn_without_plots(self)
         lines = []
         location = tuple(context.scene.cursor.location) if self.at_cursor else None
         for light in _targets(self, context):
@@ -222,6 +233,7 @@ class RADIOMETER_OT_illuminance_grid(bpy.types.Operator):
             plane = create_work_plane(context, settings.plane_height)
             settings.work_plane = plane
         out = output_dir(context)
+        warn_without_plots(self)
         slug = _slug(plane.name)
         kwargs = {"resolution": (settings.resolution_x, settings.resolution_y)} if settings.use_resolution else \
             {"spacing": settings.spacing or None}
@@ -242,7 +254,10 @@ class RADIOMETER_OT_illuminance_grid(bpy.types.Operator):
         if settings.colour_plane:
             from ..measure import analysis
 
-            analysis.colour_plane(g, scene=context.scene)
+            try:
+                analysis.colour_plane(g, scene=context.scene)
+            except RadiometerError as exc:  # matplotlib missing: the grid numbers are still valid
+                self.report({"WARNING"}, str(exc))
         self.report({"INFO"}, f"{g.target}: E_avg {s['avg']:.4g} lx, E_min {s['min']:.4g} lx, U0 {s['u0']:.3f} "
                               f"({g.nx} x {g.ny} points)")
         return {"FINISHED"}
@@ -270,6 +285,7 @@ class RADIOMETER_OT_convergence_study(bpy.types.Operator):
     def execute(self, context):
         settings = context.scene.radiometer_analysis
         out = output_dir(context)
+        warn_without_plots(self)
         try:
             c = api.convergence_study(context.active_object, scene=context.scene, target_error=settings.target_error,
                                       plot=os.path.join(out, "convergence.png"))
@@ -302,6 +318,7 @@ class RADIOMETER_OT_export_report(bpy.types.Operator):
 
     def execute(self, context):
         settings = context.scene.radiometer_analysis
+        warn_without_plots(self)
         try:
             result = api.export_report(output_dir(context), scene=context.scene, convergence=self.convergence)
         except RadiometerError as exc:

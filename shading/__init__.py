@@ -1,5 +1,5 @@
 """Blender-side shading: realise Radiometer BRDFs as Cycles closure networks and check them.
 
-``fit`` and ``closures`` import no bpy (pure numpy); ``nodes``, ``osl``, ``assign`` and ``validate``
+``fit``, ``optim`` and ``closures`` import no bpy (pure numpy); ``nodes``, ``osl``, ``assign`` and ``validate``
 need Blender and import bpy lazily inside their functions.
 """

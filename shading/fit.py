@@ -17,7 +17,8 @@ checked against Cycles renders). Two numbers describe the fidelity:
 
 Fitting minimises ``rms_rel_diff`` over the closure's shape parameters (Nelder-Mead on their
 logarithms, from the analytic guess) with the colour weights (in [0, 1]) of each candidate solved
-by bounded least squares at every step; the candidate with the smallest difference wins.
+by bounded least squares at every step; the candidate with the smallest difference wins. Both
+optimisers are numpy-only (``shading.optim``: Stark-Parker BVLS, Nelder-Mead), as Blender has no scipy.
 
 References
 ----------
@@ -31,6 +32,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from . import closures as C
+from .optim import bvls, nelder_mead
 
 _DEG = np.pi / 180.0
 ALBEDO_ANGLES_DEG = (0.0, 30.0, 60.0, 75.0)
@@ -138,8 +140,6 @@ class FitResult:
 
 def _solve_weights(terms, linear, wi, wo, f_model):
     """Non-negative weights for the linear terms (least squares with weight cos_i cos_o)."""
-    from scipy.optimize import lsq_linear
-
     sw = np.sqrt(wi[..., 2] * wo[..., 2])
     fixed = np.zeros_like(f_model)
     cols = []
@@ -168,7 +168,7 @@ def _solve_weights(terms, linear, wi, wo, f_model):
     A = np.concatenate(rows_A)
     b = np.concatenate(rows_b)
     # weights in [0, 1]: a closure with weight <= 1 never reflects more than it receives
-    x = lsq_linear(A, b, bounds=(0.0, 1.0), method="bvls").x
+    x = bvls(A, b, 0.0, 1.0).x
     for j, (t, _, _) in enumerate(n_scalar):
         out.append(replace(t, color=(float(x[j]),) * 3))
     for j, (t, _, _) in enumerate(n_rgb):
@@ -179,8 +179,6 @@ def _solve_weights(terms, linear, wi, wo, f_model):
 
 def fit_candidate(candidate, f_model, wi, wo):
     """Fit one candidate; return (terms, rms_rel_diff, x)."""
-    from scipy.optimize import minimize
-
     fm = f_model(wi, wo)
     lo = np.array([b[0] for b in candidate.bounds], dtype=float)
     hi = np.array([b[1] for b in candidate.bounds], dtype=float)
@@ -195,8 +193,7 @@ def fit_candidate(candidate, f_model, wi, wo):
 
     x0 = np.clip(np.log(np.asarray(candidate.x0, dtype=float)), lo, hi)
     if len(x0):
-        res = minimize(cost, x0, method="Nelder-Mead",
-                       options={"xatol": 1e-3, "fatol": 1e-5, "maxiter": 120 * len(x0)})
+        res = nelder_mead(cost, x0, xatol=1e-3, fatol=1e-5, maxiter=120 * len(x0))
         x = res.x if res.fun <= cost(x0) else x0
     else:
         x = x0

@@ -11,8 +11,10 @@ def write_plot(model, path, **params):
     Raises
     ------
     RadiometerError
-        Unknown model/parameter, the library has no plotting module, or the directory is missing.
+        Unknown model/parameter, the library has no plotting module, the directory is missing, or
+        matplotlib is not installed (Blender's own Python).
     """
+    from ..plots import require_matplotlib
     from .realise import check_params
 
     p = check_params(model, params)
@@ -23,5 +25,6 @@ def write_plot(model, path, **params):
         from ..brdf import plots
     except ImportError:
         raise RadiometerError("radiometer.brdf.plots is not available in this version") from None
+    require_matplotlib()
     plots.plot_summary(model, path, **p)
     return path
