@@ -10,13 +10,17 @@ relative error and 4 bounces biased preview by -6 %, while direct light from an 
 already at 0.04 %. So: enough samples for ~1 % in an interreflecting room at ``standard`` (about a
 second on 2 cores), and bounce limits high enough that truncation bias is negligible (Cycles ends
 paths by Russian roulette long before: a 0.7-albedo room loses 0.7^64 ~ 1e-10 at 64 bounces).
+Samples per texel stay <= 1024 and the budget goes into more texels (independent batches):
+Cycles accumulates each pixel in float32, and a delta-lit reading with 16384 samples per texel
+drifted by 5e-6 (262144: 5.5e-5) while 1024 stayed at 1.4e-7 (bench/results.md, section 4).
+More batches also make the batch-means error estimate steadier.
 """
 
 PRESETS = {
     # name: samples per texel, texels per side, bakes, light bounces when geometry is present
     "preview": {"samples": 32, "texels": 2, "bakes": 1, "bounces": 16},
-    "standard": {"samples": 1024, "texels": 4, "bakes": 1, "bounces": 64},
-    "reference": {"samples": 8192, "texels": 4, "bakes": 2, "bounces": 128},
+    "standard": {"samples": 256, "texels": 8, "bakes": 1, "bounces": 64},
+    "reference": {"samples": 1024, "texels": 8, "bakes": 4, "bounces": 128},
 }
 
 METHODS = ("auto", "analytic", "render")

@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 SEEDS = 5
-REFERENCE = {"samples": 32768, "texels": 4, "bakes": 2, "bounces": 128}
+REFERENCE = {"samples": 1024, "texels": 8, "bakes": 16, "bounces": 128}
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
