@@ -200,6 +200,15 @@ def render_irradiance(scene, view_layer, points_scene, normals, preset, *, targe
     return estimates / scale ** 2, info, record
 
 
+def only_delta_light(decision):
+    """True when light arrives only straight from delta lights (radius-0 point/spot, sun of angle 0)."""
+    needs = decision["needs"]
+    if needs["geometry"] or needs["world_emits"] or needs["emissive_surfaces"] or decision["uncovered"]:
+        return False
+    return all((spec.kind in ("POINT", "SPOT") and spec.radius == 0.0) or (spec.kind == "SUN" and spec.angle == 0.0)
+               for spec in decision["specs"])
+
+
 # --- the public entry used by api.py ----------------------------------------------------------------
 
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
@@ -237,6 +246,12 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
             notes.append("exact: nothing in the scene but lights can add or block light")
         samples, record, scalar_se = 0, None, np.zeros(len(points_m))
     else:
+        if only_delta_light(decision):
+            # Next-event estimation samples a delta light exactly: every path gives the same value,
+            # so one sample per texel is the exact render (more would only add float32 rounding).
+            preset = dict(preset, samples=1, texels=2, bakes=1)
+            notes.append("only delta lights and nothing to reflect light: 1 sample per texel is exact "
+                         "(next-event estimation of a delta light has no variance)")
         estimates, run, record = render_irradiance(scene, view_layer, points_scene, normals, preset,
                                                    target_rel_error=target_rel_error, progress=progress,
                                                    cancelled=cancelled, needs=decision["needs"], exclude=exclude,

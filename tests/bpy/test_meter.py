@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from radiometer import api
+from radiometer.compat import ensure_node_tree
 from radiometer.errors import RadiometerError
 
 
@@ -68,7 +69,7 @@ def test_stated_error_is_honest_over_many_meters(clean_blender, build):
 def test_uniform_sky_gives_pi_L(clean_blender):
     scene = bpy.context.scene
     world = bpy.data.worlds.new("sky")
-    bg = world.node_tree.nodes["Background"]
+    bg = ensure_node_tree(world).nodes["Background"]
     bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
     bg.inputs["Strength"].default_value = 2.0
     scene.world = world
@@ -212,3 +213,14 @@ def test_predict_illuminance_breakdown(clean_blender, build):
     angle = float(np.float32(math.radians(60)))  # Blender stores rotations as float32
     assert by_kind["directional"]["irradiance"] == pytest.approx(3.0 * math.cos(angle), rel=1e-7)
     assert all(row["exact"] for row in rows)
+
+
+def test_delta_lights_alone_render_with_one_exact_sample(clean_blender, build):
+    """Nothing but delta lights: the render path uses one sample per texel and is exact anyway."""
+    point_scene(build, energy=100.0)
+    r = api.measure_illuminance((0.3, 0.0, 0.0), method="render", quality="reference")
+    d2 = 0.3 ** 2 + 4.0
+    assert r.irradiance == pytest.approx(100 / (4 * math.pi) * 2.0 / d2 ** 1.5, rel=1e-6)
+    # The 4 texels sit at slightly different points of the tiny quad: their spread is ~1e-6.
+    assert r.samples == 4 and r.rel_std_error < 1e-5
+    assert any("1 sample per texel is exact" in n for n in r.notes)
