@@ -69,6 +69,7 @@ def main():
     import bpy
 
     import radiometer
+    from radiometer.compat import ensure_node_tree
     from radiometer.demo import scene as demo_scene
     from radiometer.measure import meter
 
@@ -99,7 +100,7 @@ def main():
     radiometer.register()
     scene = bpy.context.scene
     world = bpy.data.worlds.new("black")
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
     data = bpy.data.lights.new("panel", "AREA")
     data.shape, data.size, data.energy = "SQUARE", 1.0, 100.0

@@ -10,6 +10,8 @@ import math
 import bpy
 import numpy as np
 
+from radiometer.compat import ensure_node_tree
+
 
 def fresh():
     """Empty factory scene with a black world; returns the scene."""
@@ -20,14 +22,14 @@ def fresh():
     radiometer.register()
     scene = bpy.context.scene
     world = bpy.data.worlds.new("bench black")
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
     return scene
 
 
 def diffuse_material(name, albedo):
     mat = bpy.data.materials.new(name)
-    tree = mat.node_tree
+    tree = ensure_node_tree(mat)
     tree.nodes.clear()
     out = tree.nodes.new("ShaderNodeOutputMaterial")
     bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")

@@ -7,6 +7,8 @@ import math
 
 import bpy
 
+from ..compat import ensure_node_tree
+
 ROOM = (4.0, 4.0, 3.0)
 WINDOW = {"x": (-0.8, 0.8), "z": (1.0, 2.2)}  # opening in the y = +2 wall
 WORK_PLANE_HEIGHT = 0.75
@@ -14,7 +16,7 @@ WORK_PLANE_HEIGHT = 0.75
 
 def _diffuse(name, albedo):
     mat = bpy.data.materials.new(name)
-    tree = mat.node_tree
+    tree = ensure_node_tree(mat)
     tree.nodes.clear()
     out = tree.nodes.new("ShaderNodeOutputMaterial")
     bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
@@ -48,8 +50,9 @@ def build(scene=None, *, with_meters=True):
     scene.unit_settings.system = "METRIC"
     scene.unit_settings.scale_length = 1.0
     world = bpy.data.worlds.new("Radiometer Demo Sky")
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    background = ensure_node_tree(world).nodes["Background"]
+    background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    background.inputs["Strength"].default_value = 0.0
     scene.world = world
 
     room = bpy.data.collections.new("Room")

@@ -7,6 +7,8 @@ back afterwards. The returned dict records what was enabled and why (it goes int
 
 import bpy
 
+from ..compat import active_node_tree
+
 _GLOSSY_NODES = {
     "ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic", "ShaderNodeBsdfMetallic", "ShaderNodeBsdfGlass",
     "ShaderNodeBsdfRefraction", "ShaderNodeBsdfPrincipled", "ShaderNodeBsdfHairPrincipled",
@@ -53,9 +55,11 @@ def _uses_volume(tree):
 
 def world_emits(world):
     """True unless the world is provably black (no world, or a Background of zero strength/colour)."""
-    if world is None or world.node_tree is None:
+    if world is None:
         return False
-    tree = world.node_tree
+    tree = active_node_tree(world)
+    if tree is None:  # Blender 4.x without world nodes renders the plain World.color
+        return max(world.color[:3]) > 0.0
     output = next((n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputWorld" and n.is_active_output), None)
     if output is None:
         output = next((n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputWorld"), None)
@@ -75,7 +79,7 @@ def scene_needs(scene, depsgraph=None, exclude=()):
     """What the scene contains that light transport must simulate. ``exclude``: object names."""
     needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
     needs["world_emits"] = world_emits(scene.world)
-    needs["volume"] = _uses_volume(scene.world.node_tree if scene.world else None)
+    needs["volume"] = _uses_volume(active_node_tree(scene.world) if scene.world else None)
     for ob in scene.objects:
         if ob.name in exclude or ob.type not in _GEOMETRY_TYPES or ob.hide_render:
             continue
@@ -88,11 +92,12 @@ def scene_needs(scene, depsgraph=None, exclude=()):
         if not materials:
             continue
         for mat in materials:
-            types = _node_types(mat.node_tree)
+            tree = active_node_tree(mat)
+            types = _node_types(tree)
             needs["glossy"] |= bool(types & _GLOSSY_NODES)
             needs["transmission"] |= bool(types & _TRANSMISSIVE_NODES)
             needs["emissive_surfaces"] |= bool(types & _EMISSIVE_NODES)
-            needs["volume"] |= _uses_volume(mat.node_tree)
+            needs["volume"] |= _uses_volume(tree)
     return needs
 
 

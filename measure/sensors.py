@@ -20,6 +20,7 @@ import time
 import bpy
 import numpy as np
 
+from ..compat import ensure_node_tree
 from ..errors import MeasurementCancelled, RadiometerError
 
 SENSOR_NAME = "radiometer_sensor"
@@ -89,7 +90,7 @@ def build_sensor(scene, points, normals, texels):
     layer.data.foreach_set("uv", uv.reshape(-1).astype(np.float32))
 
     material = bpy.data.materials.new(SENSOR_NAME)
-    tree = material.node_tree
+    tree = ensure_node_tree(material)
     tree.nodes.clear()
     out = tree.nodes.new("ShaderNodeOutputMaterial")
     bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")

@@ -11,6 +11,7 @@ Radiometer's own previous node (and its node group when nothing else uses it).
 from . import nodes as N
 from . import osl as O
 from .realise import realise
+from ..compat import ensure_node_tree
 from ..errors import RadiometerError
 
 GROUP_NODE_NAME = "Radiometer BRDF"
@@ -70,9 +71,7 @@ def assign_brdf(material, model, method="nodes", **params):
     if material is None:
         raise RadiometerError("no material to assign the BRDF to")
     terms, fidelity = realise(model, method, **params)  # validates before anything changes
-    if material.node_tree is None:
-        material.use_nodes = True
-    tree = material.node_tree
+    tree = ensure_node_tree(material)
     out = _output_node(tree)
     notes = []
     surface = out.inputs["Surface"]

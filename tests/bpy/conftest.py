@@ -4,6 +4,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from radiometer.compat import ensure_node_tree  # noqa: E402
+
 
 @pytest.fixture
 def clean_blender():
@@ -19,7 +21,7 @@ def clean_blender():
 
 def make_black_world(scene):
     world = bpy.data.worlds.new("black")
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
     return world
 
@@ -39,7 +41,7 @@ def add_plane(scene, size=1.0, location=(0.0, 0.0, 0.0), rotation=(0.0, 0.0, 0.0
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata([(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)], [], [(0, 1, 2, 3)])
     mat = bpy.data.materials.new(name)
-    tree = mat.node_tree
+    tree = ensure_node_tree(mat)
     tree.nodes.clear()
     out = tree.nodes.new("ShaderNodeOutputMaterial")
     bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from radiometer import api
+from radiometer.compat import ensure_node_tree
 from radiometer.errors import RadiometerError
 from radiometer.measure.scene_guard import scene_fingerprint
 
@@ -118,7 +119,7 @@ def test_sun_cannot_be_checked_for_inverse_square(clean_blender, build):
 def test_law_check_isolates_the_light_and_leaves_the_scene(clean_blender, build):
     scene = bpy.context.scene
     world = bpy.data.worlds.new("grey sky")
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 1.0
     scene.world = world
     light = build.light(scene, "POINT", (0, 0, 3), energy=100.0, shadow_soft_size=0.0)
     other = build.light(scene, "POINT", (0.5, 0, 2.2), energy=1000.0, shadow_soft_size=0.0)

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from radiometer import api, envmap
+from radiometer.compat import ensure_node_tree
 from radiometer.measure import camera
 
 
@@ -21,7 +22,7 @@ def emitter(scene, location, strength, size=1.0, rotation=(0.0, 0.0, 0.0), name=
     bm.to_mesh(mesh)
     bm.free()
     mat = bpy.data.materials.new(name)
-    tree = mat.node_tree
+    tree = ensure_node_tree(mat)
     tree.nodes.clear()
     out = tree.nodes.new("ShaderNodeOutputMaterial")
     em = tree.nodes.new("ShaderNodeEmission")
@@ -84,7 +85,7 @@ def test_radiance_map_directions(clean_blender, build, tmp_path, axis):
 def test_radiance_map_of_uniform_sky_gives_pi_L(clean_blender, tmp_path):
     scene = bpy.context.scene
     world = bpy.data.worlds.new("sky")
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
+    ensure_node_tree(world).nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.7
     scene.world = world
     m = api.capture_radiance_map((0, 0, 0), str(tmp_path / "sky.exr"), resolution=32)

@@ -17,6 +17,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 OpenEXR = pytest.importorskip("OpenEXR")
 
+from radiometer.compat import ensure_node_tree  # noqa: E402
 from radiometer.radiometry import lights, stats  # noqa: E402
 
 PATCH_M = 1e-3
@@ -56,7 +57,7 @@ def _setup_scene(samples, seed):
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.image_settings.color_depth = "32"
     world = bpy.data.worlds.new("black")
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
     return scene
 
@@ -70,7 +71,7 @@ def _add_sensor(point, normal):
     obj.location = point
     obj.rotation_euler = _look_rotation([-c for c in normal])  # local +Z = normal
     mat = bpy.data.materials.new("white")
-    nodes = mat.node_tree.nodes
+    nodes = ensure_node_tree(mat).nodes
     nodes.clear()
     diffuse = nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = (1, 1, 1, 1)

@@ -12,6 +12,9 @@ from radiometer import api
 from radiometer.compat import ensure_node_tree
 from radiometer.errors import RadiometerError
 
+# EEVEE's engine id: BLENDER_EEVEE_NEXT in Blender 4.2-4.5, BLENDER_EEVEE again since 5.0.
+EEVEE = "BLENDER_EEVEE" if bpy.app.version >= (5, 0, 0) else "BLENDER_EEVEE_NEXT"
+
 
 def point_scene(build, energy=100.0, location=(0.0, 0.0, 2.0)):
     scene = bpy.context.scene
@@ -162,10 +165,10 @@ def test_starlight_to_sunlight_same_relative_accuracy(clean_blender, build):
 def test_eevee_scene_still_measures_with_cycles_and_keeps_engine(clean_blender, build):
     point_scene(build)
     scene = bpy.context.scene
-    scene.render.engine = "BLENDER_EEVEE"
+    scene.render.engine = EEVEE
     r = api.measure_illuminance((0, 0, 0), method="render")
     assert r.irradiance == pytest.approx(100 / (4 * math.pi * 4), rel=1e-4)
-    assert scene.render.engine == "BLENDER_EEVEE"
+    assert scene.render.engine == EEVEE
 
 
 @pytest.mark.parametrize("kwargs, fragment", [

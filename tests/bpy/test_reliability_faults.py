@@ -19,6 +19,9 @@ from radiometer.errors import MeasurementCancelled, RadiometerError
 from radiometer.measure import camera, sensors
 from radiometer.measure.scene_guard import scene_fingerprint
 
+# EEVEE's engine id: BLENDER_EEVEE_NEXT in Blender 4.2-4.5, BLENDER_EEVEE again since 5.0.
+EEVEE = "BLENDER_EEVEE" if bpy.app.version >= (5, 0, 0) else "BLENDER_EEVEE_NEXT"
+
 
 def all_data_names():
     """Names of every ID in every bpy.data collection (not only those the scene guard watches)."""
@@ -45,7 +48,7 @@ def user_scene(build):
     cam = bpy.data.objects.new("user cam", bpy.data.cameras.new("user cam"))
     scene.collection.objects.link(cam)
     scene.camera = cam
-    scene.render.engine = "BLENDER_EEVEE"
+    scene.render.engine = EEVEE
     scene.render.resolution_x, scene.render.resolution_y = 1234, 567
     scene.render.filepath = "//user_out_"
     scene.render.image_settings.file_format = "PNG"

@@ -22,13 +22,14 @@ SCRIPT = textwrap.dedent("""
     import bpy
     import radiometer
     from radiometer import api
+    from radiometer.compat import ensure_node_tree
     from radiometer.errors import RadiometerError
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     radiometer.register()
     scene = bpy.context.scene
     world = bpy.data.worlds.new("black")
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
 
     def light(kind, location, **props):

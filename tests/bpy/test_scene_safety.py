@@ -9,6 +9,9 @@ from radiometer import api
 from radiometer.errors import MeasurementCancelled, RadiometerError
 from radiometer.measure.scene_guard import scene_fingerprint
 
+# EEVEE's engine id: BLENDER_EEVEE_NEXT in Blender 4.2-4.5, BLENDER_EEVEE again since 5.0.
+EEVEE = "BLENDER_EEVEE" if bpy.app.version >= (5, 0, 0) else "BLENDER_EEVEE_NEXT"
+
 
 def user_scene(build):
     scene = bpy.context.scene
@@ -19,7 +22,7 @@ def user_scene(build):
     cam = bpy.data.objects.new("user cam", cam_data)
     scene.collection.objects.link(cam)
     scene.camera = cam
-    scene.render.engine = "BLENDER_EEVEE"
+    scene.render.engine = EEVEE
     scene.render.resolution_x, scene.render.resolution_y = 1234, 567
     scene.cycles.samples = 77
     scene.cycles.use_denoising = True

@@ -11,6 +11,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from radiometer.compat import ensure_node_tree  # noqa: E402
+
 
 @pytest.fixture
 def lib(clean_blender):
@@ -31,7 +33,7 @@ def test_assign_builds_group_keeps_user_nodes(lib):
     from radiometer.shading.assign import GROUP_NODE_NAME, assign_brdf
 
     mat = bpy.data.materials.new("m")
-    tree = mat.node_tree
+    tree = ensure_node_tree(mat)
     out = tree.get_output_node("ALL")
     user = out.inputs["Surface"].links[0].from_node  # the default Principled BSDF
     fid = assign_brdf(mat, "ggx", alpha=0.36, f0=0.04)

@@ -12,6 +12,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from radiometer.compat import ensure_node_tree  # noqa: E402
 from radiometer.shading import closures as C  # noqa: E402
 from radiometer.shading import nodes as N  # noqa: E402
 from radiometer.shading import osl as O  # noqa: E402
@@ -33,7 +34,7 @@ CLOSURE_CASES = {
 
 def _material_with(node_builder):
     mat = bpy.data.materials.new("validation")
-    tree = mat.node_tree
+    tree = ensure_node_tree(mat)
     for n in list(tree.nodes):
         if n.bl_idname != "ShaderNodeOutputMaterial":
             tree.nodes.remove(n)
@@ -66,7 +67,16 @@ def _osl_material(terms):
     return _material_with(build)
 
 
-@pytest.mark.parametrize("name", sorted(CLOSURE_CASES))
+# Cycles before 5.0 evaluates the Metallic BSDF's physical-conductor Fresnel with the PBRT-v2
+# approximation (bsdf_util.h fresnel_conductor(cosi, eta, k)), not the exact polarised formula the
+# closure model implements: measured on 4.5.15 the render/model ratio equals approx/exact within 6e-6,
+# i.e. up to 46 % off at grazing half-angles for k = 0.
+_EXACT_CONDUCTOR_FRESNEL = pytest.mark.skipif(
+    bpy.app.version < (5, 0, 0), reason="Cycles < 5.0 has no exact conductor Fresnel (PBRT-v2 approximation)")
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=_EXACT_CONDUCTOR_FRESNEL) if n == "ggx_conductor" else n
+                                  for n in sorted(CLOSURE_CASES)])
 def test_closure_models_match_cycles_nodes(clean_blender, name):
     terms = CLOSURE_CASES[name]
     mat = _nodes_material(terms)
