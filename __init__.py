@@ -18,6 +18,12 @@ def _host_modules():
 
 
 def register():
+    import bpy
+
+    from .shading import closures
+
+    # Fidelity of BRDF mappings is computed against the Fresnel this Blender's Cycles renders.
+    closures.use_cycles_version(bpy.app.version)
     modules = _host_modules()
     for module in modules:
         module.register()

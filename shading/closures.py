@@ -113,6 +113,37 @@ def fresnel_schlick(cos_theta, f0):
     return np.clip(f0 + (1.0 - f0) * s5, 0.0, 1.0)
 
 
+# Cycles before Blender 5.0 evaluated the Metallic BSDF's "physical conductor" Fresnel with the
+# PBRT-v2 approximation (``fresnel_conductor(cosi, eta, k)`` in 4.x ``closure/bsdf_util.h``), up to
+# 46 % off the exact value at grazing incidence for k = 0. The host calls
+# ``use_cycles_version(bpy.app.version)`` so fidelity is computed against what Cycles renders.
+_APPROXIMATE_CONDUCTOR = False
+
+
+def use_cycles_version(version):
+    """Select the conductor Fresnel Cycles uses in this Blender version (tuple like (5, 0, 1))."""
+    global _APPROXIMATE_CONDUCTOR
+    _APPROXIMATE_CONDUCTOR = tuple(version)[:2] < (5, 0)
+
+
+def fresnel_conductor_approximate(cos_theta, eta, k):
+    """PBRT-v2's approximate conductor Fresnel (Cycles <= 4.5): exact at normal incidence only.
+
+    References
+    ----------
+    Pharr & Humphreys, "Physically Based Rendering" 2nd ed. (2010), sec. 8.2.1, FrCond.
+    """
+    c = np.clip(np.asarray(cos_theta, dtype=float), 0.0, 1.0)[..., None]
+    eta = np.broadcast_to(np.asarray(eta, dtype=float), (3,))
+    k = np.broadcast_to(np.asarray(k, dtype=float), (3,))
+    c2 = c * c
+    tmp_f = eta * eta + k * k
+    tmp = tmp_f * c2
+    r_parl2 = (tmp - 2.0 * eta * c + 1.0) / (tmp + 2.0 * eta * c + 1.0)
+    r_perp2 = (tmp_f - 2.0 * eta * c + c2) / (tmp_f + 2.0 * eta * c + c2)
+    return 0.5 * (r_parl2 + r_perp2)
+
+
 def fresnel_conductor(cos_theta, eta, k):
     """Unpolarised Fresnel reflectance of a conductor with complex IOR eta + i k, RGB (..., 3).
 
@@ -123,6 +154,8 @@ def fresnel_conductor(cos_theta, eta, k):
     ----------
     Pharr, Jakob, Humphreys, "Physically Based Rendering" 4th ed., sec. 9.5 (FrComplex).
     """
+    if _APPROXIMATE_CONDUCTOR:
+        return fresnel_conductor_approximate(cos_theta, eta, k)
     c = np.clip(np.asarray(cos_theta, dtype=float), 0.0, 1.0)[..., None]
     n = np.asarray(eta, dtype=complex) + 1j * np.asarray(k, dtype=complex)
     n = np.broadcast_to(n, (3,))

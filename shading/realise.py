@@ -379,7 +379,8 @@ def realise(model, method="nodes", **params):
     if method not in METHODS:
         raise RadiometerError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     given = check_params(model, params)
-    key = (model, method, tuple(sorted((k, _freeze(v)) for k, v in given.items())))
+    # The conductor Fresnel Cycles renders depends on the Blender version (closures.use_cycles_version).
+    key = (model, method, tuple(sorted((k, _freeze(v)) for k, v in given.items())), C._APPROXIMATE_CONDUCTOR)
     terms, fid = _realise_cached(key)
     return list(terms), fid
 
@@ -404,7 +405,7 @@ def _freeze(v):
 
 @functools.lru_cache(maxsize=256)
 def _realise_cached(key):
-    model, method, items = key
+    model, method, items, _approximate_conductor = key
     given = {k: (list(v) if isinstance(v, tuple) else v) for k, v in items}
     p = {name: given.get(name, spec.get("default")) for name, spec in param_specs(model).items()}
     terms, _, width, extra = _realise(model, method, p, set(given))
