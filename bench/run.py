@@ -139,7 +139,12 @@ def bench_overhead():
                                 ("interreflecting room", scenes.room, (0.3, 0.2, 0.75))):
         scene = build()
         normal = (0.0, 0.0, 1.0)
-        bare_obj, bare = _bare_sensor(scene, point, normal, preset)
+        # The bare bake uses exactly the settings Radiometer chose for this scene (e.g. one exact
+        # sample per texel when only delta lights shine), read back from a first reading.
+        first = api.measure_illuminance(point, normal, method="render", quality="standard")
+        used = dict(preset, samples=first.render_settings["samples"])
+        used["texels"] = int(round(math.sqrt(first.samples / (used["samples"] * preset["bakes"]))))
+        bare_obj, bare = _bare_sensor(scene, point, normal, used)
         t_meter, t_bare, values = [], [], []
 
         def radiometer_reading():
@@ -284,7 +289,8 @@ def bench_error_vs_time():
                 stated = float(np.sqrt(np.mean([(r.rel_std_error * r.irradiance) ** 2 for r in readings])
                                        / np.mean(ref ** 2)))
                 p = quality_presets.PRESETS[name]
-                rows.append({"preset": name, "samples_per_meter": p["samples"] * p["texels"] ** 2 * p["bakes"],
+                # What the readings actually used (a delta-only scene needs 1 sample per texel).
+                rows.append({"preset": name, "samples_per_meter": int(readings[0].samples),
                              "bounces": p["bounces"], "seconds_per_call": dt, "seconds_per_meter": dt / meters,
                              "rel_rms_error": rel_rms, "stated_rel_std_error": stated,
                              "error_over_stated": rel_rms / stated if stated > 0 else None})
