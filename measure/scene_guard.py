@@ -27,20 +27,35 @@ _SKIP = {"rna_type", "is_evaluated", "original", "users", "session_uid", "is_mis
          "use_nodes"}  # Scene.use_nodes is deprecated in 5.0 (reading it warns)
 
 
+_WRITABLE = {}  # RNA struct identifier -> identifiers of its writable plain properties
+
+
+def _writable_identifiers(struct):
+    # Walking bl_rna.properties is the slow part of a snapshot; the list depends only on the type.
+    key = struct.bl_rna.identifier
+    idents = _WRITABLE.get(key)
+    if idents is None:
+        idents = tuple(prop.identifier for prop in struct.bl_rna.properties
+                       if prop.identifier not in _SKIP and not prop.is_readonly
+                       and prop.type not in {"POINTER", "COLLECTION"})
+        _WRITABLE[key] = idents
+    return idents
+
+
 def _rna_values(struct):
     """Plain values of the writable, non-pointer RNA properties of ``struct``."""
     values = {}
-    for prop in struct.bl_rna.properties:
-        ident = prop.identifier
-        if ident in _SKIP or prop.is_readonly or prop.type in {"POINTER", "COLLECTION"}:
-            continue
+    for ident in _writable_identifiers(struct):
         try:
             value = getattr(struct, ident)
         except (AttributeError, RuntimeError):
             continue
-        if hasattr(value, "__len__") and not isinstance(value, str):
-            value = tuple(value) if prop.type != "ENUM" else set(value)
-        values[ident] = value
+        if isinstance(value, set):
+            values[ident] = set(value)
+        elif hasattr(value, "__len__") and not isinstance(value, str):
+            values[ident] = tuple(value)
+        else:
+            values[ident] = value
     return values
 
 
