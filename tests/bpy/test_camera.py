@@ -98,3 +98,32 @@ def test_radiance_map_of_uniform_sky_gives_pi_L(clean_blender, tmp_path):
 def test_equirect_solid_angles_cover_the_sphere():
     _dirs, solid = envmap.pixel_directions(16, 32)
     assert solid.sum() == pytest.approx(4 * math.pi, rel=1e-12)
+
+
+def test_measure_operator_handles_every_meter_kind(clean_blender, monkeypatch, tmp_path):
+    """One Measure covers illuminance, luminance and radiance-map meters and stores SI readings."""
+    from radiometer.measure import camera as camera_mod
+
+    monkeypatch.setattr(camera_mod, "default_map_path", lambda name: str(tmp_path / f"{name}.exr"))
+    scene = bpy.context.scene
+    world = bpy.data.worlds.new("sky")
+    from radiometer.compat import ensure_node_tree
+
+    tree = ensure_node_tree(world)
+    tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
+    tree.nodes["Background"].inputs["Strength"].default_value = 0.5
+    scene.world = world
+    scene.radiometer.quality = "preview"
+    kinds = ("ILLUMINANCE", "LUMINANCE", "RADIANCE_MAP")
+    for kind in kinds:
+        bpy.ops.radiometer.add_meter(kind=kind)
+    assert bpy.ops.radiometer.measure(only_selected=False) == {"FINISHED"}
+    meters = {ob.radiometer_meter.kind: ob.radiometer_meter for ob in scene.objects if ob.radiometer_meter.is_meter}
+    assert set(meters) == set(kinds) and all(m.has_reading for m in meters.values())
+    # Uniform sky of radiance L: E = pi L (lecture), luminance = K L.
+    ill = meters["ILLUMINANCE"]
+    # (a uniform sky has zero variance under cosine sampling; FloatProperty stores float32)
+    assert ill.value == pytest.approx(math.pi * 0.5, rel=max(3 * ill.rel_std_error, 1e-6))
+    assert meters["LUMINANCE"].photometric == pytest.approx(683 * 0.5, rel=1e-4)
+    assert meters["RADIANCE_MAP"].value == pytest.approx(math.pi * 0.5, rel=1e-4)
+    assert meters["RADIANCE_MAP"].map_path.endswith(".exr")
