@@ -85,6 +85,22 @@ def _targets(self, context):
     return [scene.objects[self.light]]
 
 
+def _with_progress(context, items):
+    """Yield ``items`` while driving the window manager's progress bar (a no-op without a window)."""
+    wm = context.window_manager
+    items = list(items)
+    if wm is None or context.window is None:
+        yield from items
+        return
+    wm.progress_begin(0, max(len(items), 1))
+    try:
+        for i, item in enumerate(items):
+            wm.progress_update(i)
+            yield item
+    finally:
+        wm.progress_end()
+
+
 def _slug(name):
     from ..measure.report import _slug as slug
 
@@ -109,7 +125,7 @@ class RADIOMETER_OT_check_inverse_square(bpy.types.Operator):
         out = output_dir(context)
         warn_without_plots(self)
         lines = []
-        for light in _targets(self, context):
+        for light in _with_progress(context, _targets(self, context)):
             item = _law_item(settings, light)
             if light.data.type == "SUN":
                 item.inverse_checked, item.inverse_note = False, "sun: no position, inverse square does not apply"
@@ -160,7 +176,7 @@ class RADIOMETER_OT_check_cosine_law(bpy.types.Operator):
         warn_without_plots(self)
         lines = []
         location = tuple(context.scene.cursor.location) if self.at_cursor else None
-        for light in _targets(self, context):
+        for light in _with_progress(context, _targets(self, context)):
             item = _law_item(settings, light)
             try:
                 r = api.check_cosine_law(light, scene=context.scene, location=location,
