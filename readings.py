@@ -66,7 +66,3 @@ class LuminanceReading:
         return (f"{self.luminance:.6g} cd/m²  ({self.radiance:.6g} W/(m² sr))  "
                 f"±{100 * self.rel_std_error:.2g} % (1 s.e.)  [{self.method}]")
 
-
-def relative(se, mean):
-    mean = abs(mean)
-    return 0.0 if se == 0 else (se / mean if mean > 0 else math.inf)

@@ -19,8 +19,9 @@ import numpy as np
 from .. import envmap
 from .. import quality as quality_presets
 from ..errors import MeasurementCancelled, RadiometerError
+from ..radiometry import stats
 from ..readings import LuminanceReading
-from . import exr, meter, render_settings, scene_guard, scene_lights
+from . import exr, meter, render_settings, scene_guard
 
 # Panorama orientation: local +Y (image up) -> world +Z, local +Z (image centre) -> world -Y.
 _PANO_EULER = (math.pi / 2, 0.0, 0.0)
@@ -173,8 +174,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
                 if target_rel_error is None or k >= max_renders:
                     break
                 y_est = np.array(estimates) @ weights
-                hw = 2.0 * y_est.std(ddof=1) / math.sqrt(len(y_est))
-                if hw <= target_rel_error * abs(y_est.mean()):
+                if stats.t_half_width_95(y_est) <= target_rel_error * abs(y_est.mean()):
                     break
     finally:
         shutil.rmtree(folder, ignore_errors=True)
@@ -182,7 +182,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     mean = est.mean(axis=0)
     y = est @ weights
     radiance = float(mean @ weights)
-    se = float(y.std(ddof=1) / math.sqrt(len(y)))
+    se = float(stats.batch_mean(y)[1])
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}",
              f"perspective camera, cone {acceptance_deg:g} deg full angle, cos^3 pixel weights, "
              f"{len(y)} independent renders (batch means)",

@@ -12,8 +12,9 @@ import bpy
 import numpy as np
 
 from .. import quality as quality_presets
+from ..radiometry import stats
 from ..errors import RadiometerError
-from ..readings import IlluminanceReading, LuminanceReading
+from ..readings import IlluminanceReading
 from . import render_settings, scene_guard, scene_lights, sensors
 
 DEFAULT_EFFICACY = 683.0  # lm/W, Blender's glTF convention; see README "Conventions"
@@ -125,10 +126,11 @@ def analytic_irradiance(specs, points_m, normals, *, scene=None, depsgraph=None,
 
     per_light = np.zeros((len(specs), len(points_m), 3))
     info = []
+    check_occlusion = scene is not None and depsgraph is not None and scene_has_geometry(scene)
     for i, spec in enumerate(specs):
         per_light[i] = light_models.irradiance(spec, points_m, normals)
         exact, model, note = light_models.exactness(spec)
-        if scene is not None and depsgraph is not None and scene_has_geometry(scene):
+        if check_occlusion:
             note, whole = _apply_occlusion(scene, depsgraph, spec, points_scene, per_light[i], note)
             exact = exact and whole
         info.append((exact, model, note))
@@ -222,8 +224,9 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
         raise RadiometerError(f"target_rel_error must be in (0, 1), got {target_rel_error}")
     preset = quality_presets.preset(quality)
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    for k, p in enumerate(points_scene[:1000]):
-        if scene_has_geometry(scene) and scene_lights.is_inside_closed_mesh(scene, depsgraph, p):
+    has_geometry = scene_has_geometry(scene)
+    for k, p in enumerate(points_scene[:1000] if has_geometry else ()):
+        if scene_lights.is_inside_closed_mesh(scene, depsgraph, p):
             raise RadiometerError(f"meter #{k} at {tuple(round(v, 4) for v in p)} is inside a closed mesh: "
                                   "move it into free space")
     decision = plan(scene, depsgraph, method, exclude=exclude)
@@ -257,10 +260,8 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                                                    cancelled=cancelled, needs=decision["needs"], exclude=exclude,
                                                    seed=seed)
         batches = estimates.shape[0]
-        mean_rgb = estimates.mean(axis=0)
-        se_rgb = estimates.std(axis=0, ddof=1) / math.sqrt(batches)
-        scalar = estimates @ weights
-        scalar_se = scalar.std(axis=0, ddof=1) / math.sqrt(batches)
+        mean_rgb, se_rgb = stats.batch_mean(estimates, axis=0)
+        _scalar_mean, scalar_se = stats.batch_mean(estimates @ weights, axis=0)
         exact = False
         samples = run["bakes"] * run["texels_per_meter"] * run["samples_per_texel"]
         why = ", ".join(decision["reasons"]) or "requested"

@@ -72,15 +72,6 @@ def light_specs(scene=None, depsgraph=None):
     return specs, uncovered
 
 
-def power_defined_lights(scene):
-    """Light data-blocks whose energy is a power (W), which Cycles spreads over scene units."""
-    seen = {}
-    for obj in scene.objects:
-        if obj.type == "LIGHT" and obj.data.type in {"POINT", "SPOT", "AREA"}:
-            seen[obj.data.as_pointer()] = obj.data
-    return list(seen.values())
-
-
 def is_inside_closed_mesh(scene, depsgraph, location, directions=None):
     """True when rays from ``location`` in every test direction hit a back face first."""
     from mathutils import Vector
