@@ -29,6 +29,9 @@ class IlluminanceReading:
     notes: list = dataclasses.field(default_factory=list)
     render_settings: Optional[dict] = None
     quantity: str = "illuminance"
+    #: Deterministic part of the error, relative (quadrature, possible partial occlusion); it is
+    #: already included in ``rel_std_error`` (counted as one sigma).
+    rel_error_bound: float = 0.0
 
     def to_dict(self):
         return dataclasses.asdict(self)

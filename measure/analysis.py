@@ -235,16 +235,16 @@ def light_object(light, scene):
 
 
 def light_spec(obj, scene):
-    """The LightSpec (SI) of a light object, or a clear error when no closed form describes it."""
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    specs, uncovered = scene_lights.light_specs(scene, depsgraph)
-    for name, why in uncovered:
-        if name == obj.name:
-            raise RadiometerError(f"light {obj.name!r} {why}: Radiometer has no far-field intensity to compare with")
-    for spec in specs:
-        if spec.name == obj.name:
-            return spec
-    raise RadiometerError(f"light {obj.name!r} was not found in the evaluated scene")
+    """The LightSpec (SI) of a light object as Cycles renders it, or a clear error when no closed
+    form describes it."""
+    model = meter.capture_model(scene)
+    for light in model.lights:
+        if light.name == obj.name:
+            if light.spec is None:
+                raise RadiometerError(f"light {obj.name!r} {light.uncovered}: Radiometer has no far-field "
+                                      "intensity to compare with")
+            return light.spec
+    raise RadiometerError(f"light {obj.name!r} does not render (hidden in renders or by its collection)")
 
 
 def scene_lights_to_check(scene):
@@ -435,7 +435,7 @@ def _inverse_square_causes(spec, scene, d, dev, model_dev, se, measured, predict
     resid = laws.relative_deviation(measured, predicted * (1.0 + np.nan_to_num(model_dev)))  # vs the model
     scene_part = np.abs(resid) > tolerance + 3 * se
     if (scene_part & ~blocked).any():
-        needs = render_settings.scene_needs(scene, bpy.context.evaluated_depsgraph_get())
+        needs = meter.capture_model(scene).needs
         what = "surfaces in the scene reflect or partly block light" if needs["geometry"] else "unexplained"
         k = int(np.argmax(np.where(scene_part & ~blocked, np.abs(resid), -1)))
         causes.append(f"{what}: measured differs from the light's own closed form by {100 * resid[k]:+.3g} % at "
@@ -747,14 +747,15 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     samples = sorted({int(s) for s in samples})
     if len(samples) < 2 or samples[0] < 1:
         raise RadiometerError("samples must hold at least 2 different counts >= 1")
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    decision = meter.plan(scene, depsgraph, "render")
     weights, _eff = _weights(scene)
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     notes = []
     scale = scene.unit_settings.scale_length
+    model = meter.capture_model(scene, view_layer)
+    points, _eps = meter.sensor_points(points, normals, scale, model)
+    decision = meter.plan(scene, model, points * scale, normals, "render")
     if decision["analytic_exact"]:
-        per_light, info = meter.analytic_irradiance(decision["specs"], points * scale, normals)
+        per_light, _bounds, _info = meter.analytic_irradiance(model, decision["direct"], points * scale, normals)
         reference = per_light.sum(axis=0) @ weights
         kind = "analytic (exact)"
     else:

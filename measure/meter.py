@@ -59,24 +59,45 @@ def scene_photometry(scene):
 
 # --- deciding how to measure ----------------------------------------------------------------------
 
-def plan(scene, depsgraph, method, exclude=()):
-    """Decide analytic vs render for this scene and say why. Returns a dict."""
+def capture_model(scene, view_layer=None, exclude=()):
+    """The scene as Cycles renders it (``radiometry.scene_model.SceneModel``, metres)."""
+    from . import scene_capture
+
+    return scene_capture.capture(scene, view_layer, exclude=exclude)
+
+
+def plan(scene, model, points_m, normals, method):
+    """Decide how every reading is obtained and say why. Returns a dict (pure data inside).
+
+    ``direct``: the per-light, per-point :class:`~radiometer.radiometry.scene_model.DirectPlan`;
+    ``method``: "analytic" when every contribution at every point is a closed form (exact or with a
+    bound) and no light can arrive by reflection, else "render" (``auto``), or as requested.
+    """
+    from ..radiometry import lights as light_models, scene_model
+
     if method not in quality_presets.METHODS:
         raise RadiometerError(f"unknown method {method!r}; choose one of {', '.join(quality_presets.METHODS)}")
-    needs = render_settings.scene_needs(scene, depsgraph, exclude=exclude)
-    specs, uncovered = scene_lights.light_specs(scene, depsgraph)
-    if not specs and not uncovered and not needs["world_emits"] and not needs["emissive_surfaces"]:
+    emitting = [lt for lt in model.lights if not lt.portal]
+    if not emitting and not model.world_emits and not model.emissive_surfaces:
         raise RadiometerError("the scene has no light sources (no lights, a black world, no emitting surfaces)")
+    direct = scene_model.plan_direct(model, points_m, normals, light_models.exactness)
+    analytic_ok = np.isin(direct.status, (scene_model.EXACT, scene_model.ZERO, scene_model.BOUNDED)).all() \
+        and not direct.indirect.any()
     reasons = []
-    if needs["geometry"]:
-        reasons.append("surfaces can reflect or block light")
-    if needs["world_emits"]:
+    if model.world_emits:
         reasons.append("the world emits light")
-    if needs["emissive_surfaces"]:
+    if model.emissive_surfaces:
         reasons.append("surfaces emit light")
-    for name, why in uncovered:
-        reasons.append(f"light {name!r} {why}")
-    analytic_ok = not reasons
+    if direct.indirect.any():
+        k = int(np.argmax(direct.indirect))
+        reasons.append(str(direct.indirect_reason[k]))
+    for i, light in enumerate(model.lights):
+        render_k = np.flatnonzero(direct.status[i] == scene_model.RENDER)
+        if render_k.size:
+            reasons.append(f"light {light.name!r}: {direct.reason[i, render_k[0]]}"
+                           + (f" (at {render_k.size} of {len(points_m)} points)" if len(points_m) > 1 else ""))
+    uncovered = [(lt.name, lt.uncovered) for lt in model.lights if lt.spec is None and not lt.portal
+                 and lt.reaches_diffuse]
     if method == "auto":
         chosen = "analytic" if analytic_ok else "render"
     elif method == "analytic" and uncovered:
@@ -84,113 +105,57 @@ def plan(scene, depsgraph, method, exclude=()):
             f"light {uncovered[0][0]!r} {uncovered[0][1]}: no closed form covers it; use method='render'")
     else:
         chosen = method
-    return {"method": chosen, "needs": needs, "specs": specs, "uncovered": uncovered,
-            "reasons": reasons, "analytic_exact": analytic_ok}
+    return {"method": chosen, "needs": model.needs, "model": model, "direct": direct, "uncovered": uncovered,
+            "reasons": reasons, "analytic_exact": bool(analytic_ok and direct.exact_points().all())}
 
 
 # --- analytic ---------------------------------------------------------------------------------------
 
-def _occluded(scene, depsgraph, origin_scene, target_scene, max_hits=64):
-    """True when an object that casts shadows in renders blocks the segment origin -> target.
+def analytic_irradiance(model, direct, points_m, normals):
+    """Per-light direct irradiance (L, N, 3) W/m^2, absolute error bounds (L, N, 3), per-light notes.
 
-    Objects hidden in renders or invisible to shadow rays (work planes, meters' helpers) are
-    stepped through, as Cycles would.
+    Contributions planned ZERO are exactly 0; RENDER ones (possible partial occlusion, forced
+    analytic) keep the unoccluded value with a bound of 100 % (the truth lies between 0 and it).
     """
-    from mathutils import Vector
+    from ..radiometry import lights as light_models, scene_model
 
-    o, t = Vector(origin_scene), Vector(target_scene)
-    d = t - o
-    dist = d.length
-    if dist == 0:
-        return False
-    d /= dist
-    eps = 1e-6 * max(1.0, o.length)  # float32 BVH: offsets relative to the coordinates
-    travelled = eps
-    for _ in range(max_hits):
-        if travelled >= dist * (1 - 1e-9):
-            return False
-        hit, loc, _n, _i, obj, _m = scene.ray_cast(depsgraph, o + d * travelled, d,
-                                                   distance=dist - travelled - eps)
-        if not hit:
-            return False
-        original = obj.original if obj.original is not None else obj
-        if not original.hide_render and original.visible_shadow:
-            return True
-        travelled = (loc - o).length + eps
-    return True
-
-
-def analytic_irradiance(specs, points_m, normals, *, scene=None, depsgraph=None, points_scene=None):
-    """Per-light direct irradiance (L, N, 3) W/m^2 plus per-light (exact, model, note)."""
-    from ..radiometry import lights as light_models
-
-    per_light = np.zeros((len(specs), len(points_m), 3))
+    n_pts = len(points_m)
+    per_light = np.zeros((len(model.lights), n_pts, 3))
+    bounds = np.zeros_like(per_light)
     info = []
-    check_occlusion = scene is not None and depsgraph is not None and scene_has_geometry(scene)
-    for i, spec in enumerate(specs):
-        per_light[i] = light_models.irradiance(spec, points_m, normals)
-        exact, model, note = light_models.exactness(spec)
-        if check_occlusion:
-            note, whole = _apply_occlusion(scene, depsgraph, spec, points_scene, per_light[i], note)
-            exact = exact and whole
-        info.append((exact, model, note))
-    return per_light, info
-
-
-def scene_has_geometry(scene):
-    return any(ob.type in render_settings._GEOMETRY_TYPES and not ob.hide_render for ob in scene.objects)
-
-
-def _visibility_targets(spec, scale):
-    """Points (scene units) on the light whose visibility decides occlusion: the centre for point-like
-    lights, centre + corners + edge midpoints for area lights, centre + 6 poles for spheres."""
-    centre = np.asarray(spec.position) / scale
-    axes = np.asarray(spec.axes)
-    if spec.kind == "AREA":
-        hx = spec.size * spec.scale[0] / 2 / scale
-        hy = (spec.size_y if spec.shape in ("RECTANGLE", "ELLIPSE") else spec.size) * spec.scale[1] / 2 / scale
-        if spec.shape in ("DISK", "ELLIPSE"):
-            hx, hy = hx * 0.7071, hy * 0.7071  # corners of the inscribed square
-        offsets = [(a * hx, b * hy, 0.0) for a in (-1, 0, 1) for b in (-1, 0, 1)]
-        return [centre + axes @ np.array(o) for o in offsets]
-    if spec.radius > 0:
-        r = spec.radius / scale
-        return [centre] + [centre + s * r * axes[:, k] for k in range(3) for s in (-1, 1)]
-    return [centre]
-
-
-def _apply_occlusion(scene, depsgraph, spec, points_scene, values, note):
-    """Zero a light's contribution where opaque objects block it; flag partial occlusion."""
-    scale = scene.unit_settings.scale_length
-    blocked = partial = 0
-    for k, p in enumerate(points_scene):
-        if not values[k].any():
+    with_bound = getattr(light_models, "irradiance_with_bound", None)
+    for i, light in enumerate(model.lights):
+        status = direct.status[i]
+        if light.spec is None:
+            info.append((False, None, f"no closed form: {light.uncovered}"))
             continue
-        if spec.kind == "SUN":
-            toward_sun = np.asarray(spec.axes)[:, 2]  # the sun emits along its local -Z
-            targets = [p + toward_sun * 1e7]
+        if with_bound is not None:
+            values, rel = with_bound(light.spec, points_m, normals)
+            rel = np.broadcast_to(np.asarray(rel, float), (n_pts,))
         else:
-            targets = _visibility_targets(spec, scale)
-        hits = [_occluded(scene, depsgraph, p, t) for t in targets]
-        if all(hits):
-            values[k] = 0.0
-            blocked += 1
-        elif any(hits):
-            partial += 1
-    if blocked:
-        note = f"{note}; blocked at {blocked} point(s) (opaque occluders assumed)"
-    if partial:
-        note = f"{note}; PARTIALLY occluded at {partial} point(s): value ignores the occlusion, not exact"
-    return note, partial == 0
+            values = light_models.irradiance(light.spec, points_m, normals)
+            exact, _m, _n = light_models.exactness(light.spec)
+            rel = np.full(n_pts, 0.0 if exact else 1e-3)
+        values = np.where((status == scene_model.ZERO)[:, None], 0.0, values)
+        partial = status == scene_model.RENDER
+        bounds[i] = np.abs(values) * np.where(partial, 1.0, rel)[:, None]
+        per_light[i] = values
+        exact, model_name, note = light_models.exactness(light.spec)
+        states = sorted(set(str(r) for r in direct.reason[i]))
+        info.append((bool(np.all(np.isin(status, (scene_model.EXACT, scene_model.ZERO)))), model_name,
+                     f"{note}; " + " | ".join(states)))
+    return per_light, bounds, info
 
 
 # --- render -----------------------------------------------------------------------------------------
 
-def render_irradiance(scene, view_layer, points_scene, normals, preset, *, target_rel_error=None,
-                      progress=None, cancelled=None, needs=None, exclude=(), seed=0):
-    """Bake the sensors; returns (estimates (B, N, 3) in W/m^2 SI, info, render record)."""
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    needs = needs or render_settings.scene_needs(scene, depsgraph, exclude=exclude)
+def render_irradiance(scene, view_layer, points_scene, normals, preset, *, needs, target_rel_error=None,
+                      progress=None, cancelled=None, seed=0):
+    """Bake the sensors; returns (estimates (B, N, 3) in W/m^2 SI, info, render record).
+
+    ``needs``: what light transport must simulate (``SceneModel.needs``). ``points_scene`` are the
+    sensor positions themselves (callers offset meters from surfaces first).
+    """
     scale = scene.unit_settings.scale_length
     with scene_guard.preserved_scene(scene):
         record = render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs)
@@ -202,20 +167,80 @@ def render_irradiance(scene, view_layer, points_scene, normals, preset, *, targe
     return estimates / scale ** 2, info, record
 
 
-def only_delta_light(decision):
-    """True when light arrives only straight from delta lights (radius-0 point/spot, sun of angle 0)."""
-    needs = decision["needs"]
-    if needs["geometry"] or needs["world_emits"] or needs["emissive_surfaces"] or decision["uncovered"]:
+def single_delta_light(decision):
+    """True when light arrives only straight from ONE delta light (radius-0 point/spot, sun of angle 0).
+
+    Then next-event estimation has no variance and one sample per texel is exact. With two or more
+    lights Cycles picks one light per estimate, which is noisy (three point lights: +13 % at one
+    sample), so this shortcut needs exactly one.
+    """
+    model = decision["model"]
+    if model.needs.get("geometry") or model.world_emits or model.emissive_surfaces or decision["uncovered"]:
         return False
-    return all((spec.kind in ("POINT", "SPOT") and spec.radius == 0.0) or (spec.kind == "SUN" and spec.angle == 0.0)
-               for spec in decision["specs"])
+    emitting = [lt for lt in model.lights if not lt.portal]
+    if len(emitting) != 1 or emitting[0].spec is None:
+        return False
+    spec = emitting[0].spec
+    return (spec.kind in ("POINT", "SPOT") and spec.radius == 0.0) or (spec.kind == "SUN" and spec.angle == 0.0)
 
 
 # --- the public entry used by api.py ----------------------------------------------------------------
 
+def sensor_points(points_scene, normals, scale, model=None):
+    """Sensor positions (scene units) and their offsets: a meter within a few offsets of a surface is
+    raised by a scale-aware epsilon along its normal (``radiometry.scene_model.receiver_offset``),
+    so a meter placed on a surface reads the light arriving at that surface instead of the inside
+    of the surface in Cycles' float32 geometry; meters in free space stay where they are."""
+    from ..radiometry import scene_model, visibility
+
+    eps = scene_model.receiver_offset(points_scene, unit_length=1.0 / scale)
+    if model is not None:
+        g = model.geometry
+        near = np.zeros(len(points_scene), bool)
+        if g.count:
+            lo, hi = g.tri_min / scale, g.tri_max / scale
+            for k, p in enumerate(points_scene):
+                near[k] = visibility.aabb_overlap(lo, hi, p, p, 8 * eps[k]).any()
+        eps = np.where(near, eps, 0.0)
+    return points_scene + normals * eps[:, None], eps
+
+
+def placement_notes(model, points_m, normals, eps_m):
+    """Notes for meters that lie on a surface (the usual desk case)."""
+    from ..radiometry import scene_model
+
+    notes = []
+    on = {}
+    for k, (p, n) in enumerate(zip(points_m, normals)):
+        if eps_m[k] == 0.0:
+            continue
+        name, dist = scene_model.surface_under(model.geometry, p - n * eps_m[k], n, within=1e-3)
+        if name is not None:
+            on.setdefault(name, []).append(k)
+    for name, ks in on.items():
+        where = f"meter #{ks[0]}" if len(ks) == 1 else f"{len(ks)} meters"
+        notes.append(f"{where} on the surface of {name!r}: the sensor sits {eps_m[ks[0]] * 1e6:.2g} um above it "
+                     "along its normal and reads the light arriving at that surface")
+    return notes
+
+
+def enclosure_notes(model, points_m, values):
+    """For meters that read ~0: say when a closed mesh encloses them (light cannot get in)."""
+    from ..radiometry import scene_model
+
+    notes = []
+    for k in np.flatnonzero(np.abs(values) <= 1e-12 * max(1.0, float(np.max(np.abs(values))))):
+        name = scene_model.enclosing_object(model.geometry, points_m[k])
+        if name is not None:
+            notes.append(f"meter #{k} is inside the closed mesh {name!r}: no light reaches it")
+    return notes
+
+
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, progress=None, cancelled=None, exclude=(), seed=0):
     """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``."""
+    from ..radiometry import scene_model
+
     scene = scene or bpy.context.scene
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     points_scene, single = as_points(location)
@@ -223,84 +248,102 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     if target_rel_error is not None and not (0 < float(target_rel_error) < 1):
         raise RadiometerError(f"target_rel_error must be in (0, 1), got {target_rel_error}")
     preset = quality_presets.preset(quality)
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    has_geometry = scene_has_geometry(scene)
-    for k, p in enumerate(points_scene[:1000] if has_geometry else ()):
-        if scene_lights.is_inside_closed_mesh(scene, depsgraph, p):
-            raise RadiometerError(f"meter #{k} at {tuple(round(v, 4) for v in p)} is inside a closed mesh: "
-                                  "move it into free space")
-    decision = plan(scene, depsgraph, method, exclude=exclude)
-    space, weights, efficacy = scene_photometry(scene)
     scale = scene.unit_settings.scale_length
-    points_m = points_scene * scale
     started = time.perf_counter()
+    model = capture_model(scene, view_layer, exclude=exclude)
+    sensors_scene, eps = sensor_points(points_scene, normals, scale, model)
+    sensors_m, eps_m = sensors_scene * scale, eps * scale
+    decision = plan(scene, model, sensors_m, normals, method)
+    space, weights, efficacy = scene_photometry(scene)
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"]
+    notes += [note for light in model.lights for note in light.notes]
+    notes += placement_notes(model, sensors_m, normals, eps_m)
+    bound_rgb = np.zeros((len(points_scene), 3))
     if decision["method"] == "analytic":
-        per_light, info = analytic_irradiance(decision["specs"], points_m, normals, scene=scene,
-                                              depsgraph=depsgraph, points_scene=points_scene)
+        direct = decision["direct"]
+        per_light, bounds, info = analytic_irradiance(model, direct, sensors_m, normals)
         mean_rgb = per_light.sum(axis=0)
+        bound_rgb = bounds.sum(axis=0)
         se_rgb = np.zeros_like(mean_rgb)
-        exact = decision["analytic_exact"] and all(e for e, _m, _n in info)
-        notes.append("analytic direct light: " + "; ".join(f"{s.name}: {m} ({n})" for s, (e, m, n) in
-                                                            zip(decision["specs"], info)))
-        if not decision["analytic_exact"]:
-            notes.append("NOT exact for this scene: " + ", ".join(decision["reasons"]))
+        exact_points = direct.exact_points()
+        notes.append("analytic direct light: " + "; ".join(f"{lt.name}: {m} ({n})" for lt, (_e, m, n) in
+                                                            zip(model.lights, info)))
+        if decision["analytic_exact"]:
+            notes.append("exact: every contribution is a closed form and nothing can reflect or block it")
         else:
-            notes.append("exact: nothing in the scene but lights can add or block light")
-        samples, record, scalar_se = 0, None, np.zeros(len(points_m))
+            notes.append("NOT exact for this scene: " + ", ".join(decision["reasons"] or ["quadrature"]))
+            if direct.indirect.any():
+                notes.append("direct light only: light reflected by surfaces or from the world is NOT included")
+        samples, record, scalar_se = 0, None, np.zeros(len(points_scene))
     else:
-        if only_delta_light(decision):
-            # Next-event estimation samples a delta light exactly: every path gives the same value,
-            # so one sample per texel is the exact render (more would only add float32 rounding).
+        if single_delta_light(decision):
+            # Next-event estimation samples a single delta light exactly: every path gives the same
+            # value, so one sample per texel is the exact render (more would only add float32 rounding).
             preset = dict(preset, samples=1, texels=2, bakes=1)
-            notes.append("only delta lights and nothing to reflect light: 1 sample per texel is exact "
-                         "(next-event estimation of a delta light has no variance)")
-        estimates, run, record = render_irradiance(scene, view_layer, points_scene, normals, preset,
-                                                   target_rel_error=target_rel_error, progress=progress,
-                                                   cancelled=cancelled, needs=decision["needs"], exclude=exclude,
-                                                   seed=seed)
+            notes.append("a single delta light and nothing to reflect light: 1 sample per texel is exact "
+                         "(next-event estimation of one delta light has no variance)")
+        estimates, run, record = render_irradiance(scene, view_layer, sensors_scene, normals, preset,
+                                                   needs=model.needs, target_rel_error=target_rel_error,
+                                                   progress=progress, cancelled=cancelled, seed=seed)
         batches = estimates.shape[0]
         mean_rgb, se_rgb = stats.batch_mean(estimates, axis=0)
         _scalar_mean, scalar_se = stats.batch_mean(estimates @ weights, axis=0)
-        exact = False
+        exact_points = np.zeros(len(points_scene), bool)
         samples = run["bakes"] * run["texels_per_meter"] * run["samples_per_texel"]
-        why = ", ".join(decision["reasons"]) or "requested"
+        why = "; ".join(decision["reasons"]) or "requested"
         notes.append(f"rendered with Cycles ({why}); standard error from {batches} independent batches "
                      f"(batch means of {run['samples_per_texel']} samples each)")
         if scale != 1.0:
             notes.append(f"unit scale {scale:g} m per unit: Cycles' scene-unit result divided by scale²")
     seconds = time.perf_counter() - started
     scalar_mean = mean_rgb @ weights
+    scalar_bound = np.abs(bound_rgb) @ np.abs(weights)
+    notes += enclosure_notes(model, sensors_m, scalar_mean)
     readings = []
-    for k in range(len(points_m)):
+    for k in range(len(points_scene)):
         e = float(scalar_mean[k])
-        rel = float(scalar_se[k] / abs(e)) if e != 0 else (0.0 if scalar_se[k] == 0 else math.inf)
+        # 1-sigma uncertainty: the stochastic standard error, plus a deterministic bound counted
+        # as one sigma (conservative: 3 sigma then covers 3 bounds).
+        abs_err = math.hypot(float(scalar_se[k]), float(scalar_bound[k]))
+        rel = abs_err / abs(e) if e != 0 else (0.0 if abs_err == 0 else math.inf)
+        rel_bound = float(scalar_bound[k] / abs(e)) if e != 0 else (0.0 if scalar_bound[k] == 0 else math.inf)
         readings.append(IlluminanceReading(
             irradiance_rgb=tuple(float(v) for v in mean_rgb[k]), irradiance=e, illuminance=efficacy * e,
-            rel_std_error=rel, method=decision["method"], samples=int(samples), seconds=seconds / len(points_m),
+            rel_std_error=rel, method=decision["method"], samples=int(samples), seconds=seconds / len(points_scene),
             efficacy=efficacy, colour_space=space, location=tuple(points_scene[k]), normal=tuple(normals[k]),
-            exact=bool(exact), std_error_rgb=tuple(float(v) for v in se_rgb[k]), notes=list(notes),
-            render_settings=record))
+            exact=bool(exact_points[k]) and decision["method"] == "analytic",
+            std_error_rgb=tuple(float(v) for v in se_rgb[k]), notes=list(notes), render_settings=record,
+            rel_error_bound=rel_bound))
     return readings[0] if single else readings
 
 
 def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
-    """Analytic per-light breakdown at one point: list of dicts (SI), occlusion by ray casts."""
+    """Analytic per-light breakdown at one point: list of dicts (SI), with each light's verdict."""
+    from ..radiometry import scene_model
+
     scene = scene or bpy.context.scene
+    view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     points_scene, _ = as_points(location)
     normals = as_directions(normal, 1)
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    specs, uncovered = scene_lights.light_specs(scene, depsgraph)
+    scale = scene.unit_settings.scale_length
+    model = capture_model(scene, view_layer)
+    sensors_scene, _eps = sensor_points(points_scene, normals, scale, model)
+    sensors_m = sensors_scene * scale
+    from ..radiometry import lights as light_models
+
+    direct = scene_model.plan_direct(model, sensors_m, normals, light_models.exactness)
     space, weights, efficacy = scene_photometry(scene)
-    points_m = points_scene * scene.unit_settings.scale_length
-    per_light, info = analytic_irradiance(specs, points_m, normals, scene=scene, depsgraph=depsgraph,
-                                          points_scene=points_scene)
+    per_light, bounds, info = analytic_irradiance(model, direct, sensors_m, normals)
     rows = []
-    for spec, values, (exact, model, note) in zip(specs, per_light, info):
-        e = float(values[0] @ weights)
-        rows.append({"light": spec.name, "irradiance_rgb": tuple(map(float, values[0])), "irradiance": e,
-                     "illuminance": efficacy * e, "model": model, "exact": bool(exact), "note": note})
-    for name, why in uncovered:
-        rows.append({"light": name, "irradiance_rgb": None, "irradiance": None, "illuminance": None,
-                     "model": None, "exact": False, "note": f"not covered: {why}; measure by rendering"})
+    for i, (light, (exact, model_name, note)) in enumerate(zip(model.lights, info)):
+        if light.spec is None:
+            rows.append({"light": light.name, "irradiance_rgb": None, "irradiance": None, "illuminance": None,
+                         "model": None, "exact": False, "status": str(direct.status[i, 0]),
+                         "note": f"not covered: {light.uncovered}; measure by rendering"})
+            continue
+        e = float(per_light[i, 0] @ weights)
+        rows.append({"light": light.name, "irradiance_rgb": tuple(map(float, per_light[i, 0])), "irradiance": e,
+                     "illuminance": efficacy * e, "model": model_name, "exact": bool(exact),
+                     "status": str(direct.status[i, 0]), "reason": str(direct.reason[i, 0]),
+                     "rel_error_bound": float(abs(bounds[i, 0] @ weights) / abs(e)) if e else 0.0, "note": note})
     return rows

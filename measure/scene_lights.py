@@ -70,19 +70,3 @@ def light_specs(scene=None, depsgraph=None):
         values = dict(item["values"], name=item["name"])
         specs.append(light_models.light_spec_from_values(values, scale))
     return specs, uncovered
-
-
-def is_inside_closed_mesh(scene, depsgraph, location, directions=None):
-    """True when rays from ``location`` in every test direction hit a back face first."""
-    from mathutils import Vector
-
-    if directions is None:
-        directions = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1],
-                               [0.577, 0.577, 0.577], [-0.577, -0.577, 0.577]], float)
-    origin = Vector(location)
-    for d in directions:
-        d = Vector(d).normalized()
-        hit, _loc, normal, _i, _obj, _m = scene.ray_cast(depsgraph, origin, d)
-        if not hit or normal.dot(d) <= 0.0:
-            return False
-    return True

@@ -1,0 +1,247 @@
+"""Capture the scene exactly as Cycles renders it, into a pure ``radiometry.scene_model.SceneModel``.
+
+The viewport depsgraph is not what Cycles renders: it drops objects disabled in viewports, keeps
+collections disabled in renders, evaluates modifiers and geometry nodes at viewport settings and
+instances particles at the viewport display percentage. The only faithful source is the RENDER
+depsgraph, and Blender hands it to a render engine. So a capture registers a tiny render engine
+for the duration of the call and renders one 4 x 4 frame with it inside
+``scene_guard.preserved_scene``: its ``render(depsgraph)`` reads every light and every triangle that
+Cycles would receive (instances, render visibility, ray-visibility and shadow flags, evaluated
+transforms incl. shear), then the scene is restored. The engine is unregistered again at once, so
+it never shows in the Render Engine menu.
+"""
+
+import math
+
+import bpy
+import numpy as np
+
+from ..errors import RadiometerError
+from ..radiometry import scene_model
+from . import render_settings, scene_guard, scene_lights
+
+_GEOMETRY_TYPES = render_settings._GEOMETRY_TYPES
+_MESHABLE = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
+
+#: Beyond this many triangles the proofs are skipped (memory, time): the scene is rendered.
+MAX_TRIANGLES = 4_000_000
+
+
+class _Capture:
+    """State shared with the render callback (one capture at a time)."""
+
+    exclude = frozenset()
+    result = None
+    error = None
+
+
+def _material_traits(material):
+    """(opaque, emissive, glossy, transmission, volume) of a material as Cycles shades it."""
+    if material is None:  # Cycles' default surface: grey diffuse
+        return True, False, False, False, False
+    from ..compat import active_node_tree
+
+    tree = active_node_tree(material)
+    types = render_settings._node_types(tree)
+    transmissive = bool(types & render_settings._TRANSMISSIVE_NODES)
+    if tree is not None:
+        for node in tree.nodes:
+            if node.bl_idname == "ShaderNodeBsdfPrincipled":
+                for name in ("Transmission Weight", "Alpha"):
+                    socket = node.inputs.get(name)
+                    if socket is None:
+                        continue
+                    if socket.is_linked or (socket.default_value != (0.0 if name != "Alpha" else 1.0)):
+                        transmissive = True
+    volume = render_settings._uses_volume(tree)
+    return (not transmissive and not volume, bool(types & render_settings._EMISSIVE_NODES),
+            bool(types & render_settings._GLOSSY_NODES), transmissive, volume)
+
+
+def _mesh_triangles(obj):
+    """Local-space triangles (T, 3, 3) float64 and per-triangle material slot index of an evaluated object."""
+    mesh = obj.to_mesh()
+    try:
+        if mesh is None:
+            return np.zeros((0, 3, 3)), np.zeros(0, int)
+        mesh.calc_loop_triangles()
+        n_tri, n_vert = len(mesh.loop_triangles), len(mesh.vertices)
+        co = np.empty(3 * n_vert, np.float32)
+        mesh.vertices.foreach_get("co", co)
+        tri = np.empty(3 * n_tri, np.int32)
+        mesh.loop_triangles.foreach_get("vertices", tri)
+        mat = np.empty(n_tri, np.int32)
+        mesh.loop_triangles.foreach_get("material_index", mat)
+        return co.reshape(-1, 3).astype(np.float64)[tri.reshape(-1, 3)], mat.astype(int)
+    finally:
+        obj.to_mesh_clear()
+
+
+def _collect(depsgraph):
+    """Walk the render depsgraph; returns a SceneModel (positions still in scene units)."""
+    lights, names, shadow, reflects, unmodelled = [], [], [], [], []
+    tri_chunks, obj_chunks, opaque_chunks, emissive_chunks = [], [], [], []
+    needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
+    material_cache, local_cache, instance_count = {}, {}, {}
+    total = 0
+    for inst in depsgraph.object_instances:
+        obj = inst.object
+        original = obj.original if obj.original is not None else obj
+        name = original.name
+        if inst.is_instance:
+            # Stable, readable names: the order of instances in the depsgraph is deterministic.
+            k = instance_count[name] = instance_count.get(name, 0) + 1
+            parent = inst.parent.original.name if inst.parent is not None and inst.parent.original else "?"
+            name = f"{name} (instance {k} of {parent!r})"
+        if obj.type == "LIGHT":
+            lights.append(_light_entry(obj, name, inst.matrix_world))
+            continue
+        if obj.type not in _GEOMETRY_TYPES or original.name in _Capture.exclude:
+            continue
+        rays = (obj.visible_diffuse, obj.visible_glossy, obj.visible_transmission, obj.visible_shadow)
+        if not any(rays):
+            continue
+        needs["geometry"] = True
+        if obj.type == "VOLUME":
+            needs["volume"] = True
+        if obj.type not in _MESHABLE:
+            unmodelled.append(name)
+            continue
+        key = (obj.data.as_pointer() if inst.is_instance and obj.data is not None else None, original.name)
+        local = local_cache.get(key) if key[0] is not None else None
+        if local is None:
+            local = _mesh_triangles(obj)
+            if key[0] is not None:
+                local_cache[key] = local
+        tris_local, mat_index = local
+        if not len(tris_local):
+            continue
+        total += len(tris_local)
+        if total > MAX_TRIANGLES:
+            unmodelled.append(f"{name} (more than {MAX_TRIANGLES} triangles in the scene)")
+            continue
+        slots = [slot.material for slot in obj.material_slots] or [None]
+        traits = []
+        for material in slots:
+            k = material.as_pointer() if material is not None else 0
+            if k not in material_cache:
+                material_cache[k] = _material_traits(material)
+            traits.append(material_cache[k])
+            _o, emits, glossy, transmission, volume = material_cache[k]
+            needs["glossy"] |= glossy
+            needs["transmission"] |= transmission
+            needs["volume"] |= volume
+            needs["emissive_surfaces"] |= emits
+        traits = np.array(traits, dtype=bool)
+        slot = np.clip(mat_index, 0, len(traits) - 1)
+        m = np.array(inst.matrix_world, dtype=np.float64)
+        world = tris_local @ m[:3, :3].T + m[:3, 3]
+        index = len(names)
+        names.append(name)
+        shadow.append(bool(obj.visible_shadow))
+        reflects.append(bool(obj.visible_diffuse or obj.visible_glossy or obj.visible_transmission))
+        tri_chunks.append(world)
+        obj_chunks.append(np.full(len(world), index))
+        opaque_chunks.append(traits[slot, 0])
+        emissive_chunks.append(traits[slot, 1])
+    cat = (lambda chunks, shape: np.concatenate(chunks) if chunks else np.zeros(shape))
+    geometry = scene_model.SceneGeometry(
+        triangles=cat(tri_chunks, (0, 3, 3)), object_index=cat(obj_chunks, (0,)).astype(int), object_names=names,
+        casts_shadow=np.array(shadow, bool), opaque=cat(opaque_chunks, (0,)).astype(bool),
+        reflects=np.array(reflects, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled)
+    return lights, geometry, needs
+
+
+def _light_entry(obj, name, matrix_world):
+    data = obj.data
+    values = scene_lights.light_values(data, matrix_world)
+    for attr in ("energy", "exposure"):
+        if not math.isfinite(float(values.get(attr, 0.0))):
+            raise RadiometerError(f"light {name!r} has a non-finite {attr} ({values[attr]}): give it a real value")
+    for attr in ("color", "temperature_color"):
+        if attr in values and not all(math.isfinite(float(c)) for c in values[attr]):
+            raise RadiometerError(f"light {name!r} has a non-finite {attr} {tuple(values[attr])}: give it a real colour")
+    cycles = getattr(data, "cycles", None)
+    portal = bool(getattr(cycles, "is_portal", False)) and data.type == "AREA"
+    notes = []
+    if float(values.get("energy", 0.0)) < 0.0:
+        notes.append(f"light {name!r} has negative power ({values['energy']:g} W): Blender subtracts its light")
+    return {"name": name, "values": dict(values, name=name), "uncovered": scene_lights.uncovered_reason(data, obj),
+            "casts_shadow": bool(getattr(data, "use_shadow", True)), "reaches_diffuse": bool(obj.visible_diffuse),
+            "portal": portal, "notes": tuple(notes)}
+
+
+class _ProbeEngine(bpy.types.RenderEngine):
+    bl_idname = "RADIOMETER_SCENE_PROBE"
+    bl_label = "Radiometer scene probe"
+
+    def render(self, depsgraph):
+        try:
+            _Capture.result = _collect(depsgraph)
+        except BaseException as exc:  # noqa: BLE001 - handed back to the caller, never swallowed
+            _Capture.error = exc
+
+
+def _render_probe(scene, view_layer):
+    registered = False
+    if not hasattr(bpy.types, _ProbeEngine.__name__):
+        bpy.utils.register_class(_ProbeEngine)
+        registered = True
+    try:
+        with scene_guard.preserved_scene(scene):
+            render = scene.render
+            render.engine = _ProbeEngine.bl_idname
+            render.resolution_x = render.resolution_y = 4
+            render.resolution_percentage = 100
+            render.use_compositing = False
+            render.use_sequencer = False
+            render.use_border = False
+            if scene.camera is None:  # Blender refuses to render without one; removed on exit
+                cam = bpy.data.objects.new("radiometer_probe_camera", bpy.data.cameras.new("radiometer_probe_camera"))
+                scene.collection.objects.link(cam)
+                scene.camera = cam
+            with bpy.context.temp_override(scene=scene, view_layer=view_layer):
+                result = bpy.ops.render.render(scene=scene.name, layer=view_layer.name)
+            if result != {"FINISHED"}:
+                raise RadiometerError(f"could not read the scene as rendered ({', '.join(sorted(result))})")
+    finally:
+        if registered:
+            bpy.utils.unregister_class(_ProbeEngine)
+
+
+def capture(scene, view_layer=None, exclude=()):
+    """The scene as Cycles renders it: a ``SceneModel`` in metres (``LightSpec``s, triangles)."""
+    from ..radiometry import lights as light_models
+
+    view_layer = view_layer or scene.view_layers[0]
+    _Capture.exclude, _Capture.result, _Capture.error = frozenset(exclude), None, None
+    try:
+        _render_probe(scene, view_layer)
+        if _Capture.error is not None:
+            if isinstance(_Capture.error, RadiometerError):
+                raise _Capture.error
+            raise RadiometerError(f"could not read the scene: {_Capture.error}") from _Capture.error
+        if _Capture.result is None:
+            raise RadiometerError("could not read the scene as rendered (the probe render did not run)")
+        raw_lights, geometry, needs = _Capture.result
+    finally:
+        _Capture.result = _Capture.error = None
+    scale = scene.unit_settings.scale_length
+    geometry.triangles *= scale
+    geometry.__post_init__()
+    model_lights = []
+    for item in raw_lights:
+        spec, uncovered = None, item["uncovered"]
+        if uncovered is None:
+            try:
+                spec = light_models.light_spec_from_values(item["values"], scale)
+            except ValueError as exc:
+                uncovered = f"has no closed form here ({exc})"
+        model_lights.append(scene_model.ModelLight(
+            name=item["name"], spec=spec, uncovered=uncovered, casts_shadow=item["casts_shadow"],
+            reaches_diffuse=item["reaches_diffuse"], portal=item["portal"], notes=item["notes"]))
+    needs["world_emits"] = render_settings.world_emits(scene.world)
+    needs["volume"] |= render_settings._uses_volume(
+        render_settings.active_node_tree(scene.world) if scene.world else None)
+    return scene_model.SceneModel(lights=model_lights, geometry=geometry, world_emits=needs["world_emits"],
+                                  needs=needs, scale_length=scale)

@@ -1,0 +1,299 @@
+"""What the meter sees, as plain data, and which part of each reading a closed form gives exactly.
+
+A ``SceneModel`` is the scene exactly as Cycles renders it (filled by ``measure.scene_capture`` from
+the render depsgraph: render visibility, instances, modifiers, ray-visibility and shadow flags,
+transforms): its lights (``LightSpec`` where a closed form covers them) and its geometry as a
+triangle soup in metres. ``plan_direct`` decides, for every light and every receiver, how its
+direct light is obtained, with the reason, so that tests can inspect the decisions:
+
+``EXACT``      closed form, and nothing can block it (proved: see :mod:`.visibility`);
+``ZERO``       exactly nothing: the light is a portal, invisible to diffuse rays, below the
+               receiver's horizon / behind / outside its cone, or blocked by an opaque triangle;
+``BOUNDED``    closed-form quadrature with a stated error bound, nothing can block it;
+``RENDER``     no closed form, or an occluder may cut part of the light: Cycles must render it.
+
+Light that reaches the receiver by reflection (``indirect``) is never a closed form here; it is
+possible only when some render-visible surface lies above the receiver's horizon, the world emits,
+or a surface emits.
+
+This module never imports bpy.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import visibility
+
+EXACT, ZERO, BOUNDED, RENDER = "exact", "zero", "bounded", "render"
+
+#: Sides of the polygon circumscribing a round source's silhouette in the clearance proof.
+ROUND_SIDES = 16
+
+
+@dataclass
+class ModelLight:
+    """One light as Cycles renders it. ``spec`` is None when no closed form covers it (``uncovered``)."""
+
+    name: str
+    spec: object = None
+    uncovered: str = None
+    casts_shadow: bool = True      # Light.use_shadow: False lets its light through every surface
+    reaches_diffuse: bool = True   # Object.visible_diffuse: False removes it from diffuse surfaces
+    portal: bool = False           # light.cycles.is_portal: guides world sampling, emits nothing
+    notes: tuple = ()
+
+
+@dataclass
+class SceneGeometry:
+    """Render-visible surfaces as triangles (T, 3, 3) in metres, scene coordinates times scale."""
+
+    triangles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
+    object_index: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    object_names: list = field(default_factory=list)
+    casts_shadow: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))  # per object
+    opaque: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))        # per triangle
+    reflects: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))      # per object
+    emissive: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))      # per triangle
+    unmodelled: list = field(default_factory=list)  # render-visible geometry not triangulated
+
+    def __post_init__(self):
+        self.triangles = np.asarray(self.triangles, float).reshape(-1, 3, 3)
+        self.object_index = np.asarray(self.object_index, int)
+        self.tri_min = self.triangles.min(axis=1) if len(self.triangles) else np.zeros((0, 3))
+        self.tri_max = self.triangles.max(axis=1) if len(self.triangles) else np.zeros((0, 3))
+
+    @property
+    def count(self):
+        return len(self.triangles)
+
+    def shadow_triangles(self):
+        mask = np.asarray(self.casts_shadow, bool)[self.object_index] if self.count else np.zeros(0, bool)
+        return mask
+
+    def reflecting_triangles(self):
+        return np.asarray(self.reflects, bool)[self.object_index] if self.count else np.zeros(0, bool)
+
+    def bounds(self):
+        if not self.count:
+            return np.zeros(3), np.zeros(3)
+        return self.tri_min.min(axis=0), self.tri_max.max(axis=0)
+
+
+@dataclass
+class SceneModel:
+    lights: list
+    geometry: SceneGeometry
+    world_emits: bool = False
+    needs: dict = field(default_factory=dict)
+    scale_length: float = 1.0
+    notes: list = field(default_factory=list)
+
+    @property
+    def emissive_surfaces(self):
+        return bool(self.needs.get("emissive_surfaces", False))
+
+
+@dataclass
+class DirectPlan:
+    """Per light (L) and receiver (N): ``status`` (L, N) of EXACT/ZERO/BOUNDED/RENDER and ``reason``;
+    per receiver: ``indirect`` (N,) bool and ``indirect_reason`` (N,) str."""
+
+    status: np.ndarray
+    reason: np.ndarray
+    indirect: np.ndarray
+    indirect_reason: np.ndarray
+
+    def exact_points(self):
+        """(N,) bool: every contribution is a closed form with verified conditions, no indirect light."""
+        return np.all(np.isin(self.status, (EXACT, ZERO)), axis=0) & ~self.indirect
+
+    def rendered_lights(self, k):
+        return np.flatnonzero(self.status[:, k] == RENDER)
+
+
+def length_tolerance(points):
+    """Absolute tolerance (m) for the proofs: a few float32 steps of the coordinates, >= 1 nm."""
+    return 4e-7 * max(1.0, float(np.max(np.abs(points)))) if len(points) else 1e-9
+
+
+def receiver_offset(points, unit_length=1.0):
+    """Scale-aware offset (same units as ``points``) along the normal at which a sensor sits.
+
+    2e-6 of the larger of the coordinates' magnitude and one metre (``unit_length`` = scene units
+    per metre): about 17 float32 steps of the coordinates, so a sensor placed on a surface never
+    meets that surface in Cycles' float32 geometry, yet 2 um at the origin changes E by ~2e-6 of
+    (offset / distance to the light).
+    """
+    p = np.asarray(points, float)
+    return 2e-6 * np.maximum(np.max(np.abs(p), axis=-1), unit_length)
+
+
+def source_outline(spec, sides=ROUND_SIDES):
+    """World vertices (K, 3), metres, of a convex polygon holding an area light's emitting shape:
+    the shape itself for squares and rectangles, a circumscribed ``sides``-gon for disks/ellipses."""
+    u, v = spec.extents
+    if spec.shape in ("DISK", "ELLIPSE"):
+        phi = 2 * np.pi * np.arange(sides) / sides
+        r = 0.5 / np.cos(np.pi / sides)
+        local = np.stack([u * r * np.cos(phi), v * r * np.sin(phi)], axis=1)
+    else:
+        local = np.array([[-u / 2, -v / 2], [u / 2, -v / 2], [u / 2, v / 2], [-u / 2, v / 2]])
+    axes = np.asarray(spec.axes, float)
+    return np.asarray(spec.position, float) + local[:, :1] * axes[:, 0] + local[:, 1:] * axes[:, 1]
+
+
+def _source_region(spec, p, scene_reach):
+    """('segment', end) or ('polytope', polytope, box_min, box_max) holding every segment from p to
+    the light; None when no such region exists (receiver inside a spherical light)."""
+    if spec.kind == "SUN":
+        to_sun = spec.axes[:, 2]
+        far = p + to_sun * scene_reach
+        half = 0.5 * spec.angle
+        if half == 0.0:
+            return ("segment", far)
+        base = visibility.circumscribed_polygon(far, to_sun, scene_reach * np.tan(min(half, 1.5)), ROUND_SIDES)
+    elif spec.kind == "AREA":
+        base = source_outline(spec, sides=ROUND_SIDES)
+    elif spec.radius == 0.0:
+        return ("segment", np.asarray(spec.position, float))
+    else:
+        axis = spec.position - p
+        d = np.linalg.norm(axis)
+        r = spec.radius
+        if d <= r * (1 + 1e-9):
+            return None
+        # The cone from p tangent to the sphere, cut by the plane touching the sphere's far side,
+        # holds the sphere and so every segment from p to it.
+        tan_a = r / np.sqrt(d * d - r * r)
+        base = visibility.circumscribed_polygon(p + axis / d * (d + r), axis, (d + r) * tan_a, ROUND_SIDES)
+    poly = visibility.pyramid(p, base)
+    return ("polytope", poly, poly[0].min(axis=0), poly[0].max(axis=0))
+
+
+def occlusion_status(spec, p, n, geometry, tol, scene_reach):
+    """(status, blocker object name or None) of the light as seen from receiver p with normal n.
+
+    Triangles entirely below the receiver's horizon are ignored (they cannot cut light arriving
+    from above it), as are objects that cast no shadow.
+    """
+    if not geometry.count:
+        return visibility.CLEAR, None
+    region = _source_region(spec, p, scene_reach)
+    if region is None:
+        return visibility.PARTIAL, None
+    if region[0] == "segment":
+        box_min, box_max = np.minimum(p, region[1]), np.maximum(p, region[1])
+    else:
+        box_min, box_max = region[2], region[3]
+    cand = geometry.shadow_triangles() & visibility.aabb_overlap(geometry.tri_min, geometry.tri_max,
+                                                                 box_min, box_max, tol)
+    idx = np.flatnonzero(cand)
+    if idx.size:
+        idx = idx[~visibility.below_plane(geometry.triangles[idx], p, n, tol)]
+    if not idx.size:
+        return visibility.CLEAR, None
+    tris = geometry.triangles[idx]
+    if region[0] == "segment":
+        status, k = visibility.segment_status(p, region[1], tris, geometry.opaque[idx], tol)
+        name = geometry.object_names[geometry.object_index[idx[k]]] if k >= 0 else None
+        return status, name
+    meets = visibility.triangles_meet_polytope(tris, region[1], tol)
+    if not meets.any():
+        return visibility.CLEAR, None
+    first = idx[np.flatnonzero(meets)[0]]
+    return visibility.PARTIAL, geometry.object_names[geometry.object_index[first]]
+
+
+def indirect_possible(model, p, n, tol):
+    """(bool, reason): can light reach p (normal n) other than straight from a light?"""
+    if model.world_emits:
+        return True, "the world emits light"
+    g = model.geometry
+    if g.unmodelled:
+        return True, f"geometry without triangles ({', '.join(g.unmodelled[:3])})"
+    if not g.count:
+        return False, ""
+    above = ~visibility.below_plane(g.triangles, p, n, tol)
+    reflecting = above & g.reflecting_triangles()
+    if np.any(reflecting & g.emissive):
+        return True, "an emitting surface is above the meter's horizon"
+    if reflecting.any():
+        name = g.object_names[g.object_index[np.flatnonzero(reflecting)[0]]]
+        return True, f"surfaces above the meter's horizon reflect light (e.g. {name!r})"
+    return False, ""
+
+
+def plan_direct(model, points, normals, exact_model):
+    """Decide every contribution. ``points``/``normals`` (N, 3) in metres; ``exact_model(spec)`` ->
+    (is_exact, model name, note) (``lights.exactness``). Returns a :class:`DirectPlan`."""
+    points = np.asarray(points, float)
+    normals = np.asarray(normals, float)
+    n_lights, n_pts = len(model.lights), len(points)
+    status = np.full((n_lights, n_pts), RENDER, dtype=object)
+    reason = np.full((n_lights, n_pts), "", dtype=object)
+    tol = length_tolerance(points)
+    lo, hi = model.geometry.bounds()
+    reach = 4.0 * (np.linalg.norm(hi - lo) + np.max(np.abs(points)) + 1.0) if n_pts else 1.0
+    indirect = np.zeros(n_pts, bool)
+    indirect_reason = np.full(n_pts, "", dtype=object)
+    for k in range(n_pts):
+        indirect[k], indirect_reason[k] = indirect_possible(model, points[k], normals[k], tol)
+    for i, light in enumerate(model.lights):
+        if light.portal:
+            status[i], reason[i] = ZERO, "portal light: guides world sampling, emits nothing"
+            continue
+        if not light.reaches_diffuse:
+            status[i], reason[i] = ZERO, "invisible to diffuse rays (visible_diffuse off): no direct light on a diffuse sensor"
+            continue
+        if light.spec is None:
+            status[i], reason[i] = RENDER, f"no closed form: {light.uncovered}"
+            continue
+        exact, model_name, _note = exact_model(light.spec)
+        closed = EXACT if exact else BOUNDED
+        for k in range(n_pts):
+            if not light.casts_shadow:
+                status[i, k], reason[i, k] = closed, f"{model_name}; casts no shadow (use_shadow off)"
+                continue
+            state, blocker = occlusion_status(light.spec, points[k], normals[k], model.geometry, tol, reach)
+            if state == visibility.CLEAR:
+                status[i, k], reason[i, k] = closed, f"{model_name}; proved unoccluded"
+            elif state == visibility.BLOCKED:
+                status[i, k], reason[i, k] = ZERO, f"blocked by opaque {blocker!r}"
+            else:
+                where = f" by {blocker!r}" if blocker else " (meter inside the light)"
+                status[i, k], reason[i, k] = RENDER, f"may be partly occluded{where}"
+    return DirectPlan(status, reason, indirect, indirect_reason)
+
+
+# --- where a receiver sits -------------------------------------------------------------------------
+
+_ENCLOSURE_DIRECTIONS = np.array(
+    [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1],
+     [1, 1, 1], [-1, -1, 1], [1, -1, -1], [-1, 1, -1], [0.3, 0.8, -0.5], [-0.7, 0.2, 0.68]], float)
+
+
+def surface_under(geometry, p, n, within):
+    """(object name, distance m) of the surface straight below ``p`` against ``n``, if within ``within`` m."""
+    if not geometry.count:
+        return None, None
+    near = np.flatnonzero(visibility.aabb_overlap(geometry.tri_min, geometry.tri_max, p, p, within))
+    if not near.size:
+        return None, None
+    dist, index, _facing = visibility.first_hits(p + n * within, -np.asarray(n, float)[None, :],
+                                                 geometry.triangles[near])
+    if index[0] < 0 or dist[0] > 2 * within:
+        return None, None
+    return geometry.object_names[geometry.object_index[near[index[0]]]], float(dist[0] - within)
+
+
+def enclosing_object(geometry, p):
+    """Name of the mesh whose inside holds ``p`` (every test ray leaves through its back side), or None."""
+    if not geometry.count:
+        return None
+    dirs = _ENCLOSURE_DIRECTIONS / np.linalg.norm(_ENCLOSURE_DIRECTIONS, axis=1, keepdims=True)
+    dist, index, facing = visibility.first_hits(p, dirs, geometry.triangles)
+    if np.any(index < 0) or np.any(facing <= 0):
+        return None
+    owners = set(geometry.object_index[index].tolist())
+    return geometry.object_names[owners.pop()] if len(owners) == 1 else None

@@ -1,0 +1,218 @@
+"""Exact visibility tests between receivers, light sources and triangle occluders (pure numpy).
+
+Radiometer calls a direct-light contribution exact only after a proof that nothing stands between
+the receiver and the light. The proofs here are exact for triangle meshes (the geometry Cycles
+renders), not a handful of rays:
+
+* an extended source is *clear* when no occluder triangle meets the convex region that holds every
+  segment from the receiver to a point of the source: the pyramid with the receiver as apex and the
+  source's polygon (or a polygon circumscribing its silhouette) as base. Triangle vs convex
+  polytope is decided by the separating axis theorem, and every ambiguity (touching, parallel
+  edges, round-off) counts as "may intersect", so "clear" is a proof and anything else is not;
+* a delta source (point, spot of radius 0, sun of angle 0) is a single segment: *clear* when every
+  triangle misses it by a margin, *blocked* when an opaque triangle crosses it strictly inside.
+
+Every function takes metres and float64 and is vectorised over triangles; callers cull by bounding
+box first (``aabb_overlap``). Tolerances are absolute lengths in metres chosen by the caller from
+the coordinates' magnitude (float32 geometry in Cycles resolves ~1.2e-7 relative).
+"""
+
+import numpy as np
+
+__all__ = ["CLEAR", "BLOCKED", "PARTIAL", "aabb_overlap", "triangles_meet_polytope", "pyramid",
+           "segment_status", "circumscribed_polygon", "first_hits", "below_plane"]
+
+CLEAR, BLOCKED, PARTIAL = "clear", "blocked", "partial"
+
+
+def aabb_overlap(tri_min, tri_max, box_min, box_max, pad):
+    """(T,) bool: triangle boxes (T, 3) meeting the box [box_min, box_max] grown by ``pad`` m."""
+    return np.all(tri_max >= np.asarray(box_min) - pad, axis=1) & np.all(tri_min <= np.asarray(box_max) + pad, axis=1)
+
+
+def below_plane(triangles, point, normal, tol):
+    """(T,) bool: triangles with every vertex at or below the plane through ``point`` (within ``tol``).
+
+    Such a triangle can neither block nor reflect light that reaches ``point`` from above the plane.
+    """
+    h = np.einsum("tvk,k->tv", np.asarray(triangles, float) - point, normal)
+    return np.all(h <= tol, axis=1)
+
+
+def circumscribed_polygon(centre, axis, radius, sides=16):
+    """Vertices (sides, 3) of a regular polygon circumscribing the circle (centre, axis, radius)."""
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = np.cross(axis, helper)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(axis, e1)
+    r = radius / np.cos(np.pi / sides)
+    phi = 2 * np.pi * np.arange(sides) / sides
+    return np.asarray(centre, float) + r * (np.cos(phi)[:, None] * e1 + np.sin(phi)[:, None] * e2)
+
+
+def pyramid(apex, base):
+    """Convex polytope (vertices, face normals, edge directions) of ``apex`` over a planar convex ``base``.
+
+    ``base`` (K, 3) in order (either winding), K >= 3, apex off the base plane. Face normals point
+    outward; the caller only needs them as separating-axis candidates, so the sign is irrelevant.
+    """
+    apex = np.asarray(apex, float)
+    base = np.asarray(base, float)
+    nxt = np.roll(base, -1, axis=0)
+    base_edges = nxt - base
+    lateral = base - apex
+    base_normal = np.cross(base_edges[0], base[2 % len(base)] - base[1 % len(base)])
+    side_normals = np.cross(lateral, np.roll(lateral, -1, axis=0))
+    normals = np.vstack([base_normal[None, :], side_normals])
+    edges = np.vstack([base_edges, lateral])
+    vertices = np.vstack([apex[None, :], base])
+    return vertices, normals, edges
+
+
+def _unit_rows(v):
+    n = np.linalg.norm(v, axis=-1, keepdims=True)
+    ok = n[..., 0] > 1e-300
+    return np.divide(v, n, out=np.zeros_like(v), where=n > 1e-300), ok
+
+
+def triangles_meet_polytope(triangles, polytope, tol, chunk=2048):
+    """(T,) bool: True where a triangle may meet the convex polytope (False is a proof it does not).
+
+    Separating axis theorem for a triangle and a convex polytope: they are disjoint iff some axis
+    among the polytope's face normals, the triangle's normal and the cross products of their edges
+    separates their projections. A projection gap must exceed ``tol`` (m) to count, and axes whose
+    cross product vanishes are skipped, so every doubt reads as "may meet".
+    """
+    tris = np.asarray(triangles, float)
+    verts, face_normals, poly_edges = polytope
+    out = np.ones(len(tris), dtype=bool)
+    face_axes, _ = _unit_rows(face_normals)
+    for start in range(0, len(tris), chunk):
+        t = tris[start:start + chunk]                                     # (C, 3, 3)
+        e = np.roll(t, -1, axis=1) - t                                      # (C, 3, 3) triangle edges
+        tn, tn_ok = _unit_rows(np.cross(e[:, 0], e[:, 1]))                  # (C, 3)
+        cross = np.cross(e[:, :, None, :], poly_edges[None, None, :, :])    # (C, 3, E, 3)
+        cross = cross.reshape(len(t), -1, 3)
+        cross_u, cross_ok = _unit_rows(cross)
+        axes = np.concatenate([np.broadcast_to(face_axes, (len(t),) + face_axes.shape), tn[:, None, :], cross_u],
+                              axis=1)                                       # (C, A, 3)
+        valid = np.concatenate([np.ones((len(t), len(face_axes)), bool), tn_ok[:, None], cross_ok], axis=1)
+        p_poly = np.einsum("cak,mk->cam", axes, verts)
+        p_tri = np.einsum("cak,cvk->cav", axes, t)
+        gap_hi = p_tri.min(axis=2) - p_poly.max(axis=2)
+        gap_lo = p_poly.min(axis=2) - p_tri.max(axis=2)
+        separated = valid & ((gap_hi > tol) | (gap_lo > tol))
+        out[start:start + chunk] = ~np.any(separated, axis=1)
+    return out
+
+
+def segment_status(origin, target, triangles, opaque, tol):
+    """Visibility of the segment origin -> target among triangles: (status, index of a blocker or -1).
+
+    ``CLEAR``: every triangle misses by more than ``tol`` (m) in its plane and along the segment;
+    ``BLOCKED``: an opaque triangle crosses the segment strictly inside (margins > ``tol``);
+    ``PARTIAL``: anything else (a grazing or non-opaque hit): not decidable without rendering.
+    Möller-Trumbore in float64 with margins converted to lengths.
+    """
+    o = np.asarray(origin, float)
+    d = np.asarray(target, float) - o
+    length = np.linalg.norm(d)
+    if len(triangles) == 0 or length == 0.0:
+        return CLEAR, -1
+    tris = np.asarray(triangles, float)
+    v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    pvec = np.cross(d, e2)
+    det = np.einsum("tk,tk->t", e1, pvec)
+    tvec = o - v0
+    qvec = np.cross(tvec, e1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = 1.0 / det
+        u = np.einsum("tk,tk->t", tvec, pvec) * inv
+        v = np.einsum("tk,k->t", qvec, d) * inv
+        t = np.einsum("tk,tk->t", qvec, e2) * inv
+    u, v, t = (np.nan_to_num(a, nan=np.inf) for a in (u, v, t))
+    # Margins as lengths: barycentric * edge scale, parameter * segment length.
+    edge_scale = np.maximum(np.linalg.norm(e1, axis=1), np.linalg.norm(e2, axis=1))
+    bary_tol = tol / np.maximum(edge_scale, 1e-300)
+    t_tol = tol / length
+    with np.errstate(invalid="ignore"):
+        w = 1.0 - u - v
+    parallel = ~np.isfinite(inv) | (np.abs(det) <= 1e-12 * edge_scale ** 2 * length)
+    inside = (u > bary_tol) & (v > bary_tol) & (w > bary_tol) & (t > t_tol) & (t < 1.0 - t_tol)
+    outside = (u < -bary_tol) | (v < -bary_tol) | (w < -bary_tol) | (t < -t_tol) | (t > 1.0 + t_tol)
+    # A parallel (coplanar or not) triangle cannot be crossed, but a coplanar one can be touched:
+    # decide with the distance of the segment's ends to its plane.
+    if np.any(parallel):
+        n, _ = _unit_rows(np.cross(e1, e2))
+        h0 = np.einsum("tk,tk->t", o - v0, n)
+        h1 = np.einsum("tk,tk->t", o + d - v0, n)
+        off_plane = (np.minimum(np.abs(h0), np.abs(h1)) > tol) & (h0 * h1 > 0)
+        outside = np.where(parallel, off_plane | outside, outside)
+        inside = inside & ~parallel
+    opaque = np.asarray(opaque, bool)
+    hit_opaque = np.flatnonzero(inside & opaque)
+    if hit_opaque.size:
+        return BLOCKED, int(hit_opaque[np.argmin(t[hit_opaque])])
+    if np.all(outside):
+        return CLEAR, -1
+    shared = _through_shared_edge(tris, u, v, w, t, t_tol, bary_tol, ~outside & opaque & ~parallel)
+    if shared >= 0:
+        return BLOCKED, shared
+    return PARTIAL, int(np.flatnonzero(~outside)[0])
+
+
+def _through_shared_edge(tris, u, v, w, t, t_tol, bary_tol, candidates):
+    """Index of an opaque triangle whose edge, shared with a coplanar opaque neighbour on its other
+    side, the segment crosses strictly inside (the symmetric case of a quad split along a diagonal
+    right under a lamp); -1 when there is none. Shared means the same vertex coordinates, as a
+    mesh's triangulation gives, so the two triangles cover both sides of the crossing point."""
+    edges = {}
+    for k in np.flatnonzero(candidates & (t > t_tol) & (t < 1.0 - t_tol)):
+        bary = np.array([w[k], u[k], v[k]])  # weights of vertices 0, 1, 2
+        small = np.abs(bary) <= bary_tol[k]
+        if small.sum() != 1 or np.any(bary[~small] <= bary_tol[k]):
+            continue  # near a vertex, or outside: not a clean edge crossing
+        drop = int(np.flatnonzero(small)[0])
+        ends = [tris[k, j] for j in range(3) if j != drop]
+        key = tuple(sorted(tuple(map(float, e)) for e in ends))
+        normal = np.cross(tris[k, 1] - tris[k, 0], tris[k, 2] - tris[k, 0])
+        normal /= np.linalg.norm(normal)
+        for other, other_normal in edges.get(key, ()):
+            if abs(float(normal @ other_normal)) > 1.0 - 1e-9:
+                return int(k)
+        edges.setdefault(key, []).append((k, normal))
+    return -1
+
+
+def first_hits(origin, directions, triangles):
+    """Nearest hit of rays from ``origin``: (distance m or inf (R,), triangle index or -1, facing (R,)).
+
+    ``facing`` is the cosine between the ray and the triangle's geometric normal (> 0: the ray hits
+    the back side, i.e. leaves a closed outward-facing mesh from inside).
+    """
+    o = np.asarray(origin, float)
+    tris = np.asarray(triangles, float)
+    dirs = np.asarray(directions, float)
+    dist = np.full(len(dirs), np.inf)
+    index = np.full(len(dirs), -1)
+    facing = np.zeros(len(dirs))
+    if len(tris) == 0:
+        return dist, index, facing
+    v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    normal, _ = _unit_rows(np.cross(e1, e2))
+    for r, d in enumerate(dirs):
+        pvec = np.cross(d, e2)
+        det = np.einsum("tk,tk->t", e1, pvec)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = 1.0 / det
+            tvec = o - v0
+            u = np.einsum("tk,tk->t", tvec, pvec) * inv
+            qvec = np.cross(tvec, e1)
+            v = np.einsum("tk,k->t", qvec, d) * inv
+            t = np.einsum("tk,tk->t", qvec, e2) * inv
+            ok = np.isfinite(inv) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+        if ok.any():
+            k = np.flatnonzero(ok)[np.argmin(t[ok])]
+            dist[r], index[r], facing[r] = t[k], k, float(normal[k] @ d)
+    return dist, index, facing
