@@ -202,3 +202,102 @@ def test_extremes_have_no_overflow_or_nan(kind):
             assert np.all(np.isfinite(e)) and np.all(e >= 0.0)
             if kind != "SUN":
                 assert e[0, 0] > e[2, 0] > 0.0
+
+
+# --- sheared/mirrored transforms, error bounds, bad energies --------------------------------
+
+def _sheared_matrix(mirror=False):
+    from math import cos, sin
+    a, b, c = 0.6, 0.4, 0.3
+    rx = np.array([[1, 0, 0], [0, cos(a), -sin(a)], [0, sin(a), cos(a)]])
+    ry = np.array([[cos(b), 0, sin(b)], [0, 1, 0], [-sin(b), 0, cos(b)]])
+    rz = np.array([[cos(c), -sin(c), 0], [sin(c), cos(c), 0], [0, 0, 1]])
+    m = np.diag([-2.0 if mirror else 2.0, 0.5, 1.0]) @ rz @ ry @ rx
+    out = np.eye(4)
+    out[:3, :3], out[:3, 3] = m, [0.1, 0.05, 1.0]
+    return out
+
+
+@pytest.mark.parametrize("mirror", [False, True])
+def test_sheared_transform_is_accepted_and_uses_the_full_matrix(mirror):
+    mw = _sheared_matrix(mirror)
+    spot = lights.light_spec_from_values(dict(type="SPOT", energy=100.0, spot_size=math.radians(60), spot_blend=0.3,
+                                              shadow_soft_size=0.0, matrix_world=mw.tolist(), name="S"))
+    assert spot.is_sheared and np.allclose(spot.axes.T @ spot.axes, np.eye(3))
+    np.testing.assert_allclose(spot.emission_direction, -mw[:3, 2] / np.linalg.norm(mw[:3, 2]), rtol=1e-12)
+    # Cone factor: z of the direction mapped by the inverse object matrix (Cycles' itfm).
+    d = unit_d = np.array([0.1, -0.2, -1.0]) / np.linalg.norm([0.1, -0.2, -1.0])
+    local = np.linalg.solve(mw[:3, :3], unit_d)
+    z = -local[2] / np.linalg.norm(local)
+    c = math.cos(math.radians(30))
+    x = np.clip((z - c) / ((1 - c) * 0.3), 0, 1)
+    assert lights.spot_attenuation(spot, d) == pytest.approx(x * x * (3 - 2 * x), rel=1e-12, abs=1e-15)
+    area = lights.light_spec_from_values(dict(type="AREA", energy=100.0, shape="RECTANGLE", size=0.6, size_y=0.3,
+                                              matrix_world=mw.tolist()))
+    eu, ev = area.edges
+    np.testing.assert_allclose(eu, mw[:3, 0] * 0.6)
+    np.testing.assert_allclose(ev, mw[:3, 1] * 0.3)
+    assert area.area_m2 == pytest.approx(np.linalg.norm(eu) * np.linalg.norm(ev))  # Cycles' Light::area
+    e, bound = lights.irradiance_with_bound(area, [[0, 0, 0.0]], UP)
+    assert e[0, 0] > 0 and 0 < bound[0] < 0.01 and not lights.exactness(area)[0]
+
+
+@pytest.mark.parametrize("shape", ["SQUARE", "DISK"])
+def test_sheared_area_sampler_model_reduces_to_lambert_polygon_without_shear(shape):
+    # The model of Cycles' light sampler, run on an orthogonal frame, must equal the closed form.
+    spec = LightSpec(kind="AREA", position=[0.1, -0.2, 1.0], axes=np.eye(3), scale=[1.3, 0.7, 1.0], shape=shape,
+                     size=0.8, rgb_power=[1.0] * 3)
+    pts, nrm = np.array([[0.3, 0.1, 0.0], [0.0, 0.0, 0.5]]), np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8]])
+    exact = lights.irradiance(spec, pts, nrm)[:, 0]
+    model = lights._sheared_area_nee(spec, pts, nrm, 64)
+    np.testing.assert_allclose(model, exact, rtol=5e-5 if shape == "DISK" else 1e-9)
+
+
+def test_spot_with_radius_narrow_cone_matches_brute_force_within_its_bound():
+    # Cap (sphere seen from the receiver) far wider than the 20 deg cone: edges cut through the cap.
+    for soft, blend, pos in ((False, 0.2, [0.0, 0.0, 1.0]), (True, 0.0, [0.15, 0.0, 1.0]), (True, 0.3, [0.2, 0.1, 0.7])):
+        spec = LightSpec(kind="SPOT", position=pos, radius=0.3, soft_falloff=soft, spot_size=math.radians(20),
+                         spot_blend=blend, scale=[1.5, 0.8, 1.0], rgb_power=[100.0] * 3)
+        e, bound = lights.irradiance_with_bound(spec, [[0, 0, 0.0]], UP)
+        # Brute force: midpoint rule on a 1500 x 1500 grid in (t, phi) over the same cap.
+        w = np.array(pos) / np.linalg.norm(pos)
+        d2 = np.dot(pos, pos)
+        s2 = 0.09 / (0.09 + d2) if soft else 0.09 / d2
+        tmax = 1 - math.sqrt(1 - s2)
+        m = 1500
+        t = (np.arange(m) + 0.5) / m * tmax
+        phi = (np.arange(m) + 0.5) / m * 2 * np.pi
+        e1 = np.cross(w, [1.0, 0, 0]); e1 /= np.linalg.norm(e1); e2 = np.cross(w, e1)
+        sg = np.sqrt(t * (2 - t))[:, None, None]
+        dirs = (1 - t)[:, None, None] * w + sg * (np.cos(phi)[None, :, None] * e1 + np.sin(phi)[None, :, None] * e2)
+        f = lights.spot_attenuation(spec, -dirs) * np.maximum(dirs[..., 2], 0)
+        brute = 100 / (4 * np.pi**2 * 0.09) * f.sum() * (tmax / m) * (2 * np.pi / m)
+        assert e[0, 0] == pytest.approx(brute, rel=max(3 * bound[0], 2e-4))
+        assert bound[0] < 5e-3
+
+
+def test_disk_bound_covers_the_polygon_error_at_the_rim():
+    spec = LightSpec(kind="AREA", position=[0, 0, 0.001], shape="DISK", size=1.0, rgb_power=[1.0] * 3)
+    for x in (0.4999, 0.5001, 0.3):
+        e, bound = lights.irradiance_with_bound(spec, [[x, 0, 0.0]], UP)
+        ref = geometry.polygon_projected_solid_angle(lights._outline_world(spec, 2**17), np.array([[x, 0, 0.0]]), UP)
+        err = abs(e[0, 0] / (ref[0] / (np.pi * spec.area_m2)) - 1)
+        assert err <= bound[0] + 1e-12
+    assert lights.irradiance_with_bound(spec, [[0, 0, 0.0]], UP)[1][0] < 1e-12
+
+
+def test_negative_energy_gives_negative_irradiance_and_says_so():
+    values = dict(type="POINT", energy=-50.0, shadow_soft_size=0.0, name="Neg",
+                  matrix_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 1.0], [0, 0, 0, 1]])
+    spec = lights.light_spec_from_values(values)
+    assert lights.irradiance(spec, [[0, 0, 0.0]], UP)[0, 0] == pytest.approx(-50 / (4 * np.pi), rel=1e-12)
+    assert "negative energy" in lights.exactness(spec)[2]
+
+
+@pytest.mark.parametrize("field, value", [("energy", float("nan")), ("energy", float("inf")),
+                                          ("color", (1.0, float("nan"), 1.0)), ("exposure", float("nan"))])
+def test_non_finite_energy_or_colour_names_the_light_and_field(field, value):
+    values = {**dict(type="AREA", energy=10.0, name="Key light", matrix_world=np.eye(4).tolist()), field: value}
+    with pytest.raises(ValueError, match=f"'Key light'.*{field}") as info:
+        lights.light_spec_from_values(values)
+    assert "\n" not in str(info.value)
