@@ -16,6 +16,7 @@ import csv
 import dataclasses
 import math
 import time
+import typing
 
 import bpy
 import numpy as np
@@ -37,9 +38,8 @@ def _can_plot(notes):
 
 
 DEFAULT_ANGLES_DEG = (0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 75.0, 80.0, 85.0, 87.0, 89.0)
-#: Offset of grid points along the plane's normal, scene units: above a visible desk top, far
-#: below any lighting gradient.
-GRID_OFFSET = 1e-4
+#: Lift of the viewport-only isolux copy above its plane (scene units), so it is not hidden in it.
+DISPLAY_OFFSET = 1e-4
 
 
 # --- result objects -----------------------------------------------------------------------------
@@ -53,10 +53,10 @@ def _plain(value):
         return None  # JSON has no inf/nan
     if isinstance(value, dict):
         return {k: _plain(v) for k, v in value.items()}
+    if dataclasses.is_dataclass(value) or hasattr(value, "_asdict"):
+        return value.to_dict()
     if isinstance(value, (list, tuple)):
         return [_plain(v) for v in value]
-    if dataclasses.is_dataclass(value):
-        return value.to_dict()
     return value
 
 
@@ -66,8 +66,14 @@ class _ToDict:
         return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
 
 
-@dataclasses.dataclass
-class InverseSquareRow(_ToDict):
+def _row_dict(row):
+    """JSON-safe dict of a NamedTuple row (inf/nan as None)."""
+    return {k: _plain(v) for k, v in row._asdict().items()}
+
+
+# Rows are NamedTuples: they unpack as the documented tuples (distance, measured, predicted, ...)
+# and keep their attribute names.
+class InverseSquareRow(typing.NamedTuple):
     """One distance of a sweep. distance m; measured, predicted, model W/m^2; deviations fractions."""
 
     distance: float            #: m from the light's centre along its axis
@@ -79,6 +85,8 @@ class InverseSquareRow(_ToDict):
     model_deviation: float     #: (model - predicted) / predicted: what the light's own shape explains
     ok: bool                   #: |rel_deviation| <= tolerance + z * rel_std_error
     illuminance: float = 0.0   #: lux measured
+
+    to_dict = _row_dict
 
 
 @dataclasses.dataclass
@@ -106,8 +114,7 @@ class InverseSquareResult(_ToDict):
     plot: str = ""
 
 
-@dataclasses.dataclass
-class CosineRow(_ToDict):
+class CosineRow(typing.NamedTuple):
     """One tilt. angle deg; measured W/m^2; predicted cos(theta); deviations fractions."""
 
     angle: float
@@ -118,6 +125,8 @@ class CosineRow(_ToDict):
     ratio_rel_se: float
     model_ratio: float         #: the closed-form model's E(theta)/E(0) (no scene surfaces)
     ok: bool
+
+    to_dict = _row_dict
 
 
 @dataclasses.dataclass
@@ -662,7 +671,7 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     local = grid_math.cell_centres((x0, x1), (y0, y1), nx, ny)
     local3 = np.concatenate([local, np.full(local.shape[:2] + (1,), zc), np.ones(local.shape[:2] + (1,))], axis=-1)
     points = local3 @ mw.T
-    points = points[..., :3] + GRID_OFFSET * normal
+    points = points[..., :3]
     started = time.perf_counter()
     readings = _measure(scene, points.reshape(-1, 3), normal, method, quality, target_rel_error, seed,
                         progress, cancelled)
@@ -670,7 +679,8 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     irr = np.array([r.irradiance for r in readings]).reshape(ny, nx)
     lux = np.array([r.illuminance for r in readings]).reshape(ny, nx)
     se = np.array([r.rel_std_error for r in readings]).reshape(ny, nx)
-    notes = [f"{nx} x {ny} points at cell centres, {GRID_OFFSET:g} scene units above the plane"]
+    notes = [f"{nx} x {ny} points at cell centres on the plane (each sensor raised by a scale-aware epsilon "
+             "along the normal when a surface is there: see the readings' notes)"]
     if obj.hide_render:
         notes.append("the plane is hidden in renders: an imaginary work plane that neither blocks nor reflects")
     notes += readings[0].notes
@@ -722,7 +732,7 @@ def colour_plane(result, scene=None, name=None):
     attr.data.foreach_set("color", np.array(colours, np.float32).ravel())
     obj = bpy.data.objects.new(name, mesh)
     obj.matrix_world = obj_plane.matrix_world.copy()
-    obj.location = obj_plane.matrix_world.translation + 2 * GRID_OFFSET * __import__("mathutils").Vector(normal)
+    obj.location = obj_plane.matrix_world.translation + DISPLAY_OFFSET * __import__("mathutils").Vector(normal)
     obj.hide_render = True
     scene.collection.objects.link(obj)
     return obj
@@ -820,7 +830,7 @@ def _convergence_points(target, scene, location, normal):
         (x0, x1, y0, y1, zc), mw, n = _plane_frame(obj, scene)
         local = grid_math.cell_centres((x0, x1), (y0, y1), 4, 4).reshape(-1, 2)
         p = np.c_[local, np.full(len(local), zc), np.ones(len(local))] @ mw.T
-        return p[:, :3] + GRID_OFFSET * n, np.tile(n, (len(p), 1)), f"grid 4 x 4 on {obj.name}"
+        return p[:, :3], np.tile(n, (len(p), 1)), f"grid 4 x 4 on {obj.name}"
     raise RadiometerError(f"{obj.name!r} is neither an illuminance meter nor a plane")
 
 

@@ -131,16 +131,24 @@ def receiver_offset(points, unit_length=1.0):
 
 def source_outline(spec, sides=ROUND_SIDES):
     """World vertices (K, 3), metres, of a convex polygon holding an area light's emitting shape:
-    the shape itself for squares and rectangles, a circumscribed ``sides``-gon for disks/ellipses."""
-    u, v = spec.extents
+    the parallelogram of its two edge vectors (Cycles' extentu/extentv) for squares and rectangles,
+    a circumscribed ``sides``-gon (its affine image) for disks and ellipses. Under shear Cycles
+    samples other shapes in the same plane, so a polygon circumscribing the circle of radius
+    (|u| + |v|) / 2 stands in: it holds every one of them."""
+    eu, ev = (np.asarray(e, float) for e in spec.edges)
+    centre = np.asarray(spec.position, float)
+    phi = 2 * np.pi * np.arange(sides) / sides
+    r = 1.0 / np.cos(np.pi / sides)
+    if getattr(spec, "is_sheared", False):
+        radius = 0.5 * (np.linalg.norm(eu) + np.linalg.norm(ev)) * r
+        uu = eu / np.linalg.norm(eu)
+        vv = np.cross(np.cross(eu, ev), uu)
+        vv /= np.linalg.norm(vv)
+        return centre + radius * (np.cos(phi)[:, None] * uu + np.sin(phi)[:, None] * vv)
     if spec.shape in ("DISK", "ELLIPSE"):
-        phi = 2 * np.pi * np.arange(sides) / sides
-        r = 0.5 / np.cos(np.pi / sides)
-        local = np.stack([u * r * np.cos(phi), v * r * np.sin(phi)], axis=1)
-    else:
-        local = np.array([[-u / 2, -v / 2], [u / 2, -v / 2], [u / 2, v / 2], [-u / 2, v / 2]])
-    axes = np.asarray(spec.axes, float)
-    return np.asarray(spec.position, float) + local[:, :1] * axes[:, 0] + local[:, 1:] * axes[:, 1]
+        return centre + 0.5 * r * (np.cos(phi)[:, None] * eu + np.sin(phi)[:, None] * ev)
+    corners = np.array([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
+    return centre + corners[:, :1] * eu + corners[:, 1:] * ev
 
 
 def _source_region(spec, p, scene_reach):
@@ -250,6 +258,9 @@ def plan_direct(model, points, normals, exact_model):
             status[i], reason[i] = RENDER, f"no closed form: {light.uncovered}"
             continue
         exact, model_name, _note = exact_model(light.spec)
+        if model_name == "unmodelled":
+            status[i], reason[i] = RENDER, f"no closed form: {_note}"
+            continue
         closed = EXACT if exact else BOUNDED
         for k in range(n_pts):
             if not light.casts_shadow:
