@@ -121,7 +121,8 @@ def _prepare(scene, preset, snapshot):
             obj.visible_camera = True
     depsgraph = bpy.context.evaluated_depsgraph_get()
     needs = render_settings.scene_needs(scene, depsgraph)
-    return render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs)
+    return render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs,
+                                 snapshot=snapshot)
 
 
 def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, quality="standard",

@@ -121,11 +121,26 @@ def _select_only(view_layer, obj):
 
 
 def run_bake(scene, view_layer, obj):
-    """One Cycles bake of the sensor object (a function of its own so tests can make it fail)."""
-    with bpy.context.temp_override(scene=scene, view_layer=view_layer, active_object=obj,
-                                   object=obj, selected_objects=[obj], selected_editable_objects=[obj]):
+    """One Cycles bake of the sensor object (a function of its own so tests can make it fail).
+
+    Every operator option is passed explicitly: an option left out is taken from the scene's bake
+    settings, so a user's "Selected to Active" (measured: "No valid selected objects"), cage, ray
+    distance, external saving or split materials would change what is baked. View-layer material
+    and world overrides and holdout/indirect-only collections are switched off around the bake
+    (a world override changed a reading by +2 %) and restored afterwards.
+    """
+    from . import render_settings
+
+    active_uv = obj.data.uv_layers.active
+    uv_layer = active_uv.name if active_uv is not None else ""  # "": the operator's own choice (and error)
+    with render_settings.layer_overrides_suspended(scene), \
+            bpy.context.temp_override(scene=scene, view_layer=view_layer, active_object=obj,
+                                      object=obj, selected_objects=[obj], selected_editable_objects=[obj]):
         return bpy.ops.object.bake(type="DIFFUSE", pass_filter={"DIRECT", "INDIRECT"}, margin=0,
-                                   use_clear=True, target="IMAGE_TEXTURES")
+                                   margin_type="EXTEND", use_clear=True, target="IMAGE_TEXTURES",
+                                   save_mode="INTERNAL", use_selected_to_active=False, use_cage=False,
+                                   cage_extrusion=0.0, max_ray_distance=0.0, normal_space="TANGENT",
+                                   use_split_materials=False, use_automatic_name=False, uv_layer=uv_layer)
 
 
 def bake_irradiance(scene, view_layer, points, normals, *, samples, texels=4, bakes=1, target_rel_error=None,
