@@ -31,7 +31,8 @@ def run(args):
     blend = os.path.join(out, "demo_room.blend")
     bpy.ops.wm.save_as_mainfile(filepath=blend, check_existing=False)
     print(f"Radiometer demo: {blend}")
-    print("Room 4 x 4 x 3 m, ceiling panel 6 W (4100 lm), table lamp 1 W (683 lm, 2700 K), sun 20 W/m² through a window.")
+    print("Closed room 4 x 4 x 3 m (one mesh), desk with meters on its top, ceiling panel 6 W (4100 lm), "
+          "table lamp 1 W (683 lm, 2700 K).")
     print(f"Luminous efficacy {scene.radiometer.efficacy:g} lm/W (Blender/glTF convention).\n")
     results = meters.measure_meters(scene=scene, quality=args.quality)
     print(format_table(results))

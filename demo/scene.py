@@ -1,6 +1,8 @@
-"""A 4 x 4 x 3 m room: diffuse walls, a ceiling area light, a table lamp, sunlight through a window,
-a work plane at 0.75 m and a few light meters. Coordinates in metres (unit scale 1), floor at z = 0,
-room centred on the origin, window in the +Y wall.
+"""A closed 4 x 4 x 3 m room, built the way users build one: a cube scaled into a room (one closed
+mesh, outward normals, which Cycles shades from both sides), a desk (a closed box) with a desk lamp,
+a ceiling area light, a work plane at desk height and light meters, two of them placed exactly on
+the desk top (snapped, as users place them). Coordinates in metres (unit scale 1), floor at z = 0,
+room centred on the origin.
 """
 
 import math
@@ -10,7 +12,7 @@ import bpy
 from ..compat import ensure_node_tree
 
 ROOM = (4.0, 4.0, 3.0)
-WINDOW = {"x": (-0.8, 0.8), "z": (1.0, 2.2)}  # opening in the y = +2 wall
+DESK = {"centre": (0.4, -0.3), "size": (1.6, 0.8)}  # top at WORK_PLANE_HEIGHT
 WORK_PLANE_HEIGHT = 0.75
 
 
@@ -26,12 +28,12 @@ def _diffuse(name, albedo):
     return mat
 
 
-def _box_mesh(name, quads, material, collection):
-    verts, faces = [], []
-    for quad in quads:
-        base = len(verts)
-        verts += quad
-        faces.append(tuple(range(base, base + 4)))
+def _closed_box(name, centre, half, material, collection):
+    """A closed box mesh (6 quads, outward normals), as Add > Cube then scale would give."""
+    cx, cy, cz = centre
+    hx, hy, hz = half
+    verts = [(cx + sx * hx, cy + sy * hy, cz + sz * hz) for sz in (-1, 1) for sy in (-1, 1) for sx in (-1, 1)]
+    faces = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata(verts, [], faces)
     mesh.materials.append(material)
@@ -58,23 +60,10 @@ def build(scene=None, *, with_meters=True):
     room = bpy.data.collections.new("Room")
     scene.collection.children.link(room)
     hx, hy, h = ROOM[0] / 2, ROOM[1] / 2, ROOM[2]
-    wall, floor = _diffuse("Wall (albedo 0.7)", (0.7, 0.7, 0.7)), _diffuse("Floor (albedo 0.3)", (0.3, 0.25, 0.2))
-    # Quads wound so normals face into the room.
-    _box_mesh("Floor", [[(-hx, -hy, 0), (hx, -hy, 0), (hx, hy, 0), (-hx, hy, 0)]], floor, room)
-    _box_mesh("Ceiling", [[(-hx, -hy, h), (-hx, hy, h), (hx, hy, h), (hx, -hy, h)]], wall, room)
-    wx0, wx1 = WINDOW["x"]
-    wz0, wz1 = WINDOW["z"]
-    walls = [
-        [(-hx, -hy, 0), (-hx, -hy, h), (hx, -hy, h), (hx, -hy, 0)],      # y = -2
-        [(-hx, -hy, 0), (-hx, hy, 0), (-hx, hy, h), (-hx, -hy, h)],      # x = -2
-        [(hx, -hy, 0), (hx, -hy, h), (hx, hy, h), (hx, hy, 0)],          # x = +2
-        # y = +2 wall around the window opening
-        [(-hx, hy, 0), (hx, hy, 0), (hx, hy, wz0), (-hx, hy, wz0)],
-        [(-hx, hy, wz1), (hx, hy, wz1), (hx, hy, h), (-hx, hy, h)],
-        [(-hx, hy, wz0), (wx0, hy, wz0), (wx0, hy, wz1), (-hx, hy, wz1)],
-        [(wx1, hy, wz0), (hx, hy, wz0), (hx, hy, wz1), (wx1, hy, wz1)],
-    ]
-    _box_mesh("Walls", walls, wall, room)
+    wall, wood = _diffuse("Wall (albedo 0.7)", (0.7, 0.7, 0.7)), _diffuse("Desk (albedo 0.3)", (0.35, 0.25, 0.18))
+    _closed_box("Room", (0.0, 0.0, h / 2), (hx, hy, h / 2), wall, room)
+    (dx, dy), (sx, sy) = DESK["centre"], DESK["size"]
+    _closed_box("Desk", (dx, dy, WORK_PLANE_HEIGHT / 2), (sx / 2, sy / 2, WORK_PLANE_HEIGHT / 2), wood, room)
 
     lights = bpy.data.collections.new("Lights")
     scene.collection.children.link(lights)
@@ -87,12 +76,7 @@ def build(scene=None, *, with_meters=True):
     lamp.energy, lamp.shadow_soft_size = 1.0, 0.05  # 683 lm, like a 60 W incandescent bulb
     lamp.use_temperature, lamp.temperature = True, 2700.0
     obj = bpy.data.objects.new("Table Lamp", lamp)
-    obj.location = (1.2, -1.2, 1.2)
-    lights.objects.link(obj)
-    sun = bpy.data.lights.new("Sun", "SUN")
-    sun.energy, sun.angle = 20.0, math.radians(0.526)  # W/m^2 facing the sun; the sun's disc is 0.526 deg
-    obj = bpy.data.objects.new("Sun", sun)
-    obj.rotation_euler = (math.radians(-50.0), 0.0, 0.0)  # shines in through the +Y window, downwards
+    obj.location = (1.0, -0.5, 1.2)  # 45 cm above the desk's right end
     lights.objects.link(obj)
 
     plane_mesh = bpy.data.meshes.new("Work Plane")
@@ -111,10 +95,11 @@ def build(scene=None, *, with_meters=True):
         scene.collection.children.link(meters)
         layer = scene.view_layers[0]
         with bpy.context.temp_override(scene=scene, view_layer=layer, collection=meters):
-            for name, loc in (("Desk Centre", (0.0, 0.0, WORK_PLANE_HEIGHT)),
-                              ("Desk Lamp Side", (1.0, -1.0, WORK_PLANE_HEIGHT)),
-                              ("Desk Window Side", (0.0, 1.5, WORK_PLANE_HEIGHT)),
-                              ("Desk Corner", (-1.5, -1.5, WORK_PLANE_HEIGHT))):
+            # Two meters lie ON the desk top (z = its surface), two in free space at desk height.
+            for name, loc in (("Desk Centre", (dx, dy, WORK_PLANE_HEIGHT)),
+                              ("Desk Under Lamp", (1.0, -0.5, WORK_PLANE_HEIGHT)),
+                              ("Room Centre", (-0.6, 1.0, WORK_PLANE_HEIGHT)),
+                              ("Room Corner", (-1.5, -1.5, WORK_PLANE_HEIGHT))):
                 obj = add_meter(bpy.context, "ILLUMINANCE", loc)
                 obj.name = name
             obj = add_meter(bpy.context, "LUMINANCE", (0.0, -1.5, 1.6), acceptance_deg=2.0)
