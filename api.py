@@ -10,22 +10,32 @@ from .errors import MeasurementCancelled, RadiometerError  # noqa: F401  (re-exp
 
 
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
-                        target_rel_error=None, progress=None, cancelled=None, seed=0):
+                        target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
+                        seed=0):
     """Irradiance (W/m^2) and illuminance (lux) on the side ``normal`` faces.
 
-    ``location``: 3 numbers, or (N, 3) to measure N meters in one batch (one scene sync);
-    ``normal``: 3 numbers or (N, 3). ``method``: "auto" (analytic where exact, else render),
-    "analytic" or "render". ``quality``: "preview", "standard", "reference". ``target_rel_error``:
-    keep sampling until every 95 % interval is within this fraction. ``seed``: first Cycles seed
-    (readings are deterministic for a given seed). Returns an
-    ``IlluminanceReading`` (or a list of them for N locations) with ``irradiance_rgb``,
-    ``irradiance``, ``illuminance``, ``rel_std_error``, ``method``, ``samples``, ``seconds``, ``notes``.
+    ``location``: 3 numbers, or (N, 3) to measure N meters in one batch; ``normal``: 3 numbers or
+    (N, 3). A meter placed on a surface reads the light arriving at that surface (its sensor is
+    raised by a scale-aware epsilon, said in the notes). ``method``: "auto" (closed forms where
+    they are exact for every contribution; otherwise the hybrid), "analytic" (closed forms for
+    direct light only), "hybrid" (closed forms for the direct light they prove, Cycles for the
+    rest) or "render" (Cycles for everything). ``quality``: a target 1-sigma relative standard
+    error for every rendered reading: "preview" 5 %, "standard" 1 %, "reference" 0.2 %;
+    ``target_rel_error`` (a fraction) overrides it; ``samples`` spends a fixed number of samples
+    per meter instead (studies); ``time_budget_s`` spends about that many seconds for the best
+    accuracy (with ``target_rel_error`` too: whichever comes first). Each meter gets the samples it
+    needs. ``progress(done, total, seconds_left)``: called after every round (done/total in
+    thousandths). ``seed``: first Cycles seed (readings are deterministic for a given seed).
+    Returns an ``IlluminanceReading`` (or a list of them for N locations) with ``irradiance_rgb``,
+    ``irradiance``, ``illuminance``, ``rel_std_error`` (reached), ``target_rel_error`` (asked),
+    ``exact``, ``method``, ``parts`` (which light came from closed forms), ``samples``, ``seconds``,
+    ``notes``.
     """
     from .measure import meter
 
     return meter.measure_illuminance(location, normal, scene=scene, method=method, quality=quality,
-                                     target_rel_error=target_rel_error, progress=progress, cancelled=cancelled,
-                                     seed=seed)
+                                     target_rel_error=target_rel_error, samples=samples,
+                                     time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed=seed)
 
 
 def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):

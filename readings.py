@@ -32,6 +32,10 @@ class IlluminanceReading:
     #: Deterministic part of the error, relative (quadrature, possible partial occlusion); it is
     #: already included in ``rel_std_error`` (counted as one sigma).
     rel_error_bound: float = 0.0
+    #: The 1-sigma relative standard error asked for (None: fixed samples or best in a time budget).
+    target_rel_error: Optional[float] = None
+    #: Which light came from closed forms and what Cycles rendered: {"analytic": [...], "rendered": [...]}.
+    parts: dict = dataclasses.field(default_factory=dict)
 
     def to_dict(self):
         return dataclasses.asdict(self)

@@ -236,18 +236,64 @@ def enclosure_notes(model, points_m, values):
     return notes
 
 
-def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
-                        target_rel_error=None, progress=None, cancelled=None, exclude=(), seed=0):
-    """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``."""
+def allocation_block_texels():
+    from ..radiometry import allocation
+
+    return allocation.MIN_BLOCKS * allocation.BLOCK_TEXELS ** 2
+
+
+def hybrid_split(model, direct, count):
+    """Per meter: the light OBJECTS whose direct light is a proven closed form there (EXACT, or
+    ZERO because an opaque surface blocks it) for every instance of that object, to be added
+    analytically and excluded from the sensor (light linking acts on objects, so all instances of
+    an object must qualify). Returns a list of frozensets."""
     from ..radiometry import scene_model
+
+    by_source = {}
+    for i, light in enumerate(model.lights):
+        by_source.setdefault(light.source or light.name, []).append(i)
+    out = []
+    for k in range(count):
+        chosen = set()
+        for source, idx in by_source.items():
+            ok = all(model.lights[i].spec is not None and not model.lights[i].portal
+                     and model.lights[i].reaches_diffuse
+                     and direct.status[i, k] in (scene_model.EXACT, scene_model.ZERO) for i in idx)
+            if ok:
+                chosen.add(source)
+        out.append(frozenset(chosen))
+    return out
+
+
+def _budget_mode(preset, target_rel_error, samples, time_budget_s):
+    """(target, time budget s, fixed samples) from the user's choice; exactly one rule drives it."""
+    if samples is not None:
+        if not (float(samples) >= 1 and math.isfinite(float(samples))):
+            raise RadiometerError(f"samples must be a whole number >= 1 per meter, got {samples}")
+        return None, None, int(samples)
+    if time_budget_s is not None:
+        if not (float(time_budget_s) > 0 and math.isfinite(float(time_budget_s))):
+            raise RadiometerError(f"time_budget_s must be > 0 seconds, got {time_budget_s}")
+        return (float(target_rel_error) if target_rel_error is not None else None), float(time_budget_s), None
+    if target_rel_error is not None:
+        if not (0 < float(target_rel_error) < 1):
+            raise RadiometerError(f"target_rel_error must be in (0, 1), got {target_rel_error}")
+        return float(target_rel_error), None, None
+    return float(preset["target"]), None, None
+
+
+def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
+                        target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
+                        exclude=(), seed=0):
+    """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``."""
+    from . import adaptive
 
     scene = scene or bpy.context.scene
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     points_scene, single = as_points(location)
     normals = as_directions(normal, len(points_scene))
-    if target_rel_error is not None and not (0 < float(target_rel_error) < 1):
-        raise RadiometerError(f"target_rel_error must be in (0, 1), got {target_rel_error}")
     preset = quality_presets.preset(quality)
+    target, budget, fixed = _budget_mode(preset, target_rel_error, samples, time_budget_s)
     scale = scene.unit_settings.scale_length
     started = time.perf_counter()
     model = capture_model(scene, view_layer, exclude=exclude)
@@ -258,15 +304,17 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"]
     notes += [note for light in model.lights for note in light.notes]
     notes += placement_notes(model, sensors_m, normals, eps_m)
-    bound_rgb = np.zeros((len(points_scene), 3))
+    n = len(points_scene)
+    bound_rgb = np.zeros((n, 3))
+    direct = decision["direct"]
+    parts = [{"analytic": [], "rendered": []} for _ in range(n)]
     if decision["method"] == "analytic":
-        direct = decision["direct"]
         per_light, bounds, info = analytic_irradiance(model, direct, sensors_m, normals)
         mean_rgb = per_light.sum(axis=0)
         bound_rgb = bounds.sum(axis=0)
         se_rgb = np.zeros_like(mean_rgb)
         exact_points = direct.exact_points()
-        notes.append("analytic direct light: " + "; ".join(f"{lt.name}: {m} ({n})" for lt, (_e, m, n) in
+        notes.append("analytic direct light: " + "; ".join(f"{lt.name}: {m} ({n_})" for lt, (_e, m, n_) in
                                                             zip(model.lights, info)))
         if decision["analytic_exact"]:
             notes.append("exact: every contribution is a closed form and nothing can reflect or block it")
@@ -274,25 +322,50 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
             notes.append("NOT exact for this scene: " + ", ".join(decision["reasons"] or ["quadrature"]))
             if direct.indirect.any():
                 notes.append("direct light only: light reflected by surfaces or from the world is NOT included")
-        samples, record, scalar_se = 0, None, np.zeros(len(points_scene))
+        for k in range(n):
+            parts[k]["analytic"] = [lt.name for lt in model.lights]
+        spent, record, scalar_se, method_used = np.zeros(n), None, np.zeros(n), "analytic"
     else:
-        if single_delta_light(decision):
+        if fixed is None and single_delta_light(decision):
             # Next-event estimation samples a single delta light exactly: every path gives the same
             # value, so one sample per texel is the exact render (more would only add float32 rounding).
-            preset = dict(preset, samples=1, texels=2, bakes=1)
+            fixed = allocation_block_texels()
             notes.append("a single delta light and nothing to reflect light: 1 sample per texel is exact "
                          "(next-event estimation of one delta light has no variance)")
-        estimates, run, record = render_irradiance(scene, view_layer, sensors_scene, normals, preset,
-                                                   needs=model.needs, target_rel_error=target_rel_error,
-                                                   progress=progress, cancelled=cancelled, seed=seed)
-        batches = estimates.shape[0]
-        mean_rgb, se_rgb = stats.batch_mean(estimates, axis=0)
-        _scalar_mean, scalar_se = stats.batch_mean(estimates @ weights, axis=0)
-        exact_points = np.zeros(len(points_scene), bool)
-        samples = run["bakes"] * run["texels_per_meter"] * run["samples_per_texel"]
+        hybrid = method in ("auto", "hybrid")
+        split = hybrid_split(model, direct, n) if hybrid else [frozenset()] * n
+        offset_rgb = np.zeros((n, 3))
+        if any(split):
+            per_light, _bounds, _info = analytic_irradiance(model, direct, sensors_m, normals)
+            for i, light in enumerate(model.lights):
+                take = np.array([(light.source or light.name) in split[k] for k in range(n)])
+                offset_rgb[take] += per_light[i, take]
+        for k in range(n):
+            parts[k]["analytic"] = [lt.name for lt in model.lights if (lt.source or lt.name) in split[k]]
+            parts[k]["rendered"] = ["everything else (reflected light, other lights, world, emitting surfaces)"]
+        run = adaptive.render_hybrid(scene, view_layer, sensors_scene, normals, needs=model.needs,
+                                     bounces=preset["bounces"], weights=weights, target=target, time_budget=budget,
+                                     fixed_samples=fixed, exclusions=split, offset=offset_rgb @ weights,
+                                     progress=progress, cancelled=cancelled, seed=seed)
+        mean_rgb = run["mean_rgb"] + offset_rgb
+        se_rgb = np.nan_to_num(run["se_rgb"])
+        scalar_se = np.nan_to_num(run["se"])
+        exact_points = np.zeros(n, bool)
+        spent, record = run["samples"], run["record"]
+        method_used = "hybrid" if any(split) else "render"
         why = "; ".join(decision["reasons"]) or "requested"
-        notes.append(f"rendered with Cycles ({why}); standard error from {batches} independent batches "
-                     f"(batch means of {run['samples_per_texel']} samples each)")
+        rule = (f"{fixed} samples per meter" if fixed is not None else
+                f"time budget {budget:g} s" + (f", target {100 * target:g} %" if target else "")
+                if budget is not None else f"target {100 * target:g} % (1 s.e.)")
+        notes.append(f"rendered with Cycles ({why}); {rule}: {run['rounds']} rounds, {run['groups']} sensor "
+                     f"group(s), samples per meter {int(spent.min())}..{int(spent.max())}; standard error from "
+                     "batch means over independent texels")
+        if any(split):
+            names = sorted(set().union(*split))
+            notes.append(f"hybrid: direct light of {', '.join(repr(x) for x in names)} added from closed forms "
+                         "where proven (excluded from the sensor by light linking); Cycles rendered the rest")
+        if target is not None and not run["reached"]:
+            notes.append(f"target {100 * target:g} % NOT reached everywhere ({run['stopped']})")
         if scale != 1.0:
             notes.append(f"unit scale {scale:g} m per unit: Cycles' scene-unit result divided by scale²")
     seconds = time.perf_counter() - started
@@ -300,7 +373,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     scalar_bound = np.abs(bound_rgb) @ np.abs(weights)
     notes += enclosure_notes(model, sensors_m, scalar_mean)
     readings = []
-    for k in range(len(points_scene)):
+    for k in range(n):
         e = float(scalar_mean[k])
         # 1-sigma uncertainty: the stochastic standard error, plus a deterministic bound counted
         # as one sigma (conservative: 3 sigma then covers 3 bounds).
@@ -309,11 +382,11 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
         rel_bound = float(scalar_bound[k] / abs(e)) if e != 0 else (0.0 if scalar_bound[k] == 0 else math.inf)
         readings.append(IlluminanceReading(
             irradiance_rgb=tuple(float(v) for v in mean_rgb[k]), irradiance=e, illuminance=efficacy * e,
-            rel_std_error=rel, method=decision["method"], samples=int(samples), seconds=seconds / len(points_scene),
+            rel_std_error=rel, method=method_used, samples=int(spent[k]), seconds=seconds / n,
             efficacy=efficacy, colour_space=space, location=tuple(points_scene[k]), normal=tuple(normals[k]),
-            exact=bool(exact_points[k]) and decision["method"] == "analytic",
+            exact=bool(exact_points[k]) and method_used == "analytic",
             std_error_rgb=tuple(float(v) for v in se_rgb[k]), notes=list(notes), render_settings=record,
-            rel_error_bound=rel_bound))
+            rel_error_bound=rel_bound, target_rel_error=target, parts=parts[k]))
     return readings[0] if single else readings
 
 

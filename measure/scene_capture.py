@@ -94,7 +94,7 @@ def _collect(depsgraph):
             parent = inst.parent.original.name if inst.parent is not None and inst.parent.original else "?"
             name = f"{name} (instance {k} of {parent!r})"
         if obj.type == "LIGHT":
-            lights.append(_light_entry(obj, name, inst.matrix_world))
+            lights.append(dict(_light_entry(obj, name, inst.matrix_world), source=original.name))
             continue
         if obj.type not in _GEOMETRY_TYPES or original.name in _Capture.exclude:
             continue
@@ -239,7 +239,8 @@ def capture(scene, view_layer=None, exclude=()):
                 uncovered = f"has no closed form here ({exc})"
         model_lights.append(scene_model.ModelLight(
             name=item["name"], spec=spec, uncovered=uncovered, casts_shadow=item["casts_shadow"],
-            reaches_diffuse=item["reaches_diffuse"], portal=item["portal"], notes=item["notes"]))
+            reaches_diffuse=item["reaches_diffuse"], portal=item["portal"], notes=item["notes"],
+            source=item["source"]))
     needs["world_emits"] = render_settings.world_emits(scene.world)
     needs["volume"] |= render_settings._uses_volume(
         render_settings.active_node_tree(scene.world) if scene.world else None)

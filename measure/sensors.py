@@ -50,14 +50,15 @@ def build_sensor(scene, points, normals, texels):
     n = len(points)
     blocks_per_row = int(math.ceil(math.sqrt(n)))
     res = blocks_per_row * texels
-    # Half-size: small against the distance to the nearest light (texels sample across the quad:
-    # the error is second order, (half / distance)^2 ~ 1e-8), yet well above float32 position
-    # resolution (Cycles stores geometry as float32: ~6e-8 relative) so the quad never collapses.
+    # Half-size: tiny against the distance to the nearest light. Texels sample different points of
+    # the quad: the mean's error is second order, (half / distance)^2, but the SPREAD between texels
+    # is first order (~2 half / distance) and would read as noise that no sample count removes
+    # (measured: 1e-4 x distance made a 2e-4 target take 800 x the samples it needs). So 2e-6 x
+    # distance, floored at 8 float32 steps of the coordinates (6e-8 relative each): enough for a
+    # valid quad (its normal comes from the custom normals, not from the vertices).
     radius = np.linalg.norm(points, axis=1)
     nearest = _nearest_light_distance(scene, points)
-    # The floor is 8 float32 steps of the coordinates (6e-8 relative each): enough for a valid
-    # quad (its normal comes from the custom normals, not from the vertices).
-    half = np.maximum(np.minimum(1e-4 * nearest, 2e-5 * np.maximum(radius, 1.0)), 5e-7 * np.maximum(radius, 1e-3))
+    half = np.maximum(np.minimum(2e-6 * nearest, 2e-6 * np.maximum(radius, 1.0)), 5e-7 * np.maximum(radius, 1e-3))
     t, b = _orthonormal_tangents(normals)
     corners = np.stack([-t - b, t - b, t + b, -t + b], axis=1) * half[:, None, None] + points[:, None, :]
     verts = corners.reshape(-1, 3)
@@ -112,16 +113,36 @@ def build_sensor(scene, points, normals, texels):
     return obj, image, blocks_per_row
 
 
-def _select_only(view_layer, obj):
+def select_only(view_layer, objs):
+    """Select exactly ``objs`` (one object or a list), the first one active."""
+    objs = list(objs) if isinstance(objs, (list, tuple)) else [objs]
     for other in view_layer.objects:
         if other.select_get(view_layer=view_layer):
             other.select_set(False, view_layer=view_layer)
-    obj.select_set(True, view_layer=view_layer)
-    view_layer.objects.active = obj
+    for obj in objs:
+        obj.select_set(True, view_layer=view_layer)
+    view_layer.objects.active = objs[0]
+
+
+_select_only = select_only
+
+
+def read_blocks(image, per_row, texels, count):
+    """Irradiance E = pi x texel of the first ``count`` blocks of a bake image, (count, texels^2, 3),
+    blocks laid out row by row, ``per_row`` to a row (as ``build_sensor`` lays them)."""
+    res = per_row * texels
+    pixels = np.empty(res * res * 4, np.float32)
+    image.pixels.foreach_get(pixels)
+    blocks = pixels.reshape(per_row, texels, per_row, texels, 4)[..., :3].astype(np.float64)
+    b = np.arange(count)
+    return math.pi * blocks[b // per_row, :, b % per_row, :, :].reshape(count, texels * texels, 3)
 
 
 def run_bake(scene, view_layer, obj):
-    """One Cycles bake of the sensor object (a function of its own so tests can make it fail).
+    """One Cycles bake of the sensor object(s) (a function of its own so tests can make it fail).
+
+    ``obj``: one sensor object or a list of them; all are baked in one call, each into its own
+    image (one scene sync).
 
     Every operator option is passed explicitly: an option left out is taken from the scene's bake
     settings, so a user's "Selected to Active" (measured: "No valid selected objects"), cage, ray
@@ -131,11 +152,13 @@ def run_bake(scene, view_layer, obj):
     """
     from . import render_settings
 
+    objs = list(obj) if isinstance(obj, (list, tuple)) else [obj]
+    obj = objs[0]
     active_uv = obj.data.uv_layers.active
     uv_layer = active_uv.name if active_uv is not None else ""  # "": the operator's own choice (and error)
     with render_settings.layer_overrides_suspended(scene), \
             bpy.context.temp_override(scene=scene, view_layer=view_layer, active_object=obj,
-                                      object=obj, selected_objects=[obj], selected_editable_objects=[obj]):
+                                      object=obj, selected_objects=objs, selected_editable_objects=objs):
         return bpy.ops.object.bake(type="DIFFUSE", pass_filter={"DIRECT", "INDIRECT"}, margin=0,
                                    margin_type="EXTEND", use_clear=True, target="IMAGE_TEXTURES",
                                    save_mode="INTERNAL", use_selected_to_active=False, use_cage=False,

@@ -13,11 +13,13 @@ METER_KINDS = [
                                      "are invisible to camera rays and do not appear in it)"),
 ]
 METHODS = [
-    ("auto", "Auto", "Closed forms where exact for this scene, rendering otherwise"),
+    ("auto", "Auto", "Closed forms where exact for this scene; else closed forms for the direct light they "
+                     "prove plus Cycles for the rest"),
     ("analytic", "Analytic", "Closed forms for direct light (exact only when nothing else adds or blocks light)"),
-    ("render", "Render", "Cycles path tracing with a statistical error estimate"),
+    ("hybrid", "Hybrid", "Closed forms for the direct light they prove exact, Cycles for the rest"),
+    ("render", "Render", "Cycles path tracing of everything, with a statistical error estimate"),
 ]
-QUALITIES = [(name, name.title(), f"{p['samples']} samples x {p['texels']**2} texels x {p['bakes']} bake(s)")
+QUALITIES = [(name, name.title(), f"Every reading to {100 * p['target']:g} % relative standard error (1 sigma)")
              for name, p in PRESETS.items()]
 EFFICACY_CONVENTIONS = [
     ("BLENDER_683", "683 lm/W (Blender, glTF)", "K = 683 lm/W for every RGB watt, as Blender's glTF I/O"),

@@ -70,7 +70,7 @@ def test_grid_of_square_area_light_within_1_percent(clean_blender, build):
     power, side, height = 200.0, 1.0, 1.75
     build.light(scene, "AREA", (0.0, 0.0, height), energy=power, shape="SQUARE", size=side)
     plane = work_plane(build, scene, height=0.75)
-    g = api.illuminance_grid(plane, method="render", quality="standard")
+    g = api.illuminance_grid(plane, method="render", target_rel_error=0.002)
     # EN 12464-1 for d = 2 m: p = 0.2 * 5^log10(2) = 0.325 m -> ceil(2 / 0.325) = 7 points a side
     assert (g.nx, g.ny) == (7, 7) and "EN 12464-1" in g.spacing_rule
     radiance = power / (math.pi * side**2)

@@ -124,7 +124,8 @@ def test_bake_operator_raising_inside_blender(clean_blender, build, private_tmp,
     real = sensors.run_bake
 
     def bake_without_uvs(scene_, layer, obj):
-        obj.data.uv_layers.remove(obj.data.uv_layers[0])
+        for o in obj if isinstance(obj, (list, tuple)) else [obj]:
+            o.data.uv_layers.remove(o.data.uv_layers[0])
         return real(scene_, layer, obj)
 
     monkeypatch.setattr(sensors, "run_bake", bake_without_uvs)
@@ -281,10 +282,10 @@ def counter_cancel(after):
 def test_cancel_between_bakes_of_a_reference_reading(clean_blender, build, private_tmp):
     scene = user_scene(build)
     before = scene_fingerprint(scene)
-    cancelled, calls = counter_cancel(1)  # first bake runs, the second is cancelled
+    cancelled, calls = counter_cancel(1)  # the pilot round runs, the second round is cancelled
     with pytest.raises(MeasurementCancelled) as info:
         api.measure_illuminance([(0, 0, 0.5), (0.5, 0, 0.5)], method="render", quality="reference",
-                                cancelled=cancelled)
+                                target_rel_error=2e-4, cancelled=cancelled)
     assert calls["n"] == 2
     assert "cancelled" in one_line(info.value)
     assert_clean(scene, before, private_tmp)

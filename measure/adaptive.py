@@ -1,0 +1,146 @@
+"""Rendered irradiance with per-meter, error-targeted sample allocation and the hybrid split.
+
+Host side of ``radiometry.allocation``: each round builds sensor quads (``sensors.build_sensor``)
+for the blocks the plan gives every meter (a meter that has converged gets none), bakes them all in
+ONE Cycles bake (one scene sync per round), and hands the texels back to the allocator.
+
+Hybrid: a light whose direct light at a meter is a proven closed form (``scene_model`` EXACT or
+ZERO) is excluded from that meter's sensor by light linking (the light's receiver collection set to
+EXCLUDE the sensor object). Light linking in bakes removes exactly the light's direct share and
+keeps its reflected light (../shared/FACTS.md), so the bake renders only what no closed form
+gives, and the closed form is added to it exactly. Meters that exclude different sets of lights get
+sensor objects of their own. The lights' linking is restored by the scene guard.
+"""
+
+import time
+
+import bpy
+import numpy as np
+
+from ..errors import MeasurementCancelled, RadiometerError
+from ..radiometry import allocation
+from . import render_settings, scene_guard, sensors
+
+
+def _call_progress(progress, fraction, seconds_left):
+    if progress is None:
+        return
+    try:
+        progress(int(round(1000 * fraction)), 1000, seconds_left)
+    except TypeError:
+        progress(int(round(1000 * fraction)), 1000)
+
+
+def _linking_collection(snapshot, light_obj, name):
+    """A receiver collection for ``light_obj`` (created, so the guard removes it), its old value remembered."""
+    linking = light_obj.light_linking
+    snapshot.remember(linking, "receiver_collection")
+    coll = bpy.data.collections.new(name)
+    linking.receiver_collection = coll
+    return coll
+
+
+def _exclude_from(coll, obj):
+    coll.objects.link(obj)
+    # collection_objects follows coll.objects' order and has no names: index lookup (FACTS.md).
+    i = list(coll.objects).index(obj)
+    coll.collection_objects[i].light_linking.link_state = "EXCLUDE"
+
+
+def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, weights, target=None,
+                  time_budget=None, fixed_samples=None, exclusions=None, offset=None, progress=None,
+                  cancelled=None, seed=0, max_samples=1 << 24):
+    """Rendered irradiance at the sensors, W/m^2 SI, each meter sampled to its own need.
+
+    ``exclusions``: per meter, a frozenset of light OBJECT names whose direct light is added
+    analytically (excluded from that meter's sensor); ``offset`` (N,): that analytic part's scalar
+    (CIE-Y weighted) irradiance, W/m^2, so the target applies to the whole reading. Returns a dict:
+    mean_rgb (N, 3) and se_rgb (N, 3) of the rendered part, se (N,) scalar, samples (N,),
+    rounds, stopped, reached, seconds, record (render settings).
+    """
+    n = len(points_scene)
+    scale = scene.unit_settings.scale_length
+    exclusions = exclusions or [frozenset()] * n
+    offset = np.zeros(n) if offset is None else np.asarray(offset, float)
+    groups = {}
+    for k, ex in enumerate(exclusions):
+        groups.setdefault(frozenset(ex), []).append(k)
+    group_keys = list(groups)
+    group_of = np.empty(n, int)
+    for g, key in enumerate(group_keys):
+        group_of[groups[key]] = g
+    started = time.perf_counter()
+    state = {"seed": int(seed), "bakes": 0, "bake_seconds": 0.0}
+    texels = allocation.BLOCK_TEXELS
+    weights = np.asarray(weights, float)
+
+    with scene_guard.preserved_scene(scene) as snapshot:
+        record = render_settings.apply(scene, samples=allocation.PILOT_SPP, bounces=bounces, needs=needs)
+        # One receiver collection per excluded light, filled each round with its groups' sensors.
+        light_objects = {name for key in group_keys for name in key}
+        linking = {}
+        for name in sorted(light_objects):
+            obj = bpy.data.objects.get(name)
+            if obj is None or obj.type != "LIGHT":
+                raise RadiometerError(f"light {name!r} vanished during the measurement")
+            linking[name] = _linking_collection(snapshot, obj, f"radiometer_exclude {name}")
+        previous = []
+
+        def bake(spp, blocks):
+            if cancelled is not None and cancelled():
+                raise MeasurementCancelled("measurement cancelled; the scene was restored")
+            for obj, image in previous:  # last round's sensors: free them now, not at the end
+                mesh, materials = obj.data, list(obj.data.materials)
+                bpy.data.objects.remove(obj, do_unlink=True)
+                bpy.data.meshes.remove(mesh)
+                for mat in materials:
+                    bpy.data.materials.remove(mat)
+                bpy.data.images.remove(image)
+            if previous:
+                view_layer.update()  # drop the removed objects' bases before touching selection
+            previous.clear()
+            built = []
+            for g, key in enumerate(group_keys):
+                meters = np.flatnonzero((group_of == g) & (blocks > 0))
+                if not meters.size:
+                    continue
+                meter_of_block = np.repeat(meters, blocks[meters])
+                obj, image, per_row = sensors.build_sensor(scene, points_scene[meter_of_block],
+                                                           normals[meter_of_block], texels)
+                for name in key:
+                    _exclude_from(linking[name], obj)
+                built.append((obj, image, per_row, meter_of_block))
+                previous.append((obj, image))
+            scene.cycles.seed = state["seed"]
+            scene.cycles.samples = int(spp)
+            state["seed"] += 1
+            sensors.select_only(view_layer, [b[0] for b in built])
+            t0 = time.perf_counter()
+            result = sensors.run_bake(scene, view_layer, [b[0] for b in built])
+            state["bake_seconds"] += time.perf_counter() - t0
+            state["bakes"] += 1
+            if result != {"FINISHED"}:
+                raise RadiometerError(f"the Cycles bake did not finish ({', '.join(sorted(result))}); "
+                                      "the scene was restored")
+            idx, rgb = [], []
+            for obj, image, per_row, meter_of_block in built:
+                values = sensors.read_blocks(image, per_row, texels, len(meter_of_block))  # (B, t*t, 3)
+                idx.append(np.repeat(meter_of_block, texels * texels))
+                rgb.append(values.reshape(-1, 3))
+            idx = np.concatenate(idx)
+            rgb = np.concatenate(rgb) / scale ** 2  # Cycles renders per scene unit^2: to SI
+            return idx, rgb @ weights, rgb
+
+        def report(fraction, seconds_left):
+            _call_progress(progress, fraction, seconds_left)
+
+        result = allocation.allocate(bake, n, target=target, time_budget=time_budget, fixed_samples=fixed_samples,
+                                     offset=offset, max_samples=max_samples, progress=report)
+    tally = result.tally
+    record = dict(record, samples=None, rounds=result.rounds, bakes=state["bakes"])
+    return {
+        "mean_rgb": tally.mean_rgb, "se_rgb": tally.std_error_rgb, "se": tally.std_error,
+        "samples": result.samples, "rounds": result.rounds, "stopped": result.stopped, "reached": result.reached,
+        "seconds": time.perf_counter() - started, "bake_seconds": state["bake_seconds"], "record": record,
+        "round_log": tally.rounds, "groups": len(group_keys),
+    }
