@@ -66,12 +66,14 @@ def capture_model(scene, view_layer=None, exclude=()):
     return scene_capture.capture(scene, view_layer, exclude=exclude)
 
 
-def plan(scene, model, points_m, normals, method):
+def plan(scene, model, points_m, normals, method, direct_only=False):
     """Decide how every reading is obtained and say why. Returns a dict (pure data inside).
 
     ``direct``: the per-light, per-point :class:`~radiometer.radiometry.scene_model.DirectPlan`;
     ``method``: "analytic" when every contribution at every point is a closed form (exact or with a
     bound) and no light can arrive by reflection, else "render" (``auto``), or as requested.
+    ``direct_only``: only light straight from the sources is wanted (reflections do not count;
+    light from the world or emitting surfaces still needs a render).
     """
     from ..radiometry import lights as light_models, scene_model
 
@@ -81,14 +83,15 @@ def plan(scene, model, points_m, normals, method):
     if not emitting and not model.world_emits and not model.emissive_surfaces:
         raise RadiometerError("the scene has no light sources (no lights, a black world, no emitting surfaces)")
     direct = scene_model.plan_direct(model, points_m, normals, light_models.exactness)
+    unmodelled = (model.world_emits or bool(model.emissive_surfaces)) if direct_only else direct.indirect.any()
     analytic_ok = np.isin(direct.status, (scene_model.EXACT, scene_model.ZERO, scene_model.BOUNDED)).all() \
-        and not direct.indirect.any()
+        and not unmodelled
     reasons = []
     if model.world_emits:
         reasons.append("the world emits light")
     if model.emissive_surfaces:
         reasons.append("surfaces emit light")
-    if direct.indirect.any():
+    if direct.indirect.any() and not direct_only:
         k = int(np.argmax(direct.indirect))
         reasons.append(str(direct.indirect_reason[k]))
     for i, light in enumerate(model.lights):
@@ -105,8 +108,10 @@ def plan(scene, model, points_m, normals, method):
             f"light {uncovered[0][0]!r} {uncovered[0][1]}: no closed form covers it; use method='render'")
     else:
         chosen = method
+    exact = np.all(np.isin(direct.status, (scene_model.EXACT, scene_model.ZERO)), axis=0) if direct_only \
+        else direct.exact_points()
     return {"method": chosen, "needs": model.needs, "model": model, "direct": direct, "uncovered": uncovered,
-            "reasons": reasons, "analytic_exact": bool(analytic_ok and direct.exact_points().all())}
+            "reasons": reasons, "analytic_exact": bool(analytic_ok and exact.all()), "exact_points": exact}
 
 
 # --- analytic ---------------------------------------------------------------------------------------
@@ -198,9 +203,8 @@ def sensor_points(points_scene, normals, scale, model=None):
         g = model.geometry
         near = np.zeros(len(points_scene), bool)
         if g.count:
-            lo, hi = g.tri_min / scale, g.tri_max / scale
             for k, p in enumerate(points_scene):
-                near[k] = visibility.aabb_overlap(lo, hi, p, p, 8 * eps[k]).any()
+                near[k] = g.grid.query(p * scale, p * scale, 8 * eps[k] * scale).size > 0
         eps = np.where(near, eps, 0.0)
     return points_scene + normals * eps[:, None], eps
 
@@ -284,8 +288,12 @@ def _budget_mode(preset, target_rel_error, samples, time_budget_s):
 
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
-                        exclude=(), seed=0):
-    """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``."""
+                        exclude=(), seed=0, direct_only=False):
+    """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``.
+
+    ``direct_only``: light straight from the sources only (closed forms where proven, else Cycles
+    with 0 bounces): what the scene's surfaces reflect is left out, their shadows are kept.
+    """
     from . import adaptive
 
     scene = scene or bpy.context.scene
@@ -299,9 +307,12 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     model = capture_model(scene, view_layer, exclude=exclude)
     sensors_scene, eps = sensor_points(points_scene, normals, scale, model)
     sensors_m, eps_m = sensors_scene * scale, eps * scale
-    decision = plan(scene, model, sensors_m, normals, method)
+    decision = plan(scene, model, sensors_m, normals, method, direct_only=direct_only)
     space, weights, efficacy = scene_photometry(scene)
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"]
+    if direct_only:
+        notes.append("direct light only (requested): light reflected by surfaces is NOT included (rendered "
+                     "parts use 0 bounces); shadows are")
     notes += [note for light in model.lights for note in light.notes]
     notes += placement_notes(model, sensors_m, normals, eps_m)
     n = len(points_scene)
@@ -313,14 +324,14 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
         mean_rgb = per_light.sum(axis=0)
         bound_rgb = bounds.sum(axis=0)
         se_rgb = np.zeros_like(mean_rgb)
-        exact_points = direct.exact_points()
+        exact_points = decision["exact_points"]
         notes.append("analytic direct light: " + "; ".join(f"{lt.name}: {m} ({n_})" for lt, (_e, m, n_) in
                                                             zip(model.lights, info)))
         if decision["analytic_exact"]:
             notes.append("exact: every contribution is a closed form and nothing can reflect or block it")
         else:
             notes.append("NOT exact for this scene: " + ", ".join(decision["reasons"] or ["quadrature"]))
-            if direct.indirect.any():
+            if direct.indirect.any() and not direct_only:
                 notes.append("direct light only: light reflected by surfaces or from the world is NOT included")
         for k in range(n):
             parts[k]["analytic"] = [lt.name for lt in model.lights]
@@ -344,7 +355,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
             parts[k]["analytic"] = [lt.name for lt in model.lights if (lt.source or lt.name) in split[k]]
             parts[k]["rendered"] = ["everything else (reflected light, other lights, world, emitting surfaces)"]
         run = adaptive.render_hybrid(scene, view_layer, sensors_scene, normals, needs=model.needs,
-                                     bounces=preset["bounces"], weights=weights, target=target, time_budget=budget,
+                                     bounces=0 if direct_only else preset["bounces"], weights=weights, target=target, time_budget=budget,
                                      fixed_samples=fixed, exclusions=split, offset=offset_rgb @ weights,
                                      progress=progress, cancelled=cancelled, seed=seed)
         mean_rgb = run["mean_rgb"] + offset_rgb

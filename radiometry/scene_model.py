@@ -63,6 +63,31 @@ class SceneGeometry:
         self.object_index = np.asarray(self.object_index, int)
         self.tri_min = self.triangles.min(axis=1) if len(self.triangles) else np.zeros((0, 3))
         self.tri_max = self.triangles.max(axis=1) if len(self.triangles) else np.zeros((0, 3))
+        self._grid = None
+        self._objects = None
+
+    @property
+    def grid(self):
+        """Uniform-grid index of the triangles (built on first use)."""
+        if self._grid is None:
+            self._grid = visibility.TriangleGrid(self.tri_min, self.tri_max)
+        return self._grid
+
+    def object_vertices(self):
+        """Per object: (vertices (V, 3), bounding-box corners (8, 3)), largest object first."""
+        if self._objects is None:
+            out = []
+            for k in range(len(self.object_names)):
+                mask = self.object_index == k
+                verts = self.triangles[mask].reshape(-1, 3)
+                if not len(verts):
+                    continue
+                lo, hi = verts.min(axis=0), verts.max(axis=0)
+                corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+                emitting = self.triangles[mask & self.emissive] if len(self.emissive) else np.zeros((0, 3, 3))
+                out.append((k, np.unique(verts, axis=0), corners, emitting))
+            self._objects = sorted(out, key=lambda item: -len(item[1]))
+        return self._objects
 
     @property
     def count(self):
@@ -152,70 +177,101 @@ def source_outline(spec, sides=ROUND_SIDES):
     return centre + corners[:, :1] * eu + corners[:, 1:] * ev
 
 
-def _source_region(spec, p, scene_reach):
-    """('segment', end) or ('polytope', polytope, box_min, box_max) holding every segment from p to
-    the light; None when no such region exists (receiver inside a spherical light)."""
+def _source_bases(spec, points, scene_reach):
+    """Per receiver: ('segment', ends (N, 3)) or ('polytope', bases (N, K, 3)) such that the pyramid
+    from the receiver over its base (or the segment to its end) holds every segment from the
+    receiver to the light; ``inside`` (N,) marks receivers with no such region (inside a
+    spherical light)."""
+    n = len(points)
+    inside = np.zeros(n, bool)
     if spec.kind == "SUN":
         to_sun = spec.axes[:, 2]
-        far = p + to_sun * scene_reach
+        far = points + to_sun * scene_reach
         half = 0.5 * spec.angle
         if half == 0.0:
-            return ("segment", far)
-        base = visibility.circumscribed_polygon(far, to_sun, scene_reach * np.tan(min(half, 1.5)), ROUND_SIDES)
-    elif spec.kind == "AREA":
-        base = source_outline(spec, sides=ROUND_SIDES)
-    elif spec.radius == 0.0:
-        return ("segment", np.asarray(spec.position, float))
-    else:
-        axis = spec.position - p
-        d = np.linalg.norm(axis)
-        r = spec.radius
-        if d <= r * (1 + 1e-9):
-            return None
+            return "segment", far, inside
+        ring = visibility.circumscribed_polygon(np.zeros(3), to_sun, scene_reach * np.tan(min(half, 1.5)), ROUND_SIDES)
+        return "polytope", far[:, None, :] + ring[None, :, :], inside
+    if spec.kind == "AREA":
+        outline = source_outline(spec, sides=ROUND_SIDES)
+        return "polytope", np.broadcast_to(outline, (n,) + outline.shape), inside
+    if spec.radius == 0.0:
+        return "segment", np.broadcast_to(np.asarray(spec.position, float), (n, 3)), inside
+    axis = spec.position - points
+    d = np.linalg.norm(axis, axis=1)
+    r = spec.radius
+    inside = d <= r * (1 + 1e-9)
+    bases = np.zeros((n, ROUND_SIDES, 3))
+    for k in np.flatnonzero(~inside):
         # The cone from p tangent to the sphere, cut by the plane touching the sphere's far side,
         # holds the sphere and so every segment from p to it.
-        tan_a = r / np.sqrt(d * d - r * r)
-        base = visibility.circumscribed_polygon(p + axis / d * (d + r), axis, (d + r) * tan_a, ROUND_SIDES)
-    poly = visibility.pyramid(p, base)
-    return ("polytope", poly, poly[0].min(axis=0), poly[0].max(axis=0))
+        tan_a = r / np.sqrt(d[k] ** 2 - r * r)
+        bases[k] = visibility.circumscribed_polygon(points[k] + axis[k] / d[k] * (d[k] + r), axis[k],
+                                                    (d[k] + r) * tan_a, ROUND_SIDES)
+    return "polytope", bases, inside
 
 
-def occlusion_status(spec, p, n, geometry, tol, scene_reach):
-    """(status, blocker object name or None) of the light as seen from receiver p with normal n.
+def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach):
+    """(status (N,), blocker object name or None (N,)) of the light as seen from every receiver.
 
-    Triangles entirely below the receiver's horizon are ignored (they cannot cut light arriving
-    from above it), as are objects that cast no shadow.
+    Triangles entirely below a receiver's horizon are ignored (they cannot cut light arriving
+    from above it), as are objects that cast no shadow. Candidates come from the triangle grid;
+    the exact tests run on all (receiver, triangle) pairs at once.
     """
-    if not geometry.count:
-        return visibility.CLEAR, None
-    region = _source_region(spec, p, scene_reach)
-    if region is None:
-        return visibility.PARTIAL, None
-    if region[0] == "segment":
-        box_min, box_max = np.minimum(p, region[1]), np.maximum(p, region[1])
-    else:
-        box_min, box_max = region[2], region[3]
-    cand = geometry.shadow_triangles() & visibility.aabb_overlap(geometry.tri_min, geometry.tri_max,
-                                                                 box_min, box_max, tol)
-    idx = np.flatnonzero(cand)
-    if idx.size:
-        idx = idx[~visibility.below_plane(geometry.triangles[idx], p, n, tol)]
-    if not idx.size:
-        return visibility.CLEAR, None
-    tris = geometry.triangles[idx]
-    if region[0] == "segment":
-        status, k = visibility.segment_status(p, region[1], tris, geometry.opaque[idx], tol)
-        name = geometry.object_names[geometry.object_index[idx[k]]] if k >= 0 else None
-        return status, name
-    meets = visibility.triangles_meet_polytope(tris, region[1], tol)
-    if not meets.any():
-        return visibility.CLEAR, None
-    first = idx[np.flatnonzero(meets)[0]]
-    return visibility.PARTIAL, geometry.object_names[geometry.object_index[first]]
+    points = np.asarray(points, float)
+    normals = np.asarray(normals, float)
+    n = len(points)
+    status = np.full(n, visibility.CLEAR, dtype=object)
+    blocker = np.full(n, None, dtype=object)
+    if not geometry.count or not n:
+        return status, blocker
+    kind, ends, inside = _source_bases(spec, points, scene_reach)
+    status[inside] = visibility.PARTIAL
+    shadow = geometry.shadow_triangles()
+    pair_point, pair_tri = [], []
+    for k in np.flatnonzero(~inside):
+        p = points[k]
+        if kind == "segment":
+            box_min, box_max = np.minimum(p, ends[k]), np.maximum(p, ends[k])
+        else:
+            box_min = np.minimum(p, ends[k].min(axis=0))
+            box_max = np.maximum(p, ends[k].max(axis=0))
+        idx = geometry.grid.query(box_min, box_max, tol)
+        if idx.size:
+            idx = idx[shadow[idx]]
+        if idx.size:
+            idx = idx[~visibility.below_plane(geometry.triangles[idx], p, normals[k], tol)]
+        if idx.size:
+            pair_point.append(np.full(idx.size, k))
+            pair_tri.append(idx)
+    if not pair_point:
+        return status, blocker
+    pk, pt = np.concatenate(pair_point), np.concatenate(pair_tri)
+    tris = geometry.triangles[pt]
+    names = geometry.object_names
+    if kind == "polytope":
+        verts, face_normals, edges = visibility.pyramids(points[pk], ends[pk])
+        meets = visibility.triangles_meet_polytopes(tris, verts, face_normals, edges, tol)
+        for k in np.unique(pk[meets]):
+            status[k] = visibility.PARTIAL
+            blocker[k] = names[geometry.object_index[pt[meets & (pk == k)][0]]]
+        return status, blocker
+    for k in np.unique(pk):
+        sel = pk == k
+        state, j = visibility.segment_status(points[k], ends[k], tris[sel], geometry.opaque[pt[sel]], tol)
+        status[k] = state
+        blocker[k] = names[geometry.object_index[pt[sel][j]]] if j >= 0 else None
+    return status, blocker
 
 
 def indirect_possible(model, p, n, tol):
-    """(bool, reason): can light reach p (normal n) other than straight from a light?"""
+    """(bool, reason): can light reach p (normal n) other than straight from a light?
+
+    Exactly when some render-visible surface that reflects or emits lies (partly) above the
+    receiver's horizon plane, the world emits, or geometry could not be triangulated. Objects are
+    tested largest first, by their bounding boxes and then their vertices, and the first one
+    above ends the search.
+    """
     if model.world_emits:
         return True, "the world emits light"
     g = model.geometry
@@ -223,13 +279,14 @@ def indirect_possible(model, p, n, tol):
         return True, f"geometry without triangles ({', '.join(g.unmodelled[:3])})"
     if not g.count:
         return False, ""
-    above = ~visibility.below_plane(g.triangles, p, n, tol)
-    reflecting = above & g.reflecting_triangles()
-    if np.any(reflecting & g.emissive):
-        return True, "an emitting surface is above the meter's horizon"
-    if reflecting.any():
-        name = g.object_names[g.object_index[np.flatnonzero(reflecting)[0]]]
-        return True, f"surfaces above the meter's horizon reflect light (e.g. {name!r})"
+    reflects = np.asarray(g.reflects, bool)
+    for k, verts, corners, emitting in g.object_vertices():
+        if not reflects[k] or np.all((corners - p) @ n <= tol):
+            continue
+        if np.any(verts @ n > p @ n + tol):
+            if len(emitting) and np.any(~visibility.below_plane(emitting, p, n, tol)):
+                return True, "an emitting surface is above the meter's horizon"
+            return True, f"surfaces above the meter's horizon reflect light (e.g. {g.object_names[k]!r})"
     return False, ""
 
 
@@ -269,11 +326,12 @@ def plan_direct(model, points, normals, exact_model):
             status[i], reason[i] = RENDER, "sheared area light: Cycles' MIS makes its answer its own; rendered"
             continue
         closed = EXACT if exact else BOUNDED
+        if not light.casts_shadow:
+            status[i], reason[i] = closed, f"{model_name}; casts no shadow (use_shadow off)"
+            continue
+        states, blockers = occlusion_statuses(light.spec, points, normals, model.geometry, tol, reach)
         for k in range(n_pts):
-            if not light.casts_shadow:
-                status[i, k], reason[i, k] = closed, f"{model_name}; casts no shadow (use_shadow off)"
-                continue
-            state, blocker = occlusion_status(light.spec, points[k], normals[k], model.geometry, tol, reach)
+            state, blocker = states[k], blockers[k]
             if state == visibility.CLEAR:
                 status[i, k], reason[i, k] = closed, f"{model_name}; proved unoccluded"
             elif state == visibility.BLOCKED:
@@ -295,7 +353,7 @@ def surface_under(geometry, p, n, within):
     """(object name, distance m) of the surface straight below ``p`` against ``n``, if within ``within`` m."""
     if not geometry.count:
         return None, None
-    near = np.flatnonzero(visibility.aabb_overlap(geometry.tri_min, geometry.tri_max, p, p, within))
+    near = geometry.grid.query(p, p, within)
     if not near.size:
         return None, None
     dist, index, _facing = visibility.first_hits(p + n * within, -np.asarray(n, float)[None, :],

@@ -30,6 +30,61 @@ def aabb_overlap(tri_min, tri_max, box_min, box_max, pad):
     return np.all(tri_max >= np.asarray(box_min) - pad, axis=1) & np.all(tri_min <= np.asarray(box_max) + pad, axis=1)
 
 
+class TriangleGrid:
+    """Uniform grid over triangle bounding boxes, for culling by box: ``query(box_min, box_max, pad)``
+    returns the indices of every triangle whose box may meet the query box (a superset of
+    ``aabb_overlap``'s answer, which the caller then applies exactly)."""
+
+    def __init__(self, tri_min, tri_max, cells_per_axis=32):
+        self.tri_min, self.tri_max = np.asarray(tri_min, float), np.asarray(tri_max, float)
+        t = len(self.tri_min)
+        self.lo = self.tri_min.min(axis=0) if t else np.zeros(3)
+        hi = self.tri_max.max(axis=0) if t else np.ones(3)
+        extent = np.maximum(hi - self.lo, 1e-12)
+        side = max(extent.max() / cells_per_axis, 1e-12)
+        self.dims = np.maximum(np.ceil(extent / side).astype(int), 1)
+        self.side = side
+        if not t:
+            self.start, self.items = np.zeros(int(np.prod(self.dims)) + 1, int), np.zeros(0, int)
+            return
+        i0, i1 = self._cell(self.tri_min), self._cell(self.tri_max)
+        span = i1 - i0 + 1
+        count = np.prod(span, axis=1)
+        owner = np.repeat(np.arange(t), count)
+        # Offsets of each entry inside its triangle's cell box, unravelled per axis.
+        local = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+        sx, sy = span[owner, 0], span[owner, 1]
+        cx = i0[owner, 0] + local % sx
+        cy = i0[owner, 1] + (local // sx) % sy
+        cz = i0[owner, 2] + local // (sx * sy)
+        cell = (cz * self.dims[1] + cy) * self.dims[0] + cx
+        order = np.argsort(cell, kind="stable")
+        self.items = owner[order]
+        self.start = np.searchsorted(cell[order], np.arange(int(np.prod(self.dims)) + 1))
+
+    def _cell(self, x):
+        return np.clip(np.floor((x - self.lo) / self.side).astype(int), 0, self.dims - 1)
+
+    def query(self, box_min, box_max, pad):
+        """Indices (sorted, unique) of triangles whose boxes meet [box_min, box_max] grown by ``pad``."""
+        if not len(self.items):
+            return np.zeros(0, int)
+        box_min, box_max = np.asarray(box_min, float) - pad, np.asarray(box_max, float) + pad
+        if np.any(box_max < self.lo) or np.any(box_min > self.lo + self.dims * self.side):
+            return np.zeros(0, int)
+        a, b = self._cell(box_min), self._cell(box_max)
+        xs, ys, zs = (np.arange(a[k], b[k] + 1) for k in range(3))
+        cells = ((zs[:, None, None] * self.dims[1] + ys[None, :, None]) * self.dims[0] + xs[None, None, :]).ravel()
+        lo, hi = self.start[cells], self.start[cells + 1]
+        total = int((hi - lo).sum())
+        if total == 0:
+            return np.zeros(0, int)
+        runs = np.repeat(lo - np.cumsum(np.r_[0, (hi - lo)[:-1]]), hi - lo) + np.arange(total)
+        cand = np.unique(self.items[runs])
+        keep = aabb_overlap(self.tri_min[cand], self.tri_max[cand], box_min, box_max, 0.0)
+        return cand[keep]
+
+
 def below_plane(triangles, point, normal, tol):
     """(T,) bool: triangles with every vertex at or below the plane through ``point`` (within ``tol``).
 
@@ -85,26 +140,59 @@ def triangles_meet_polytope(triangles, polytope, tol, chunk=2048):
     cross product vanishes are skipped, so every doubt reads as "may meet".
     """
     tris = np.asarray(triangles, float)
-    verts, face_normals, poly_edges = polytope
+    verts, face_normals, poly_edges = (np.asarray(a, float) for a in polytope)
+    shape = (len(tris),)
+    return triangles_meet_polytopes(tris, np.broadcast_to(verts, shape + verts.shape),
+                                    np.broadcast_to(face_normals, shape + face_normals.shape),
+                                    np.broadcast_to(poly_edges, shape + poly_edges.shape), tol, chunk)
+
+
+def triangles_meet_polytopes(triangles, verts, face_normals, poly_edges, tol, chunk=4096):
+    """Pairwise form of :func:`triangles_meet_polytope`: triangle i against polytope i, all (T, ...).
+
+    Two stages: the polytope's face planes and the triangle's plane separate most pairs cheaply;
+    only the rest are tried against the edge-pair axes.
+    """
+    tris = np.asarray(triangles, float)
     out = np.ones(len(tris), dtype=bool)
-    face_axes, _ = _unit_rows(face_normals)
-    for start in range(0, len(tris), chunk):
-        t = tris[start:start + chunk]                                     # (C, 3, 3)
-        e = np.roll(t, -1, axis=1) - t                                      # (C, 3, 3) triangle edges
-        tn, tn_ok = _unit_rows(np.cross(e[:, 0], e[:, 1]))                  # (C, 3)
-        cross = np.cross(e[:, :, None, :], poly_edges[None, None, :, :])    # (C, 3, E, 3)
-        cross = cross.reshape(len(t), -1, 3)
-        cross_u, cross_ok = _unit_rows(cross)
-        axes = np.concatenate([np.broadcast_to(face_axes, (len(t),) + face_axes.shape), tn[:, None, :], cross_u],
-                              axis=1)                                       # (C, A, 3)
-        valid = np.concatenate([np.ones((len(t), len(face_axes)), bool), tn_ok[:, None], cross_ok], axis=1)
-        p_poly = np.einsum("cak,mk->cam", axes, verts)
+
+    def separated_on(axes, valid, t, pv):
+        p_poly = np.einsum("cak,cmk->cam", axes, pv)
         p_tri = np.einsum("cak,cvk->cav", axes, t)
         gap_hi = p_tri.min(axis=2) - p_poly.max(axis=2)
         gap_lo = p_poly.min(axis=2) - p_tri.max(axis=2)
-        separated = valid & ((gap_hi > tol) | (gap_lo > tol))
-        out[start:start + chunk] = ~np.any(separated, axis=1)
+        return np.any(valid & ((gap_hi > tol) | (gap_lo > tol)), axis=1)
+
+    for start in range(0, len(tris), chunk):
+        sl = slice(start, start + chunk)
+        t, pv, pe = tris[sl], verts[sl], poly_edges[sl]
+        face_axes, face_ok = _unit_rows(face_normals[sl])                  # (C, F, 3)
+        e = np.roll(t, -1, axis=1) - t                                      # (C, 3, 3) triangle edges
+        tn, tn_ok = _unit_rows(np.cross(e[:, 0], e[:, 1]))                  # (C, 3)
+        sep = separated_on(np.concatenate([face_axes, tn[:, None, :]], axis=1),
+                           np.concatenate([face_ok, tn_ok[:, None]], axis=1), t, pv)
+        rest = np.flatnonzero(~sep)
+        if rest.size:
+            cross = np.cross(e[rest][:, :, None, :], pe[rest][:, None, :, :]).reshape(rest.size, -1, 3)
+            cross_u, cross_ok = _unit_rows(cross)
+            sep[rest] = separated_on(cross_u, cross_ok, t[rest], pv[rest])
+        out[sl] = ~sep
     return out
+
+
+def pyramids(apexes, bases):
+    """Batched :func:`pyramid`: apexes (P, 3), bases (P, K, 3) -> vertices, face normals, edges."""
+    apexes = np.asarray(apexes, float)
+    bases = np.asarray(bases, float)
+    nxt = np.roll(bases, -1, axis=1)
+    base_edges = nxt - bases
+    lateral = bases - apexes[:, None, :]
+    base_normal = np.cross(base_edges[:, 0], bases[:, 2] - bases[:, 1])
+    side_normals = np.cross(lateral, np.roll(lateral, -1, axis=1))
+    normals = np.concatenate([base_normal[:, None, :], side_normals], axis=1)
+    edges = np.concatenate([base_edges, lateral], axis=1)
+    vertices = np.concatenate([apexes[:, None, :], bases], axis=1)
+    return vertices, normals, edges
 
 
 def segment_status(origin, target, triangles, opaque, tol):

@@ -148,3 +148,16 @@ def test_segment_through_the_diagonal_of_a_split_quad_is_blocked():
     crease = quad.copy()
     crease[1, 2] = [-1, 1, 1.5]
     assert visibility.segment_status([0, 0, 0], [0, 0, 2], crease, np.array([True, True]), TOL)[0] == visibility.PARTIAL
+
+
+def test_triangle_grid_finds_exactly_the_overlapping_boxes():
+    rng = np.random.default_rng(5)
+    centres = rng.uniform(-10, 10, (5000, 1, 3))
+    tris = centres + rng.normal(0, 0.3, (5000, 3, 3)) * rng.uniform(0.1, 20, (5000, 1, 1))
+    lo, hi = tris.min(axis=1), tris.max(axis=1)
+    grid = visibility.TriangleGrid(lo, hi)
+    for _ in range(50):
+        a = rng.uniform(-12, 12, 3)
+        b = a + rng.uniform(0, 6, 3)
+        want = np.flatnonzero(visibility.aabb_overlap(lo, hi, a, b, 1e-6))
+        assert np.array_equal(grid.query(a, b, 1e-6), want)
