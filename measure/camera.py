@@ -19,7 +19,7 @@ import numpy as np
 from .. import envmap
 from .. import quality as quality_presets
 from ..errors import MeasurementCancelled, RadiometerError
-from ..radiometry import stats
+from ..radiometry import allocation, stats
 from ..readings import LuminanceReading
 from . import exr, meter, render_settings, scene_guard
 
@@ -111,17 +111,24 @@ def _render_exr(scene, folder, name, width, height):
     return exr.read_rgb(path + ".exr")
 
 
+#: Independent renders per round of a luminance reading (batch means need a few).
+RENDERS_PER_ROUND = 4
+
+
 def _prepare(scene, preset, snapshot):
     # Blender hides lights from camera rays by default (visible_camera False). A luminance meter
     # or a radiance probe must see the light sources' surfaces, so they are shown for the render
-    # and restored afterwards by the snapshot.
-    for obj in scene.objects:
-        if obj.type == "LIGHT" and not obj.visible_camera:
+    # and restored afterwards by the snapshot: every light OBJECT that renders, including those
+    # only seen through collection instances or geometry nodes (their source objects).
+    from . import meter
+
+    model = meter.capture_model(scene)
+    for name in sorted({light.source or light.name for light in model.lights}):
+        obj = bpy.data.objects.get(name)
+        if obj is not None and obj.type == "LIGHT" and not obj.visible_camera:
             snapshot.remember(obj, "visible_camera")
             obj.visible_camera = True
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    needs = render_settings.scene_needs(scene, depsgraph)
-    return render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs,
+    return render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=model.needs,
                                  snapshot=snapshot)
 
 
@@ -149,50 +156,56 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     unit_area = scene.unit_settings.scale_length ** 2  # Cycles renders per scene-unit^2
     folder = _scratch_folder()
     started = time.perf_counter()
-    renders = max(4, preset["bakes"] * 4)
-    # A camera pixel averages many paths already: a quarter of the sensor budget per render.
-    samples_each = max(1, preset["samples"] * preset["texels"] ** 2 // 16)
-    estimates = []
+    target = float(target_rel_error) if target_rel_error is not None else float(preset["target"])
+    # Rounds of RENDERS_PER_ROUND independent renders (new seeds) at one spp each; the spp grows
+    # from round to round as the error estimate asks (capped at 1024: float32 accumulation), and
+    # rounds combine weighted by their samples, each with its own batch-means variance
+    # (radiometry.allocation.MeterTally: Cycles' QMC converges faster than 1/N, so per-sample
+    # variances are not pooled across spp).
+    tally = allocation.MeterTally(1)
+    spp, k, record = 64, 0, None
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
-            record = _prepare(scene, dict(preset, samples=samples_each), snapshot)
+            record = _prepare(scene, dict(preset, samples=spp), snapshot)
             cam = _temp_camera(scene, points[0], rotation_quat=Vector(d).to_track_quat("-Z", "Y"))
             cam.data.type = "PERSP"
             cam.data.sensor_fit = "HORIZONTAL"
             cam.data.angle = 2 * half
-            k = 0
             while True:
-                if cancelled is not None and cancelled():
-                    raise MeasurementCancelled("measurement cancelled; the scene was restored")
-                scene.cycles.seed = k
-                img = _render_exr(scene, folder, f"lum{k}", resolution, resolution) / unit_area
-                estimates.append(np.einsum("hw,hwc->c", w, img))
-                k += 1
-                if progress is not None:
-                    progress(k, renders)
-                if k < renders:
-                    continue
-                if target_rel_error is None or k >= max_renders:
+                batch = []
+                for _ in range(RENDERS_PER_ROUND):
+                    if cancelled is not None and cancelled():
+                        raise MeasurementCancelled("measurement cancelled; the scene was restored")
+                    scene.cycles.seed = k
+                    scene.cycles.samples = spp
+                    img = _render_exr(scene, folder, f"lum{k}", resolution, resolution) / unit_area
+                    batch.append(np.einsum("hw,hwc->c", w, img))
+                    k += 1
+                    if progress is not None:
+                        progress(min(k, max_renders), max_renders)
+                batch = np.array(batch)
+                tally.add(np.zeros(len(batch), int), spp, batch @ weights, batch)
+                rel = float(tally.rel_std_error()[0])
+                if rel <= target or k >= max_renders:
                     break
-                y_est = np.array(estimates) @ weights
-                if stats.t_half_width_95(y_est) <= target_rel_error * abs(y_est.mean()):
-                    break
+                # Texel-variance model with the Monte Carlo rate (conservative for QMC).
+                spp = int(min(1024, max(spp, spp * (rel / target) ** 2 * 1.3)))
     finally:
         shutil.rmtree(folder, ignore_errors=True)
-    est = np.array(estimates)
-    mean = est.mean(axis=0)
-    y = est @ weights
-    radiance = float(mean @ weights)
-    se = float(stats.batch_mean(y)[1])
+    mean = tally.mean_rgb[0]
+    radiance = float(tally.mean[0])
+    se = float(tally.std_error[0])
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}",
              f"perspective camera, cone {acceptance_deg:g} deg full angle, cos^3 pixel weights, "
-             f"{len(y)} independent renders (batch means)",
+             f"{k} independent renders in {len(tally.rounds)} round(s) (batch means), target {100 * target:g} %",
              "delta lights (radius 0) are invisible to camera rays and cannot be seen by a luminance meter",
              "light objects are made visible to camera rays during the render (Blender hides them by default)"]
+    if se > target * abs(radiance):
+        notes.append(f"target {100 * target:g} % NOT reached in {max_renders} renders")
     return LuminanceReading(
         radiance_rgb=tuple(map(float, mean)), radiance=radiance, luminance=efficacy * radiance,
         rel_std_error=(se / abs(radiance)) if radiance else (0.0 if se == 0 else math.inf),
-        method="render", samples=int(samples_each * len(y)), seconds=time.perf_counter() - started,
+        method="render", samples=int(tally.n[0]), seconds=time.perf_counter() - started,
         efficacy=efficacy, colour_space=space, acceptance_deg=acceptance_deg, location=tuple(points[0]),
         direction=tuple(d), notes=notes, render_settings=record)
 
