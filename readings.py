@@ -64,6 +64,8 @@ class LuminanceReading:
     exact: bool = False
     notes: list = dataclasses.field(default_factory=list)
     render_settings: Optional[dict] = None
+    #: The 1-sigma relative standard error asked for.
+    target_rel_error: Optional[float] = None
     quantity: str = "luminance"
 
     def to_dict(self):

@@ -7,19 +7,24 @@ NEEDS_SCENE = True
 def add_arguments(parser):
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default=None,
                         help="quality preset (default: the scene's setting)")
-    parser.add_argument("--method", choices=("auto", "analytic", "render"), default=None,
+    parser.add_argument("--method", choices=("auto", "analytic", "hybrid", "render"), default=None,
                         help="measurement method (default: the scene's setting)")
+    parser.add_argument("--target", type=float, default=None, metavar="FRACTION",
+                        help="relative standard error (1 sigma) every reading must reach, e.g. 0.01 "
+                             "(default: the quality preset's target: preview 0.05, standard 0.01, reference 0.002)")
 
 
 def format_table(results):
-    lines = [f"{'meter':<22} {'reading':>14} {'unit':<6} {'± 1 s.e.':>9}  method"]
+    lines = [f"{'meter':<22} {'reading':>14} {'unit':<6} {'± 1 s.e.':>9} {'target':>7}  method"]
     for obj, r in results:
         if r.quantity == "luminance":
             value, unit = r.luminance, "cd/m²"
         else:
             value, unit = r.illuminance, "lx"
         err = "exact" if r.exact else f"{100 * r.rel_std_error:.2f} %"
-        lines.append(f"{obj.name:<22} {value:>14.6g} {unit:<6} {err:>9}  {r.method}")
+        target = getattr(r, "target_rel_error", None)
+        asked = f"{100 * target:g} %" if target else "-"
+        lines.append(f"{obj.name:<22} {value:>14.6g} {unit:<6} {err:>9} {asked:>7}  {r.method}")
     return "\n".join(lines)
 
 
@@ -31,6 +36,12 @@ def run(args):
     scene = bpy.context.scene
     if args.method:
         scene.radiometer.method = args.method
+    if args.target is not None:
+        from ..errors import RadiometerError
+
+        if not 0 < args.target < 0.5:
+            raise RadiometerError(f"--target must be a fraction in (0, 0.5), got {args.target}")
+        scene.radiometer.target_rel_error = args.target
     results = meters.measure_meters(scene=scene, quality=args.quality)
     print(format_table(results))
     return {"scene": scene.name, "file": bpy.data.filepath,

@@ -207,7 +207,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
         rel_std_error=(se / abs(radiance)) if radiance else (0.0 if se == 0 else math.inf),
         method="render", samples=int(tally.n[0]), seconds=time.perf_counter() - started,
         efficacy=efficacy, colour_space=space, acceptance_deg=acceptance_deg, location=tuple(points[0]),
-        direction=tuple(d), notes=notes, render_settings=record)
+        direction=tuple(d), notes=notes, render_settings=record, target_rel_error=target)
 
 
 def capture_radiance_map(location, path, *, resolution=128, scene=None, quality="standard"):

@@ -63,8 +63,8 @@ class RadiometerSceneSettings(bpy.types.PropertyGroup):
                             default=683.0, min=1.0, max=683.0)
     method: EnumProperty(name="Method", items=METHODS, default="auto")
     quality: EnumProperty(name="Quality", items=QUALITIES, default="standard")
-    target_rel_error: FloatProperty(name="Target Error", description="Keep sampling until the 95 % interval is "
-                                    "within this fraction (0 = use the quality preset as is)",
+    target_rel_error: FloatProperty(name="Target Error", description="Relative standard error (1 sigma) every "
+                                    "rendered reading must reach, e.g. 0.01 = 1 % (0 = the quality preset's target)",
                                     default=0.0, min=0.0, max=0.5, subtype="FACTOR")
     show_overlay: BoolProperty(name="Readings in Viewport", default=True)
     last_summary: StringProperty(name="Last Measurement")
