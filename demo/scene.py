@@ -16,7 +16,8 @@ DESK = {"centre": (0.4, -0.3), "size": (1.6, 0.8)}  # top at WORK_PLANE_HEIGHT
 WORK_PLANE_HEIGHT = 0.75
 
 
-def _diffuse(name, albedo):
+def diffuse_material(name, albedo):
+    """A Diffuse BSDF material of RGB ``albedo`` (also used by tests and benchmarks)."""
     mat = bpy.data.materials.new(name)
     tree = ensure_node_tree(mat)
     tree.nodes.clear()
@@ -60,7 +61,7 @@ def build(scene=None, *, with_meters=True):
     room = bpy.data.collections.new("Room")
     scene.collection.children.link(room)
     hx, hy, h = ROOM[0] / 2, ROOM[1] / 2, ROOM[2]
-    wall, wood = _diffuse("Wall (albedo 0.7)", (0.7, 0.7, 0.7)), _diffuse("Desk (albedo 0.3)", (0.35, 0.25, 0.18))
+    wall, wood = diffuse_material("Wall (albedo 0.7)", (0.7, 0.7, 0.7)), diffuse_material("Desk (albedo 0.3)", (0.35, 0.25, 0.18))
     _closed_box("Room", (0.0, 0.0, h / 2), (hx, hy, h / 2), wall, room)
     (dx, dy), (sx, sy) = DESK["centre"], DESK["size"]
     _closed_box("Desk", (dx, dy, WORK_PLANE_HEIGHT / 2), (sx / 2, sy / 2, WORK_PLANE_HEIGHT / 2), wood, room)

@@ -13,19 +13,8 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from radiometer import api  # noqa: E402
-from radiometer.compat import ensure_node_tree  # noqa: E402
+from radiometer.demo.scene import diffuse_material  # noqa: E402
 from radiometer.measure.scene_guard import scene_fingerprint  # noqa: E402
-
-
-def _diffuse(name, albedo):
-    mat = bpy.data.materials.new(name)
-    tree = ensure_node_tree(mat)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
-    tree.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
-    return mat
 
 
 def _box(name, centre, half, albedo):
@@ -33,7 +22,7 @@ def _box(name, centre, half, albedo):
     obj = bpy.context.object
     obj.name = name
     obj.scale = half
-    obj.data.materials.append(_diffuse(name, albedo))
+    obj.data.materials.append(diffuse_material(name, (albedo,) * 3))
     return obj
 
 
