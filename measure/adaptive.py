@@ -49,7 +49,7 @@ def _exclude_from(coll, obj):
 
 def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, weights, target=None,
                   time_budget=None, fixed_samples=None, exclusions=None, offset=None, progress=None,
-                  cancelled=None, seed=0, max_samples=1 << 24):
+                  cancelled=None, seed=0, max_samples=allocation.MAX_SAMPLES_PER_METER):
     """Rendered irradiance at the sensors, W/m^2 SI, each meter sampled to its own need.
 
     ``exclusions``: per meter, a frozenset of light OBJECT names whose direct light is added

@@ -240,6 +240,12 @@ def enclosure_notes(model, points_m, values):
     return notes
 
 
+def allocation_max_samples():
+    from ..radiometry import allocation
+
+    return allocation.MAX_SAMPLES_PER_METER
+
+
 def allocation_block_texels():
     from ..radiometry import allocation
 
@@ -376,7 +382,10 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
             notes.append(f"hybrid: direct light of {', '.join(repr(x) for x in names)} added from closed forms "
                          "where proven (excluded from the sensor by light linking); Cycles rendered the rest")
         if target is not None and not run["reached"]:
-            notes.append(f"target {100 * target:g} % NOT reached everywhere ({run['stopped']})")
+            missed = int(np.sum(np.nan_to_num(scalar_se) > target * np.abs(run["mean_rgb"] @ weights
+                                                                             + offset_rgb @ weights)))
+            notes.append(f"target {100 * target:g} % NOT reached at {missed} of {n} meter(s) ({run['stopped']}; "
+                         f"at most {allocation_max_samples():,} samples per meter)")
         if scale != 1.0:
             notes.append(f"unit scale {scale:g} m per unit: Cycles' scene-unit result divided by scale²")
     seconds = time.perf_counter() - started

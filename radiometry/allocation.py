@@ -37,6 +37,10 @@ MIN_BLOCKS = 2
 BLOCK_TEXELS = 4
 #: Growth of the common samples per texel from round to round.
 SPP_GROWTH = 4
+#: Most samples one meter may take in a target-driven measurement (about 4 M): a meter that reads
+#: almost nothing (a dark corner lit only by faint reflections) can need unbounded samples for a
+#: RELATIVE target; it stops here and its reading says the target was not reached.
+MAX_SAMPLES_PER_METER = 1 << 22
 
 
 @dataclass
@@ -131,7 +135,7 @@ class MeterTally:
         return v_last, s_last, alpha, ok
 
 
-def plan_round(tally, target, spp, offset=0.0, max_blocks=1 << 16, max_samples=1 << 24):
+def plan_round(tally, target, spp, offset=0.0, max_blocks=1 << 16, max_samples=MAX_SAMPLES_PER_METER):
     """Blocks per meter for a round at ``spp`` samples per texel so that the round alone brings each
     unconverged meter to ``target`` (1-sigma relative, on mean + offset), by the texel-variance model.
     Meters already at the target (with a margin for the noise of their own error estimate) get none.
@@ -171,7 +175,7 @@ class AllocationResult:
 
 
 def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, offset=0.0, max_rounds=8,
-             max_samples=1 << 24, progress=None, clock=None):
+             max_samples=MAX_SAMPLES_PER_METER, progress=None, clock=None):
     """Run rounds of ``bake`` until every meter meets ``target`` (1-sigma relative standard error),
     or spend about ``time_budget`` seconds lowering the worst error, or spend ``fixed_samples`` per
     meter.
