@@ -70,73 +70,111 @@ def measure_meters(objects=None, *, scene=None, quality=None, progress=None, can
 
 
 def check_inverse_square(light, *, scene=None, distances=None, method="auto", quality="standard",
-                         tolerance=0.01, target_rel_error=None, seed=0, plot=None):
+                         tolerance=0.01, target_rel_error=None, samples=None, time_budget_s=None, seed=0, plot=None):
     """Sweep a meter facing ``light`` (object or name) along its axis and compare E with I/d^2.
 
     ``distances`` in m from the light's centre (default: 0.6 to 60 source sizes, kept in front of
-    the first surface). The light is measured alone (other lights and the world switched off,
-    surfaces kept). Returns an ``InverseSquareResult``: ``exponent`` (+ ``exponent_se``) of the
-    far-field fit of log E vs log d, ``passed``, ``near_field_limit`` (m; 0 when the law holds at
-    every distance tried, inf when never reached), ``five_times``, ``causes`` and ``rows``
-    (distance m, measured W/m^2, predicted I/d^2 W/m^2, rel_deviation, rel_std_error, ...).
-    ``plot``: PNG path. A sun raises RadiometerError (no position).
+    the first surface). The light is measured alone (every other light, instanced ones too, and
+    the world switched off; surfaces kept) and split into its OWN direct light (closed forms where
+    the scene model proves them, else Cycles at 0 bounces) and what the scene adds (total −
+    direct: interreflection). The law is judged on the light's own direct light. Accuracy:
+    ``quality`` (target 1-sigma relative error per reading: "preview" 5 %, "standard" 1 %,
+    "reference" 0.2 %), ``target_rel_error`` (fraction, overrides it), ``samples`` (fixed per
+    meter) or ``time_budget_s`` (s per measurement). ``tolerance``: fraction.
+
+    Returns an ``InverseSquareResult``: ``passed`` (the light's own law), ``exponent`` (+
+    ``exponent_se``) of the far-field fit of log E_direct vs log d, ``near_field_limit`` (m; 0
+    when the law holds at every distance tried, inf when never reached), ``five_times``,
+    ``total_passed`` (the total follows the law too), ``max_scene_share`` (fraction),
+    ``broken_by`` ("", "light", "scene", "light and scene"), ``causes`` (each "light: ..." or
+    "scene: ...") and ``rows`` (distance m, measured W/m^2 (total), predicted I/d^2 W/m^2,
+    rel_deviation, rel_std_error, model W/m^2, model_deviation, ok, illuminance lx, direct W/m^2,
+    scene W/m^2, direct_deviation, scene_share, shadowed, direct_rel_std_error, total_ok;
+    deviations and shares as fractions). ``plot``: PNG path. A sun raises RadiometerError.
     """
     from .measure import analysis
 
     return analysis.check_inverse_square(light, scene=scene, distances=distances, method=method, quality=quality,
-                                         tolerance=tolerance, target_rel_error=target_rel_error, seed=seed, plot=plot)
+                                         tolerance=tolerance, target_rel_error=target_rel_error, samples=samples,
+                                         time_budget_s=time_budget_s, seed=seed, plot=plot)
 
 
 def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, method="auto", quality="standard",
-                     tolerance=0.01, target_rel_error=None, seed=0, plot=None):
+                     tolerance=0.01, target_rel_error=None, samples=None, time_budget_s=None, seed=0, plot=None):
     """Tilt a meter at ``location`` (scene coordinates; default 2 source sizes, at least 1 m, in front
-    of the light; the origin for a sun) from facing ``light`` to 89 deg; compare E(theta)/E(0) with
-    cos(theta). Returns a ``CosineResult``: ``max_rel_deviation``, ``passed``, ``onset_deg``,
-    ``horizon_onset_deg``, ``causes`` and ``rows`` (angle deg, measured W/m^2, predicted cos,
-    ratio, rel_deviation, ratio_rel_se, ...).
+    of the light but at most half-way to the first surface; the origin for a sun) from facing
+    ``light`` to 89 deg; compare the light's own direct E(theta)/E(0) with cos(theta), with the
+    total and the scene's share beside it. Accuracy keywords as in :func:`check_inverse_square`.
+
+    Returns a ``CosineResult``: ``passed``, ``max_rel_deviation`` (fraction, the light's own),
+    ``onset_deg``, ``horizon_onset_deg``, ``total_passed``, ``total_max_rel_deviation``,
+    ``max_scene_share``, ``broken_by``, ``causes`` and ``rows`` (angle deg, measured W/m^2,
+    predicted cos, ratio, rel_deviation, ratio_rel_se, model_ratio, ok, direct W/m^2,
+    direct_ratio, direct_deviation, scene W/m^2, scene_share, total_ok).
     """
     from .measure import analysis
 
     return analysis.check_cosine_law(light, scene=scene, location=location, angles_deg=angles_deg, method=method,
                                      quality=quality, tolerance=tolerance, target_rel_error=target_rel_error,
-                                     seed=seed, plot=plot)
+                                     samples=samples, time_budget_s=time_budget_s, seed=seed, plot=plot)
 
 
 def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, method="auto", quality="standard",
-                     target_rel_error=None, seed=0, png=None, csv=None):
+                     target_rel_error=None, samples=None, time_budget_s=None, seed=0, png=None, csv=None):
     """Illuminance on a grid over a plane object's local XY (its +Z side), in one measurement.
 
-    ``resolution=(nx, ny)`` or ``spacing`` (m); neither: EN 12464-1 p = 0.2 x 5^log10(d). Returns a
-    ``GridResult`` with ``lux`` (ny, nx), ``points`` (ny, nx, 3) scene coordinates, ``stats``
-    (avg, min, max in lux, u0 = min/avg). ``png``: isolux image; ``csv``: point table.
+    ``resolution=(nx, ny)`` or ``spacing`` (m); neither: EN 12464-1 p = 0.2 x 5^log10(d). Every
+    point gets the samples its own target needs: ``quality`` / ``target_rel_error`` (fraction) /
+    ``samples`` (per point) / ``time_budget_s`` (s, the whole grid) as in
+    :func:`measure_illuminance`. Returns a ``GridResult`` with ``lux`` (ny, nx), ``points``
+    (ny, nx, 3) scene coordinates, ``rel_std_error`` (ny, nx), ``max_rel_std_error``,
+    ``target_rel_error``, ``stats`` (avg, min, max in lux, u0 = min/avg). ``png``: isolux image;
+    ``csv``: point table.
     """
     from .measure import analysis
 
     return analysis.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,
-                                     quality=quality, target_rel_error=target_rel_error, seed=seed, png=png,
-                                     csv_path=csv)
+                                     quality=quality, target_rel_error=target_rel_error, samples=samples,
+                                     time_budget_s=time_budget_s, seed=seed, png=png, csv_path=csv)
 
 
 def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.0, 1.0), samples=(4, 16, 64, 256),
-                      target_error=0.01, replicas=8, reference_samples=None, seed=0, plot=None):
-    """Rendered error and time at increasing samples for a meter, a plane (4 x 4 grid) or a location.
+                      target_error=0.01, replicas=8, reference_samples=None, quality=None, target_rel_error=None,
+                      time_budget_s=None, targeted=True, seed=0, plot=None):
+    """Rendered error against samples AND wall time for a meter, a plane (4 x 4 grid) or a location.
 
-    Error against the analytic value when exact for the scene, else a high-sample render. Returns a
-    ``ConvergenceResult`` with ``rows`` (samples, seconds, rms_error, std_error), ``fit`` (slopes of
-    log error vs log samples and vs log seconds), ``samples_for_target`` and ``seconds_for_target``.
+    Fixed sample counts ``samples`` (per texel) give rows of samples per reading, seconds (one
+    reading of the target alone, scene sync included) and RMS relative error against the analytic
+    value when exact for the scene, else a high-sample render. ``target_error`` (fraction; set by
+    ``target_rel_error`` when given) is inverted through the fits. ``targeted``: also one reading
+    through the meter's error-targeted allocation (target ``target_rel_error``, else the
+    ``quality`` preset's, else ``target_error``; ``time_budget_s`` in s). Returns a
+    ``ConvergenceResult`` with ``rows``, ``fit`` (slope of log error vs log samples, time_slope vs
+    log seconds, t0_s, c_s_per_sample), ``time_slope``, ``samples_for_target``,
+    ``seconds_for_target`` (s, t0 + c N), ``seconds_for_target_by_time_fit`` (s) and ``targeted``
+    (samples, seconds, rel_std_error, rms_error).
     """
     from .measure import analysis
 
     return analysis.convergence_study(target, scene=scene, location=location, normal=normal, samples=samples,
                                       target_error=target_error, replicas=replicas,
-                                      reference_samples=reference_samples, seed=seed, plot=plot)
+                                      reference_samples=reference_samples, quality=quality,
+                                      target_rel_error=target_rel_error, time_budget_s=time_budget_s,
+                                      targeted=targeted, seed=seed, plot=plot)
 
 
-def export_report(out_dir, *, scene=None, quality=None, method=None, convergence=True):
-    """Write report.json, report.md and PNG plots for every meter, light and work plane into ``out_dir``."""
+def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
+                  convergence=True):
+    """Write report.json, report.md and PNG plots for every meter, light and work plane into ``out_dir``.
+
+    ``quality`` (preset name), ``method`` and ``target_rel_error`` (fraction) default to the
+    scene's Radiometer settings; ``time_budget_s`` (s) bounds each measurement of the report.
+    """
     from .measure import report
 
-    return report.export_report(out_dir, scene=scene, quality=quality, method=method, convergence=convergence)
+    return report.export_report(out_dir, scene=scene, quality=quality, method=method,
+                                target_rel_error=target_rel_error, time_budget_s=time_budget_s,
+                                convergence=convergence)
 
 
 def assign_brdf(material, model, method="nodes", **params):

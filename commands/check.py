@@ -4,10 +4,25 @@ HELP = "check the inverse-square and cosine laws for each light (near-field limi
 NEEDS_SCENE = True
 
 
+def add_budget_arguments(parser):
+    """--target / --time-budget, shared by check, grid and report."""
+    parser.add_argument("--target", type=float, default=None, metavar="FRACTION",
+                        help="relative standard error (1 sigma) every reading must reach, e.g. 0.01 "
+                             "(default: the quality preset's target: preview 0.05, standard 0.01, reference 0.002)")
+    parser.add_argument("--time-budget", type=float, default=None, metavar="S",
+                        help="seconds per measurement: the best accuracy within it (with --target: whichever "
+                             "comes first)")
+
+
+def budget_kwargs(args):
+    return {"target_rel_error": args.target, "time_budget_s": args.time_budget}
+
+
 def add_arguments(parser):
     parser.add_argument("--light", metavar="NAME", help="check only this light (default: every light)")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
-    parser.add_argument("--method", choices=("auto", "analytic", "render"), default="auto")
+    parser.add_argument("--method", choices=("auto", "analytic", "hybrid", "render"), default="auto")
+    add_budget_arguments(parser)
     parser.add_argument("--plots", metavar="DIR", help="also write a PNG plot per check into DIR")
 
 
@@ -34,14 +49,14 @@ def run(args):
         plot = (lambda kind: os.path.join(args.plots, f"{kind}_{slug}.png")) if args.plots else (lambda kind: None)
         try:
             r = analysis.check_inverse_square(light, scene=scene, method=args.method, quality=args.quality,
-                                              plot=plot("inverse_square"))
+                                              plot=plot("inverse_square"), **budget_kwargs(args))
             out["inverse_square"].append(r.to_dict())
         except RadiometerError as exc:
             if args.light and light.data.type != "SUN":
                 raise
             out["inverse_square"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
         r = analysis.check_cosine_law(light, scene=scene, method=args.method, quality=args.quality,
-                                      plot=plot("cosine"))
+                                      plot=plot("cosine"), **budget_kwargs(args))
         out["cosine"].append(r.to_dict())
     print(report.summary_table(out))
     for r in out["inverse_square"] + out["cosine"]:

@@ -3,6 +3,8 @@
 HELP = "measure illuminance on a grid over a plane (E_avg, E_min, E_max, U0), optional CSV and isolux PNG"
 NEEDS_SCENE = True
 
+from .check import add_budget_arguments, budget_kwargs  # noqa: E402
+
 
 def add_arguments(parser):
     parser.add_argument("--plane", metavar="NAME", help="plane object (default: the first 'Work Plane')")
@@ -12,7 +14,8 @@ def add_arguments(parser):
     parser.add_argument("--csv", metavar="FILE", help="write the points and values as CSV")
     parser.add_argument("--png", metavar="FILE", help="write a false-colour isolux image")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
-    parser.add_argument("--method", choices=("auto", "analytic", "render"), default="auto")
+    parser.add_argument("--method", choices=("auto", "analytic", "hybrid", "render"), default="auto")
+    add_budget_arguments(parser)
 
 
 def run(args):
@@ -36,12 +39,13 @@ def run(args):
             raise RadiometerError("no work plane in the scene: name one with --plane NAME")
         plane = planes[0]
     g = analysis.illuminance_grid(plane, resolution=args.resolution, spacing=args.spacing, scene=scene,
-                                  method=args.method, quality=args.quality, png=args.png, csv_path=args.csv)
+                                  method=args.method, quality=args.quality, png=args.png, csv_path=args.csv,
+                                  **budget_kwargs(args))
     s = g.stats
     print(f"grid {g.target}: {g.nx} x {g.ny} points, cells {g.spacing[0]:.3g} x {g.spacing[1]:.3g} m"
           + (f" ({g.spacing_rule})" if g.spacing_rule else ""))
     print(f"E_avg {s['avg']:.5g} lx  E_min {s['min']:.5g} lx  E_max {s['max']:.5g} lx  U0 {s['u0']:.3f}  "
-          f"[{g.method}, {g.seconds:.2f} s]")
+          f"[{g.method}, {g.seconds:.2f} s, worst error {100 * g.max_rel_std_error:.3g} %]")
     for path in (args.csv, args.png):
         if path:
             print(f"wrote {path}")

@@ -18,6 +18,7 @@ import bpy
 from .. import plots
 from ..errors import RadiometerError
 from . import analysis, meters
+from .analysis_common import plain
 
 
 def work_planes(scene):
@@ -35,12 +36,15 @@ def _fmt(value, spec=".4g"):
     return format(value, spec)
 
 
-def export_report(out_dir, *, scene=None, quality=None, method=None, convergence=True,
-                  convergence_samples=(4, 16, 64), progress=None):
+def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
+                  convergence=True, convergence_samples=(4, 16, 64), progress=None):
     """Analyse the scene and write report.json, report.md and PNG plots into ``out_dir``.
 
-    ``quality``/``method`` default to the scene's Radiometer settings. Returns the report dict
-    (also written as report.json) with ``paths`` and ``summary`` (the text table).
+    ``quality`` (target 1-sigma relative error per reading: preview 5 %, standard 1 %, reference
+    0.2 %), ``method`` and ``target_rel_error`` (fraction) default to the scene's Radiometer
+    settings; ``time_budget_s`` (s) bounds each measurement of the report (a meter batch, a law
+    check, a grid). Every analysis measures with the meter's per-meter allocation. Returns the
+    report dict (also written as report.json) with ``paths`` and ``summary`` (the text table).
     """
     scene = scene or bpy.context.scene
     out = os.path.abspath(out_dir)
@@ -52,9 +56,13 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, convergence
         {"method": "auto", "quality": quality or "standard", "target_rel_error": None}
     if method:
         settings["method"] = method
-    q, m = settings["quality"], settings["method"]
+    if target_rel_error is not None:
+        settings["target_rel_error"] = float(target_rel_error)
+    q, m, goal = settings["quality"], settings["method"], settings["target_rel_error"]
+    budget = {"quality": q, "target_rel_error": goal, "time_budget_s": time_budget_s}
     started = time.perf_counter()
     report = {"scene": scene.name, "file": bpy.data.filepath, "quality": q, "method": m,
+              "target_rel_error": goal, "time_budget_s": time_budget_s,
               "meters": [], "inverse_square": [], "cosine": [], "grids": [], "convergence": None, "errors": []}
 
     def step(label):
@@ -81,13 +89,13 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, convergence
         step(f"laws {light.name}")
         slug = _slug(light.name)
         try:
-            r = analysis.check_inverse_square(light, scene=scene, method=m, quality=q,
+            r = analysis.check_inverse_square(light, scene=scene, method=m, **budget,
                                               plot=os.path.join(out, f"inverse_square_{slug}.png"))
             report["inverse_square"].append(r.to_dict())
         except RadiometerError as exc:
             report["inverse_square"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
         try:
-            r = analysis.check_cosine_law(light, scene=scene, method=m, quality=q,
+            r = analysis.check_cosine_law(light, scene=scene, method=m, **budget,
                                           plot=os.path.join(out, f"cosine_{slug}.png"))
             report["cosine"].append(r.to_dict())
         except RadiometerError as exc:
@@ -97,7 +105,7 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, convergence
         step(f"grid {plane.name}")
         slug = _slug(plane.name)
         try:
-            g = analysis.illuminance_grid(plane, scene=scene, method=m, quality=q,
+            g = analysis.illuminance_grid(plane, scene=scene, method=m, **budget,
                                           png=os.path.join(out, f"isolux_{slug}.png"),
                                           csv_path=os.path.join(out, f"grid_{slug}.csv"))
             report["grids"].append(g.to_dict())
@@ -110,7 +118,8 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, convergence
         if target is not None:
             step("convergence")
             try:
-                c = analysis.convergence_study(target, scene=scene, samples=convergence_samples,
+                c = analysis.convergence_study(target, scene=scene, samples=convergence_samples, quality=q,
+                                               target_rel_error=goal, time_budget_s=time_budget_s,
                                                plot=os.path.join(out, "convergence.png"))
                 report["convergence"] = c.to_dict()
             except RadiometerError as exc:
@@ -119,7 +128,7 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, convergence
     report["summary"] = summary_table(report)
     report["paths"] = {"json": os.path.join(out, "report.json"), "markdown": os.path.join(out, "report.md")}
     with open(report["paths"]["json"], "w", encoding="utf-8") as f:
-        json.dump(analysis._plain(report), f, indent=2)
+        json.dump(plain(report), f, indent=2)
     with open(report["paths"]["markdown"], "w", encoding="utf-8") as f:
         f.write(markdown(report))
     return report
@@ -136,20 +145,23 @@ def summary_table(report):
             err = "exact" if r["exact"] else f"{100 * r['rel_std_error']:.2f} %"
             lines.append(f"{r['name']:<24} {value:>12.5g} {'cd/m²' if lum else 'lx':<6} {err:>9}  {r['method']}")
         lines.append("")
-    lines.append(f"{'light':<18} {'kind':<6} {'1/d² exponent':>16} {'near field (m)':>15} {'1/d²':>5} "
-                 f"{'cos max dev':>12} {'cos':>5}")
+    lines.append(f"{'light':<18} {'kind':<6} {'1/d² exponent':>16} {'near field (m)':>15} {'1/d²':>11} "
+                 f"{'scene':>7} {'cos max dev':>12} {'cos':>11} {'scene':>7}")
     cos_by = {c["light"]: c for c in report["cosine"]}
     for r in report["inverse_square"]:
         c = cos_by.get(r["light"], {})
         if "error" in r:
-            inv = f"{'n/a':>16} {'n/a':>15} {'--':>5}"
+            inv = f"{'n/a':>16} {'n/a':>15} {'--':>11} {'':>7}"
         else:
             limit = "not reached" if r["near_field_limit"] is None else _fmt(r["near_field_limit"], ".3g")
             inv = (f"{_fmt(r['exponent'], '.4f'):>9} ± {_fmt(r['exponent_se'], '.1g'):<4} "
-                   f"{limit:>15} {'ok' if r['passed'] else 'FLAG':>5}")
-        cos = (f"{'n/a':>12} {'--':>5}" if "error" in c or not c else
-               f"{100 * c['max_rel_deviation']:>10.3g} % {'ok' if c['passed'] else 'FLAG':>5}")
+                   f"{limit:>15} {verdict(r):>11} {_share(r):>7}")
+        cos = (f"{'n/a':>12} {'--':>11} {'':>7}" if "error" in c or not c else
+               f"{100 * c['max_rel_deviation']:>10.3g} % {verdict(c):>11} {_share(c):>7}")
         lines.append(f"{r['light']:<18} {r['kind']:<6} {inv} {cos}")
+    if report["inverse_square"]:
+        lines.append("(the laws are judged on each light's own direct light; 'scene': the largest share of a reading "
+                     "the room adds by interreflection; FLAG(light) / FLAG(scene): who broke the law)")
     for g in report["grids"]:
         lines.append("")
         if "error" in g:
@@ -161,10 +173,26 @@ def summary_table(report):
     c = report.get("convergence")
     if c and "error" not in c:
         lines.append("")
-        lines.append(f"convergence ({c['target']}): error ~ N^{c['fit']['slope']:.2f}; "
+        lines.append(f"convergence ({c['target']}): error ~ N^{c['fit']['slope']:.2f}, ~ t^{c['fit']['time_slope']:.2f}; "
                      f"{100 * c['target_error']:g} % needs ~{c['samples_for_target']:.3g} samples per reading, "
-                     f"~{c['seconds_for_target']:.3g} s")
+                     f"~{_fmt(c['seconds_for_target'], '.3g')} s")
+        t = c.get("targeted")
+        if t:
+            lines.append(f"  error-targeted reading: {_fmt(t['samples'], '.3g')} samples, {t['seconds']:.3g} s, "
+                         f"stated {100 * t['rel_std_error']:.3g} %, RMS error {100 * t['rms_error']:.3g} %")
     return "\n".join(lines)
+
+
+def verdict(result):
+    """'ok', 'ok (scene)' (the light obeys; the room's light on top does not), or 'FLAG(...)'."""
+    if result.get("passed"):
+        return "ok" if result.get("total_passed", True) else "ok(scene)"
+    return "FLAG(light)" if "light" in result.get("broken_by", "light") else "FLAG"
+
+
+def _share(result):
+    share = result.get("max_scene_share")
+    return f"+{100 * share:.3g} %" if share else "0"
 
 
 def _img(path):
@@ -197,17 +225,23 @@ def markdown(report):
                   f"{_fmt(r['exponent_se'], '.2g')} (fit from {_fmt(r['fit_from'], '.3g')} m), near-field limit "
                   f"{'not reached' if r['near_field_limit'] is None else _fmt(r['near_field_limit'], '.4g') + ' m'}, source size {r['source_size']:.3g} m (five-times rule "
                   f"{r['five_times']['rule_distance']:.3g} m: {'holds' if r['five_times']['rule_holds'] else 'does not hold'}"
-                  f"), measured by {r['method']}.\n")
+                  f"), measured by {r['method']}. Judged on the light's own direct light "
+                  f"({r.get('direct_method') or r['method']}); the room adds up to {100 * r.get('max_scene_share', 0):.3g} % "
+                  f"of a reading; the total {'also follows' if r.get('total_passed', True) else 'does not follow'} "
+                  f"the law{' (broken by: ' + r['broken_by'] + ')' if r.get('broken_by') else ''}.\n")
         for cause in r["causes"]:
             md.append(f"- cause: {cause}")
         for note in r["notes"]:
             md.append(f"- note: {note}")
-        md.append("\n| d (m) | E measured (W/m²) | I/d² (W/m²) | deviation | rel. s.e. | light's model dev. | ok |\n"
-                  "|---:|---:|---:|---:|---:|---:|---|")
+        md.append("\n| d (m) | E total (W/m²) | E direct (W/m²) | I/d² (W/m²) | direct dev. | total dev. | "
+                  "scene share | rel. s.e. | light's model dev. | ok |\n"
+                  "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
         for row in r["rows"]:
-            md.append(f"| {row['distance']:.4g} | {row['measured']:.5g} | {row['predicted']:.5g} | "
-                      f"{100 * row['rel_deviation']:+.3g} % | {100 * row['rel_std_error']:.2g} % | "
-                      f"{100 * row['model_deviation']:+.3g} % | {'✓' if row['ok'] else '✗'} |")
+            md.append(f"| {row['distance']:.4g} | {row['measured']:.5g} | {row.get('direct', row['measured']):.5g} | "
+                      f"{row['predicted']:.5g} | {100 * row.get('direct_deviation', row['rel_deviation']):+.3g} % | "
+                      f"{100 * row['rel_deviation']:+.3g} % | {100 * row.get('scene_share', 0):.3g} % | "
+                      f"{100 * row['rel_std_error']:.2g} % | {100 * row['model_deviation']:+.3g} % | "
+                      f"{'✓' if row['ok'] else '✗'} |")
         md.append("")
         md.append(_img(r.get("plot")))
     md.append("## Cosine law\n")
@@ -218,14 +252,19 @@ def markdown(report):
             continue
         md.append(f"{'PASSED' if c['passed'] else 'FLAGGED'} at {tuple(round(v, 3) for v in c['location'])}: max "
                   f"deviation {100 * c['max_rel_deviation']:.3g} % at {c['max_at_deg']:g} deg; onset "
-                  f"{_fmt(c['onset_deg'], 'g')} deg; source reaches the horizon at {c['horizon_onset_deg']:.3g} deg.\n")
+                  f"{_fmt(c['onset_deg'], 'g')} deg; source reaches the horizon at {c['horizon_onset_deg']:.3g} deg. "
+                  f"Judged on the light's own direct light; with the room's light the total deviates up to "
+                  f"{100 * c.get('total_max_rel_deviation', c['max_rel_deviation']):.3g} % (the room adds up to "
+                  f"{100 * c.get('max_scene_share', 0):.3g} % of a reading).\n")
         for cause in c["causes"]:
             md.append(f"- cause: {cause}")
-        md.append("\n| θ (deg) | E(θ)/E(0) | cos θ | deviation | rel. s.e. | ok |\n|---:|---:|---:|---:|---:|---|")
+        md.append("\n| θ (deg) | direct E(θ)/E(0) | total E(θ)/E(0) | cos θ | direct dev. | total dev. | scene share "
+                  "| rel. s.e. | ok |\n|---:|---:|---:|---:|---:|---:|---:|---:|---|")
         for row in c["rows"]:
-            md.append(f"| {row['angle']:g} | {row['ratio']:.5g} | {row['predicted']:.5g} | "
-                      f"{100 * row['rel_deviation']:+.3g} % | {100 * row['ratio_rel_se']:.2g} % | "
-                      f"{'✓' if row['ok'] else '✗'} |")
+            md.append(f"| {row['angle']:g} | {row.get('direct_ratio', row['ratio']):.5g} | {row['ratio']:.5g} | "
+                      f"{row['predicted']:.5g} | {100 * row.get('direct_deviation', row['rel_deviation']):+.3g} % | "
+                      f"{100 * row['rel_deviation']:+.3g} % | {100 * row.get('scene_share', 0):.3g} % | "
+                      f"{100 * row['ratio_rel_se']:.2g} % | {'✓' if row['ok'] else '✗'} |")
         md.append("")
         md.append(_img(c.get("plot")))
     if report["grids"]:
@@ -250,12 +289,22 @@ def markdown(report):
             md.append(f"Not run: {c['error']}\n")
         else:
             md.append(f"Target {c['target']}; reference {c['reference_kind']}. Fit: error ∝ N^{c['fit']['slope']:.3f} ± "
-                      f"{c['fit']['slope_se']:.2g} (ideal -0.5); {100 * c['target_error']:g} % needs "
-                      f"{c['samples_for_target']:.3g} samples per reading, {c['seconds_for_target']:.3g} s.\n\n"
+                      f"{c['fit']['slope_se']:.2g} (ideal -0.5), error ∝ t^{c['fit']['time_slope']:.3f} ± "
+                      f"{c['fit']['time_slope_se']:.2g} against the wall time of one reading of the target alone; "
+                      f"{100 * c['target_error']:g} % needs {c['samples_for_target']:.3g} samples per reading, "
+                      f"{_fmt(c['seconds_for_target'], '.3g')} s (t0 + c N; the time fit alone says "
+                      f"{_fmt(c.get('seconds_for_target_by_time_fit'), '.3g')} s).\n\n"
                       "| samples/texel | samples/reading | seconds | RMS error | stated s.e. |\n|---:|---:|---:|---:|---:|")
             for row in c["rows"]:
                 md.append(f"| {row['samples_per_texel']} | {row['samples']} | {row['seconds']:.3g} | "
                           f"{100 * row['rms_error']:.3g} % | {100 * row['std_error']:.3g} % |")
             md.append("")
+            t = c.get("targeted")
+            if t:
+                md.append(f"Error-targeted reading (the meter's per-meter allocation, target "
+                          f"{_fmt(t['target_rel_error'] and 100 * t['target_rel_error'], '.3g')} %): "
+                          f"{_fmt(t['samples'], '.3g')} samples, {t['seconds']:.3g} s, stated error "
+                          f"{100 * t['rel_std_error']:.3g} %, RMS error against the reference {100 * t['rms_error']:.3g} %"
+                          f"{'' if t['reached'] else ' (target NOT reached)'}.\n")
             md.append(_img(c.get("plot")))
     return "\n".join(md) + "\n"

@@ -101,6 +101,13 @@ def _with_progress(context, items):
         wm.progress_end()
 
 
+def _measure_settings(context):
+    """The scene's Radiometer method, quality and target error (fraction; None: the preset's)."""
+    s = context.scene.radiometer
+    return {"method": s.method, "quality": s.quality,
+            "target_rel_error": s.target_rel_error if s.target_rel_error > 0 else None}
+
+
 def _slug(name):
     from ..measure.report import _slug as slug
 
@@ -135,9 +142,8 @@ class RADIOMETER_OT_check_inverse_square(bpy.types.Operator):
                     return {"CANCELLED"}
                 continue
             try:
-                r = api.check_inverse_square(light, scene=context.scene, method=context.scene.radiometer.method,
-                                             quality=context.scene.radiometer.quality,
-                                             plot=os.path.join(out, f"inverse_square_{_slug(light.name)}.png"))
+                r = api.check_inverse_square(light, scene=context.scene, plot=os.path.join(out, f"inverse_square_{_slug(light.name)}.png"),
+                                             **_measure_settings(context))
             except RadiometerError as exc:
                 self.report({"ERROR"}, f"{light.name}: {exc}")
                 return {"CANCELLED"}
@@ -150,7 +156,7 @@ class RADIOMETER_OT_check_inverse_square(bpy.types.Operator):
             item.inverse_plot = r.plot
             load_image(context, r.plot)
             lines.append(f"{light.name}: {'ok' if r.passed else 'flagged'}, exponent {r.exponent:.4f}, near field "
-                         f"{r.near_field_limit:.3g} m")
+                         f"{r.near_field_limit:.3g} m; the room adds up to {100 * r.max_scene_share:.3g} %")
         self.report({"INFO"}, "; ".join(lines) or "no point, spot or area light to check")
         return {"FINISHED"}
 
@@ -180,9 +186,8 @@ class RADIOMETER_OT_check_cosine_law(bpy.types.Operator):
             item = _law_item(settings, light)
             try:
                 r = api.check_cosine_law(light, scene=context.scene, location=location,
-                                         method=context.scene.radiometer.method,
-                                         quality=context.scene.radiometer.quality,
-                                         plot=os.path.join(out, f"cosine_{_slug(light.name)}.png"))
+                                         plot=os.path.join(out, f"cosine_{_slug(light.name)}.png"),
+                                         **_measure_settings(context))
             except RadiometerError as exc:
                 self.report({"ERROR"}, f"{light.name}: {exc}")
                 return {"CANCELLED"}
@@ -194,7 +199,8 @@ class RADIOMETER_OT_check_cosine_law(bpy.types.Operator):
             item.cosine_plot = r.plot
             load_image(context, r.plot)
             lines.append(f"{light.name}: {'ok' if r.passed else 'flagged'}, max deviation "
-                         f"{100 * r.max_rel_deviation:.3g} % at {r.max_at_deg:g} deg")
+                         f"{100 * r.max_rel_deviation:.3g} % at {r.max_at_deg:g} deg; the room adds up to "
+                         f"{100 * r.max_scene_share:.3g} %")
         self.report({"INFO"}, "; ".join(lines))
         return {"FINISHED"}
 
@@ -254,10 +260,9 @@ class RADIOMETER_OT_illuminance_grid(bpy.types.Operator):
         kwargs = {"resolution": (settings.resolution_x, settings.resolution_y)} if settings.use_resolution else \
             {"spacing": settings.spacing or None}
         try:
-            g = api.illuminance_grid(plane, scene=context.scene, method=context.scene.radiometer.method,
-                                     quality=context.scene.radiometer.quality,
-                                     png=os.path.join(out, f"isolux_{slug}.png"),
-                                     csv=os.path.join(out, f"grid_{slug}.csv"), **kwargs)
+            g = api.illuminance_grid(plane, scene=context.scene, png=os.path.join(out, f"isolux_{slug}.png"),
+                                     csv=os.path.join(out, f"grid_{slug}.csv"), **kwargs,
+                                     **_measure_settings(context))
         except RadiometerError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -304,6 +309,7 @@ class RADIOMETER_OT_convergence_study(bpy.types.Operator):
         warn_without_plots(self)
         try:
             c = api.convergence_study(context.active_object, scene=context.scene, target_error=settings.target_error,
+                                      quality=context.scene.radiometer.quality,
                                       plot=os.path.join(out, "convergence.png"))
         except RadiometerError as exc:
             self.report({"ERROR"}, str(exc))
@@ -314,8 +320,9 @@ class RADIOMETER_OT_convergence_study(bpy.types.Operator):
         settings.conv_seconds = min(c.seconds_for_target, 1e12)
         settings.conv_plot = c.plot
         load_image(context, c.plot)
-        self.report({"INFO"}, f"{c.target}: error ~ N^{c.fit['slope']:.2f}; {100 * c.target_error:g} % needs "
-                              f"~{c.samples_for_target:.3g} samples, ~{c.seconds_for_target:.3g} s")
+        self.report({"INFO"}, f"{c.target}: error ~ N^{c.fit['slope']:.2f} ~ t^{c.fit['time_slope']:.2f}; "
+                              f"{100 * c.target_error:g} % needs ~{c.samples_for_target:.3g} samples, "
+                              f"~{c.seconds_for_target:.3g} s")
         return {"FINISHED"}
 
 

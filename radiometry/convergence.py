@@ -58,6 +58,19 @@ class ConvergenceFit:
         n = self.samples_for(target)
         return float(self.t0_s + self.c_s_per_sample * n) if np.isfinite(n) else float("inf")
 
+    def seconds_for_by_time(self, target):
+        """Seconds for a relative error ``target`` (fraction) from the fit of log error vs log seconds.
+
+        Meaningful where the per-sample cost dominates; with a large fixed cost t0 the measured
+        slope is flatter than -1/2 and this extrapolation is rough (prefer :meth:`seconds_for`).
+        """
+        t = float(target)
+        if not t > 0:
+            raise ValueError("target error must be > 0")
+        if not self.time_slope < 0:
+            return float("inf")
+        return float((t / self.time_prefactor) ** (1.0 / self.time_slope))
+
     def to_dict(self):
         return {k: float(v) for k, v in self.__dict__.items()}
 

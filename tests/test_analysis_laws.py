@@ -131,3 +131,14 @@ def test_convergence_fit_inverts_for_targets():
     assert fit.samples_for(0.001) == pytest.approx(6400.0, rel=1e-9)  # (0.08/0.001)^2
     assert fit.seconds_for(0.001) == pytest.approx(0.05 + 0.64, rel=1e-9)
     assert convergence.rms_relative_error([[1.1, 0.9]], [1.0]) == pytest.approx([0.1])
+
+
+def test_convergence_time_fit_inverts_for_targets():
+    n = np.array([16, 64, 256, 1024.0])
+    err = 0.08 * n**-0.5
+    t = 1e-4 * n  # no fixed cost: error ~ t^-1/2 exactly
+    fit = convergence.fit_convergence(n, t, err)
+    assert fit.time_slope == pytest.approx(-0.5, abs=1e-12)
+    assert fit.seconds_for_by_time(0.001) == pytest.approx(0.64, rel=1e-9)  # 1e-4 s x (0.08/0.001)^2
+    flat = convergence.fit_convergence(n, t, np.full(4, 0.01))
+    assert flat.seconds_for_by_time(0.001) == float("inf")
