@@ -1,13 +1,15 @@
-"""`make bench`: Radiometer's benchmarks (issue 6), all in one process, results in bench/results.{json,md}.
+"""`make bench`: Radiometer's benchmarks (issues 6 and 10), one process, results in bench/results.{json,md}.
 
-Speed is only ever reported as a RATIO of two things timed in the same run, interleaved, as the
-median of several repetitions: the machine (2 cores) is shared, absolute seconds drift from run to
-run. Every goal of the issue is evaluated and written down as met or NOT met.
+Speed is only ever reported as a RATIO of two things timed in the same run (interleaved where it
+matters, medians of repetitions): the machine (2 cores) is shared and absolute seconds drift from run
+to run. Every goal is evaluated and written down as met or NOT met, with a measured breakdown
+(scene capture, visibility proofs, Cycles bakes, the rest) where it is not.
 
 Usage: ``.venv/bin/python bench/run.py [--quick] [--only NAME ...]``.
 """
 
 import argparse
+import collections
 import contextlib
 import datetime
 import json
@@ -16,8 +18,8 @@ import os
 import platform
 import resource
 import statistics
+import subprocess
 import sys
-import tempfile
 import time
 
 import numpy as np
@@ -30,10 +32,12 @@ import bpy  # noqa: E402
 import scenes  # noqa: E402
 from radiometer import api  # noqa: E402
 from radiometer import quality as quality_presets  # noqa: E402
-from radiometer.measure import exr, render_settings, scene_guard, scene_lights, sensors  # noqa: E402
+from radiometer.measure import adaptive, meter, render_settings, scene_capture, scene_guard, sensors  # noqa: E402
+from radiometer.radiometry import allocation  # noqa: E402
 from radiometer.radiometry import lights as light_models  # noqa: E402
 
 QUICK = False
+CORES = os.cpu_count() or 1
 
 
 def log(msg):
@@ -78,44 +82,167 @@ def data_counts():
     return {name: len(getattr(bpy.data, name)) for name in scene_guard._DATA_COLLECTIONS}
 
 
-class BakeClock:
-    """Adds up the time spent inside Cycles' bake operator (wraps ``sensors.run_bake``)."""
+def as_list(readings):
+    return readings if isinstance(readings, list) else [readings]
+
+
+# --- profiling: where a measurement's time goes ------------------------------------------------------
+
+#: (module, function, phase label). Patched by attribute, so every call site that looks the name up
+#: in its module at call time (all of meter/adaptive/allocation do) is timed.
+_PHASES = (
+    (meter, "capture_model", "scene capture (probe render: sync + triangles to numpy)"),
+    (meter, "sensor_points", "sensor placement (surface proximity test)"),
+    (meter, "plan", "visibility proofs (scene_model.plan_direct)"),
+    (meter, "placement_notes", "placement notes"),
+    (meter, "analytic_irradiance", "closed forms"),
+    (sensors, "build_sensor", "sensor objects (build_sensor, every round)"),
+    (sensors, "run_bake", "Cycles bakes (sync + path tracing)"),
+    (sensors, "read_blocks", "read-back of bake images"),
+    (adaptive, "render_hybrid", None),
+)
+
+
+class Profile:
+    """Times the phases of ``meter.measure_illuminance`` and keeps the last ``render_hybrid`` result."""
 
     def __init__(self):
-        self.seconds = 0.0
-        self._original = None
+        self.seconds = collections.defaultdict(float)
+        self.calls = collections.Counter()
+        self.durations = collections.defaultdict(list)
+        self.runs = []
+        self._saved = []
 
     def __enter__(self):
-        self._original = original = sensors.run_bake
+        for module, name, _label in _PHASES:
+            original = getattr(module, name)
+            self._saved.append((module, name, original))
 
-        def clocked(*args, **kwargs):
-            t0 = time.perf_counter()
-            try:
-                return original(*args, **kwargs)
-            finally:
-                self.seconds += time.perf_counter() - t0
+            def wrapper(*args, __original=original, __name=name, **kwargs):
+                t0 = time.perf_counter()
+                try:
+                    out = __original(*args, **kwargs)
+                finally:
+                    dt = time.perf_counter() - t0
+                    self.seconds[__name] += dt
+                    self.calls[__name] += 1
+                    self.durations[__name].append(dt)
+                if __name == "render_hybrid":
+                    self.runs.append(out)
+                return out
 
-        sensors.run_bake = clocked
+            setattr(module, name, wrapper)
         return self
 
     def __exit__(self, *exc):
-        sensors.run_bake = self._original
+        for module, name, original in reversed(self._saved):
+            setattr(module, name, original)
+        self._saved.clear()
         return False
 
+    def breakdown(self, total):
+        """Phase -> seconds (and the rest), for the markdown tables."""
+        out = {}
+        for _module, name, label in _PHASES:
+            if label is not None and self.calls[name]:
+                out[name] = {"label": label, "seconds": self.seconds[name], "calls": self.calls[name]}
+        hybrid = self.seconds["render_hybrid"]
+        inside = sum(self.seconds[n] for n in ("build_sensor", "run_bake", "read_blocks"))
+        out["allocation_python"] = {"label": "allocation + light linking + sensor cleanup (Python, rounds)",
+                                    "seconds": max(hybrid - inside, 0.0), "calls": self.calls["render_hybrid"]}
+        known = sum(v["seconds"] for k, v in out.items())
+        out["other"] = {"label": "everything else (inputs, photometry, readings, guard)",
+                        "seconds": max(total - known, 0.0), "calls": 1}
+        return out
 
-# --- 1. overhead ------------------------------------------------------------------------------------
+    def rounds(self):
+        """Per round of the last run: spp, meters baked, samples, bake seconds."""
+        if not self.runs:
+            return []
+        run = self.runs[-1]
+        bakes = self.durations["run_bake"][-len(run["round_log"]):]
+        rows = []
+        for r, dt in zip(run["round_log"], bakes):
+            texels = np.asarray(r["texels"])
+            rows.append({"spp": int(r["spp"]), "meters": int((texels > 0).sum()),
+                         "samples": float(r["spp"] * texels.sum()), "bake_s": dt})
+        return rows
 
-def _bare_sensor(scene, point, normal, preset):
-    """The same sensor quad + image as Radiometer builds, set up once, plus a bare bake function."""
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    needs = render_settings.scene_needs(scene, depsgraph)
-    render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs)
-    obj, image, per_row = sensors.build_sensor(scene, np.array([point]), np.array([normal]), preset["texels"])
-    obj.name = "bench bare sensor"  # not radiometer_*: Radiometer must not mistake it for its own
-    view_layer = bpy.context.view_layer
-    res = per_row * preset["texels"]
 
-    def bake():
+def reading_stats(readings, target):
+    rel = np.array([r.rel_std_error for r in readings])
+    spent = np.array([r.samples for r in readings], float)
+    # Allocation efficiency: samples a meter would have needed to land exactly on the target
+    # (1/N law, conservative for Cycles' QMC) over what it got.
+    ideal = spent * (rel / target) ** 2 if target else spent
+    return {"worst_rel_error": float(rel.max()), "mean_rel_error": float(rel.mean()),
+            "all_within_target": bool(np.all(rel <= target)) if target else None,
+            "samples_total": float(spent.sum()), "samples_median": float(np.median(spent)),
+            "samples_max": float(spent.max()), "samples_min": float(spent.min()),
+            "overshoot_samples_over_needed": float(spent.sum() / max(ideal.sum(), 1e-300)),
+            "methods": sorted(set(r.method for r in readings))}
+
+
+def fit_time_model(rounds):
+    """t = a + b * samples over rounds (a = a bake's fixed cost, b = seconds per sample)."""
+    if len(rounds) < 2:
+        return None, None
+    s = np.array([r["samples"] for r in rounds])
+    t = np.array([r["bake_s"] for r in rounds])
+    if np.ptp(s) == 0:
+        return None, None
+    b, a = np.polyfit(s, t, 1)
+    return float(a), float(b)
+
+
+# --- a bare bake by hand ---------------------------------------------------------------------------
+
+class BareSensor:
+    """One sensor patch baked by hand with bpy: one quad, one image, one bake.
+
+    Cycles settings: the ones Radiometer writes (``render_settings.apply`` once, same bounces);
+    everything else (quad, UVs, white diffuse material, float image, selection, the bake call) is
+    plain bpy. ``bake(total_samples)`` bakes a 4 x 4 image at total/16 samples per texel, so the
+    patch gets the same total samples as the reading it is compared with."""
+
+    TEXELS = 4
+
+    def __init__(self, scene, point, normal, bounces, needs):
+        render_settings.apply(scene, samples=64, bounces=bounces, needs=needs)
+        p, n = np.asarray(point, float), np.asarray(normal, float)
+        t = np.cross([1.0, 0.0, 0.0] if abs(n[2]) > 0.9 else [0.0, 0.0, 1.0], n)
+        t /= np.linalg.norm(t)
+        b = np.cross(n, t)
+        h = 1e-5
+        p = p + n * 5e-6  # a meter on a surface: lift the patch off it, as Radiometer does
+        verts = [tuple(p + h * (su * t + sv * b)) for su, sv in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+        mesh = bpy.data.meshes.new("bench bare patch")
+        mesh.from_pydata(verts, [], [(0, 1, 2, 3)])
+        uv = mesh.uv_layers.new(name="uv")
+        for loop, co in zip(uv.data, ((0, 0), (1, 0), (1, 1), (0, 1))):
+            loop.uv = co
+        mat = scenes.diffuse_material("bench bare patch", 1.0)
+        self.image = bpy.data.images.new("bench bare patch", self.TEXELS, self.TEXELS, alpha=False,
+                                         float_buffer=True)
+        self.image.colorspace_settings.is_data = True
+        tex = mat.node_tree.nodes.new("ShaderNodeTexImage")
+        tex.image = self.image
+        mat.node_tree.nodes.active = tex
+        mesh.materials.append(mat)
+        self.obj = obj = bpy.data.objects.new("bench bare patch", mesh)
+        scene.collection.objects.link(obj)
+        for attr in ("visible_diffuse", "visible_glossy", "visible_transmission", "visible_volume_scatter",
+                     "visible_shadow"):
+            setattr(obj, attr, False)
+        self.scene = scene
+        self.seed = 0
+
+    def bake(self, total_samples):
+        scene, obj = self.scene, self.obj
+        scene.cycles.samples = max(1, int(round(total_samples / self.TEXELS ** 2)))
+        scene.cycles.seed = self.seed
+        self.seed += 1
+        view_layer = bpy.context.view_layer
         for other in view_layer.objects:
             other.select_set(other == obj)
         view_layer.objects.active = obj
@@ -124,97 +251,353 @@ def _bare_sensor(scene, point, normal, preset):
             result = bpy.ops.object.bake(type="DIFFUSE", pass_filter={"DIRECT", "INDIRECT"}, margin=0,
                                          use_clear=True, target="IMAGE_TEXTURES")
         assert result == {"FINISHED"}
-        px = np.empty(res * res * 4, np.float32)
-        image.pixels.foreach_get(px)
-        return math.pi * float(px.reshape(-1, 4)[:, :3].mean())
+        px = np.empty(self.TEXELS ** 2 * 4, np.float32)
+        self.image.pixels.foreach_get(px)
+        e = math.pi * px.reshape(-1, 4)[:, :3].astype(float)
+        y = e @ np.array([0.2126, 0.7152, 0.0722])
+        return float(y.mean()), float(y.std(ddof=1) / math.sqrt(len(y)) / abs(y.mean()))
 
-    return obj, bake
+    def hidden(self):
+        """Context: the bare patch must not take part in Radiometer's own measurement."""
+        obj = self.obj
 
+        @contextlib.contextmanager
+        def cm():
+            obj.hide_render = True
+            try:
+                yield
+            finally:
+                obj.hide_render = False
+
+        return cm()
+
+    def remove(self):
+        mesh = self.obj.data
+        bpy.data.objects.remove(self.obj, do_unlink=True)
+        bpy.data.meshes.remove(mesh)
+        bpy.data.images.remove(self.image)
+
+
+# --- 1. batching at equal error -------------------------------------------------------------------
+
+TARGET = 0.01
+
+
+def bench_batching():
+    scene, tris = scenes.big_room()
+    counts = (1, 10, 100) if QUICK else (1, 10, 100, 1000)
+    reps = {1: 3, 10: 2, 100: 2} if QUICK else {1: 9, 10: 5, 100: 5, 1000: 1}
+    pts0, nrm0 = scenes.floor_meters(1, seed=11)
+    api.measure_illuminance(pts0, nrm0, target_rel_error=TARGET)  # warm-up (kernels, caches)
+    rows = []
+    for n in counts:
+        pts, nrm = scenes.floor_meters(n, seed=100 + n)
+        if n == 1:
+            pts, nrm = pts0, nrm0
+        times, stats, profiles = [], [], []
+        for rep in range(reps[n]):
+            with Profile() as prof:
+                dt, rs = timed(lambda: as_list(api.measure_illuminance(pts, nrm, target_rel_error=TARGET, seed=rep)))
+            times.append(dt)
+            stats.append(reading_stats(rs, TARGET))
+            profiles.append((dt, prof))
+        k = int(np.argsort(times)[len(times) // 2])  # the median run's breakdown
+        dt, prof = profiles[k]
+        rows.append({"meters": n, "reps": reps[n], "median_s": median(times), "times_s": times,
+                     "worst_rel_error": max(s["worst_rel_error"] for s in stats),
+                     "all_within_target": all(s["all_within_target"] for s in stats),
+                     "readings": stats[k], "breakdown": prof.breakdown(dt), "rounds": prof.rounds(),
+                     "sensor_groups": prof.runs[-1]["groups"] if prof.runs else None})
+        log(f"  batching {n}: {median(times):.3f} s, worst {rows[-1]['worst_rel_error']:.4f}, "
+            f"samples {stats[k]['samples_total']:.0f}")
+    base = rows[0]
+    for row in rows:
+        row["ratio_to_1"] = row["median_s"] / base["median_s"]
+        row["samples_ratio_to_1"] = row["readings"]["samples_total"] / base["readings"]["samples_total"]
+    # How many of the 100 meters see the area light partly hidden (rendered direct light).
+    pts, nrm = scenes.floor_meters(100, seed=200)
+    model = meter.capture_model(scene, bpy.context.view_layer)
+    direct = meter.plan(scene, model, pts + nrm * 5e-6, nrm, "auto")["direct"]
+    from radiometer.radiometry import scene_model
+
+    partial = int(np.any(direct.status == scene_model.RENDER, axis=0).sum())
+    zero = int(np.any(direct.status == scene_model.ZERO, axis=0).sum())
+    row100 = next(r for r in rows if r["meters"] == 100)
+    r100 = row100["ratio_to_1"]
+    # Sampling-only bound: seconds per sample of the 100-meter run's bakes (fitted over its rounds).
+    a, b = fit_time_model(row100["rounds"])
+    return {"triangles": tris, "scene": "closed 6 x 5 x 3 m room (subdivided scaled cube, albedo 0.6), 4 furniture "
+                                        "boxes, 1.2 m square ceiling area light 300 W, radius-0 point light 60 W; "
+                                        "meters lying on the floor",
+            "target": TARGET, "rows": rows, "ratio_100": r100, "goal": 1.5, "bar": 3.0,
+            "goal_met": r100 <= 1.5, "bar_met": r100 <= 3.0,
+            "meters_of_100_with_partly_occluded_light": partial, "meters_of_100_in_full_shadow_of_a_light": zero,
+            "bake_time_model_100": {"fixed_s_per_bake": a, "s_per_sample": b}}
+
+
+# --- 2. overhead ----------------------------------------------------------------------------------
 
 def bench_overhead():
-    reps = 5 if QUICK else 11
-    preset = quality_presets.preset("standard")
+    reps = 3 if QUICK else 9
     rows = []
-    for label, build, point in (("delta-lit (point light only)", scenes.delta_lit, (0.3, 0.2, 0.0)),
-                                ("interreflecting room", scenes.room, (0.3, 0.2, 0.75))):
+    for label, build, point in (("130k-triangle room (issue 10)", lambda: scenes.big_room()[0], (-0.8, 0.9, 0.0)),
+                                ("small interreflecting room", scenes.room, (0.3, 0.2, 0.75))):
         scene = build()
         normal = (0.0, 0.0, 1.0)
-        # The bare bake uses exactly the settings Radiometer chose for this scene (e.g. one exact
-        # sample per texel when only delta lights shine), read back from a first reading.
-        first = api.measure_illuminance(point, normal, method="render", quality="standard")
-        used = dict(preset, samples=first.render_settings["samples"])
-        used["texels"] = int(round(math.sqrt(first.samples / (used["samples"] * preset["bakes"]))))
-        bare_obj, bare = _bare_sensor(scene, point, normal, used)
-        t_meter, t_bare, values = [], [], []
+        first = api.measure_illuminance(point, normal, target_rel_error=TARGET)  # warm-up; its samples
+        model = meter.capture_model(scene, bpy.context.view_layer)
+        bare = BareSensor(scene, point, normal, bounces=quality_presets.PRESETS["standard"]["bounces"],
+                          needs=model.needs)
+        t_meter, t_bare, t_bare1, samples, bare_err = [], [], [], [], []
+        profiles = []
 
-        def radiometer_reading():
-            bare_obj.hide_render = True  # the bare sensor must not be in Radiometer's bake
-            try:
-                return api.measure_illuminance(point, normal, method="render", quality="standard").irradiance
-            finally:
-                bare_obj.hide_render = False
+        def reading():
+            with bare.hidden():
+                return api.measure_illuminance(point, normal, target_rel_error=TARGET, seed=len(t_meter))
 
-        radiometer_reading(), bare()  # warm-up (kernel load, first sync)
+        bare.bake(first.samples)
         for k in range(reps):
-            order = (radiometer_reading, bare) if k % 2 == 0 else (bare, radiometer_reading)
-            for fn in order:
-                dt, value = timed(fn)
-                (t_meter if fn is radiometer_reading else t_bare).append(dt)
-                values.append((fn is radiometer_reading, value))
+            for which in (("reading", "bare", "bare1") if k % 2 == 0 else ("bare1", "bare", "reading")):
+                if which == "reading":
+                    with Profile() as prof:
+                        dt, r = timed(reading)
+                    t_meter.append(dt)
+                    samples.append(r.samples)
+                    profiles.append((dt, prof))
+                elif which == "bare":
+                    # Same total samples as the latest reading (the first one at the start).
+                    n = samples[-1] if samples else first.samples
+                    dt, (_v, se) = timed(lambda: bare.bake(n))
+                    t_bare.append(dt)
+                    bare_err.append(se)
+                else:
+                    t_bare1.append(timed(lambda: bare.bake(16))[0])  # 1 sample per texel: ~ the fixed cost
         ratio = median(t_meter) / median(t_bare)
+        dt, prof = sorted(profiles, key=lambda x: x[0])[len(profiles) // 2]  # the median reading
         rows.append({"scene": label, "reps": reps, "median_reading_s": median(t_meter),
-                     "median_bare_bake_s": median(t_bare), "ratio": ratio, "goal": 1.1, "met": ratio <= 1.1,
-                     "reading_value": median([v for m, v in values if m]),
-                     "bare_value": median([v for m, v in values if not m])})
-        log(f"  overhead {label}: {ratio:.3f}")
+                     "median_bare_bake_s": median(t_bare), "median_bare_bake_1spp_s": median(t_bare1),
+                     "samples_per_reading": samples, "bare_rel_error_median": median(bare_err),
+                     "ratio": ratio, "goal": 1.1, "bar": 1.5, "goal_met": ratio <= 1.1, "bar_met": ratio <= 1.5,
+                     "syncs_per_reading": 1 + prof.calls["run_bake"], "breakdown": prof.breakdown(dt),
+                     "rounds": prof.rounds()})
+        bare.remove()
+        log(f"  overhead {label}: {ratio:.2f} (reading {median(t_meter):.3f} s, bare {median(t_bare):.3f} s, "
+            f"bare 1 spp {median(t_bare1):.3f} s)")
     return {"rows": rows}
 
 
-# --- 2. batching ------------------------------------------------------------------------------------
+# --- 3. throughput --------------------------------------------------------------------------------
 
-def bench_batching():
-    counts = (1, 10, 100) if QUICK else (1, 10, 100, 1000)
-    rows = []
-    for label, build, z in (("delta-lit", scenes.delta_lit, 0.0), ("interreflecting room", scenes.room, 0.75)):
+def bench_throughput():
+    n = 200 if QUICK else 1000
+    scene = scenes.room()
+    pts, nrm = scenes.meter_points(n, half_width=1.8, z=0.75, seed=3)
+    api.measure_illuminance(pts[:2], nrm[:2], target_rel_error=TARGET)  # warm-up
+    with Profile() as prof:
+        t_ours, rs = timed(lambda: api.measure_illuminance(pts, nrm, target_rel_error=TARGET, seed=1))
+    st = reading_stats(rs, TARGET)
+    ours = {"seconds": t_ours, "meters_per_s_per_core": n / t_ours / CORES, **st,
+            "breakdown": prof.breakdown(t_ours), "rounds": prof.rounds()}
+    log(f"  throughput ours: {t_ours:.1f} s, {ours['meters_per_s_per_core']:.1f} meters/s/core")
+
+    # Brute force A: one bare bake per meter at the total samples the allocator chose for it
+    # (the full light: the bare patch does not know the hybrid split), on a random subset.
+    sub = 10 if QUICK else 100
+    rng = np.random.default_rng(5)
+    pick = rng.choice(n, sub, replace=False)
+    model = meter.capture_model(scene, bpy.context.view_layer)
+    t_a, errs = 0.0, []
+    for k in pick:
+        bare = BareSensor(scene, pts[k], nrm[k], bounces=quality_presets.PRESETS["standard"]["bounces"],
+                          needs=model.needs)
+        dt, (_v, se) = timed(lambda: bare.bake(rs[k].samples))
+        t_a += dt
+        errs.append(se)
+        bare.remove()
+    per_meter_a = t_a / sub
+    brute_a = {"meters_timed": sub, "seconds_per_meter": per_meter_a, "seconds_for_all": per_meter_a * n,
+               "meters_per_s_per_core": 1.0 / per_meter_a / CORES,
+               "rel_error_median": median(errs), "rel_error_max": float(max(errs))}
+    log(f"  throughput brute A: {per_meter_a * n:.1f} s for {n} (worst error {max(errs):.4f})")
+
+    # Brute force B: the same call with a FIXED sample count per meter, the hardest meter's count.
+    fixed = int(st["samples_max"])
+    t_b, rb = timed(lambda: api.measure_illuminance(pts, nrm, samples=fixed, seed=2))
+    sb = reading_stats(rb, TARGET)
+    brute_b = {"samples_per_meter": fixed, "seconds": t_b, "meters_per_s_per_core": n / t_b / CORES,
+               "worst_rel_error": sb["worst_rel_error"], "all_within_target": sb["all_within_target"]}
+    log(f"  throughput brute B: {t_b:.1f} s at {fixed} samples/meter (worst {sb['worst_rel_error']:.4f})")
+    radiance = radiance_status()
+    return {"meters": n, "scene": "closed 4 x 4 x 3 m room (albedo 0.7, 6 quads), 1 m square ceiling area light, "
+                                  "meters scattered at 0.75 m", "cores": CORES, "ours": ours,
+            "brute_one_bake_per_meter": brute_a, "brute_fixed_samples": brute_b,
+            "speedup_vs_one_bake_per_meter": per_meter_a * n / t_ours, "speedup_vs_fixed_samples": t_b / t_ours,
+            "radiance": radiance}
+
+
+def radiance_status():
+    """Is Radiance (rtrace) here or installable? apt-cache only (no download)."""
+    import shutil
+
+    if shutil.which("rtrace"):
+        return {"available": True, "note": "rtrace found on PATH (comparison not implemented in this run)"}
+    try:
+        out = subprocess.run(["apt-cache", "policy", "radiance"], capture_output=True, text=True, timeout=30).stdout
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        return {"available": False, "note": f"apt-cache not usable ({exc})"}
+    candidate = next((line.split(":", 1)[1].strip() for line in out.splitlines() if "Candidate:" in line), "(none)")
+    return {"available": False, "apt_candidate": candidate,
+            "note": "Radiance is not installed and `apt-cache policy radiance` (after apt-get update) shows "
+                    f"candidate {candidate}: no package in this machine's Debian sources, so no rtrace -I comparison"}
+
+
+# --- 4. hybrid vs full render ---------------------------------------------------------------------
+
+def _demo():
+    from radiometer.demo import scene as demo_scene
+
+    scenes.fresh()
+    scene = demo_scene.build(bpy.context.scene)
+    bpy.context.view_layer.update()
+    objs = [ob for ob in scene.objects if ob.radiometer_meter.is_meter and ob.radiometer_meter.kind == "ILLUMINANCE"]
+    pts = np.array([np.array(ob.matrix_world.translation) for ob in objs])
+    nrm = np.array([np.array(ob.matrix_world.to_3x3().col[2]) for ob in objs])
+    return scene, pts, nrm, [ob.name for ob in objs]
+
+
+def bench_hybrid():
+    seeds = 2 if QUICK else 5
+    out = {"target": TARGET, "seeds": seeds, "scenes": {}}
+    cases = [(label, build, target) for label, build in (
+        ("demo room (radiometer.demo.scene)", _demo),
+        ("several lights (dark room albedo 0.15: 6 point + 1 spot, radius 0; small area light; table shadow)",
+         lambda: (scenes.multi_light(), *scenes.multi_light_meters(), None))) for target in (TARGET, 0.002)]
+    for label, build, target in cases:
+        scene, pts, nrm, _names = build()
+        api.measure_illuminance(pts[:1], nrm[:1], target_rel_error=0.05)  # warm-up
+        entry = {"meters": len(pts), "target": target}
+        if target == TARGET:
+            # Per-sample relative spread of each meter's reading (rel. s.e. x sqrt(samples)) at a fixed
+            # 8192 samples: what each method has to average away.
+            spread_n = 8192
+            entry["per_sample_rel_spread"] = {
+                method: [r.rel_std_error * math.sqrt(spread_n) for r in as_list(api.measure_illuminance(
+                    pts, nrm, method=method, samples=spread_n, seed=77))] for method in ("hybrid", "render")}
+        runs = {"hybrid": [], "render": []}
+        for k in range(seeds):
+            for method in (("hybrid", "render") if k % 2 == 0 else ("render", "hybrid")):  # interleaved
+                dt, rs = timed(lambda: as_list(api.measure_illuminance(pts, nrm, method=method,
+                                                                       target_rel_error=target, seed=10 * k)))
+                runs[method].append((dt, reading_stats(rs, target),
+                                     [(r.irradiance, r.rel_std_error * abs(r.irradiance), r.samples) for r in rs]))
+        values = {}
+        for method, items in runs.items():
+            times = [x[0] for x in items]
+            stats = [x[1] for x in items]
+            values[method] = np.array([x[2] for x in items])  # (seeds, meters, 3)
+            entry[method] = {"median_s": median(times), "samples_total_median": median([s["samples_total"] for s in stats]),
+                             "samples_max": max(s["samples_max"] for s in stats),
+                             "samples_per_meter_median": np.median(values[method][..., 2], axis=0).tolist(),
+                             "worst_rel_error": max(s["worst_rel_error"] for s in stats),
+                             "all_within_target": all(s["all_within_target"] for s in stats),
+                             "methods": sorted(set(m for s in stats for m in s["methods"]))}
+        h, r = values["hybrid"], values["render"]
+        diff = (h[..., 0].mean(0) - r[..., 0].mean(0)) / np.sqrt((h[..., 1] ** 2).mean(0) / seeds
+                                                                 + (r[..., 1] ** 2).mean(0) / seeds)
+        entry["hybrid_minus_render_in_se"] = diff.tolist()
+        entry["time_ratio_render_over_hybrid"] = entry["render"]["median_s"] / entry["hybrid"]["median_s"]
+        entry["samples_ratio_render_over_hybrid"] = (entry["render"]["samples_total_median"]
+                                                     / entry["hybrid"]["samples_total_median"])
+        out["scenes"][f"{label}, target {100 * target:g} %"] = entry
+        log(f"  hybrid {label} {target}: hybrid {entry['hybrid']['median_s']:.2f} s / {entry['hybrid']['samples_total_median']:.0f}"
+            f" samples; render {entry['render']['median_s']:.2f} s / {entry['render']['samples_total_median']:.0f}")
+    return out
+
+
+# --- 5. preset table ------------------------------------------------------------------------------
+
+def _three_points():
+    return np.array([[0.0, 0.0, 0.0], [0.6, -0.3, 0.0], [-0.9, 0.7, 0.0], [1.4, 1.1, 0.0], [-1.2, -1.3, 0.0],
+                     [0.2, 0.9, 0.0]])
+
+
+def _delta_scene():
+    scene = scenes.fresh()
+    for k, loc in enumerate(((0.0, 0.0, 2.0), (1.5, -0.5, 1.5), (-1.0, 1.2, 2.5))):
+        scenes.light(scene, "POINT", loc, energy=100.0 - 20 * k, shadow_soft_size=0.0)
+    return scene
+
+
+def bench_presets():
+    seeds = 2 if QUICK else 6
+    pts = _three_points()
+    nrm = np.tile([0.0, 0.0, 1.0], (len(pts), 1))
+    room_pts = pts * 1.1 + np.array([0.0, 0.0, 0.75])
+    out = {"seeds": seeds, "meters": len(pts), "scenes": {}}
+    cases = (("delta-lit (3 radius-0 point lights)", _delta_scene, pts, "render",
+              "closed form (exact; `auto` would return it with zero error)"),
+             ("area-lit (1 m square, 1 m up)", lambda: scenes.area_lit(), pts * 0.7, "render",
+              "closed form (Lambert polygon, exact; `auto` would return it)"),
+             ("interreflecting room (4 x 4 x 3 m, albedo 0.7)", scenes.room, room_pts, "auto", None))
+    ref_target = 0.002 if QUICK else 0.0005
+    for label, build, p, method, ref_note in cases:
         build()
-        api.measure_illuminance((0.0, 0.0, z), method="render")  # warm-up
-        times, bake_share = {}, {}
-        reps = {1: 9, 10: 7, 100: 7, 1000: 3}
-        for n in counts:
-            pts, normals = scenes.meter_points(n, half_width=1.5, z=z, seed=n)
-            ts, shares = [], []
-            for _ in range(2 if QUICK else reps[n]):
-                with BakeClock() as clock:
-                    ts.append(timed(lambda: api.measure_illuminance(pts, normals, method="render",
-                                                                    quality="standard"))[0])
-                shares.append(clock.seconds / ts[-1])
-            times[n] = median(ts)
-            bake_share[n] = median(shares)
-        for n in counts:
-            rows.append({"scene": label, "meters": n, "median_s": times[n], "ratio_to_1": times[n] / times[1],
-                         "ms_per_meter": 1e3 * times[n] / n,
-                         "share_in_cycles_bake": bake_share[n]})
-        log(f"  batching {label}: " + ", ".join(f"{n}: {times[n] / times[1]:.2f}x" for n in counts))
-    ratios = {r["scene"]: r["ratio_to_1"] for r in rows if r["meters"] == 100}
-    return {"rows": rows, "goal": "t(100 meters) <= 3 t(1 meter)",
-            "met": {scene: ratio <= 3.0 for scene, ratio in ratios.items()}}
+        api.measure_illuminance(p[:1], nrm[:1], method="render", target_rel_error=0.05)  # warm-up
+        if ref_note is not None:
+            ref = np.array([r.irradiance for r in api.measure_illuminance(p, nrm, method="analytic")])
+            ref_var = np.zeros(len(p))
+            ref_seconds = 0.0
+        else:
+            ref_seconds, rr = timed(lambda: api.measure_illuminance(p, nrm, method="render",
+                                                                    target_rel_error=ref_target, seed=99_999))
+            ref = np.array([r.irradiance for r in rr])
+            ref_var = np.array([(r.rel_std_error * r.irradiance) ** 2 for r in rr])
+            ref_note = (f"render (method='render', target {100 * ref_target:g} %: reached "
+                        f"{100 * max(r.rel_std_error for r in rr):.3g} % worst, {ref_seconds:.0f} s); its "
+                        "variance is subtracted from the squared errors")
+        rows = []
+        for name in ("preview", "standard", "reference"):
+            target = quality_presets.PRESETS[name]["target"]
+            times, rel_err, stated, spent, over = [], [], [], [], 0
+            for s in range(seeds):
+                dt, rs = timed(lambda: api.measure_illuminance(p, nrm, method=method, quality=name, seed=1000 * s + 1))
+                times.append(dt)
+                got = np.array([r.irradiance for r in rs])
+                rel_err.append(((got - ref) ** 2 - ref_var) / ref ** 2)
+                stated.append([r.rel_std_error for r in rs])
+                spent.append([r.samples for r in rs])
+                over += sum(1 for r in rs if r.rel_std_error > target)
+            mse = float(np.mean(rel_err))
+            rows.append({"preset": name, "target": target, "median_s": median(times),
+                         "rms_rel_error": math.sqrt(max(mse, 0.0)), "mean_stated_rel_error": float(np.mean(stated)),
+                         "max_stated_rel_error": float(np.max(stated)), "readings": seeds * len(p),
+                         "readings_over_target": over, "samples_median": float(np.median(spent)),
+                         "samples_max": float(np.max(spent)), "methods": sorted(set(r.method for r in rs))})
+            log(f"  presets {label} {name}: {median(times):.3f} s, RMS {100 * rows[-1]['rms_rel_error']:.3g} %, "
+                f"stated {100 * rows[-1]['mean_stated_rel_error']:.3g} %, over target {over}")
+        out["scenes"][label] = {"method": method, "reference": ref_note, "reference_seconds": ref_seconds,
+                                "rows": rows}
+    return out
 
 
-# --- 3. analytic ------------------------------------------------------------------------------------
+# --- 6. analytic, guard, memory -------------------------------------------------------------------
+
+def _specs(scene):
+    model = scene_capture.capture(scene, bpy.context.view_layer)
+    return [lt.spec for lt in model.lights if lt.spec is not None]
+
 
 def bench_analytic():
     scene = scenes.delta_lit()
-    specs, _ = scene_lights.light_specs(scene)
+    spec = _specs(scene)[0]
     m = 200_000 if QUICK else 1_000_000
     rng = np.random.default_rng(0)
     pts = rng.uniform(-5, 5, (m, 3))
     normals = rng.normal(size=(m, 3))
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-    light_models.irradiance(specs[0], pts[:1000], normals[:1000])
-    t_single = median([timed(lambda: light_models.irradiance(specs[0], pts, normals))[0] for _ in range(5)])
+    light_models.irradiance(spec, pts[:1000], normals[:1000])
+    t_single = median([timed(lambda: light_models.irradiance(spec, pts, normals))[0] for _ in range(5)])
     evals_per_s = m / t_single
-
-    # predict_illuminance with 100 point lights, without and with geometry (occlusion ray casts).
     results = {"points": m, "seconds_per_call": t_single, "point_evals_per_s": evals_per_s,
                "goal_evals_per_s": 1e6, "met": evals_per_s >= 1e6}
     for label, with_room in (("100 lights, no geometry", False), ("100 lights in the closed room", True)):
@@ -226,209 +609,33 @@ def bench_analytic():
             bpy.data.objects.remove(bpy.data.objects["bench area"])
         api.predict_illuminance((0.1, 0.2, 0.75))
         t = median([timed(lambda: api.predict_illuminance((0.1, 0.2, 0.75)))[0] for _ in range(5)])
-        t_vec = median([timed(lambda: [light_models.irradiance(s, pts[:1], normals[:1])
-                                       for s in scene_lights.light_specs(scene)[0]])[0] for _ in range(5)])
-        results[label] = {"predict_illuminance_s": t, "model_evaluation_only_s": t_vec,
-                          "share_outside_models": 1 - t_vec / t}
+        specs = _specs(scene)
+        t_vec = median([timed(lambda: [light_models.irradiance(s, pts[:1], normals[:1]) for s in specs])[0]
+                        for _ in range(5)])
+        results[label] = {"predict_illuminance_s": t, "model_evaluation_only_s": t_vec}
         log(f"  analytic {label}: predict {t * 1e3:.1f} ms")
     log(f"  analytic: {evals_per_s:.3g} point-light evaluations/s")
     return results
 
 
-# --- 4. error vs time -------------------------------------------------------------------------------
-
-def _fit_slope(x, y):
-    x, y = np.log(np.asarray(x)), np.log(np.asarray(y))
-    return float(np.polyfit(x, y, 1)[0])
-
-
-def bench_error_vs_time():
-    """RMS relative error of N meters vs a reference, per preset, plus a sample sweep for the slope.
-
-    The sweep (``bench_sN``: N samples x 16 texels x 1 bake) uses the reference's bounce limit, so its
-    error is Monte Carlo noise only and the fitted slope tests the 1/sqrt(N) law; the presets keep
-    their own bounce limits, so their error also contains the bias of truncating interreflection.
-    """
-    truth_bounces = 64  # albedo 0.7: energy left after 64 bounces ~ 0.7^64 ~ 1e-10
-    sweep = (4, 16, 64, 256) if QUICK else (4, 16, 64, 256, 1024)
-    out = {"scenes": {}}
-    try:
-        for label, build, z, truth, meters in (("delta-lit (exact)", scenes.delta_lit, 0.0, "analytic", 60),
-                                               ("area-lit (closed form)", scenes.area_lit, 0.0, "analytic", 60),
-                                               ("interreflecting room (high-sample reference)", scenes.room, 0.75,
-                                                "render", 30)):
-            build()
-            for s in sweep:
-                quality_presets.PRESETS[f"bench_s{s}"] = {"samples": s, "texels": 4, "bakes": 1,
-                                                          "bounces": truth_bounces}
-            quality_presets.PRESETS["bench_truth"] = {"samples": 512 if QUICK else 2048, "texels": 4, "bakes": 2,
-                                                      "bounces": truth_bounces}
-            pts, normals = scenes.meter_points(meters, half_width=0.8, z=z, seed=4)
-            if truth == "analytic":
-                ref = np.array([r.irradiance for r in api.measure_illuminance(pts, normals, method="analytic")])
-                ref_var = np.zeros(meters)
-                ref_note = "closed form (exact)"
-            else:
-                t_ref, refs = timed(lambda: api.measure_illuminance(pts, normals, method="render",
-                                                                    quality="bench_truth", seed=10_000))
-                ref = np.array([r.irradiance for r in refs])
-                ref_var = np.array([(r.rel_std_error * r.irradiance) ** 2 for r in refs])
-                p = quality_presets.PRESETS["bench_truth"]
-                ref_note = (f"render, {p['samples']} samples x 16 texels x {p['bakes']} bakes per meter, "
-                            f"{truth_bounces} bounces ({t_ref:.1f} s, stated rel. s.e. "
-                            f"{np.sqrt(np.mean(ref_var)) / np.sqrt(np.mean(ref ** 2)):.1e}); its variance is "
-                            "subtracted from the squared errors")
-            rows = []
-            for name in ("preview", "standard", "reference") + tuple(f"bench_s{s}" for s in sweep):
-                api.measure_illuminance(pts[:1], normals[:1], method="render", quality=name)  # warm-up
-                dt, readings = timed(lambda: api.measure_illuminance(pts, normals, method="render", quality=name,
-                                                                     seed=1))
-                got = np.array([r.irradiance for r in readings])
-                mse = np.mean((got - ref) ** 2 - ref_var) / np.mean(ref ** 2)
-                rel_rms = math.sqrt(max(mse, 0.0))
-                stated = float(np.sqrt(np.mean([(r.rel_std_error * r.irradiance) ** 2 for r in readings])
-                                       / np.mean(ref ** 2)))
-                p = quality_presets.PRESETS[name]
-                # What the readings actually used (a delta-only scene needs 1 sample per texel).
-                rows.append({"preset": name, "samples_per_meter": int(readings[0].samples),
-                             "bounces": p["bounces"], "seconds_per_call": dt, "seconds_per_meter": dt / meters,
-                             "rel_rms_error": rel_rms, "stated_rel_std_error": stated,
-                             "error_over_stated": rel_rms / stated if stated > 0 else None})
-            fit_rows = [r for r in rows if r["preset"].startswith("bench_s") and r["rel_rms_error"] > 1e-5]
-            entry = {"reference": ref_note, "meters": meters, "rows": rows}
-            if len(fit_rows) >= 3:
-                entry["slope_error_vs_time"] = _fit_slope([r["seconds_per_call"] for r in fit_rows],
-                                                          [r["rel_rms_error"] for r in fit_rows])
-                entry["slope_error_vs_samples"] = _fit_slope([r["samples_per_meter"] for r in fit_rows],
-                                                             [r["rel_rms_error"] for r in fit_rows])
-            else:
-                entry["slope_error_vs_time"] = None
-                entry["slope_error_vs_samples"] = None
-                entry["note"] = ("no Monte Carlo error to fit: every preset is exact to float32 rounding "
-                                 "(a delta light is sampled exactly by every path)")
-            out["scenes"][label] = entry
-            log(f"  error-vs-time {label}: slope {entry['slope_error_vs_time']}")
-    finally:
-        for key in [k for k in quality_presets.PRESETS if k.startswith("bench_")]:
-            del quality_presets.PRESETS[key]
-    return out
-
-
-# --- 5. against the manual way ----------------------------------------------------------------------
-
-def bench_manual():
-    """A user renders a full-HD frame of a white card and averages its pixels: E = pi L / albedo."""
-    albedo, card, cam_height = 0.8, 0.05, 0.25
-    width, height, card_px = 1920, 1080, 400
-    scene = scenes.area_lit()
-    point = (0.0, 0.0, 0.0)
-    exact = api.measure_illuminance(point, method="analytic").irradiance
-    # Bias of averaging over the card instead of reading a point: closed form over an 11 x 11 grid.
-    g = np.linspace(-card / 2, card / 2, 11)
-    grid = np.c_[np.repeat(g, 11), np.tile(g, 11), np.zeros(121)]
-    card_mean = float(np.mean([r.irradiance for r in api.measure_illuminance(grid, method="analytic")]))
-
-    # Radiometer's render path (standard preset) on the same scene without the card.
-    api.measure_illuminance(point, method="render")
-    runs = [timed(lambda: api.measure_illuminance(point, method="render", quality="standard"))
-            for _ in range(7)]
-    t_meter = median([t for t, _ in runs])
-    stated = median([r.rel_std_error for _, r in runs])
-    actual = median([abs(r.irradiance / exact - 1) for _, r in runs])
-
-    # The card and the camera (perspective, looking straight down; the card spans card_px pixels).
-    quad = [(-card / 2, -card / 2, 0), (card / 2, -card / 2, 0), (card / 2, card / 2, 0), (-card / 2, card / 2, 0)]
-    scenes.quad_mesh(scene, "white card", [quad], scenes.diffuse_material("white card", albedo))
-    cam_data = bpy.data.cameras.new("manual camera")
-    cam_data.sensor_fit = "HORIZONTAL"
-    cam_data.angle = 2 * math.atan((card / 2) / cam_height * (width / 2) / (card_px / 2))
-    cam = bpy.data.objects.new("manual camera", cam_data)
-    cam.location = (0.0, 0.0, cam_height)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    render_settings.apply(scene, samples=1, bounces=8, needs=render_settings.scene_needs(scene, depsgraph))
-    scene.view_settings.view_transform = "Standard"
-    r = scene.render
-    r.resolution_x, r.resolution_y, r.resolution_percentage = width, height, 100
-    ims = r.image_settings
-    if hasattr(ims, "media_type"):
-        ims.media_type = "IMAGE"
-    ims.file_format, ims.color_depth = "OPEN_EXR", "32"
-    folder = tempfile.mkdtemp(prefix="radiometer_bench_")
-    margin = 3
-    lo_x, hi_x = width // 2 - card_px // 2 + margin, width // 2 + card_px // 2 - margin
-    lo_y, hi_y = height // 2 - card_px // 2 + margin, height // 2 + card_px // 2 - margin
-
-    def manual(samples, seed):
-        scene.cycles.samples, scene.cycles.seed = samples, seed
-        r.filepath = os.path.join(folder, f"frame_{samples}_{seed}")
-        assert bpy.ops.render.render(write_still=True) == {"FINISHED"}
-        img = exr.read_rgb(r.filepath + ".exr")
-        lum = img[lo_y:hi_y, lo_x:hi_x] @ np.array([0.2126, 0.7152, 0.0722])
-        e = math.pi * lum / albedo
-        return float(e.mean()), float(e.std(ddof=1) / math.sqrt(e.size) / e.mean())
-
-    pilot = {}
-    try:
-        for samples in (1, 4):
-            runs = [timed(lambda s=samples, k=k: manual(s, k)) for k in range(3)]
-            pilot[samples] = {"median_s": median([t for t, _ in runs]),
-                              "estimates": [v[0] for _, v in runs],
-                              "rel_std_error_from_pixels": median([v[1] for _, v in runs])}
-    finally:
-        for name in os.listdir(folder):
-            os.remove(os.path.join(folder, name))
-        os.rmdir(folder)
-    # Time model t(N) = a + b N from the two pilot sample counts; error follows 1/sqrt(N).
-    b = (pilot[4]["median_s"] - pilot[1]["median_s"]) / 3.0
-    a = pilot[1]["median_s"] - b
-    s1 = pilot[1]["rel_std_error_from_pixels"]
-    s1_seeds = float(np.std(pilot[1]["estimates"], ddof=1) / np.mean(pilot[1]["estimates"]))
-    needed = s1 ** 2 / stated ** 2
-    samples_needed = max(1, math.ceil(needed))
-    t_manual = a + b * samples_needed
-    return {
-        "scene": "1 m square area light 1 m above the point, black world",
-        "radiometer_standard_s": t_meter, "radiometer_stated_rel_error": stated,
-        "radiometer_actual_rel_error": actual,
-        "card": {"albedo": albedo, "side_m": card, "pixels_on_card": (hi_x - lo_x) * (hi_y - lo_y),
-                 "frame": f"{width}x{height}", "bias_card_average_vs_point": card_mean / exact - 1},
-        "pilot": pilot, "rel_std_error_1spp_pixels": s1, "rel_std_error_1spp_seed_spread_3_renders": s1_seeds,
-        "samples_needed_exact": needed, "samples_needed": samples_needed,
-        "time_model": {"a_s": a, "b_s_per_sample": b}, "manual_time_s": t_manual,
-        "ratio_manual_over_radiometer": t_manual / t_meter,
-        "extrapolated": samples_needed > 4,
-    }
-
-
-# --- 6. scene size ----------------------------------------------------------------------------------
-
-def bench_scene_size():
-    sizes = (2, 10_000, 100_000) if QUICK else (2, 10_000, 100_000, 1_000_000)
+def bench_guard():
+    """Cost of the scene guard (snapshot + restore) and of the scene capture, small vs 130k triangles."""
     rows = []
-    for count in sizes:
-        scene = scenes.delta_lit()
-        _obj, tris = scenes.add_triangles(scene, count)
-        api.measure_illuminance((0.0, 0.0, 0.0), method="render")  # warm-up
-        pts, normals = scenes.meter_points(100, half_width=1.5, seed=6)
-        t1 = median([timed(lambda: api.measure_illuminance((0.0, 0.0, 0.0), method="render"))[0]
-                     for _ in range(3)])
-        t100 = median([timed(lambda: api.measure_illuminance(pts, normals, method="render"))[0]
-                       for _ in range(3)])
-        rows.append({"triangles": tris, "one_meter_s": t1, "hundred_meters_s": t100,
-                     "ms_per_meter_in_100": 1e3 * t100 / 100})
-        log(f"  scene size {tris}: 1 meter {t1:.3f} s, 100 meters {t100:.3f} s")
-    base = rows[0]["one_meter_s"]
-    for row in rows:
-        row["one_meter_vs_smallest"] = row["one_meter_s"] / base
-        row["sync_cost_s"] = row["one_meter_s"] - base
-        row["per_meter_in_100_vs_one_meter"] = row["ms_per_meter_in_100"] / (1e3 * row["one_meter_s"])
-    return {"rows": rows, "note": "grid of triangles 0.5 m below the meters (geometry forces 8 bounces); "
-                                  "sync cost = t(1 meter) minus t(1 meter, 2 triangles)"}
+    for label, build in (("delta-lit (1 light)", scenes.delta_lit), ("130k-triangle room", lambda: scenes.big_room()[0])):
+        scene = build()
 
+        def guard():
+            with scene_guard.preserved_scene(scene):
+                pass
 
-# --- 7. memory --------------------------------------------------------------------------------------
+        guard()
+        t_guard = median([timed(guard)[0] for _ in range(15)])
+        meter.capture_model(scene, bpy.context.view_layer)
+        t_capture = median([timed(lambda: meter.capture_model(scene, bpy.context.view_layer))[0] for _ in range(5)])
+        rows.append({"scene": label, "guard_s": t_guard, "capture_s": t_capture})
+        log(f"  guard {label}: {t_guard * 1e3:.1f} ms, capture {t_capture * 1e3:.1f} ms")
+    return {"rows": rows}
+
 
 def bench_memory():
     n = 200 if QUICK else 1000
@@ -450,11 +657,10 @@ def bench_memory():
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     return {"readings": n, "rss_mb_after": rss, "growth_mb_from_10th": growth,
             "peak_rss_mb_process": peak, "goal_growth_mb": 50.0, "met": growth < 50.0,
-            "data_counts_unchanged": counts_before == counts_after,
-            "data_counts": counts_after, "seconds": seconds}
+            "data_counts_unchanged": counts_before == counts_after, "seconds": seconds}
 
 
-# --- report -----------------------------------------------------------------------------------------
+# --- report ---------------------------------------------------------------------------------------
 
 def machine():
     cpu = "unknown"
@@ -474,6 +680,42 @@ def yes(flag):
     return "met" if flag else "**NOT met**"
 
 
+def pct(x, digits=3):
+    return f"{100 * x:.{digits}g} %"
+
+
+def _breakdown_table(bd, total):
+    out = ["| phase | seconds | share | calls |", "|---|---:|---:|---:|"]
+    for key, v in bd.items():
+        out.append(f"| {v['label']} | {v['seconds']:.3f} | {100 * v['seconds'] / total:.0f} % | {v['calls']} |")
+    return out
+
+
+def _rounds_table(rounds):
+    out = ["| round | spp | meters baked | samples | bake (s) |", "|---:|---:|---:|---:|---:|"]
+    for i, r in enumerate(rounds):
+        out.append(f"| {i + 1} | {r['spp']} | {r['meters']} | {r['samples']:.0f} | {r['bake_s']:.3f} |")
+    return out
+
+
+def presets_markdown(p):
+    out = [f"{p['meters']} meters x {p['seeds']} seeds per preset and scene. Reached error = RMS over meters and "
+           "seeds of (reading - reference) / reference; stated = mean of the readings' own `rel_std_error`; "
+           "seconds = median of one call for all meters; 'over target' counts readings with "
+           "`rel_std_error` > the preset's target.", "",
+           "| scene | method | preset (target) | seconds per call | samples/meter (median / max) | reached error "
+           "(RMS) | stated (mean / max) | over target |", "|---|---|---|---:|---:|---:|---:|---:|"]
+    for label, entry in p["scenes"].items():
+        for i, r in enumerate(entry["rows"]):
+            out.append(f"| {label if i == 0 else ''} | {entry['method'] if i == 0 else ''} | {r['preset']} "
+                       f"({pct(r['target'], 2)}) | {r['median_s']:.3f} | {r['samples_median']:.0f} / "
+                       f"{r['samples_max']:.0f} | {pct(r['rms_rel_error'])} | {pct(r['mean_stated_rel_error'])} / "
+                       f"{pct(r['max_stated_rel_error'])} | {r['readings_over_target']} of {r['readings']} |")
+    out.append("")
+    out += [f"- {label}: reference = {entry['reference']}." for label, entry in p["scenes"].items()]
+    return out
+
+
 def markdown(res):
     m = res["machine"]
     out = ["# Radiometer benchmarks", "",
@@ -481,104 +723,127 @@ def markdown(res):
            f"{m['date_utc']}; load average at start {', '.join(f'{x:.1f}' for x in m['load_average_at_start'])} "
            "(the machine is shared: only ratios within this run are meaningful).",
            f"Total run time {res['total_seconds']:.0f} s. Generated by `make bench` (bench/run.py); raw numbers in "
-           "bench/results.json.", ""]
-    if "overhead" in res:
-        out += ["## 1. Overhead of a render-based reading", "",
-                "Radiometer's `measure_illuminance(method='render', quality='standard')` vs the same sensor quad "
-                "and the same `bpy.ops.object.bake` call set up once by hand (same Cycles settings), timed "
-                "interleaved, medians. Goal: ratio <= 1.1.", "",
-                "| scene | reps | reading (s) | bare bake (s) | ratio | goal |", "|---|---|---|---|---|---|"]
-        for r in res["overhead"]["rows"]:
-            out.append(f"| {r['scene']} | {r['reps']} | {r['median_reading_s']:.4f} | {r['median_bare_bake_s']:.4f} "
-                       f"| {r['ratio']:.3f} | {yes(r['met'])} |")
-        out.append("")
+           "bench/results.json. All readings use `target_rel_error=0.01` (1-sigma) unless said otherwise.", ""]
     if "batching" in res:
         b = res["batching"]
-        out += ["## 2. Batching: N meters in one call (standard preset)", "",
-                "Goal: 100 meters <= 3 x one meter.", "",
-                "'in Cycles' = share of the call spent inside `bpy.ops.object.bake` (scene sync + path tracing); "
-                "the rest is Radiometer's own work (checks, snapshot/restore, sensor mesh, read-back).", "",
-                "| scene | meters | median (s) | / one meter | ms per meter | in Cycles |", "|---|---|---|---|---|---|"]
+        out += ["## 1. Batching at equal error (1 %)", "",
+                f"Scene: {b['scene']}; {b['triangles']:,} triangles. Meters scattered over the floor; of 100, "
+                f"{b['meters_of_100_with_partly_occluded_light']} see the area light partly hidden by furniture "
+                f"(its direct light must be rendered) and {b['meters_of_100_in_full_shadow_of_a_light']} are in the "
+                "full shadow of a light. `method='auto'` (the hybrid here).", "",
+                "| meters | reps | median (s) | / 1 meter | samples (total) | / 1 meter | samples/meter (min / median / "
+                "max) | worst reached error | all <= 1 % | sample overshoot |", "|---:|---:|---:|---:|---:|---:|---|---:|---|---:|"]
         for r in b["rows"]:
-            out.append(f"| {r['scene']} | {r['meters']} | {r['median_s']:.4f} | {r['ratio_to_1']:.2f} | "
-                       f"{r['ms_per_meter']:.2f} | {100 * r['share_in_cycles_bake']:.0f} % |")
-        out += ["", "Goal: " + "; ".join(f"{s}: {yes(v)}" for s, v in b["met"].items()), ""]
+            s = r["readings"]
+            out.append(f"| {r['meters']} | {r['reps']} | {r['median_s']:.3f} | **{r['ratio_to_1']:.2f}** | "
+                       f"{s['samples_total']:.0f} | {r['samples_ratio_to_1']:.0f} | {s['samples_min']:.0f} / "
+                       f"{s['samples_median']:.0f} / {s['samples_max']:.0f} | {pct(r['worst_rel_error'])} | "
+                       f"{r['all_within_target']} | {s['overshoot_samples_over_needed']:.2f} |")
+        tm = b["bake_time_model_100"]
+        out += ["", f"t(100) / t(1) = **{b['ratio_100']:.2f}**: goal <= 1.5 {yes(b['goal_met'])}; bar <= 3 "
+                    f"{yes(b['bar_met'])}. 'Sample overshoot' = samples spent / samples the 1/N law says each meter "
+                    "needed to land exactly on 1 % (sum over meters).", ""]
+        for r in b["rows"]:
+            out += [f"Where the time goes, {r['meters']} meter(s) (median run, {r['median_s']:.3f} s):", ""]
+            out += _breakdown_table(r["breakdown"], r["median_s"]) + [""]
+            out += _rounds_table(r["rounds"]) + [""]
+        if tm["s_per_sample"]:
+            out += [f"Bake time model of the 100-meter run's rounds: {tm['fixed_s_per_bake']:.3f} s per bake + "
+                    f"{tm['s_per_sample'] * 1e6:.2f} us per sample.", ""]
+    if "overhead" in res:
+        out += ["## 2. Overhead of a reading (1 meter at 1 %)", "",
+                "`measure_illuminance(p, target_rel_error=0.01)` vs a bare bake by hand (one quad, one 4 x 4 float "
+                "image, one `bpy.ops.object.bake`, Radiometer's Cycles settings, the same bounce limit) with the "
+                "same total samples as the reading used; interleaved, medians. 'bare 1 spp' = the same bare bake "
+                "at 1 sample per texel, i.e. a bake's fixed cost (scene sync, kernel setup, image write).", "",
+                "| scene | reps | reading (s) | bare bake, same samples (s) | bare 1 spp (s) | syncs per reading | "
+                "samples per reading | ratio | goal <= 1.1 | bar <= 1.5 |", "|---|---:|---:|---:|---:|---:|---|---:|---|---|"]
+        for r in res["overhead"]["rows"]:
+            sp = sorted(set(r["samples_per_reading"]))
+            out.append(f"| {r['scene']} | {r['reps']} | {r['median_reading_s']:.4f} | {r['median_bare_bake_s']:.4f} | "
+                       f"{r['median_bare_bake_1spp_s']:.4f} | {r['syncs_per_reading']} | "
+                       f"{', '.join(str(x) for x in sp)} | **{r['ratio']:.2f}** | {yes(r['goal_met'])} | "
+                       f"{yes(r['bar_met'])} |")
+        out.append("")
+        for r in res["overhead"]["rows"]:
+            out += [f"Breakdown of one reading, {r['scene']} ({r['median_reading_s']:.3f} s median):", ""]
+            out += _breakdown_table(r["breakdown"], sum(v["seconds"] for v in r["breakdown"].values())) + [""]
+    if "throughput" in res:
+        t = res["throughput"]
+        o, a, bb = t["ours"], t["brute_one_bake_per_meter"], t["brute_fixed_samples"]
+        out += ["## 3. Throughput: {:,} meters at 1 %".format(t["meters"]), "",
+                f"Scene: {t['scene']}; {t['cores']} cores.", "",
+                "| way | seconds | meters / s / core | worst reached error | samples per meter |",
+                "|---|---:|---:|---:|---|",
+                f"| Radiometer (`auto`: hybrid, per-meter allocation, one call) | {o['seconds']:.1f} | "
+                f"**{o['meters_per_s_per_core']:.1f}** | {pct(o['worst_rel_error'])} | {o['samples_min']:.0f} / "
+                f"{o['samples_median']:.0f} / {o['samples_max']:.0f} (min / median / max) |",
+                f"| brute force A: one bare bake per meter at the samples the allocator chose for it "
+                f"({a['meters_timed']} meters timed, scaled) | {a['seconds_for_all']:.1f} | "
+                f"{a['meters_per_s_per_core']:.1f} | {pct(a['rel_error_max'])} (median {pct(a['rel_error_median'])}) "
+                "| as Radiometer |",
+                f"| brute force B: one call, fixed samples for every meter = the hardest meter's count | "
+                f"{bb['seconds']:.1f} | {bb['meters_per_s_per_core']:.1f} | {pct(bb['worst_rel_error'])} | "
+                f"{bb['samples_per_meter']} |", "",
+                f"Speed-up: {t['speedup_vs_one_bake_per_meter']:.1f}x over one bake per meter, "
+                f"{t['speedup_vs_fixed_samples']:.2f}x over fixed samples. Brute force A renders the full light "
+                "(direct + indirect) where Radiometer adds the proven direct light analytically, so its errors "
+                "differ at equal samples. Radiance: " + t["radiance"]["note"] + ".", ""]
+        out += ["Breakdown of Radiometer's call:", ""] + _breakdown_table(o["breakdown"], o["seconds"]) + [""]
+        out += _rounds_table(o["rounds"]) + [""]
+    if "hybrid" in res:
+        h = res["hybrid"]
+        out += ["## 4. Hybrid vs full render", "",
+                f"Same meters, same target (1 % and 0.2 %), {h['seeds']} seeds per method, interleaved; medians "
+                "over seeds; samples = total over the meters; "
+                "'difference' = (mean hybrid - mean render) / combined standard error per meter (unbiasedness "
+                "check: |x| < 3 expected).", "",
+                "| scene | meters | method | seconds | samples (total) | max samples/meter | worst reached error | "
+                "all <= target |", "|---|---:|---|---:|---:|---:|---:|---|"]
+        for label, e in h["scenes"].items():
+            for i, method in enumerate(("hybrid", "render")):
+                x = e[method]
+                out.append(f"| {label if i == 0 else ''} | {e['meters'] if i == 0 else ''} | {method} | "
+                           f"{x['median_s']:.3f} | {x['samples_total_median']:.0f} | {x['samples_max']:.0f} | "
+                           f"{pct(x['worst_rel_error'])} | {x['all_within_target']} |")
+        out.append("")
+        for label, e in h["scenes"].items():
+            out.append(f"- {label}: render / hybrid = {e['time_ratio_render_over_hybrid']:.2f}x time, "
+                       f"{e['samples_ratio_render_over_hybrid']:.2f}x samples; samples per meter (median over "
+                       "seeds) hybrid " + ", ".join(f"{x:.0f}" for x in e["hybrid"]["samples_per_meter_median"])
+                       + " vs render " + ", ".join(f"{x:.0f}" for x in e["render"]["samples_per_meter_median"])
+                       + "; difference in s.e. per meter: " + ", ".join(f"{x:+.2f}" for x in e["hybrid_minus_render_in_se"]))
+            if "per_sample_rel_spread" in e:
+                sp = e["per_sample_rel_spread"]
+                out.append("  - per-sample relative spread per meter at 8192 samples (rel. s.e. x sqrt(N)): hybrid "
+                           + ", ".join(f"{x:.3f}" for x in sp["hybrid"]) + "; render "
+                           + ", ".join(f"{x:.3f}" for x in sp["render"]) + " (samples for 1 % = (spread / 0.01)^2)")
+        out.append("")
+    if "presets" in res:
+        out += ["## 5. Quality presets: time and reached error", ""] + presets_markdown(res["presets"]) + [""]
     if "analytic" in res:
         a = res["analytic"]
-        out += ["## 3. Analytic path", "",
+        out += ["## 6. Analytic path", "",
                 f"Vectorised point-light model (`radiometry.lights.irradiance`) at {a['points']:,} receivers in one "
                 f"call: {a['seconds_per_call'] * 1e3:.1f} ms, **{a['point_evals_per_s']:.3g} evaluations/s** "
                 f"(goal >= 1e6/s: {yes(a['met'])}).", "",
-                "| predict_illuminance, one point | time (ms) | of which light models (ms) |", "|---|---|---|"]
+                "| predict_illuminance, one point | time (ms) | of which light models (ms) |", "|---|---:|---:|"]
         for key in ("100 lights, no geometry", "100 lights in the closed room"):
             v = a[key]
             out.append(f"| {key} | {v['predict_illuminance_s'] * 1e3:.1f} | {v['model_evaluation_only_s'] * 1e3:.1f} |")
         out.append("")
-    if "error_vs_time" in res:
-        e = res["error_vs_time"]
-        out += ["## 4. Error vs time per quality preset", "",
-                "Error = RMS over the meters of (reading - reference), relative to the RMS reference; 'stated' = "
-                "the RMS of the readings' own standard errors on the same scale (error/stated near 1 means the "
-                "stated error is honest). `bench_sN` rows are a sample sweep (N samples x 16 texels x 1 bake, the "
-                "reference's bounce limit) used for the fit; the presets keep their own bounce limits. "
-                "Expected slope of log(error) vs log(samples): -1/2.", ""]
-        for label, entry in e["scenes"].items():
-            out += [f"### {label}", "", f"{entry['meters']} meters per call. Reference: {entry['reference']}.", "",
-                    "| preset | samples/meter | bounces | s per call | rel. RMS error | stated rel. s.e. | error/stated |",
-                    "|---|---|---|---|---|---|---|"]
-            for r in entry["rows"]:
-                ratio = "" if r["error_over_stated"] is None else f"{r['error_over_stated']:.2f}"
-                out.append(f"| {r['preset']} | {r['samples_per_meter']} | {r['bounces']} | "
-                           f"{r['seconds_per_call']:.3f} | {r['rel_rms_error']:.3g} | "
-                           f"{r['stated_rel_std_error']:.3g} | {ratio} |")
-            if entry["slope_error_vs_time"] is not None:
-                out += ["", f"Fitted slope (sweep rows): {entry['slope_error_vs_samples']:.3f} vs samples, "
-                            f"{entry['slope_error_vs_time']:.3f} vs time (expect -0.5; time includes the fixed "
-                            "sync cost, which steepens the slope vs time)."]
-            else:
-                out += ["", entry["note"] + "."]
-            out.append("")
-    if "manual" in res:
-        mm = res["manual"]
-        out += ["## 5. Against the manual way (full-HD frame of a white card)", "",
-                f"Scene: {mm['scene']}. Manual: a {mm['card']['side_m']} m card of albedo {mm['card']['albedo']} filling "
-                f"{mm['card']['pixels_on_card']:,} pixels of a {mm['card']['frame']} frame, measurement-grade Cycles "
-                "settings (the most favourable case for the manual way), 32-bit EXR written and read, "
-                "E = pi x mean(L) / albedo.", "",
-                "| | value |", "|---|---|",
-                f"| Radiometer standard reading (s) | {mm['radiometer_standard_s']:.4f} |",
-                f"| its stated rel. s.e. / actual error vs closed form | {mm['radiometer_stated_rel_error']:.2e} / "
-                f"{mm['radiometer_actual_rel_error']:.2e} |",
-                f"| manual frame, 1 spp (s) | {mm['pilot'][1]['median_s']:.3f} |",
-                f"| manual frame, 4 spp (s) | {mm['pilot'][4]['median_s']:.3f} |",
-                f"| manual rel. s.e. at 1 spp (pixel spread; 3-seed spread) | {mm['rel_std_error_1spp_pixels']:.2e}; "
-                f"{mm['rel_std_error_1spp_seed_spread_3_renders']:.2e} |",
-                f"| samples per pixel needed for the same error (1/sqrt(N) law) | {mm['samples_needed_exact']:.3g} -> "
-                f"{mm['samples_needed']} |",
-                f"| manual time to that error (t = a + b N fitted to 1 and 4 spp) (s) | {mm['manual_time_s']:.3f} |",
-                f"| **ratio manual / Radiometer** | **{mm['ratio_manual_over_radiometer']:.1f}** |",
-                f"| bias of the card average vs the point value (closed form) | "
-                f"{mm['card']['bias_card_average_vs_point']:.2e} |", ""]
-        if mm["extrapolated"]:
-            out += ["The manual time is EXTRAPOLATED with the fitted t(N) and the measured 1/sqrt(N) law.", ""]
-        else:
-            out += ["No extrapolation was needed: the manual frame reaches the error within the pilot sample "
-                    "counts (its cost is one full-HD render: sync, film and EXR I/O).", ""]
-    if "scene_size" in res:
-        out += ["## 6. Scene size", "", res["scene_size"]["note"] + ".", "",
-                "| triangles | 1 meter (s) | / 2 triangles | sync cost (s) | 100 meters (s) | ms/meter in 100 | "
-                "per-meter cost in 100 / one meter |", "|---|---|---|---|---|---|---|"]
-        for r in res["scene_size"]["rows"]:
-            out.append(f"| {r['triangles']:,} | {r['one_meter_s']:.3f} | {r['one_meter_vs_smallest']:.2f} | "
-                       f"{r['sync_cost_s']:.3f} | {r['hundred_meters_s']:.3f} | {r['ms_per_meter_in_100']:.2f} | "
-                       f"{r['per_meter_in_100_vs_one_meter']:.3f} |")
+    if "guard" in res:
+        out += ["## 7. Scene guard and scene capture", "",
+                "| scene | guard: snapshot + restore (ms) | scene capture (probe render) (ms) |", "|---|---:|---:|"]
+        for r in res["guard"]["rows"]:
+            out.append(f"| {r['scene']} | {r['guard_s'] * 1e3:.1f} | {r['capture_s'] * 1e3:.1f} |")
         out.append("")
     if "memory" in res:
         mem = res["memory"]
-        out += ["## 7. Memory", "",
+        out += ["## 8. Memory", "",
                 f"{mem['readings']} single-meter render readings in a row in one process ({mem['seconds']:.0f} s): "
                 f"RSS growth after the 10th reading {mem['growth_mb_from_10th']:.1f} MB (goal < 50 MB: "
-                f"{yes(mem['met'])}); peak RSS of the whole bench process so far {mem['peak_rss_mb_process']:.0f} MB; "
+                f"{yes(mem['met'])}); peak RSS of the bench process so far {mem['peak_rss_mb_process']:.0f} MB; "
                 f"bpy.data counts unchanged: {mem['data_counts_unchanged']}.", "",
                 "| readings done | RSS (MB) |", "|---|---|"]
         out += [f"| {k} | {v:.1f} |" for k, v in mem["rss_mb_after"]]
@@ -586,8 +851,8 @@ def markdown(res):
     return "\n".join(out)
 
 
-BENCHES = {"overhead": bench_overhead, "batching": bench_batching, "analytic": bench_analytic,
-           "error_vs_time": bench_error_vs_time, "manual": bench_manual, "scene_size": bench_scene_size,
+BENCHES = {"batching": bench_batching, "overhead": bench_overhead, "throughput": bench_throughput,
+           "hybrid": bench_hybrid, "presets": bench_presets, "analytic": bench_analytic, "guard": bench_guard,
            "memory": bench_memory}
 
 
@@ -617,6 +882,13 @@ def main(argv=None):
         f.write("\n")
     with open(os.path.join(args.out, "results.md"), "w", encoding="utf-8") as f:
         f.write(markdown(results) + "\n")
+    if "presets" in results:
+        with open(os.path.join(args.out, "presets.md"), "w", encoding="utf-8") as f:
+            f.write("# Quality presets, measured\n\nWritten by `make bench` (bench/run.py, section 5 of results.md) "
+                    "in the same run as results.md.\n\n" + "\n".join(presets_markdown(results["presets"])) + "\n")
+        with open(os.path.join(args.out, "presets.json"), "w", encoding="utf-8") as f:
+            json.dump({"machine": results["machine"], **results["presets"]}, f, indent=2, default=float)
+            f.write("\n")
     log(f"bench: wrote {args.out}/results.json and results.md ({results['total_seconds']:.0f} s)")
     return 0
 
