@@ -196,9 +196,22 @@ class RADIOMETER_PG_brdf(bpy.types.PropertyGroup):
 classes = (RADIOMETER_PG_brdf_param, RADIOMETER_PG_brdf)
 
 
+def _hook(material, model, method, params, fidelity):
+    if getattr(material, "radiometer_brdf", None) is not None:
+        store_assignment(material, model, method, params, fidelity)
+
+
 def register_extra():
+    from ..shading import assign
+
     bpy.types.Material.radiometer_brdf = PointerProperty(type=RADIOMETER_PG_brdf)
+    if _hook not in assign.ASSIGNED_HOOKS:
+        assign.ASSIGNED_HOOKS.append(_hook)
 
 
 def unregister_extra():
+    from ..shading import assign
+
+    if _hook in assign.ASSIGNED_HOOKS:
+        assign.ASSIGNED_HOOKS.remove(_hook)
     del bpy.types.Material.radiometer_brdf

@@ -74,6 +74,7 @@ class Term:
     k: tuple = (0.0, 0.0, 0.0)
     roughness: float = 0.0
     exponent: float = 1.0
+    view: tuple = ()  # view-dependent weight factors: ("pow", k) -> cos_o^k, ("as_diffuse",) -> 1-(1-cos_o/2)^5
     extra: dict = field(default_factory=dict)
 
     def to_dict(self):
@@ -330,6 +331,25 @@ def lambert(wi, wo):
     return np.where(valid[..., None], np.full(ci.shape + (3,), 1.0 / np.pi), 0.0)
 
 
+def view_weight(view, wo):
+    """Product of the view-dependent weight factors of a term at view directions wo, shape (...,).
+
+    ("pow", k): cos_o^k, a stand-in for the cos_i cos_o factor that Phong-type lobes lack relative to a
+    microfacet lobe; ("as_diffuse",): 1 - (1 - cos_o/2)^5 (Ashikhmin-Shirley's diffuse view factor). The
+    node group computes the same from the shading normal and Geometry > Incoming.
+    """
+    co = np.clip(np.asarray(wo, dtype=float)[..., 2], 0.0, 1.0)
+    w = np.ones_like(co)
+    for factor in view:
+        if factor[0] == "pow":
+            w = w * co ** float(factor[1])
+        elif factor[0] == "as_diffuse":
+            w = w * (1.0 - (1.0 - 0.5 * co) ** 5)
+        else:
+            raise ValueError(f"unknown view factor {factor!r}")
+    return w
+
+
 def evaluate_terms(terms, wi, wo):
     """Sum of the closures in ``terms`` (list of ``Term``), f in 1/sr, RGB (..., 3)."""
     total = None
@@ -354,6 +374,8 @@ def evaluate_terms(terms, wi, wo):
             raise ValueError(f"unknown closure {c!r}")
         if c != "oren_nayar":
             f = f * _rgb(term.color)
+        if term.view:
+            f = f * view_weight(term.view, np.broadcast_to(wo, np.shape(f)))[..., None]
         total = f if total is None else total + f
     if total is None:
         total = np.zeros(np.broadcast_shapes(np.shape(wi), np.shape(wo)))

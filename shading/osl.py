@@ -1,8 +1,8 @@
 """OSL realisation: one Script node running ``shading/osl/radiometer_brdf.osl`` (Cycles CPU only).
 
-Rendering it needs ``scene.cycles.shading_system = True`` (Open Shading Language); Radiometer never
-switches that on in a user's scene: the panel says so, and ``shading.validate`` turns it on only in
-its own scratch scene.
+Rendering it needs ``scene.cycles.shading_system = True`` (Open Shading Language) and the CPU device;
+Radiometer switches it on in a user's scene only when asked (``radiometer.enable_osl``, an undoable
+operator the panel offers); ``shading.validate`` turns it on only in its own scratch scene.
 """
 
 import os
@@ -70,6 +70,7 @@ def set_inputs(node, terms):
 
     inp["DiffuseColor"].default_value = (0.0, 0.0, 0.0, 1.0)
     inp["DiffuseRoughness"].default_value = 0.0
+    inp["Tangent"].default_value = (1.0, 0.0, 0.0)  # world +X (the validation patch is not rotated)
     inp["SpecularKind"].default_value = KIND_NONE
     for t in terms:
         c = t.closure
@@ -96,3 +97,20 @@ def set_inputs(node, terms):
             inp["F0"].default_value = rgba(t.f0)
             inp["IOR"].default_value = rgba(t.ior)
             inp["Extinction"].default_value = rgba(t.k)
+
+
+def osl_problems(scene):
+    """Why OSL will not render in ``scene`` (list of sentences; empty when it will)."""
+    if scene is None:
+        return []
+    out = []
+    engine = scene.render.engine
+    if engine != "CYCLES":
+        out.append(f"the render engine is {engine.replace('BLENDER_', '').title()}: OSL runs only in Cycles")
+    cycles = getattr(scene, "cycles", None)
+    if cycles is not None:
+        if not cycles.shading_system:
+            out.append("Open Shading Language is off (Render Properties > Open Shading Language)")
+        if getattr(cycles, "device", "CPU") != "CPU":
+            out.append("the Cycles device is the GPU: OSL renders on the CPU only")
+    return out

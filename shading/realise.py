@@ -47,6 +47,7 @@ import numpy as np
 
 from . import closures as C
 from . import fit as F
+from . import laws as L
 from ..errors import RadiometerError
 
 METHODS = ("nodes", "osl")
@@ -81,16 +82,26 @@ class Fidelity:
     model: str = ""
     method: str = "nodes"
     terms: list = field(default_factory=list)
+    pointwise: object = None  # shading.fit.Pointwise on the uniform direction set
+    structure: dict = field(default_factory=dict)
+    inputs: dict = field(default_factory=dict)
+    coefficients: dict = field(default_factory=dict)
 
     def summary(self):
         if self.kind == "exact":
             return "exact"
-        return f"approximate: RMS {100 * self.rms_rel_diff:.1f} %, albedo \u0394 {self.albedo_diff:.3f}"
+        text = f"approximate: RMS {100 * self.rms_rel_diff:.1f} %, albedo \u0394 {self.albedo_diff:.3f}"
+        pw = self.pointwise
+        if pw is not None and pw.n:
+            text += f"; ratio median {pw.median:.2f}, 95 % within {pw.p95:.2f}\u00d7, max {pw.max:.2f}\u00d7"
+        return text
 
     def to_dict(self):
         return {"kind": self.kind, "rms_rel_diff": self.rms_rel_diff, "albedo_diff": self.albedo_diff,
                 "closure": self.closure, "fitted": self.fitted, "notes": self.notes, "model": self.model,
-                "method": self.method, "terms": [t.to_dict() for t in self.terms], "summary": self.summary()}
+                "method": self.method, "terms": [t.to_dict() for t in self.terms], "summary": self.summary(),
+                "pointwise": self.pointwise.to_dict() if self.pointwise is not None else None,
+                "structure": dict(self.structure), "coefficients": dict(self.coefficients)}
 
 
 def _lib():
@@ -176,28 +187,6 @@ def _rgb(v, default=1.0):
     return tuple(float(x) for x in np.broadcast_to(np.asarray(v, dtype=float), (3,)))
 
 
-def _alphas(p, default=0.3):
-    ax = p.get("alpha_x")
-    ay = p.get("alpha_y")
-    a = p.get("alpha", default)
-    if ax is None or ay is None:
-        return float(a), float(a)
-    return float(ax), float(ay)
-
-
-def _fresnel(p, given):
-    """(fresnel, f0, ior, k) as the library chooses it: eta+k (conductor), ior (dielectric) or f0 (Schlick)."""
-    if p.get("eta") is not None and p.get("k") is not None:
-        return "conductor", (1.0,) * 3, _rgb(p.get("eta")), _rgb(p.get("k"), 0.0)
-    if p.get("ior") is not None:
-        # Cycles' conductor Fresnel with k = 0 is the exact dielectric Fresnel (outside incidence)
-        return "conductor", (1.0,) * 3, _rgb(p.get("ior")), (0.0, 0.0, 0.0)
-    f0 = _rgb(p.get("f0"), 1.0)
-    if all(abs(v - 1.0) < 1e-12 for v in f0):
-        return "none", (1.0,) * 3, (1.5,) * 3, (0.0,) * 3  # Schlick with f0 = 1 is F = 1
-    return "schlick", f0, (1.5,) * 3, (0.0,) * 3
-
-
 def _f_model(model, given):
     lib = _lib()
     kwargs = dict(given)  # only what the user gave: the library applies its own defaults
@@ -213,7 +202,8 @@ def _describe_closures(terms, method):
     for t in terms:
         c = t.closure
         if c == "diffuse":
-            names.append("Diffuse BSDF" if method == "nodes" else "diffuse()")
+            names.append(("Diffuse BSDF" if method == "nodes" else "diffuse()")
+                         + (" x (1-(1-cos_o/2)^5)" if t.view else ""))
         elif c == "oren_nayar":
             names.append(f"Diffuse BSDF roughness {t.roughness:.3g}" if method == "nodes"
                          else f"oren_nayar_diffuse_bsdf({t.roughness:.3g})")
@@ -229,38 +219,13 @@ def _describe_closures(terms, method):
             else:
                 node = {"none": "microfacet()", "schlick": "generalized_schlick_bsdf()",
                         "conductor": "conductor_bsdf()"}[t.fresnel]
-            names.append(f"{node} {dist} {rough}")
+            weight = ""
+            for v in t.view:
+                weight += f" x cos_o^{v[1]:.2f}" if v[0] == "pow" else ""
+            names.append(f"{node} {dist} {rough}{weight}")
         elif c == "ashikhmin_shirley":
             names.append(f"Glossy BSDF Ashikhmin-Shirley alpha {t.alpha_x:.3g}, {t.alpha_y:.3g}")
     return " + ".join(names)
-
-
-def limit_for_nodes(terms):
-    """The terms as Blender's nodes can realise them (roughness <= 1, anisotropy ranges, scalar weights)."""
-    out = []
-    for t in terms:
-        if t.closure in ("microfacet", "ashikhmin_shirley"):
-            ax, ay = t.alpha_x, t.alpha_y
-            if t.closure == "microfacet" and t.fresnel != "none":
-                lo, hi = min(ax, ay), max(ax, ay)
-                lo = max(lo, 0.1 * hi)  # Metallic: aspect^2 = 1 - 0.9 a >= 0.1
-                a = min(math.sqrt(lo * hi), 1.0)
-                r = math.sqrt(lo / hi)
-                lo, hi = a * r, a / r
-                ax, ay = (hi, lo) if ax >= ay else (lo, hi)
-                w = sum(t.color) / 3.0
-                t = replace(t, color=(w, w, w))
-            else:
-                a = min(math.sqrt(ax * ay), 1.0)
-                ratio = min(max(ax / ay, 1e-4 * 1.0001), 1e4 / 1.0001)  # Glossy |anisotropy| <= 0.99
-                ax, ay = a * math.sqrt(ratio), a / math.sqrt(ratio)
-            if t.closure == "ashikhmin_shirley":
-                ax, ay = min(ax, 1.0), min(ay, 1.0)
-            t = replace(t, alpha_x=ax, alpha_y=ay)
-        elif t.closure == "oren_nayar":
-            t = replace(t, roughness=min(max(t.roughness, 0.0), 1.0))
-        out.append(t)
-    return out
 
 
 def _microfacet_candidates(lobe_alpha, fresnel=("none", (1.0,) * 3, (1.5,) * 3, (0.0,) * 3),
@@ -287,89 +252,11 @@ def _microfacet_candidates(lobe_alpha, fresnel=("none", (1.0,) * 3, (1.5,) * 3, 
     return cands
 
 
-def _realise(model, method, p, given):
-    """terms, kind hint, candidates (None when exact), lobe width, notes."""
-    notes = []
-    if model == "lambert":
-        return [C.Term("diffuse", color=_rgb(p.get("albedo"), 0.8))], None, 0.5, notes
-    if model == "oren_nayar":
-        albedo = _rgb(p.get("albedo"), 0.8)
-        sigma = float(p.get("sigma") or 0.0)
-        if p.get("variant") == "cycles":
-            return [C.Term("oren_nayar", color=albedo, roughness=sigma)], None, 0.5, notes
-        notes.append("classical Oren-Nayar sigma (rad) fitted to Cycles' energy-preserving Oren-Nayar roughness")
-
-        def build(x):
-            return [C.Term("oren_nayar", color=albedo, roughness=float(min(x[0], 1.0)))]
-
-        cand = F.Candidate("oren_nayar", build, x0=(max(min(sigma, 1.0), 0.01),), linear=(None,),
-                           bounds=((math.log(1e-3), 0.0),), fitted_names=("roughness",))
-        return None, None, 0.5, [cand] + notes
-    if model in ("ggx", "beckmann"):
-        ax, ay = _alphas(p)
-        fr = _fresnel(p, given)
-        return [C.Term("microfacet", distribution=model, alpha_x=ax, alpha_y=ay, fresnel=fr[0], f0=fr[1],
-                       ior=fr[2], k=fr[3])], None, min(ax, ay), notes
-    if model == "mirror":
-        fr = _fresnel(p, given)
-        color = _rgb(p.get("reflectance") or p.get("albedo") or p.get("ks"), 1.0)
-        return [C.Term("mirror", color=color, fresnel=fr[0], f0=fr[1], ior=fr[2], k=fr[3])], None, 0.01, notes
-    if model == "phong":
-        n = float(p.get("n", 10.0))
-        kd, ks = _rgb(p.get("kd"), 0.0), _rgb(p.get("ks"), 1.0)
-        width = 1.0 / math.sqrt(n + 1.0)
-        if method == "osl":
-            return [C.Term("diffuse", color=kd), C.Term("phong_ramp", color=ks, exponent=n)], None, width, notes
-        notes.append("Phong lobe (around the mirror direction) fitted with a microfacet lobe")
-        # Blinn-Phong half-vector exponent ~ 4 n_phong; Walter (2007): alpha ~ sqrt(2 / (n + 2))
-        return None, None, width, _microfacet_candidates([math.sqrt(2.0 / (4 * n + 2.0))], diffuse_color=kd) + notes
-    if model == "blinn_phong":
-        n = float(p.get("n", 10.0))
-        alpha = math.sqrt(2.0 / (n + 2.0))
-        notes.append("Blinn-Phong exponent fitted with a microfacet alpha (Walter 2007: alpha ~ sqrt(2/(n+2)))")
-        kd = _rgb(p.get("kd"), 0.0)
-        cands = _microfacet_candidates([alpha], diffuse_color=kd)
-        if method == "osl":
-            # a Phong lobe around the mirror direction has no 1/cos factors either; n_phong ~ n / 4
-            def build_phong(x):
-                return [C.Term("diffuse", color=kd), C.Term("phong_ramp", exponent=float(x[0]))]
-
-            cands.append(F.Candidate("diffuse + phong_ramp", build_phong, x0=(max(n / 4.0, 1.0),),
-                                     linear=(None, "rgb"), bounds=((0.0, math.log(1e6)),),
-                                     fitted_names=("phong_exponent",)))
-        return None, None, alpha, cands + notes
-    if model == "torrance_sparrow":
-        ax, ay = _alphas(p)
-        fr = _fresnel(p, given)
-        notes.append("V-cavity G replaced by the height-correlated Smith G of Cycles' Beckmann; alpha refitted")
-        cands = _microfacet_candidates([ax], fresnel=fr, distributions=("beckmann", "ggx"), diffuse=False,
-                                       spec_linear="scalar")
-        return None, None, ax, cands + notes
-    if model == "ward":
-        ax, ay = _alphas(p, 0.2)
-        notes.append("Ward's Gaussian lobe fitted with an anisotropic Beckmann/GGX lobe (F = 1)")
-        kd = _rgb(p.get("kd"), 0.0)
-        return None, None, min(ax, ay), _microfacet_candidates([ax, ay], aniso=True, diffuse_color=kd) + notes
-    if model == "ashikhmin_shirley":
-        nu, nv = float(p.get("n_u", 100.0)), float(p.get("n_v", 100.0))
-        rs = _rgb(p.get("Rs"), 0.05)
-        ax, ay = math.sqrt(2.0 / (nu + 2.0)), math.sqrt(2.0 / (nv + 2.0))
-
-        def build_as(x):
-            return [C.Term("diffuse"), C.Term("ashikhmin_shirley", alpha_x=float(x[0]), alpha_y=float(x[1]))]
-
-        cands = [F.Candidate("diffuse + Ashikhmin-Shirley lobe (F = 1)", build_as, x0=(ax, ay),
-                             linear=("rgb", "rgb"), bounds=((math.log(1e-3), 0.0),) * 2,
-                             fitted_names=("alpha_x", "alpha_y"))]
-        cands += _microfacet_candidates([ax, ay], fresnel=("schlick", rs, (1.5,) * 3, (0.0,) * 3), aniso=True,
-                                        distributions=("ggx",), spec_linear="scalar")
-        notes.append("Fresnel-weighted AS lobe and coupled diffuse fitted (Cycles' AS closure has F = 1)")
-        return None, None, min(ax, ay), cands + notes
-    raise RadiometerError(f"no Cycles mapping for BRDF model {model!r}")
-
-
-def realise(model, method="nodes", **params):
+def realise(model, method="nodes", coefficients=None, **params):
     """Closure terms and fidelity for ``model`` with ``params`` (validated; see ``resolve_params``).
+
+    ``coefficients`` (optional dict) evaluates the law with given fitted constants instead of
+    refitting: what a group node renders after one of its inputs was edited directly.
 
     Returns
     -------
@@ -380,64 +267,93 @@ def realise(model, method="nodes", **params):
         raise RadiometerError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     given = check_params(model, params)
     # The conductor Fresnel Cycles renders depends on the Blender version (closures.use_cycles_version).
-    key = (model, method, tuple(sorted((k, _freeze(v)) for k, v in given.items())), C._APPROXIMATE_CONDUCTOR)
+    coef = tuple(sorted((k, _freeze(v)) for k, v in (coefficients or {}).items()))
+    key = (model, method, tuple(sorted((k, _freeze(v)) for k, v in given.items())), coef, C._APPROXIMATE_CONDUCTOR)
     terms, fid = _realise_cached(key)
     return list(terms), fid
-
-
-def _same_terms(a, b, rtol=1e-9):
-    if len(a) != len(b):
-        return False
-    for s, t in zip(a, b):
-        if s.closure != t.closure:
-            return False
-        for name in ("alpha_x", "alpha_y", "roughness"):
-            if not math.isclose(getattr(s, name), getattr(t, name), rel_tol=rtol, abs_tol=1e-12):
-                return False
-        if not np.allclose(s.color, t.color, rtol=rtol, atol=1e-12):
-            return False
-    return True
 
 
 def _freeze(v):
     return tuple(v) if isinstance(v, list) else v
 
 
+def mapping_for(model, method, params):
+    """(structure, inputs, coefficients) that the group for ``model`` with ``params`` is built from."""
+    _, fid = realise(model, method, **params)
+    return fid.structure, fid.inputs, fid.coefficients
+
+
 @functools.lru_cache(maxsize=256)
 def _realise_cached(key):
-    model, method, items, _approximate_conductor = key
+    model, method, items, coef_items, _approximate_conductor = key
     given = {k: (list(v) if isinstance(v, tuple) else v) for k, v in items}
     p = {name: given.get(name, spec.get("default")) for name, spec in param_specs(model).items()}
-    terms, _, width, extra = _realise(model, method, p, set(given))
-    cands = [c for c in extra if isinstance(c, F.Candidate)]
-    notes = [s for s in extra if isinstance(s, str)]
+    structure = L.structure_of(model, given | {"variant": p.get("variant")})
+    x = L.input_values(model, structure, p)
     f_model = _f_model(model, given)
-    fitted = {}
-    if terms is None:
-        result = F.fit(cands, f_model, lobe_width=width)
-        terms = result.terms
-        fitted = dict(result.fitted)
-        fitted["closure"] = result.candidate
-        analytic_exact = False
+    notes = []
+    fitted = bool(coef_items) or L.needs_fit(model, method, structure)
+    if coef_items:
+        coef = {k: v for k, v in coef_items}
+    elif fitted:
+        width = _lobe_width(model, p)
+        best = None
+        for dist in L.DISTRIBUTIONS.get(model, (None,)):
+            extra = {"distribution": dist} if dist else {}
+
+            def build(c, extra=extra):
+                return L.numeric_terms(model, method, structure, x, dict(c, **extra))
+
+            c, cost = F.fit_coefficients(build, L.COEFFICIENTS[model], f_model, width)
+            if best is None or cost < best[1]:
+                best = (dict(c, **extra), cost)
+        coef = best[0]
     else:
-        analytic_exact = True
-    if method == "nodes":
-        limited = limit_for_nodes(terms)
-        if not _same_terms(limited, terms):
-            notes.append("closure parameters clamped to what Blender's nodes accept")
-            analytic_exact = False
-        terms = limited
+        coef = {}
+    terms = L.numeric_terms(model, method, structure, x, coef)
+    raw = L.law(L.NumpyOps, model, method, structure, x, coef)
+    clamped = any(t.closure == "microfacet" and (abs(float(np.asarray(r.alpha_x)) - t.alpha_x) > 1e-9
+                                                 or abs(float(np.asarray(r.alpha_y)) - t.alpha_y) > 1e-9)
+                  for r, t in zip(raw, terms))
+    if clamped:
+        notes.append("closure parameters clamped to what Blender's nodes accept")
     if any(t.closure == "mirror" for t in terms):
         rms, dalb = 0.0, 0.0
+        pw = F.Pointwise(0.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0)
         notes.append("delta lobe: both are perfect mirrors; not measurable with a point light")
     else:
-        rms, dalb = F.measure(terms, f_model, width)
-    for t in terms:
-        if t.closure in ("microfacet", "diffuse", "ashikhmin_shirley"):
-            fitted.setdefault("weights", []).append([round(c, 6) for c in t.color])
-    if model == "beckmann":
-        notes.append("Cycles' Beckmann uses Walter et al.'s rational Smith-Lambda approximation")
-    kind = "exact" if analytic_exact and rms <= EXACT_RMS else "approximate"
+        rms, dalb = F.measure(terms, f_model, _lobe_width(model, p))
+        pw = F.measure_pointwise(lambda a, b: C.evaluate_terms(terms, a, b), f_model)
+    notes += _NOTES.get(model, [])
+    if fitted:
+        notes.append("fitted coefficients are constants in the group; inputs drive the closures through them "
+                     "(re-apply to refit)")
+    analytic_exact = not fitted and not clamped and model not in ("beckmann",)
+    kind = "exact" if analytic_exact and rms <= EXACT_RMS and pw.max - 1.0 <= EXACT_RMS else "approximate"
     fid = Fidelity(kind=kind, rms_rel_diff=rms, albedo_diff=dalb, closure=_describe_closures(terms, method),
-                   fitted=fitted, notes="; ".join(notes), model=model, method=method, terms=list(terms))
+                   fitted=dict(coef), notes="; ".join(notes), model=model, method=method, terms=list(terms),
+                   pointwise=pw, structure=structure, inputs=x, coefficients=dict(coef))
     return list(terms), fid
+
+
+_NOTES = {
+    "beckmann": ["Cycles' Beckmann uses Walter et al.'s rational Smith-Lambda approximation"],
+    "oren_nayar": [],
+    "torrance_sparrow": ["V-cavity G replaced by the height-correlated Smith G of Cycles' Beckmann; alpha scaled"],
+    "ward": ["Ward's lobe realised by an anisotropic microfacet lobe (F = 1), alphas and weight fitted"],
+    "phong": [],
+    "blinn_phong": [],
+    "ashikhmin_shirley": ["specular: GGX with the model's Schlick Fresnel (F0 = Rs); diffuse: Lambert with the "
+                          "model's view factor, its light factor fitted as a constant"],
+}
+
+
+def _lobe_width(model, p):
+    if model in ("phong", "blinn_phong"):
+        return 1.0 / math.sqrt(float(p.get("n", 10.0)) + 1.0)
+    if model == "ashikhmin_shirley":
+        return math.sqrt(2.0 / (max(float(p.get("n_u", 100.0)), float(p.get("n_v", 10.0))) + 2.0))
+    if model in ("ggx", "beckmann", "torrance_sparrow", "ward"):
+        vals = [v for v in (p.get("alpha"), p.get("alpha_x"), p.get("alpha_y")) if v is not None]
+        return min(vals) if vals else 0.2
+    return 0.5
