@@ -37,6 +37,13 @@ MIN_BLOCKS = 2
 BLOCK_TEXELS = 4
 #: Growth of the common samples per texel from round to round.
 SPP_GROWTH = 4
+#: Most blocks in one round (the bake image: 65536 blocks x 16 texels = a 1024 x 1024 float image).
+MAX_BLOCKS = 1 << 16
+#: What one texel costs beyond its samples (image, read-back), in samples, when choosing spp.
+TEXEL_COST = 32
+#: A round costs a scene sync: a round planned below this fraction of the samples spent so far is
+#: doubled, so the last few meters do not take one round each.
+SMALL_ROUND = 0.1
 #: Most samples one meter may take in a target-driven measurement (about 4 M): a meter that reads
 #: almost nothing (a dark corner lit only by faint reflections) can need unbounded samples for a
 #: RELATIVE target; it stops here and its reading says the target was not reached.
@@ -123,8 +130,10 @@ class MeterTally:
         s_prev = np.zeros(self.count)
         for r in self.rounds:
             has = r["texels"] > 1
-            v_prev = np.where(has, v_last, v_prev)
-            s_prev = np.where(has, s_last, s_prev)
+            # The previous point of the decay law is the last round at a DIFFERENT spp.
+            moved = has & (s_last != r["spp"]) & (s_last > 0)
+            v_prev = np.where(moved, v_last, v_prev)
+            s_prev = np.where(moved, s_last, s_prev)
             v_last = np.where(has, r["var"][:, 0], v_last)
             s_last = np.where(has, r["spp"], s_last)
         alpha = np.ones(self.count)
@@ -135,10 +144,15 @@ class MeterTally:
         return v_last, s_last, alpha, ok
 
 
-def plan_round(tally, target, spp, offset=0.0, max_blocks=1 << 16, max_samples=MAX_SAMPLES_PER_METER):
-    """Blocks per meter for a round at ``spp`` samples per texel so that the round alone brings each
-    unconverged meter to ``target`` (1-sigma relative, on mean + offset), by the texel-variance model.
-    Meters already at the target (with a margin for the noise of their own error estimate) get none.
+def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_SAMPLES_PER_METER):
+    """Blocks per meter for a round at ``spp`` samples per texel so that, COMBINED with the rounds
+    so far, each unconverged meter reaches ``target`` (1-sigma relative, on mean + offset), by the
+    texel-variance model. Meters already at the target (with a margin for the noise of their own
+    error estimate) get none.
+
+    With A = sum_r n_r^2 v_r / J_r over the rounds so far, n samples so far and the new round's
+    texel variance v at ``spp``, J new texels give se^2 = (A + spp^2 v J) / (n + spp J)^2; the
+    smallest J with se <= target' |mean| solves a quadratic.
     """
     total = np.abs(tally.mean + offset)
     rel = tally.rel_std_error(offset)
@@ -148,9 +162,17 @@ def plan_round(tally, target, spp, offset=0.0, max_blocks=1 << 16, max_samples=M
     margin = 1.0 + 1.0 / np.sqrt(2.0 * np.maximum(tally.dof, 1.0))
     todo = (rel * margin > target) & (tally.n < max_samples)
     v_last, s_last, alpha, measured = tally.texel_variance_model()
+    n_old = tally.n
+    a_old = (tally.std_error * n_old) ** 2                   # sum_r n_r^2 v_r / J_r
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        v_pred = v_last * (s_last / spp) ** alpha
-        texels = 1.3 * v_pred / (target / margin * total) ** 2
+        # 1.5 standard deviations of v_last's own noise (relative sd sqrt(2 / dof)) on top, so one
+        # unlucky low estimate does not leave the meter for yet another round.
+        v = (1.0 + 1.5 * np.sqrt(2.0 / np.maximum(tally.dof, 1.0))) * v_last * (s_last / spp) ** alpha
+        c = (target / margin * total) ** 2
+        qa = c * spp ** 2
+        qb = 2 * c * n_old * spp - spp ** 2 * v
+        qc = c * n_old ** 2 - a_old
+        texels = (-qb + np.sqrt(np.maximum(qb * qb - 4 * qa * qc, 0.0))) / (2 * qa)
     texels = np.where(np.isfinite(texels), texels, 0.0)
     blocks = np.where(todo, np.maximum(np.ceil(texels / BLOCK_TEXELS ** 2), MIN_BLOCKS), 0)
     # Until a meter's decay exponent is measured (two rounds at different spp), alpha = 1 may
@@ -159,9 +181,35 @@ def plan_round(tally, target, spp, offset=0.0, max_blocks=1 << 16, max_samples=M
     blocks = np.where(measured, blocks, np.minimum(blocks, 2 * PILOT_BLOCKS))
     cap = np.maximum(np.floor((max_samples - tally.n) / (spp * BLOCK_TEXELS ** 2)), MIN_BLOCKS)
     blocks = np.minimum(blocks, cap).astype(int)
+    max_blocks = MAX_BLOCKS if max_blocks is None else max_blocks
     if blocks.sum() > max_blocks:
         blocks = np.maximum((blocks * max_blocks) // blocks.sum(), np.where(blocks > 0, 1, 0))
     return blocks
+
+
+def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_METER):
+    """Samples per texel for the next round: 4x the previous one while some meter's decay exponent
+    is unmeasured (it needs two sample counts), then whichever of 1x, 2x, 4x the previous plans the
+    fewest samples (small remaining needs are not rounded up to 32 texels x 1024; never fewer samples
+    per texel than before, so large needs do not explode into texels)."""
+    _v, _s, _alpha, measured = tally.texel_variance_model()
+    grown = min(MAX_SPP, previous * SPP_GROWTH)
+    rel = tally.rel_std_error(offset)
+    if not np.all(measured | (rel <= target)):
+        # The step that measures the decay exponent (4x: a 2x step measured it too noisily,
+        # 6x the oracle's samples on a QMC-like integrand at 0.2 % against 4x).
+        return grown
+    best, best_cost = grown, np.inf
+    for spp in sorted({previous, min(MAX_SPP, 2 * previous), grown}):
+        # Samples, plus each texel's own cost (reading it back, its share of the image) counted
+        # as TEXEL_COST samples.
+        blocks = plan_round(tally, target, spp, offset, max_blocks=1 << 40, max_samples=max_samples).sum()
+        cost = blocks * (spp + TEXEL_COST) * (1.0 if blocks <= MAX_BLOCKS else np.inf)
+        if cost < best_cost * 0.95:  # prefer fewer, larger texels when it is a tie
+            best, best_cost = spp, cost
+        elif cost <= best_cost * 1.05:
+            best = spp
+    return best
 
 
 @dataclass
@@ -223,7 +271,6 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     reached, stopped = False, "round limit"
     goal = target
     for _round in range(max_rounds):
-        spp = min(MAX_SPP, spp * SPP_GROWTH)
         elapsed = clock() - started
         if time_budget is not None and elapsed >= time_budget:
             stopped = "time budget"
@@ -240,11 +287,16 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
                 break
             n_now = tally.n.sum()
             goal = float(np.max(finite)) * np.sqrt(n_now / (n_now + left))
+        spp = choose_spp(tally, goal, spp, offset, max_samples=max_samples)
         blocks = plan_round(tally, goal, spp, offset, max_samples=max_samples)
         if not blocks.any():
             reached, stopped = True, "target reached" if target is not None else "converged"
             break
         planned = float(blocks.sum()) * BLOCK_TEXELS ** 2 * spp
+        if target is not None and planned < SMALL_ROUND * tally.n.sum():
+            blocks = np.minimum(2 * blocks, np.maximum(blocks, np.floor((max_samples - tally.n) / (
+                spp * BLOCK_TEXELS ** 2)).astype(int)))
+            planned = float(blocks.sum()) * BLOCK_TEXELS ** 2 * spp
         if time_budget is not None:
             a, b = time_model()
             affordable = (time_budget - elapsed - a) / b

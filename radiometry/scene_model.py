@@ -85,7 +85,7 @@ class SceneGeometry:
                 lo, hi = verts.min(axis=0), verts.max(axis=0)
                 corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
                 emitting = self.triangles[mask & self.emissive] if len(self.emissive) else np.zeros((0, 3, 3))
-                out.append((k, np.unique(verts, axis=0), corners, emitting))
+                out.append((k, verts, corners, emitting))
             self._objects = sorted(out, key=lambda item: -len(item[1]))
         return self._objects
 
