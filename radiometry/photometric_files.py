@@ -1,0 +1,805 @@
+"""Photometric files (IES LM-63, EULUMDAT) read into a :class:`Photometry`; pure numpy, no bpy.
+
+Formats
+-------
+* IES LM-63-1986 (no format line), LM-63-1991 (``IESNA91``), LM-63-1995 (``IESNA:LM-63-1995``),
+  LM-63-2002 (``IESNA:LM-63-2002``) and LM-63-2019 (``IES:LM-63-2019``): keyword lines
+  ``[KEY] value`` with ``[MORE]`` continuations, ``TILT=NONE``, ``TILT=INCLUDE`` or
+  ``TILT=<file>`` (resolved next to the photometric file), candela multiplier, ballast factor,
+  ballast-lamp photometric factor (1986-1995 only: 2002 calls it "future use", 2019 "file
+  generation type", neither multiplies), absolute photometry (lumens per lamp = -1), photometric
+  types C, B and A.
+* EULUMDAT (``.ldt``): symmetry indicator 0-4, C-planes, gamma angles, intensities in cd/klm
+  scaled by the lamp flux of the standard lamp sets (line 26c) times the conversion factor
+  (line 24). A negative number of lamps (DIALux's absolute photometry) gives
+  ``rated_lumens = None``.
+
+Angles and symmetry (type C)
+----------------------------
+Vertical angle 0 deg is the nadir (straight down, the luminaire's local -Z), 180 deg the zenith.
+C-plane 0 is the luminaire's local +X, 90 its local +Y (counter-clockwise seen from above).
+Stored C ranges and what they mean: a single plane (axial symmetry); 0-90 (quadrilateral:
+I(C) = I(-C) = I(180 - C)); 0-180 (bilateral about the C0-C180 plane: I(C) = I(360 - C));
+90-270 (bilateral about the C90-C270 plane: I(C) = I(180 - C)); 0-360 (none). A full table
+missing its 360 deg plane gets it (a copy of 0 deg) when the spacing says so, as Cycles does.
+
+Interpolation (stated, and the one Cycles uses)
+-----------------------------------------------
+:meth:`Photometry.candela_at` interpolates the type-C table expanded to 0-360 deg with Cycles'
+IES kernel (``intern/cycles/kernel/util/ies.h``): Catmull-Rom cubic on table indices (not
+angles), first along the vertical angle then along C; the vertical stencil mirrors across the
+nadir (and the zenith when the table reaches 180 deg) and otherwise repeats the end value; C
+wraps around 360 deg; negative results are clamped to 0; directions outside the tabulated
+vertical range give 0 (so a 0-90 deg table is dark from the horizon up, horizon included).
+At tabulated angles it returns the table value exactly. :attr:`Photometry.lumens` integrates
+that same interpolated distribution (Gauss-Legendre, 8 x 8 nodes per table cell), so it is the
+flux Cycles emits for the light, which for a smooth distribution differs from a
+trapezoidal zonal-lumen sum by the interpolation error only.
+
+Errors: :class:`PhotometricFileError` (a ``ValueError``) with one line naming the file line and
+what was expected.
+"""
+
+import math
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["Photometry", "PhotometricFileError", "Tilt", "read_photometry", "parse_ies", "parse_ldt",
+           "catmull_rom_table", "cycles_ies_table", "to_ies_text", "CYCLES_CANDELA_TO_WATT"]
+
+#: Cycles' conversion of IES candela to its texture value (``intern/cycles/util/ies.cpp``):
+#: 4 pi / 177.83, i.e. a D65 luminous efficacy of 177.83 lm/W and the 4 pi of point-light strength.
+CYCLES_CANDELA_TO_WATT = 0.0706650768394
+#: Luminous efficacy Cycles assumes for IES files (lm/W): with light energy E W and Emission
+#: strength 1, the light's radiant intensity is E * cd / CYCLES_IES_EFFICACY W/sr (measured).
+CYCLES_IES_EFFICACY = 4.0 * math.pi / CYCLES_CANDELA_TO_WATT
+
+IES_FORMATS = {
+    "IESNA91": "LM-63-1991",
+    "IESNA:LM-63-1991": "LM-63-1991",
+    "IESNA:LM-63-1995": "LM-63-1995",
+    "IESNA:LM-63-2002": "LM-63-2002",
+    "IES:LM-63-2019": "LM-63-2019",
+    "IESNA:LM-63-2019": "LM-63-2019",
+}
+_PHOTOMETRIC_TYPES = {1: "C", 2: "B", 3: "A"}
+_ANGLE_TOL = 1e-4  # deg; Cycles' angle_close
+
+
+class PhotometricFileError(ValueError):
+    """A photometric file that cannot be read; the message is one line naming the place."""
+
+
+@dataclass(frozen=True)
+class Tilt:
+    """LM-63 TILT data: lamp-to-luminaire geometry (1, 2 or 3), tilt angles (deg) and factors."""
+
+    geometry: int
+    angles_deg: tuple
+    factors: tuple
+    source: str = "INCLUDE"
+
+    def factor(self, tilt_deg):
+        """Multiplying factor at a luminaire tilt (deg), linear between tabulated angles."""
+        return float(np.interp(float(tilt_deg), self.angles_deg, self.factors))
+
+
+def _frozen(a):
+    a = np.array(a, dtype=np.float64)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True)
+class Photometry:
+    """A luminaire's luminous intensity distribution read from a photometric file.
+
+    Attributes
+    ----------
+    vertical_angles_deg : (n_v,) ascending, deg (type C: 0 = nadir)
+    horizontal_angles_deg : (n_h,) ascending, deg, as stored in the file (C-planes)
+    candela : (n_h, n_v) luminous intensity, cd (multiplier and ballast factor applied; EULUMDAT:
+        cd/klm times lamp flux / 1000)
+    symmetry : {'axial', 'quadrilateral', 'bilateral', 'bilateral-90-270', 'none'}
+    photometric_type : {'C', 'B', 'A'}
+    rated_lumens : float or None
+        Rated lamp flux from the header (number of lamps x lumens per lamp), None for absolute
+        photometry.
+    file_format : str, e.g. 'LM-63-2002', 'EULUMDAT'
+    metadata : dict of str (manufacturer, catalogue number, luminaire, lamp, ... as in the file)
+    tilt : Tilt or None
+    input_watts : float or None
+    source : str, the file path (or '<text>')
+    """
+
+    vertical_angles_deg: np.ndarray
+    horizontal_angles_deg: np.ndarray
+    candela: np.ndarray
+    symmetry: str
+    photometric_type: str = "C"
+    rated_lumens: float = None
+    file_format: str = ""
+    metadata: dict = field(default_factory=dict)
+    tilt: Tilt = None
+    input_watts: float = None
+    source: str = "<text>"
+
+    def __post_init__(self):
+        object.__setattr__(self, "vertical_angles_deg", _frozen(self.vertical_angles_deg))
+        object.__setattr__(self, "horizontal_angles_deg", _frozen(self.horizontal_angles_deg))
+        cd = _frozen(self.candela)
+        if cd.shape != (self.horizontal_angles_deg.size, self.vertical_angles_deg.size):
+            raise ValueError(f"candela must have shape (n_h, n_v) = ({self.horizontal_angles_deg.size}, "
+                             f"{self.vertical_angles_deg.size}), got {cd.shape}")
+        object.__setattr__(self, "candela", cd)
+        object.__setattr__(self, "metadata", dict(self.metadata))
+
+    # --- the full type-C table ----------------------------------------------------------------
+    def full_table(self):
+        """(h_deg, v_deg, cd) with h from 0 to 360 deg inclusive, expanded by the file's symmetry."""
+        if self.photometric_type != "C":
+            raise ValueError(f"type {self.photometric_type} photometry has no type-C table "
+                             "(its polar axis is horizontal); only type C can be expanded")
+        h, cd = self.horizontal_angles_deg, self.candela
+        if self.symmetry == "axial":
+            return np.array([0.0, 360.0]), self.vertical_angles_deg.copy(), np.vstack([cd[0], cd[0]])
+        if self.symmetry == "quadrilateral":
+            h = np.concatenate([h, 180.0 - h[-2::-1]])
+            cd = np.vstack([cd, cd[-2::-1]])
+        if self.symmetry in ("quadrilateral", "bilateral"):
+            h = np.concatenate([h, 360.0 - h[-2::-1]])
+            cd = np.vstack([cd, cd[-2::-1]])
+        elif self.symmetry == "bilateral-90-270":
+            # stored 90..270; I(C) = I(180 - C): 0..90 from 180..90, 270..360 from 270..180.
+            low = h <= 180.0 + _ANGLE_TOL
+            high = h >= 180.0 - _ANGLE_TOL
+            h0 = 180.0 - h[low][::-1]
+            cd0 = cd[low][::-1]
+            h2 = 540.0 - h[high][::-1]
+            cd2 = cd[high][::-1]
+            h = np.concatenate([h0[:-1], h, h2[1:]])
+            cd = np.vstack([cd0[:-1], cd, cd2[1:]])
+        if abs(h[-1] - 360.0) > _ANGLE_TOL:  # 'none' without the closing plane
+            h = np.concatenate([h, [360.0]])
+            cd = np.vstack([cd, cd[:1]])
+        return h, self.vertical_angles_deg.copy(), cd
+
+    def candela_at(self, vertical_deg, horizontal_deg):
+        """Luminous intensity (cd) in a direction, vectorised (broadcasting) over both angles.
+
+        ``vertical_deg`` 0 = nadir, 180 = zenith; ``horizontal_deg`` is the C angle (any value,
+        wrapped to [0, 360)). Interpolation: Cycles' (see the module docstring). NaN gives NaN.
+        """
+        h_full, v_full, table = self.full_table()
+        v = np.asarray(vertical_deg, dtype=np.float64)
+        h = np.mod(np.asarray(horizontal_deg, dtype=np.float64), 360.0)
+        return catmull_rom_table(h_full, v_full, table, h, v)
+
+    # --- derived quantities ----------------------------------------------------------------------
+    @property
+    def max_candela(self):
+        return float(np.max(self.candela))
+
+    @property
+    def lumens(self):
+        """Luminous flux (lm) of the interpolated distribution over the whole sphere."""
+        if self.photometric_type == "C":
+            h_full, v_full, table = self.full_table()
+            return _integrate_cells(lambda hh, vv: catmull_rom_table(h_full, v_full, table, hh, vv),
+                                    h_full, v_full, lambda v: np.sin(np.radians(v)))
+        return _lumens_type_ab(self)
+
+    @property
+    def candela_per_klm(self):
+        """(n_h, n_v) cd per 1000 lm of rated lamp flux; None for absolute photometry."""
+        if not self.rated_lumens:
+            return None
+        return self.candela * (1000.0 / self.rated_lumens)
+
+    def _spread_angle(self, fraction):
+        """Full angle (deg) of the cone about the nadir in which the intensity stays above
+        ``fraction`` of the maximum, per C-plane pair C0-C180 and C90-C270, averaged (type C);
+        found on the interpolated distribution at 0.01 deg."""
+        if self.photometric_type != "C":
+            return None
+        peak = self.max_candela
+        if peak <= 0.0:
+            return 0.0
+        v = np.arange(0.0, 180.0 + 1e-9, 0.01)
+        widths = []
+        for c in (0.0, 90.0):
+            halves = []
+            for side in (c, c + 180.0):
+                values = self.candela_at(v, side)
+                # first angle where it drops below, going out from the nadir (linear in between)
+                below = np.nonzero(values < fraction * peak)[0]
+                if not below.size:
+                    halves.append(180.0)
+                elif below[0] == 0:
+                    halves.append(0.0)
+                else:
+                    k = below[0]
+                    f0, f1 = values[k - 1], values[k]
+                    halves.append(v[k - 1] + 0.01 * (f0 - fraction * peak) / (f0 - f1))
+            widths.append(sum(halves))
+        return float(np.mean(widths))
+
+    @property
+    def beam_angle_deg(self):
+        """Full angle where the intensity is >= 50 % of the maximum (IES beam angle), deg;
+        mean of the C0-C180 and C90-C270 planes, each measured outward from the nadir."""
+        return self._spread_angle(0.5)
+
+    @property
+    def field_angle_deg(self):
+        """As :attr:`beam_angle_deg` at 10 % of the maximum (field angle), deg."""
+        return self._spread_angle(0.1)
+
+    def summary(self):
+        """JSON-serialisable dict of the numbers a catalogue prints."""
+        md = self.metadata
+        return {
+            "source": self.source, "format": self.file_format, "photometric_type": self.photometric_type,
+            "symmetry": self.symmetry,
+            "manufacturer": md.get("MANUFAC") or md.get("company"),
+            "luminaire": md.get("LUMINAIRE") or md.get("luminaire_name"),
+            "catalogue_number": md.get("LUMCAT") or md.get("luminaire_number"),
+            "lumens": self.lumens, "rated_lumens": self.rated_lumens,
+            "light_output_ratio": (self.lumens / self.rated_lumens) if self.rated_lumens else None,
+            "max_candela": self.max_candela, "beam_angle_deg": self.beam_angle_deg,
+            "field_angle_deg": self.field_angle_deg,
+            "n_vertical": int(self.vertical_angles_deg.size), "n_horizontal": int(self.horizontal_angles_deg.size),
+            "input_watts": self.input_watts,
+            "tilt": None if self.tilt is None else self.tilt.source,
+        }
+
+
+# --- interpolation ----------------------------------------------------------------------------
+
+def _cubic(a, b, c, d, x):
+    # Catmull-Rom through b (x = 0) and c (x = 1), Cycles' cubic_interp.
+    return 0.5 * (((d + 3.0 * (b - c) - a) * x + (2.0 * a - 5.0 * b + 4.0 * c - d)) * x + (c - a)) * x + b
+
+
+def catmull_rom_table(h_deg, v_deg, table, h, v):
+    """Cycles' IES interpolation of ``table`` (n_h, n_v) at C angles ``h`` and vertical angles
+    ``v`` (deg, broadcast). ``h_deg`` must run from 0 to 360 for the C wrap (otherwise the ends
+    repeat, and C outside the range gives 0)."""
+    H = np.asarray(h_deg, dtype=np.float64)
+    V = np.asarray(v_deg, dtype=np.float64)
+    T = np.asarray(table, dtype=np.float64)
+    h, v = np.broadcast_arrays(np.asarray(h, dtype=np.float64), np.asarray(v, dtype=np.float64))
+    shape = h.shape
+    h, v = h.ravel(), v.ravel()
+    n_h, n_v = H.size, V.size
+    out = np.zeros(h.shape)
+    nan = np.isnan(h) | np.isnan(v)
+    inside = ~nan & (v >= V[0]) & (v < V[-1]) & (h >= H[0]) & (h < H[-1])
+    wrap_h = H[0] < 1e-5 and H[-1] > 360.0 - 1e-5
+    wrap_vlow = V[0] < 1e-5
+    wrap_vhigh = V[-1] > 180.0 - 1e-5
+    hi, vi = h[inside], v[inside]
+    ih = np.clip(np.searchsorted(H, hi, side="left") - 1, 0, n_h - 2)
+    iv = np.clip(np.searchsorted(V, vi, side="left") - 1, 0, n_v - 2)
+    fh = (hi - H[ih]) / (H[ih + 1] - H[ih])
+    fv = (vi - V[iv]) / (V[iv + 1] - V[iv])
+
+    def vertical(rows):
+        b = T[rows, iv]
+        c = T[rows, iv + 1]
+        a = np.where(iv > 0, T[rows, np.maximum(iv - 1, 0)], T[rows, 1] if wrap_vlow else b)
+        d_idx = np.minimum(iv + 2, n_v - 1)
+        d = np.where(iv + 2 < n_v, T[rows, d_idx], T[rows, n_v - 2] if wrap_vhigh else c)
+        return _cubic(a, b, c, d, fv)
+
+    b = vertical(ih)
+    c = vertical(ih + 1)
+    if wrap_h:
+        a = vertical(np.where(ih > 0, ih - 1, n_h - 2))
+        d = vertical(np.where(ih + 2 < n_h, ih + 2, 1))
+    else:  # Cycles falls back to the second point at both ends
+        a = np.where(ih > 0, vertical(np.maximum(ih - 1, 0)), b)
+        d = np.where(ih + 2 < n_h, vertical(np.minimum(ih + 2, n_h - 1)), b)
+    out[inside] = np.maximum(_cubic(a, b, c, d, fh), 0.0)
+    out[nan] = np.nan
+    return out.reshape(shape)[()]
+
+
+_GL8 = np.polynomial.legendre.leggauss(8)
+
+
+def _integrate_cells(func, h_deg, v_deg, weight):
+    """int int func(h, v) weight(v) dh dv over the table's cells, both in radians, 8 x 8 GL nodes
+    per cell (the integrand is a polynomial inside each cell except for the clamp at 0)."""
+    x, w = _GL8
+    hs = 0.5 * (h_deg[:-1, None] + h_deg[1:, None]) + 0.5 * np.diff(h_deg)[:, None] * x[None, :]
+    whs = 0.5 * np.radians(np.diff(h_deg))[:, None] * w[None, :]
+    vs = 0.5 * (v_deg[:-1, None] + v_deg[1:, None]) + 0.5 * np.diff(v_deg)[:, None] * x[None, :]
+    wvs = 0.5 * np.radians(np.diff(v_deg))[:, None] * w[None, :]
+    hh, vv = hs.ravel(), vs.ravel()
+    values = func(hh[:, None], vv[None, :])
+    return float(np.einsum("ij,i,j->", values, whs.ravel(), wvs.ravel() * weight(vv)))
+
+
+def _lumens_type_ab(p):
+    """Flux of a type A/B table: angles (H lateral, V elevation) about a horizontal polar axis,
+    d omega = cos V dV dH; a 0-90 range stands for its mirror image too."""
+    H, V, T = p.horizontal_angles_deg, p.vertical_angles_deg, p.candela
+    factor = 1.0
+    if abs(H[0]) < _ANGLE_TOL and H.size > 1:
+        factor *= 2.0
+    if abs(V[0]) < _ANGLE_TOL and V.size > 1:
+        factor *= 2.0
+    if H.size == 1:
+        raise ValueError("a type A/B table needs at least two horizontal angles")
+    return factor * _integrate_cells(lambda hh, vv: catmull_rom_table(H, V, T, hh, vv),
+                                     H, V, lambda v: np.cos(np.radians(v)))
+
+
+# --- tokenising with line numbers -------------------------------------------------------------
+
+class _Tokens:
+    """Whitespace/comma separated numbers with their 1-based line numbers."""
+
+    def __init__(self, lines, first_line, path):
+        self.items = []
+        for k, line in enumerate(lines):
+            for tok in line.replace(",", " ").split():
+                self.items.append((tok, first_line + k))
+        self.pos = 0
+        self.path = path
+        self.last_line = first_line + max(len(lines) - 1, 0)
+
+    def _fail(self, what, got=None, line=None, found=", found nothing"):
+        where = f"line {line}" if line is not None else f"line {self.last_line} (end of file)"
+        tail = f", got {got!r}" if got is not None else found
+        raise PhotometricFileError(f"{self.path}: {where}: expected {what}{tail}")
+
+    def number(self, what, integer=False):
+        if self.pos >= len(self.items):
+            self._fail(what)
+        tok, line = self.items[self.pos]
+        self.pos += 1
+        try:
+            value = float(tok)
+        except ValueError:
+            self._fail(what, tok, line)
+        if not math.isfinite(value):
+            self._fail(what + " (finite)", tok, line)
+        if integer:
+            if value != int(value):
+                self._fail(what + " (an integer)", tok, line)
+            return int(value), line
+        return value, line
+
+    def numbers(self, n, what):
+        out = np.empty(n)
+        lines = []
+        for i in range(n):
+            if self.pos >= len(self.items):
+                self._fail(f"{n} {what}", found=f", found {i}")
+            out[i], line = self.number(what)
+            lines.append(line)
+        return out, lines
+
+
+def _check_ascending(values, lines, what, path):
+    for i in range(1, len(values)):
+        if not values[i] > values[i - 1]:
+            raise PhotometricFileError(f"{path}: line {lines[i]}: expected {what} in increasing order, "
+                                       f"got {values[i]:g} after {values[i - 1]:g}")
+
+
+def _check_candela(values, lines, path, unit="candela"):
+    for i, value in enumerate(values.ravel()):
+        if value < 0.0:
+            raise PhotometricFileError(f"{path}: line {lines[i]}: expected a non-negative {unit} value, got {value:g}")
+
+
+def _classify_c(h, path, line):
+    """Symmetry of a type-C horizontal angle list (deg), as LM-63 defines it."""
+    first, last = h[0], h[-1]
+    close = lambda a, b: abs(a - b) < _ANGLE_TOL  # noqa: E731
+    if h.size == 1:
+        return "axial"
+    if close(first, 0.0) and close(last, 90.0):
+        return "quadrilateral"
+    if close(first, 0.0) and close(last, 180.0):
+        return "bilateral"
+    if close(first, 90.0) and close(last, 270.0):
+        return "bilateral-90-270"
+    if close(first, 0.0) and close(last, 360.0):
+        return "none"
+    if close(first, 0.0) and h.size >= 2:
+        gap = 360.0 - last
+        if close(h[-1] - h[-2], gap) or close(h[1] - h[0], gap):
+            return "none"  # full table without its 360 deg plane (Cycles adds it too)
+    raise PhotometricFileError(
+        f"{path}: line {line}: expected type-C horizontal angles 0 (one plane), 0-90, 0-180, 90-270 or 0-360 deg, "
+        f"got {first:g}-{last:g}")
+
+
+# --- LM-63 --------------------------------------------------------------------------------------
+
+def parse_ies(text, path="<text>", tilt_loader=None):
+    """Parse LM-63 text into a :class:`Photometry` (see the module docstring).
+
+    ``tilt_loader(name)`` returns the text of a ``TILT=<file>`` file (default: read it next to
+    ``path``); a missing file raises :class:`PhotometricFileError`.
+    """
+    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    if not any(line.strip() for line in lines):
+        raise PhotometricFileError(f"{path}: line 1: expected an IES LM-63 file, got an empty file")
+    first = lines[0].strip().lstrip("\ufeff")
+    fmt = IES_FORMATS.get(first.upper())
+    start = 1 if fmt is not None else 0
+    if fmt is None:
+        if first.upper().startswith(("IESNA", "IES:")):
+            raise PhotometricFileError(f"{path}: line 1: expected a known LM-63 format line "
+                                       f"({', '.join(sorted(IES_FORMATS))}), got {first!r}")
+        fmt = "LM-63-1986"
+    metadata, labels, last_key = {}, [], None
+    tilt_index = None
+    for k in range(start, len(lines)):
+        line = lines[k].strip()
+        if line.upper().startswith("TILT"):
+            tilt_index = k
+            break
+        if line.startswith("["):
+            close = line.find("]")
+            if close < 0:
+                raise PhotometricFileError(f"{path}: line {k + 1}: expected a keyword like [MANUFAC], got {line!r}")
+            key, value = line[1:close].strip().upper(), line[close + 1:].strip()
+            if key == "MORE" and last_key is not None:
+                metadata[last_key] = (metadata[last_key] + "\n" + value).strip()
+                continue
+            metadata[key] = (metadata[key] + "\n" + value) if key in metadata else value
+            last_key = key
+        elif line:
+            labels.append(line)
+    if tilt_index is None:
+        raise PhotometricFileError(f"{path}: line {len(lines)} (end of file): expected a TILT= line, found none")
+    if labels:
+        metadata.setdefault("LABEL", "\n".join(labels))
+    tilt_line = lines[tilt_index].strip()
+    if "=" not in tilt_line:
+        raise PhotometricFileError(f"{path}: line {tilt_index + 1}: expected TILT=NONE, TILT=INCLUDE or TILT=<file>, "
+                                   f"got {tilt_line!r}")
+    tilt_value = tilt_line.split("=", 1)[1].strip()
+    tokens = _Tokens(lines[tilt_index + 1:], tilt_index + 2, path)
+    tilt = None
+    if tilt_value.upper() == "INCLUDE":
+        tilt = _read_tilt(tokens, "INCLUDE", path)
+    elif tilt_value.upper() != "NONE":
+        if not tilt_value:
+            raise PhotometricFileError(f"{path}: line {tilt_index + 1}: expected TILT=NONE, TILT=INCLUDE or "
+                                       "TILT=<file>, got an empty TILT")
+        tilt = _load_tilt_file(tilt_value, path, tilt_index + 1, tilt_loader)
+
+    n_lamps, _ = tokens.number("the number of lamps (an integer)", integer=True)
+    lumens_per_lamp, _ = tokens.number("the lumens per lamp (or -1 for absolute photometry)")
+    multiplier, _ = tokens.number("the candela multiplier")
+    n_v, line_nv = tokens.number("the number of vertical angles (an integer)", integer=True)
+    n_h, line_nh = tokens.number("the number of horizontal angles (an integer)", integer=True)
+    ptype, line_pt = tokens.number("the photometric type (1 = C, 2 = B, 3 = A)", integer=True)
+    if n_v < 2:
+        raise PhotometricFileError(f"{path}: line {line_nv}: expected at least 2 vertical angles, got {n_v}")
+    if n_h < 1:
+        raise PhotometricFileError(f"{path}: line {line_nh}: expected at least 1 horizontal angle, got {n_h}")
+    if ptype not in _PHOTOMETRIC_TYPES:
+        raise PhotometricFileError(f"{path}: line {line_pt}: expected the photometric type 1 (C), 2 (B) or 3 (A), "
+                                   f"got {ptype}")
+    units, _ = tokens.number("the units type (1 = feet, 2 = metres)", integer=True)
+    width, _ = tokens.number("the luminous width")
+    length, _ = tokens.number("the luminous length")
+    height, _ = tokens.number("the luminous height")
+    ballast, _ = tokens.number("the ballast factor")
+    third, _ = tokens.number("the ballast-lamp photometric factor / future use / file generation type")
+    watts, _ = tokens.number("the input watts")
+    v, v_lines = tokens.numbers(n_v, "vertical angles")
+    h, h_lines = tokens.numbers(n_h, "horizontal angles")
+    cd_raw, cd_lines = tokens.numbers(n_v * n_h, "candela values")
+    if tokens.pos < len(tokens.items):
+        tok, line = tokens.items[tokens.pos]
+        raise PhotometricFileError(f"{path}: line {line}: expected the end of the file after {n_h} x {n_v} candela "
+                                   f"values, got {tok!r} (wrong angle counts?)")
+    _check_ascending(v, v_lines, "vertical angles", path)
+    _check_ascending(h, h_lines, "horizontal angles", path)
+    _check_candela(cd_raw, cd_lines, path)
+    factor = multiplier * ballast
+    if fmt in ("LM-63-1986", "LM-63-1991", "LM-63-1995"):
+        factor *= third  # ballast-lamp photometric factor; later versions repurposed the field
+    metadata.update({"units_type": units, "luminous_width": width, "luminous_length": length,
+                     "luminous_height": height, "ballast_factor": ballast, "candela_multiplier": multiplier,
+                     "number_of_lamps": n_lamps, "lumens_per_lamp": lumens_per_lamp})
+    if fmt == "LM-63-2019":
+        metadata["file_generation_type"] = third
+    else:
+        metadata["ballast_lamp_factor"] = third
+    kind = _PHOTOMETRIC_TYPES[ptype]
+    if kind == "C":
+        if v[0] < -_ANGLE_TOL or v[-1] > 180.0 + _ANGLE_TOL:
+            raise PhotometricFileError(f"{path}: line {v_lines[0]}: expected type-C vertical angles within 0-180 deg, "
+                                       f"got {v[0]:g}-{v[-1]:g}")
+        symmetry = _classify_c(h, path, h_lines[0])
+    else:
+        if v[0] < -90.0 - _ANGLE_TOL or v[-1] > 90.0 + _ANGLE_TOL:
+            raise PhotometricFileError(f"{path}: line {v_lines[0]}: expected type-{kind} vertical angles within "
+                                       f"-90..90 deg, got {v[0]:g}-{v[-1]:g}")
+        symmetry = ("bilateral" if abs(h[0]) < _ANGLE_TOL else "none") if h.size > 1 else "axial"
+    rated = None if lumens_per_lamp < 0 else n_lamps * lumens_per_lamp
+    return Photometry(vertical_angles_deg=v, horizontal_angles_deg=h, candela=cd_raw.reshape(n_h, n_v) * factor,
+                      symmetry=symmetry, photometric_type=kind, rated_lumens=rated, file_format=fmt,
+                      metadata=metadata, tilt=tilt, input_watts=watts, source=path)
+
+
+def _read_tilt(tokens, source, path):
+    geometry, _ = tokens.number("the lamp-to-luminaire geometry (1, 2 or 3)", integer=True)
+    n, line = tokens.number("the number of tilt angles (an integer)", integer=True)
+    if n < 1:
+        raise PhotometricFileError(f"{path}: line {line}: expected at least 1 tilt angle, got {n}")
+    angles, a_lines = tokens.numbers(n, "tilt angles")
+    factors, _ = tokens.numbers(n, "tilt multiplying factors")
+    _check_ascending(angles, a_lines, "tilt angles", path)
+    return Tilt(geometry=geometry, angles_deg=tuple(angles), factors=tuple(factors), source=source)
+
+
+def _load_tilt_file(name, path, line, loader):
+    if loader is None:
+        base = os.path.dirname(path) if path != "<text>" else os.getcwd()
+        full = name if os.path.isabs(name) else os.path.join(base, name)
+
+        def loader(_name):
+            with open(full, encoding="latin-1") as fh:
+                return fh.read()
+    try:
+        text = loader(name)
+    except OSError:
+        raise PhotometricFileError(f"{path}: line {line}: expected the TILT file {name!r} next to the "
+                                   "photometric file, it does not exist") from None
+    tilt_lines = text.replace("\r\n", "\n").split("\n")
+    return _read_tilt(_Tokens(tilt_lines, 1, f"{path} (TILT file {name})"), name, path)
+
+
+# --- EULUMDAT ------------------------------------------------------------------------------------
+
+_LDT_SYMMETRY = {0: "none", 1: "axial", 2: "bilateral", 3: "bilateral-90-270", 4: "quadrilateral"}
+
+
+def parse_ldt(text, path="<text>"):
+    """Parse EULUMDAT text into a :class:`Photometry` (candela = cd/klm x lamp flux / 1000 x line 24)."""
+    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    pos = [0]
+
+    def raw(what):
+        if pos[0] >= len(lines):
+            raise PhotometricFileError(f"{path}: line {len(lines)} (end of file): expected {what}, found nothing")
+        pos[0] += 1
+        return lines[pos[0] - 1].strip(), pos[0]
+
+    def num(what, integer=False):
+        s, ln = raw(what)
+        try:
+            value = float(s.replace(",", ".")) if s else float("nan")
+        except ValueError:
+            raise PhotometricFileError(f"{path}: line {ln}: expected {what}, got {s!r}") from None
+        if not math.isfinite(value) or (integer and value != int(value)):
+            raise PhotometricFileError(f"{path}: line {ln}: expected {what}, got {s!r}")
+        return (int(value) if integer else value), ln
+
+    md = {}
+    md["company"], _ = raw("the company identification (line 1)")
+    ityp, _ = num("the type indicator Ityp (0-3)", integer=True)
+    isym, ln_sym = num("the symmetry indicator Isym (0-4)", integer=True)
+    if isym not in _LDT_SYMMETRY:
+        raise PhotometricFileError(f"{path}: line {ln_sym}: expected the symmetry indicator Isym 0-4, got {isym}")
+    mc, ln_mc = num("the number of C-planes Mc (an integer)", integer=True)
+    dc, _ = num("the distance between C-planes Dc (deg)")
+    ng, ln_ng = num("the number of intensities per C-plane Ng (an integer)", integer=True)
+    dg, _ = num("the distance between gamma angles Dg (deg)")
+    if mc < 1 and isym != 1:
+        raise PhotometricFileError(f"{path}: line {ln_mc}: expected at least 1 C-plane, got {mc}")
+    if isym in (2, 3) and mc % 2 or isym == 4 and mc % 4:
+        raise PhotometricFileError(f"{path}: line {ln_mc}: expected Mc divisible by {2 if isym in (2, 3) else 4} for "
+                                   f"symmetry {isym}, got {mc}")
+    if ng < 2:
+        raise PhotometricFileError(f"{path}: line {ln_ng}: expected at least 2 gamma angles Ng, got {ng}")
+    for key in ("measurement_report", "luminaire_name", "luminaire_number", "file_name", "date_user"):
+        md[key], _ = raw(key.replace("_", " "))
+    for key in ("length_mm", "width_mm", "height_mm", "luminous_length_mm", "luminous_width_mm",
+                "luminous_height_c0_mm", "luminous_height_c90_mm", "luminous_height_c180_mm", "luminous_height_c270_mm",
+                "downward_flux_fraction_pct", "light_output_ratio_pct", "conversion_factor", "tilt_deg"):
+        md[key], _ = num(key.replace("_", " "))
+    n_sets, ln_sets = num("the number of standard sets of lamps (an integer)", integer=True)
+    if n_sets < 1:
+        raise PhotometricFileError(f"{path}: line {ln_sets}: expected at least 1 standard set of lamps, got {n_sets}")
+    sets = []
+    for _i in range(n_sets):
+        sets.append({})
+    for key, is_num in (("number_of_lamps", True), ("lamp_type", False), ("lamp_flux_lm", True),
+                        ("colour", False), ("cri", False), ("watts", True)):
+        for s in sets:
+            s[key] = num(key.replace("_", " "))[0] if is_num else raw(key.replace("_", " "))[0]
+    md["lamp_sets"] = sets
+    md["direct_ratios"] = [num("a direct ratio (line 27)")[0] for _ in range(10)]
+    c, c_lines = [], []
+    for _ in range(mc):
+        value, ln = num("a C-plane angle (deg)")
+        c.append(value)
+        c_lines.append(ln)
+    g, g_lines = [], []
+    for _ in range(ng):
+        value, ln = num("a gamma angle (deg)")
+        g.append(value)
+        g_lines.append(ln)
+    c, g = np.array(c), np.array(g)
+    _check_ascending(c, c_lines, "C-plane angles", path)
+    _check_ascending(g, g_lines, "gamma angles", path)
+    if g[0] < -_ANGLE_TOL or g[-1] > 180.0 + _ANGLE_TOL:
+        raise PhotometricFileError(f"{path}: line {g_lines[0]}: expected gamma angles within 0-180 deg, "
+                                   f"got {g[0]:g}-{g[-1]:g}")
+    if isym == 0:
+        planes = np.arange(mc)
+    elif isym == 1:
+        planes = np.array([0])
+    elif isym == 2:
+        planes = np.arange(mc // 2 + 1)
+    elif isym == 3:
+        start = int(np.argmin(np.abs(c - 90.0)))
+        planes = start + np.arange(mc // 2 + 1)
+    else:
+        planes = np.arange(mc // 4 + 1)
+    if isym != 1 and planes[-1] >= mc:
+        raise PhotometricFileError(f"{path}: line {c_lines[-1]}: expected C-planes reaching "
+                                   f"{ {2: 180, 3: 270, 4: 90}.get(isym, 360)} deg for symmetry {isym}")
+    values, v_lines = [], []
+    for _ in range(planes.size * ng):
+        value, ln = num(f"{planes.size} x {ng} luminous intensities (cd/klm) for symmetry {isym}")
+        values.append(value)
+        v_lines.append(ln)
+    values = np.array(values)
+    _check_candela(values, v_lines, path, "luminous intensity")
+    h = c[planes] if isym != 1 else np.array([0.0])
+    symmetry = _LDT_SYMMETRY[isym]
+    if isym == 0:
+        symmetry = _classify_c(h, path, c_lines[0])
+    flux = sum(abs(s["lamp_flux_lm"]) for s in sets)
+    absolute = any(s["number_of_lamps"] < 0 for s in sets)
+    candela = values.reshape(planes.size, ng) * (flux / 1000.0) * md["conversion_factor"]
+    md["type_indicator"] = ityp
+    md["symmetry_indicator"] = isym
+    md["c_plane_spacing_deg"], md["gamma_spacing_deg"] = dc, dg
+    watts = sum(s["watts"] for s in sets)
+    return Photometry(vertical_angles_deg=g, horizontal_angles_deg=h, candela=candela, symmetry=symmetry,
+                      photometric_type="C", rated_lumens=None if absolute else flux, file_format="EULUMDAT",
+                      metadata=md, tilt=None, input_watts=watts, source=path)
+
+
+# --- front end ---------------------------------------------------------------------------------
+
+def read_photometry(path):
+    """Read an IES LM-63 (``.ies``) or EULUMDAT (``.ldt``) file; the format is decided by the
+    extension, else by content (a first line of ``IESNA``/``IES:``/``TILT=`` means LM-63)."""
+    path = os.fspath(path)
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read()
+    except FileNotFoundError:
+        raise PhotometricFileError(f"{path}: no such file") from None
+    except OSError as exc:
+        raise PhotometricFileError(f"{path}: cannot read it ({exc.strerror or exc})") from None
+    if b"\0" in data[:4096]:
+        raise PhotometricFileError(f"{path}: line 1: expected a text photometric file, got binary data")
+    text = data.decode("utf-8") if _is_utf8(data) else data.decode("latin-1")
+    ext = os.path.splitext(path)[1].lower()
+    if ext == ".ldt":
+        return parse_ldt(text, path)
+    if ext == ".ies":
+        return parse_ies(text, path)
+    head = text.lstrip("\ufeff").lstrip().upper()
+    if head.startswith(("IESNA", "IES:")) or "\nTILT=" in text.upper():
+        return parse_ies(text, path)
+    return parse_ldt(text, path)
+
+
+def _is_utf8(data):
+    try:
+        data.decode("utf-8")
+        return True
+    except UnicodeDecodeError:
+        return False
+
+
+# --- Cycles' own reading of an IES text, and a canonical text Cycles reads as we do --------------
+
+def cycles_ies_table(text):
+    """The table Cycles' IES loader builds from LM-63 text, or None where Cycles would reject it.
+
+    Returns (h_deg, v_deg, values) with values in Cycles' texture units (cd x multiplier x
+    ballast factor x the second factor on that line x :data:`CYCLES_CANDELA_TO_WATT`). Follows
+    ``intern/cycles/util/ies.cpp`` for type C: TILT data skipped (never applied), 90-270 tables
+    ROTATED to 0-180 (not mirrored as LM-63 says), a single plane becomes 0 and 360, quadrant and
+    half tables mirrored, a missing 360 plane added when the spacing says so. Types A and B:
+    None here (the meter renders them).
+    """
+    t = text.replace(",", " ")
+    at = t.find("\nTILT=")
+    if at < 0:
+        return None
+    rest = t[at + 1:]
+    if rest.startswith("TILT=INCLUDE"):
+        toks = rest[len("TILT=INCLUDE"):].split()
+        try:
+            n_tilt = int(float(toks[1]))
+        except (IndexError, ValueError):
+            return None
+        toks = toks[2 + 2 * n_tilt:]
+    else:
+        nl = rest.find("\n")
+        if nl < 0:
+            return None
+        toks = rest[nl + 1:].split()
+    try:
+        nums = [float(x) for x in toks]
+    except ValueError:
+        return None
+    if len(nums) < 13:
+        return None
+    factor = nums[2] * nums[10] * nums[11] * CYCLES_CANDELA_TO_WATT
+    n_v, n_h, ptype = int(nums[3]), int(nums[4]), int(nums[5])
+    body = nums[13:]
+    if ptype != 1 or n_v < 2 or n_h < 1 or len(body) < n_v + n_h + n_v * n_h:
+        return None
+    v = np.float32(body[:n_v]).astype(np.float64)
+    h = list(np.float32(body[n_v:n_v + n_h]).astype(np.float64))
+    rows = [list(r) for r in (np.float32(np.array(body[n_v + n_h:n_v + n_h + n_v * n_h]).reshape(n_h, n_v)
+                                         * factor).astype(np.float64))]
+    close = lambda a, b: abs(a - b) < 1e-4  # noqa: E731
+    if close(h[0], 90.0):
+        h = [x - 90.0 for x in h]
+    if len(h) == 1:
+        h = [0.0, 360.0]
+        rows = [rows[0], rows[0]]
+    if close(h[-1], 90.0):
+        n = len(h)
+        for i in range(n - 2, -1, -1):
+            h.append(180.0 - h[i])
+            rows.append(rows[i])
+    if close(h[-1], 180.0):
+        n = len(h)
+        for i in range(n - 2, -1, -1):
+            h.append(360.0 - h[i])
+            rows.append(rows[i])
+    if close(h[0], 0.0) and not close(h[-1], 360.0) and len(h) > 1:
+        gap = 360.0 - h[-1]
+        if close(h[-1] - h[-2], gap) or close(h[1] - h[0], gap):
+            h.append(360.0)
+            rows.append(rows[0])
+    h = np.array(h)
+    if np.any(np.diff(h) <= 0.0) or np.any(np.diff(v) <= 0.0):
+        return None
+    return h, v, np.array(rows)
+
+
+def to_ies_text(photometry, factor=1.0, label="Radiometer"):
+    """LM-63-2002 text of the full (0-360 deg) type-C table times ``factor``, which Cycles reads
+    exactly as :meth:`Photometry.candela_at` interprets the original: no TILT, no symmetry left
+    for Cycles to interpret, multipliers folded in (written with 9 significant digits)."""
+    h, v, cd = photometry.full_table()
+    cd = cd * float(factor)
+    out = ["IESNA:LM-63-2002", f"[TEST] {label}"]
+    for key in ("MANUFAC", "LUMCAT", "LUMINAIRE", "LAMP"):
+        value = photometry.metadata.get(key)
+        if value:
+            out.append(f"[{key}] {value.splitlines()[0]}")
+    out.append(f"[_RADIOMETER_SOURCE] {os.path.basename(photometry.source)}")
+    out.append("TILT=NONE")
+    out.append(f"1 -1 1 {v.size} {h.size} 1 2 0 0 0")
+    out.append("1 1 0")
+    fmt = lambda a: " ".join(f"{x:.9g}" for x in a)  # noqa: E731
+    out.append(fmt(v))
+    out.append(fmt(h))
+    out.extend(fmt(row) for row in cd)
+    return "\n".join(out) + "\n"
