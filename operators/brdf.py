@@ -53,6 +53,8 @@ class RADIOMETER_OT_assign_brdf(bpy.types.Operator):
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
         self.report({"INFO"}, f"{mat.name}: {s.model} via {fid.closure} ({fid.summary()})")
+        if s.method == "osl" and "renders black" in fid.notes:
+            self.report({"WARNING"}, "OSL is not active in this scene: use Enable OSL in the panel")
         if fid.notes:
             self.report({"INFO"}, fid.notes)
         return {"FINISHED"}
@@ -107,4 +109,34 @@ class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (RADIOMETER_OT_assign_brdf, RADIOMETER_OT_brdf_plot)
+class RADIOMETER_OT_enable_osl(bpy.types.Operator):
+    """Render this scene with Open Shading Language (Cycles, CPU): needed by OSL BRDF materials"""
+
+    bl_idname = "radiometer.enable_osl"
+    bl_label = "Enable OSL"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        if context.scene is None or not hasattr(context.scene, "cycles"):
+            cls.poll_message_set("needs a scene with Cycles available")
+            return False
+        return True
+
+    def execute(self, context):
+        scene = context.scene
+        changed = []
+        if scene.render.engine != "CYCLES":
+            scene.render.engine = "CYCLES"
+            changed.append("render engine -> Cycles")
+        if not scene.cycles.shading_system:
+            scene.cycles.shading_system = True
+            changed.append("Open Shading Language on")
+        if scene.cycles.device != "CPU":
+            scene.cycles.device = "CPU"
+            changed.append("device -> CPU (OSL does not run on GPUs)")
+        self.report({"INFO"}, f"{scene.name}: " + (", ".join(changed) if changed else "OSL was already on"))
+        return {"FINISHED"}
+
+
+classes = (RADIOMETER_OT_assign_brdf, RADIOMETER_OT_brdf_plot, RADIOMETER_OT_enable_osl)

@@ -25,6 +25,10 @@ class RADIOMETER_PT_brdf(bpy.types.Panel):
         layout = self.layout
         mat = context.material
         s = mat.radiometer_brdf
+        if mat.library is not None:
+            layout.label(text=f"Linked from {mat.library.filepath}: make the material local to edit it",
+                         icon="LIBRARY_DATA_DIRECT")
+            return
         col = layout.column()
         col.prop(s, "model")
         col.prop(s, "method")
@@ -55,9 +59,16 @@ class RADIOMETER_PT_brdf(bpy.types.Panel):
             col.label(text=f"Fidelity: {format_fidelity(s)}",
                       icon="CHECKMARK" if s.fidelity_kind == "exact" else "INFO")
             col.label(text=f"Cycles: {s.fidelity_closure}")
-            if s.method == "osl" and not context.scene.cycles.shading_system:
-                col.label(text="Enable Render > Open Shading Language (Cycles, CPU) to render this",
-                          icon="ERROR")
+            if s.method == "osl":
+                from ..shading.osl import osl_problems
+
+                problems = osl_problems(context.scene)
+                for p in problems:
+                    col.label(text=p, icon="ERROR")
+                if problems:
+                    col.operator("radiometer.enable_osl", icon="SCRIPT")
+            elif s.fidelity_kind == "approximate" and s.model == "phong":
+                col.label(text="OSL realises Phong exactly (method OSL Script)", icon="INFO")
 
 
 classes = (RADIOMETER_PT_brdf,)

@@ -19,6 +19,7 @@ from them with exactly the law the numpy replica (``shading.laws.numeric_terms``
 """
 
 import json
+import math
 
 import numpy as np
 
@@ -292,6 +293,8 @@ def _closure_node(ops, term, normal, tangent, cos_o, x, y):
     else:  # microfacet / mirror with F = 1
         n = nodes.new("ShaderNodeBsdfGlossy")
         n.distribution = {"beckmann": "BECKMANN", "ggx": "GGX"}.get(term.distribution, "GGX")
+        if c == "ashikhmin_shirley":
+            n.distribution = "ASHIKHMIN_SHIRLEY"
         ops.set(n.inputs["Color"], color)
         if c == "mirror":
             n.inputs["Roughness"].default_value = 0.0
@@ -440,7 +443,7 @@ def build_terms_group(terms, name, group=None):
     if not any(s.in_out == "OUTPUT" for s in group.interface.items_tree if getattr(s, "item_type", "") == "SOCKET"):
         group.interface.new_socket(GROUP_OUTPUT_SOCKET, in_out="OUTPUT", socket_type="NodeSocketShader")
     group.interface.new_socket("Normal", in_out="INPUT", socket_type="NodeSocketVector").hide_value = True
-    aniso = any(t.closure == "microfacet" and abs(t.alpha_x - t.alpha_y) > 1e-9 for t in terms)
+    aniso = any(t.closure in ("microfacet", "ashikhmin_shirley") and abs(t.alpha_x - t.alpha_y) > 1e-9 for t in terms)
     if aniso:
         group.interface.new_socket("Tangent", in_out="INPUT", socket_type="NodeSocketVector").hide_value = True
     group.nodes.clear()

@@ -114,3 +114,14 @@ def test_node_anisotropy_conversions_round_trip(ax, ay):
         aspect = math.sqrt(1 - 0.9 * a)
         hi, lo = r * r / aspect, r * r * aspect
         assert np.allclose((hi, lo) if rot == 0 else (lo, hi), (ax, ay), rtol=1e-9)
+
+
+@pytest.mark.parametrize("ax,ay", [(0.1, 0.4), (0.4, 0.1), (0.2, 0.2), (0.05, 0.3)])
+def test_law_node_controls_round_trip(ax, ay):
+    # the group's Math nodes (shading.laws, NumpyOps replica) invert Cycles' svm/closure.h formulas
+    from radiometer.shading import laws as L
+
+    r, a = (float(v) for v in L.glossy_controls(L.NumpyOps, ax, ay))
+    assert np.allclose(L.cycles_alphas_glossy(r, a), (ax, ay), rtol=1e-9)
+    r, a, rot = (float(v) for v in L.metallic_controls(L.NumpyOps, ax, ay))
+    assert np.allclose(L.cycles_alphas_metallic(r, a, rot), (ax, ay), rtol=1e-9)

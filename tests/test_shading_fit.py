@@ -63,7 +63,7 @@ def test_fit_recovers_known_closure_parameters():
 
 
 @pytest.mark.parametrize("model,params,bound", [
-    ("torrance_sparrow", {}, 0.05), ("ward", {}, 0.1), ("ashikhmin_shirley", {}, 0.15),
+    ("torrance_sparrow", {}, 0.05), ("ward", {}, 0.1), ("ashikhmin_shirley", {}, 0.2),
     ("oren_nayar", {"sigma": 0.3}, 0.1),
 ])
 def test_approximations_are_measured_and_bounded(model, params, bound):
@@ -115,3 +115,15 @@ def test_brdf_subcommand(tmp_path, capsys):
     assert main(["brdf", "nope"]) == 2
     assert main(["brdf", "ggx", "--param", "alpha"]) == 2
     assert "error" in capsys.readouterr().err
+
+
+def test_ashikhmin_shirley_diffuse_is_not_too_dark():
+    # off the specular lobe only the coupled diffuse term remains (Ashikhmin & Shirley 2000, eq. 5);
+    # the old fitted mapping rendered it ~5x too dark there (issue 11)
+    from radiometer import brdf
+
+    terms, _ = realise("ashikhmin_shirley", "nodes")
+    wi = np.array([[math.sin(1.0), 0.0, math.cos(1.0)], [0.0, 0.0, 1.0]])
+    wo = np.array([[0.0, math.sin(1.0), math.cos(1.0)], [math.sin(1.2), 0.0, math.cos(1.2)]])
+    q = C.evaluate_terms(terms, wi, wo) / brdf.evaluate("ashikhmin_shirley", wi, wo)
+    assert np.all((q > 0.7) & (q < 1.4)), q

@@ -43,7 +43,9 @@ def test_assign_builds_group_keeps_user_nodes(lib):
     assert user.name in tree.nodes  # kept, only disconnected
     assert user.name in fid.notes
     metallic = _inner(node, "ShaderNodeBsdfMetallic")[0]
-    assert math.isclose(metallic.inputs["Roughness"].default_value, 0.6, rel_tol=1e-6)  # sqrt(0.36)
+    assert math.isclose(node.inputs["alpha"].default_value, 0.36, rel_tol=1e-6)  # the group's own input
+    assert metallic.inputs["Roughness"].is_linked  # driven from the input by Math nodes
+    assert {"alpha", "f0", "Normal"} <= set(node.inputs.keys())
     assert metallic.fresnel_type == "F82"
     assert tuple(metallic.inputs["Edge Tint"].default_value)[:3] == (1.0, 1.0, 1.0)
     s = mat.radiometer_brdf
@@ -60,8 +62,7 @@ def test_reedit_parameter_updates_material(lib):
     item.value = 0.64  # update callback re-applies
     node = mat.node_tree.nodes[GROUP_NODE_NAME]
     assert node.node_tree == group  # rebuilt in place, same data-block
-    metallic = _inner(node, "ShaderNodeBsdfMetallic")[0]
-    assert math.isclose(metallic.inputs["Roughness"].default_value, 0.8, rel_tol=1e-6)
+    assert math.isclose(node.inputs["alpha"].default_value, 0.64, rel_tol=1e-6)
     assert len([g for g in bpy.data.node_groups if g.name.startswith("Radiometer")]) == 1
 
 
@@ -78,13 +79,13 @@ def test_bad_parameters_raise_and_leave_material_unchanged(lib):
     with pytest.raises(RadiometerError):
         assign_brdf(mat, "no_such_model")
     assert len(mat.node_tree.nodes) == n_nodes
-    metallic = _inner(mat.node_tree.nodes[GROUP_NODE_NAME], "ShaderNodeBsdfMetallic")[0]
-    assert math.isclose(metallic.inputs["Roughness"].default_value, 0.5, rel_tol=1e-6)
+    node = mat.node_tree.nodes[GROUP_NODE_NAME]
+    assert math.isclose(node.inputs["alpha"].default_value, 0.25, rel_tol=1e-6)
     # through the property: error stored, material unchanged
     item = next(p for p in mat.radiometer_brdf.params if p.name == "alpha")
     item.value = -1.0
     assert mat.radiometer_brdf.error
-    assert math.isclose(metallic.inputs["Roughness"].default_value, 0.5, rel_tol=1e-6)
+    assert math.isclose(node.inputs["alpha"].default_value, 0.25, rel_tol=1e-6)
 
 
 def test_switch_to_osl_and_back_removes_only_our_nodes(lib):
@@ -93,12 +94,14 @@ def test_switch_to_osl_and_back_removes_only_our_nodes(lib):
     mat = bpy.data.materials.new("m")
     assign_brdf(mat, "lambert")
     assign_brdf(mat, "phong", method="osl", n=20.0)
-    names = set(mat.node_tree.nodes.keys())
-    assert OSL_NODE_NAME in names and GROUP_NODE_NAME not in names
-    assert not [g for g in bpy.data.node_groups if g.name.startswith("Radiometer")]
+    node = mat.node_tree.nodes[GROUP_NODE_NAME]
+    assert _inner(node, "ShaderNodeScript")  # the Script node lives inside the group
+    assert len([g for g in bpy.data.node_groups if g.name.startswith("Radiometer")]) == 1
+    assert "radiometer_brdf.osl" in bpy.data.texts
     fid = assign_brdf(mat, "lambert")
     assert fid.kind == "exact"
-    assert OSL_NODE_NAME not in mat.node_tree.nodes
+    assert not _inner(mat.node_tree.nodes[GROUP_NODE_NAME], "ShaderNodeScript")
+    assert "radiometer_brdf.osl" not in bpy.data.texts  # the add-on's text block is cleaned up
     assert not bpy.context.scene.cycles.shading_system  # never switched on in the user's scene
 
 
@@ -153,3 +156,52 @@ def test_panel_fidelity_text(lib):
     assert text.startswith("approximate: RMS ") and "albedo" in text
     assign_brdf(mat, "lambert")
     assert format_fidelity(mat.radiometer_brdf) == "exact"
+
+
+def test_user_links_into_group_inputs_survive_reassign(lib):
+    from radiometer.shading.assign import GROUP_NODE_NAME, assign_brdf
+
+    mat = bpy.data.materials.new("m")
+    assign_brdf(mat, "ggx", alpha=0.3, f0=0.04)
+    tree = mat.node_tree
+    tex = tree.nodes.new("ShaderNodeTexNoise")
+    node = tree.nodes[GROUP_NODE_NAME]
+    tree.links.new(tex.outputs["Fac"], node.inputs["alpha"])
+    assign_brdf(mat, "ggx", alpha=0.5, f0=0.9)
+    node = tree.nodes[GROUP_NODE_NAME]
+    assert node.inputs["alpha"].is_linked and node.inputs["alpha"].links[0].from_node == tex
+    assert tex.name in tree.nodes
+
+
+def test_anisotropic_tangent_from_uv_map(lib):
+    from radiometer.shading.assign import GROUP_NODE_NAME, TANGENT_NODE_NAME, assign_brdf
+
+    mat = bpy.data.materials.new("m")
+    assign_brdf(mat, "ward", tangent_source="UV", uv_map="UVMap")
+    tangent = mat.node_tree.nodes[TANGENT_NODE_NAME]
+    assert tangent.direction_type == "UV_MAP" and tangent.uv_map == "UVMap"
+    assert mat.node_tree.nodes[GROUP_NODE_NAME].inputs["Tangent"].links[0].from_node == tangent
+    assign_brdf(mat, "ward")  # back to the object axis: the add-on's tangent node goes
+    assert TANGENT_NODE_NAME not in mat.node_tree.nodes
+
+
+def test_osl_assign_says_when_osl_is_off(lib):
+    from radiometer.shading.assign import assign_brdf
+
+    mat = bpy.data.materials.new("m")
+    fid = assign_brdf(mat, "phong", method="osl")
+    assert "Open Shading Language is off" in fid.notes
+    assert not bpy.context.scene.cycles.shading_system
+
+
+def test_enable_osl_operator_is_undoable_and_reported(lib):
+    from radiometer.operators.brdf import RADIOMETER_OT_enable_osl
+
+    scene = bpy.context.scene
+    assert not scene.cycles.shading_system
+    assert {"REGISTER", "UNDO"} <= RADIOMETER_OT_enable_osl.bl_options
+    assert bpy.ops.radiometer.enable_osl() == {"FINISHED"}
+    assert scene.cycles.shading_system and scene.render.engine == "CYCLES"
+    from radiometer.shading.osl import osl_problems
+
+    assert osl_problems(scene) == []

@@ -45,7 +45,7 @@ def _material_with(node_builder):
 
 
 def _nodes_material(terms):
-    group = N.build_group(terms, "validation group")
+    group = N.build_terms_group(terms, "validation group")
 
     def build(tree):
         node = tree.nodes.new("ShaderNodeGroup")
