@@ -188,3 +188,28 @@ def assign_brdf(material, model, method="nodes", **params):
     from .shading import assign
 
     return assign.assign_brdf(material, model, method=method, **params)
+
+
+# --- luminaires (IES LM-63, EULUMDAT) ----------------------------------------------------------
+
+def read_photometry(path):
+    """Read an IES LM-63 (.ies) or EULUMDAT (.ldt) file into a ``Photometry`` (no Blender needed):
+    ``vertical_angles_deg``, ``horizontal_angles_deg``, ``candela`` (n_h, n_v), ``candela_at(v, h)``,
+    ``lumens``, ``rated_lumens``, ``max_candela``, ``beam_angle_deg``, ``field_angle_deg``,
+    ``symmetry``, ``metadata``, ``summary()``. Bad files raise RadiometerError naming the line."""
+    from .radiometry import photometric_files
+
+    try:
+        return photometric_files.read_photometry(path)
+    except photometric_files.PhotometricFileError as exc:
+        raise RadiometerError(str(exc)) from None
+
+
+def import_luminaire(path, *, scene=None, location=(0.0, 0.0, 0.0), rotation_euler=(0.0, 0.0, 0.0), name=None):
+    """Add a photometric file as a point light whose Cycles render gives the file's candela at the
+    scene's luminous efficacy (vertical 0 deg along the light's local -Z, C0 along local +X, C90 along
+    local +Y). Returns the light object; bad input raises RadiometerError and creates nothing."""
+    from .measure import luminaires
+
+    return luminaires.import_luminaire(path, scene=scene, location=location, rotation_euler=rotation_euler,
+                                       name=name)

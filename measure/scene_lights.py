@@ -21,13 +21,29 @@ def light_values(light_data, matrix_world):
             value = getattr(light_data, attr)
             values[attr] = tuple(value) if hasattr(value, "__len__") and not isinstance(value, str) else value
     values["matrix_world"] = [list(row) for row in matrix_world]
+    table = _photometric_table(light_data)
+    if table is not None:
+        values["intensity_table"] = table
     return values
+
+
+def _photometric_table(light_data):
+    """IntensityTable of a recognised IES light (``measure/luminaires.py``), else None."""
+    if not (getattr(light_data, "use_nodes", False) and getattr(light_data, "node_tree", None) is not None):
+        return None
+    from . import luminaires
+
+    return luminaires.photometric_table(light_data)[0]
 
 
 def uncovered_reason(light_data, obj):
     """Why a closed form cannot describe this light (None when it can)."""
     if getattr(light_data, "use_nodes", False) and light_data.node_tree is not None:
-        return "uses a light node tree (textures or emission nodes)"
+        from . import luminaires
+
+        table, reason = luminaires.photometric_table(light_data)
+        if table is None:
+            return reason
     linking = getattr(obj, "light_linking", None)
     if linking is not None and (linking.receiver_collection is not None or linking.blocker_collection is not None):
         return "uses light linking"

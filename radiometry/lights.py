@@ -16,6 +16,9 @@ Every model follows what Cycles (Blender 5.0) renders, read from its source
 * sun: uniform cone of half-angle angle/2 whose normal irradiance is ``energy``.
 * area: Lambertian emitter L = P/(pi A) on the -Z side; ``spread`` < 180 deg multiplies the
   radiance by max((tan(s/2) - tan a) / (tan(s/2) - s/2), 0) (soft-box slats, flux preserving).
+* photometric point light (radius 0, node tree Emission <- IES Texture; ``intensity_table``):
+  I(dir) = rgb_power * table(dir) W/sr with Cycles' IES lookup (see :class:`IntensityTable`),
+  E = I cos / r^2.
 
 Units: positions in metres, rgb_power in W per channel (sun: W/m^2 per channel), results in
 W/m^2 per channel. A delta light (point/spot of radius 0) at zero distance raises ValueError.
@@ -33,7 +36,7 @@ import numpy as np
 from .geometry import cap_projected_solid_angle, norm, polygon_projected_solid_angle, unit
 from .units import as_finite_array, check_nonnegative, scene_to_metres
 
-__all__ = ["LightSpec", "light_spec_from_values", "irradiance", "irradiance_with_bound", "exactness",
+__all__ = ["LightSpec", "IntensityTable", "light_spec_from_values", "irradiance", "irradiance_with_bound", "exactness",
            "radiant_intensity",
            "spot_attenuation", "DISK_POLYGON_SIDES"]
 
@@ -62,6 +65,61 @@ def _frozen(a):
 
 
 @dataclass(frozen=True)
+class IntensityTable:
+    """A photometric (IES) light's intensity per unit ``rgb_power``, as Cycles looks it up.
+
+    I(d) = rgb_power * interp(h(d), v(d)) W/sr for a world direction d leaving the light, with
+    u = vector_map @ matrix.T @ d (Cycles: Geometry Incoming, world-to-object NORMAL transform =
+    the transposed object matrix, then the node tree's Mapping), v = acos(-u_z / |u|) and
+    h = atan2(u_x, u_y) + 180 deg, and ``interp`` Cycles' IES kernel
+    (:func:`.photometric_files.catmull_rom_table`: Catmull-Rom on indices, 0 outside the table).
+
+    Attributes
+    ----------
+    h_deg : (n_h,) ascending C angles of Cycles' table, deg (0..360 for a wrapping table)
+    v_deg : (n_v,) ascending vertical angles, deg (0 = along the IES vector's -Z)
+    values : (n_h, n_v) W/sr per W of rgb_power (Cycles' IES texture value / (4 pi))
+    vector_map : (3, 3) the Mapping node's linear map (identity without one)
+    rgb_scale : (3,) Emission colour x Emission strength x IES strength, folded into rgb_power
+        by :func:`light_spec_from_values`
+    label : str, where the table came from (shown in notes)
+    """
+
+    h_deg: np.ndarray
+    v_deg: np.ndarray
+    values: np.ndarray
+    vector_map: np.ndarray = field(default_factory=lambda: np.eye(3))
+    rgb_scale: np.ndarray = field(default_factory=lambda: np.ones(3))
+    label: str = "IES"
+
+    def __post_init__(self):
+        h = _frozen(as_finite_array(self.h_deg, "h_deg"))
+        v = _frozen(as_finite_array(self.v_deg, "v_deg"))
+        values = _frozen(as_finite_array(self.values, "values"))
+        if h.ndim != 1 or v.ndim != 1 or h.size < 2 or v.size < 2 or values.shape != (h.size, v.size):
+            raise ValueError("IntensityTable needs h_deg (n_h >= 2), v_deg (n_v >= 2) and values (n_h, n_v)")
+        if np.any(np.diff(h) <= 0.0) or np.any(np.diff(v) <= 0.0):
+            raise ValueError("IntensityTable angles must increase")
+        if np.any(values < 0.0):
+            raise ValueError("IntensityTable values must be >= 0")
+        vmap = as_finite_array(self.vector_map, "vector_map", (3, 3))
+        if abs(np.linalg.det(vmap)) < 1e-12:
+            raise ValueError("IntensityTable vector_map is singular")
+        for name, value in (("h_deg", h), ("v_deg", v), ("values", values), ("vector_map", _frozen(vmap)),
+                            ("rgb_scale", _frozen(as_finite_array(self.rgb_scale, "rgb_scale", (3,))))):
+            object.__setattr__(self, name, value)
+
+    def lookup(self, local):
+        """Table value for directions ``local`` = matrix.T @ d (..., 3), before the Mapping."""
+        from .photometric_files import catmull_rom_table
+
+        u = unit(np.asarray(local, dtype=np.float64) @ self.vector_map.T)
+        v = np.degrees(np.arccos(np.clip(-u[..., 2], -1.0, 1.0)))
+        h = np.degrees(np.arctan2(u[..., 0], u[..., 1]) + np.pi)
+        return catmull_rom_table(self.h_deg, self.v_deg, self.values, h, v)
+
+
+@dataclass(frozen=True)
 class LightSpec:
     """A Blender light in SI units (see module docstring for the meaning Cycles gives each field).
 
@@ -80,6 +138,8 @@ class LightSpec:
     shape, size, size_y : area-light shape and unscaled extents, m
     spread : rad (area light, pi = Lambertian)
     normalize : bool, informational (already folded into rgb_power)
+    intensity_table : IntensityTable or None
+        A photometric point light (POINT, radius 0): its intensity table replaces P/(4 pi).
     matrix : (3, 3) or None
         The object's full linear map (``matrix_world[:3, :3]``, dimensionless, may be sheared or
         mirrored). None means ``axes @ diag(scale)``. Cycles takes every light direction from it:
@@ -104,7 +164,7 @@ class LightSpec:
     spread: float = np.pi
     normalize: bool = True
     matrix: np.ndarray = None
-
+    intensity_table: IntensityTable = None
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -136,6 +196,8 @@ class LightSpec:
                     raise ValueError(f"{name} must be <= pi rad, got {value!r}")
                 value = min(value, np.pi)
             object.__setattr__(self, name, value)
+        if self.intensity_table is not None:
+            _check_table_light(self)
 
     # Derived quantities -------------------------------------------------------------------
     @property
@@ -254,6 +316,9 @@ def light_spec_from_values(values, scale_length=1.0):
     if not np.isfinite(energy) or not np.all(np.isfinite(energy * colour)):
         raise ValueError(f"{label}: energy * 2**exposure * color overflows ({energy!r})")
     rgb = energy * colour
+    table = values.get("intensity_table")
+    if table is not None:
+        rgb = rgb * table.rgb_scale
     normalize = bool(values.get("normalize", True))
     if not normalize:
         rgb = rgb * _cycles_area_scene_units(kind, values, scale3)
@@ -268,7 +333,7 @@ def light_spec_from_values(values, scale_length=1.0):
         angle=float(values.get("angle", 0.0)), shape=str(values.get("shape", "SQUARE")),
         size=float(scene_to_metres(values.get("size", 1.0), scale)),
         size_y=float(scene_to_metres(values.get("size_y", 1.0), scale)),
-        spread=float(values.get("spread", np.pi)), normalize=normalize, matrix=columns,
+        spread=float(values.get("spread", np.pi)), normalize=normalize, matrix=columns, intensity_table=table,
     )
 
 
@@ -686,6 +751,8 @@ def _spread_quadrature(spec, p, n, order_r=QUADRATURE_RADIAL, order_phi=QUADRATU
 # --- public API ----------------------------------------------------------------------------
 
 def _factor_with_bound(spec, p, n):
+    if spec.intensity_table is not None:
+        return _table_factor(spec, p, n)
     if spec.kind == "SUN":
         return _sun_factor(spec, p, n)
     if spec.kind == "AREA":
@@ -752,6 +819,9 @@ def exactness(spec):
     """
     sign = ("; negative energy: Cycles subtracts this light, E < 0"
             if np.any(spec.rgb_power < 0.0) else "")
+    if spec.intensity_table is not None:
+        return True, "photometric point", (f"{spec.intensity_table.label}: I(theta, C) cos / r^2 with Cycles' IES "
+                                           "interpolation, exact" + sign)
     if spec.kind == "SUN":
         if spec.angle == 0.0:
             return True, "directional", "E = energy cos(theta), exact" + sign
@@ -793,6 +863,8 @@ def radiant_intensity(spec, direction):
     spread factor (0 behind); sun: ValueError (no position, inverse square does not apply).
     """
     d = unit(as_finite_array(direction, "direction"))
+    if spec.intensity_table is not None:
+        return _table_intensity(spec, d)[..., None] * spec.rgb_power
     if spec.kind == "SUN":
         raise ValueError("a sun has no position: inverse-square does not apply")
     if spec.kind in ("POINT", "SPOT"):
@@ -807,3 +879,30 @@ def radiant_intensity(spec, direction):
             tan_a = np.sqrt(np.maximum(1.0 - cos_l**2, 0.0)) / np.maximum(cos_l, 1e-300)
             f = f * np.maximum((np.tan(half) - tan_a) * _spread_normalisation(half), 0.0) if half > 0 else f * 0.0
     return f[..., None] * spec.rgb_power
+
+
+# --- photometric (IES) point lights ----------------------------------------------------------
+
+def _check_table_light(spec):
+    if spec.kind != "POINT" or spec.radius != 0.0:
+        raise ValueError("an intensity table is modelled for a point light of radius 0 only "
+                         f"(got {spec.kind.lower()} of radius {spec.radius:g} m)")
+    if not isinstance(spec.intensity_table, IntensityTable):
+        raise ValueError("intensity_table must be an IntensityTable")
+
+
+def _table_intensity(spec, directions):
+    """Table value (W/sr per W) for unit world directions leaving the light, (..., 3) -> (...)."""
+    return spec.intensity_table.lookup(np.asarray(directions, dtype=np.float64) @ spec.matrix)
+
+
+def _table_factor(spec, p, n):
+    # Delta source: E = I(-w) cos / r^2, w = unit vector from the receiver to the light.
+    to_light = spec.position - p
+    r = norm(to_light)
+    if np.any(r == 0.0):
+        raise ValueError("zero distance to light: a photometric point light has infinite irradiance at its position")
+    w = to_light / r[:, None]
+    cos_r = np.maximum(np.sum(w * n, axis=1), 0.0)
+    g = _table_intensity(spec, -w) * cos_r / r / r
+    return g, np.zeros_like(g)
