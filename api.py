@@ -213,3 +213,33 @@ def import_luminaire(path, *, scene=None, location=(0.0, 0.0, 0.0), rotation_eul
 
     return luminaires.import_luminaire(path, scene=scene, location=location, rotation_euler=rotation_euler,
                                        name=name)
+
+
+def goniometric_diagram(source, path, *, title=None):
+    """Write a polar plot of the C0-C180 and C90-C270 planes of ``source`` (a file path, a
+    ``Photometry`` or a light object Radiometer can read) to ``path`` (PNG); cd/klm when the file
+    has a rated lamp flux, else cd. Returns ``path``. RadiometerError when matplotlib is missing."""
+    import os
+
+    import numpy as np
+
+    from .plots import goniometric
+    from .radiometry import photometric_files
+
+    if isinstance(source, photometric_files.Photometry):
+        photometry = source
+    elif isinstance(source, (str, bytes, os.PathLike)):
+        photometry = read_photometry(source)
+    else:
+        from .measure import luminaires
+
+        photometry = luminaires.photometry_of_light(source)
+    if photometry.photometric_type != "C":
+        raise RadiometerError(f"{photometry.source}: type {photometry.photometric_type} photometry has no C-planes")
+    v = np.linspace(0.0, 180.0, 721)
+    scale, unit = (1000.0 / photometry.rated_lumens, "cd/klm") if photometry.rated_lumens else (1.0, "cd")
+    at = lambda c: photometry.candela_at(v, c) * scale  # noqa: E731
+    planes = {"C0-C180": (at(0.0), at(180.0)), "C90-C270": (at(90.0), at(270.0))}
+    label = title or photometry.metadata.get("LUMINAIRE") or photometry.metadata.get("luminaire_name") \
+        or os.path.basename(photometry.source)
+    return goniometric.goniometric_png(os.fspath(path), v, planes, unit=unit, title=label)

@@ -14,4 +14,5 @@ SUBCOMMANDS = {
     "check": "check",
     "grid": "grid",
     "report": "report",
+    "luminaire": "luminaire",
 }

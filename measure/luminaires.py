@@ -229,3 +229,26 @@ def light_summary(light_data, scene=None):
         except pf.PhotometricFileError:
             pass
     return summary
+
+
+def photometry_of_light(obj):
+    """The ``Photometry`` behind a light object: its source file when Radiometer imported it and the
+    file is still there, else its IES text read with Radiometer's own (LM-63) reader."""
+    data = getattr(obj, "data", obj)
+    if getattr(data, "type", None) not in ("POINT", "SPOT", "AREA", "SUN"):
+        raise RadiometerError(f"{getattr(obj, 'name', obj)!r} is not a light")
+    path = data.get(PROP_SOURCE) if hasattr(data, "get") else None
+    if path and os.path.exists(path):
+        try:
+            return pf.read_photometry(path)
+        except pf.PhotometricFileError as exc:
+            raise RadiometerError(str(exc)) from None
+    tree = data.node_tree if getattr(data, "use_nodes", False) else None
+    ies = next((n for n in tree.nodes if n.bl_idname == "ShaderNodeTexIES"), None) if tree is not None else None
+    text = _ies_text(ies) if ies is not None else None
+    if not text:
+        raise RadiometerError(f"light {getattr(obj, 'name', '?')!r} has no IES texture with a readable file")
+    try:
+        return pf.parse_ies(text, path=f"{getattr(obj, 'name', 'light')} (IES texture)")
+    except pf.PhotometricFileError as exc:
+        raise RadiometerError(str(exc)) from None

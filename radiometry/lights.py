@@ -116,6 +116,10 @@ class IntensityTable:
         u = unit(np.asarray(local, dtype=np.float64) @ self.vector_map.T)
         v = np.degrees(np.arccos(np.clip(-u[..., 2], -1.0, 1.0)))
         h = np.degrees(np.arctan2(u[..., 0], u[..., 1]) + np.pi)
+        if self.h_deg[0] == 0.0 and abs(self.h_deg[-1] - 360.0) < 1e-4:
+            # Cycles returns 0 at exactly h = 360 deg (h >= last angle), a single direction where
+            # its rendered patch still sees the neighbouring values: read it as 0 deg instead.
+            h = np.where(h >= self.h_deg[-1], 0.0, h)
         return catmull_rom_table(self.h_deg, self.v_deg, self.values, h, v)
 
 
