@@ -18,16 +18,26 @@ def _host_modules():
 
 
 def register():
+    """Register everything; calling it again while registered does nothing (idempotent).
+
+    A failure part-way unregisters what was registered and re-raises, so a later call starts clean.
+    """
     import bpy
 
     from .shading import closures
 
+    if _registered_modules:
+        return
     # Fidelity of BRDF mappings is computed against the Fresnel this Blender's Cycles renders.
     closures.use_cycles_version(bpy.app.version)
     modules = _host_modules()
-    for module in modules:
-        module.register()
-        _registered_modules.append(module)
+    try:
+        for module in modules:
+            module.register()
+            _registered_modules.append(module)
+    except Exception:
+        unregister()
+        raise
 
 
 def unregister():

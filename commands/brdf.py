@@ -14,7 +14,8 @@ def add_arguments(parser):
                         help="parameter value; a colour is r,g,b (repeatable)")
     parser.add_argument("--method", choices=("nodes", "osl"), default="nodes",
                         help="Cycles realisation to report (default: nodes)")
-    parser.add_argument("--plot", metavar="PNG", help="write the summary plot to this PNG file")
+    parser.add_argument("--plot", metavar="PNG", help="write the summary plot to this PNG file (a folder: "
+                        "<folder>/brdf_<model>.png; no extension: .png is added)")
 
 
 def parse_params(pairs):
@@ -45,6 +46,7 @@ def run(args):
     from ..shading.realise import check_params, realise, resolve_params
 
     params = parse_params(args.param)
+    plot_path = plot_file(args.plot, args.model) if args.plot else None
     kwargs = check_params(args.model, params)  # raises for unknown model / params / bad values
     resolved = resolve_params(args.model, params)
     albedo = {}
@@ -54,10 +56,6 @@ def run(args):
     _, fid = realise(args.model, args.method, **params)
     result = {"model": args.model, "params": resolved, "albedo": albedo, "albedo_angles_unit": "deg",
               "fidelity": fid.to_dict()}
-    if args.plot:
-        from ..shading.plot import write_plot
-
-        result["plot"] = write_plot(args.model, args.plot, **params)
     print(f"model   {args.model}")
     for k, v in resolved.items():
         print(f"  {k:<10} {v}")
@@ -68,6 +66,31 @@ def run(args):
     print(f"fidelity: {fid.summary()}  (rms_rel_diff {fid.rms_rel_diff:.2e}, albedo_diff {fid.albedo_diff:.2e})")
     if fid.notes:
         print(f"notes: {fid.notes}")
-    if args.plot:
-        print(f"plot written to {args.plot}")
+    from ..cli import deliver
+
+    deliver(args, result)  # the numbers are on disk before the plot is drawn
+    if plot_path:
+        from ..shading.plot import write_plot
+
+        result["plot"] = write_plot(args.model, plot_path, **params)
+        print(f"plot written to {plot_path}")
+        if getattr(args, "json", None):
+            from ..cli import write_json
+
+            write_json(args.json, result, getattr(args, "interrupt", None))  # again, with the plot path
     return result
+
+
+def plot_file(path, model):
+    """The PNG that ``--plot path`` names: a folder gets brdf_<model>.png, a name without extension .png."""
+    import os
+
+    from .. import outputs
+    from . import _io
+
+    if os.path.isdir(path) or path.endswith(os.sep) or (os.altsep and path.endswith(os.altsep)):
+        path = os.path.join(_io.check_output_dir(path, "--plot folder"), f"brdf_{outputs.file_stem(model)}.png")
+    elif not os.path.splitext(path)[1]:
+        path += ".png"
+    _io.check_output_file(path, "--plot file")
+    return path

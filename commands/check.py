@@ -31,8 +31,11 @@ def run(args):
 
     import bpy
 
-    from ..errors import RadiometerError
+    from .. import outputs
+    from ..cli import deliver, write_json
+    from ..errors import MeasurementCancelled, RadiometerError
     from ..measure import analysis, report
+    from . import _io
 
     scene = bpy.context.scene
     lights = [analysis.light_object(args.light, scene)] if args.light else analysis.scene_lights_to_check(scene)
@@ -42,26 +45,48 @@ def run(args):
         from ..plots import require_matplotlib
 
         require_matplotlib()  # asked for plots: say at once, before the checks, that they cannot be made
-        os.makedirs(args.plots, exist_ok=True)
+        _io.check_output_dir(args.plots, "--plots folder")
+    watch = {"cancelled": getattr(args, "cancelled", None)}
+    progress = getattr(args, "progress", None)
     out = {"scene": scene.name, "inverse_square": [], "cosine": [], "meters": [], "grids": [], "convergence": None}
+    done = []  # (kind, light name, result object) for the plots written after the JSON
     for light in lights:
-        slug = report._slug(light.name)
-        plot = (lambda kind: os.path.join(args.plots, f"{kind}_{slug}.png")) if args.plots else (lambda kind: None)
+        if progress is not None:
+            progress.label = f"laws {light.name}"
         try:
             r = analysis.check_inverse_square(light, scene=scene, method=args.method, quality=args.quality,
-                                              plot=plot("inverse_square"), **budget_kwargs(args))
+                                              progress=progress, **watch, **budget_kwargs(args))
             out["inverse_square"].append(r.to_dict())
+            done.append(("inverse_square", light.name, r))
+        except MeasurementCancelled:
+            raise
         except RadiometerError as exc:
             if args.light and light.data.type != "SUN":
                 raise
             out["inverse_square"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
         r = analysis.check_cosine_law(light, scene=scene, method=args.method, quality=args.quality,
-                                      plot=plot("cosine"), **budget_kwargs(args))
+                                      progress=progress, **watch, **budget_kwargs(args))
         out["cosine"].append(r.to_dict())
+        done.append(("cosine", light.name, r))
+    if progress is not None:
+        progress.clear()
     print(report.summary_table(out))
     for r in out["inverse_square"] + out["cosine"]:
         for cause in r.get("causes", []):
             print(f"  {r['light']}: {cause}")
         if "error" in r:
             print(f"  {r['light']}: {r['error']}")
+    deliver(args, out)  # the numbers are safe on disk before any plot is drawn
+    if args.plots:
+        stems = outputs.Stems()
+        writers = {"inverse_square": analysis.write_inverse_square_plot, "cosine": analysis.write_cosine_plot}
+        by_light = {}
+        for kind, name, r in done:
+            stem = by_light.setdefault(name, stems(name))
+            path = os.path.join(args.plots, f"{kind}_{stem}.png")
+            writers[kind](r, path)
+            next(d for d in out[kind] if d.get("light") == name)["plot"] = path
+            print(f"wrote {path}")
+        if getattr(args, "json", None):
+            write_json(args.json, out, getattr(args, "interrupt", None))  # again, with the plot paths
     return out

@@ -18,8 +18,12 @@ def run(args):
     from ..measure import meters
     from .measure import format_table
 
-    out = os.path.abspath(args.out)
-    os.makedirs(out, exist_ok=True)
+    from . import _io
+
+    out = _io.check_output_dir(args.out, "--out folder")
+    progress = getattr(args, "progress", None)
+    cancelled = getattr(args, "cancelled", None)
+    interrupt = getattr(args, "interrupt", None)
     bpy.ops.wm.read_factory_settings(use_empty=True)
     from ..cli import _ensure_registered
 
@@ -29,12 +33,16 @@ def run(args):
     # 95 % intervals within 2 % (about 1 % standard error) rather than a fixed sample count.
     scene.radiometer.target_rel_error = 0.02
     blend = os.path.join(out, "demo_room.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=blend, check_existing=False)
+    _save(blend, interrupt)
     print(f"Radiometer demo: {blend}")
     print("Closed room 4 x 4 x 3 m (one mesh), desk with meters on its top, ceiling panel 6 W (4100 lm), "
           "table lamp 1 W (683 lm, 2700 K).")
     print(f"Luminous efficacy {scene.radiometer.efficacy:g} lm/W (Blender/glTF convention).\n")
-    results = meters.measure_meters(scene=scene, quality=args.quality)
+    if progress is not None:
+        progress.label = "measuring the meters"
+    results = meters.measure_meters(scene=scene, quality=args.quality, progress=progress, cancelled=cancelled)
+    if progress is not None:
+        progress.clear()
     print(format_table(results))
     # Direct light alone, from the closed forms, for comparison with the rendered totals.
     from ..measure import meter as meter_mod
@@ -49,19 +57,39 @@ def run(args):
         direct[obj.name] = rows
         parts = ", ".join(f"{row['light']} {row['illuminance']:.4g} lx" for row in rows if row["illuminance"] is not None)
         print(f"  {obj.name:<20} {total:10.4g} lx direct ({parts}); rendered total {r.illuminance:.4g} lx")
-    bpy.ops.wm.save_as_mainfile(filepath=blend, check_existing=False)  # with the readings stored
+    _save(blend, interrupt)  # with the readings stored
     result = {"blend": blend, "meters": [dict(name=o.name, **r.to_dict()) for o, r in results], "direct": direct}
-    from ..cli import write_json
+    from ..cli import deliver, write_json
 
-    write_json(os.path.join(out, "demo.json"), result)
+    write_json(os.path.join(out, "demo.json"), result, interrupt)
+    deliver(args, result)
     print(f"\nWrote {os.path.join(out, 'demo.json')}")
     # The analysis report: law checks per light, the EN 12464-1 grid on the Work Plane, convergence.
     from ..measure import report
 
     print("\nAnalysis report (law checks per light, work-plane grid, convergence):")
     rep = report.export_report(os.path.join(out, "report"), scene=scene, quality=args.quality,
-                               convergence_samples=(4, 16, 64))
+                               convergence_samples=(4, 16, 64), progress=progress, cancelled=cancelled,
+                               phase=None if progress is None else progress.step)
+    if progress is not None:
+        progress.clear()
     print(rep["summary"])
     print(f"\nWrote {rep['paths']['markdown']} ({rep['seconds']:.1f} s)")
     result["report"] = rep["paths"]
+    if getattr(args, "json", None):
+        write_json(args.json, result, interrupt)  # again, with the report's paths
     return result
+
+
+def _save(path, interrupt):
+    import contextlib
+
+    import bpy
+
+    from ..errors import RadiometerError
+
+    with interrupt.critical() if interrupt is not None else contextlib.nullcontext():
+        try:
+            bpy.ops.wm.save_as_mainfile(filepath=path, check_existing=False)
+        except RuntimeError as exc:
+            raise RadiometerError(f"cannot save {path}: {str(exc).strip().splitlines()[-1]}") from None

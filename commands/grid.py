@@ -21,13 +21,17 @@ def add_arguments(parser):
 def run(args):
     import bpy
 
+    from ..cli import deliver
     from ..errors import RadiometerError
     from ..measure import analysis, report
+    from . import _io
 
     if args.png:
         from ..plots import require_matplotlib
 
         require_matplotlib()  # asked for an image: say at once, before measuring, that it cannot be made
+    _io.check_output_file(args.csv, "--csv file")
+    _io.check_output_file(args.png, "--png file")
     scene = bpy.context.scene
     if args.plane:
         plane = scene.objects.get(args.plane)
@@ -38,15 +42,32 @@ def run(args):
         if not planes:
             raise RadiometerError("no work plane in the scene: name one with --plane NAME")
         plane = planes[0]
+    progress = getattr(args, "progress", None)
+    if progress is not None:
+        progress.label = f"grid {plane.name}"
     g = analysis.illuminance_grid(plane, resolution=args.resolution, spacing=args.spacing, scene=scene,
-                                  method=args.method, quality=args.quality, png=args.png, csv_path=args.csv,
-                                  **budget_kwargs(args))
+                                  method=args.method, quality=args.quality, progress=progress,
+                                  cancelled=getattr(args, "cancelled", None), **budget_kwargs(args))
+    if progress is not None:
+        progress.clear()
     s = g.stats
     print(f"grid {g.target}: {g.nx} x {g.ny} points, cells {g.spacing[0]:.3g} x {g.spacing[1]:.3g} m"
           + (f" ({g.spacing_rule})" if g.spacing_rule else ""))
     print(f"E_avg {s['avg']:.5g} lx  E_min {s['min']:.5g} lx  E_max {s['max']:.5g} lx  U0 {s['u0']:.3f}  "
           f"[{g.method}, {g.seconds:.2f} s, worst error {100 * g.max_rel_std_error:.3g} %]")
-    for path in (args.csv, args.png):
-        if path:
-            print(f"wrote {path}")
+    deliver(args, g.to_dict())  # the numbers are safe on disk before the CSV and the image
+    written = []
+    if args.csv:
+        g.write_csv(args.csv)
+        g.csv = args.csv
+        written.append(args.csv)
+    if args.png:
+        g.write_png(args.png)
+        written.append(args.png)
+    for path in written:
+        print(f"wrote {path}")
+    if written and getattr(args, "json", None):
+        from ..cli import write_json
+
+        write_json(args.json, g.to_dict(), getattr(args, "interrupt", None))  # again, with the file paths
     return g.to_dict()

@@ -14,6 +14,15 @@ def add_arguments(parser):
                              "(default: the quality preset's target: preview 0.05, standard 0.01, reference 0.002)")
 
 
+def format_value(value, digits=6):
+    """A reading with ``digits`` significant digits; "n/a" for a missing or non-finite one."""
+    import math
+
+    if value is None or not math.isfinite(value):
+        return "n/a"
+    return f"{value:.{digits}g}"
+
+
 def format_table(results):
     lines = [f"{'meter':<22} {'reading':>14} {'unit':<6} {'± 1 s.e.':>9} {'target':>7}  method"]
     for obj, r in results:
@@ -21,10 +30,11 @@ def format_table(results):
             value, unit = r.luminance, "cd/m²"
         else:
             value, unit = r.illuminance, "lx"
-        err = "exact" if r.exact else f"{100 * r.rel_std_error:.2f} %"
+        se = r.rel_std_error
+        err = "exact" if r.exact else (f"{100 * se:.2f} %" if se is not None and se == se else "n/a")
         target = getattr(r, "target_rel_error", None)
         asked = f"{100 * target:g} %" if target else "-"
-        lines.append(f"{obj.name:<22} {value:>14.6g} {unit:<6} {err:>9} {asked:>7}  {r.method}")
+        lines.append(f"{obj.name:<22} {format_value(value):>14} {unit:<6} {err:>9} {asked:>7}  {r.method}")
     return "\n".join(lines)
 
 
@@ -42,7 +52,13 @@ def run(args):
         if not 0 < args.target < 0.5:
             raise RadiometerError(f"--target must be a fraction in (0, 0.5), got {args.target}")
         scene.radiometer.target_rel_error = args.target
-    results = meters.measure_meters(scene=scene, quality=args.quality)
+    progress = getattr(args, "progress", None)
+    if progress is not None:
+        progress.label = "measuring"
+    results = meters.measure_meters(scene=scene, quality=args.quality, progress=progress,
+                                    cancelled=getattr(args, "cancelled", None))
+    if progress is not None:
+        progress.clear()
     print(format_table(results))
     return {"scene": scene.name, "file": bpy.data.filepath,
             "meters": [dict(name=obj.name, **r.to_dict()) for obj, r in results]}

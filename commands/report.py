@@ -19,9 +19,16 @@ def run(args):
     import bpy
 
     from ..measure import report
+    from . import _io
 
+    _io.check_output_dir(args.out, "--out folder")
+    progress = getattr(args, "progress", None)
     result = report.export_report(args.out, scene=bpy.context.scene, quality=args.quality, method=args.method,
-                                  convergence=not args.no_convergence, **budget_kwargs(args))
+                                  convergence=not args.no_convergence, progress=progress,
+                                  phase=None if progress is None else progress.step,
+                                  cancelled=getattr(args, "cancelled", None), **budget_kwargs(args))
+    if progress is not None:
+        progress.clear()
     print(result["summary"])
     print(f"\nWrote {result['paths']['markdown']} and {result['paths']['json']} ({result['seconds']:.1f} s)")
     return {"paths": result["paths"], "summary": result["summary"]}

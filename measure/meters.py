@@ -4,11 +4,39 @@ Readings are computed first and written to the objects only when every step succ
 failed or cancelled run leaves the previous readings (and the rest of the scene) as they were.
 """
 
+import os
+import time
+
 import bpy
 import numpy as np
 
-from ..errors import RadiometerError
+from ..errors import MeasurementCancelled, RadiometerError
 from . import camera, meter
+
+
+def _call(progress, done, total, seconds_left=None):
+    """Call a progress callback that takes (done, total, seconds_left) or only (done, total)."""
+    if progress is None:
+        return
+    try:
+        progress(done, total, seconds_left)
+    except TypeError:
+        progress(done, total)
+
+
+def _two_args(progress):
+    # camera.measure_luminance reports (done, total): pass them on with no ETA.
+    return None if progress is None else (lambda done, total: _call(progress, done, total))
+
+
+def map_path(name):
+    """Where a radiance map of meter ``name`` goes: the extension's user folder, else a private temp folder.
+
+    The file name keeps the meter's name readable and unique ("Lamp.1" and "Lamp_1" differ).
+    """
+    from .. import outputs
+
+    return os.path.join(outputs.user_folder("radiance_maps"), outputs.file_stem(name) + ".exr")
 
 
 def meter_objects(scene, objects=None):
@@ -57,9 +85,12 @@ def run_step(scene, step, settings, *, progress=None, cancelled=None):
     if kind == "LUMINANCE":
         reading = camera.measure_luminance(location, -z, acceptance_deg=ob.radiometer_meter.acceptance_deg,
                                            scene=scene, quality=quality, cancelled=cancelled,
+                                           progress=_two_args(progress),
                                            target_rel_error=settings["target_rel_error"])
         return [(ob, reading)]
-    path = camera.default_map_path(ob.name)
+    if cancelled is not None and cancelled():
+        raise MeasurementCancelled("measurement cancelled; the scene was restored")
+    path = map_path(ob.name)
     result = camera.capture_radiance_map(location, path, resolution=ob.radiometer_meter.map_resolution,
                                          scene=scene, quality=quality)
     return [(ob, result)]
@@ -87,16 +118,67 @@ def scene_settings(scene, quality=None):
             "target_rel_error": s.target_rel_error if s.target_rel_error > 0 else None}
 
 
+def step_weights(steps):
+    """Relative cost of each step for a progress bar (a batch of n meters ~ n, a map ~ 4 meters)."""
+    return [float(len(objs)) if kind == "ILLUMINANCE" else (4.0 if kind == "RADIANCE_MAP" else 1.0)
+            for kind, objs in steps]
+
+
+class StepProgress:
+    """Maps each step's own progress (done/total) onto the whole run: ``fraction`` 0..1 and an ETA (s).
+
+    ``report(fraction, seconds_left)`` receives the overall values. Shared by ``measure_meters`` and
+    the modal operators.
+    """
+
+    def __init__(self, steps, report=None):
+        w = step_weights(steps)
+        self.bounds = np.concatenate([[0.0], np.cumsum(w)]) / max(sum(w), 1e-12)
+        self.report = report
+        self.index = 0
+        self.fraction = 0.0
+        self.seconds_left = None
+        self.started = time.perf_counter()
+
+    def start(self, index):
+        self.index = index
+        self._update(self.bounds[index], None)
+
+    def __call__(self, done, total, seconds_left=None):
+        lo, hi = self.bounds[self.index], self.bounds[self.index + 1]
+        part = min(max(done / total, 0.0), 1.0) if total else 0.0
+        self._update(lo + (hi - lo) * part, seconds_left)
+
+    def _update(self, fraction, step_seconds_left):
+        self.fraction = float(max(self.fraction, fraction))
+        elapsed = time.perf_counter() - self.started
+        # Whole-run ETA from the pace so far (the step's own ETA covers only the step).
+        self.seconds_left = elapsed * (1 - self.fraction) / self.fraction if self.fraction > 0.02 else \
+            step_seconds_left
+        if self.report is not None:
+            self.report(self.fraction, self.seconds_left)
+
+
 def measure_meters(objects=None, *, scene=None, quality=None, progress=None, cancelled=None):
+    """Measure meters (default: all in ``scene``) and write their readings; returns [(object, reading)].
+
+    ``progress(done, total, seconds_left)``: done/total in thousandths of the whole run, with an
+    ETA in s (None until known), called within every step. ``cancelled()``: polled before every
+    allocation round; True raises MeasurementCancelled and leaves every reading as it was.
+    """
     scene = scene or bpy.context.scene
     objects = meter_objects(scene, objects)
     settings = scene_settings(scene, quality)
     results = []
     steps = plan_steps(scene, objects)
+    tracker = StepProgress(steps, None if progress is None else
+                           (lambda f, eta: _call(progress, int(round(1000 * f)), 1000, eta)))
     for i, step in enumerate(steps):
-        results += run_step(scene, step, settings, cancelled=cancelled)
-        if progress is not None:
-            progress(i + 1, len(steps))
+        if cancelled is not None and cancelled():
+            raise MeasurementCancelled("measurement cancelled; the scene was restored")
+        tracker.start(i)
+        results += run_step(scene, step, settings, progress=tracker, cancelled=cancelled)
+        tracker(1, 1)
     for obj, reading in results:
         write_reading(obj, reading)
     return results

@@ -5,18 +5,22 @@ tables linking the PNG plots) and the plots/CSV files next to them. Every part r
 item that cannot be analysed (a sun for inverse square, an empty plane) is recorded with the reason
 and the rest continues. Work planes: mesh objects whose name contains "work plane" (any case) or
 that carry the custom property ``radiometer_work_plane``.
+
+File names follow the object names readably and uniquely (``outputs.Stems``: "Lamp.1" and
+"Lamp_1" get different files, letters of any script are kept). The text writers take any missing
+or non-finite number (NaN, None) and show "n/a". ``cancelled()`` is polled by every measurement;
+a cancelled report raises MeasurementCancelled and writes nothing.
 """
 
 import json
 import math
 import os
-import re
 import time
 
 import bpy
 
-from .. import plots
-from ..errors import RadiometerError
+from .. import outputs, plots
+from ..errors import MeasurementCancelled, RadiometerError
 from . import analysis, meters
 from .analysis_common import plain
 
@@ -27,17 +31,62 @@ def work_planes(scene):
 
 
 def _slug(name):
-    return re.sub(r"[^A-Za-z0-9]+", "_", name).strip("_").lower() or "item"
+    """A readable, unique file-name stem for an object name (see ``outputs.file_stem``)."""
+    return outputs.file_stem(name)
+
+
+class _Missing(float):
+    """A missing number (None or NaN in a result): formats as "n/a", is falsy, absorbs arithmetic."""
+
+    def __new__(cls):
+        return float.__new__(cls, "nan")
+
+    def __format__(self, spec):
+        return "n/a"
+
+    def __str__(self):
+        return "n/a"
+
+    __repr__ = __str__
+
+    def __bool__(self):
+        return False
+
+    def _same(self, *_args):
+        return self
+
+    __add__ = __radd__ = __sub__ = __rsub__ = __mul__ = __rmul__ = __truediv__ = __rtruediv__ = _same
+    __neg__ = __pos__ = __abs__ = __round__ = __pow__ = __rpow__ = _same
+
+
+MISSING = _Missing()
+
+
+def _robust(value):
+    """A copy of a result dict for the text writers: None and NaN numbers become MISSING."""
+    if value is None or isinstance(value, _Missing):
+        return MISSING
+    if isinstance(value, float) and math.isnan(value):
+        return MISSING
+    if isinstance(value, dict):
+        return {k: _robust(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_robust(v) for v in value]
+    return value
+
+
+def _given(value):
+    return value is not None and not isinstance(value, _Missing)
 
 
 def _fmt(value, spec=".4g"):
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "n/a" if value is None or math.isnan(value) else "∞"
+    if not _given(value) or (isinstance(value, float) and not math.isfinite(value)):
+        return "n/a" if not _given(value) or math.isnan(value) else "∞"
     return format(value, spec)
 
 
 def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
-                  convergence=True, convergence_samples=(4, 16, 64), progress=None):
+                  convergence=True, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None):
     """Analyse the scene and write report.json, report.md and PNG plots into ``out_dir``.
 
     ``quality`` (target 1-sigma relative error per reading: preview 5 %, standard 1 %, reference
@@ -45,6 +94,11 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
     settings; ``time_budget_s`` (s) bounds each measurement of the report (a meter batch, a law
     check, a grid). Every analysis measures with the meter's per-meter allocation. Returns the
     report dict (also written as report.json) with ``paths`` and ``summary`` (the text table).
+
+    ``progress(done, total, seconds_left)``: done/total in thousandths of the whole report, ETA in
+    s or None; ``phase(label)``: the part being measured ("meters", "laws Lamp", ...);
+    ``cancelled()``: polled by every measurement, True raises MeasurementCancelled (nothing written).
+    report.json is written before report.md, each whole or not at all.
     """
     scene = scene or bpy.context.scene
     out = os.path.abspath(out_dir)
@@ -65,77 +119,121 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
               "target_rel_error": goal, "time_budget_s": time_budget_s,
               "meters": [], "inverse_square": [], "cosine": [], "grids": [], "convergence": None, "errors": []}
 
-    def step(label):
-        if progress is not None:
-            progress(label)
+    objs = [ob for ob in scene.objects if ob.radiometer_meter.is_meter] if hasattr(bpy.types.Object,
+                                                                                   "radiometer_meter") else []
+    lights = analysis.scene_lights_to_check(scene)
+    planes = work_planes(scene)
+    conv_target = None
+    if convergence:
+        conv_target = next((ob for ob in objs if ob.radiometer_meter.kind == "ILLUMINANCE"), None)
+        conv_target = conv_target or next(iter(planes), None)
+    # Rough relative costs for one progress bar: a law check ~ 2 measurements, a grid ~ 3, a study ~ 4.
+    parts = [1.0] * bool(objs) + [2.0] * len(lights) + [3.0] * len(planes) + [4.0] * (conv_target is not None)
+    bounds = [0.0]
+    for w in parts:
+        bounds.append(bounds[-1] + w / max(sum(parts), 1e-12))
+    state = {"part": -1}
 
+    def _overall(fraction):
+        if progress is None:
+            return
+        elapsed = time.perf_counter() - started
+        eta = elapsed * (1 - fraction) / fraction if fraction > 0.02 else None
+        try:
+            progress(int(round(1000 * fraction)), 1000, eta)
+        except TypeError:
+            progress(int(round(1000 * fraction)), 1000)
+
+    def part_progress(done, total, *_rest):
+        k = state["part"]
+        lo, hi = bounds[k], bounds[k + 1]
+        _overall(lo + (hi - lo) * (min(max(done / total, 0.0), 1.0) if total else 0.0))
+
+    def step(label):
+        if cancelled is not None and cancelled():
+            raise MeasurementCancelled("report cancelled; the scene was restored, nothing written")
+        state["part"] += 1
+        if phase is not None:
+            phase(label)
+        _overall(bounds[state["part"]])
+
+    stems = outputs.Stems()
+    watch = {"cancelled": cancelled, "progress": part_progress}
     if not plots.matplotlib_available():
         report["errors"].append("no plots: " + plots.missing_message())
     # Meters (readings are not written to the objects: a report leaves the scene as it was).
-    objs = [ob for ob in scene.objects if ob.radiometer_meter.is_meter] if hasattr(bpy.types.Object,
-                                                                                   "radiometer_meter") else []
     if objs:
         step("meters")
         try:
-            for st in meters.plan_steps(scene, objs):
-                if st[0] == "RADIANCE_MAP":
-                    continue  # maps are images, not numbers for a report table
-                for obj, reading in meters.run_step(scene, st, settings):
+            steps = [st for st in meters.plan_steps(scene, objs) if st[0] != "RADIANCE_MAP"]  # maps: images
+            tracker = meters.StepProgress(steps, lambda f, eta: part_progress(f, 1.0))
+            for i, st in enumerate(steps):
+                tracker.start(i)
+                for obj, reading in meters.run_step(scene, st, settings, progress=tracker, cancelled=cancelled):
                     report["meters"].append(dict(name=obj.name, **reading.to_dict()))
+        except MeasurementCancelled:
+            raise
         except RadiometerError as exc:
             report["errors"].append(f"meters: {exc}")
     # Law checks per light.
-    for light in analysis.scene_lights_to_check(scene):
+    for light in lights:
         step(f"laws {light.name}")
-        slug = _slug(light.name)
+        slug = stems(light.name)
         try:
-            r = analysis.check_inverse_square(light, scene=scene, method=m, **budget,
+            r = analysis.check_inverse_square(light, scene=scene, method=m, **budget, **watch,
                                               plot=os.path.join(out, f"inverse_square_{slug}.png"))
             report["inverse_square"].append(r.to_dict())
+        except MeasurementCancelled:
+            raise
         except RadiometerError as exc:
             report["inverse_square"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
         try:
-            r = analysis.check_cosine_law(light, scene=scene, method=m, **budget,
+            r = analysis.check_cosine_law(light, scene=scene, method=m, **budget, **watch,
                                           plot=os.path.join(out, f"cosine_{slug}.png"))
             report["cosine"].append(r.to_dict())
+        except MeasurementCancelled:
+            raise
         except RadiometerError as exc:
             report["cosine"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
     # Grids on work planes.
-    for plane in work_planes(scene):
+    for plane in planes:
         step(f"grid {plane.name}")
-        slug = _slug(plane.name)
+        slug = stems(plane.name)
         try:
-            g = analysis.illuminance_grid(plane, scene=scene, method=m, **budget,
+            g = analysis.illuminance_grid(plane, scene=scene, method=m, **budget, **watch,
                                           png=os.path.join(out, f"isolux_{slug}.png"),
                                           csv_path=os.path.join(out, f"grid_{slug}.csv"))
             report["grids"].append(g.to_dict())
+        except MeasurementCancelled:
+            raise
         except RadiometerError as exc:
             report["grids"].append({"target": plane.name, "error": str(exc)})
     # A short convergence study on the first illuminance meter (else the first work plane).
-    if convergence:
-        target = next((ob for ob in objs if ob.radiometer_meter.kind == "ILLUMINANCE"), None)
-        target = target or next(iter(work_planes(scene)), None)
-        if target is not None:
-            step("convergence")
-            try:
-                c = analysis.convergence_study(target, scene=scene, samples=convergence_samples, quality=q,
-                                               target_rel_error=goal, time_budget_s=time_budget_s,
-                                               plot=os.path.join(out, "convergence.png"))
-                report["convergence"] = c.to_dict()
-            except RadiometerError as exc:
-                report["convergence"] = {"target": target.name, "error": str(exc)}
+    if conv_target is not None:
+        target = conv_target
+        step("convergence")
+        try:
+            c = analysis.convergence_study(target, scene=scene, samples=convergence_samples, quality=q,
+                                           target_rel_error=goal, time_budget_s=time_budget_s, cancelled=cancelled,
+                                           plot=os.path.join(out, "convergence.png"))
+            report["convergence"] = c.to_dict()
+        except MeasurementCancelled:
+            raise
+        except RadiometerError as exc:
+            report["convergence"] = {"target": target.name, "error": str(exc)}
+    _overall(1.0)
     report["seconds"] = time.perf_counter() - started
     report["summary"] = summary_table(report)
     report["paths"] = {"json": os.path.join(out, "report.json"), "markdown": os.path.join(out, "report.md")}
-    with open(report["paths"]["json"], "w", encoding="utf-8") as f:
-        json.dump(plain(report), f, indent=2)
-    with open(report["paths"]["markdown"], "w", encoding="utf-8") as f:
-        f.write(markdown(report))
+    # JSON first: it holds everything; the Markdown is a view of it.
+    outputs.write_text(report["paths"]["json"], json.dumps(plain(report), indent=2) + "\n")
+    outputs.write_text(report["paths"]["markdown"], markdown(report))
     return report
 
 
 def summary_table(report):
-    """Plain-text summary: one line per meter, light check and grid."""
+    """Plain-text summary: one line per meter, light check and grid (missing numbers: "n/a")."""
+    report = _robust(report)
     lines = []
     if report["meters"]:
         lines.append(f"{'meter':<24} {'reading':>12} {'unit':<6} {'± 1 s.e.':>9}  method")
@@ -153,7 +251,7 @@ def summary_table(report):
         if "error" in r:
             inv = f"{'n/a':>16} {'n/a':>15} {'--':>11} {'':>7}"
         else:
-            limit = "not reached" if r["near_field_limit"] is None else _fmt(r["near_field_limit"], ".3g")
+            limit = "not reached" if not _given(r["near_field_limit"]) else _fmt(r["near_field_limit"], ".3g")
             inv = (f"{_fmt(r['exponent'], '.4f'):>9} ± {_fmt(r['exponent_se'], '.1g'):<4} "
                    f"{limit:>15} {verdict(r):>11} {_share(r):>7}")
         cos = (f"{'n/a':>12} {'--':>11} {'':>7}" if "error" in c or not c else
@@ -187,7 +285,8 @@ def verdict(result):
     """'ok', 'ok (scene)' (the light obeys; the room's light on top does not), or 'FLAG(...)'."""
     if result.get("passed"):
         return "ok" if result.get("total_passed", True) else "ok(scene)"
-    return "FLAG(light)" if "light" in result.get("broken_by", "light") else "FLAG"
+    broken = result.get("broken_by", "light")
+    return "FLAG(light)" if "light" in (broken if isinstance(broken, str) else "light") else "FLAG"
 
 
 def _share(result):
@@ -196,11 +295,15 @@ def _share(result):
 
 
 def _img(path):
-    return f"![{os.path.basename(path)}]({os.path.basename(path)})\n\n" if path else ""
+    if not path or not isinstance(path, str):
+        return ""
+    # A link target with spaces or brackets needs <...> in CommonMark.
+    return f"![{os.path.basename(path)}](<{os.path.basename(path)}>)\n\n"
 
 
 def markdown(report):
-    """report.md: tables of every result with the plots inline (relative links)."""
+    """report.md: tables of every result with the plots inline (relative links); missing numbers "n/a"."""
+    report = _robust(report)
     md = [f"# Radiometer report: {report['scene']}\n",
           f"File `{report['file'] or '(unsaved)'}`; quality `{report['quality']}`, method `{report['method']}`; "
           f"{report['seconds']:.1f} s. Units: lux, W/m², m, deg.\n",
@@ -223,7 +326,7 @@ def markdown(report):
             continue
         md.append(f"{'PASSED' if r['passed'] else 'FLAGGED'}: exponent {_fmt(r['exponent'], '.4f')} ± "
                   f"{_fmt(r['exponent_se'], '.2g')} (fit from {_fmt(r['fit_from'], '.3g')} m), near-field limit "
-                  f"{'not reached' if r['near_field_limit'] is None else _fmt(r['near_field_limit'], '.4g') + ' m'}, source size {r['source_size']:.3g} m (five-times rule "
+                  f"{'not reached' if not _given(r['near_field_limit']) else _fmt(r['near_field_limit'], '.4g') + ' m'}, source size {r['source_size']:.3g} m (five-times rule "
                   f"{r['five_times']['rule_distance']:.3g} m: {'holds' if r['five_times']['rule_holds'] else 'does not hold'}"
                   f"), measured by {r['method']}. Judged on the light's own direct light "
                   f"({r.get('direct_method') or r['method']}); the room adds up to {100 * r.get('max_scene_share', 0):.3g} % "

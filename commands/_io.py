@@ -1,0 +1,316 @@
+"""Command-line plumbing (not a subcommand): quiet file descriptors, Ctrl-C, progress, safe writes.
+
+* :func:`blender_logs_silenced` points file descriptors 1 and 2 at ``/dev/null`` while Python's
+  ``sys.stdout``/``sys.stderr`` keep writing to the real ones. Blender's C code (bake and render
+  reports, "Read blend:", the Cycles device probe) writes to the descriptors directly, so only its
+  lines disappear; our results, messages and Python tracebacks stay.
+* :class:`Interrupt` turns Ctrl-C into a flag that the measurements poll (``cancelled=``). Cycles
+  runs its Python callbacks inside Blender, which swallows a ``KeyboardInterrupt`` raised there:
+  the flag survives that. A watchdog thread (woken by ``signal.set_wakeup_fd``; bakes release the
+  GIL) ends the process with exit code 130 if the run has not stopped ``GRACE_S`` seconds after
+  the signal (a long bake), or at once on a second Ctrl-C, but never while a result file is being
+  written (:meth:`Interrupt.critical`).
+* :func:`write_text` writes a whole file or nothing (``outputs.write_text``), uninterrupted.
+* :func:`check_output_file` / :func:`check_output_dir` say before a long run that an output cannot
+  be written.
+"""
+
+import contextlib
+import ctypes
+import os
+import signal
+import socket
+import sys
+import threading
+import time
+
+from ..errors import RadiometerError
+
+GRACE_S = 3.0
+EXIT_INTERRUPTED = 130
+
+
+def _flush_c_streams():
+    # Blender prints with C stdio: flush its buffers before a descriptor changes destination.
+    try:
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, AttributeError):
+        pass
+
+
+def _stream_fd(stream):
+    try:
+        return stream.fileno()
+    except (AttributeError, OSError, ValueError):
+        return None
+
+
+class _ReportFilter:
+    """A text stream for ``sys.stdout`` that drops Blender's operator reports.
+
+    ``bpy.ops`` prints an operator's reports ("Info: Baking map saved...", "Info: Saved as ...")
+    through ``sys.stdout`` (``PySys_WriteStdout``), not through a descriptor. Lines starting with
+    "Info: " are dropped, and so are "Error: " lines (the operator also raises, and the CLI says
+    what failed in one line); "Warning: " lines go to stderr; everything else passes.
+    """
+
+    _DROP = ("Info: ", "Error: ")
+    _TO_STDERR = ("Warning: ",)
+
+    def __init__(self, out, err):
+        self._out, self._err, self._pending = out, err, ""
+        self.encoding = getattr(out, "encoding", "utf-8")
+        self.errors = getattr(out, "errors", "strict")
+
+    def write(self, text):
+        self._pending += text
+        while "\n" in self._pending:
+            line, self._pending = self._pending.split("\n", 1)
+            self._emit(line + "\n")
+        return len(text)
+
+    def _emit(self, line):
+        if line.startswith(self._DROP):
+            return
+        (self._err if line.startswith(self._TO_STDERR) else self._out).write(line)
+
+    def flush(self):
+        self._out.flush()
+
+    def close(self):
+        if self._pending:
+            self._emit(self._pending)
+            self._pending = ""
+        self.flush()
+
+    def isatty(self):
+        return False
+
+    def fileno(self):
+        raise OSError("no descriptor: Radiometer's filtered stdout")
+
+    @property
+    def closed(self):
+        return False
+
+
+@contextlib.contextmanager
+def blender_logs_silenced(enabled=True, quiet=False):
+    """Inside: C writes to fd 1/2 go to /dev/null; ``sys.stdout``/``sys.stderr`` to the real ones.
+
+    ``quiet``: ``sys.stdout`` goes to /dev/null too (errors on stderr only). Yields the descriptor
+    of the real stderr (for the isatty test of the progress line).
+    """
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    if not enabled:
+        if quiet:
+            with open(os.devnull, "w") as null, contextlib.redirect_stdout(null):
+                yield _stream_fd(sys.__stderr__)
+        else:
+            yield _stream_fd(sys.stderr)
+        return
+    _flush_c_streams()
+    saved, originals, opened = {}, {}, []
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        for name, fd in (("stdout", 1), ("stderr", 2)):
+            stream = getattr(sys, name)
+            saved[fd] = os.dup(fd)
+            if _stream_fd(stream) == fd:  # the real descriptor (not pytest's capsys, not a StringIO)
+                mirror = open(saved[fd], "w", encoding=stream.encoding or "utf-8",
+                              errors=getattr(stream, "errors", None) or "backslashreplace", buffering=1,
+                              closefd=False)
+                originals[name] = stream
+                opened.append(mirror)
+                setattr(sys, name, mirror)
+            os.dup2(null, fd)
+        originals.setdefault("stdout", sys.stdout)
+        sys.stdout = _ReportFilter(open(os.devnull, "w") if quiet else sys.stdout, sys.stderr)
+        opened.insert(0, sys.stdout)
+        if quiet:
+            opened.append(sys.stdout._out)
+        yield saved[2]
+    finally:
+        _flush_c_streams()
+        for stream in opened:
+            with contextlib.suppress(Exception):
+                stream.flush()
+        for name, original in originals.items():
+            setattr(sys, name, original)
+        for stream in opened:
+            with contextlib.suppress(Exception):
+                stream.close()
+        for fd, copy in saved.items():
+            os.dup2(copy, fd)
+            os.close(copy)
+        os.close(null)
+
+
+class Interrupt:
+    """Ctrl-C as a flag polled by ``cancelled()``, with a watchdog that ends a run that does not stop."""
+
+    def __init__(self, grace_s=GRACE_S):
+        self.grace_s = grace_s
+        self.flag = threading.Event()
+        self.finished = threading.Event()
+        self._writing = threading.Lock()
+        self._installed = False
+        self._signals = 0
+        self.stderr_fd = 2  # main() sets the real stderr while fd 2 points at /dev/null
+
+    def cancelled(self):
+        return self.flag.is_set()
+
+    @contextlib.contextmanager
+    def critical(self):
+        """A section the watchdog will not cut short (writing a result file)."""
+        with self._writing:
+            yield
+
+    def _handler(self, _signum, frame):
+        self.flag.set()
+        # Inside Cycles' Python (a render/bake callback) Blender swallows the exception: just flag it;
+        # the measurement stops at its next cancelled() poll. Elsewhere stop now.
+        f = frame
+        while f is not None:
+            if f"{os.sep}cycles{os.sep}" in f.f_code.co_filename:
+                return
+            f = f.f_back
+        raise KeyboardInterrupt
+
+    def _watch(self, sock):
+        while True:
+            try:
+                data = sock.recv(64)
+            except OSError:
+                return
+            if not data or self.finished.is_set():
+                return
+            if signal.SIGINT not in data:
+                continue
+            self.flag.set()
+            self._signals += 1
+            if self._signals == 1 and self.finished.wait(self.grace_s):
+                return
+            with self._writing:
+                if self.finished.is_set():
+                    return
+                os.write(self.stderr_fd, b"radiometer: interrupted (Ctrl-C); the run did not stop in time, ended it; "
+                            b"no result file was written\n")
+                os._exit(EXIT_INTERRUPTED)
+
+    def install(self):
+        """Install the handler (main thread only; elsewhere Ctrl-C keeps its default behaviour)."""
+        if threading.current_thread() is not threading.main_thread():
+            return self
+        self._old_handler = signal.signal(signal.SIGINT, self._handler)
+        self._read, self._write_end = socket.socketpair()
+        self._write_end.setblocking(False)
+        try:
+            self._old_wakeup = signal.set_wakeup_fd(self._write_end.fileno(), warn_on_full_buffer=False)
+        except ValueError:
+            self._old_wakeup = None
+        threading.Thread(target=self._watch, args=(self._read,), name="radiometer-sigint", daemon=True).start()
+        self._installed = True
+        return self
+
+    def uninstall(self):
+        self.finished.set()
+        if not self._installed:
+            return
+        self._installed = False
+        if self._old_wakeup is not None:
+            signal.set_wakeup_fd(self._old_wakeup)
+        signal.signal(signal.SIGINT, self._old_handler)
+        with contextlib.suppress(OSError):
+            self._write_end.send(b"\0")  # wake the watchdog so it sees `finished` and returns
+        self._write_end.close()
+
+    def __enter__(self):
+        return self.install()
+
+    def __exit__(self, *exc):
+        self.uninstall()
+        return False
+
+
+class Progress:
+    """A one-line progress display on stderr, drawn only when stderr is a terminal."""
+
+    def __init__(self, fd, enabled=True, label=""):
+        self.fd = fd
+        self.enabled = bool(enabled and fd is not None and os.isatty(fd))
+        self.label = label
+        self._last = 0.0
+        self._shown = False
+
+    def __call__(self, done, total=1000, seconds_left=None, label=None):
+        if not self.enabled:
+            return
+        if label is not None:
+            self.label = label
+        now = time.monotonic()
+        if now - self._last < 0.1 and done < total:
+            return
+        self._last = now
+        percent = 100.0 * done / total if total else 0.0
+        eta = f", about {seconds_left:.0f} s left" if seconds_left is not None and seconds_left >= 1 else ""
+        text = f"\r\x1b[2K{self.label + ': ' if self.label else ''}{percent:5.1f} %{eta}"
+        os.write(self.fd, text.encode("utf-8", "replace"))
+        self._shown = True
+
+    def step(self, label):
+        """A report's phase label (``export_report(progress=...)`` passes one string)."""
+        self(0, 1, None, label=label)
+
+    def clear(self):
+        if self._shown:
+            os.write(self.fd, b"\r\x1b[2K")
+            self._shown = False
+
+
+def _describe(exc):
+    return exc.strerror or str(exc)
+
+
+def check_output_file(path, what="output file"):
+    """RadiometerError now if ``path`` cannot be written later (missing folder, a directory, read-only)."""
+    if not path:
+        return
+    full = os.path.abspath(path)
+    if os.path.isdir(full):
+        raise RadiometerError(f"cannot write {what} {path}: it is a directory")
+    directory = os.path.dirname(full)
+    if not os.path.isdir(directory):
+        raise RadiometerError(f"cannot write {what} {path}: folder {directory} does not exist")
+    if os.path.exists(full) and not os.access(full, os.W_OK):
+        raise RadiometerError(f"cannot write {what} {path}: permission denied")
+    if not os.path.exists(full) and not os.access(directory, os.W_OK | os.X_OK):
+        raise RadiometerError(f"cannot write {what} {path}: folder {directory} is not writable")
+
+
+def check_output_dir(path, what="output folder"):
+    """Create ``path`` (and parents) now; RadiometerError if that fails or it is not writable."""
+    if not path:
+        return None
+    full = os.path.abspath(path)
+    try:
+        os.makedirs(full, exist_ok=True)
+    except FileExistsError:
+        raise RadiometerError(f"cannot use {what} {path}: it is a file, not a folder") from None
+    except OSError as exc:
+        raise RadiometerError(f"cannot create {what} {path}: {_describe(exc)}") from None
+    if not os.access(full, os.W_OK | os.X_OK):
+        raise RadiometerError(f"cannot write into {what} {path}: permission denied")
+    return full
+
+
+def write_text(path, text, interrupt=None):
+    """``outputs.write_text`` inside the interrupt's critical section (the watchdog waits for it)."""
+    from .. import outputs
+
+    guard = interrupt.critical() if interrupt is not None else contextlib.nullcontext()
+    with guard:
+        return outputs.write_text(path, text)

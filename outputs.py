@@ -1,0 +1,111 @@
+"""Where Radiometer writes files of its own, and how it names them after Blender objects.
+
+* :func:`user_folder` is the extension's user directory (``bpy.utils.extension_path_user``); where
+  that is unavailable (bpy as a module, a legacy add-on install) a PRIVATE temporary folder made by
+  ``tempfile.mkdtemp`` (mode 0700, one per process), never a fixed ``/tmp/radiometer*`` path that
+  another user could plant a symlink at.
+* :func:`file_stem` turns any object name into a readable, file-system-safe stem that differs for
+  different names: "Lamp.1" -> "Lamp_1-<hash>", "Lamp_1" -> "Lamp_1", "Lampe größer" ->
+  "Lampe_größer-<hash>" (letters of any script are kept). :class:`Stems` also keeps stems unique
+  when only letter case differs (case-insensitive file systems).
+* :func:`write_text` writes a whole file or nothing.
+"""
+
+import hashlib
+import os
+import re
+import tempfile
+
+_private_root = None
+_WINDOWS_RESERVED = {"con", "prn", "aux", "nul", *(f"com{i}" for i in range(1, 10)), *(f"lpt{i}" for i in range(1, 10))}
+MAX_STEM = 80
+
+
+def private_temp_root():
+    """This process's private temporary folder (created once with mkdtemp, mode 0700)."""
+    global _private_root
+    if _private_root is None or not os.path.isdir(_private_root):
+        _private_root = tempfile.mkdtemp(prefix="radiometer-")
+    return _private_root
+
+
+def user_folder(sub):
+    """The extension's user folder ``sub`` (created), else ``sub`` inside :func:`private_temp_root`."""
+    try:
+        import bpy
+
+        return bpy.utils.extension_path_user(__package__, path=sub, create=True)
+    except (ImportError, ValueError, KeyError, AttributeError, RuntimeError):
+        pass
+    path = os.path.join(private_temp_root(), sub)
+    os.makedirs(path, mode=0o700, exist_ok=True)  # inside our own 0700 folder: nobody else can plant links
+    return path
+
+
+def _short_hash(name):
+    return hashlib.sha1(name.encode("utf-8", "surrogatepass")).hexdigest()[:6]
+
+
+def file_stem(name):
+    """A readable file-name stem for ``name``, distinct for distinct names (see module doc)."""
+    name = str(name)
+    safe = re.sub(r"[^\w\-]+", "_", name, flags=re.UNICODE).strip("_")
+    safe = safe[:MAX_STEM] or "item"
+    if safe != name or safe.lower() in _WINDOWS_RESERVED:
+        safe = f"{safe}-{_short_hash(name)}"
+    return safe
+
+
+class Stems:
+    """Stems for several names in one folder: :func:`file_stem`, plus a hash where two differ only in case."""
+
+    def __init__(self):
+        self._by_folded = {}
+
+    def __call__(self, name):
+        stem = file_stem(name)
+        owner = self._by_folded.setdefault(stem.casefold(), name)
+        if owner != name:
+            stem = f"{stem}-{_short_hash(name)}"
+            self._by_folded[stem.casefold()] = name
+        return stem
+
+
+def write_text(path, text):
+    """Write ``text`` to ``path`` whole or not at all; an OSError becomes a one-line RadiometerError.
+
+    A regular file is written to a temporary file beside it and renamed over it, so an error (full
+    disk) or an interrupt leaves the old file as it was. Devices and pipes (``/dev/stdout``,
+    ``/dev/full``) are written directly.
+    """
+    import contextlib
+
+    from .errors import RadiometerError
+
+    full = os.path.abspath(path)
+    try:
+        if os.path.exists(full) and not os.path.isfile(full):
+            with open(full, "w", encoding="utf-8") as f:
+                f.write(text)
+            return path
+        fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(full)}.", suffix=".tmp", dir=os.path.dirname(full))
+        try:
+            with os.fdopen(fd, "w", encoding="utf-8") as f:
+                f.write(text)
+                f.flush()
+                os.fsync(f.fileno())
+            if os.path.exists(full):
+                with contextlib.suppress(OSError):
+                    os.chmod(tmp, os.stat(full).st_mode & 0o7777)
+            else:
+                umask = os.umask(0)
+                os.umask(umask)
+                os.chmod(tmp, 0o666 & ~umask)
+            os.replace(tmp, full)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+            raise
+    except OSError as exc:
+        raise RadiometerError(f"cannot write {path}: {exc.strerror or exc}") from None
+    return path
