@@ -6,7 +6,6 @@ Thin: gather inputs, call ``radiometer.api``, store the results in ``scene.radio
 
 import math
 import os
-import tempfile
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty
@@ -31,12 +30,19 @@ def _light_items(_self, context):
 
 def output_dir(context):
     """The settings' output folder as an absolute path (a temp folder for unsaved files), created."""
+    from .. import outputs
+
     raw = context.scene.radiometer_analysis.output_dir or "//radiometer/"
     if raw.startswith("//") and not bpy.data.filepath:
-        path = os.path.join(tempfile.gettempdir(), "radiometer")
-    else:
-        path = bpy.path.abspath(raw)
-    os.makedirs(path, exist_ok=True)
+        # Unsaved file: a private folder of this session (mkdtemp, 0700), never a fixed /tmp path.
+        path = os.path.join(outputs.private_temp_root(), "analysis")
+        os.makedirs(path, mode=0o700, exist_ok=True)
+        return path
+    path = bpy.path.abspath(raw)
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as exc:
+        raise RadiometerError(f"cannot create the output folder {path}: {exc.strerror or exc}") from None
     return path
 
 

@@ -45,3 +45,198 @@ def test_corrupt_blend_file(tmp_path):
     out = run_cli("measure", str(fake))
     assert out.returncode == 2 and "Traceback" not in out.stderr
     assert out.stderr.startswith("radiometer: error"), out.stderr
+
+
+# --- Quiet, robust command line (issue 13) ----------------------------------------------------------
+
+import json  # noqa: E402
+import signal  # noqa: E402
+import time  # noqa: E402
+
+BLENDER_LOG_FRAGMENTS = ("Info:", "Baking map saved", "Saved:", "Read blend", "CUEW", "Warning:")
+
+_BUILD_SCENE = r"""
+import sys, bpy, radiometer
+sys.path.insert(0, {tests!r})
+from conftest import make_black_world, add_light, add_plane
+bpy.ops.wm.read_factory_settings(use_empty=True)
+radiometer.register()
+s = bpy.context.scene
+make_black_world(s)
+add_light(s, "AREA", (0, 0, 2), energy=100.0, size=0.5)
+add_plane(s, size=4, location=(0, 0, 0), name="Work Plane")
+add_plane(s, size=4, location=(0, 0, 3), rotation=(3.14159, 0, 0), name="Ceiling")
+bpy.ops.radiometer.add_meter(kind="ILLUMINANCE")
+bpy.context.active_object.location = (0.3, 0, 0.5)
+s.radiometer.method = "render"
+bpy.ops.wm.save_as_mainfile(filepath={path!r})
+"""
+
+
+@pytest.fixture(scope="module")
+def room(tmp_path_factory):
+    """A small lit room whose meter is measured by a Cycles bake (so Blender prints its log lines)."""
+    pytest.importorskip("bpy")
+    path = str(tmp_path_factory.mktemp("room") / "room.blend")
+    tests = os.path.join(os.path.dirname(os.path.abspath(__file__)), "bpy")
+    subprocess.run([sys.executable, "-c", _BUILD_SCENE.format(tests=tests, path=path)], check=True,
+                   capture_output=True, timeout=300)
+    return path
+
+
+def _one_error_line(out, fragment):
+    assert out.returncode == 2, (out.returncode, out.stderr)
+    assert "Traceback" not in out.stderr
+    lines = [line for line in out.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("radiometer: error") and fragment in lines[0], out.stderr
+
+
+def test_version():
+    out = run_cli("--version")
+    assert out.returncode == 0 and out.stdout.startswith("radiometer ") and out.stdout.split()[1][0].isdigit()
+
+
+def test_stdout_has_results_and_no_blender_log_lines(room, tmp_path):
+    out = run_cli("measure", room, "--json", str(tmp_path / "r.json"))
+    assert out.returncode == 0, out.stderr
+    assert "Illuminance Meter" in out.stdout and " lx " in out.stdout
+    for fragment in BLENDER_LOG_FRAGMENTS:
+        assert fragment not in out.stdout and fragment not in out.stderr, (fragment, out.stdout, out.stderr)
+    assert out.stderr == ""  # not a terminal: no progress line either
+    assert json.loads((tmp_path / "r.json").read_text())["meters"][0]["method"] == "render"
+
+
+def test_verbose_shows_blender_log_lines_quiet_shows_nothing(room, tmp_path):
+    verbose = run_cli("measure", room, "--verbose")
+    assert verbose.returncode == 0
+    assert "Baking map saved" in verbose.stdout + verbose.stderr  # the lines exist: the default hides them
+    quiet = run_cli("--quiet", "measure", room, "--json", str(tmp_path / "q.json"))
+    assert quiet.returncode == 0 and quiet.stdout == "" and quiet.stderr == ""
+    assert json.loads((tmp_path / "q.json").read_text())["meters"]
+    also = run_cli("measure", room, "-q")  # after the subcommand too
+    assert also.returncode == 0 and also.stdout == ""
+
+
+def test_unwritable_json_is_one_line_before_the_run(room, tmp_path):
+    _one_error_line(run_cli("measure", room, "--json", str(tmp_path / "missing" / "r.json")), "does not exist")
+    _one_error_line(run_cli("measure", room, "--json", str(tmp_path)), "is a directory")
+    blocker = tmp_path / "a_file"
+    blocker.write_text("x")
+    _one_error_line(run_cli("measure", room, "--json", str(blocker / "r.json")), "cannot write")
+
+
+def test_full_disk_is_one_line_after_the_results(room):
+    # /dev/full accepts open() and fails every write with ENOSPC, like a full disk.
+    out = run_cli("measure", room, "--json", "/dev/full")
+    _one_error_line(out, "No space left on device")
+    assert "Illuminance Meter" in out.stdout  # the results were printed before the file failed
+
+
+def test_unwritable_grid_outputs(room, tmp_path):
+    _one_error_line(run_cli("grid", room, "--resolution", "2", "2", "--csv", str(tmp_path / "no" / "g.csv")),
+                    "--csv file")
+    _one_error_line(run_cli("grid", room, "--resolution", "2", "2", "--png", str(tmp_path)), "is a directory")
+
+
+def test_unwritable_plot_and_out_folders(room, tmp_path):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("x")
+    _one_error_line(run_cli("check", room, "--plots", str(blocker)), "--plots folder")
+    _one_error_line(run_cli("report", room, "--out", str(blocker / "sub")), "--out folder")
+    _one_error_line(run_cli("demo", "--out", str(blocker)), "--out folder")
+    assert blocker.read_text() == "x"
+
+
+def test_grid_writes_json_before_csv_and_png(room, tmp_path):
+    out = run_cli("grid", room, "--resolution", "3", "3", "--json", str(tmp_path / "g.json"),
+                  "--csv", str(tmp_path / "g.csv"), "--png", str(tmp_path / "g.png"))
+    assert out.returncode == 0, out.stderr
+    data = json.loads((tmp_path / "g.json").read_text())
+    assert data["nx"] == 3 and data["csv"] == str(tmp_path / "g.csv") and data["image"] == str(tmp_path / "g.png")
+    assert (tmp_path / "g.csv").exists() and (tmp_path / "g.png").exists()
+
+
+def test_brdf_plot_into_a_folder_or_without_extension(tmp_path):
+    pytest.importorskip("matplotlib")
+    out = run_cli("brdf", "lambert", "--plot", str(tmp_path))
+    assert out.returncode == 0, out.stderr
+    expected = tmp_path / "brdf_lambert.png"
+    assert expected.exists() and f"plot written to {expected}" in out.stdout
+    out = run_cli("brdf", "lambert", "--plot", str(tmp_path / "lobe"), "--json", str(tmp_path / "b.json"))
+    assert out.returncode == 0 and (tmp_path / "lobe.png").exists() and not (tmp_path / "lobe").exists()
+    assert json.loads((tmp_path / "b.json").read_text())["plot"] == str(tmp_path / "lobe.png")
+
+
+def _interrupt_during(args, tmp_path, wait_for, delay):
+    """Start the CLI, wait until ``wait_for`` is printed, let it run ``delay`` s more, send SIGINT."""
+    old = tmp_path / "old.json"
+    old.write_text("previous result\n")
+    proc = subprocess.Popen([sys.executable, "-m", "radiometer", *args, "--verbose", "--json", str(old)],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=str(tmp_path))
+    seen = []
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        line = proc.stdout.readline()
+        if not line:
+            break
+        seen.append(line)
+        if wait_for in line:
+            break
+    assert any(wait_for in line for line in seen), "".join(seen)
+    time.sleep(delay)
+    assert proc.poll() is None, "finished before the interrupt: the test scene is too quick"
+    sent = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    rest, _ = proc.communicate(timeout=60)
+    waited = time.monotonic() - sent
+    assert proc.returncode == 130, "".join(seen) + rest
+    assert waited < 20, waited
+    assert old.read_text() == "previous result\n"  # the JSON file is untouched
+    assert "radiometer: interrupted" in rest and "Traceback" not in rest
+    return rest
+
+
+def test_ctrl_c_during_a_long_bake_exits_130(room, tmp_path):
+    # One time-budgeted round is a single ~60 s bake: Cycles swallows the KeyboardInterrupt inside
+    # it, the measurement cannot poll, so the watchdog ends the run a few seconds after Ctrl-C.
+    _interrupt_during(["grid", room, "--method", "render", "--resolution", "30", "30", "--target", "0.00001",
+                       "--time-budget", "60"], tmp_path, wait_for="Read blend", delay=3.0)
+
+
+def test_ctrl_c_during_the_demo_exits_130(tmp_path):
+    pytest.importorskip("bpy")
+    _interrupt_during(["demo", "--out", str(tmp_path / "out")], tmp_path, wait_for="Radiometer demo:", delay=0.5)
+    assert not (tmp_path / "out" / "report" / "report.md").exists()
+
+
+def test_file_stems_are_readable_and_distinct():
+    from radiometer import outputs
+
+    names = ["Lamp.1", "Lamp_1", "Lamp 1", "Lampe größer", "灯", "../../etc/passwd", "CON", "", "a" * 300]
+    stems = [outputs.file_stem(n) for n in names]
+    assert len(set(stems)) == len(names)
+    assert stems[1] == "Lamp_1" and stems[0].startswith("Lamp_1-") and stems[3].startswith("Lampe_größer-")
+    assert stems[4].startswith("灯") and all("/" not in s and ".." not in s for s in stems)
+    assert all(len(s) <= outputs.MAX_STEM + 7 for s in stems)
+    stem = outputs.Stems()
+    assert stem("Lamp").casefold() != stem("LAMP").casefold()
+
+
+def test_private_temp_root_is_private_and_unique():
+    from radiometer import outputs
+
+    root = outputs.private_temp_root()
+    assert os.stat(root).st_mode & 0o777 == 0o700
+    assert os.path.basename(root) not in ("radiometer", "radiometer_plots") and root == outputs.private_temp_root()
+
+
+def test_write_text_is_whole_or_nothing(tmp_path):
+    from radiometer import outputs
+    from radiometer.errors import RadiometerError
+
+    target = tmp_path / "r.json"
+    target.write_text("old")
+    with pytest.raises(RadiometerError, match="No space left"):
+        outputs.write_text("/dev/full", "x" * 10000)
+    outputs.write_text(str(target), "new")
+    assert target.read_text() == "new" and [p.name for p in tmp_path.iterdir()] == ["r.json"]

@@ -79,3 +79,16 @@ def test_all_ui_operators_registered(clean_blender):
     for name in ("add_meter", "measure", "assign_brdf", "brdf_plot", "check_inverse_square", "check_cosine_law",
                  "illuminance_grid", "convergence_study", "export_report", "set_light_power"):
         assert name in ops, name
+
+
+def test_register_twice_is_harmless():
+    import radiometer
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    radiometer.register()
+    try:
+        radiometer.register()  # idempotent: no "already registered" error
+        assert hasattr(bpy.types.Scene, "radiometer")
+    finally:
+        radiometer.unregister()
+    assert not hasattr(bpy.types.Scene, "radiometer")
