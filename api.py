@@ -243,3 +243,45 @@ def goniometric_diagram(source, path, *, title=None):
     label = title or photometry.metadata.get("LUMINAIRE") or photometry.metadata.get("luminaire_name") \
         or os.path.basename(photometry.source)
     return goniometric.goniometric_png(os.fspath(path), v, planes, unit=unit, title=label)
+
+
+# --- environment lighting (issue 14) -------------------------------------------------------------
+
+def irradiance_environment_map(source, path, *, method="exact", resolution=(64, 32), scene=None):
+    """Write the irradiance environment map E(n) of ``source`` as a 32-bit EXR (W/m^2 per pixel, the
+    pixel's direction as the normal) and return a dict with ``path``, the 9 SH ``coefficients``
+    (RGB), ``sh9_error`` (measured max |E9 - E_exact|, method "exact") and ``sh9_bound`` (3/32 x
+    integral of L), ``notes``. ``source``: a radiance map EXR path, a ``RadianceMap`` (from
+    ``capture_radiance_map``), or "world" / a scene (its world, when modelled). ``method``:
+    "exact" (pixel-exact clamped-cosine integral) or "sh9" (Ramamoorthi & Hanrahan 2001);
+    ``resolution`` = (width, height) of the output."""
+    from .measure import world
+
+    return world.irradiance_environment_map(source, path, method=method, resolution=resolution, scene=scene)
+
+
+def world_illuminance(scene=None, normal=(0.0, 0.0, 1.0)):
+    """Illuminance (lux) on a surface facing ``normal`` from the world alone, with its brightest
+    direction and that direction's luminance: a dict (``illuminance``, ``irradiance_rgb``,
+    ``method`` "analytic" when the world is modelled, else "render", ``exact``,
+    ``brightest_direction``, ``brightest_luminance`` cd/m^2, ``notes``)."""
+    from .measure import world
+
+    return world.world_illuminance(scene, normal)
+
+
+def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
+    """Set the world's Background strength so that the world alone gives ``illuminance_lux`` on a
+    surface facing ``normal``; returns a dict with old/new strength and the illuminance after."""
+    from .measure import world
+
+    return world.calibrate_world(scene, illuminance_lux, normal)
+
+
+def world_model(scene=None):
+    """The world as Radiometer models it (``radiometry.environment.WorldLight``: kind, reason, ...)."""
+    import bpy
+
+    from .measure import world
+
+    return world.read_world(scene or bpy.context.scene)

@@ -15,4 +15,5 @@ SUBCOMMANDS = {
     "grid": "grid",
     "report": "report",
     "luminaire": "luminaire",
+    "world": "world",
 }

@@ -83,12 +83,14 @@ def plan(scene, model, points_m, normals, method, direct_only=False):
     if not emitting and not model.world_emits and not model.emissive_surfaces:
         raise RadiometerError("the scene has no light sources (no lights, a black world, no emitting surfaces)")
     direct = scene_model.plan_direct(model, points_m, normals, light_models.exactness)
-    unmodelled = (model.world_emits or bool(model.emissive_surfaces)) if direct_only else direct.indirect.any()
+    world_render = _world_rendered(direct)
+    unmodelled = (world_render or bool(model.emissive_surfaces)) if direct_only else direct.indirect.any()
     analytic_ok = np.isin(direct.status, (scene_model.EXACT, scene_model.ZERO, scene_model.BOUNDED)).all() \
-        and not unmodelled
+        and not unmodelled and not world_render
     reasons = []
-    if model.world_emits:
-        reasons.append("the world emits light")
+    if world_render:
+        k = int(np.argmax(direct.world_status == scene_model.RENDER))
+        reasons.append("the world emits light" + (f" ({direct.world_reason[k]})" if direct.world_reason[k] else ""))
     if model.emissive_surfaces:
         reasons.append("surfaces emit light")
     if direct.indirect.any() and not direct_only:
@@ -112,6 +114,35 @@ def plan(scene, model, points_m, normals, method, direct_only=False):
         else direct.exact_points()
     return {"method": chosen, "needs": model.needs, "model": model, "direct": direct, "uncovered": uncovered,
             "reasons": reasons, "analytic_exact": bool(analytic_ok and exact.all()), "exact_points": exact}
+
+
+def _world_rendered(direct):
+    """True when the world's light must be rendered at some receiver (issue 14)."""
+    from ..radiometry import scene_model
+
+    return direct.world_status is not None and bool(np.any(direct.world_status == scene_model.RENDER))
+
+
+def world_irradiance(model, direct, normals):
+    """The world's own contribution (N, 3) W/m^2 SI, its absolute error bound (N, 3) and a note, or
+    (zeros, zeros, None) when the world is black or not modelled (issue 14). A receiver where the
+    world is RENDER (forced analytic) keeps the unoccluded value with a 100 % bound, as lights do."""
+    from ..radiometry import scene_model
+
+    n = len(normals)
+    zeros = np.zeros((n, 3))
+    if direct.world_status is None or not scene_model.world_modelled(model) or model.world.kind == "black":
+        return zeros, zeros, None
+    e, err = model.world.irradiance(normals)
+    unit = model.scale_length ** 2  # world radiance is per scene unit^2 (README "Conventions")
+    e, err = e / unit, np.abs(err) / unit
+    partial = direct.world_status == scene_model.RENDER
+    err = np.where(partial[:, None], np.abs(e), err)
+    w = model.world
+    note = (f"world ({w.kind}{', image ' + repr(w.image) if w.image else ''}, strength {w.strength:g}): "
+            "E = integral of L cos(theta) d omega over its pixels, nothing rendered"
+            + (f"; {'; '.join(w.notes)}" if w.notes else ""))
+    return e, err, note
 
 
 # --- analytic ---------------------------------------------------------------------------------------
@@ -327,8 +358,9 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     parts = [{"analytic": [], "rendered": []} for _ in range(n)]
     if decision["method"] == "analytic":
         per_light, bounds, info = analytic_irradiance(model, direct, sensors_m, normals)
-        mean_rgb = per_light.sum(axis=0)
-        bound_rgb = bounds.sum(axis=0)
+        world_rgb, world_bound, world_note = world_irradiance(model, direct, normals)
+        mean_rgb = per_light.sum(axis=0) + world_rgb
+        bound_rgb = bounds.sum(axis=0) + world_bound
         se_rgb = np.zeros_like(mean_rgb)
         exact_points = decision["exact_points"]
         notes.append("analytic direct light: " + "; ".join(f"{lt.name}: {m} ({n_})" for lt, (_e, m, n_) in
@@ -340,7 +372,9 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
             if direct.indirect.any() and not direct_only:
                 notes.append("direct light only: light reflected by surfaces or from the world is NOT included")
         for k in range(n):
-            parts[k]["analytic"] = [lt.name for lt in model.lights]
+            parts[k]["analytic"] = [lt.name for lt in model.lights] + (["world"] if world_note else [])
+        if world_note:
+            notes.append(world_note)
         spent, record, scalar_se, method_used = np.zeros(n), None, np.zeros(n), "analytic"
     else:
         if fixed is None and single_delta_light(decision):

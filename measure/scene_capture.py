@@ -245,4 +245,13 @@ def capture(scene, view_layer=None, exclude=()):
     needs["volume"] |= render_settings._uses_volume(
         render_settings.active_node_tree(scene.world) if scene.world else None)
     return scene_model.SceneModel(lights=model_lights, geometry=geometry, world_emits=needs["world_emits"],
-                                  needs=needs, scale_length=scale)
+                                  needs=needs, scale_length=scale, world=_world(scene, needs["world_emits"]))
+
+
+def _world(scene, emits):
+    """The world as pure data (``measure.world.read_world``) when it emits, else None (issue 14)."""
+    if not emits:
+        return None
+    from . import world
+
+    return world.read_world(scene)

@@ -450,3 +450,86 @@ def equirect_to_probe(radiance, size, rotation=np.eye(3), camera_rotation=np.eye
     world = refl @ np.asarray(camera_rotation, float).T
     row, col = direction_to_pixel(world, lmap.shape, rotation)
     return np.where(inside[..., None], lmap[row, col], 0.0)
+
+
+# --- the world as pure data -------------------------------------------------------------------------
+
+class WorldLight:
+    """The scene's world as Cycles renders it, when a closed form covers it (``measure.world`` fills it).
+
+    ``kind``: "constant" (radiance (3,) in every direction), "equirect" (``radiance`` (H, W, 3) map
+    with ``rotation`` local -> world, already multiplied by the Background colour x strength), "black"
+    (no light reaches diffuse surfaces), or None with ``reason`` when it is not modelled (rendered).
+    ``exact``: the value is exact to the image's pixels (constant, or 'Closest' interpolation); for
+    'Linear' interpolation the integral of Cycles' bilinear interpolant is computed by
+    ``bilinear_supersample`` (second-order quadrature, ``exact`` False, its error stated).
+    ``strength``/``node``: the Background strength and node name (calibration scales it).
+    """
+
+    def __init__(self, kind=None, radiance=None, rotation=np.eye(3), *, exact=True, reason="", notes=(),
+                 strength=1.0, node="", interpolation="", image="", supersample=1):
+        self.kind = kind
+        self.radiance = None if radiance is None else np.asarray(radiance, float)
+        self.rotation = np.asarray(rotation, float)
+        self.exact = bool(exact)
+        self.reason = reason
+        self.notes = list(notes)
+        self.strength = float(strength)
+        self.node = node
+        self.interpolation = interpolation
+        self.image = image
+        self.supersample = int(supersample)
+        self._sampled = None
+
+    @property
+    def modelled(self):
+        return self.kind is not None
+
+    def sampled_map(self):
+        """The piecewise-constant map that is integrated (bilinear supersampled for 'Linear')."""
+        if self._sampled is None and self.kind == "equirect":
+            self._sampled = (bilinear_supersample(self.radiance, self.supersample) if self.supersample > 1
+                             else self.radiance)
+        return self._sampled
+
+    def irradiance(self, normals):
+        """(E (..., 3) W per scene-unit^2, error (..., 3)) from the world alone, nothing blocking it."""
+        n, shape = _as_normals(normals)
+        if self.kind == "constant":
+            e = np.broadcast_to(np.pi * self.radiance[:3], (len(n), 3)).copy()
+            e[~np.all(np.isfinite(n), axis=1)] = np.nan
+            return e.reshape(shape + (3,)), np.zeros(shape + (3,))
+        if self.kind == "black":
+            return np.zeros(shape + (3,)), np.zeros(shape + (3,))
+        if self.kind == "equirect":
+            e, err = irradiance(self.sampled_map(), n, self.rotation)
+            if self.supersample > 1:
+                # Second-order quadrature of the bilinear interpolant: the pixel sum (factor 1) is
+                # off by ~f^2 times the supersampled error, so |E_f - E_1| / (f^2 - 1) estimates it.
+                e1, err1 = irradiance(self.radiance, n, self.rotation)
+                err = err + err1 + np.abs(e - e1) / (self.supersample ** 2 - 1)
+            return e.reshape(shape + (3,)), err.reshape(shape + (3,))
+        raise ValueError(f"the world is not modelled: {self.reason}")
+
+    def as_map(self, height=16, width=32):
+        """An equirect map (h, w, 3) and its rotation standing for the world (constant worlds: uniform)."""
+        if self.kind == "equirect":
+            return self.radiance, self.rotation
+        value = self.radiance[:3] if self.kind == "constant" else np.zeros(3)
+        return np.broadcast_to(value, (height, width, 3)).copy(), BLENDER_WORLD_ROTATION
+
+    def brightest(self, weights=(0.2126, 0.7152, 0.0722)):
+        """(world direction, RGB radiance) of the brightest pixel (constant worlds: +Z)."""
+        if self.kind == "equirect":
+            d, value, _ = brightest(self.radiance, self.rotation, weights)
+            return d, value
+        value = self.radiance[:3] if self.kind == "constant" else np.zeros(3)
+        return np.array([0.0, 0.0, 1.0]), value
+
+    def scaled(self, factor):
+        """The same world with its Background strength times ``factor``."""
+        out = WorldLight(self.kind, None if self.radiance is None else self.radiance * factor, self.rotation,
+                         exact=self.exact, reason=self.reason, notes=self.notes, strength=self.strength * factor,
+                         node=self.node, interpolation=self.interpolation, image=self.image,
+                         supersample=self.supersample)
+        return out

@@ -114,6 +114,7 @@ class SceneModel:
     needs: dict = field(default_factory=dict)
     scale_length: float = 1.0
     notes: list = field(default_factory=list)
+    world: object = None  # radiometry.environment.WorldLight when the world emits (modelled or not)
 
     @property
     def emissive_surfaces(self):
@@ -129,10 +130,15 @@ class DirectPlan:
     reason: np.ndarray
     indirect: np.ndarray
     indirect_reason: np.ndarray
+    world_status: np.ndarray = None  # (N,) EXACT/ZERO/BOUNDED/RENDER of the world's light (world_statuses)
+    world_reason: np.ndarray = None
 
     def exact_points(self):
         """(N,) bool: every contribution is a closed form with verified conditions, no indirect light."""
-        return np.all(np.isin(self.status, (EXACT, ZERO)), axis=0) & ~self.indirect
+        exact = np.all(np.isin(self.status, (EXACT, ZERO)), axis=0) & ~self.indirect
+        if self.world_status is not None:
+            exact &= np.isin(self.world_status, (EXACT, ZERO))
+        return exact
 
     def rendered_lights(self, k):
         return np.flatnonzero(self.status[:, k] == RENDER)
@@ -272,7 +278,7 @@ def indirect_possible(model, p, n, tol):
     tested largest first, by their bounding boxes and then their vertices, and the first one
     above ends the search.
     """
-    if model.world_emits:
+    if model.world_emits and not world_modelled(model):
         return True, "the world emits light"
     g = model.geometry
     if g.unmodelled:
@@ -339,7 +345,53 @@ def plan_direct(model, points, normals, exact_model):
             else:
                 where = f" by {blocker!r}" if blocker else " (meter inside the light)"
                 status[i, k], reason[i, k] = RENDER, f"may be partly occluded{where}"
-    return DirectPlan(status, reason, indirect, indirect_reason)
+    world_status, world_reason = world_statuses(model, points, normals, tol)
+    return DirectPlan(status, reason, indirect, indirect_reason, world_status, world_reason)
+
+
+# --- the world as its own contribution (issue 14) -------------------------------------------------------
+
+def world_modelled(model):
+    """True when the world's light is a closed form (``model.world`` is a modelled WorldLight)."""
+    world = getattr(model, "world", None)
+    return world is not None and bool(getattr(world, "modelled", False))
+
+
+def world_statuses(model, points, normals, tol):
+    """(status (N,), reason (N,)) of the world's light at every receiver.
+
+    ZERO when the world is black; RENDER when it is not modelled, or when any render-visible surface
+    that casts shadows or reflects lies above the receiver's horizon (it may block or reflect the
+    world's light: there is no world light linking in bakes, so such scenes are rendered whole);
+    else EXACT (pixel-exact) or BOUNDED (the bilinear interpolant by quadrature).
+    """
+    n = len(points)
+    status = np.full(n, ZERO, dtype=object)
+    reason = np.full(n, "the world emits nothing", dtype=object)
+    world = getattr(model, "world", None)
+    if not model.world_emits or (world is not None and getattr(world, "kind", None) == "black"):
+        return status, reason
+    if not world_modelled(model):
+        why = getattr(world, "reason", "") if world is not None else ""
+        status[:], reason[:] = RENDER, f"world not modelled{': ' + why if why else ''}"
+        return status, reason
+    closed = EXACT if world.exact else BOUNDED
+    g = model.geometry
+    relevant = np.asarray(g.reflects, bool) | np.asarray(g.casts_shadow, bool) if len(g.object_names) else []
+    for k in range(n):
+        p, nk = points[k], normals[k]
+        status[k], reason[k] = closed, f"world {world.kind}: closed form over its pixels; nothing above the horizon"
+        if g.unmodelled:
+            status[k], reason[k] = RENDER, "geometry without triangles may block the world"
+            continue
+        for j, verts, corners, _emitting in g.object_vertices():
+            if not relevant[j] or np.all((corners - p) @ nk <= tol):
+                continue
+            if np.any(verts @ nk > p @ nk + tol):
+                status[k], reason[k] = RENDER, (f"{g.object_names[j]!r} lies above the meter's horizon and may block or "
+                                                "reflect the world's light (no world light linking in bakes)")
+                break
+    return status, reason
 
 
 # --- where a receiver sits -------------------------------------------------------------------------

@@ -1,0 +1,62 @@
+"""`world`: the world's illuminance (lux), brightest direction, calibration and irradiance map."""
+
+HELP = "illuminance from the world alone (lux), its brightest direction; --calibrate LUX, --irradiance-map EXR"
+NEEDS_SCENE = True
+
+
+def add_arguments(parser):
+    parser.add_argument("--normal", type=float, nargs=3, default=(0.0, 0.0, 1.0), metavar=("X", "Y", "Z"),
+                        help="surface normal the illuminance is for (default +Z: horizontal illuminance)")
+    parser.add_argument("--calibrate", type=float, metavar="LUX",
+                        help="set the Background strength so the world alone gives LUX, and save the .blend")
+    parser.add_argument("--irradiance-map", metavar="EXR", help="write the world's irradiance environment map")
+    parser.add_argument("--method", choices=("exact", "sh9"), default="exact", help="irradiance map method")
+    parser.add_argument("--resolution", type=int, nargs=2, default=(64, 32), metavar=("W", "H"),
+                        help="irradiance map size (default 64 32)")
+
+
+def format_info(info):
+    lines = [f"world illuminance {info['illuminance']:.6g} lx on normal {info['normal']} "
+             f"({info['method']}{', exact' if info['exact'] else ''})"]
+    if info.get("brightest_direction") is not None:
+        d = ", ".join(f"{v:.4f}" for v in info["brightest_direction"])
+        lines.append(f"brightest direction ({d}): {info['brightest_luminance']:.6g} cd/m²")
+    lines += [f"  {note}" for note in info["notes"]]
+    return "\n".join(lines)
+
+
+def run(args):
+    import math
+
+    import bpy
+
+    from .. import api
+    from ..errors import RadiometerError
+
+    scene = bpy.context.scene
+    normal = tuple(args.normal)
+    if not all(math.isfinite(v) for v in normal) or not any(normal):
+        raise RadiometerError(f"--normal must be a non-zero finite direction, got {normal}")
+    result = {"scene": scene.name, "file": bpy.data.filepath}
+    if args.calibrate is not None:
+        if not (args.calibrate > 0 and math.isfinite(args.calibrate)):
+            raise RadiometerError(f"--calibrate must be > 0 lux, got {args.calibrate}")
+        cal = api.calibrate_world(scene, args.calibrate, normal)
+        if bpy.data.filepath:
+            bpy.ops.wm.save_mainfile()
+            cal["notes"].append(f"saved {bpy.data.filepath}")
+        print("\n".join(cal["notes"]))
+        result["calibration"] = cal
+    info = dict(api.world_illuminance(scene, normal), normal=normal)
+    print(format_info(info))
+    result["world"] = info
+    if args.irradiance_map:
+        w, h = args.resolution
+        out = api.irradiance_environment_map("world", args.irradiance_map, method=args.method, resolution=(w, h),
+                                             scene=scene)
+        print(f"irradiance map {out['path']} ({w}x{h}, {args.method}); SH9 coefficients (RGB):")
+        for name, value in out["coefficients"].items():
+            print(f"  {name:>5} " + " ".join(f"{v:12.6g}" for v in value))
+        print("\n".join(f"  {note}" for note in out["notes"]))
+        result["irradiance_map"] = out
+    return result
