@@ -105,6 +105,9 @@ def plan(scene, model, points_m, normals, method, direct_only=False):
                  and lt.reaches_diffuse]
     if method == "auto":
         chosen = "analytic" if analytic_ok else "render"
+    elif method == "hybrid" and analytic_ok and direct.exact_points().all():
+        # Nothing is left to render: the hybrid is the closed forms themselves, exactly.
+        chosen = "analytic"
     elif method == "analytic" and uncovered:
         raise RadiometerError(
             f"light {uncovered[0][0]!r} {uncovered[0][1]}: no closed form covers it; use method='render'")
