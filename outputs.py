@@ -6,8 +6,9 @@
   another user could plant a symlink at.
 * :func:`file_stem` turns any object name into a readable, file-system-safe stem that differs for
   different names: "Lamp.1" -> "Lamp_1-<hash>", "Lamp_1" -> "Lamp_1", "Lampe größer" ->
-  "Lampe_größer-<hash>" (letters of any script are kept). :class:`Stems` also keeps stems unique
-  when only letter case differs (case-insensitive file systems).
+  "Lampe_größer-<hash>" (letters of any script are kept). :class:`Stems` gives the shorter
+  lower-case stems of a report folder ("work_plane"), unique among the names it has seen
+  (also when only letter case differs: case-insensitive file systems).
 * :func:`write_text` writes a whole file or nothing.
 """
 
@@ -56,20 +57,30 @@ def file_stem(name):
     return safe
 
 
-class Stems:
-    """Stems for several names in one folder: :func:`file_stem`, plus a hash where two differ only in case."""
+def readable_slug(name):
+    """Lower-case letters (any script), digits and "_" of ``name``: "Work Plane" -> "work_plane"."""
+    return re.sub(r"[^\w\-]+", "_", str(name), flags=re.UNICODE).strip("_").lower()[:MAX_STEM] or "item"
 
-    def __init__(self):
-        self._by_folded = {}
+
+class Stems:
+    """Stems for several names in one folder: :func:`readable_slug`, plus a short hash of the exact
+    name for every name after the first that would give the same stem ("Lamp.1", "Lamp_1", "LAMP 1")."""
+
+    def __init__(self, names=()):
+        self._owner = {}
+        self._by_name = {}
+        for name in names:
+            self(name)
 
     def __call__(self, name):
-        stem = file_stem(name)
-        owner = self._by_folded.setdefault(stem.casefold(), name)
-        if owner != name:
+        if name in self._by_name:
+            return self._by_name[name]
+        stem = readable_slug(name)
+        if self._owner.setdefault(stem.casefold(), name) != name or stem in _WINDOWS_RESERVED:
             stem = f"{stem}-{_short_hash(name)}"
-            self._by_folded[stem.casefold()] = name
+            self._owner[stem.casefold()] = name
+        self._by_name[name] = stem
         return stem
-
 
 def write_text(path, text):
     """Write ``text`` to ``path`` whole or not at all; an OSError becomes a one-line RadiometerError.

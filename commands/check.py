@@ -78,7 +78,7 @@ def run(args):
             print(f"  {r['light']}: {r['error']}")
     deliver(args, out)  # the numbers are safe on disk before any plot is drawn
     if args.plots:
-        stems = outputs.Stems()
+        stems = outputs.Stems(sorted(ob.name for ob in lights))
         writers = {"inverse_square": analysis.write_inverse_square_plot, "cosine": analysis.write_cosine_plot}
         by_light = {}
         for kind, name, r in done:

@@ -60,12 +60,14 @@ def _pose(obj):
     return np.array(mw.translation, float), z
 
 
-def plan_steps(scene, objects):
-    """Steps of a measurement: one batch for all illuminance meters, one step per other meter."""
+def plan_steps(scene, objects, batch=None):
+    """Steps of a measurement: illuminance meters in batches (one batch of all when ``batch`` is None:
+    cheapest; the UI uses smaller ones so a step is short), then one step per other meter."""
     illum = [ob for ob in objects if ob.radiometer_meter.kind == "ILLUMINANCE"]
     steps = []
-    if illum:
-        steps.append(("ILLUMINANCE", illum))
+    size = len(illum) if not batch else int(batch)
+    for k in range(0, len(illum), max(size, 1)):
+        steps.append(("ILLUMINANCE", illum[k:k + size]))
     steps += [(ob.radiometer_meter.kind, [ob]) for ob in objects if ob.radiometer_meter.kind != "ILLUMINANCE"]
     return steps
 

@@ -30,9 +30,9 @@ def work_planes(scene):
             and ("work plane" in ob.name.lower() or bool(ob.get("radiometer_work_plane", False)))]
 
 
-def _slug(name):
-    """A readable, unique file-name stem for an object name (see ``outputs.file_stem``)."""
-    return outputs.file_stem(name)
+def _slug(name, among=()):
+    """A readable file-name stem for an object name, unique among the names ``among`` (``outputs.Stems``)."""
+    return outputs.Stems(sorted(set(among) | {name}))(name)
 
 
 class _Missing(float):
@@ -85,9 +85,26 @@ def _fmt(value, spec=".4g"):
     return format(value, spec)
 
 
-def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
-                  convergence=True, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None):
-    """Analyse the scene and write report.json, report.md and PNG plots into ``out_dir``.
+def export_report(out_dir, **kwargs):
+    """Analyse the scene and write report.json, report.md and PNG plots into ``out_dir`` (blocking).
+
+    Keywords as :func:`iter_report`; returns the report dict.
+    """
+    parts = iter_report(out_dir, **kwargs)
+    try:
+        while True:
+            next(parts)
+    except StopIteration as done:
+        return done.value
+
+
+def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
+                convergence=True, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None):
+    """The report as a generator of parts, for modal operators: one ``next()`` measures one part.
+
+    The first ``next()`` measures nothing and yields the plan, a list of (label, weight); every
+    further ``next()`` measures one part and yields its label; the last one writes the files and
+    ends the generator with the report dict (``StopIteration.value``). ``export_report`` runs it.
 
     ``quality`` (target 1-sigma relative error per reading: preview 5 %, standard 1 %, reference
     0.2 %), ``method`` and ``target_rel_error`` (fraction) default to the scene's Radiometer
@@ -149,21 +166,27 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
         lo, hi = bounds[k], bounds[k + 1]
         _overall(lo + (hi - lo) * (min(max(done / total, 0.0), 1.0) if total else 0.0))
 
+    labels = (["meters"] * bool(objs) + [f"laws {light.name}" for light in lights]
+              + [f"grid {plane.name}" for plane in planes] + ["convergence"] * (conv_target is not None))
+    plan = list(zip(labels, parts))
+
     def step(label):
+        # What the generator yields before measuring a part: the plan first, then the part's label.
         if cancelled is not None and cancelled():
             raise MeasurementCancelled("report cancelled; the scene was restored, nothing written")
         state["part"] += 1
         if phase is not None:
             phase(label)
         _overall(bounds[state["part"]])
+        return plan if state["part"] == 0 else label
 
-    stems = outputs.Stems()
+    stems = outputs.Stems(sorted({ob.name for ob in lights} | {ob.name for ob in planes}))
     watch = {"cancelled": cancelled, "progress": part_progress}
     if not plots.matplotlib_available():
         report["errors"].append("no plots: " + plots.missing_message())
     # Meters (readings are not written to the objects: a report leaves the scene as it was).
     if objs:
-        step("meters")
+        yield step("meters")
         try:
             steps = [st for st in meters.plan_steps(scene, objs) if st[0] != "RADIANCE_MAP"]  # maps: images
             tracker = meters.StepProgress(steps, lambda f, eta: part_progress(f, 1.0))
@@ -177,7 +200,7 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
             report["errors"].append(f"meters: {exc}")
     # Law checks per light.
     for light in lights:
-        step(f"laws {light.name}")
+        yield step(f"laws {light.name}")
         slug = stems(light.name)
         try:
             r = analysis.check_inverse_square(light, scene=scene, method=m, **budget, **watch,
@@ -197,7 +220,7 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
             report["cosine"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
     # Grids on work planes.
     for plane in planes:
-        step(f"grid {plane.name}")
+        yield step(f"grid {plane.name}")
         slug = stems(plane.name)
         try:
             g = analysis.illuminance_grid(plane, scene=scene, method=m, **budget, **watch,
@@ -211,7 +234,7 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
     # A short convergence study on the first illuminance meter (else the first work plane).
     if conv_target is not None:
         target = conv_target
-        step("convergence")
+        yield step("convergence")
         try:
             c = analysis.convergence_study(target, scene=scene, samples=convergence_samples, quality=q,
                                            target_rel_error=goal, time_budget_s=time_budget_s, cancelled=cancelled,

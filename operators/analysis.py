@@ -13,6 +13,7 @@ from bpy.props import BoolProperty, EnumProperty
 from .. import api
 from .. import plots
 from ..errors import RadiometerError
+from .modal import Step, Task, TaskOperator
 
 _ALL = "__ALL__"
 _light_items_cache = []  # Blender needs the enum strings kept alive
@@ -115,44 +116,72 @@ def _measure_settings(context):
 
 
 def _slug(name):
+    """The report's file-name stem for an object: readable, unique among the scene's objects."""
     from ..measure.report import _slug as slug
 
-    return slug(name)
+    return slug(name, among=[ob.name for ob in bpy.context.scene.objects])
 
 
-class RADIOMETER_OT_check_inverse_square(bpy.types.Operator):
+def _law_task(self, context, kind):
+    """A Task with one step per light: ``task.results`` maps light name -> result object."""
+    from ..measure import analysis
+
+    out = output_dir(context)
+    lights = _targets(self, context)
+    results = {}
+    location = tuple(context.scene.cursor.location) if getattr(self, "at_cursor", False) else None
+    steps = []
+    for light in lights:
+        if kind == "inverse_square" and light.data.type == "SUN":
+            if self.light != _ALL:
+                raise RadiometerError(f"{light.name}: a sun has no position, the inverse-square law does not "
+                                      "apply; check its cosine law")
+            results[light.name] = None
+            continue
+
+        def fn(progress, cancelled, light=light):
+            plot = os.path.join(out, f"{kind}_{_slug(light.name)}.png")
+            if kind == "inverse_square":
+                results[light.name] = analysis.check_inverse_square(
+                    light, scene=context.scene, plot=plot, progress=progress, cancelled=cancelled,
+                    **_measure_settings(context))
+            else:
+                results[light.name] = analysis.check_cosine_law(
+                    light, scene=context.scene, location=location, plot=plot, progress=progress,
+                    cancelled=cancelled, **_measure_settings(context))
+
+        steps.append(Step(light.name, fn))
+    task = Task("Inverse Square" if kind == "inverse_square" else "Cosine Law", steps)
+    task.results, task.lights = results, lights
+    return task
+
+
+class RADIOMETER_OT_check_inverse_square(TaskOperator, bpy.types.Operator):
     """Sweep a meter facing the light along its axis and compare with I/d² (near-field limit, exponent)"""
 
     bl_idname = "radiometer.check_inverse_square"
     bl_label = "Check Inverse Square"
     bl_options = {"REGISTER", "UNDO"}
 
-    light: EnumProperty(name="Light", items=_light_items)
+    light: EnumProperty(name="Light", items=_light_items, description="The light to check, or every light")
 
     @classmethod
     def poll(cls, context):
-        return _has_lights(cls, context)
+        return _has_lights(cls, context) and cls.task_poll(context)
 
-    def execute(self, context):
-        settings = context.scene.radiometer_analysis
-        out = output_dir(context)
+    def build_task(self, context):
         warn_without_plots(self)
+        return _law_task(self, context, "inverse_square")
+
+    def finish(self, context, task):
+        settings = context.scene.radiometer_analysis
         lines = []
-        for light in _with_progress(context, _targets(self, context)):
+        for light in task.lights:
             item = _law_item(settings, light)
-            if light.data.type == "SUN":
+            r = task.results.get(light.name)
+            if r is None:
                 item.inverse_checked, item.inverse_note = False, "sun: no position, inverse square does not apply"
-                if self.light != _ALL:
-                    self.report({"ERROR"}, f"{light.name}: a sun has no position, the inverse-square law does not "
-                                           "apply; check its cosine law")
-                    return {"CANCELLED"}
                 continue
-            try:
-                r = api.check_inverse_square(light, scene=context.scene, plot=os.path.join(out, f"inverse_square_{_slug(light.name)}.png"),
-                                             **_measure_settings(context))
-            except RadiometerError as exc:
-                self.report({"ERROR"}, f"{light.name}: {exc}")
-                return {"CANCELLED"}
             item.inverse_checked, item.inverse_note = True, ""
             item.exponent = r.exponent if math.isfinite(r.exponent) else 0.0
             item.exponent_se = r.exponent_se if math.isfinite(r.exponent_se) else 0.0
@@ -163,40 +192,34 @@ class RADIOMETER_OT_check_inverse_square(bpy.types.Operator):
             load_image(context, r.plot)
             lines.append(f"{light.name}: {'ok' if r.passed else 'flagged'}, exponent {r.exponent:.4f}, near field "
                          f"{r.near_field_limit:.3g} m; the room adds up to {100 * r.max_scene_share:.3g} %")
-        self.report({"INFO"}, "; ".join(lines) or "no point, spot or area light to check")
-        return {"FINISHED"}
+        return "; ".join(lines) or "no point, spot or area light to check"
 
 
-class RADIOMETER_OT_check_cosine_law(bpy.types.Operator):
+class RADIOMETER_OT_check_cosine_law(TaskOperator, bpy.types.Operator):
     """Tilt a meter from facing the light to 89 degrees and compare E(θ)/E(0) with cos θ"""
 
     bl_idname = "radiometer.check_cosine_law"
     bl_label = "Check Cosine Law"
     bl_options = {"REGISTER", "UNDO"}
 
-    light: EnumProperty(name="Light", items=_light_items)
+    light: EnumProperty(name="Light", items=_light_items, description="The light to check, or every light")
     at_cursor: BoolProperty(name="At 3D Cursor", default=False,
                             description="Measure at the 3D cursor instead of in front of the light")
 
     @classmethod
     def poll(cls, context):
-        return _has_lights(cls, context)
+        return _has_lights(cls, context) and cls.task_poll(context)
 
-    def execute(self, context):
-        settings = context.scene.radiometer_analysis
-        out = output_dir(context)
+    def build_task(self, context):
         warn_without_plots(self)
+        return _law_task(self, context, "cosine")
+
+    def finish(self, context, task):
+        settings = context.scene.radiometer_analysis
         lines = []
-        location = tuple(context.scene.cursor.location) if self.at_cursor else None
-        for light in _with_progress(context, _targets(self, context)):
+        for light in task.lights:
+            r = task.results[light.name]
             item = _law_item(settings, light)
-            try:
-                r = api.check_cosine_law(light, scene=context.scene, location=location,
-                                         plot=os.path.join(out, f"cosine_{_slug(light.name)}.png"),
-                                         **_measure_settings(context))
-            except RadiometerError as exc:
-                self.report({"ERROR"}, f"{light.name}: {exc}")
-                return {"CANCELLED"}
             item.cosine_checked = True
             item.cosine_max_dev = min(r.max_rel_deviation, 1e9)
             item.cosine_onset = r.onset_deg if math.isfinite(r.onset_deg) else -1.0
@@ -207,8 +230,7 @@ class RADIOMETER_OT_check_cosine_law(bpy.types.Operator):
             lines.append(f"{light.name}: {'ok' if r.passed else 'flagged'}, max deviation "
                          f"{100 * r.max_rel_deviation:.3g} % at {r.max_at_deg:g} deg; the room adds up to "
                          f"{100 * r.max_scene_share:.3g} %")
-        self.report({"INFO"}, "; ".join(lines))
-        return {"FINISHED"}
+        return "; ".join(lines)
 
 
 def create_work_plane(context, height, size=(4.0, 4.0)):
@@ -234,7 +256,7 @@ def create_work_plane(context, height, size=(4.0, 4.0)):
     return obj
 
 
-class RADIOMETER_OT_illuminance_grid(bpy.types.Operator):
+class RADIOMETER_OT_illuminance_grid(TaskOperator, bpy.types.Operator):
     """Measure illuminance on a grid over the work plane: E_avg, E_min, E_max, U0, isolux image and CSV"""
 
     bl_idname = "radiometer.illuminance_grid"
@@ -249,15 +271,16 @@ class RADIOMETER_OT_illuminance_grid(bpy.types.Operator):
         if context.scene is None or not hasattr(context.scene, "radiometer_analysis"):
             cls.poll_message_set("Radiometer is not registered for this scene")
             return False
-        return True
+        return cls.task_poll(context)
 
-    def execute(self, context):
+    def build_task(self, context):
+        from ..measure import analysis
+
         settings = context.scene.radiometer_analysis
         plane = settings.work_plane
         if plane is None or plane.name not in context.scene.objects:
             if not self.create_plane:
-                self.report({"ERROR"}, "pick a work plane in the sidebar, or create one (Create Work Plane)")
-                return {"CANCELLED"}
+                raise RadiometerError("pick a work plane in the sidebar, or create one (Create Work Plane)")
             plane = create_work_plane(context, settings.plane_height)
             settings.work_plane = plane
         out = output_dir(context)
@@ -265,13 +288,21 @@ class RADIOMETER_OT_illuminance_grid(bpy.types.Operator):
         slug = _slug(plane.name)
         kwargs = {"resolution": (settings.resolution_x, settings.resolution_y)} if settings.use_resolution else \
             {"spacing": settings.spacing or None}
-        try:
-            g = api.illuminance_grid(plane, scene=context.scene, png=os.path.join(out, f"isolux_{slug}.png"),
-                                     csv=os.path.join(out, f"grid_{slug}.csv"), **kwargs,
-                                     **_measure_settings(context))
-        except RadiometerError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
+        box = {}
+
+        def fn(progress, cancelled):
+            box["grid"] = analysis.illuminance_grid(
+                plane, scene=context.scene, png=os.path.join(out, f"isolux_{slug}.png"),
+                csv_path=os.path.join(out, f"grid_{slug}.csv"), progress=progress, cancelled=cancelled, **kwargs,
+                **_measure_settings(context))
+
+        task = Task("Illuminance Grid", [Step(plane.name, fn)])
+        task.results = box
+        return task
+
+    def finish(self, context, task):
+        settings = context.scene.radiometer_analysis
+        g = task.results["grid"]
         s = g.stats
         settings.grid_target, settings.grid_nx, settings.grid_ny = g.target, g.nx, g.ny
         settings.grid_avg, settings.grid_min, settings.grid_max = s["avg"], s["min"], s["max"]
@@ -285,12 +316,11 @@ class RADIOMETER_OT_illuminance_grid(bpy.types.Operator):
                 analysis.colour_plane(g, scene=context.scene)
             except RadiometerError as exc:  # matplotlib missing: the grid numbers are still valid
                 self.report({"WARNING"}, str(exc))
-        self.report({"INFO"}, f"{g.target}: E_avg {s['avg']:.4g} lx, E_min {s['min']:.4g} lx, U0 {s['u0']:.3f} "
-                              f"({g.nx} x {g.ny} points)")
-        return {"FINISHED"}
+        return (f"{g.target}: E_avg {s['avg']:.4g} lx, E_min {s['min']:.4g} lx, U0 {s['u0']:.3f} "
+                f"({g.nx} x {g.ny} points)")
 
 
-class RADIOMETER_OT_convergence_study(bpy.types.Operator):
+class RADIOMETER_OT_convergence_study(TaskOperator, bpy.types.Operator):
     """Render the active meter (or plane) at increasing samples; fit error vs time; samples for the target"""
 
     bl_idname = "radiometer.convergence_study"
@@ -307,55 +337,89 @@ class RADIOMETER_OT_convergence_study(bpy.types.Operator):
                               or ob.type == "MESH"):
             cls.poll_message_set("make an illuminance meter or a plane the active object")
             return False
-        return True
+        return cls.task_poll(context)
 
-    def execute(self, context):
+    def build_task(self, context):
+        from ..measure import analysis
+
         settings = context.scene.radiometer_analysis
         out = output_dir(context)
         warn_without_plots(self)
-        try:
-            c = api.convergence_study(context.active_object, scene=context.scene, target_error=settings.target_error,
-                                      quality=context.scene.radiometer.quality,
-                                      plot=os.path.join(out, "convergence.png"))
-        except RadiometerError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
+        target = context.active_object
+        box = {}
+
+        def fn(progress, cancelled):
+            box["study"] = analysis.convergence_study(
+                target, scene=context.scene, target_error=settings.target_error,
+                quality=context.scene.radiometer.quality, plot=os.path.join(out, "convergence.png"),
+                cancelled=cancelled)
+
+        task = Task("Convergence Study", [Step(target.name, fn)])
+        task.results = box
+        return task
+
+    def finish(self, context, task):
+        settings = context.scene.radiometer_analysis
+        c = task.results["study"]
         settings.conv_target = c.target
         settings.conv_slope, settings.conv_slope_se = c.fit["slope"], c.fit["slope_se"]
         settings.conv_samples = min(c.samples_for_target, 1e12)
         settings.conv_seconds = min(c.seconds_for_target, 1e12)
         settings.conv_plot = c.plot
         load_image(context, c.plot)
-        self.report({"INFO"}, f"{c.target}: error ~ N^{c.fit['slope']:.2f} ~ t^{c.fit['time_slope']:.2f}; "
-                              f"{100 * c.target_error:g} % needs ~{c.samples_for_target:.3g} samples, "
-                              f"~{c.seconds_for_target:.3g} s")
-        return {"FINISHED"}
+        return (f"{c.target}: error ~ N^{c.fit['slope']:.2f} ~ t^{c.fit['time_slope']:.2f}; "
+                f"{100 * c.target_error:g} % needs ~{c.samples_for_target:.3g} samples, "
+                f"~{c.seconds_for_target:.3g} s")
 
 
-class RADIOMETER_OT_export_report(bpy.types.Operator):
+class RADIOMETER_OT_export_report(TaskOperator, bpy.types.Operator):
     """Write report.json, report.md and plots: meters, law checks for every light, grids, convergence"""
 
     bl_idname = "radiometer.export_report"
     bl_label = "Export Report"
     bl_options = {"REGISTER", "UNDO"}
 
-    convergence: BoolProperty(name="Convergence Study", default=True)
+    convergence: BoolProperty(name="Convergence Study", default=True,
+                              description="Also run a short convergence study on the first illuminance meter")
 
     @classmethod
     def poll(cls, context):
-        return _has_lights(cls, context)
+        return _has_lights(cls, context) and cls.task_poll(context)
 
-    def execute(self, context):
-        settings = context.scene.radiometer_analysis
+    def build_task(self, context):
         warn_without_plots(self)
+        return report_task(context, self.convergence)
+
+    def finish(self, context, task):
+        result = task.results["report"]
+        context.scene.radiometer_analysis.report_path = result["paths"]["markdown"]
+        return f"Report written to {result['paths']['markdown']}"
+
+
+def report_task(context, convergence=True):
+    """A Task with one step per part of the report (meters, each light's laws, each grid, convergence)."""
+    from ..measure import report
+
+    box = {}
+    holder = {}
+    parts = report.iter_report(output_dir(context), scene=context.scene, convergence=convergence,
+                               progress=lambda done, total, *_: "task" in holder and holder["task"]._set(done / total),
+                               cancelled=lambda: "task" in holder and holder["task"].cancel_requested)
+    try:
+        plan = next(parts)
+    except StopIteration as done:  # nothing to measure: the files are written already
+        plan, box["report"] = [], done.value
+
+    def fn(progress, cancelled):
         try:
-            result = api.export_report(output_dir(context), scene=context.scene, convergence=self.convergence)
-        except RadiometerError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        settings.report_path = result["paths"]["markdown"]
-        self.report({"INFO"}, f"Report written to {result['paths']['markdown']}")
-        return {"FINISHED"}
+            next(parts)
+        except StopIteration as done:
+            box["report"] = done.value
+
+    task = Task("Report", [Step(label, fn, weight) for label, weight in plan])
+    task.results = box
+    holder["task"] = task
+    return task
 
 
 classes = (RADIOMETER_OT_check_inverse_square, RADIOMETER_OT_check_cosine_law, RADIOMETER_OT_illuminance_grid,

@@ -3,8 +3,8 @@
 import bpy
 from bpy.props import EnumProperty, FloatProperty
 
-from ..errors import MeasurementCancelled, RadiometerError
 from ..props.meter import METER_KINDS
+from .modal import Step, Task, TaskOperator
 
 _DISPLAY = {"ILLUMINANCE": ("SINGLE_ARROW", 0.3), "LUMINANCE": ("CONE", 0.1), "RADIANCE_MAP": ("SPHERE", 0.1)}
 
@@ -60,16 +60,18 @@ def _summary(results):
     return "; ".join(parts)
 
 
-class RADIOMETER_OT_measure(bpy.types.Operator):
+UI_BATCH = 8  # illuminance meters per modal step: short steps, so Esc and the progress bar respond
+
+
+class RADIOMETER_OT_measure(TaskOperator, bpy.types.Operator):
     """Measure the selected light meters (all meters when none is selected). Esc cancels"""
 
     bl_idname = "radiometer.measure"
     bl_label = "Measure"
     bl_options = {"REGISTER", "UNDO"}
 
-    only_selected: bpy.props.BoolProperty(name="Only Selected", default=True)
-
-    _timer = None
+    only_selected: bpy.props.BoolProperty(name="Only Selected", default=True,
+                                          description="Measure only the selected meters (all when none is selected)")
 
     @classmethod
     def poll(cls, context):
@@ -79,7 +81,7 @@ class RADIOMETER_OT_measure(bpy.types.Operator):
         if not any(ob.radiometer_meter.is_meter for ob in context.scene.objects):
             cls.poll_message_set("no light meters in the scene: add one with Add > Light Meter")
             return False
-        return True
+        return cls.task_poll(context)
 
     def _targets(self, context):
         from ..measure import meters
@@ -87,77 +89,39 @@ class RADIOMETER_OT_measure(bpy.types.Operator):
         selected = [ob for ob in context.selected_objects if ob.radiometer_meter.is_meter]
         return meters.meter_objects(context.scene, selected if (self.only_selected and selected) else None)
 
-    def execute(self, context):
-        # Blocking path (background mode, scripts, F3 with no window).
+    def build_task(self, context):
+        return measure_task(context.scene, self._targets(context), batch=None if bpy.app.background else UI_BATCH)
+
+    def finish(self, context, task):
         from ..measure import meters
 
-        try:
-            results = meters.measure_meters(self._targets(context), scene=context.scene)
-        except RadiometerError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        context.scene.radiometer.last_summary = _summary(results)
-        self.report({"INFO"}, context.scene.radiometer.last_summary)
-        return {"FINISHED"}
-
-    def invoke(self, context, event):
-        from ..measure import meters
-
-        if context.window_manager is None or context.window is None:
-            return self.execute(context)
-        try:
-            objects = self._targets(context)
-        except RadiometerError as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        self._scene = context.scene
-        self._settings = meters.scene_settings(context.scene)
-        self._steps = meters.plan_steps(context.scene, objects)
-        self._results = []
-        self._cancel = False
-        wm = context.window_manager
-        wm.progress_begin(0, len(self._steps))
-        self._timer = wm.event_timer_add(0.05, window=context.window)
-        wm.modal_handler_add(self)
-        return {"RUNNING_MODAL"}
-
-    def modal(self, context, event):
-        from ..measure import meters
-
-        if event.type == "ESC":
-            return self._finish(context, cancelled=True)
-        if event.type != "TIMER":
-            return {"PASS_THROUGH"}
-        index = getattr(self, "_index", 0)
-        if index >= len(self._steps):
-            return self._finish(context)
-        try:
-            self._results += meters.run_step(self._scene, self._steps[index], self._settings)
-        except MeasurementCancelled:
-            return self._finish(context, cancelled=True)
-        except RadiometerError as exc:
-            self.report({"ERROR"}, str(exc))
-            return self._finish(context, cancelled=True, quiet=True)
-        self._index = index + 1
-        context.window_manager.progress_update(self._index)
-        return {"RUNNING_MODAL"}
-
-    def _finish(self, context, cancelled=False, quiet=False):
-        from ..measure import meters
-
-        wm = context.window_manager
-        wm.event_timer_remove(self._timer)
-        wm.progress_end()
-        if cancelled:
-            # Readings are written only when every step succeeded: nothing to undo.
-            if not quiet:
-                self.report({"WARNING"}, "Measurement cancelled; readings unchanged")
-            return {"CANCELLED"}
-        for obj, reading in self._results:
+        for obj, reading in task.results:
             meters.write_reading(obj, reading)
-        context.scene.radiometer.last_summary = _summary(self._results)
-        self.report({"INFO"}, context.scene.radiometer.last_summary)
-        return {"FINISHED"}
+        context.scene.radiometer.last_summary = _summary(task.results)
+        return context.scene.radiometer.last_summary
+
+
+def measure_task(scene, objects, batch=UI_BATCH):
+    """A Task measuring ``objects``; ``task.results`` collects (object, reading) (written by finish)."""
+    from ..measure import meters
+
+    settings = meters.scene_settings(scene)
+    steps = meters.plan_steps(scene, objects, batch=batch)
+    weights = meters.step_weights(steps)
+    task_steps = []
+    results = []
+
+    def runner(st):
+        def fn(progress, cancelled):
+            results.extend(meters.run_step(scene, st, settings, progress=progress, cancelled=cancelled))
+        return fn
+
+    for st, w in zip(steps, weights):
+        label = st[1][0].name if len(st[1]) == 1 else f"{len(st[1])} meters"
+        task_steps.append(Step(label, runner(st), w))
+    task = Task("Measure", task_steps)
+    task.results = results
+    return task
 
 
 def _menu_add(self, _context):

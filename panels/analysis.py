@@ -20,8 +20,12 @@ class RADIOMETER_PT_analysis(bpy.types.Panel):
         return context.scene is not None and hasattr(context.scene, "radiometer_analysis")
 
     def draw(self, context):
+        from .meter import draw_progress
+
         s = context.scene.radiometer_analysis
         layout = self.layout
+        if hasattr(context.scene, "radiometer"):
+            draw_progress(layout, context.scene.radiometer)
         layout.prop(s, "output_dir")
         row = layout.row(align=True)
         row.operator_menu_enum("radiometer.check_inverse_square", "light", text="Inverse Square")

@@ -14,6 +14,13 @@ def format_reading(meter):
     return f"{meter.photometric:.4g} {unit} {err}"
 
 
+def draw_progress(layout, settings):
+    """The running Radiometer operation's progress bar (written by operators/modal.py), if any."""
+    if settings.progress_text:
+        layout.progress(factor=settings.progress, type="BAR", text=settings.progress_text.split("   ")[0])
+        layout.label(text="Esc cancels", icon="CANCEL")
+
+
 class RADIOMETER_PT_meters(bpy.types.Panel):
     bl_label = "Light Meters"
     bl_idname = "RADIOMETER_PT_meters"
@@ -24,6 +31,7 @@ class RADIOMETER_PT_meters(bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         settings = context.scene.radiometer
+        draw_progress(layout, settings)
         col = layout.column(align=True)
         col.prop(settings, "method")
         col.prop(settings, "quality")

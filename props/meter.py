@@ -66,8 +66,14 @@ class RadiometerSceneSettings(bpy.types.PropertyGroup):
     target_rel_error: FloatProperty(name="Target Error", description="Relative standard error (1 sigma) every "
                                     "rendered reading must reach, e.g. 0.01 = 1 % (0 = the quality preset's target)",
                                     default=0.0, min=0.0, max=0.5, subtype="FACTOR")
-    show_overlay: BoolProperty(name="Readings in Viewport", default=True)
-    last_summary: StringProperty(name="Last Measurement")
+    show_overlay: BoolProperty(name="Readings in Viewport", default=True,
+                               description="Draw each meter's reading next to it in the 3D viewport")
+    last_summary: StringProperty(name="Last Measurement", description="Readings of the last measurement, one line")
+    # Written by the modal runner (operators/modal.py) while a long operation runs; not saved state.
+    progress: FloatProperty(name="Progress", description="Fraction done of the running Radiometer operation",
+                            default=0.0, min=0.0, max=1.0, subtype="FACTOR", options={"SKIP_SAVE"})
+    progress_text: StringProperty(name="Progress Text", description="What the running operation is doing, "
+                                  "with the time left", options={"SKIP_SAVE"})
 
 
 classes = (RadiometerMeterSettings, RadiometerSceneSettings)

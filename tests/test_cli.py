@@ -219,7 +219,9 @@ def test_file_stems_are_readable_and_distinct():
     assert stems[4].startswith("灯") and all("/" not in s and ".." not in s for s in stems)
     assert all(len(s) <= outputs.MAX_STEM + 7 for s in stems)
     stem = outputs.Stems()
-    assert stem("Lamp").casefold() != stem("LAMP").casefold()
+    assert stem("Work Plane") == "work_plane" and stem("Lampe größer") == "lampe_größer" and stem("灯") == "灯"
+    assert stem("Lamp") == "lamp" and stem("LAMP").startswith("lamp-") and stem("Lamp") == "lamp"
+    assert len({stem(n) for n in ("Lamp.1", "Lamp_1", "Lamp 1", "LAMP.1")}) == 4
 
 
 def test_private_temp_root_is_private_and_unique():
