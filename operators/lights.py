@@ -20,8 +20,11 @@ class RADIOMETER_OT_set_light_power(bpy.types.Operator):
     bl_label = "Set Photometric Power"
     bl_options = {"REGISTER", "UNDO"}
 
-    unit: EnumProperty(name="Unit", items=_UNIT_ITEMS, default="LUMEN")
-    value: FloatProperty(name="Value", default=800.0, min=0.0)
+    unit: EnumProperty(name="Unit", items=_UNIT_ITEMS, default="LUMEN",
+                       description="The photometric quantity to set the light's power from")
+    value: FloatProperty(name="Value", default=800.0, min=0.0, soft_max=1e6,
+                         description="Amount in the chosen unit (lm, cd, lx or cd/m²); the dialog starts from "
+                                     "the light's present value")
 
     @classmethod
     def poll(cls, context):
@@ -30,6 +33,19 @@ class RADIOMETER_OT_set_light_power(bpy.types.Operator):
             cls.poll_message_set("select a light")
             return False
         return True
+
+    def invoke(self, context, event):
+        from ..measure import light_power
+
+        ob = context.active_object
+        units = [u for u, (types, _label) in light_power.UNITS.items() if ob.data.type in types]
+        if units and self.unit not in units:
+            self.unit = units[0]
+        try:
+            self.value = light_power.photometric_power(ob, self.unit, context.scene)
+        except RadiometerError:
+            pass  # keep the last value: the dialog still lets the user type one
+        return context.window_manager.invoke_props_dialog(self, title=f"Set Photometric Power of {ob.name}")
 
     def execute(self, context):
         from ..measure import light_power

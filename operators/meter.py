@@ -1,7 +1,7 @@
 """Light meter operators: add a meter, measure meters (modal with progress and Esc in the UI)."""
 
 import bpy
-from bpy.props import EnumProperty, FloatProperty
+from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty
 
 from ..props.meter import METER_KINDS
 from .modal import Step, Task, TaskOperator
@@ -9,13 +9,24 @@ from .modal import Step, Task, TaskOperator
 _DISPLAY = {"ILLUMINANCE": ("SINGLE_ARROW", 0.3), "LUMINANCE": ("CONE", 0.1), "RADIANCE_MAP": ("SPHERE", 0.1)}
 
 
-def add_meter(context, kind, location, acceptance_deg=1.0):
-    """Create a meter empty at ``location`` (linked to the active collection) and make it active."""
+DEFAULT_ROTATION = {"LUMINANCE": (3.14159265358979 / 2, 0.0, 0.0)}  # a spot meter looks along +Y
+ALIGN_ITEMS = [
+    ("WORLD", "World", "Align the new meter to the world (an illuminance meter faces up, a spot meter along +Y)"),
+    ("VIEW", "View", "Align the new meter to the view: an illuminance meter faces the viewer, a spot meter "
+                     "looks into the scene"),
+    ("CURSOR", "3D Cursor", "Use the 3D cursor's rotation"),
+]
+
+
+def add_meter(context, kind, location, acceptance_deg=1.0, rotation=None):
+    """Create a meter empty at ``location`` (linked to the active collection) and make it active.
+
+    ``rotation``: Euler angles (rad); None: the kind's default (a spot meter looks along +Y).
+    """
     name = {"ILLUMINANCE": "Illuminance Meter", "LUMINANCE": "Luminance Meter", "RADIANCE_MAP": "Radiance Map"}[kind]
     obj = bpy.data.objects.new(name, None)
     obj.empty_display_type, obj.empty_display_size = _DISPLAY[kind]
-    if kind == "LUMINANCE":
-        obj.rotation_euler = (3.14159265358979 / 2, 0.0, 0.0)  # look along +Y (horizontal) by default
+    obj.rotation_euler = DEFAULT_ROTATION.get(kind, (0.0, 0.0, 0.0)) if rotation is None else tuple(rotation)
     obj.location = location
     meter = obj.radiometer_meter
     meter.is_meter, meter.kind, meter.acceptance_deg = True, kind, acceptance_deg
@@ -34,8 +45,16 @@ class RADIOMETER_OT_add_meter(bpy.types.Operator):
     bl_label = "Light Meter"
     bl_options = {"REGISTER", "UNDO"}
 
-    kind: EnumProperty(name="Kind", items=METER_KINDS, default="ILLUMINANCE")
-    acceptance_deg: FloatProperty(name="Acceptance (deg)", default=1.0, min=0.01, max=60.0)
+    kind: EnumProperty(name="Kind", items=METER_KINDS, default="ILLUMINANCE", description="What the meter measures")
+    acceptance_deg: FloatProperty(name="Acceptance (deg)", default=1.0, min=0.01, max=60.0,
+                                  description="Full acceptance angle of a spot (luminance) meter, deg")
+    align: EnumProperty(name="Align", items=ALIGN_ITEMS, default="WORLD",
+                        description="The orientation of the new meter")
+    location: FloatVectorProperty(name="Location", size=3, subtype="TRANSLATION",
+                                  description="Where the meter goes (default: the 3D cursor)")
+    rotation: FloatVectorProperty(name="Rotation", size=3, subtype="EULER",
+                                  description="The meter's rotation (with Align World; set from the view or the "
+                                              "cursor otherwise)")
 
     @classmethod
     def poll(cls, context):
@@ -44,8 +63,30 @@ class RADIOMETER_OT_add_meter(bpy.types.Operator):
             return False
         return True
 
+    def invoke(self, context, event):
+        if not self.properties.is_property_set("location"):
+            self.location = context.scene.cursor.location
+        return self.execute(context)
+
+    def _rotation(self, context):
+        if self.align == "CURSOR":
+            return tuple(context.scene.cursor.matrix.to_euler())
+        if self.align == "VIEW":
+            rv3d = getattr(context, "region_data", None)
+            if rv3d is not None and hasattr(rv3d, "view_rotation"):
+                # The view's +Z points at the viewer: an illuminance meter (+Z) faces the viewer, a spot
+                # meter (looking along -Z) looks where the viewer looks.
+                return tuple(rv3d.view_rotation.to_euler())
+            self.report({"WARNING"}, "no 3D view to align to: aligned to the world")
+        if self.properties.is_property_set("rotation"):
+            return tuple(self.rotation)
+        return DEFAULT_ROTATION.get(self.kind, (0.0, 0.0, 0.0))
+
     def execute(self, context):
-        obj = add_meter(context, self.kind, context.scene.cursor.location.copy(), self.acceptance_deg)
+        location = self.location if self.properties.is_property_set("location") else context.scene.cursor.location
+        rotation = self._rotation(context)
+        obj = add_meter(context, self.kind, tuple(location), self.acceptance_deg, rotation=rotation)
+        self.location, self.rotation = tuple(obj.location), tuple(obj.rotation_euler)  # shown in the redo panel
         self.report({"INFO"}, f"Added {obj.name}")
         return {"FINISHED"}
 

@@ -5,13 +5,75 @@ import bpy
 _draw_handle = None
 
 
+def format_value(value, rel_std_error=0.0, exact=False):
+    """``value`` with as many significant digits as its standard error supports (2 to 6).
+
+    402.283 at 1.1 % -> '402'; at 0.12 % -> '402.3'; an exact (closed-form) value gets 5 digits.
+    Plain decimals between 0.001 and 10^6, else scientific notation.
+    """
+    import math
+
+    if value is None or not math.isfinite(value):
+        return "n/a"
+    if value == 0:
+        return "0"
+    magnitude = math.floor(math.log10(abs(value)))
+    if exact or not rel_std_error or not math.isfinite(rel_std_error) or rel_std_error <= 0:
+        digits = 5
+    else:
+        digits = magnitude - math.floor(math.log10(abs(value) * rel_std_error)) + 1
+    digits = min(max(digits, 2), 6)
+    if 1e-3 <= abs(value) < 1e6:
+        decimals = digits - 1 - magnitude
+        return f"{round(value, decimals):.{max(decimals, 0)}f}"  # 123456.7 at 1 % -> 123000
+    return f"{value:.{digits - 1}e}"
+
+
 def format_reading(meter):
-    """One line with units, e.g. '512.3 lx ±0.4 %' (used by the panel and the viewport overlay)."""
+    """One line with units, e.g. '512 lx ±1.1 %' (used by the panel and the viewport overlay)."""
     if not meter.has_reading:
         return "not measured"
     unit = "cd/m²" if meter.kind == "LUMINANCE" else "lx"
     err = "exact" if meter.exact else f"±{100 * meter.rel_std_error:.2g} %"
-    return f"{meter.photometric:.4g} {unit} {err}"
+    return f"{format_value(meter.photometric, meter.rel_std_error, meter.exact)} {unit} {err}"
+
+
+# Every Radiometer operator, so F3 (menu search) finds each one; operators registered by other
+# modules later are listed after these.
+MENU_OPERATORS = ("measure", "add_meter", "set_light_power", "check_inverse_square", "check_cosine_law",
+                  "illuminance_grid", "convergence_study", "export_report", "assign_brdf", "brdf_plot")
+
+
+class RADIOMETER_MT_main(bpy.types.Menu):
+    """Radiometer: light meters, law checks, grids, reports and BRDFs"""
+
+    bl_label = "Radiometer"
+    bl_idname = "RADIOMETER_MT_main"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.operator_context = "INVOKE_DEFAULT"
+        layout.operator("radiometer.measure", icon="PLAY")
+        layout.operator_menu_enum("radiometer.add_meter", "kind", text="Add Light Meter", icon="LIGHT_SUN")
+        layout.operator("radiometer.set_light_power", icon="LIGHT")
+        layout.separator()
+        layout.operator("radiometer.check_inverse_square")
+        layout.operator("radiometer.check_cosine_law")
+        layout.operator("radiometer.illuminance_grid")
+        layout.operator("radiometer.convergence_study")
+        layout.operator("radiometer.export_report", icon="TEXT")
+        layout.separator()
+        layout.operator("radiometer.assign_brdf", icon="MATERIAL")
+        layout.operator("radiometer.brdf_plot")
+        others = sorted(set(dir(bpy.ops.radiometer)) - set(MENU_OPERATORS))
+        if others:
+            layout.separator()
+            for name in others:
+                layout.operator(f"radiometer.{name}")
+
+
+def _draw_menu_entry(self, _context):
+    self.layout.menu(RADIOMETER_MT_main.bl_idname)
 
 
 def draw_progress(layout, settings):
@@ -82,7 +144,7 @@ class RADIOMETER_PT_active_meter(bpy.types.Panel):
         radiometric = "W/(m² sr)" if m.kind == "LUMINANCE" else "W/m²"
         photometric = "cd/m²" if m.kind == "LUMINANCE" else "lx"
         col = layout.column(align=True)
-        col.label(text=f"{m.photometric:.6g} {photometric}")
+        col.label(text=f"{format_value(m.photometric, m.rel_std_error, m.exact)} {photometric}")
         col.label(text=f"{m.value:.6g} {radiometric}  (RGB {m.value_rgb[0]:.4g}, {m.value_rgb[1]:.4g}, "
                        f"{m.value_rgb[2]:.4g})")
         col.label(text="exact" if m.exact else f"relative standard error {100 * m.rel_std_error:.3g} %")
@@ -100,11 +162,15 @@ def _draw_overlay():
     scene = context.scene
     if scene is None or not hasattr(scene, "radiometer") or not scene.radiometer.show_overlay:
         return
-    region, rv3d = context.region, context.space_data.region_3d if context.space_data else None
+    space = context.space_data
+    if space is None or not getattr(space.overlay, "show_overlays", True):
+        return  # the viewport's Overlays toggle hides our text too
+    region, rv3d = context.region, space.region_3d
     if region is None or rv3d is None:
         return
     font = 0
-    blf.size(font, 12)
+    scale = context.preferences.system.ui_scale if context.preferences else 1.0
+    blf.size(font, 12 * scale)
     for ob in scene.objects:
         m = ob.radiometer_meter
         if not m.is_meter or not ob.visible_get():
@@ -112,20 +178,22 @@ def _draw_overlay():
         pos = location_3d_to_region_2d(region, rv3d, ob.matrix_world.translation)
         if pos is None:
             continue
-        blf.position(font, pos.x + 8, pos.y + 8, 0)
+        blf.position(font, pos.x + 8 * scale, pos.y + 8 * scale, 0)
         blf.draw(font, format_reading(m))
 
 
-classes = (RADIOMETER_PT_meters, RADIOMETER_PT_active_meter)
+classes = (RADIOMETER_PT_meters, RADIOMETER_PT_active_meter, RADIOMETER_MT_main)
 
 
 def register_extra():
     global _draw_handle
     _draw_handle = bpy.types.SpaceView3D.draw_handler_add(_draw_overlay, (), "WINDOW", "POST_PIXEL")
+    bpy.types.VIEW3D_MT_object.append(_draw_menu_entry)
 
 
 def unregister_extra():
     global _draw_handle
+    bpy.types.VIEW3D_MT_object.remove(_draw_menu_entry)
     if _draw_handle is not None:
         bpy.types.SpaceView3D.draw_handler_remove(_draw_handle, "WINDOW")
         _draw_handle = None

@@ -35,34 +35,45 @@ def _convention_changed(self, _context):
 
 
 class RadiometerMeterSettings(bpy.types.PropertyGroup):
-    is_meter: BoolProperty(name="Is Light Meter", default=False)
-    kind: EnumProperty(name="Kind", items=METER_KINDS, default="ILLUMINANCE")
+    is_meter: BoolProperty(name="Is Light Meter", default=False,
+                           description="This object is a Radiometer light meter (Measure reads it)")
+    kind: EnumProperty(name="Kind", items=METER_KINDS, default="ILLUMINANCE",
+                       description="What the meter measures")
     acceptance_deg: FloatProperty(name="Acceptance", description="Full acceptance angle of the spot meter",
                                   default=1.0, min=0.01, max=60.0, unit="NONE", subtype="NONE")
     map_resolution: IntProperty(name="Map Height", description="Radiance map height in pixels (width = 2x)",
                                 default=128, min=8, max=4096)
     # Reading (SI); written by radiometer.measure, persisted in the .blend.
-    has_reading: BoolProperty(default=False)
+    has_reading: BoolProperty(name="Has Reading", default=False,
+                              description="The meter has been measured (the reading below is stored in the file)")
     value_rgb: FloatVectorProperty(name="RGB", size=3, description="Irradiance W/m² or radiance W/(m² sr), RGB")
     value: FloatProperty(name="Radiometric", description="Irradiance W/m² or radiance W/(m² sr) (CIE Y weighted)")
     photometric: FloatProperty(name="Photometric", description="Illuminance (lux) or luminance (cd/m²)")
-    rel_std_error: FloatProperty(name="Relative Standard Error", default=0.0)
-    exact: BoolProperty(name="Exact", default=False)
-    method: StringProperty(name="Method")
-    samples: IntProperty(name="Samples")
-    seconds: FloatProperty(name="Seconds")
-    efficacy: FloatProperty(name="Efficacy (lm/W)")
-    notes: StringProperty(name="Notes")
-    map_path: StringProperty(name="Radiance Map", subtype="FILE_PATH")
+    rel_std_error: FloatProperty(name="Relative Standard Error", default=0.0,
+                                 description="Stated 1-sigma relative standard error of the reading (fraction)")
+    exact: BoolProperty(name="Exact", default=False,
+                        description="The reading came from closed forms proven exact for this scene (no noise)")
+    method: StringProperty(name="Method", description="How the reading was made: analytic, hybrid or render")
+    samples: IntProperty(name="Samples", description="Path-tracing samples spent on the reading (0 if analytic)")
+    seconds: FloatProperty(name="Seconds", description="Wall time of the measurement, s")
+    efficacy: FloatProperty(name="Efficacy (lm/W)", description="Luminous efficacy used for the photometric "
+                            "value when it was measured, lm/W")
+    notes: StringProperty(name="Notes", description="Caveats of the reading (placement, enclosure, method), "
+                          "separated by |")
+    map_path: StringProperty(name="Radiance Map", subtype="FILE_PATH",
+                             description="The EXR file of the last radiance map")
 
 
 class RadiometerSceneSettings(bpy.types.PropertyGroup):
     efficacy_convention: EnumProperty(name="Efficacy", items=EFFICACY_CONVENTIONS, default="BLENDER_683",
-                                      update=_convention_changed)
+                                      update=_convention_changed,
+                                      description="Which luminous efficacy turns watts into lumens")
     efficacy: FloatProperty(name="lm/W", description="Luminous efficacy K: lux = K x CIE Y of RGB irradiance",
                             default=683.0, min=1.0, max=683.0)
-    method: EnumProperty(name="Method", items=METHODS, default="auto")
-    quality: EnumProperty(name="Quality", items=QUALITIES, default="standard")
+    method: EnumProperty(name="Method", items=METHODS, default="auto",
+                         description="How meters are measured: closed forms, Cycles, or both")
+    quality: EnumProperty(name="Quality", items=QUALITIES, default="standard",
+                          description="Accuracy preset: the relative standard error every reading must reach")
     target_rel_error: FloatProperty(name="Target Error", description="Relative standard error (1 sigma) every "
                                     "rendered reading must reach, e.g. 0.01 = 1 % (0 = the quality preset's target)",
                                     default=0.0, min=0.0, max=0.5, subtype="FACTOR")
