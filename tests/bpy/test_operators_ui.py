@@ -71,7 +71,7 @@ def test_set_photometric_power_runs_with_its_properties(clean_blender, build):
     (402.283, 0.0112, False, "402"),
     (402.283, 0.0012, False, "402.3"),
     (39.7335, 0.0012, False, "39.73"),
-    (8885.87, 0.0057, False, "8886"),
+    (8885.87, 0.0057, False, "8890"),
     (0.04567, 0.02, False, "0.0457"),
     (123456.7, 0.01, False, "123000"),
     (2.5e7, 0.01, False, "2.50e+07"),
