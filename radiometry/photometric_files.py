@@ -46,6 +46,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .lights import _frozen
+
 __all__ = ["Photometry", "PhotometricFileError", "Tilt", "read_photometry", "parse_ies", "parse_ldt",
            "catmull_rom_table", "cycles_ies_table", "to_ies_text", "CYCLES_CANDELA_TO_WATT"]
 
@@ -84,12 +86,6 @@ class Tilt:
     def factor(self, tilt_deg):
         """Multiplying factor at a luminaire tilt (deg), linear between tabulated angles."""
         return float(np.interp(float(tilt_deg), self.angles_deg, self.factors))
-
-
-def _frozen(a):
-    a = np.array(a, dtype=np.float64)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True)

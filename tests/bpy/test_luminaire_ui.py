@@ -110,3 +110,27 @@ def test_law_checks_on_a_photometric_light(scene, tmp_path):
     obj = api.import_luminaire(str(path), location=(0.0, 0.0, 3.0))
     result = api.check_inverse_square(obj, method="analytic")
     assert result.passed and result.near_field_limit == 0.0
+
+
+def test_luminaire_array_on_a_work_plane_matches_the_hand_calculation(scene, tmp_path):
+    # Four downlights 2.2 m above a work plane; E at each grid point = sum of I(theta, C) cos / d^2,
+    # computed here from the file (the number a lighting designer computes by hand).
+    h = np.arange(0.0, 360.0 + 1e-9, 30.0)
+    cd = [lobe(V) * (1.0 + 0.3 * math.cos(math.radians(c))) for c in h]
+    path = tmp_path / "asym.ies"
+    path.write_text(ies_text(V, h, cd))
+    photometry = api.read_photometry(str(path))
+    spots = [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)]
+    for x, y in spots:
+        api.import_luminaire(str(path), location=(x, y, 3.0))
+    xs, ys = np.meshgrid(np.linspace(-1.5, 1.5, 4), np.linspace(-1.5, 1.5, 4))
+    points = np.stack([xs.ravel(), ys.ravel(), np.full(xs.size, 0.8)], axis=1)
+    hand = np.zeros(len(points))
+    for x, y in spots:
+        rel = points - (x, y, 3.0)
+        d = np.linalg.norm(rel, axis=1)
+        theta = np.degrees(np.arccos(-rel[:, 2] / d))
+        c = np.degrees(np.arctan2(rel[:, 1], rel[:, 0]))
+        hand += photometry.candela_at(theta, c) * (-rel[:, 2] / d) / d**2
+    readings = api.measure_illuminance(points, np.tile((0.0, 0.0, 1.0), (len(points), 1)), method="analytic")
+    np.testing.assert_allclose([r.illuminance for r in readings], hand, rtol=1e-4)
