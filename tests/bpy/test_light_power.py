@@ -52,3 +52,18 @@ def test_wrong_unit_for_light_type_is_refused(clean_blender, build):
         light_power.set_photometric_power(sun, "CANDELA", 10.0)
     with pytest.raises(RadiometerError, match="finite"):
         light_power.set_photometric_power(sun, "LUX", float("nan"))
+
+
+def test_photometric_light_flux_comes_from_its_table(clean_blender, tmp_path):
+    """An imported isotropic IES file of 100 cd emits 4 pi x 100 lm (closed form), not K x watts."""
+    from radiometer import api
+    from radiometer.measure import light_power
+    from radiometer.errors import RadiometerError
+
+    path = tmp_path / "iso.ies"
+    path.write_text("IESNA:LM-63-2002\n[TEST] isotropic\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n"
+                    "0 90 180\n0\n100 100 100\n")
+    obj = api.import_luminaire(str(path))
+    assert light_power.photometric_power(obj, "LUMEN") == pytest.approx(400 * math.pi, rel=1e-4)
+    with pytest.raises(RadiometerError, match="come from its file"):
+        light_power.photometric_power(obj, "CANDELA")
