@@ -13,7 +13,7 @@ from bpy.props import BoolProperty, EnumProperty
 from .. import api
 from .. import plots
 from ..errors import RadiometerError
-from .modal import Step, Task, TaskOperator
+from .modal import Step, Task, TaskOperator, one_call_task
 
 _ALL = "__ALL__"
 _light_items_cache = []  # Blender needs the enum strings kept alive
@@ -288,17 +288,13 @@ class RADIOMETER_OT_illuminance_grid(TaskOperator, bpy.types.Operator):
         slug = _slug(plane.name)
         kwargs = {"resolution": (settings.resolution_x, settings.resolution_y)} if settings.use_resolution else \
             {"spacing": settings.spacing or None}
-        box = {}
-
-        def fn(progress, cancelled):
-            box["grid"] = analysis.illuminance_grid(
+        def call(progress, cancelled):
+            return analysis.illuminance_grid(
                 plane, scene=context.scene, png=os.path.join(out, f"isolux_{slug}.png"),
                 csv_path=os.path.join(out, f"grid_{slug}.csv"), progress=progress, cancelled=cancelled, **kwargs,
                 **_measure_settings(context))
 
-        task = Task("Illuminance Grid", [Step(plane.name, fn)])
-        task.results = box
-        return task
+        return one_call_task("Illuminance Grid", plane.name, "grid", call)
 
     def finish(self, context, task):
         settings = context.scene.radiometer_analysis
@@ -346,17 +342,13 @@ class RADIOMETER_OT_convergence_study(TaskOperator, bpy.types.Operator):
         out = output_dir(context)
         warn_without_plots(self)
         target = context.active_object
-        box = {}
-
-        def fn(progress, cancelled):
-            box["study"] = analysis.convergence_study(
+        def call(_progress, cancelled):  # the study reports no progress of its own (one step)
+            return analysis.convergence_study(
                 target, scene=context.scene, target_error=settings.target_error,
                 quality=context.scene.radiometer.quality, plot=os.path.join(out, "convergence.png"),
                 cancelled=cancelled)
 
-        task = Task("Convergence Study", [Step(target.name, fn)])
-        task.results = box
-        return task
+        return one_call_task("Convergence Study", target.name, "study", call)
 
     def finish(self, context, task):
         settings = context.scene.radiometer_analysis

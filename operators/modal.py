@@ -123,6 +123,18 @@ class Task:
         return f"Radiometer {self.label}{where}: {100 * self.fraction:.0f} %{eta}   Esc to cancel"
 
 
+def one_call_task(label, step_label, key, call):
+    """A one-step Task: ``call(progress, cancelled)``'s result lands in ``task.results[key]``."""
+    results = {}
+
+    def fn(progress, cancelled):
+        results[key] = call(progress, cancelled)
+
+    task = Task(label, [Step(step_label, fn)])
+    task.results = results
+    return task
+
+
 def is_navigation(event_type):
     return event_type in NAVIGATION_EVENTS
 
