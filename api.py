@@ -285,3 +285,15 @@ def world_model(scene=None):
     from .measure import world
 
     return world.read_world(scene or bpy.context.scene)
+
+
+def mirror_ball_probe(scene=None, *, size=256, shape=(128, 256), view=(0.0, -1.0, 0.0)):
+    """Render the classic light probe (an ideal chrome ball in the scene's world, seen along ``view``)
+    and convert it to an equirect map of ``shape`` (h, w) in the Environment Texture orientation.
+    Returns (probe (size, size, 3), equirect (h, w, 3)); see README "Environment lighting" for the
+    resolution loss towards the direction behind the ball."""
+    from .measure import world
+    from .radiometry import environment
+
+    probe, camera = world.render_mirror_ball(scene, size=size, view=view)
+    return probe, environment.probe_to_equirect(probe, shape, environment.BLENDER_WORLD_ROTATION, camera)

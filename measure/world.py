@@ -367,3 +367,94 @@ def write_exr(path, rgb):
     except Exception as exc:  # noqa: BLE001 - one line for the user
         raise RadiometerError(f"cannot write {path}: {exc}") from None
     return path
+
+
+# --- the mirror-sphere light probe ----------------------------------------------------------------
+
+def render_mirror_ball(scene=None, *, size=128, samples=16, view=(0.0, -1.0, 0.0)):
+    """Render the classic light probe: an ideal chrome ball (Glossy BSDF, roughness 0, colour 1: no
+    Fresnel) lit by the scene's world alone, seen by an orthographic camera looking along ``view``
+    from outside, framed to the ball. Returns (probe (size, size, 3) radiance, camera rotation (3, 3)
+    camera local -> world). Everything is built in a temporary scene that shares the world."""
+    import os
+    import shutil
+    import tempfile
+
+    import bpy
+    from mathutils import Vector
+
+    from . import exr
+
+    scene = _scene(scene)
+    temp = bpy.data.scenes.new("radiometer_probe")
+    created = []
+    folder = tempfile.mkdtemp(prefix="radiometer_probe_")
+    try:
+        temp.world = scene.world
+        temp.render.engine = "CYCLES"
+        temp.cycles.device = "CPU"
+        temp.cycles.samples = int(samples)
+        temp.cycles.use_denoising = False
+        temp.cycles.use_adaptive_sampling = False
+        temp.cycles.sample_clamp_direct = temp.cycles.sample_clamp_indirect = 0.0
+        temp.cycles.blur_glossy = 0.0
+        temp.cycles.max_bounces = temp.cycles.glossy_bounces = 1
+        temp.cycles.pixel_filter_type = "BOX"
+        temp.cycles.filter_width = 0.01
+        temp.view_settings.view_transform = "Standard"
+        mesh = bpy.data.meshes.new("radiometer_probe_ball")
+        created.append(mesh)
+        import bmesh
+
+        bm = bmesh.new()
+        bmesh.ops.create_uvsphere(bm, u_segments=256, v_segments=128, radius=1.0)
+        for f in bm.faces:
+            f.smooth = True
+        bm.to_mesh(mesh)
+        bm.free()
+        mat = bpy.data.materials.new("radiometer_probe_chrome")
+        created.append(mat)
+        from ..compat import ensure_node_tree
+
+        tree = ensure_node_tree(mat)
+        tree.nodes.clear()
+        out = tree.nodes.new("ShaderNodeOutputMaterial")
+        glossy = tree.nodes.new("ShaderNodeBsdfGlossy")
+        glossy.inputs["Roughness"].default_value = 0.0
+        glossy.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+        tree.links.new(glossy.outputs["BSDF"], out.inputs["Surface"])
+        mesh.materials.append(mat)
+        ball = bpy.data.objects.new("radiometer_probe_ball", mesh)
+        created.append(ball)
+        temp.collection.objects.link(ball)
+        cam_data = bpy.data.cameras.new("radiometer_probe_camera")
+        created.append(cam_data)
+        cam_data.type = "ORTHO"
+        cam_data.ortho_scale = 2.0
+        cam_data.clip_start, cam_data.clip_end = 1e-3, 100.0
+        cam = bpy.data.objects.new("radiometer_probe_camera", cam_data)
+        created.append(cam)
+        temp.collection.objects.link(cam)
+        v = Vector(view).normalized()
+        cam.location = -10.0 * v
+        cam.rotation_mode = "QUATERNION"
+        cam.rotation_quaternion = v.to_track_quat("-Z", "Z" if abs(v.z) < 0.99 else "Y")
+        temp.camera = cam
+        r = temp.render
+        r.resolution_x = r.resolution_y = int(size)
+        r.resolution_percentage = 100
+        r.image_settings.file_format = "OPEN_EXR"
+        r.image_settings.color_depth = "32"
+        r.filepath = os.path.join(folder, "probe")
+        r.use_file_extension = True
+        bpy.ops.render.render(write_still=True, scene=temp.name)
+        probe = exr.read_rgb(os.path.join(folder, "probe.exr"))
+        rotation = np.array(cam.rotation_quaternion.to_matrix(), float)
+        return probe, rotation
+    finally:
+        bpy.data.scenes.remove(temp)
+        for block in reversed(created):
+            collection = {bpy.types.Object: bpy.data.objects, bpy.types.Mesh: bpy.data.meshes,
+                          bpy.types.Material: bpy.data.materials, bpy.types.Camera: bpy.data.cameras}[type(block)]
+            collection.remove(block)
+        shutil.rmtree(folder, ignore_errors=True)

@@ -252,3 +252,46 @@ def test_cli_world_calibrates_and_writes_the_map(clean_blender, tmp_path, capsys
     assert cli._blender_cli(["world", "--calibrate", "-3"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--calibrate" in err and "Traceback" not in err
+
+
+def smooth_map(h=32, w=64):
+    """A smooth world: L = 1 + 0.5 (d . a) + 0.4 (d . b)^2 at the pixel centres (Environment Texture frame)."""
+    dirs, _ = environment.pixel_directions(h, w, environment.BLENDER_WORLD_ROTATION)
+    a, b = np.array([0.6, -0.3, 0.74]), np.array([0.0, 0.8, -0.6])
+    value = 1 + 0.5 * dirs @ (a / np.linalg.norm(a)) + 0.4 * (dirs @ b) ** 2
+    return np.stack([value, 0.8 * value, 0.6 * value], axis=-1)
+
+
+def test_mirror_ball_probe_render_and_its_resolution_loss(clean_blender):
+    """The lecture's capture: a chrome ball rendered in the world, converted to the equirect map.
+
+    The rendered ball matches the ideal mirror-ball mapping (environment.equirect_to_probe); the
+    map recovered from it is accurate where the ball shows the world well (directions towards the
+    camera) and loses resolution towards the direction behind the ball, which the ball squeezes
+    into its rim: angular pixel size 4 / (S cos(theta / 2)) rad for a ball S pixels wide, theta
+    measured from the direction towards the camera."""
+    from radiometer.measure import world as world_module
+
+    scene = bpy.context.scene
+    px = smooth_map()
+    env_world(scene, px)
+    h, w = px.shape[:2]
+    dirs, solid = environment.pixel_directions(h, w, environment.BLENDER_WORLD_ROTATION)
+    errors = {}
+    for size in (64, 256):
+        probe, cam = world_module.render_mirror_ball(scene, size=size, samples=1)
+        ideal = environment.equirect_to_probe(px, size, environment.BLENDER_WORLD_ROTATION, cam)
+        inside = environment.probe_to_directions(size)[1]
+        rel = np.abs(probe - ideal)[inside][:, 0] / ideal[inside][:, 0]
+        assert np.percentile(rel, 90) < 0.05, np.percentile(rel, [50, 90, 99])
+        back = environment.probe_to_equirect(probe, (h, w), environment.BLENDER_WORLD_ROTATION, cam)
+        theta = np.degrees(np.arccos(np.clip(dirs @ cam[:, 2], -1, 1)))  # from the direction towards the camera
+        err = np.abs(back[..., 0] - px[..., 0]) / px[..., 0]
+        errors[size] = {zone: float(np.sum((solid * err)[(theta >= lo) & (theta < hi)])
+                                    / np.sum(solid[(theta >= lo) & (theta < hi)]))
+                        for zone, (lo, hi) in {"front": (0, 90), "side": (90, 150), "back": (150, 181)}.items()}
+    print("mean relative error of the map recovered from the ball, by zone:", errors)
+    assert errors[256]["front"] < 0.01
+    assert errors[256]["back"] > 2 * errors[256]["front"]  # the rim's resolution loss
+    assert errors[256]["side"] <= errors[64]["side"]
+    assert len(bpy.data.scenes) == 1 and not bpy.data.objects
