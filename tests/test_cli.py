@@ -167,11 +167,12 @@ def test_brdf_plot_into_a_folder_or_without_extension(tmp_path):
     assert json.loads((tmp_path / "b.json").read_text())["plot"] == str(tmp_path / "lobe.png")
 
 
-def _interrupt_during(args, tmp_path, wait_for, delay):
+def _interrupt_during(args, tmp_path, wait_for, delay, json_file=True):
     """Start the CLI, wait until ``wait_for`` is printed, let it run ``delay`` s more, send SIGINT."""
     old = tmp_path / "old.json"
     old.write_text("previous result\n")
-    proc = subprocess.Popen([sys.executable, "-m", "radiometer", *args, "--verbose", "--json", str(old)],
+    extra = ["--json", str(old)] if json_file else []
+    proc = subprocess.Popen([sys.executable, "-m", "radiometer", *args, "--verbose", *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=str(tmp_path))
     seen = []
     deadline = time.monotonic() + 120
@@ -204,9 +205,16 @@ def test_ctrl_c_during_a_long_bake_exits_130(room, tmp_path):
 
 
 def test_ctrl_c_during_the_demo_exits_130(tmp_path):
+    # The demo writes demo.json as soon as its meters are measured, then runs the report: whatever
+    # the moment of the interrupt, every file there is whole (no half-written JSON, no temp file).
     pytest.importorskip("bpy")
-    _interrupt_during(["demo", "--out", str(tmp_path / "out")], tmp_path, wait_for="Radiometer demo:", delay=0.5)
-    assert not (tmp_path / "out" / "report" / "report.md").exists()
+    _interrupt_during(["demo", "--out", str(tmp_path / "out")], tmp_path, wait_for="Radiometer demo:", delay=0.5,
+                      json_file=False)
+    out = tmp_path / "out"
+    assert not (out / "report" / "report.md").exists()
+    if (out / "demo.json").exists():
+        assert json.loads((out / "demo.json").read_text())["meters"]
+    assert not [p for p in out.rglob("*.tmp")]
 
 
 def test_file_stems_are_readable_and_distinct():
