@@ -186,9 +186,10 @@ def read_world(scene):
     total = rotation.T @ environment.BLENDER_WORLD_ROTATION
     factor = 1
     if feed.interpolation == "Linear":
-        factor = 2 if 4 * h * w <= MAX_SUPERSAMPLED_PIXELS else 1
+        factor = next((f for f in (4, 2) if f * f * h * w <= MAX_SUPERSAMPLED_PIXELS), 1)
         notes.append("Linear interpolation: the integral of Cycles' bilinear interpolant, by the midpoint rule on "
-                     "2 x 2 sub-pixels (error estimated by Richardson against the pixel sum)" if factor > 1 else
+                     f"{factor} x {factor} sub-pixels (error estimated by Richardson, factor {factor // 2} vs {factor})"
+                     if factor > 1 else
                      f"Linear interpolation on a {w}x{h} image: the pixel sum is used (differs from the bilinear "
                      f"interpolant by O((pi/{h})^2))")
     return environment.WorldLight("equirect", radiance * strength, total, exact=feed.interpolation == "Closest",
