@@ -77,8 +77,11 @@ def test_uniform_sky_gives_pi_L(clean_blender):
     bg.inputs["Strength"].default_value = 2.0
     scene.world = world
     r = api.measure_illuminance((0, 0, 0), (0, 0, 1))
-    assert r.method == "render"  # auto: the world emits, so no closed form is exact
-    assert abs(r.irradiance - math.pi * 2.0) <= 3 * r.rel_std_error * r.irradiance + 1e-6
+    # auto: a constant world and nothing above the horizon: E = pi L is a closed form, exactly.
+    assert r.method == "analytic" and r.exact and "world" in r.parts["analytic"]
+    assert r.irradiance == pytest.approx(math.pi * 2.0, rel=1e-9)
+    rendered = api.measure_illuminance((0, 0, 0), (0, 0, 1), method="render")
+    assert abs(rendered.irradiance - math.pi * 2.0) <= 3 * rendered.rel_std_error * rendered.irradiance + 1e-6
 
 
 def test_unit_scale_converts_to_si(clean_blender, build):
