@@ -55,13 +55,11 @@ class RadianceMap:
 
 
 def default_map_path(name):
-    folder = os.path.join(tempfile.gettempdir(), "radiometer")
-    try:
-        folder = bpy.utils.extension_path_user(__package__.rsplit(".", 1)[0], path="radiance_maps", create=True)
-    except (ValueError, AttributeError, RuntimeError):
-        os.makedirs(folder, exist_ok=True)
-    safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
-    return os.path.join(folder, f"{safe}.exr")
+    """Where a meter's radiance map goes: the extension's user folder, else a private (0700)
+    temporary folder of this process; the file name is readable and distinct per meter name."""
+    from .. import outputs
+
+    return os.path.join(outputs.user_folder("radiance_maps"), f"{outputs.file_stem(name)}.exr")
 
 
 def _scratch_folder():

@@ -124,7 +124,9 @@ def test_default_map_path_is_under_extension_user_dir_or_temp(clean_blender):
     from radiometer.measure import camera
 
     path = pathlib.Path(camera.default_map_path("../../etc/passwd"))
-    assert path.name == ".._.._etc_passwd.exr"  # the meter name cannot climb out of the folder
+    # The meter name cannot climb out of the folder: no separators or dots survive in the stem.
+    assert "/" not in path.name and ".." not in path.name and path.name.startswith("etc_passwd")
+    assert camera.default_map_path("Lamp.1") != camera.default_map_path("Lamp_1")
     allowed = [pathlib.Path(tempfile.gettempdir()).resolve()]
     try:
         allowed.append(pathlib.Path(bpy.utils.extension_path_user("radiometer")).resolve())
