@@ -22,6 +22,12 @@ from ..radiometry import allocation
 from . import render_settings, scene_guard, sensors
 
 
+#: With a ``cancelled`` callback (the UI's Esc, the CLI's Ctrl-C), a round is split into bakes of
+#: about this many seconds each (by the previous bake's time per sample): one extra scene sync per
+#: second of baking buys a cancel that answers within about a second.
+CHUNK_SECONDS = 1.0
+
+
 def _call_progress(progress, fraction, seconds_left):
     if progress is None:
         return
@@ -87,6 +93,26 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
         previous = []
 
         def bake(spp, blocks):
+            """One round: one bake, or with ``cancelled`` several of about CHUNK_SECONDS each (a
+            bake cannot be interrupted from Python, so Esc and Ctrl-C act between them)."""
+            blocks = np.asarray(blocks, int)
+            per_sample = state.get("seconds_per_sample")
+            if cancelled is None or per_sample is None:
+                return bake_chunk(spp, blocks)
+            limit = max(1, int(CHUNK_SECONDS / (per_sample * spp * texels * texels)))  # blocks per chunk
+            if blocks.sum() <= limit:
+                return bake_chunk(spp, blocks)
+            ends = np.cumsum(blocks)
+            parts, start = [], 0
+            while start < ends[-1]:
+                stop = start + limit
+                # Blocks of the chunk: each meter's blocks that fall in [start, stop).
+                chunk = np.clip(np.minimum(ends, stop) - np.maximum(ends - blocks, start), 0, None)
+                parts.append(bake_chunk(spp, chunk))
+                start = stop
+            return tuple(np.concatenate(p) for p in zip(*parts))
+
+        def bake_chunk(spp, blocks):
             if cancelled is not None and cancelled():
                 raise MeasurementCancelled("measurement cancelled; the scene was restored")
             for obj, image in previous:  # last round's sensors: free them now, not at the end
@@ -117,8 +143,10 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
             sensors.select_only(view_layer, [b[0] for b in built])
             t0 = time.perf_counter()
             result = sensors.run_bake(scene, view_layer, [b[0] for b in built])
-            state["bake_seconds"] += time.perf_counter() - t0
+            seconds = time.perf_counter() - t0
+            state["bake_seconds"] += seconds
             state["bakes"] += 1
+            state["seconds_per_sample"] = seconds / max(float(blocks.sum()) * texels * texels * spp, 1.0)
             if result != {"FINISHED"}:
                 raise RadiometerError(f"the Cycles bake did not finish ({', '.join(sorted(result))}); "
                                       "the scene was restored")

@@ -93,3 +93,34 @@ def test_progress_reports_fraction_and_eta(clean_blender, build):
     assert calls and calls[-1][0] == calls[-1][1] == 1000
     assert all(eta is not None and eta >= 0 for _d, _t, eta in calls)
     assert [d for d, _t, _e in calls] == sorted(d for d, _t, _e in calls)
+
+
+def test_long_rounds_are_split_so_cancel_answers(clean_blender, build, monkeypatch):
+    """With a cancel callback a round is baked in chunks of ~CHUNK_SECONDS; the chunks give the
+    same statistics (same spp, independent seeds), and a cancel between chunks stops the run."""
+    from radiometer.errors import MeasurementCancelled
+    from radiometer.measure import adaptive, sensors
+
+    _room(clean_blender, build)
+    monkeypatch.setattr(adaptive, "CHUNK_SECONDS", 1e-4)  # every block its own bake
+    calls = {"bakes": 0}
+    real = sensors.run_bake
+
+    def counting(*args, **kwargs):
+        calls["bakes"] += 1
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(sensors, "run_bake", counting)
+    readings = api.measure_illuminance(POINTS[:2], (0, 0, 1), method="render", target_rel_error=0.01,
+                                       cancelled=lambda: False)
+    assert calls["bakes"] > readings[0].render_settings["rounds"]
+    assert all(r.rel_std_error <= 0.01 for r in readings)
+    state = {"n": 0}
+
+    def cancel_after_three():
+        state["n"] += 1
+        return state["n"] > 3
+
+    with pytest.raises(MeasurementCancelled):
+        api.measure_illuminance(POINTS[:2], (0, 0, 1), method="render", target_rel_error=0.002,
+                                cancelled=cancel_after_three)
