@@ -70,7 +70,8 @@ def measure_meters(objects=None, *, scene=None, quality=None, progress=None, can
 
 
 def check_inverse_square(light, *, scene=None, distances=None, method="auto", quality="standard",
-                         tolerance=0.01, target_rel_error=None, samples=None, time_budget_s=None, seed=0, plot=None):
+                         tolerance=0.01, target_rel_error=None, samples=None, time_budget_s=None, seed=0, plot=None,
+                         progress=None, cancelled=None):
     """Sweep a meter facing ``light`` (object or name) along its axis and compare E with I/d^2.
 
     ``distances`` in m from the light's centre (default: 0.6 to 60 source sizes, kept in front of
@@ -96,11 +97,13 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
 
     return analysis.check_inverse_square(light, scene=scene, distances=distances, method=method, quality=quality,
                                          tolerance=tolerance, target_rel_error=target_rel_error, samples=samples,
-                                         time_budget_s=time_budget_s, seed=seed, plot=plot)
+                                         time_budget_s=time_budget_s, seed=seed, plot=plot, progress=progress,
+                                         cancelled=cancelled)
 
 
 def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, method="auto", quality="standard",
-                     tolerance=0.01, target_rel_error=None, samples=None, time_budget_s=None, seed=0, plot=None):
+                     tolerance=0.01, target_rel_error=None, samples=None, time_budget_s=None, seed=0, plot=None,
+                     progress=None, cancelled=None):
     """Tilt a meter at ``location`` (scene coordinates; default 2 source sizes, at least 1 m, in front
     of the light but at most half-way to the first surface; the origin for a sun) from facing
     ``light`` to 89 deg; compare the light's own direct E(theta)/E(0) with cos(theta), with the
@@ -116,11 +119,13 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
 
     return analysis.check_cosine_law(light, scene=scene, location=location, angles_deg=angles_deg, method=method,
                                      quality=quality, tolerance=tolerance, target_rel_error=target_rel_error,
-                                     samples=samples, time_budget_s=time_budget_s, seed=seed, plot=plot)
+                                     samples=samples, time_budget_s=time_budget_s, seed=seed, plot=plot,
+                                     progress=progress, cancelled=cancelled)
 
 
 def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, method="auto", quality="standard",
-                     target_rel_error=None, samples=None, time_budget_s=None, seed=0, png=None, csv=None):
+                     target_rel_error=None, samples=None, time_budget_s=None, seed=0, png=None, csv=None,
+                     progress=None, cancelled=None):
     """Illuminance on a grid over a plane object's local XY (its +Z side), in one measurement.
 
     ``resolution=(nx, ny)`` or ``spacing`` (m); neither: EN 12464-1 p = 0.2 x 5^log10(d). Every
@@ -129,13 +134,15 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     :func:`measure_illuminance`. Returns a ``GridResult`` with ``lux`` (ny, nx), ``points``
     (ny, nx, 3) scene coordinates, ``rel_std_error`` (ny, nx), ``max_rel_std_error``,
     ``target_rel_error``, ``stats`` (avg, min, max in lux, u0 = min/avg). ``png``: isolux image;
-    ``csv``: point table.
+    ``csv``: point table. ``progress(done, total, seconds_left)`` and ``cancelled()`` as in
+    :func:`measure_illuminance` (law checks too).
     """
     from .measure import analysis
 
     return analysis.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,
                                      quality=quality, target_rel_error=target_rel_error, samples=samples,
-                                     time_budget_s=time_budget_s, seed=seed, png=png, csv_path=csv)
+                                     time_budget_s=time_budget_s, seed=seed, png=png, csv_path=csv, progress=progress,
+                                     cancelled=cancelled)
 
 
 def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.0, 1.0), samples=(4, 16, 64, 256),
