@@ -91,6 +91,114 @@ class RADIOMETER_OT_add_meter(bpy.types.Operator):
         return {"FINISHED"}
 
 
+# --- Add meter on surface --------------------------------------------------------------------------
+
+def meter_pose_on_surface(scene, origin, direction, depsgraph=None):
+    """Where a meter placed on the face hit by the ray ``origin + t direction`` goes, or None (no hit).
+
+    Returns ``(location, normal, rotation_euler, hit_object)``: the hit point itself (the meter code
+    raises its sensor off the surface internally), the face normal (world space, turned towards the
+    ray's origin when the ray hits a face's back, so the meter reads the side the user looks at) and
+    the rotation putting the meter's +Z along that normal.
+    """
+    from mathutils import Vector
+
+    if depsgraph is None:
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+    origin, direction = Vector(origin), Vector(direction)
+    if direction.length == 0:
+        return None
+    hit, location, normal, _index, obj, _matrix = scene.ray_cast(depsgraph, origin, direction.normalized())
+    if not hit or normal.length == 0:
+        return None
+    normal = normal.normalized()
+    if normal.dot(direction) > 0:  # back face: face the viewer
+        normal = -normal
+    rotation = normal.to_track_quat("Z", "Y").to_euler()
+    return Vector(location), normal, rotation, (obj.original if obj is not None else None)
+
+
+def view_ray(context, event):
+    """(origin, direction) of the ray under the mouse in the 3D view's WINDOW region it is over, or None."""
+    from bpy_extras import view3d_utils
+
+    area = context.area
+    if area is None or area.type != "VIEW_3D":
+        return None
+    for region in area.regions:
+        if region.type != "WINDOW" or region.data is None:
+            continue
+        x, y = event.mouse_x - region.x, event.mouse_y - region.y
+        if 0 <= x < region.width and 0 <= y < region.height:
+            coord = (x, y)
+            return (view3d_utils.region_2d_to_origin_3d(region, region.data, coord),
+                    view3d_utils.region_2d_to_vector_3d(region, region.data, coord))
+    return None
+
+
+class RADIOMETER_OT_add_meter_on_surface(bpy.types.Operator):
+    """Add an illuminance meter on the surface under the mouse, facing out of it (click a face; Esc cancels)"""
+
+    bl_idname = "radiometer.add_meter_on_surface"
+    bl_label = "Light Meter on Surface"
+    bl_options = {"REGISTER", "UNDO"}
+
+    ray_origin: FloatVectorProperty(name="Ray Origin", size=3, subtype="TRANSLATION",
+                                    description="Start of the ray that picks the surface (set from the mouse)")
+    ray_direction: FloatVectorProperty(name="Ray Direction", size=3, default=(0.0, 0.0, -1.0),
+                                       subtype="DIRECTION",
+                                       description="Direction of the ray that picks the surface (set from the "
+                                                   "mouse)")
+
+    @classmethod
+    def poll(cls, context):
+        if context.scene is None or context.collection is None:
+            cls.poll_message_set("needs a scene and an active collection")
+            return False
+        return True
+
+    def _status(self, context, text):
+        if context.workspace is not None:
+            context.workspace.status_text_set(text)
+        if context.area is not None:
+            context.area.header_text_set(text)
+
+    def invoke(self, context, event):
+        if context.area is None or context.area.type != "VIEW_3D":
+            self.report({"WARNING"}, "Add Meter on Surface works in a 3D viewport")
+            return {"CANCELLED"}
+        context.window_manager.modal_handler_add(self)
+        self._status(context, "Click a surface to place a light meter on it   Esc/Right click: cancel")
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
+            self._status(context, None)
+            return {"CANCELLED"}
+        if event.type == "LEFTMOUSE" and event.value == "PRESS":
+            ray = view_ray(context, event)
+            if ray is None:
+                return {"RUNNING_MODAL"}
+            self.ray_origin, self.ray_direction = tuple(ray[0]), tuple(ray[1])
+            if meter_pose_on_surface(context.scene, *ray, context.evaluated_depsgraph_get()) is None:
+                self.report({"WARNING"}, "no surface under the mouse: click a face (Esc cancels)")
+                return {"RUNNING_MODAL"}
+            self._status(context, None)
+            return self.execute(context)
+        return {"PASS_THROUGH"}  # navigate the view while choosing
+
+    def execute(self, context):
+        pose = meter_pose_on_surface(context.scene, self.ray_origin, self.ray_direction,
+                                     context.evaluated_depsgraph_get())
+        if pose is None:
+            self.report({"WARNING"}, "the ray hits no surface: nothing added")
+            return {"CANCELLED"}
+        location, _normal, rotation, hit = pose
+        obj = add_meter(context, "ILLUMINANCE", tuple(location), rotation=tuple(rotation))
+        self.report({"INFO"}, f"Added {obj.name} on {hit.name if hit else 'the surface'}")
+        return {"FINISHED"}
+
+
 def _summary(results):
     parts = []
     for obj, r in results:
@@ -167,9 +275,11 @@ def measure_task(scene, objects, batch=UI_BATCH):
 
 def _menu_add(self, _context):
     self.layout.operator_menu_enum("radiometer.add_meter", "kind", text="Light Meter", icon="LIGHT_SUN")
+    self.layout.operator_context = "INVOKE_DEFAULT"
+    self.layout.operator("radiometer.add_meter_on_surface", icon="SNAP_FACE")
 
 
-classes = (RADIOMETER_OT_add_meter, RADIOMETER_OT_measure)
+classes = (RADIOMETER_OT_add_meter, RADIOMETER_OT_add_meter_on_surface, RADIOMETER_OT_measure)
 
 
 def register_extra():

@@ -40,7 +40,7 @@ def format_reading(meter):
 
 # Every Radiometer operator, so F3 (menu search) finds each one; operators registered by other
 # modules later are listed after these.
-MENU_OPERATORS = ("measure", "add_meter", "set_light_power", "check_inverse_square", "check_cosine_law",
+MENU_OPERATORS = ("measure", "add_meter", "add_meter_on_surface", "set_light_power", "check_inverse_square", "check_cosine_law",
                   "illuminance_grid", "convergence_study", "export_report", "assign_brdf", "brdf_plot")
 
 
@@ -55,6 +55,7 @@ class RADIOMETER_MT_main(bpy.types.Menu):
         layout.operator_context = "INVOKE_DEFAULT"
         layout.operator("radiometer.measure", icon="PLAY")
         layout.operator_menu_enum("radiometer.add_meter", "kind", text="Add Light Meter", icon="LIGHT_SUN")
+        layout.operator("radiometer.add_meter_on_surface", text="Add Light Meter on Surface", icon="SNAP_FACE")
         layout.operator("radiometer.set_light_power", icon="LIGHT")
         layout.separator()
         layout.operator("radiometer.check_inverse_square")
