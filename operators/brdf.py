@@ -37,7 +37,7 @@ class RADIOMETER_OT_assign_brdf(bpy.types.Operator):
         return _poll_material(cls, context)
 
     def execute(self, context):
-        from ..props.brdf import _params_dict
+        from ..props.brdf import _params_dict, input_links, pull_from_node, restore_links
         from ..shading.assign import assign_brdf
 
         mat = _active_material(context)
@@ -46,8 +46,12 @@ class RADIOMETER_OT_assign_brdf(bpy.types.Operator):
             from ..props.brdf import sync_params
 
             sync_params(s, s.model)
+        pull_from_node(mat)  # the group node's inputs (edited by hand) win over stored values
+        links = input_links(mat)  # textures / bump linked into the group node
         try:
-            fid = assign_brdf(mat, s.model, s.method, **_params_dict(s))
+            fid = assign_brdf(mat, s.model, s.method, tangent_source=s.tangent_source, uv_map=s.uv_map,
+                              **_params_dict(s))
+            restore_links(mat, links)
         except RadiometerError as exc:
             s.error = str(exc)
             self.report({"ERROR"}, str(exc))
@@ -71,12 +75,77 @@ def plot_directory():
         return path
 
 
+def lobe_data(material, thetas_i=(0.0, 30.0, 60.0), n=91):
+    """In-plane lobes of the model and of what Cycles renders for ``material``: a list of
+    (theta_i deg, theta_o deg array (-90..90, negative = back side), f_model (n, 3), f_closure (n, 3)).
+
+    The closure is evaluated from the group node's current inputs when the BRDF is applied
+    (``shading.assign.current_fidelity``), else from the stored parameters."""
+    import numpy as np
+
+    from .. import brdf
+    from ..props.brdf import _params_dict, group_node
+    from ..shading import closures as C
+    from ..shading.assign import current_fidelity, node_params
+    from ..shading.realise import realise
+
+    s = material.radiometer_brdf
+    node = group_node(material, s)
+    if node is not None:
+        model, _, _, _, params = node_params(node)
+        fid = current_fidelity(material)
+    else:
+        model, params = s.model, _params_dict(s)
+        fid = realise(model, s.method, **params)[1]
+    theta_o = np.linspace(-89.0, 89.0, n)
+    out = []
+    for ti in thetas_i:
+        t = np.radians(ti)
+        wi = np.tile([np.sin(t), 0.0, np.cos(t)], (n, 1))
+        to = np.radians(theta_o)
+        wo = np.stack([-np.sin(to), np.zeros(n), np.cos(to)], axis=-1)  # + = mirror side
+        fm = np.broadcast_to(np.asarray(brdf.evaluate(model, wi, wo, **params), dtype=float), (n, 3))
+        fc = np.broadcast_to(np.asarray(C.evaluate_terms(fid.terms, wi, wo), dtype=float), (n, 3))
+        out.append((ti, theta_o, np.array(fm), np.array(fc)))
+    return model, fid, out
+
+
+def write_lobe_plot(material, path):
+    """PNG of the model's in-plane lobes (solid) against the Cycles closure (dashed), luminance-weighted."""
+    import numpy as np
+
+    from ..plots import pyplot
+
+    model, fid, lobes = lobe_data(material)
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=100)
+    w = np.array([0.2126, 0.7152, 0.0722])
+    for (ti, to, fm, fc), colour in zip(lobes, ("C0", "C1", "C2")):
+        ax.plot(to, fm @ w, color=colour, label=f"model, θi = {ti:.0f}°")
+        ax.plot(to, fc @ w, color=colour, ls="--", label=f"Cycles, θi = {ti:.0f}°")
+    ax.set_yscale("symlog", linthresh=1e-3)
+    ax.set_xlabel("θo in the plane of incidence (deg, + = mirror side)")
+    ax.set_ylabel("f (1/sr, luminance)")
+    ax.set_title(f"{model}: model vs {fid.closure} ({fid.summary()})", fontsize=8)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
 class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
-    """Plot the material's BRDF (library summary plot) and show it in an Image Editor"""
+    """Plot the material's BRDF (model vs Cycles closure lobes, or the library summary) in an Image Editor"""
 
     bl_idname = "radiometer.brdf_plot"
     bl_label = "Plot BRDF"
     bl_options = {"REGISTER"}
+
+    kind: bpy.props.EnumProperty(
+        name="Plot", default="LOBE",
+        items=[("LOBE", "Model vs Cycles", "In-plane lobes of the model and of the Cycles closure it renders as"),
+               ("SUMMARY", "Library Summary", "The BRDF library's summary plot of the model")],
+        description="What to plot")
 
     @classmethod
     def poll(cls, context):
@@ -88,9 +157,13 @@ class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
 
         mat = _active_material(context)
         s = mat.radiometer_brdf
-        path = os.path.join(plot_directory(), f"brdf_{s.model}.png")
+        suffix = "_lobe" if self.kind == "LOBE" else ""
+        path = os.path.join(plot_directory(), f"brdf_{s.model}{suffix}.png")
         try:
-            write_plot(s.model, path, **_params_dict(s))
+            if self.kind == "LOBE":
+                write_lobe_plot(mat, path)
+            else:
+                write_plot(s.model, path, **_params_dict(s))
         except RadiometerError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -139,4 +212,101 @@ class RADIOMETER_OT_enable_osl(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (RADIOMETER_OT_assign_brdf, RADIOMETER_OT_brdf_plot, RADIOMETER_OT_enable_osl)
+def _preset_items(self, context):
+    from ..brdf.fresnel import PRESETS
+
+    items = []
+    for key, p in PRESETS.items():
+        extra = f", n = {p['ior']}" if "ior" in p else ""
+        items.append((key.upper(), key.title(), f"{key.title()}: F0 = {p['f0']}{extra} (CS348B Fresnel slide)"))
+    return items
+
+
+_preset_cache = []
+
+
+def _preset_items_cached(self, context):
+    if not _preset_cache:
+        _preset_cache.extend(_preset_items(self, context))
+    return _preset_cache
+
+
+class RADIOMETER_OT_brdf_preset(bpy.types.Operator):
+    """Set the normal-incidence reflectance F0 of the material's BRDF to a physical preset"""
+
+    bl_idname = "radiometer.brdf_preset"
+    bl_label = "Fresnel Preset"
+    bl_options = {"REGISTER", "UNDO"}
+
+    preset: bpy.props.EnumProperty(name="Preset", items=_preset_items_cached,
+                                   description="Physical material: gold, silver, glass or diamond")
+
+    @classmethod
+    def poll(cls, context):
+        return _poll_material(cls, context)
+
+    def execute(self, context):
+        from ..brdf.fresnel import PRESETS
+        from ..props.brdf import _guard, apply_settings, group_node, sync_params
+
+        mat = _active_material(context)
+        s = mat.radiometer_brdf
+        if mat.library is not None:
+            self.report({"ERROR"}, f"{mat.name} is linked from a library: make it local to edit it")
+            return {"CANCELLED"}
+        if len(s.params) == 0:
+            sync_params(s, s.model)
+        item = s.params.get("f0")
+        if item is None:
+            self.report({"ERROR"}, f"{s.model} has no f0 parameter (choose GGX, Beckmann or Torrance-Sparrow)")
+            return {"CANCELLED"}
+        f0 = float(PRESETS[self.preset.lower()]["f0"])
+        node = group_node(mat, s)
+        sock = node.inputs.get("f0") if node is not None else None
+        if sock is not None and not sock.is_linked:  # the node is what renders: edit it in place
+            sock.default_value = (f0, f0, f0, 1.0) if sock.type == "RGBA" else f0
+        structural = False
+        _guard["busy"] = True
+        try:
+            if item.kind == "color":
+                item.color = (f0, f0, f0)
+            else:
+                item.value = f0
+            for other in ("ior", "eta", "k"):  # they would override f0
+                o = s.params.get(other)
+                if o is not None and o.use:
+                    o.use = False
+                    structural = True
+        finally:
+            _guard["busy"] = False
+        if structural and s.applied:
+            apply_settings(mat)
+        self.report({"INFO"}, f"{mat.name}: F0 = {f0} ({self.preset.title()})")
+        return {"FINISHED"}
+
+
+class RADIOMETER_OT_brdf_param_info(bpy.types.Operator):
+    """What a BRDF parameter means (from radiometer.brdf)"""
+
+    bl_idname = "radiometer.brdf_param_info"
+    bl_label = "Parameter Info"
+    bl_options = {"INTERNAL"}
+
+    param: bpy.props.StringProperty(name="Parameter", description="Name of the BRDF parameter")
+
+    @classmethod
+    def description(cls, context, properties):
+        mat = _active_material(context)
+        item = mat.radiometer_brdf.params.get(properties.param) if mat is not None else None
+        if item is None:
+            return "BRDF parameter"
+        unit = {"1": "dimensionless", "rad": "radians"}.get(item.unit, item.unit)
+        return f"{item.name}: {item.description}" + (f" ({unit})" if unit else "")
+
+    def execute(self, context):
+        self.report({"INFO"}, self.description(context, self.properties))
+        return {"FINISHED"}
+
+
+classes = (RADIOMETER_OT_assign_brdf, RADIOMETER_OT_brdf_plot, RADIOMETER_OT_enable_osl, RADIOMETER_OT_brdf_preset,
+           RADIOMETER_OT_brdf_param_info)

@@ -20,6 +20,31 @@ def test_meter_and_scene_settings_have_tooltips(clean_blender):
         assert _undescribed(cls.bl_rna) == [], cls.__name__
 
 
+def test_every_radiometer_property_group_has_tooltips(clean_blender):
+    """Every property of every registered Radiometer property group (meter, BRDF, analysis ...)."""
+    import radiometer.props as props
+
+    groups = []
+    for module in ("meter", "brdf", "analysis"):
+        groups += list(getattr(props, module).classes)
+    assert len(groups) >= 6
+    for cls in groups:
+        assert _undescribed(cls.bl_rna) == [], cls.__name__
+
+
+def test_every_radiometer_operator_and_its_properties_have_tooltips(clean_blender):
+    names = [n for n in dir(bpy.ops.radiometer) if not n.startswith("_")]
+    assert set(OWN_OPERATORS) <= set(names)
+    assert {"assign_brdf", "brdf_plot", "brdf_preset", "enable_osl", "calibrate_world", "import_luminaire"} <= set(names)
+    missing = {}
+    for name in names:
+        rna = getattr(bpy.ops.radiometer, name).get_rna_type()
+        bad = _undescribed(rna) + ([] if rna.description else ["<operator>"])
+        if bad:
+            missing[name] = bad
+    assert missing == {}
+
+
 @pytest.mark.parametrize("name", OWN_OPERATORS)
 def test_operator_properties_have_tooltips(clean_blender, name):
     rna = getattr(bpy.ops.radiometer, name).get_rna_type()
