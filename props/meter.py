@@ -29,6 +29,13 @@ EFFICACY_CONVENTIONS = [
 _EFFICACY_VALUES = {"BLENDER_683": 683.0, "RADIANCE_179": 179.0}
 
 
+def _live_changed(self, _context):
+    from ..operators import live
+
+    if self.live:
+        live.mark_dirty(self.id_data)  # measure every meter once the scene is still
+
+
 def _convention_changed(self, _context):
     if self.efficacy_convention in _EFFICACY_VALUES:
         self.efficacy = _EFFICACY_VALUES[self.efficacy_convention]
@@ -79,6 +86,10 @@ class RadiometerSceneSettings(bpy.types.PropertyGroup):
                                     default=0.0, min=0.0, max=0.5, subtype="FACTOR")
     show_overlay: BoolProperty(name="Readings in Viewport", default=True,
                                description="Draw each meter's reading next to it in the 3D viewport")
+    live: BoolProperty(name="Live Meters", default=False, update=_live_changed,
+                       description="Update meter readings as lights, meters or geometry move: exact readings "
+                                   "at once where closed forms are exact, else a preview that refines to the "
+                                   "chosen quality while you are idle")
     last_summary: StringProperty(name="Last Measurement", description="Readings of the last measurement, one line")
     # Written by the modal runner (operators/modal.py) while a long operation runs; not saved state.
     progress: FloatProperty(name="Progress", description="Fraction done of the running Radiometer operation",

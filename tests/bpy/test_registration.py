@@ -23,16 +23,26 @@ def _snapshot():
 
 def test_register_unregister_five_times_leaves_nothing_behind():
     import radiometer
+    from radiometer.operators import live
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     before = _snapshot()
+    assert not bpy.app.timers.is_registered(live.tick)
     for _ in range(5):
         radiometer.register()
         assert hasattr(bpy.types.Scene, "radiometer")
         assert "radiometer_meter" in bpy.types.Object.bl_rna.properties.keys()
         assert hasattr(bpy.ops.radiometer, "measure") and hasattr(bpy.ops.radiometer, "add_meter")
+        # The live mode: one depsgraph handler and one timer, exactly once.
+        assert bpy.app.handlers.depsgraph_update_post.count(live.on_depsgraph_update) == 1
+        assert bpy.app.timers.is_registered(live.tick)
+        bpy.context.scene.radiometer.live = True  # leaves live state behind, which unregister forgets
+        assert live._states
         radiometer.unregister()
         assert _snapshot() == before
+        assert live.on_depsgraph_update not in bpy.app.handlers.depsgraph_update_post
+        assert not bpy.app.timers.is_registered(live.tick)
+        assert not live._states
     assert not hasattr(bpy.types.Scene, "radiometer")
 
 
