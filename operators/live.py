@@ -13,7 +13,9 @@
   non-exact readings to the scene's quality, ``REFINE_BATCH`` meters per tick, so that a change made
   between two ticks drops the refinement and starts again with a preview.
 
-Illuminance and luminance meters are live; radiance maps (panoramic renders) are left to Measure.
+Illuminance meters are measured at once; luminance (spot) meters, whose camera render costs ~1 s
+even at preview quality, are measured in the idle phase, one per tick; radiance maps (panoramic
+renders) are left to Measure.
 A refinement tick blocks the UI while its batch renders (no event can interrupt a timer): the batch
 is small for that reason. Readings go to the meters (panel and viewport overlay show them);
 ``status(scene)`` is the one-line state the panel and the overlay print.
@@ -29,6 +31,7 @@ REFINE_IDLE_S = 0.5   # and this long after a preview before refining it
 TICK_S = 0.05         # timer period
 REFINE_BATCH = 4      # meters per refinement tick
 LIVE_KINDS = ("ILLUMINANCE", "LUMINANCE")
+FAST_KINDS = ("ILLUMINANCE",)  # measured at once; the others (camera renders) in the idle phase
 _DATA_TYPES = ("Light", "Mesh", "Curve", "MetaBall", "Material", "World", "NodeTree", "Image", "Volume",
                "PointCloud", "Curves", "GreasePencil")
 
@@ -188,30 +191,41 @@ def _preview(scene, st, now):
         st.status = "Live: no illuminance or luminance meters"
         st.settings = _settings(scene)
         return
+    # Spot (luminance) meters render a camera view (~1 s even at preview): they wait for the idle phase.
+    fast = [ob for ob in objects if ob.radiometer_meter.kind in FAST_KINDS]
+    slow = [ob.name for ob in objects if ob.radiometer_meter.kind not in FAST_KINDS]
     started = time.perf_counter()
     try:
-        results = _measure(scene, objects, "preview")
+        results = _measure(scene, fast, "preview") if fast else []
     except RadiometerError as exc:
         st.status = f"Live: {exc}"
         return
     st.preview_seconds = time.perf_counter() - started
     st.measurements += 1
     _record(scene, st, results)
+    if not fast:
+        st.settings = _settings(scene)
     st.measured_at = now if now is not None else time.perf_counter()
     rough = [obj.name for obj, r in results if not r.exact]
-    pending = set(st.refine) - {obj.name for obj, _ in results} if names is not None else set()
-    st.refine = sorted(pending | set(rough)) if scene.radiometer.quality != "preview" else []
+    pending = set(st.refine) - {ob.name for ob in objects} if names is not None else set()
+    refine = set(rough) if scene.radiometer.quality != "preview" else set()
+    st.refine = sorted(pending | refine) + [n for n in slow if n not in pending]
     exact = len(results) - len(rough)
     st.status = (f"Live: {exact} exact, {len(rough)} preview ({st.preview_seconds:.2g} s)"
-                 + (", refining while idle" if st.refine else ""))
+                 + (f", {len(slow)} spot meter(s) when idle" if slow else "")
+                 + (", refining while idle" if set(st.refine) - set(slow) else ""))
     _redraw()
 
 
 def _refine(scene, st):
     from ..errors import RadiometerError
 
-    names, st.refine = st.refine[:REFINE_BATCH], st.refine[REFINE_BATCH:]
-    objects = _live_meters(scene, set(names))
+    # Illuminance meters first (one batch, one bake), then one spot meter per tick.
+    objects = _live_meters(scene, set(st.refine))
+    fast = [ob for ob in objects if ob.radiometer_meter.kind in FAST_KINDS][:REFINE_BATCH]
+    objects = fast or objects[:1]
+    done = {ob.name for ob in objects}
+    st.refine = [n for n in st.refine if n not in done and n in {ob.name for ob in _live_meters(scene)}]
     if not objects:
         return
     try:

@@ -134,3 +134,27 @@ def test_preview_then_refinement_while_idle(clean_blender, build):
     assert "standard" in mod.status(scene)
     settle(t + 10)
     assert st.measurements == 2
+
+
+def test_spot_meter_waits_for_the_idle_phase(clean_blender, build):
+    mod = live()
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.plane(scene, size=4.0, albedo=0.8, name="floor")
+    build.light(scene, "POINT", (0, 0, 2), energy=100.0, shadow_soft_size=0.0)
+    bpy.ops.radiometer.add_meter(kind="ILLUMINANCE", location=(1, 0, 0))
+    illum = bpy.context.active_object
+    bpy.ops.radiometer.add_meter(kind="LUMINANCE", location=(0, 0, 1), rotation=(0, 0, 0), acceptance_deg=5.0)
+    spot = bpy.context.active_object  # looks along -Z: at the floor
+    scene.radiometer.quality = "preview"
+    scene.radiometer.live = True
+    st = mod.state(scene)
+    t = time.perf_counter() + 10
+    settle(t)
+    assert illum.radiometer_meter.has_reading and not spot.radiometer_meter.has_reading
+    assert st.refine == [spot.name] and "spot" in mod.status(scene)
+    settle(t + 2 * mod.REFINE_IDLE_S)
+    assert spot.radiometer_meter.has_reading and spot.radiometer_meter.photometric > 0
+    assert not st.refine and not st.dirty
+    bpy.context.view_layer.update()  # the spot meter's camera render is not a change
+    assert not st.dirty
