@@ -266,6 +266,8 @@ def tick(now=None):
         del _states[key]  # live turned off (or the scene is gone): forget
     for scene, window in live:
         st = state(scene)
+        if scene.radiometer.progress_text:
+            continue  # a modal Radiometer operation is running on this scene: wait for it
         if st.dirty and now - st.changed_at < DEBOUNCE_S:
             continue
         if not st.dirty and not (st.refine and now - st.measured_at >= REFINE_IDLE_S):

@@ -158,3 +158,15 @@ def test_spot_meter_waits_for_the_idle_phase(clean_blender, build):
     assert not st.refine and not st.dirty
     bpy.context.view_layer.update()  # the spot meter's camera render is not a change
     assert not st.dirty
+
+
+def test_live_waits_while_a_radiometer_operation_runs(clean_blender, build):
+    mod = live()
+    scene, light, meter = point_scene(build)
+    scene.radiometer.live = True
+    scene.radiometer.progress_text = "Measure 10 %"
+    settle(time.perf_counter() + 10)
+    assert not meter.radiometer_meter.has_reading and mod.state(scene).dirty
+    scene.radiometer.progress_text = ""
+    settle(time.perf_counter() + 10)
+    assert meter.radiometer_meter.has_reading
