@@ -15,7 +15,8 @@ class RADIOMETER_OT_import_luminaire(bpy.types.Operator, ImportHelper):
     bl_label = "Import Luminaire (IES, EULUMDAT)"
     bl_options = {"REGISTER", "UNDO"}
 
-    filter_glob: StringProperty(description="File types shown in the browser (IES LM-63, EULUMDAT)", default="*.ies;*.IES;*.ldt;*.LDT", options={"HIDDEN"})
+    filter_glob: StringProperty(description="File types shown in the browser (IES LM-63, EULUMDAT)",
+                                default="*.ies;*.IES;*.ldt;*.LDT", options={"HIDDEN"})
 
     def execute(self, context):
         from .. import api

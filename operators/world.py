@@ -23,7 +23,8 @@ class RADIOMETER_OT_world_illuminance(bpy.types.Operator):
     bl_label = "World Illuminance"
     bl_options = {"REGISTER"}
 
-    normal: FloatVectorProperty(description="Surface normal the illuminance is measured on (world axes, normalised)", name="Normal", default=(0.0, 0.0, 1.0), size=3)
+    normal: FloatVectorProperty(description="Surface normal the illuminance is measured on (world axes, normalised)",
+                                name="Normal", default=(0.0, 0.0, 1.0), size=3)
 
     @classmethod
     def poll(cls, context):
@@ -49,8 +50,10 @@ class RADIOMETER_OT_calibrate_world(bpy.types.Operator):
     bl_label = "Calibrate World"
     bl_options = {"REGISTER", "UNDO"}  # UNDO: Blender pushes an undo step after execute
 
-    illuminance: FloatProperty(description="Illuminance the world should produce on a surface with this normal, lx", name="Illuminance (lx)", default=10000.0, min=1e-6, soft_max=150000.0)
-    normal: FloatVectorProperty(description="Surface normal the illuminance is measured on (world axes, normalised)", name="Normal", default=(0.0, 0.0, 1.0), size=3)
+    illuminance: FloatProperty(description="Illuminance the world should produce on a surface with this normal, lx",
+                               name="Illuminance (lx)", default=10000.0, min=1e-6, soft_max=150000.0)
+    normal: FloatVectorProperty(description="Surface normal the illuminance is measured on (world axes, normalised)",
+                                name="Normal", default=(0.0, 0.0, 1.0), size=3)
 
     @classmethod
     def poll(cls, context):

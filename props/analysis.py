@@ -16,22 +16,30 @@ class RadiometerLawResult(bpy.types.PropertyGroup):
     """One light's last law checks (name = light name)."""
 
     kind: StringProperty(description="Light type (Point, Spot, Area, Sun)", name="Type")
-    inverse_checked: BoolProperty(description="The inverse-square law has been checked for this light", default=False)
+    inverse_checked: BoolProperty(description="The inverse-square law has been checked for this light",
+                                  default=False)
     inverse_note: StringProperty(name="Inverse Square", description="Why it was not checked")
     exponent: FloatProperty(name="Exponent", description="Fitted exponent of E vs d over the far field (ideal -2)")
-    exponent_se: FloatProperty(description="Standard error of the fitted exponent (dimensionless)", name="Exponent s.e.")
+    exponent_se: FloatProperty(description="Standard error of the fitted exponent (dimensionless)",
+                               name="Exponent s.e.")
     near_field_limit: FloatProperty(name="Near-Field Limit", description="Distance beyond which the deviation "
                                     "from I/d² stays within tolerance, m (0: everywhere; -1: never)", unit="LENGTH")
-    inverse_passed: BoolProperty(description="The far-field exponent is -2 within tolerance", name="Inverse Square Passed")
+    inverse_passed: BoolProperty(description="The far-field exponent is -2 within tolerance",
+                                 name="Inverse Square Passed")
     cosine_checked: BoolProperty(description="The cosine law has been checked for this light", default=False)
     cosine_max_dev: FloatProperty(name="Cosine Max Deviation", description="max |E(θ)/(E(0) cos θ) - 1|",
                                   subtype="FACTOR")
     cosine_onset: FloatProperty(name="Onset (deg)", description="Smallest failing tilt (-1: none)")
-    cosine_passed: BoolProperty(description="E(θ) = E(0) cos θ within tolerance at every tilt", name="Cosine Passed")
-    inverse_causes: StringProperty(description="Why the inverse-square check deviates (near field, size of the source, ...)", name="Inverse-Square Causes")
-    cosine_causes: StringProperty(description="Why the cosine check deviates (spot cone, area-light extent, ...)", name="Cosine Causes")
-    inverse_plot: StringProperty(description="PNG plot of E vs distance against I/d²", name="Inverse-Square Plot", subtype="FILE_PATH")
-    cosine_plot: StringProperty(description="PNG plot of E vs tilt against E(0) cos θ", name="Cosine Plot", subtype="FILE_PATH")
+    cosine_passed: BoolProperty(description="E(θ) = E(0) cos θ within tolerance at every tilt",
+                                name="Cosine Passed")
+    inverse_causes: StringProperty(description="Why the inverse-square check deviates (near field, source size, ...)",
+                                   name="Inverse-Square Causes")
+    cosine_causes: StringProperty(description="Why the cosine check deviates (spot cone, area-light extent, ...)",
+                                  name="Cosine Causes")
+    inverse_plot: StringProperty(description="PNG plot of E vs distance against I/d²",
+                                 name="Inverse-Square Plot", subtype="FILE_PATH")
+    cosine_plot: StringProperty(description="PNG plot of E vs tilt against E(0) cos θ",
+                                name="Cosine Plot", subtype="FILE_PATH")
 
 
 class RadiometerAnalysisSettings(bpy.types.PropertyGroup):
@@ -43,8 +51,10 @@ class RadiometerAnalysisSettings(bpy.types.PropertyGroup):
                                 description="Height of a new work plane (EN 12464-1 desks: 0.75 m)")
     use_resolution: BoolProperty(name="Fixed Resolution", default=False,
                                  description="Use a fixed number of points instead of a spacing")
-    resolution_x: IntProperty(description="Number of grid points along the work plane's local X", name="X", default=10, min=1, max=500)
-    resolution_y: IntProperty(description="Number of grid points along the work plane's local Y", name="Y", default=10, min=1, max=500)
+    resolution_x: IntProperty(description="Number of grid points along the work plane's local X",
+                              name="X", default=10, min=1, max=500)
+    resolution_y: IntProperty(description="Number of grid points along the work plane's local Y",
+                              name="Y", default=10, min=1, max=500)
     spacing: FloatProperty(name="Spacing", default=0.0, min=0.0, unit="LENGTH",
                            description="Cell size (0 = EN 12464-1: p = 0.2 x 5^log10(d))")
     colour_plane: BoolProperty(name="Colour in Viewport", default=False,
@@ -66,7 +76,8 @@ class RadiometerAnalysisSettings(bpy.types.PropertyGroup):
     conv_slope: FloatProperty(description="Fitted slope of log(error) vs log(samples) (ideal -0.5)", name="Slope")
     conv_slope_se: FloatProperty(description="Standard error of the convergence slope")
     conv_samples: FloatProperty(description="Samples needed to reach the target error", name="Samples for Target")
-    conv_seconds: FloatProperty(description="Estimated render time to reach the target error, s", name="Seconds for Target")
+    conv_seconds: FloatProperty(description="Estimated render time to reach the target error, s",
+                                name="Seconds for Target")
     conv_plot: StringProperty(description="PNG plot of the error vs samples", subtype="FILE_PATH")
     report_path: StringProperty(description="Last exported report file", name="Report", subtype="FILE_PATH")
 

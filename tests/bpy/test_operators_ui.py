@@ -27,6 +27,13 @@ def test_every_radiometer_property_group_has_tooltips(clean_blender):
     groups = []
     for module in ("meter", "brdf", "analysis"):
         groups += list(getattr(props, module).classes)
+    # and any other registered group of the add-on (operators' or panels' own)
+    pending = list(bpy.types.PropertyGroup.__subclasses__())
+    while pending:
+        cls = pending.pop()
+        pending += cls.__subclasses__()
+        if cls.__module__.startswith("radiometer") and cls not in groups and getattr(cls, "is_registered", False):
+            groups.append(cls)
     assert len(groups) >= 6
     for cls in groups:
         assert _undescribed(cls.bl_rna) == [], cls.__name__
@@ -35,7 +42,8 @@ def test_every_radiometer_property_group_has_tooltips(clean_blender):
 def test_every_radiometer_operator_and_its_properties_have_tooltips(clean_blender):
     names = [n for n in dir(bpy.ops.radiometer) if not n.startswith("_")]
     assert set(OWN_OPERATORS) <= set(names)
-    assert {"assign_brdf", "brdf_plot", "brdf_preset", "enable_osl", "calibrate_world", "import_luminaire"} <= set(names)
+    assert {"assign_brdf", "brdf_plot", "brdf_preset", "enable_osl", "calibrate_world",
+            "import_luminaire"} <= set(names)
     missing = {}
     for name in names:
         rna = getattr(bpy.ops.radiometer, name).get_rna_type()
