@@ -70,6 +70,65 @@ def plot_directory():
     return outputs.user_folder("plots")
 
 
+def lobe_data(material, thetas_i=(0.0, 30.0, 60.0), n=91):
+    """In-plane lobes of the model and of what Cycles renders for ``material``: a list of
+    (theta_i deg, theta_o deg array (-90..90, negative = back side), f_model (n, 3), f_closure (n, 3)).
+
+    The closure is evaluated from the group node's current inputs when the BRDF is applied
+    (``shading.assign.current_fidelity``), else from the stored parameters."""
+    import numpy as np
+
+    from .. import brdf
+    from ..props.brdf import _params_dict, group_node
+    from ..shading import closures as C
+    from ..shading.assign import current_fidelity, node_params
+    from ..shading.realise import realise
+
+    s = material.radiometer_brdf
+    node = group_node(material, s)
+    if node is not None:
+        model, _, _, _, params = node_params(node)
+        fid = current_fidelity(material)
+    else:
+        model, params = s.model, _params_dict(s)
+        fid = realise(model, s.method, **params)[1]
+    theta_o = np.linspace(-89.0, 89.0, n)
+    out = []
+    for ti in thetas_i:
+        t = np.radians(ti)
+        wi = np.tile([np.sin(t), 0.0, np.cos(t)], (n, 1))
+        to = np.radians(theta_o)
+        wo = np.stack([-np.sin(to), np.zeros(n), np.cos(to)], axis=-1)  # + = mirror side
+        fm = np.broadcast_to(np.asarray(brdf.evaluate(model, wi, wo, **params), dtype=float), (n, 3))
+        fc = np.broadcast_to(np.asarray(C.evaluate_terms(fid.terms, wi, wo), dtype=float), (n, 3))
+        out.append((ti, theta_o, np.array(fm), np.array(fc)))
+    return model, fid, out
+
+
+def write_lobe_plot(material, path):
+    """PNG of the model's in-plane lobes (solid) against the Cycles closure (dashed), luminance-weighted."""
+    import numpy as np
+
+    from ..plots import pyplot
+
+    model, fid, lobes = lobe_data(material)
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=100)
+    w = np.array([0.2126, 0.7152, 0.0722])
+    for (ti, to, fm, fc), colour in zip(lobes, ("C0", "C1", "C2")):
+        ax.plot(to, fm @ w, color=colour, label=f"model, θi = {ti:.0f}°")
+        ax.plot(to, fc @ w, color=colour, ls="--", label=f"Cycles, θi = {ti:.0f}°")
+    ax.set_yscale("symlog", linthresh=1e-3)
+    ax.set_xlabel("θo in the plane of incidence (deg, + = mirror side)")
+    ax.set_ylabel("f (1/sr, luminance)")
+    ax.set_title(f"{model}: model vs {fid.closure} ({fid.summary()})", fontsize=8)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
 class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
     """Plot the material's BRDF (model vs Cycles closure lobes, or the library summary) in an Image Editor"""
 
