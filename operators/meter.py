@@ -38,6 +38,14 @@ def add_meter(context, kind, location, acceptance_deg=1.0, rotation=None):
     return obj
 
 
+
+def _poll_scene_collection(cls, context):
+    """Adding objects needs a scene and an active collection (else say so in the tooltip)."""
+    if context.scene is None or context.collection is None:
+        cls.poll_message_set("needs a scene and an active collection")
+        return False
+    return True
+
 class RADIOMETER_OT_add_meter(bpy.types.Operator):
     """Add a light meter at the 3D cursor"""
 
@@ -58,10 +66,7 @@ class RADIOMETER_OT_add_meter(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.scene is None or context.collection is None:
-            cls.poll_message_set("needs a scene and an active collection")
-            return False
-        return True
+        return _poll_scene_collection(cls, context)
 
     def invoke(self, context, event):
         if not self.properties.is_property_set("location"):
@@ -152,10 +157,7 @@ class RADIOMETER_OT_add_meter_on_surface(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.scene is None or context.collection is None:
-            cls.poll_message_set("needs a scene and an active collection")
-            return False
-        return True
+        return _poll_scene_collection(cls, context)
 
     def _status(self, context, text):
         if context.workspace is not None:
