@@ -211,6 +211,12 @@ def assign_brdf(material, model, method="nodes", tangent_source="OBJECT", uv_map
     if group is not None and (not group.get(OWNER_KEY) or group.users > 1):
         group = None  # never rebuild a group that is not ours alone
     old_group = group
+    # Links the user made into the group node (textures, bump): a rebuild of the group's interface
+    # (another model, an option that adds or removes inputs) drops them, so they are put back on
+    # the inputs of the same name. Radiometer's own tangent node is managed by _ensure_tangent.
+    user_links = [] if node is None else [
+        (sock.name, link.from_socket) for sock in node.inputs if sock.is_linked for link in sock.links
+        if link.from_node.name != TANGENT_NODE_NAME]
     specs = param_specs(model)
     try:
         group = N.build_group(model, method, fidelity.structure, fidelity.coefficients, specs,
@@ -231,6 +237,10 @@ def assign_brdf(material, model, method="nodes", tangent_source="OBJECT", uv_map
             and prev_tree.get(OWNER_KEY):
         bpy.data.node_groups.remove(prev_tree)
     _set_inputs(node, fidelity.inputs)
+    for name, from_socket in user_links:
+        sock = node.inputs.get(name)
+        if sock is not None and not sock.is_linked:
+            tree.links.new(from_socket, sock)
     _ensure_tangent(tree, node, tangent_source if fidelity.structure.get("aniso") else "OBJECT", uv_map)
     if legacy is not None:
         tree.nodes.remove(legacy)

@@ -205,3 +205,20 @@ def test_enable_osl_operator_is_undoable_and_reported(lib):
     from radiometer.shading.osl import osl_problems
 
     assert osl_problems(scene) == []
+
+
+def test_assign_keeps_user_links_when_the_group_interface_changes(clean_blender):
+    """A bump node linked into Normal survives re-assigning with an option that rebuilds the group's
+    inputs (GGX with an IOR) and a change of model, through the API itself."""
+    from radiometer import api
+    from radiometer.shading.assign import GROUP_NODE_NAME
+
+    mat = bpy.data.materials.new("user")
+    api.assign_brdf(mat, "ggx", alpha=0.3, f0=0.04)
+    tree = mat.node_tree
+    bump = tree.nodes.new("ShaderNodeBump")
+    tree.links.new(bump.outputs["Normal"], tree.nodes[GROUP_NODE_NAME].inputs["Normal"])
+    api.assign_brdf(mat, "ggx", alpha=0.3, ior=1.5)
+    api.assign_brdf(mat, "beckmann", alpha=0.2, f0=0.04)
+    sock = mat.node_tree.nodes[GROUP_NODE_NAME].inputs["Normal"]
+    assert sock.is_linked and sock.links[0].from_node == bump
