@@ -213,3 +213,38 @@ def colour_plane(result, scene=None, name=None):
     obj.hide_render = True
     scene.collection.objects.link(obj)
     return obj
+
+
+# -- False-colour overlay helpers (viewport legend and the toggle operator) ------------------------------
+
+#: inferno at t = 0, 1/8, ..., 1 (matplotlib's values), for the legend when matplotlib is missing.
+_INFERNO = np.array([(0.001462, 0.000466, 0.013866), (0.129285, 0.047293, 0.290788), (0.3415, 0.062325, 0.429425),
+                     (0.54092, 0.134729, 0.415123), (0.735683, 0.215906, 0.330245), (0.894305, 0.353399, 0.193584),
+                     (0.978422, 0.557937, 0.034931), (0.974638, 0.797692, 0.206332), (0.988362, 0.998364, 0.644924)])
+
+
+def false_colour(t):
+    """RGBA of the grid's colour map ('inferno', as :func:`colour_plane`) at t in [0, 1]."""
+    t = min(1.0, max(0.0, float(t))) if math.isfinite(t) else 0.0
+    try:
+        import matplotlib
+
+        return tuple(float(c) for c in matplotlib.colormaps["inferno"](t))
+    except ImportError:
+        pts = np.linspace(0.0, 1.0, len(_INFERNO))
+        return tuple(float(np.interp(t, pts, _INFERNO[:, k])) for k in range(3)) + (1.0,)
+
+
+def lux_from_csv(path):
+    """The (ny, nx) illuminance array of a grid CSV written by :meth:`GridResult.write_csv`."""
+    cells = {}
+    with open(path, newline="", encoding="utf-8") as f:
+        for row in csv.DictReader(f):
+            cells[int(row["row"]), int(row["col"])] = float(row["illuminance_lx"])
+    if not cells:
+        raise RadiometerError(f"{path}: no grid points")
+    ny, nx = max(j for j, _ in cells) + 1, max(i for _, i in cells) + 1
+    lux = np.full((ny, nx), np.nan)
+    for (j, i), v in cells.items():
+        lux[j, i] = v
+    return lux

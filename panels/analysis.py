@@ -89,6 +89,11 @@ class RADIOMETER_PT_grid(bpy.types.Panel):
             box.label(text=f"E_max {s.grid_max:.4g} lx   U0 {s.grid_u0:.3f}")
             if s.grid_image:
                 box.label(text=bpy.path.basename(s.grid_image), icon="IMAGE_DATA")
+            from ..operators.false_colour import is_shown
+
+            shown = is_shown()
+            layout.operator("radiometer.toggle_false_colour", icon="HIDE_ON" if shown else "COLOR",
+                            text="Hide False Colour" if shown else "Show False Colour")
 
 
 class RADIOMETER_PT_convergence(bpy.types.Panel):

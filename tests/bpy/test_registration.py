@@ -21,9 +21,9 @@ def _snapshot():
     }
 
 
-def test_register_unregister_five_times_leaves_nothing_behind():
+def test_register_unregister_five_times_leaves_nothing_behind(tmp_path):
     import radiometer
-    from radiometer.operators import live
+    from radiometer.operators import false_colour, live
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     before = _snapshot()
@@ -38,8 +38,20 @@ def test_register_unregister_five_times_leaves_nothing_behind():
         assert bpy.app.timers.is_registered(live.tick)
         bpy.context.scene.radiometer.live = True  # leaves live state behind, which unregister forgets
         assert live._states
+        # The false-colour overlay: a coloured copy and a draw handler, both gone after unregister.
+        lux = tmp_path / "grid.csv"
+        lux.write_text("row,col,x,y,z,illuminance_lx,irradiance_W_m2,rel_std_error\n0,0,0,0,0,10,0,0\n"
+                       "0,1,0,0,0,20,0,0\n", encoding="utf-8")
+        bpy.ops.mesh.primitive_plane_add()
+        analysis = bpy.context.scene.radiometer_analysis
+        analysis.grid_target, analysis.grid_csv = bpy.context.active_object.name, str(lux)
+        assert bpy.ops.radiometer.toggle_false_colour() == {"FINISHED"}
+        assert false_colour._state["handler"] is not None
+        coloured = false_colour._state["objects"][0]
         radiometer.unregister()
         assert _snapshot() == before
+        assert false_colour._state["handler"] is None and coloured not in bpy.data.objects
+        assert false_colour._on_load_pre not in bpy.app.handlers.load_pre
         assert live.on_depsgraph_update not in bpy.app.handlers.depsgraph_update_post
         assert not bpy.app.timers.is_registered(live.tick)
         assert not live._states
