@@ -19,7 +19,7 @@ import numpy as np
 from .. import envmap
 from .. import quality as quality_presets
 from ..errors import MeasurementCancelled, RadiometerError
-from ..radiometry import allocation, stats
+from ..radiometry import allocation
 from ..readings import LuminanceReading
 from . import exr, meter, render_settings, scene_guard
 

@@ -9,7 +9,6 @@ reading, errors as fractions; points in scene coordinates.
 """
 
 import dataclasses
-import math
 import time
 
 import bpy
@@ -19,6 +18,7 @@ from .. import quality as quality_presets
 from ..errors import RadiometerError
 from ..radiometry import convergence as conv_math
 from ..radiometry import grid as grid_math
+from ..radiometry import stats
 from . import analysis_common as common
 from . import meter
 from .grid import plane_frame
@@ -135,8 +135,7 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
         est, _info, _rec = meter.render_irradiance(scene, view_layer, rep_points, rep_normals, preset,
                                                    needs=decision["needs"], seed=seed + 100 * k, cancelled=cancelled)
         scalar = est @ weights                              # (batches, M)
-        mean = scalar.mean(axis=0)
-        se = scalar.std(axis=0, ddof=1) / math.sqrt(scalar.shape[0])
+        mean, se = stats.batch_mean(scalar, axis=0)
         ref = np.repeat(reference, replicas) if single else reference
         rms = float(conv_math.rms_relative_error(mean, ref))
         t0 = time.perf_counter()

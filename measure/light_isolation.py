@@ -12,7 +12,6 @@ scene's part is their difference. Units: W/m^2 (CIE Y weighted irradiance), m.
 
 import contextlib
 import dataclasses
-import math
 
 import bpy
 import numpy as np

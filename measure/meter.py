@@ -12,10 +12,10 @@ import bpy
 import numpy as np
 
 from .. import quality as quality_presets
-from ..radiometry import stats
+from ..radiometry import allocation
 from ..errors import RadiometerError
 from ..readings import IlluminanceReading
-from . import render_settings, scene_guard, scene_lights, sensors
+from . import render_settings, scene_guard, sensors
 
 DEFAULT_EFFICACY = 683.0  # lm/W, Blender's glTF convention; see README "Conventions"
 
@@ -188,9 +188,11 @@ def analytic_irradiance(model, direct, points_m, normals):
 
 # --- render -----------------------------------------------------------------------------------------
 
-def render_irradiance(scene, view_layer, points_scene, normals, preset, *, needs, target_rel_error=None,
-                      progress=None, cancelled=None, seed=0):
-    """Bake the sensors; returns (estimates (B, N, 3) in W/m^2 SI, info, render record).
+def render_irradiance(scene, view_layer, points_scene, normals, preset, *, needs, progress=None, cancelled=None,
+                      seed=0):
+    """Bake the sensors with a FIXED budget (``preset``: samples, texels, bakes, bounces); returns
+    (estimates (B, N, 3) in W/m^2 SI, info, render record). Error-targeted readings use
+    ``measure.adaptive.render_hybrid``.
 
     ``needs``: what light transport must simulate (``SceneModel.needs``). ``points_scene`` are the
     sensor positions themselves (callers offset meters from surfaces first).
@@ -200,8 +202,7 @@ def render_irradiance(scene, view_layer, points_scene, normals, preset, *, needs
         record = render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs)
         estimates, info = sensors.bake_irradiance(
             scene, view_layer, points_scene, normals, samples=preset["samples"], texels=preset["texels"],
-            bakes=preset["bakes"], target_rel_error=target_rel_error, progress=progress, cancelled=cancelled,
-            seed0=seed)
+            bakes=preset["bakes"], progress=progress, cancelled=cancelled, seed0=seed)
     # Cycles ignores the unit scale: it renders W per scene-unit^2. E_SI = E_render / scale^2.
     return estimates / scale ** 2, info, record
 
@@ -230,7 +231,7 @@ def sensor_points(points_scene, normals, scale, model=None):
     raised by a scale-aware epsilon along its normal (``radiometry.scene_model.receiver_offset``),
     so a meter placed on a surface reads the light arriving at that surface instead of the inside
     of the surface in Cycles' float32 geometry; meters in free space stay where they are."""
-    from ..radiometry import scene_model, visibility
+    from ..radiometry import scene_model
 
     eps = scene_model.receiver_offset(points_scene, unit_length=1.0 / scale)
     if model is not None:
@@ -272,18 +273,6 @@ def enclosure_notes(model, points_m, values):
         if name is not None:
             notes.append(f"meter #{k} is inside the closed mesh {name!r}: no light reaches it")
     return notes
-
-
-def allocation_max_samples():
-    from ..radiometry import allocation
-
-    return allocation.MAX_SAMPLES_PER_METER
-
-
-def allocation_block_texels():
-    from ..radiometry import allocation
-
-    return allocation.MIN_BLOCKS * allocation.BLOCK_TEXELS ** 2
 
 
 def hybrid_split(model, direct, count):
@@ -383,7 +372,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
         if fixed is None and single_delta_light(decision):
             # Next-event estimation samples a single delta light exactly: every path gives the same
             # value, so one sample per texel is the exact render (more would only add float32 rounding).
-            fixed = allocation_block_texels()
+            fixed = allocation.MIN_BLOCKS * allocation.BLOCK_TEXELS ** 2
             notes.append("a single delta light and nothing to reflect light: 1 sample per texel is exact "
                          "(next-event estimation of one delta light has no variance)")
         hybrid = method in ("auto", "hybrid")
@@ -422,7 +411,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
             missed = int(np.sum(np.nan_to_num(scalar_se) > target * np.abs(run["mean_rgb"] @ weights
                                                                              + offset_rgb @ weights)))
             notes.append(f"target {100 * target:g} % NOT reached at {missed} of {n} meter(s) ({run['stopped']}; "
-                         f"at most {allocation_max_samples():,} samples per meter)")
+                         f"at most {allocation.MAX_SAMPLES_PER_METER:,} samples per meter)")
         if scale != 1.0:
             notes.append(f"unit scale {scale:g} m per unit: Cycles' scene-unit result divided by scale²")
     seconds = time.perf_counter() - started

@@ -1,13 +1,12 @@
 """Measurement-grade Cycles settings, enabling only the render features the scene needs.
 
-``scene_needs(scene)`` inspects the scene (world, materials, volumes) and ``apply(scene, ...)``
-writes the settings; callers run inside ``scene_guard.preserved_scene`` so the user's settings come
+What the scene needs (``SceneModel.needs``: geometry, glossy, transmission, volumes, emitting
+surfaces, an emitting world) is read by ``measure.scene_capture`` from the render depsgraph, with
+the node-type sets and ``world_emits`` below; ``apply(scene, ...)`` writes the settings; callers run inside ``scene_guard.preserved_scene`` so the user's settings come
 back afterwards. The returned dict records what was enabled and why (it goes into readings' notes).
 """
 
 import contextlib
-
-import bpy
 
 from ..compat import active_node_tree
 
@@ -75,32 +74,6 @@ def world_emits(world):
         if not colour.is_linked and max(colour.default_value[:3]) == 0.0:
             return False
     return True
-
-
-def scene_needs(scene, depsgraph=None, exclude=()):
-    """What the scene contains that light transport must simulate. ``exclude``: object names."""
-    needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
-    needs["world_emits"] = world_emits(scene.world)
-    needs["volume"] = _uses_volume(active_node_tree(scene.world) if scene.world else None)
-    for ob in scene.objects:
-        if ob.name in exclude or ob.type not in _GEOMETRY_TYPES or ob.hide_render:
-            continue
-        if not (ob.visible_diffuse or ob.visible_glossy or ob.visible_transmission or ob.visible_shadow):
-            continue
-        needs["geometry"] = True
-        if ob.type == "VOLUME":
-            needs["volume"] = True
-        materials = [slot.material for slot in ob.material_slots if slot.material]
-        if not materials:
-            continue
-        for mat in materials:
-            tree = active_node_tree(mat)
-            types = _node_types(tree)
-            needs["glossy"] |= bool(types & _GLOSSY_NODES)
-            needs["transmission"] |= bool(types & _TRANSMISSIVE_NODES)
-            needs["emissive_surfaces"] |= bool(types & _EMISSIVE_NODES)
-            needs["volume"] |= _uses_volume(tree)
-    return needs
 
 
 def _layer_override_targets(scene):

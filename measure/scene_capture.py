@@ -31,6 +31,7 @@ class _Capture:
     """State shared with the render callback (one capture at a time)."""
 
     exclude = frozenset()
+    scale = 1.0  # metres per scene unit: triangles are stored in metres
     result = None
     error = None
 
@@ -135,7 +136,7 @@ def _collect(depsgraph):
         traits = np.array(traits, dtype=bool)
         slot = np.clip(mat_index, 0, len(traits) - 1)
         m = np.array(inst.matrix_world, dtype=np.float64)
-        world = tris_local @ m[:3, :3].T + m[:3, 3]
+        world = (tris_local @ m[:3, :3].T + m[:3, 3]) * _Capture.scale  # metres
         index = len(names)
         names.append(name)
         shadow.append(bool(obj.visible_shadow))
@@ -215,6 +216,7 @@ def capture(scene, view_layer=None, exclude=()):
 
     view_layer = view_layer or scene.view_layers[0]
     _Capture.exclude, _Capture.result, _Capture.error = frozenset(exclude), None, None
+    _Capture.scale = scene.unit_settings.scale_length
     try:
         _render_probe(scene, view_layer)
         if _Capture.error is not None:
@@ -226,9 +228,7 @@ def capture(scene, view_layer=None, exclude=()):
         raw_lights, geometry, needs = _Capture.result
     finally:
         _Capture.result = _Capture.error = None
-    scale = scene.unit_settings.scale_length
-    geometry.triangles *= scale
-    geometry.__post_init__()
+    scale = _Capture.scale
     model_lights = []
     for item in raw_lights:
         spec, uncovered = None, item["uncovered"]

@@ -1,12 +1,8 @@
-"""Read the scene's lights as plain values for the analytic models (``radiometry.lights``).
-
-Everything is read from the EVALUATED depsgraph, so a script that moves a light and measures at once
-gets the new position, and instanced lights count. Lights the closed forms do not cover are listed
-with the reason (they are left to rendering).
+"""A Blender light as plain values for the analytic models (``radiometry.lights``), and why a closed
+form may not cover it. ``measure.scene_capture`` calls these on every light of the RENDER depsgraph
+(so instanced and evaluated lights count exactly as Cycles renders them).
 """
 
-import bpy
-import numpy as np
 
 _LIGHT_ATTRS = (
     "type", "energy", "color", "use_temperature", "temperature", "temperature_color", "exposure", "normalize",
@@ -50,39 +46,3 @@ def uncovered_reason(light_data, obj):
     if not (obj.visible_diffuse or obj.visible_glossy):
         return "is invisible to diffuse rays"
     return None
-
-
-def scene_lights(scene=None, depsgraph=None):
-    """List of dicts: name, values (for ``light_spec_from_values``), uncovered (reason or None)."""
-    scene = scene or bpy.context.scene
-    depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
-    lights = []
-    for inst in depsgraph.object_instances:
-        obj = inst.object
-        if obj.type != "LIGHT" or obj.hide_render:
-            continue
-        name = obj.original.name if obj.original else obj.name
-        if inst.is_instance:
-            name += f" (instance {inst.random_id})"
-        lights.append({
-            "name": name,
-            "values": light_values(obj.data, inst.matrix_world),
-            "uncovered": uncovered_reason(obj.data, obj),
-        })
-    return lights
-
-
-def light_specs(scene=None, depsgraph=None):
-    """(specs, uncovered) where specs are ``radiometry.lights.LightSpec`` in SI units."""
-    from ..radiometry import lights as light_models
-
-    scene = scene or bpy.context.scene
-    scale = scene.unit_settings.scale_length
-    specs, uncovered = [], []
-    for item in scene_lights(scene, depsgraph):
-        if item["uncovered"]:
-            uncovered.append((item["name"], item["uncovered"]))
-            continue
-        values = dict(item["values"], name=item["name"])
-        specs.append(light_models.light_spec_from_values(values, scale))
-    return specs, uncovered

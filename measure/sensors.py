@@ -124,8 +124,6 @@ def select_only(view_layer, objs):
     view_layer.objects.active = objs[0]
 
 
-_select_only = select_only
-
 
 def read_blocks(image, per_row, texels, count):
     """Irradiance E = pi x texel of the first ``count`` blocks of a bake image, (count, texels^2, 3),
@@ -166,77 +164,42 @@ def run_bake(scene, view_layer, obj):
                                    use_split_materials=False, use_automatic_name=False, uv_layer=uv_layer)
 
 
-def bake_irradiance(scene, view_layer, points, normals, *, samples, texels=4, bakes=1, target_rel_error=None,
-                    max_samples=1 << 16, progress=None, cancelled=None, seed0=0):
-    """Bake irradiance E (W/m^2 in the render's units, RGB) at ``points`` facing ``normals``.
+def bake_irradiance(scene, view_layer, points, normals, *, samples, texels=4, bakes=1, progress=None,
+                    cancelled=None, seed0=0):
+    """Bake irradiance E (W/m^2 in the render's units, RGB) at ``points`` facing ``normals``, a fixed
+    budget (the convergence study and the settings tests; error-targeted readings use
+    ``measure.adaptive``).
 
     Returns ``(estimates, info)`` where ``estimates`` has shape (batches, N, 3): one independent
-    estimate per texel per bake, all with the same sample count. With ``target_rel_error`` the
-    preset's bakes act as a pilot: if some meter's 95 % interval half-width exceeds that fraction of
-    its mean, the per-texel sample count is raised by the 1/sqrt(N) law and the meters are baked
-    afresh (new seeds; pilot batches discarded so every batch has the same variance), until the
-    target is met or ``max_samples`` per texel is reached.
+    estimate per texel per bake, all with the same sample count.
     """
-    from ..radiometry import stats
-
     points = np.asarray(points, float)
     normals = np.asarray(normals, float)
     obj, image, per_row = build_sensor(scene, points, normals, texels)
-    _select_only(view_layer, obj)
-    res = per_row * texels
+    select_only(view_layer, obj)
     n = len(points)
-    ix, iy = np.arange(n) % per_row, np.arange(n) // per_row
     started = time.perf_counter()
     bake_seconds = 0.0
-    seed = seed0
     samples = int(samples)
-    total_bakes = 0
-
-    def one_bake():
-        nonlocal seed, bake_seconds, total_bakes
+    estimates = []
+    for k in range(bakes):
         if cancelled is not None and cancelled():
             raise MeasurementCancelled("measurement cancelled; the scene was restored")
-        scene.cycles.seed = seed
+        scene.cycles.seed = seed0 + k
         scene.cycles.samples = samples
-        seed += 1
         t0 = time.perf_counter()
         result = run_bake(scene, view_layer, obj)
         bake_seconds += time.perf_counter() - t0
-        total_bakes += 1
         if result != {"FINISHED"}:
             raise RadiometerError(f"the Cycles bake did not finish ({', '.join(sorted(result))}); "
                                   "the scene was restored")
-        pixels = np.empty(res * res * 4, np.float32)
-        image.pixels.foreach_get(pixels)
-        pixels = pixels.reshape(res, res, 4)[..., :3].astype(np.float64)
-        # (res, res, 3) -> (per_row, texels, per_row, texels, 3) -> per meter (texels*texels, 3)
-        blocks = pixels.reshape(per_row, texels, per_row, texels, 3)
-        per_meter = blocks[iy, :, ix, :, :]  # (n, texels, texels, 3)
-        return math.pi * per_meter.reshape(n, texels * texels, 3).transpose(1, 0, 2)
-
-    while True:
-        estimates = []
-        for k in range(bakes):
-            estimates.append(one_bake())
-            if progress is not None:
-                progress(k + 1, bakes)
-        estimates = np.concatenate(estimates, axis=0)
-        if target_rel_error is None:
-            break
-        grey = estimates.mean(axis=2)
-        mean = np.abs(grey.mean(axis=0))
-        half_width = stats.t_half_width_95(grey, axis=0)
-        lit = mean > 0
-        if not lit.any():
-            break
-        ratio = np.max(half_width[lit] / mean[lit]) / target_rel_error
-        if ratio <= 1.0 or samples >= max_samples:
-            break
-        # 1/sqrt(N): N_new = N (ratio)^2, with 20 % margin for the noise of the pilot estimate.
-        samples = int(min(max_samples, math.ceil(samples * ratio ** 2 * 1.2)))
+        estimates.append(read_blocks(image, per_row, texels, n).transpose(1, 0, 2))  # (t*t, n, 3)
+        if progress is not None:
+            progress(k + 1, bakes)
+    estimates = np.concatenate(estimates, axis=0)
     info = {
         "bakes": bakes,
-        "total_bakes": total_bakes,
+        "total_bakes": bakes,
         "texels_per_meter": texels * texels,
         "samples_per_texel": samples,
         "bake_seconds": bake_seconds,

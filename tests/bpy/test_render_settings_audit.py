@@ -15,7 +15,7 @@ import pytest
 
 from radiometer import api
 from radiometer.compat import ensure_node_tree
-from radiometer.measure import render_settings, scene_guard, sensors
+from radiometer.measure import meter, render_settings, scene_guard, sensors
 
 
 def _area(scene, build, z, energy=50.0, size=0.5):
@@ -213,7 +213,7 @@ def _texel_estimates(scene, samples, texels=16):
     """Raw per-texel estimates (texels, texels) of one upward meter, with the measurement's settings."""
     layer = bpy.context.view_layer
     with scene_guard.preserved_scene(scene):
-        needs = render_settings.scene_needs(scene)
+        needs = meter.capture_model(scene).needs
         render_settings.apply(scene, samples=samples, bounces=16, needs=needs)
         est, _info = sensors.bake_irradiance(scene, layer, [(0, 0, 1.0)], [(0, 0, 1)], samples=samples,
                                              texels=texels)
