@@ -242,3 +242,32 @@ def test_delta_lights_alone_render_with_one_exact_sample(clean_blender, build):
     # The 4 texels sit at slightly different points of the tiny quad: their spread is ~1e-6.
     assert r.samples == 32 and r.rel_std_error < 1e-5  # two blocks of 16 texels, 1 sample each
     assert any("1 sample per texel is exact" in n for n in r.notes)
+
+
+def test_instanced_lights_over_a_desk_are_exact_and_counted_as_cycles_renders(clean_blender, build):
+    """A meter snapped onto a desk top under a 2 x 2 array of point lamps made by collection
+    instances (plus one instancer hidden in renders): nothing can reflect or block light above the
+    desk, so the reading is exact, and it must equal the closed form sum of the four rendered
+    instances (I cos / d^2, I = P / 4 pi; the hidden instancer's lamp does not render)."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    desk = build.plane(scene, size=2.0, location=(0.0, 0.0, 0.75), albedo=0.5, name="Desk")
+    lamps = bpy.data.collections.new("Lamp")
+    lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
+    lamp.data.energy, lamp.data.shadow_soft_size = 60.0, 0.0
+    lamps.objects.link(lamp)  # the collection itself is not in the scene: only its instances render
+    spots = [(-0.6, -0.5, 2.0), (0.6, -0.5, 2.0), (-0.6, 0.5, 2.2), (0.6, 0.5, 2.2)]
+    for k, loc in enumerate(spots + [(0.0, 0.0, 1.5)]):
+        inst = bpy.data.objects.new(f"instancer {k}", None)
+        inst.instance_type, inst.instance_collection, inst.location = "COLLECTION", lamps, loc
+        inst.hide_render = k == len(spots)  # the last one is disabled in renders
+        scene.collection.objects.link(inst)
+    p = np.array([0.2, 0.1, 0.75])  # exactly on the desk top
+    expected = sum(60.0 / (4 * math.pi) * (s[2] - p[2]) / np.linalg.norm(np.subtract(s, p)) ** 3 for s in spots)
+    r = api.measure_illuminance(p, (0, 0, 1))
+    assert r.exact and r.method == "analytic", r.notes
+    assert r.irradiance == pytest.approx(expected, rel=1e-4)
+    assert any("on the surface of 'Desk'" in n for n in r.notes)
+    rendered = api.measure_illuminance(p, (0, 0, 1), method="render", target_rel_error=2e-3)
+    assert abs(rendered.irradiance / expected - 1) <= max(3 * rendered.rel_std_error, 5e-3)
+    assert desk.name in bpy.data.objects
