@@ -54,7 +54,8 @@ def test_uniform_disk_matches_lecture_formula(clean_blender, build):
 
 
 def test_stated_error_is_honest_over_many_meters(clean_blender, build):
-    """Coverage: with independent texel batches, about 95 % of meters lie within 2.13 s.e. (t, 15 dof)."""
+    """Coverage: with independent texel batches, about 95 % of meters lie within 2.04 s.e. (t, 31 dof:
+    the pilot's 2 x 16 texels, which already meets the preview target on this direct-lit light)."""
     scene = bpy.context.scene
     build.black_world(scene)
     build.light(scene, "AREA", (0.0, 0.0, 1.0), energy=40.0, shape="SQUARE", size=1.0)
@@ -63,10 +64,10 @@ def test_stated_error_is_honest_over_many_meters(clean_blender, build):
     exact = api.measure_illuminance(points, (0, 0, 1), method="analytic")
     measured = api.measure_illuminance(points, (0, 0, 1), method="render", quality="preview", seed=7)
     z = np.array([(m.irradiance - e.irradiance) / (m.rel_std_error * m.irradiance) for m, e in zip(measured, exact)])
-    inside = np.mean(np.abs(z) < 3.18)  # t(3 dof) 95 % for the preview preset's 4 batches
-    assert 0.88 <= inside <= 1.0, inside
-    # The error estimate is neither hugely inflated: the spread of z must be order 1.
-    assert 0.5 < np.std(z) < 2.0, np.std(z)
+    inside = np.mean(np.abs(z) < 2.04)  # t(31 dof) 95 %
+    assert 0.90 <= inside <= 1.0, inside
+    # Neither inflated nor too small: the spread of z is 1 within the noise of 200 meters.
+    assert 0.75 < np.std(z) < 1.35, np.std(z)
 
 
 def test_uniform_sky_gives_pi_L(clean_blender):
