@@ -9,7 +9,10 @@
   "Lampe_größer-<hash>" (letters of any script are kept). :class:`Stems` gives the shorter
   lower-case stems of a report folder ("work_plane"), unique among the names it has seen
   (also when only letter case differs: case-insensitive file systems).
-* :func:`write_text` writes a whole file or nothing.
+* :func:`write_text` writes a whole file or nothing; :func:`atomic_output` gives a library that
+  writes files itself (matplotlib, OpenEXR, bpy images) a temporary path beside the destination
+  that is renamed onto it only when the block succeeds. Every output of Radiometer goes through
+  one of the two.
 """
 
 import hashlib
@@ -120,3 +123,50 @@ def write_text(path, text):
     except OSError as exc:
         raise RadiometerError(f"cannot write {path}: {exc.strerror or exc}") from None
     return path
+
+
+def _reject_symlink(full):
+    # A link planted at the destination must not redirect the write (its target is not ours to replace).
+    if os.path.islink(full):
+        from .errors import RadiometerError
+
+        raise RadiometerError(f"cannot write {full}: it is a symbolic link (refusing to follow it)")
+
+
+import contextlib as _contextlib
+
+
+@_contextlib.contextmanager
+def atomic_output(path):
+    """Yield a temporary path in ``path``'s folder (same suffix, so writers that infer the format from
+    it still work); on success it is fsynced and renamed onto ``path``, on any error it is removed and
+    ``path`` stays as it was. An OSError becomes a one-line RadiometerError naming ``path``.
+    """
+    from .errors import RadiometerError
+
+    full = os.path.abspath(path)
+    folder, base = os.path.split(full)
+    stem, suffix = os.path.splitext(base)
+    try:
+        _reject_symlink(full)
+        fd, tmp = tempfile.mkstemp(prefix=f".{stem}.", suffix=f".tmp{suffix}", dir=folder)
+        os.close(fd)
+    except OSError as exc:
+        raise RadiometerError(f"cannot write {path}: {exc.strerror or exc}") from None
+    try:
+        yield tmp
+        with open(tmp, "rb+") as f:
+            os.fsync(f.fileno())
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        _reject_symlink(full)
+        os.replace(tmp, full)
+    except OSError as exc:
+        with _contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise RadiometerError(f"cannot write {path}: {exc.strerror or exc}") from None
+    except BaseException:
+        with _contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
