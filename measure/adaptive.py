@@ -7,7 +7,7 @@ ONE Cycles bake (one scene sync per round), and hands the texels back to the all
 Hybrid: a light whose direct light at a meter is a proven closed form (``scene_model`` EXACT or
 ZERO) is excluded from that meter's sensor by light linking (the light's receiver collection set to
 EXCLUDE the sensor object). Light linking in bakes removes exactly the light's direct share and
-keeps its reflected light (../shared/FACTS.md), so the bake renders only what no closed form
+keeps its reflected light (docs/FACTS.md), so the bake renders only what no closed form
 gives, and the closed form is added to it exactly. Meters that exclude different sets of lights get
 sensor objects of their own. The lights' linking is restored by the scene guard.
 """

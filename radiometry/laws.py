@@ -12,7 +12,7 @@
 References
 ----------
 - P. Hanrahan, CS348B lecture 4 "Radiometry" (2011): isotropic point source E = Phi cos(theta) /
-  (4 pi r^2); Lambert's cosine law E' = E cos(theta) (``/work/shared/seed/radiometry-lecture.md``).
+  (4 pi r^2); Lambert's cosine law E' = E cos(theta).
 - J. H. Lambert, *Photometria* (1760): cosine law.
 - IES Lighting Handbook (10th ed., 2011), ch. 9 "Photometry": five-times rule (the inverse-square
   law is within about 1 % at distances of at least five times the largest source dimension);

@@ -2,7 +2,7 @@
 
 A flat patch (normal +Z, tangent +X, so world = BRDF local frame) is seen by an orthographic camera
 from direction wo and lit by a point light of radius 0 and power P at distance d in direction wi.
-The light's radiant intensity is I = P / (4 pi) W/sr (measured, shared/FACTS.md), so the patch
+The light's radiant intensity is I = P / (4 pi) W/sr (measured, docs/FACTS.md), so the patch
 receives E_i = I cos(theta_i) / d^2 W/m^2, and with direct light only the rendered radiance is
 
     L_r = f(wi, wo) E_i     (lecture: L_r = L_i f cos(theta_i) d omega_i, for a delta source),

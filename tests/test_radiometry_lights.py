@@ -55,7 +55,7 @@ def test_square_head_on_matches_form_factor_formula():
     spec = LightSpec(kind="AREA", position=[0, 0, h], rgb_power=[100.0] * 3)
     expected = 100.0 / np.pi * 4 * corner
     assert lights.irradiance(spec, [[0, 0, 0.0]], UP)[0, 0] == pytest.approx(expected, rel=1e-12)
-    assert expected == pytest.approx(23.946, abs=1e-3)  # shared/FACTS.md Cycles render: 23.949
+    assert expected == pytest.approx(23.946, abs=1e-3)  # docs/FACTS.md Cycles render: 23.949
 
 
 def test_uniform_sky_gives_pi_l():

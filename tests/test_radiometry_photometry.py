@@ -74,7 +74,7 @@ def test_equal_energy_visible_efficacy():
 
 
 def test_blackbody_rgb_matches_blender_temperature_color():
-    # Reference: bpy 5.0.1 Light.temperature_color at 2700 K (measured; also shared/FACTS.md).
+    # Reference: bpy 5.0.1 Light.temperature_color at 2700 K (measured; also docs/FACTS.md).
     blender = np.array([1.9350767135620117, 0.803530752658844, 0.19172148406505585])
     ours = ph.blackbody_rgb(2700.0)
     np.testing.assert_allclose(ours, blender, rtol=5e-4)

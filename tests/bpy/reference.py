@@ -4,7 +4,7 @@ This file deliberately imports nothing from Radiometer (no ``radiometer.measure`
 ``radiometer.api``, not even ``radiometer.compat``): it is the yardstick the meter is checked against,
 so it must not share the meter's code or its bugs.
 
-Method (the project's agreed reference, see shared/FACTS.md):
+Method (the project's agreed reference, see docs/FACTS.md):
 
 * A sensor of size ``s`` (about 1e-4 of the scene's extent; one triangle that contains the square
   [-s/2, s/2]^2 around ``point``, see ``_add_patch`` for why not a quad) is placed at ``point`` with

@@ -1,6 +1,6 @@
 """Cycles renders vs radiometer.radiometry.lights.irradiance, one light type at a time.
 
-Measurement (shared/FACTS.md recipe): a 1 mm white Lambertian patch visible to camera rays only,
+Measurement (docs/FACTS.md recipe): a 1 mm white Lambertian patch visible to camera rays only,
 seen head-on by an orthographic camera filling a 4x4 px frame, black world, Cycles CPU, no
 denoising, light_sampling_threshold 0, 32-bit EXR; irradiance E = pi * mean pixel. Delta lights are
 exact with one sample (tolerance 1e-4 relative); extended lights are compared within 3 standard
