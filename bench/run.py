@@ -688,7 +688,7 @@ def bench_live():
     repeats = 2 if QUICK else 4
     out = {"debounce_s": live_mod.DEBOUNCE_S, "tick_s": live_mod.TICK_S, "refine_idle_s": live_mod.REFINE_IDLE_S}
     scene = _delta_scene()
-    from radiometer.operators.meter import add_meter
+    from radiometer.measure.meters import add_meter
 
     for p in _three_points():
         add_meter(bpy.context, "ILLUMINANCE", tuple(p))

@@ -90,7 +90,7 @@ def build(scene=None, *, with_meters=True):
     scene.collection.objects.link(plane)
 
     if with_meters:
-        from ..operators.meter import add_meter
+        from ..measure.meters import add_meter
 
         meters = bpy.data.collections.new("Meters")
         scene.collection.children.link(meters)

@@ -13,6 +13,32 @@ import numpy as np
 from ..errors import MeasurementCancelled, RadiometerError
 from . import camera, meter
 
+_DISPLAY = {"ILLUMINANCE": ("SINGLE_ARROW", 0.3), "LUMINANCE": ("CONE", 0.1), "RADIANCE_MAP": ("SPHERE", 0.1)}
+
+DEFAULT_ROTATION = {"LUMINANCE": (3.14159265358979 / 2, 0.0, 0.0)}  # a spot meter looks along +Y
+
+
+def add_meter(context, kind, location, acceptance_deg=1.0, rotation=None):
+    """Create a meter empty at ``location`` (linked to the active collection) and make it active.
+
+    Host data, shared by the Add operator, the demo and the bench (so the demo imports no UI).
+
+    ``rotation``: Euler angles (rad); None: the kind's default (a spot meter looks along +Y).
+    """
+    name = {"ILLUMINANCE": "Illuminance Meter", "LUMINANCE": "Luminance Meter", "RADIANCE_MAP": "Radiance Map"}[kind]
+    obj = bpy.data.objects.new(name, None)
+    obj.empty_display_type, obj.empty_display_size = _DISPLAY[kind]
+    obj.rotation_euler = DEFAULT_ROTATION.get(kind, (0.0, 0.0, 0.0)) if rotation is None else tuple(rotation)
+    obj.location = location
+    settings = obj.radiometer_meter
+    settings.is_meter, settings.kind, settings.acceptance_deg = True, kind, acceptance_deg
+    context.collection.objects.link(obj)
+    for other in context.view_layer.objects:
+        other.select_set(False)
+    obj.select_set(True)
+    context.view_layer.objects.active = obj
+    return obj
+
 
 def _call(progress, done, total, seconds_left=None):
     """Call a progress callback that takes (done, total, seconds_left) or only (done, total)."""

@@ -4,12 +4,9 @@ import bpy
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty
 
 from ..props.meter import METER_KINDS
+from ..measure.meters import DEFAULT_ROTATION, add_meter
 from .modal import Step, Task, TaskOperator
 
-_DISPLAY = {"ILLUMINANCE": ("SINGLE_ARROW", 0.3), "LUMINANCE": ("CONE", 0.1), "RADIANCE_MAP": ("SPHERE", 0.1)}
-
-
-DEFAULT_ROTATION = {"LUMINANCE": (3.14159265358979 / 2, 0.0, 0.0)}  # a spot meter looks along +Y
 ALIGN_ITEMS = [
     ("WORLD", "World", "Align the new meter to the world (an illuminance meter faces up, a spot meter along +Y)"),
     ("VIEW", "View", "Align the new meter to the view: an illuminance meter faces the viewer, a spot meter "
@@ -18,33 +15,13 @@ ALIGN_ITEMS = [
 ]
 
 
-def add_meter(context, kind, location, acceptance_deg=1.0, rotation=None):
-    """Create a meter empty at ``location`` (linked to the active collection) and make it active.
-
-    ``rotation``: Euler angles (rad); None: the kind's default (a spot meter looks along +Y).
-    """
-    name = {"ILLUMINANCE": "Illuminance Meter", "LUMINANCE": "Luminance Meter", "RADIANCE_MAP": "Radiance Map"}[kind]
-    obj = bpy.data.objects.new(name, None)
-    obj.empty_display_type, obj.empty_display_size = _DISPLAY[kind]
-    obj.rotation_euler = DEFAULT_ROTATION.get(kind, (0.0, 0.0, 0.0)) if rotation is None else tuple(rotation)
-    obj.location = location
-    meter = obj.radiometer_meter
-    meter.is_meter, meter.kind, meter.acceptance_deg = True, kind, acceptance_deg
-    context.collection.objects.link(obj)
-    for other in context.view_layer.objects:
-        other.select_set(False)
-    obj.select_set(True)
-    context.view_layer.objects.active = obj
-    return obj
-
-
-
 def _poll_scene_collection(cls, context):
     """Adding objects needs a scene and an active collection (else say so in the tooltip)."""
     if context.scene is None or context.collection is None:
         cls.poll_message_set("needs a scene and an active collection")
         return False
     return True
+
 
 class RADIOMETER_OT_add_meter(bpy.types.Operator):
     """Add a light meter at the 3D cursor"""

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .geometry import cap_projected_solid_angle, norm, polygon_projected_solid_angle, unit
-from .units import as_finite_array, check_nonnegative, scene_to_metres
+from .units import as_finite_array, check_nonnegative, frozen_array, scene_to_metres
 
 __all__ = ["LightSpec", "IntensityTable", "light_spec_from_values", "irradiance", "irradiance_with_bound", "exactness",
            "radiant_intensity",
@@ -58,10 +58,7 @@ QUADRATURE_SPOT_PHI = 256
 QUADRATURE_SPOT_T = 8
 
 
-def _frozen(a):
-    a = np.array(a, dtype=np.float64)
-    a.setflags(write=False)
-    return a
+_frozen = frozen_array  # short local name
 
 
 @dataclass(frozen=True)

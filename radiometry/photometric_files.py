@@ -46,7 +46,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .lights import _frozen
+from .units import frozen_array as _frozen
 
 __all__ = ["Photometry", "PhotometricFileError", "Tilt", "read_photometry", "parse_ies", "parse_ldt",
            "catmull_rom_table", "cycles_ies_table", "to_ies_text", "CYCLES_CANDELA_TO_WATT"]

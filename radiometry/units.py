@@ -12,6 +12,7 @@ __all__ = [
     "check_finite",
     "check_nonnegative",
     "check_positive",
+    "frozen_array",
 ]
 
 
@@ -70,4 +71,11 @@ def check_positive(values, name):
     array = check_finite(values, name)
     if np.any(array <= 0.0):
         raise ValueError(f"{name} must be > 0, got a minimum of {array.min()!r}")
+    return array
+
+
+def frozen_array(values):
+    """A read-only float64 copy of ``values`` (for frozen dataclasses that hold arrays)."""
+    array = np.array(values, dtype=np.float64)
+    array.setflags(write=False)
     return array
