@@ -54,7 +54,13 @@ def _draw_lobes(ax, model, theta_i_deg, params):
     ax.set_thetamax(90)
     ax.set_xlabel("θo [deg] in the plane of incidence (light on the + side)")
     ax.set_title("f·cos θo [1/sr] (luminance)", fontsize=9)
-    ax.legend(fontsize=7, loc="lower left")
+    from matplotlib.ticker import MaxNLocator
+
+    # few radial ticks, labelled along the left edge; the legend sits outside on the right so neither
+    # runs into the other
+    ax.yaxis.set_major_locator(MaxNLocator(3))
+    ax.tick_params(axis="y", labelsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0), frameon=False)
 
 
 def plot_lobes(model, path, theta_i_deg=(0, 30, 60, 80), **params):

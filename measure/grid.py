@@ -48,10 +48,15 @@ class GridResult(common.ToDict):
     csv: str = ""
     target_rel_error: float = None  #: the 1-sigma relative error asked of every point (None: fixed samples)
     max_rel_std_error: float = 0.0  #: the largest relative standard error reached over the grid
+    matrix_world: list = None  #: the plane's 4 x 4 world matrix (scene units), for the plot's frame
+    local_z: float = 0.0       #: the plane's local z of the grid (scene units)
+    scale_length: float = 1.0  #: metres per scene unit
 
     def write_csv(self, path):
         """x, y, z (scene coordinates), lux, W/m^2 and relative s.e. per point, row by row."""
-        with open(path, "w", newline="", encoding="utf-8") as f:
+        from ..outputs import atomic_output
+
+        with atomic_output(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as f:
             w = csv.writer(f)
             w.writerow(["row", "col", "x", "y", "z", "illuminance_lx", "irradiance_W_m2", "rel_std_error"])
             for j in range(self.ny):
@@ -62,15 +67,36 @@ class GridResult(common.ToDict):
         self.csv = path
         return path
 
-    def write_png(self, path):
+    def plot_frame(self):
+        """(origin, axis_u, axis_v, axis_labels) of the isolux plot, in metres.
+
+        A horizontal plane (normal within 0.1 deg of +-Z) is drawn in scene X/Y (m), as the CSV's x, y
+        columns times the unit scale: a rotated plane appears rotated in the room. Any other plane
+        (a wall) is drawn in its own metric axes from its local corner (x0, y0).
+        """
+        mw = np.asarray(self.matrix_world, float)
+        x0, x1, y0, y1 = self.local_extent
+        zc = self.local_z
+        corner = (mw @ np.array([x0, y0, zc, 1.0]))[:3]
+        ex = mw[:3, 0] * (x1 - x0)
+        ey = mw[:3, 1] * (y1 - y0)
+        s = self.scale_length
+        if abs(self.normal[2]) > math.cos(math.radians(0.1)):
+            return corner[:2] * s, ex[:2] * s, ey[:2] * s, ("scene x (m)", "scene y (m)")
+        return (np.zeros(2), np.array([np.linalg.norm(ex) * s, 0.0]), np.array([0.0, np.linalg.norm(ey) * s]),
+                ("along the plane's local X (m)", "along the plane's local Y (m)"))
+
+    def write_png(self, path, *, outline=None, mark_points=False):
+        """The isolux PNG in metres (:meth:`plot_frame`); ``outline``: the room's (N, 2) polygon in
+        the same coordinates, when known."""
         from ..plots.isolux import isolux_png
 
-        x0, x1, y0, y1 = self.local_extent
-        isolux_png(path, self.lux, (x0, x1, y0, y1), title=f"Isolux: {self.target} ({self.nx} x {self.ny}, "
-                   f"{self.method})", stats=self.stats)
+        origin, u, v, labels = self.plot_frame()
+        isolux_png(path, self.lux, origin, u, v, title=f"Isolux: {self.target} ({self.nx} x {self.ny} points, "
+                   f"{self.size[0]:.3g} m x {self.size[1]:.3g} m)", stats=self.stats, axis_labels=labels,
+                   outline=outline, mark_points=mark_points)
         self.image = path
         return path
-
 
 
 def plane_frame(obj, scene):
@@ -163,7 +189,8 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
         irradiance=irr, rel_std_error=se, points=points, local_extent=(x0, x1, y0, y1),
         normal=tuple(normal.tolist()), stats=grid_math.grid_stats(lux), method=readings[0].method,
         exact=all(r.exact for r in readings), seconds=seconds, notes=notes, spacing_rule=rule,
-        target_rel_error=readings[0].target_rel_error, max_rel_std_error=float(np.max(se)))
+        target_rel_error=readings[0].target_rel_error, max_rel_std_error=float(np.max(se)),
+        matrix_world=mw.tolist(), local_z=float(zc), scale_length=float(scale))
     if png and common.can_plot(result.notes):
         result.write_png(png)
     if csv_path:

@@ -1,8 +1,37 @@
 """Error against samples and seconds on log-log axes, with the fitted power laws."""
 
+import math
+import textwrap
+
 import numpy as np
 
+from ..outputs import atomic_output
 from . import pyplot
+
+
+def fit_in_words(slope, what="samples"):
+    """A power law error ∝ x^slope said as a user reads it: "error halves with every 4x more samples".
+
+    Returns "" for a slope >= 0 or not finite (no convergence to describe).
+    """
+    slope = float(slope)
+    if not math.isfinite(slope) or slope >= 0:
+        return ""
+    factor = 2.0 ** (-1.0 / slope)
+    return f"error halves with every {factor:.2g}x more {what}"
+
+
+def _percent_axis(ax):
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _p: f"{v:g} %"))
+    lo, hi = ax.get_ylim()
+    # under a decade on the axis: label the 2x and 5x minor ticks too, plainly
+    ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _p: f"{v:g} %" if hi / lo < 30 and
+                                               f"{v:.0e}"[0] in "25" else ""))
+    ax.xaxis.set_major_locator(LogLocator(base=10, numticks=6))
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _p: f"{v:g}"))
+    ax.xaxis.set_minor_formatter(NullFormatter())
 
 
 def convergence_plot(path, samples, seconds, errors, std_errors=None, *, fit=None, target=None, title=""):
@@ -11,7 +40,7 @@ def convergence_plot(path, samples, seconds, errors, std_errors=None, *, fit=Non
     n = np.asarray(samples, float)
     t = np.asarray(seconds, float)
     e = np.asarray(errors, float)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9.0, 4.0))
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10.0, 5.0))
     for ax, x, label in ((ax1, n, "samples per estimate"), (ax2, t, "seconds per measurement")):
         ax.loglog(x, 100 * e, "o", color="C0", label="RMS error vs reference")
         if std_errors is not None:
@@ -23,17 +52,23 @@ def convergence_plot(path, samples, seconds, errors, std_errors=None, *, fit=Non
     if fit is not None:
         xn = np.geomspace(n.min(), n.max(), 50)
         ax1.loglog(xn, 100 * fit["prefactor"] * xn ** fit["slope"], "-", color="0.4",
-                   label=f"fit: N^{fit['slope']:.2f}±{fit['slope_se']:.2f}")
+                   label=f"fit: {fit_in_words(fit['slope'], 'samples') or 'no convergence'} "
+                         f"(error ∝ N^{fit['slope']:.2f}±{fit['slope_se']:.2f})")
         xt = np.geomspace(t.min(), t.max(), 50)
         ax2.loglog(xt, 100 * fit["time_prefactor"] * xt ** fit["time_slope"], "-", color="0.4",
-                   label=f"fit: t^{fit['time_slope']:.2f}±{fit['time_slope_se']:.2f}")
+                   label=f"fit: {fit_in_words(fit['time_slope'], 'time') or 'no convergence'} "
+                         f"(error ∝ t^{fit['time_slope']:.2f}±{fit['time_slope_se']:.2f})")
     if target:
         for ax in (ax1, ax2):
             ax.axhline(100 * target, ls="--", color="C3", label=f"target {100 * target:g} %")
-    ax1.legend(fontsize=7)
-    ax2.legend(fontsize=7)
-    fig.suptitle(title, fontsize=10)
+    for ax in (ax1, ax2):
+        _percent_axis(ax)  # after every loglog call: setting the scale resets the formatters
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), frameon=False)
+    fig.suptitle("\n".join(textwrap.fill(p, 110) for p in str(title).split("\n")), fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        with atomic_output(path) as tmp:
+            fig.savefig(tmp, format="png", dpi=110)
+    finally:
+        plt.close(fig)
     return path

@@ -1,8 +1,24 @@
 """Plots of the inverse-square and cosine-law checks."""
 
+import textwrap
+
 import numpy as np
 
+from ..outputs import atomic_output
 from . import pyplot
+
+
+def _wrapped(title, width=78):
+    """A long title broken into lines that fit the figure (never cut at its edges)."""
+    return "\n".join(textwrap.fill(part, width) for part in str(title).split("\n"))
+
+
+def _save(fig, path):
+    try:
+        with atomic_output(path) as tmp:
+            fig.savefig(tmp, format="png", dpi=110)
+    finally:
+        fig.clf()
 
 
 def inverse_square_plot(path, distances, measured, predicted, rel_std_error, *, title="",
@@ -17,7 +33,7 @@ def inverse_square_plot(path, distances, measured, predicted, rel_std_error, *, 
     ax1.loglog(d, p, "-", color="0.4", label="I/d² (far-field intensity)")
     ax1.errorbar(d, m, yerr=3 * s * np.abs(m), fmt="o", ms=3, color="C0", label="measured (±3 s.e.)")
     ax1.set_ylabel(f"irradiance E ({unit})")
-    ax1.set_title(title, fontsize=10)
+    ax1.set_title(_wrapped(title), fontsize=9)
     dev = 100 * (m - p) / p
     ax2.semilogx(d, dev, "o-", ms=3, color="C0")
     ax2.fill_between(d, -100 * (tolerance + 3 * s), 100 * (tolerance + 3 * s), color="C2", alpha=0.2,
@@ -31,10 +47,18 @@ def inverse_square_plot(path, distances, measured, predicted, rel_std_error, *, 
     ax1.legend(loc="lower left", fontsize=8)
     ax2.set_xlabel("distance d (m)")
     ax2.set_ylabel("deviation from I/d² (%)")
-    ax2.legend(loc="lower right", fontsize=8)
+    ax2.legend(loc="upper right", fontsize=8)
+    from matplotlib.ticker import FuncFormatter, NullFormatter
+
+    ax2.xaxis.set_major_formatter(FuncFormatter(lambda v, _p: f"{v:g}"))
+    ax2.xaxis.set_minor_formatter(FuncFormatter(lambda v, _p: f"{v:g}" if f"{v:.0e}"[0] in "25" else ""))
+    ax1.yaxis.set_minor_formatter(NullFormatter())
+    ax1.yaxis.set_major_formatter(FuncFormatter(lambda v, _p: f"{v:g}"))
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        _save(fig, path)
+    finally:
+        plt.close(fig)
     return path
 
 
@@ -50,15 +74,21 @@ def cosine_plot(path, angles_deg, ratio, ratio_rel_se, *, title="", tolerance=0.
     ax1.errorbar(a, r, yerr=3 * s * np.abs(r), fmt="o", ms=3, color="C0", label="E(θ)/E(0) (±3 s.e.)")
     ax1.set_ylabel("E(θ) / E(0)")
     ax1.legend(fontsize=8)
-    ax1.set_title(title, fontsize=10)
+    ax1.set_title(_wrapped(title), fontsize=9)
     cos = np.cos(np.radians(a))
     ax2.plot(a, 100 * (r / cos - 1), "o-", ms=3, color="C0")
     ax2.axhspan(-100 * tolerance, 100 * tolerance, color="C2", alpha=0.2, label=f"±{100 * tolerance:g} %")
-    ax2.set_yscale("symlog", linthresh=1.0)
+    # linear: the deviations of interest are a few per cent either side of 0
+    dev_pct = 100 * (r / cos - 1)
+    finite = dev_pct[np.isfinite(dev_pct)]
+    span = max(2 * 100 * tolerance, float(np.max(np.abs(finite))) * 1.15 if finite.size else 0.0)
+    ax2.set_ylim(-span, span)
     ax2.set_xlabel("tilt θ from facing the light (deg)")
     ax2.set_ylabel("E(θ)/(E(0) cos θ) - 1 (%)")
     ax2.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        _save(fig, path)
+    finally:
+        plt.close(fig)
     return path
