@@ -304,3 +304,68 @@ def mirror_ball_probe(scene=None, *, size=256, shape=(128, 256), view=(0.0, -1.0
 
     probe, camera = world.render_mirror_ball(scene, size=size, view=view)
     return probe, environment.probe_to_equirect(probe, shape, environment.BLENDER_WORLD_ROTATION, camera)
+
+
+# --- daylight: the sun (issue 19) ----------------------------------------------------------------
+
+def sun_position(latitude_deg, longitude_deg, when, *, elevation_m=0.0, pressure_hpa=1013.25, temperature_c=12.0,
+                 north_offset_deg=0.0, delta_t_s=None):
+    """Where the sun is (NREL SPA, Reda & Andreas 2008; no Blender needed).
+
+    ``when``: a timezone-aware ``datetime`` or a sequence of them (naive -> RadiometerError).
+    Latitude north +, longitude east + (deg); ``elevation_m`` above sea level; pressure (hPa) and
+    temperature (deg C) for the refraction; ``delta_t_s`` TT - UT (default: Espenak & Meeus).
+    Returns a ``SolarPosition``: ``azimuth_deg`` (clockwise from north), ``elevation_deg``
+    (apparent, with refraction), ``zenith_deg``, ``true_elevation_deg``, ``direction`` (unit
+    vector towards the sun: +X east, +Y north, +Z up, turned by ``north_offset_deg`` = the angle
+    from scene +Y to true north, counter-clockwise seen from above), ``earth_sun_distance_au``,
+    ``equation_of_time_min``, ``delta_t_s``; arrays for a sequence of times. See docs/daylight-sun.md.
+    """
+    from .radiometry import solar_position
+
+    try:
+        unix = solar_position.unix_seconds(when)
+        return solar_position.solar_position(unix, latitude_deg, longitude_deg, elevation_m=elevation_m,
+                                             pressure_hpa=pressure_hpa, temperature_c=temperature_c,
+                                             delta_t_s=delta_t_s, north_offset_deg=north_offset_deg)
+    except (TypeError, ValueError) as exc:
+        raise RadiometerError(str(exc).splitlines()[0]) from None
+
+
+def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminance_lux=None, north_offset_deg=0.0,
+            elevation_m=0.0):
+    """Create or update the scene's Sun light (angle 0.53 deg) for this place and time.
+
+    Its strength makes the meter read ``direct_normal_illuminance_lux`` (lux) facing the sun, or the
+    IES clear-day model's E_dn = 127.5 klx / R^2 exp(-0.21 m) when None; below the horizon its
+    strength is 0. Returns a dict (object, azimuth_deg, elevation_deg, direction,
+    direct_normal_illuminance_lux, strength_w_m2, model, above_horizon, notes).
+    """
+    from .measure import sun
+
+    return sun.set_sun(scene, latitude_deg, longitude_deg, when,
+                       direct_normal_illuminance_lux=direct_normal_illuminance_lux,
+                       north_offset_deg=north_offset_deg, elevation_m=elevation_m)
+
+
+# --- scale-out on Dask (issue 20) ----------------------------------------------------------------
+
+def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0, client=None, progress=None,
+                  cancelled=None):
+    """Readings of many .blend files (design variants), one list per file, in the order of ``files``.
+
+    ``meters``: None (every light-meter object of each file, with the file's method), meter object
+    names, or illuminance points: (x, y, z), ((x, y, z), (nx, ny, nz)) or {"location", "normal"}
+    (scene coordinates; normal default +Z). ``quality``: "preview" | "standard" | "reference"
+    (1-sigma targets 5 %, 1 %, 0.2 %); ``seed``: first Cycles seed of point readings. ``client``:
+    None runs in this process (each file opened in turn, the open file reopened afterwards; see
+    docs/cluster.md), or a ``distributed.Client`` (``radiometer.cluster.local_client(n)`` or
+    ``connect(address)``): one task per file on the cluster's workers. ``progress(done, total,
+    seconds_left)`` after each file. Returns ``FileReadings`` (``file``, ``scene``, ``names``,
+    ``readings``, ``to_dict()``) per file. A bad or unreadable file, or a missing texture, raises
+    RadiometerError naming the file and the task.
+    """
+    from .cluster import batch
+
+    return batch.measure_batch(files, meters, quality=quality, method=method, seed=seed, client=client,
+                               progress=progress, cancelled=cancelled)

@@ -3,6 +3,6 @@
 from ..registration import ModuleGroup
 
 # Submodules in registration order; each owns a ``classes`` tuple.
-_group = ModuleGroup(__name__, ("meter", "brdf", "analysis", "luminaires", "world"))
+_group = ModuleGroup(__name__, ("meter", "brdf", "analysis", "luminaires", "world", "daylight"))
 register = _group.register
 unregister = _group.unregister

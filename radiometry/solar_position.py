@@ -354,3 +354,49 @@ def clear_day_direct_normal_illuminance(zenith_deg, earth_sun_distance_au=1.0, *
     m = relative_air_mass_kasten_young(z)
     e = SOLAR_ILLUMINANCE_CONSTANT_LX / np.asarray(earth_sun_distance_au, float) ** 2 * np.exp(-c * m)
     return np.where(z < 90.0, e, 0.0)
+
+
+# --- time zones -----------------------------------------------------------------------------------
+
+def parse_time_zone(text):
+    """A ``tzinfo`` from an IANA name ("Europe/London", via ``zoneinfo``), "UTC", or a fixed UTC offset
+    ("+02:00", "-0530", "UTC+1", "+5.5" hours). ValueError with one line otherwise."""
+    import re
+    import zoneinfo
+
+    name = str(text).strip()
+    if not name:
+        raise ValueError("empty time zone: give an IANA name such as Europe/London or an offset such as +02:00")
+    if name.upper() in ("UTC", "GMT", "Z"):
+        return _dt.timezone.utc
+    m = re.fullmatch(r"(?:UTC|GMT)?\s*([+-])(\d{1,2})(?::?(\d{2}))?|(?:UTC|GMT)?\s*([+-]\d{1,2}\.\d+)", name,
+                     flags=re.IGNORECASE)
+    if m:
+        if m.group(4):
+            minutes = round(float(m.group(4)) * 60.0)
+        else:
+            minutes = int(m.group(2)) * 60 + int(m.group(3) or 0)
+            minutes = -minutes if m.group(1) == "-" else minutes
+        if abs(minutes) > 14 * 60:
+            raise ValueError(f"UTC offset {name!r} is beyond +-14 h")
+        return _dt.timezone(_dt.timedelta(minutes=minutes))
+    try:
+        return zoneinfo.ZoneInfo(name)
+    except (zoneinfo.ZoneInfoNotFoundError, ValueError):
+        raise ValueError(f"unknown time zone {name!r}: give an IANA name such as Europe/London or an offset "
+                         "such as +02:00") from None
+
+
+def local_datetime(year, month, day, hour, minute, time_zone, second=0):
+    """A timezone-aware datetime for a wall-clock time in ``time_zone`` (see :func:`parse_time_zone`).
+
+    A wall time that does not exist (the hour skipped when clocks go forward) raises ValueError; an
+    ambiguous one (the hour repeated when clocks go back) is its first occurrence (``fold=0``).
+    """
+    tz = parse_time_zone(time_zone) if isinstance(time_zone, str) else time_zone
+    t = _dt.datetime(int(year), int(month), int(day), int(hour), int(minute), int(second), tzinfo=tz)
+    # A skipped wall time does not survive the round trip through UTC.
+    back = t.astimezone(_dt.timezone.utc).astimezone(tz)
+    if back.replace(tzinfo=None) != t.replace(tzinfo=None):
+        raise ValueError(f"{t.replace(tzinfo=None).isoformat()} does not exist in {time_zone} (clocks go forward)")
+    return t
