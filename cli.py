@@ -79,15 +79,15 @@ def build_parser():
 
 
 def _check_blend_path(path):
-    if not os.path.exists(path):
-        raise RadiometerError(f"no such file: {path}")
-    if os.path.isdir(path):
-        raise RadiometerError(f"{path} is a directory, not a .blend file")
+    from .outputs import shown
+    from .validation import check_input_file
+
+    check_input_file(path, "scene")  # missing, a folder, a FIFO or a device: refused before reading
     with open(path, "rb") as f:
         magic = f.read(7)
     # Blender files start with "BLENDER"; compressed ones with the zstd or gzip magic.
     if magic != b"BLENDER" and magic[:4] != b"\x28\xb5\x2f\xfd" and magic[:2] != b"\x1f\x8b":
-        raise RadiometerError(f"{path} is not a .blend file")
+        raise RadiometerError(f"{shown(path)} is not a .blend file")
 
 
 def _open_blend(path):
@@ -97,7 +97,9 @@ def _open_blend(path):
     try:
         bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path), load_ui=False)
     except RuntimeError as exc:
-        raise RadiometerError(f"cannot open {path}: {str(exc).strip().splitlines()[-1]}") from None
+        from .outputs import shown
+
+        raise RadiometerError(f"cannot open {shown(path)}: {str(exc).strip().splitlines()[-1]}") from None
 
 
 def _json_default(value):
@@ -131,20 +133,82 @@ def json_text(result):
 
 
 def write_json(path, result, interrupt=None):
-    """Write ``result`` as JSON to ``path`` whole or not at all (RadiometerError with one line if it cannot)."""
+    """Write ``result`` as JSON to ``path`` whole or not at all (RadiometerError with one line if it cannot).
+    ``path`` "-" means stdout: :func:`main` prints the final result there once the run is over."""
+    if path == "-":
+        return path
     _io.check_output_file(path, "JSON file")
-    return _io.write_text(path, json_text(result), interrupt)
+    return _io.write_text(path, json_text(_without_scratch_paths(result)), interrupt)
+
+
+def _without_scratch_paths(result):
+    """``result`` with every path into this process's private temporary folder replaced by None:
+    the CLI removes that folder when it exits, so a JSON file must not point into it."""
+    from . import outputs
+
+    root = outputs._private_root
+    if root is None:
+        return result
+    prefix = os.path.join(root, "")
+
+    def clean(value):
+        if isinstance(value, str) and value.startswith(prefix):
+            return None
+        if isinstance(value, dict):
+            return {k: clean(v) for k, v in value.items()}
+        if isinstance(value, (list, tuple)):
+            return [clean(v) for v in value]
+        if hasattr(value, "to_dict"):
+            return clean(value.to_dict())
+        return value
+
+    return clean(json.loads(json.dumps(result, default=_json_default)))
+
+
+#: Options that name files or folders a subcommand writes, and arguments naming files it reads.
+OUTPUT_OPTIONS = {"json": "--json", "csv": "--csv", "png": "--png", "plot": "--plot", "plots": "--plots",
+                  "irradiance_map": "--irradiance-map", "out": "--out"}
+INPUT_ARGUMENTS = {"blend": "scene", "file": "file"}
+
+
+def _check_paths(args, in_blender):
+    """Before any work: no empty file names, no output onto an input of this run, no two outputs
+    onto one file (one line each)."""
+    outputs_, inputs = [], []
+    for attr, label in OUTPUT_OPTIONS.items():
+        value = getattr(args, attr, None)
+        if isinstance(value, str):
+            if not value.strip():
+                raise RadiometerError(f"{label} needs a file name (got an empty one)")
+            outputs_.append((label, value))
+    for attr, label in INPUT_ARGUMENTS.items():
+        value = getattr(args, attr, None)
+        if isinstance(value, str) and value:
+            inputs.append((label, value))
+    if in_blender and not getattr(args, "blend", None):
+        try:
+            import bpy
+
+            if bpy.data.filepath:
+                inputs.append(("scene", bpy.data.filepath))
+        except ImportError:
+            pass
+    from . import outputs
+
+    outputs.refuse_overlaps(outputs_, inputs)
 
 
 def deliver(args, result):
     """Write ``--json`` now (commands call this before optional plots, so a failing plot cannot lose it)."""
-    if getattr(args, "json", None) and not getattr(args, "_json_written", False):
+    if getattr(args, "json", None) and args.json != "-" and not getattr(args, "_json_written", False):
         write_json(args.json, result, getattr(args, "interrupt", None))
         args._json_written = True
 
 
 def _os_error_message(exc):
-    where = f" {exc.filename}" if getattr(exc, "filename", None) else ""
+    from .outputs import shown
+
+    where = f" {shown(exc.filename)}" if getattr(exc, "filename", None) else ""
     return f"cannot write{where}: {exc.strerror or exc}"
 
 
@@ -155,16 +219,21 @@ def main(argv=None, *, in_blender=False):
     try:
         parser = build_parser()
         if not argv:
-            parser.print_help()
+            parser.print_help(sys.stderr)  # usage is an error here: stderr, exit 2 (stdout stays for results)
             return EXIT_BAD_INPUT
         args = parser.parse_args(argv)
         if args.command is None:
             raise RadiometerError(f"{PROG}: a subcommand is required (see --help)")
         module = _command_module(args.command)
+        _check_paths(args, in_blender)
+        json_to_stdout = args.json == "-"
         if args.json:
             _io.check_output_file(args.json, "JSON file")  # before the run, not after it
+        if json_to_stdout:
+            args.quiet = True  # stdout carries the JSON alone
         args.interrupt, args.cancelled = interrupt, interrupt.cancelled
-        with interrupt, _io.blender_logs_silenced(enabled=not args.verbose, quiet=args.quiet) as err_fd:
+        with interrupt, _io.blender_logs_silenced(enabled=not args.verbose, quiet=args.quiet) as err_fd, \
+                _quiet_numpy():
             args.progress = _io.Progress(err_fd, enabled=not args.quiet)
             interrupt.stderr_fd = err_fd if err_fd is not None else 2
             try:
@@ -178,6 +247,9 @@ def main(argv=None, *, in_blender=False):
                 deliver(args, result)
             finally:
                 args.progress.clear()
+        if json_to_stdout:
+            sys.stdout.write(json_text(_without_scratch_paths(result)))
+            sys.stdout.flush()
         return 0
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted (Ctrl-C); stopped, no file left half-written", file=sys.stderr)
@@ -195,6 +267,47 @@ def main(argv=None, *, in_blender=False):
         return exc.code if isinstance(exc.code, int) else 0
     finally:
         interrupt.uninstall()
+        if not in_blender:
+            _remove_scratch()
+
+
+def _remove_scratch():
+    """Remove this process's private temporary folder (radiance maps, plots with no other home):
+    nothing of a run is left in the temp folder once the CLI exits."""
+    import shutil
+
+    from . import outputs
+
+    root, outputs._private_root = outputs._private_root, None
+    if root is not None:
+        shutil.rmtree(root, ignore_errors=True)
+
+
+class _quiet_numpy:
+    """numpy's overflow/invalid warnings must not leak to stderr: non-finite results are checked
+    and reported as errors where they matter."""
+
+    def __enter__(self):
+        import warnings
+
+        self._warnings = warnings.catch_warnings()
+        self._warnings.__enter__()
+        warnings.simplefilter("ignore", RuntimeWarning)
+        try:
+            import numpy as np
+
+            self._err = np.seterr(all="ignore")
+        except ImportError:
+            self._err = None
+        return self
+
+    def __exit__(self, *exc):
+        if self._err is not None:
+            import numpy as np
+
+            np.seterr(**self._err)
+        self._warnings.__exit__(*exc)
+        return False
 
 
 def _ensure_registered():

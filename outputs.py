@@ -85,52 +85,100 @@ class Stems:
         self._by_name[name] = stem
         return stem
 
-def write_text(path, text):
-    """Write ``text`` to ``path`` whole or not at all; an OSError becomes a one-line RadiometerError.
+def shown(path, limit=160):
+    """``path`` as a message shows it: whole up to ``limit`` characters, else its head and tail
+    (a 5000-character path is not echoed whole), control characters escaped (one line)."""
+    text = os.fsdecode(path) if isinstance(path, (bytes, os.PathLike)) else str(path)
+    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+    if len(text) > limit:
+        keep = (limit - 3) // 2
+        text = f"{text[:keep]}...{text[-keep:]}"
+    return text
 
-    A regular file is written to a temporary file beside it and renamed over it, so an error (full
-    disk) or an interrupt leaves the old file as it was. Devices and pipes (``/dev/stdout``,
-    ``/dev/full``) are written directly.
-    """
-    import contextlib
 
+def _error(path, exc_or_text, what=""):
     from .errors import RadiometerError
 
-    full = os.path.abspath(path)
+    why = exc_or_text if isinstance(exc_or_text, str) else (exc_or_text.strerror or str(exc_or_text))
+    return RadiometerError(f"cannot write {what + ' ' if what else ''}{shown(path)}: {why}")
+
+
+def _is_special(full):
+    """True for an existing destination that is not a regular file or a folder (a device, a FIFO)."""
+    import stat
+
     try:
-        if os.path.exists(full) and not os.path.isfile(full):
-            with open(full, "w", encoding="utf-8") as f:
-                f.write(text)
+        mode = os.stat(full).st_mode
+    except OSError:
+        return False
+    return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
+
+
+def _umask():
+    umask = os.umask(0)
+    os.umask(umask)
+    return umask
+
+
+def _check_destination(path, what=""):
+    """The absolute destination, or a one-line RadiometerError: empty names, folders and links planted
+    at the destination are refused (a link's target is not ours to replace)."""
+    if path is None or (isinstance(path, str) and not path.strip()):
+        raise _error("''", "no file name given", what)
+    full = os.path.abspath(os.fspath(path))
+    if os.path.islink(full):
+        raise _error(path, "it is a symbolic link (refusing to follow it)", what)
+    if os.path.isdir(full):
+        raise _error(path, "it is a directory, not a file", what)
+    return full
+
+
+def write_bytes(path, data):
+    """Write ``data`` (bytes) to ``path`` whole or not at all; an OSError becomes a one-line
+    RadiometerError naming the file.
+
+    A regular file is written to a temporary file beside it, fsynced and renamed over it, so an
+    error (full disk) or an interrupt leaves the old file as it was. An existing device or pipe
+    (``/dev/stdout``, ``/dev/full``) is written directly (never replaced), its errors reported.
+    """
+    full = _check_destination(path)
+    try:
+        if _is_special(full):
+            # O_NONBLOCK: a FIFO nobody reads fails at once (ENXIO) instead of blocking forever.
+            fd = os.open(full, os.O_WRONLY | os.O_NONBLOCK)
+            try:
+                view = memoryview(data)
+                while view:
+                    view = view[os.write(fd, view):]
+            finally:
+                os.close(fd)
             return path
         fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(full)}.", suffix=".tmp", dir=os.path.dirname(full))
         try:
-            with os.fdopen(fd, "w", encoding="utf-8") as f:
-                f.write(text)
+            with os.fdopen(fd, "wb") as f:
+                f.write(data)
                 f.flush()
                 os.fsync(f.fileno())
-            if os.path.exists(full):
-                with contextlib.suppress(OSError):
-                    os.chmod(tmp, os.stat(full).st_mode & 0o7777)
-            else:
-                umask = os.umask(0)
-                os.umask(umask)
-                os.chmod(tmp, 0o666 & ~umask)
+            mode = 0o666 & ~_umask()
+            if os.path.isfile(full):
+                with _contextlib.suppress(OSError):
+                    mode = os.stat(full).st_mode & 0o7777
+            os.chmod(tmp, mode)
+            if os.path.islink(full):  # planted while we wrote
+                raise _error(path, "it is a symbolic link (refusing to follow it)")
             os.replace(tmp, full)
         except BaseException:
-            with contextlib.suppress(OSError):
+            with _contextlib.suppress(OSError):
                 os.unlink(tmp)
             raise
     except OSError as exc:
-        raise RadiometerError(f"cannot write {path}: {exc.strerror or exc}") from None
+        raise _error(path, exc) from None
     return path
 
 
-def _reject_symlink(full):
-    # A link planted at the destination must not redirect the write (its target is not ours to replace).
-    if os.path.islink(full):
-        from .errors import RadiometerError
-
-        raise RadiometerError(f"cannot write {full}: it is a symbolic link (refusing to follow it)")
+def write_text(path, text):
+    """Write ``text`` (UTF-8) to ``path`` whole or not at all (see :func:`write_bytes`)."""
+    return write_bytes(path, text.encode("utf-8", "surrogateescape"))
 
 
 import contextlib as _contextlib
@@ -140,33 +188,95 @@ import contextlib as _contextlib
 def atomic_output(path):
     """Yield a temporary path in ``path``'s folder (same suffix, so writers that infer the format from
     it still work); on success it is fsynced and renamed onto ``path``, on any error it is removed and
-    ``path`` stays as it was. An OSError becomes a one-line RadiometerError naming ``path``.
+    ``path`` stays as it was. An OSError becomes a one-line RadiometerError naming ``path``. A writer
+    that fails without raising (leaves an empty file) is an error too. A destination that is a device
+    or a pipe gets the finished file's bytes written to it (never replaced).
     """
-    from .errors import RadiometerError
-
-    full = os.path.abspath(path)
+    full = _check_destination(path)
     folder, base = os.path.split(full)
     stem, suffix = os.path.splitext(base)
+    special = _is_special(full)
     try:
-        _reject_symlink(full)
-        fd, tmp = tempfile.mkstemp(prefix=f".{stem}.", suffix=f".tmp{suffix}", dir=folder)
+        # A device's folder (/dev) is no place for our temp file: use this process's private folder.
+        fd, tmp = tempfile.mkstemp(prefix=f".{stem}.", suffix=f".tmp{suffix}",
+                                   dir=private_temp_root() if special else folder)
         os.close(fd)
     except OSError as exc:
-        raise RadiometerError(f"cannot write {path}: {exc.strerror or exc}") from None
+        raise _error(path, exc) from None
     try:
         yield tmp
+        if os.path.getsize(tmp) == 0:
+            raise _error(path, "the writer produced no data")
+        if special:
+            with open(tmp, "rb") as f:
+                write_bytes(full, f.read())
+            os.unlink(tmp)
+            return
         with open(tmp, "rb+") as f:
             os.fsync(f.fileno())
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        _reject_symlink(full)
+        os.chmod(tmp, 0o666 & ~_umask())
+        if os.path.islink(full):  # planted while we wrote
+            raise _error(path, "it is a symbolic link (refusing to follow it)")
         os.replace(tmp, full)
     except OSError as exc:
         with _contextlib.suppress(OSError):
             os.unlink(tmp)
-        raise RadiometerError(f"cannot write {path}: {exc.strerror or exc}") from None
+        raise _error(path, exc) from None
     except BaseException:
         with _contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
+
+
+def check_writable(path, what="output file"):
+    """Say now (one-line RadiometerError) that ``path`` could not be written later.
+
+    No ``os.access`` (it says yes to root for read-only folders and no for files a rename could
+    replace): a temporary file is actually created in the folder and removed. A device or pipe
+    that exists is accepted (its write errors are reported when written); links, folders, missing
+    folders are refused.
+    """
+    from .errors import RadiometerError
+
+    full = _check_destination(path, what)
+    folder = os.path.dirname(full)
+    if _is_special(full):
+        return full
+    if not os.path.isdir(folder):
+        raise RadiometerError(f"cannot write {what} {shown(path)}: folder {shown(folder)} does not exist")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".radiometer-check.", dir=folder)
+        os.close(fd)
+        os.unlink(tmp)
+    except OSError as exc:
+        raise RadiometerError(f"cannot write {what} {shown(path)}: {exc.strerror or exc}") from None
+    return full
+
+
+def same_file(a, b):
+    """True when paths ``a`` and ``b`` name the same file (real path, or same device and inode)."""
+    try:
+        if os.path.realpath(a) == os.path.realpath(b):
+            return True
+        return os.path.samefile(a, b)
+    except (OSError, ValueError, TypeError):
+        return False
+
+
+def refuse_overlaps(outputs, inputs):
+    """RadiometerError (one line) when an output names an input of the same run, or two outputs
+    name one file: before any work, so no input is overwritten and no output silently replaces
+    another. ``outputs``/``inputs``: iterables of (label, path); empty paths and "-" are ignored."""
+    from .errors import RadiometerError
+
+    outs = [(label, p) for label, p in outputs if p and p != "-"]
+    ins = [(label, p) for label, p in inputs if p and p != "-"]
+    for label, p in outs:
+        for in_label, q in ins:
+            if same_file(p, q):
+                raise RadiometerError(f"{label} {shown(p)} is the input {in_label} of this run: "
+                                      "refusing to overwrite it; choose another file")
+    for i, (label, p) in enumerate(outs):
+        for other, q in outs[i + 1:]:
+            if same_file(p, q):
+                raise RadiometerError(f"{label} and {other} name the same file {shown(p)}: choose two files")

@@ -276,34 +276,38 @@ def _describe(exc):
 
 
 def check_output_file(path, what="output file"):
-    """RadiometerError now if ``path`` cannot be written later (missing folder, a directory, read-only)."""
-    if not path:
+    """RadiometerError now if ``path`` cannot be written later (missing folder, a directory, a planted
+    link, a folder where no file can be created): ``outputs.check_writable``, which tries instead of
+    asking ``access()`` (that says yes to root and then the write fails after the whole run)."""
+    if path is None:
         return
-    full = os.path.abspath(path)
-    if os.path.isdir(full):
-        raise RadiometerError(f"cannot write {what} {path}: it is a directory")
-    directory = os.path.dirname(full)
-    if not os.path.isdir(directory):
-        raise RadiometerError(f"cannot write {what} {path}: folder {directory} does not exist")
-    if os.path.exists(full) and not os.access(full, os.W_OK):
-        raise RadiometerError(f"cannot write {what} {path}: permission denied")
-    if not os.path.exists(full) and not os.access(directory, os.W_OK | os.X_OK):
-        raise RadiometerError(f"cannot write {what} {path}: folder {directory} is not writable")
+    from .. import outputs
+
+    if path == "":
+        raise RadiometerError(f"{what}: an empty file name was given")
+    if path == "-":
+        return
+    outputs.check_writable(path, what)
 
 
 def check_output_dir(path, what="output folder"):
-    """Create ``path`` (and parents) now; RadiometerError if that fails or it is not writable."""
-    if not path:
+    """Create ``path`` (and parents) now; RadiometerError if that fails or no file can be created in it."""
+    if path is None:
         return None
+    from .. import outputs
+
+    if not str(path).strip():
+        raise RadiometerError(f"{what}: an empty folder name was given")
     full = os.path.abspath(path)
+    if os.path.islink(full):
+        raise RadiometerError(f"cannot use {what} {outputs.shown(path)}: it is a symbolic link (refusing to follow it)")
     try:
         os.makedirs(full, exist_ok=True)
     except FileExistsError:
-        raise RadiometerError(f"cannot use {what} {path}: it is a file, not a folder") from None
+        raise RadiometerError(f"cannot use {what} {outputs.shown(path)}: it is a file, not a folder") from None
     except OSError as exc:
-        raise RadiometerError(f"cannot create {what} {path}: {_describe(exc)}") from None
-    if not os.access(full, os.W_OK | os.X_OK):
-        raise RadiometerError(f"cannot write into {what} {path}: permission denied")
+        raise RadiometerError(f"cannot create {what} {outputs.shown(path)}: {_describe(exc)}") from None
+    outputs.check_writable(os.path.join(full, ".radiometer-probe"), what)
     return full
 
 

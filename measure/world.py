@@ -362,11 +362,15 @@ def write_exr(path, rgb):
     rgb = np.asarray(rgb, np.float32)
     rgba = np.concatenate([rgb, np.ones(rgb.shape[:2] + (1,), np.float32)], axis=-1)
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    try:
-        with OpenEXR.File(header, {"RGBA": rgba}) as f:
-            f.write(path)
-    except Exception as exc:  # noqa: BLE001 - one line for the user
-        raise RadiometerError(f"cannot write {path}: {exc}") from None
+    from ..outputs import atomic_output, shown
+
+    # Whole or not at all (issue 21): a temp file beside it, renamed; a full disk is an error.
+    with atomic_output(path) as tmp:
+        try:
+            with OpenEXR.File(header, {"RGBA": rgba}) as f:
+                f.write(tmp)
+        except Exception as exc:  # noqa: BLE001 - one line for the user
+            raise RadiometerError(f"cannot write {shown(path)}: {str(exc).splitlines()[0] if str(exc) else exc}") from None
     return path
 
 

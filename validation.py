@@ -1,0 +1,240 @@
+"""Argument checks at the API boundary: each returns the clean value or raises a one-line
+``RadiometerError`` saying which argument is wrong and what is expected.
+
+Called at the top of every ``api`` function so that garbage (wrong types, shapes, NaN/inf, huge or
+empty values) never reaches numpy or bpy as a ValueError, TypeError, IndexError, OverflowError,
+MemoryError, ... deep inside. Pure Python + numpy; ``scene``/``obj`` checks import bpy lazily.
+Bounds are stated here once (``MAX_*``), in the units of the argument.
+"""
+
+import math
+import numbers
+import os
+import stat
+
+import numpy as np
+
+from .errors import RadiometerError
+
+#: Largest accepted coordinate magnitude (m / scene units): beyond it float32 geometry has no precision.
+MAX_COORDINATE = 1e12
+#: At most this many points in one call (meters, grid points): ~1 GB of per-point state.
+MAX_POINTS = 1_000_000
+#: Largest radiance-map height / irradiance-map side (pixels).
+MAX_MAP_SIDE = 8192
+#: Largest photometric or image input file read whole (bytes).
+MAX_INPUT_BYTES = 64 * 1024 * 1024
+#: Largest time budget (s): a week.
+MAX_TIME_BUDGET_S = 7 * 24 * 3600.0
+#: Largest fixed sample count per meter (Cycles' float32 accumulation is exact to 2**24).
+MAX_SAMPLES = 1 << 24
+#: Seeds are Cycles' int seed (32-bit signed).
+MAX_SEED = 2**31 - 1
+
+
+def _shown(value, limit=60):
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def _fail(name, expected, value):
+    raise RadiometerError(f"{name} must be {expected}, got {_shown(value)}")
+
+
+def real(value, name, *, low=-math.inf, high=math.inf, low_open=False, high_open=False, allow_none=False):
+    """A finite float in [low, high] (open ends when asked); bools and strings are refused."""
+    if value is None and allow_none:
+        return None
+    lo = "(" if low_open else "["
+    hi = ")" if high_open else "]"
+    expected = "a finite number" + ("" if (low, high) == (-math.inf, math.inf) else f" in {lo}{low:g}, {high:g}{hi}")
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+        _fail(name, expected, value)
+    try:
+        x = float(value)
+    except (TypeError, ValueError, OverflowError):
+        _fail(name, expected, value)
+    if not math.isfinite(x) or x < low or x > high or (low_open and x == low) or (high_open and x == high):
+        _fail(name, expected, value)
+    return x
+
+
+def positive(value, name, *, high=math.inf, allow_none=False):
+    """A finite float > 0 (and <= ``high``)."""
+    return real(value, name, low=0.0, low_open=True, high=high, allow_none=allow_none)
+
+
+def integer(value, name, *, low=0, high=2**62, allow_none=False):
+    """An int in [low, high]; floats with an integral value (4.0) are accepted, others refused."""
+    if value is None and allow_none:
+        return None
+    expected = f"an integer in [{low}, {high}]"
+    if isinstance(value, (bool, np.bool_)):
+        _fail(name, expected, value)
+    if isinstance(value, (numbers.Integral, np.integer)):
+        n = int(value)
+    elif isinstance(value, (numbers.Real, np.floating)):
+        x = float(value)
+        if not math.isfinite(x) or x != int(x):
+            _fail(name, expected, value)
+        n = int(x)
+    else:
+        _fail(name, expected, value)
+    if not low <= n <= high:
+        _fail(name, expected, value)
+    return n
+
+
+def seed(value, name="seed"):
+    return integer(value, name, low=0, high=MAX_SEED)
+
+
+def fraction(value, name, *, allow_none=False):
+    """A relative error or tolerance: a finite number in (0, 1)."""
+    return real(value, name, low=0.0, high=1.0, low_open=True, high_open=True, allow_none=allow_none)
+
+
+def time_budget(value, name="time_budget_s"):
+    return positive(value, name, high=MAX_TIME_BUDGET_S, allow_none=True)
+
+
+def samples(value, name="samples"):
+    return integer(value, name, low=1, high=MAX_SAMPLES, allow_none=True)
+
+
+def callable_or_none(value, name):
+    if value is not None and not callable(value):
+        _fail(name, "a callable or None", value)
+    return value
+
+
+def choice(value, name, options):
+    if not isinstance(value, str) or value not in options:
+        _fail(name, "one of " + ", ".join(repr(o) for o in options), value)
+    return value
+
+
+def _array(value, name, expected):
+    if isinstance(value, (str, bytes, dict, set)) or value is None:
+        _fail(name, expected, value)
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        _fail(name, expected, value)
+    return a
+
+
+def points(value, name="location", *, allow_many=True):
+    """(3,) or (N, 3) finite coordinates within ``MAX_COORDINATE``; returns a float64 array as given."""
+    expected = "3 finite numbers" + (" or an (N, 3) array of them" if allow_many else "")
+    if hasattr(value, "__len__") and not isinstance(value, np.ndarray) and len(value) > 3 * MAX_POINTS:
+        _fail(name, expected + f" (at most {MAX_POINTS} points)", value)
+    a = _array(value, name, expected)
+    if a.shape == (3,):
+        pass
+    elif allow_many and a.ndim == 2 and a.shape[1] == 3 and 1 <= a.shape[0] <= MAX_POINTS:
+        pass
+    else:
+        _fail(name, expected + f" (at most {MAX_POINTS} points)" if allow_many else expected,
+              f"an array of shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        _fail(name, expected, value)
+    if np.any(np.abs(a) > MAX_COORDINATE):
+        _fail(name, f"coordinates within ±{MAX_COORDINATE:g}", value)
+    return a
+
+
+def directions(value, name="normal", *, allow_many=True):
+    """(3,) or (N, 3) finite non-zero directions (normalised later by the meter)."""
+    a = points(value, name, allow_many=allow_many)
+    norms = np.linalg.norm(np.atleast_2d(a), axis=1)
+    if not np.all(norms > 1e-12) or not np.all(np.isfinite(norms)):
+        _fail(name, "a non-zero finite direction", value)
+    return a
+
+
+def same_count(locations, normals, a_name="location", b_name="normal"):
+    """Two (N, 3) arrays must have the same N (or one of them a single 3-vector)."""
+    na = 1 if np.ndim(locations) == 1 else len(locations)
+    nb = 1 if np.ndim(normals) == 1 else len(normals)
+    if nb not in (1, na):
+        raise RadiometerError(f"{b_name} must be one direction or one per {a_name} ({na}), got {nb}")
+
+
+def scene(value, name="scene"):
+    """None (the context scene) or a ``bpy.types.Scene`` that still exists."""
+    if value is None:
+        return None
+    import bpy
+
+    if not isinstance(value, bpy.types.Scene):
+        _fail(name, "a bpy.types.Scene or None", value)
+    try:
+        value.name  # noqa: B018 - a removed scene raises ReferenceError here
+    except ReferenceError:
+        raise RadiometerError(f"{name} was removed from the file") from None
+    return value
+
+
+def blender_object(value, name="object", *, scene_=None, types=None):
+    """A ``bpy.types.Object`` or the name of one (in ``scene_`` when given); returns the object."""
+    import bpy
+
+    if isinstance(value, str):
+        pool = scene_.objects if scene_ is not None else bpy.data.objects
+        obj = pool.get(value)
+        if obj is None:
+            raise RadiometerError(f"no object named {_shown(value)}" + (f" in scene {scene_.name!r}" if scene_ else ""))
+        value = obj
+    if not isinstance(value, bpy.types.Object):
+        _fail(name, "an object or an object's name", value)
+    try:
+        value.name  # noqa: B018
+    except ReferenceError:
+        raise RadiometerError(f"{name} was removed from the file") from None
+    if types is not None and value.type not in types:
+        raise RadiometerError(f"{name} {value.name!r} is a {value.type}, expected " + " or ".join(types))
+    return value
+
+
+def path(value, name="path"):
+    """A non-empty path (str or os.PathLike, no NUL byte); returns it as an absolute str."""
+    if isinstance(value, bytes) or not isinstance(value, (str, os.PathLike)):
+        _fail(name, "a file path", value)
+    text = os.fspath(value)
+    if not isinstance(text, str) or not text.strip() or "\0" in text:
+        _fail(name, "a non-empty file path", value)
+    if len(text) > 4096:
+        raise RadiometerError(f"{name} is too long ({len(text)} characters; at most 4096)")
+    return os.path.abspath(text)
+
+
+def output_file(value, name="path"):
+    """A path whose folder exists and where a file can be created (tried, not ``access()``)."""
+    from . import outputs
+
+    full = path(value, name)
+    outputs.check_writable(full, name)
+    return full
+
+
+def check_input_file(value, what="file", *, max_bytes=MAX_INPUT_BYTES):
+    """An existing REGULAR file of at most ``max_bytes``: FIFOs, devices (/dev/zero) and folders are
+    refused before anything is read (reading them blocks forever or never ends)."""
+    from .outputs import shown
+
+    full = path(value, what)
+    try:
+        st = os.stat(full)
+    except FileNotFoundError:
+        raise RadiometerError(f"no such file: {shown(value)}") from None
+    except OSError as exc:
+        raise RadiometerError(f"cannot read {what} {shown(value)}: {exc.strerror or exc}") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise RadiometerError(f"{shown(value)} is a directory, not a {what} file")
+    if not stat.S_ISREG(st.st_mode):
+        raise RadiometerError(f"{shown(value)} is not a regular file (a pipe or a device): refusing to read it")
+    if st.st_size > max_bytes:
+        raise RadiometerError(f"{shown(value)} is too large for a {what} file ({st.st_size} bytes; "
+                              f"at most {max_bytes})")
+    return full
