@@ -5,6 +5,106 @@ import math
 from typing import Optional
 
 
+def format_value(value, rel_std_error=0.0, exact=False):
+    """``value`` with as many significant digits as its standard error supports (2 to 6).
+
+    402.283 at 1.1 % -> '402'; at 0.12 % -> '402.3'; an exact (closed-form) value gets 5 digits.
+    Plain decimals between 0.001 and 10^6, else scientific notation; "n/a" for None or non-finite.
+    (The same rule as the sidebar's ``panels.meter.format_value``.)
+    """
+    if value is None or not math.isfinite(value):
+        return "n/a"
+    if value == 0:
+        return "0"
+    magnitude = math.floor(math.log10(abs(value)))
+    if exact or not rel_std_error or not math.isfinite(rel_std_error) or rel_std_error <= 0:
+        digits = 5
+    else:
+        digits = magnitude - math.floor(math.log10(abs(value) * rel_std_error)) + 1
+    digits = min(max(digits, 2), 6)
+    if 1e-3 <= abs(value) < 1e6:
+        decimals = digits - 1 - magnitude
+        return f"{round(value, decimals):.{max(decimals, 0)}f}"
+    return f"{value:.{digits - 1}e}"
+
+
+def format_error(rel_std_error, exact=False):
+    """'exact', '±1.1 %' (two significant digits, 1 s.e.) or 'n/a'."""
+    if exact:
+        return "exact"
+    if rel_std_error is None or not math.isfinite(rel_std_error):
+        return "n/a"
+    return f"±{100 * rel_std_error:.2g} %"
+
+
+def format_quantity(value, unit, rel_std_error=0.0, exact=False):
+    """'402 lx ±1.1 %': the value with the digits its error supports, its unit and its error."""
+    return f"{format_value(value, rel_std_error, exact)} {unit} {format_error(rel_std_error, exact)}"
+
+
+def format_reading(reading):
+    """One reading as a user reads it: '402 lx ±1.1 %' or '1230 cd/m² ±0.5 %'."""
+    if getattr(reading, "quantity", "") == "luminance":
+        return format_quantity(reading.luminance, "cd/m²", reading.rel_std_error, reading.exact)
+    return format_quantity(reading.illuminance, "lx", reading.rel_std_error, reading.exact)
+
+
+def _ev(value, kind):
+    from .radiometry import colorimetry
+
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return math.nan
+    f = colorimetry.ev100_incident if kind == "incident" else colorimetry.ev100_reflected
+    return float(f(v))
+
+
+def _cct(rgb, colour_space):
+    from .radiometry import colorimetry, photometry
+
+    space = colour_space if colour_space in photometry.COLOUR_SPACES else None
+    try:
+        rgb = tuple(float(c) for c in rgb)
+    except (TypeError, ValueError):
+        return math.nan, math.nan
+    if space is None or len(rgb) != 3 or not all(math.isfinite(c) for c in rgb):
+        return math.nan, math.nan
+    return colorimetry.cct_duv_of_rgb(rgb, space)
+
+
+def _with_photographic(reading, d):
+    """The reading's dict plus ev100, cct_k and duv (None where not defined: JSON has no inf/nan)."""
+    for key in ("ev100", "cct_k", "duv"):
+        v = getattr(reading, key)
+        d[key] = v if math.isfinite(v) else None
+    return d
+
+
+def photographic_text(quantity, value, rgb, colour_space):
+    """'EV100 8.7 (incident, flat sensor) · 3000 K, Duv +0.001' from plain values ("" where undefined).
+
+    ``quantity``: 'illuminance' (``value`` in lx, ``rgb`` the irradiance RGB) or 'luminance' (cd/m²,
+    radiance RGB); ``colour_space``: the working space of ``rgb``.
+    """
+    parts = []
+    ev = _ev(value, "incident" if quantity == "illuminance" else "reflected")
+    if math.isfinite(ev):
+        kind = "incident, flat sensor" if quantity == "illuminance" else "reflected"
+        parts.append(f"EV100 {ev:.1f} ({kind})")
+    cct, duv = _cct(rgb, colour_space)
+    if math.isfinite(cct):
+        parts.append(f"{round(cct, -1):.0f} K, Duv {duv:+.3f}")
+    return " · ".join(parts)
+
+
+def photographic_summary(reading):
+    """:func:`photographic_text` of a reading."""
+    if getattr(reading, "quantity", "") == "luminance":
+        return photographic_text("luminance", reading.luminance, reading.radiance_rgb, reading.colour_space)
+    return photographic_text("illuminance", reading.illuminance, reading.irradiance_rgb, reading.colour_space)
+
+
 @dataclasses.dataclass
 class IlluminanceReading:
     """Irradiance on a surface element and its photometric twin, in SI units.
@@ -38,7 +138,24 @@ class IlluminanceReading:
     parts: dict = dataclasses.field(default_factory=dict)
 
     def to_dict(self):
-        return dataclasses.asdict(self)
+        return _with_photographic(self, dataclasses.asdict(self))
+
+    @property
+    def ev100(self):
+        """Incident-light exposure value at ISO 100, flat receptor: log2(E * 100 / 250) (ISO 2720);
+        -inf in the dark. The meter is a flat (cosine) sensor, so C = 250, not the dome's 340."""
+        return _ev(self.illuminance, "incident")
+
+    @property
+    def cct_k(self):
+        """Correlated colour temperature (K) of the light arriving, from ``irradiance_rgb`` in the
+        working colour space (Ohno 2014, CIE 1960 uv); nan when dark or not near white (|Duv| > 0.05)."""
+        return _cct(self.irradiance_rgb, self.colour_space)[0]
+
+    @property
+    def duv(self):
+        """Distance from the Planckian locus in CIE 1960 uv (+ above, towards green); nan as :attr:`cct_k`."""
+        return _cct(self.irradiance_rgb, self.colour_space)[1]
 
     def summary(self):
         err = "exact" if self.exact else f"±{100 * self.rel_std_error:.2g} % (1 s.e.)"
@@ -69,7 +186,22 @@ class LuminanceReading:
     quantity: str = "luminance"
 
     def to_dict(self):
-        return dataclasses.asdict(self)
+        return _with_photographic(self, dataclasses.asdict(self))
+
+    @property
+    def ev100(self):
+        """Reflected-light exposure value at ISO 100: log2(L * 100 / 12.5) (K = 12.5); -inf when dark."""
+        return _ev(self.luminance, "reflected")
+
+    @property
+    def cct_k(self):
+        """Correlated colour temperature (K) of the light seen, from ``radiance_rgb`` (see IlluminanceReading)."""
+        return _cct(self.radiance_rgb, self.colour_space)[0]
+
+    @property
+    def duv(self):
+        """Duv of the light seen (see IlluminanceReading.duv)."""
+        return _cct(self.radiance_rgb, self.colour_space)[1]
 
     def summary(self):
         return (f"{self.luminance:.6g} cd/m²  ({self.radiance:.6g} W/(m² sr))  "

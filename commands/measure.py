@@ -24,17 +24,24 @@ def format_value(value, digits=6):
 
 
 def format_table(results):
-    lines = [f"{'meter':<22} {'reading':>14} {'unit':<6} {'± 1 s.e.':>9} {'target':>7}  method"]
+    """One line per meter: the reading with the digits its error supports ("402 lx ±1.1 %", as the
+    sidebar shows it), the target, the method, then EV100 and the light's CCT/Duv."""
+    from ..readings import format_error, photographic_summary
+    from ..readings import format_value as supported
+
+    lines = [f"{'meter':<22} {'reading':>10} {'unit':<6} {'± 1 s.e.':>9} {'target':>7}  method    photographic"]
     for obj, r in results:
         if r.quantity == "luminance":
             value, unit = r.luminance, "cd/m²"
         else:
             value, unit = r.illuminance, "lx"
         se = r.rel_std_error
-        err = "exact" if r.exact else (f"{100 * se:.2f} %" if se is not None and se == se else "n/a")
+        err = format_error(se if se is not None else float("nan"), r.exact)
         target = getattr(r, "target_rel_error", None)
         asked = f"{100 * target:g} %" if target else "-"
-        lines.append(f"{obj.name:<22} {format_value(value):>14} {unit:<6} {err:>9} {asked:>7}  {r.method}")
+        reading = supported(value, se if se is not None else 0.0, r.exact)
+        lines.append(f"{obj.name:<22} {reading:>10} {unit:<6} {err:>9} {asked:>7}  {r.method:<9} "
+                     f"{photographic_summary(r)}".rstrip())
     return "\n".join(lines)
 
 

@@ -16,8 +16,11 @@ def add_arguments(parser):
 
 
 def format_info(info):
-    lines = [f"world illuminance {info['illuminance']:.6g} lx on normal {info['normal']} "
-             f"({info['method']}{', exact' if info['exact'] else ''})"]
+    from ..readings import format_quantity
+
+    bound = info.get("rel_error_bound") or 0.0  # a rendered world: its standard error; analytic: its bound
+    lines = [f"world illuminance {format_quantity(info['illuminance'], 'lx', bound, info['exact'])} on normal "
+             f"{info['normal']} ({info['method']})"]
     if info.get("brightest_direction") is not None:
         d = ", ".join(f"{v:.4f}" for v in info["brightest_direction"])
         lines.append(f"brightest direction ({d}): {info['brightest_luminance']:.6g} cd/m²")

@@ -55,7 +55,9 @@ class RADIOMETER_OT_set_light_power(bpy.types.Operator):
         except RadiometerError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        self.report({"INFO"}, f"{context.active_object.name}: energy set to {energy:.6g}")
+        # Blender's unit of Light.energy: W, except a sun's strength (irradiance, W/m²)
+        unit = "W/m²" if getattr(context.active_object.data, "type", "") == "SUN" else "W"
+        self.report({"INFO"}, f"{context.active_object.name}: energy set to {energy:.6g} {unit}")
         return {"FINISHED"}
 
 
