@@ -16,4 +16,6 @@ SUBCOMMANDS = {
     "report": "report",
     "luminaire": "luminaire",
     "world": "world",
+    "sun": "sun",
+    "sun-study": "sun_study",
 }
