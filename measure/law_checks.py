@@ -24,7 +24,7 @@ from ..errors import RadiometerError
 from ..radiometry import laws
 from . import analysis_common as common
 from .light_isolation import free_distance, light_object, light_spec, measure_light_and_scene, model_irradiance, \
-    source_size
+    scene_model, source_size
 
 DEFAULT_ANGLES_DEG = (0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 75.0, 80.0, 85.0, 87.0, 89.0)
 #: The check blames the scene's shadows where the direct light falls short of the light's closed
@@ -180,7 +180,8 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     """
     scene = common.scene_or_context(scene)
     obj = light_object(light, scene)
-    spec = light_spec(obj, scene)
+    model = scene_model(scene)  # one capture for the whole check (issue 17)
+    spec = light_spec(obj, scene, model)
     if spec.kind == "SUN":
         raise RadiometerError(f"light {obj.name!r} is a sun: it has no position, so the inverse-square law does "
                               "not apply (its irradiance does not change with distance); check its cosine law")
@@ -191,7 +192,7 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     if intensity <= 0:
         raise RadiometerError(f"light {obj.name!r} sends no light along its axis (intensity 0): nothing to check")
     notes, causes = [], []
-    free = free_distance(scene, spec.position, axis)  # m
+    free = free_distance(scene, spec.position, axis, model)  # m
     if distances is None:
         d = default_distances(spec)
         if math.isfinite(free) and d[-1] > 0.95 * free:
@@ -211,7 +212,7 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     started = time.perf_counter()
     split = measure_light_and_scene(scene, obj, points_m / scale, normals, method=method, seed=seed,
                                     budget=common.budget(quality, target_rel_error, samples, time_budget_s),
-                                    progress=progress, cancelled=cancelled)
+                                    progress=progress, cancelled=cancelled, model=model)
     seconds = time.perf_counter() - started
     measured, se, direct, dse = split.total, split.total_se, split.direct, split.direct_se
     predicted = intensity / d**2
@@ -348,7 +349,7 @@ def write_inverse_square_plot(result, path):
 
 # --- cosine law ----------------------------------------------------------------------------------
 
-def default_location(spec, scene):
+def default_location(spec, scene, model=None):
     """Scene coordinates: 2 source sizes (at least 1 m) in front of the light, but no farther than
     half-way to the first surface on its axis; the origin for a sun."""
     if spec.kind == "SUN":
@@ -356,7 +357,7 @@ def default_location(spec, scene):
     scale = scene.unit_settings.scale_length
     axis = np.asarray(spec.emission_direction, float)
     d = max(1.0, 2.0 * source_size(spec))
-    free = free_distance(scene, spec.position, axis)
+    free = free_distance(scene, spec.position, axis, model)
     if math.isfinite(free):
         d = min(d, 0.5 * free)
     return (np.asarray(spec.position) + d * axis) / scale
@@ -416,10 +417,11 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
     """
     scene = common.scene_or_context(scene)
     obj = light_object(light, scene)
-    spec = light_spec(obj, scene)
+    model = scene_model(scene)  # one capture for the whole check (issue 17)
+    spec = light_spec(obj, scene, model)
     weights, _eff = common.luminance_weights(scene)
     scale = scene.unit_settings.scale_length
-    loc = default_location(spec, scene) if location is None else np.asarray(location, float)
+    loc = default_location(spec, scene, model) if location is None else np.asarray(location, float)
     if loc.shape != (3,) or not np.all(np.isfinite(loc)):
         raise RadiometerError(f"location must be 3 finite numbers (scene coordinates), got {location!r}")
     angles = np.asarray(DEFAULT_ANGLES_DEG if angles_deg is None else angles_deg, float).ravel()
@@ -434,7 +436,7 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
     started = time.perf_counter()
     split = measure_light_and_scene(scene, obj, points, normals, method=method, seed=seed,
                                     budget=common.budget(quality, target_rel_error, samples, time_budget_s),
-                                    progress=progress, cancelled=cancelled)
+                                    progress=progress, cancelled=cancelled, model=model)
     seconds = time.perf_counter() - started
     where = tuple(np.round(loc, 4))
     if not split.direct[0] > 0:

@@ -35,10 +35,16 @@ def light_object(light, scene):
     return obj
 
 
-def light_spec(obj, scene):
+def scene_model(scene):
+    """The scene as Cycles renders it (``SceneModel``, m): captured once per analysis and handed to
+    the helpers below (and served from ``capture_cache`` while the scene is unchanged)."""
+    return meter.capture_model(scene, common.view_layer_of(scene))
+
+
+def light_spec(obj, scene, model=None):
     """The LightSpec (SI) of a light object as Cycles renders it, or a clear error when no closed
-    form describes it."""
-    model = meter.capture_model(scene, common.view_layer_of(scene))
+    form describes it. ``model``: the scene's ``SceneModel`` when the caller has it."""
+    model = scene_model(scene) if model is None else model
     for light in model.lights:
         if light.name == obj.name:
             if light.spec is None:
@@ -61,10 +67,10 @@ def source_size(spec):
     return 0.0
 
 
-def rendering_light_objects(scene):
+def rendering_light_objects(scene, model=None):
     """Every light OBJECT that renders in ``scene``: the scene model's light sources (which include
     lights inside instanced collections) and the scene's own visible light objects."""
-    model = meter.capture_model(scene, common.view_layer_of(scene))
+    model = scene_model(scene) if model is None else model
     names = {lt.source or lt.name for lt in model.lights}
     objects = {ob for ob in scene.objects if ob.type == "LIGHT" and not ob.hide_render}
     objects |= {bpy.data.objects[n] for n in names if n in bpy.data.objects}
@@ -72,12 +78,12 @@ def rendering_light_objects(scene):
 
 
 @contextlib.contextmanager
-def isolated_light(scene, obj):
+def isolated_light(scene, obj, model=None):
     """Only ``obj`` lights the scene inside the block: every other light object off in renders
     (instanced ones too), no world. Yields the names of the lights switched off."""
     with scene_guard.preserved_scene(scene) as snapshot:
         off = []
-        for other in rendering_light_objects(scene):
+        for other in rendering_light_objects(scene, model):
             if other != obj and not other.hide_render:
                 snapshot.remember(other, "hide_render")
                 other.hide_render = True
@@ -88,14 +94,14 @@ def isolated_light(scene, obj):
         yield off
 
 
-def free_distance(scene, origin_m, direction):
+def free_distance(scene, origin_m, direction, model=None):
     """Distance (m) along ``direction`` from ``origin_m`` (m) to the first surface that renders, inf
     if none. Cast against the scene model's triangles (what Cycles renders, instances included),
     so a surface hidden in renders that coincides with a real one (a work plane on a desk) does not
     hide it."""
     from ..radiometry import visibility
 
-    model = meter.capture_model(scene, common.view_layer_of(scene))
+    model = scene_model(scene) if model is None else model
     d = np.asarray(direction, float)
     dist, _index, _facing = visibility.first_hits(np.asarray(origin_m, float), (d / np.linalg.norm(d))[None],
                                                   model.geometry.triangles)
@@ -144,11 +150,11 @@ def _part(progress, lo, hi):
 
 
 def measure_light_and_scene(scene, obj, points_scene, normals, *, method, budget, seed=0, progress=None,
-                            cancelled=None):
+                            cancelled=None, model=None):
     """Measure ``obj`` alone at the points: the total and the light's direct light. Returns
     :class:`LightAndScene`. The direct part uses closed forms where the scene model proves them
     (``method`` "analytic": always) and Cycles at 0 bounces elsewhere, with the same budget."""
-    with isolated_light(scene, obj) as off:
+    with isolated_light(scene, obj, model) as off:
         total = common.measure(scene, points_scene, normals, method=method, budget=budget, seed=seed,
                                progress=_part(progress, 0.0, 0.5), cancelled=cancelled)
         exact = all(r.exact for r in total)

@@ -61,9 +61,9 @@ def scene_photometry(scene):
 
 def capture_model(scene, view_layer=None, exclude=()):
     """The scene as Cycles renders it (``radiometry.scene_model.SceneModel``, metres)."""
-    from . import scene_capture
+    from . import capture_cache  # the capture, again only when the scene changed (issue 17)
 
-    return scene_capture.capture(scene, view_layer, exclude=exclude)
+    return capture_cache.capture(scene, view_layer, exclude=exclude)
 
 
 def plan(scene, model, points_m, normals, method, direct_only=False):

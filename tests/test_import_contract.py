@@ -68,7 +68,6 @@ EXCEPTIONS = {
         "return contract (redesign step; H5 owns the plots this session)",
     ("layer", "measure.grid", "plots"): f"{_TODAY}: as measure.analysis_common (H5 owns measure/grid.py)",
     ("layer", "measure.grid", "plots.isolux"): f"{_TODAY}: as measure.analysis_common (H5 owns measure/grid.py)",
-    ("layer", "measure.convergence_study", "plots"): f"{_TODAY}: as measure.analysis_common",
     ("layer", "measure.convergence_study", "plots.convergence"): f"{_TODAY}: as measure.analysis_common",
     ("layer", "measure.law_checks", "plots.laws"): f"{_TODAY}: as measure.analysis_common",
     ("layer", "measure.report", "plots"): f"{_TODAY}: as measure.analysis_common (H5 owns measure/report.py)",
@@ -84,7 +83,7 @@ EXCEPTIONS = {
     ("layer", "commands.demo", "cli"): f"{_TODAY}: as commands.brdf (deliver, write_json, _ensure_registered)",
     ("layer", "commands.grid", "cli"): f"{_TODAY}: as commands.brdf",
     ("private", "commands.demo", "cli._ensure_registered"): f"{_TODAY}: as commands.brdf",
-    ("circle", "measure.meter <-> measure.scene_capture <-> measure.world", None):
+    ("circle", "measure.capture_cache <-> measure.meter <-> measure.scene_capture <-> measure.world", None):
         f"{_TODAY}: measure/world.py both reads the world as data (scene_capture needs it) and measures it "
         "(world_illuminance calls the meter); splitting it touches files H4 and H6 own this session",
     ("private", "operators.brdf", "props.brdf._params_dict"):

@@ -1,0 +1,158 @@
+"""The capture cache (issue 17): one capture per scene state, never a stale model.
+
+Every reading here is a closed form (``method="analytic"``: point lights, no surface above the
+meter), so the expected numbers are P / (4 pi r^2) (Blender's point light, FACTS.md) and a stale
+model would show as the old number.
+"""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+
+from radiometer import api
+from radiometer.measure import capture_cache, light_isolation, meter, scene_capture
+
+K = 683.0  # lm/W, the default efficacy; a white light's CIE Y weight is 1
+
+
+def _lux(location=(0.0, 0.0, 0.0), normal=(0.0, 0.0, 1.0)):
+    return api.measure_illuminance(location, normal, method="analytic").illuminance
+
+
+def _point_lux(power_w, distance_m):
+    return K * power_w / (4.0 * math.pi * distance_m**2)
+
+
+@pytest.fixture
+def captures(monkeypatch):
+    """Counts the real (probe-render) captures."""
+    calls = []
+    real = scene_capture.capture
+
+    def counting(*args, **kwargs):
+        calls.append(args)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(scene_capture, "capture", counting)
+    capture_cache.clear()
+    return calls
+
+
+def test_unchanged_scene_is_captured_once_and_an_edit_is_seen(clean_blender, build, captures):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    lamp = build.light(scene, "POINT", location=(0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0)
+    assert _lux() == pytest.approx(_point_lux(100.0, 2.0), rel=1e-7)
+    assert _lux() == pytest.approx(_point_lux(100.0, 2.0), rel=1e-7)
+    assert len(captures) == 1  # the second reading reused the capture
+    lamp.data.energy = 250.0
+    assert _lux() == pytest.approx(_point_lux(250.0, 2.0), rel=1e-7)
+    lamp.location.z = 4.0
+    assert _lux() == pytest.approx(_point_lux(250.0, 4.0), rel=1e-7)
+    assert len(captures) == 3
+
+
+def test_edits_blender_does_not_announce_are_still_seen(clean_blender, build, captures):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    hidden = bpy.data.collections.new("off in viewports")
+    scene.collection.children.link(hidden)
+    hidden.hide_viewport = True  # not in the viewport's depsgraph, still rendered
+    lamp = build.light(scene, "POINT", location=(0.0, 0.0, 1.0), energy=10.0, shadow_soft_size=0.0)
+    scene.collection.objects.unlink(lamp)
+    hidden.objects.link(lamp)
+    panel = build.light(scene, "AREA", location=(0.0, 0.0, 3.0), energy=50.0, size=0.5)  # faces down (-Z)
+    before = _lux()
+    assert before > 1.5 * _point_lux(10.0, 1.0)  # the panel adds a good share
+    lamp.data.energy = 20.0
+    after_lamp = _lux()
+    assert after_lamp - before == pytest.approx(_point_lux(10.0, 1.0), rel=1e-6)
+    panel.data.cycles.is_portal = True  # a Python-defined Cycles property: fires no depsgraph update
+    assert _lux() == pytest.approx(_point_lux(20.0, 1.0), rel=1e-7)
+    panel.data.cycles.is_portal = False
+    assert _lux() == pytest.approx(after_lamp, rel=1e-9)
+    scene.unit_settings.scale_length = 2.0  # 1 scene unit = 2 m: the lamp is 2 m away
+    assert _lux() == pytest.approx((after_lamp - _point_lux(20.0, 1.0)) / 4 + _point_lux(20.0, 2.0), rel=1e-6)
+
+
+def test_ies_text_edit_is_seen(clean_blender, build, captures, tmp_path):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    v = np.arange(0.0, 180.0 + 1e-9, 10.0)
+
+    def ies(candela):
+        return "\n".join(["IESNA:LM-63-2002", "TILT=NONE", f"1 -1 1 {v.size} 1 1 2 0 0 0", "1 1 10",
+                          " ".join(f"{x:g}" for x in v), "0", " ".join(f"{candela:g}" for _ in v)]) + "\n"
+
+    path = tmp_path / "iso.ies"
+    path.write_text(ies(100.0))
+    obj = api.import_luminaire(str(path), location=(0.0, 0.0, 2.0))
+    first = _lux()
+    assert first == pytest.approx(100.0 / 4.0, rel=1e-6)  # I / r^2, lux
+    text = next(node.ies for node in obj.data.node_tree.nodes if node.bl_idname == "ShaderNodeTexIES")
+    text.from_string(ies(300.0))  # editing a text data-block fires no depsgraph update
+    assert _lux() == pytest.approx(300.0 / 4.0, rel=1e-6)
+
+
+def test_world_image_pixels_are_read_again(clean_blender, captures):
+    scene = bpy.context.scene
+    world = bpy.data.worlds.new("image world")
+    scene.world = world
+    tree = world.node_tree
+    image = bpy.data.images.new("sky", 8, 4, float_buffer=True)
+    image.colorspace_settings.name = "Non-Color"
+    image.pixels.foreach_set(np.ones(8 * 4 * 4, np.float32))
+    texture = tree.nodes.new("ShaderNodeTexEnvironment")
+    texture.image, texture.interpolation = image, "Closest"
+    tree.links.new(texture.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+    first = _lux()
+    assert first == pytest.approx(K * math.pi, rel=1e-6)  # uniform radiance 1: E = pi L
+    image.pixels.foreach_set(np.full(8 * 4 * 4, 2.0, np.float32))  # pixels fire no depsgraph update
+    assert _lux() == pytest.approx(2.0 * K * math.pi, rel=1e-6)
+
+
+def test_inverse_square_check_captures_the_unchanged_scene_once(clean_blender, build, captures):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "POINT", location=(0.0, 0.0, 3.0), rotation=(0.0, 0.0, 0.0), energy=100.0,
+                shadow_soft_size=0.0)
+    result = api.check_inverse_square("point", method="analytic", distances=[0.5, 1.0, 2.0])
+    assert result is not None
+    # The whole scene once (light, free space, the lights to switch off), the isolated scene once: it
+    # was 4 (light_spec, free_distance, rendering_light_objects, then the measurement).
+    assert len(captures) == 2
+
+
+def test_model_is_a_copy_with_shared_geometry(clean_blender, build, captures):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "POINT", location=(0.0, 0.0, 2.0), energy=10.0)
+    build.plane(scene, size=4.0)
+    a = meter.capture_model(scene, bpy.context.view_layer)
+    a.lights.clear()
+    a.needs["geometry"] = False
+    b = meter.capture_model(scene, bpy.context.view_layer)
+    assert len(captures) == 1 and len(b.lights) == 1 and b.needs["geometry"]
+    assert b.geometry is a.geometry
+
+
+def test_other_scene_and_frame_are_their_own_entries(clean_blender, build, captures):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    lamp = build.light(scene, "POINT", location=(0.0, 0.0, 1.0), energy=10.0, shadow_soft_size=0.0)
+    lamp.keyframe_insert("location", frame=1)
+    lamp.location.z = 2.0
+    lamp.keyframe_insert("location", frame=2)
+    scene.frame_set(1)
+    assert _lux() == pytest.approx(_point_lux(10.0, 1.0), rel=1e-7)
+    scene.frame_set(2)
+    assert _lux() == pytest.approx(_point_lux(10.0, 2.0), rel=1e-7)
+    other = bpy.data.scenes.new("other")
+    build.black_world(other)
+    build.light(other, "POINT", location=(0.0, 0.0, 0.5), energy=10.0, shadow_soft_size=0.0)
+    reading = api.measure_illuminance((0, 0, 0), (0, 0, 1), method="analytic", scene=other)
+    assert reading.illuminance == pytest.approx(_point_lux(10.0, 0.5), rel=1e-7)
+    assert light_isolation.scene_model(scene).lights[0].spec.position[2] == pytest.approx(2.0)
