@@ -152,7 +152,10 @@ def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None):
     scene.render.engine = "CYCLES"
     cy = scene.cycles
     r = scene.render
-    cy.device = "CPU"
+    from .device import measurement_device
+
+    device, device_label, device_note = measurement_device(scene)  # the user's GPU where it can (issue 17)
+    cy.device = device
     cy.samples = int(samples)
     # A view layer's own sample count (view_layer.samples != 0) overrides scene samples in camera
     # renders (measured: 1 layer sample instead of 1024); the record must state what was used.
@@ -238,7 +241,9 @@ def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None):
     if scene.world is not None and hasattr(scene.world, "cycles") and scene.world.cycles.max_bounces < interreflection:
         limited.append(f"world {scene.world.name}")
     return {
-        "engine": "CYCLES (CPU)",
+        "engine": f"CYCLES ({device_label})",
+        "device": device,
+        "device_note": device_note,
         "samples": int(samples),
         "max_bounces": cy.max_bounces,
         "diffuse_bounces": cy.diffuse_bounces,
