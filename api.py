@@ -396,3 +396,26 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
                            sky=sky, scene=scene, quality=quality, client=client, north_offset_deg=north_offset_deg,
                            min_elevation_deg=min_elevation_deg, method=method, seed=seed, progress=progress,
                            cancelled=cancelled)
+
+
+# --- scale-out on Dask (issue 20) ----------------------------------------------------------------
+
+def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0, client=None, progress=None,
+                  cancelled=None):
+    """Readings of many .blend files (design variants), one list per file, in the order of ``files``.
+
+    ``meters``: None (every light-meter object of each file, with the file's method), meter object
+    names, or illuminance points: (x, y, z), ((x, y, z), (nx, ny, nz)) or {"location", "normal"}
+    (scene coordinates; normal default +Z). ``quality``: "preview" | "standard" | "reference"
+    (1-sigma targets 5 %, 1 %, 0.2 %); ``seed``: first Cycles seed of point readings. ``client``:
+    None runs in this process (each file opened in turn, the open file reopened afterwards; see
+    docs/cluster.md), or a ``distributed.Client`` (``radiometer.cluster.local_client(n)`` or
+    ``connect(address)``): one task per file on the cluster's workers. ``progress(done, total,
+    seconds_left)`` after each file. Returns ``FileReadings`` (``file``, ``scene``, ``names``,
+    ``readings``, ``to_dict()``) per file. A bad or unreadable file, or a missing texture, raises
+    RadiometerError naming the file and the task.
+    """
+    from .cluster import batch
+
+    return batch.measure_batch(files, meters, quality=quality, method=method, seed=seed, client=client,
+                               progress=progress, cancelled=cancelled)

@@ -16,6 +16,7 @@ SUBCOMMANDS = {
     "report": "report",
     "luminaire": "luminaire",
     "world": "world",
+    "batch": "batch",
     "sun": "sun",
     "sun-study": "sun_study",
 }

@@ -1,0 +1,236 @@
+"""Scale-out on Dask (issue 20): the same readings in process and on a cluster, every worker used, a
+worker killed with SIGKILL loses nothing, Dask's own CLI cluster, one-line failures naming file and task.
+
+Kept small: one LocalCluster of 2 worker processes for the module, a few tasks of tiny scenes.
+"""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+pytest.importorskip("distributed")
+
+
+def _builders():
+    # The scene builders of conftest.py (importlib import mode: conftest is not importable by name).
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("_cluster_builders", os.path.join(os.path.dirname(__file__),
+                                                                                    "conftest.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.add_light, module.add_plane, module.make_black_world
+
+
+add_light, add_plane, make_black_world = _builders()
+
+from radiometer.errors import MeasurementCancelled, RadiometerError  # noqa: E402
+
+VENV_BIN = os.path.dirname(sys.executable)
+POINTS = [((0.3, 0.0, 0.5), (0.0, 0.0, 1.0)), ((-0.3, 0.2, 0.5), (0.0, 0.0, 1.0))]
+
+
+def _variant(path, power_w, texture=None):
+    """A point light over a floor with a wall that reflects light onto two meters (hybrid: rendered)."""
+    import radiometer
+    from radiometer.measure.meters import add_meter
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    radiometer.register()
+    scene = bpy.context.scene
+    make_black_world(scene)
+    add_light(scene, "POINT", (0.0, 0.0, 2.0), energy=power_w, shadow_soft_size=0.0)
+    add_plane(scene, 4.0, (0.0, 0.0, 0.0))
+    wall = add_plane(scene, 4.0, (0.0, 2.0, 1.0), (np.pi / 2, 0.0, 0.0), name="wall")
+    if texture:
+        image = bpy.data.images.new("wall texture", 4, 4)
+        image.source, image.filepath = "FILE", texture
+        tree = wall.active_material.node_tree
+        node = tree.nodes.new("ShaderNodeTexImage")
+        node.image = image
+        tree.links.new(node.outputs["Color"], tree.nodes["Diffuse BSDF"].inputs["Color"])
+    for location, _ in POINTS:
+        add_meter(bpy.context, "ILLUMINANCE", location)
+    bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def variants(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("variants")
+    paths = [_variant(folder / f"variant{k}.blend", 100.0 * (k + 1)) for k in range(2)]
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    return paths
+
+
+@pytest.fixture(scope="module")
+def client():
+    from radiometer.cluster import local_client
+
+    c = local_client(2)
+    try:
+        yield c
+    finally:
+        cluster = c.cluster
+        c.close()
+        cluster.close()
+
+
+def _values(results):
+    return np.array([[r.illuminance for r in f.readings] for f in results]), \
+        np.array([[r.illuminance * r.rel_std_error for r in f.readings] for f in results])
+
+
+def test_in_process_and_cluster_agree_and_every_worker_gets_tasks(clean_blender, variants, client):
+    from radiometer import api
+    from radiometer.cluster import batch
+
+    files = variants * 2  # 4 tasks on 2 workers
+    here = api.measure_batch(files, quality="preview")
+    stats = {}
+    seen = []
+    there = batch.measure_batch(files, quality="preview", client=client, stats=stats,
+                                progress=lambda done, total, left: seen.append((done, total)))
+    assert [f.file for f in there] == [os.path.abspath(f) for f in files]  # merged in order
+    assert all(f.names == ["Illuminance Meter", "Illuminance Meter.001"] for f in there)
+    a, sa = _values(here)
+    b, sb = _values(there)
+    assert all(r.method == "hybrid" for f in there for r in f.readings)  # rendered, not closed forms
+    # Within the combined stated errors (3 sigma); both ran with the same seeds.
+    assert np.all(np.abs(a - b) <= 3 * np.hypot(sa, sb)), (a, b)
+    # The second light is twice the first: the readings say so within their errors.
+    assert np.allclose(b[1] / b[0], 2.0, rtol=3 * 0.02)
+    assert len(stats["workers"]) == 2 and {t["worker"] for t in stats["tasks"]} == stats["workers"]
+    assert seen[-1] == (4, 4) and [d for d, _ in seen] == [1, 2, 3, 4]
+    # The scene went once to each worker: each worker opened each of the 2 files at most once.
+    loads = [(t["worker"], t["index"] % 2) for t in stats["tasks"] if t["load_s"] > 0]
+    assert len(loads) == len(set(loads))
+
+
+def test_worker_killed_with_sigkill_mid_run_loses_nothing(clean_blender, variants, client):
+    from radiometer.cluster import batch, run_scene_tasks
+
+    # A study of 8 tasks (a seed each, like 8 times of day) on one scene; a worker is killed as soon
+    # as the first task is back, while the others are running or queued.
+    kwargs = [dict(meters=POINTS, quality="standard", method="render", seed=k) for k in range(8)]
+    expected = run_scene_tasks(variants[0], batch.measure_file, kwargs, label="kill test")
+    pids = client.run(os.getpid)
+    killed = []
+
+    def kill_one(done, total, left):
+        if not killed:
+            victim = sorted(pids.values())[0]
+            os.kill(victim, signal.SIGKILL)
+            killed.append((victim, done, total))
+
+    stats = {}
+    results = run_scene_tasks(variants[0], batch.measure_file, kwargs, client=client, progress=kill_one,
+                              label="kill test", stats=stats)
+    victim, done_then, total = killed[0]
+    assert done_then < total
+    with pytest.raises(ProcessLookupError):
+        os.kill(victim, 0)
+    assert len(results) == 8 and all(r is not None for r in results)
+    got = np.array([[r.illuminance for r in f.readings] for f in results])
+    want = np.array([[r.illuminance for r in f.readings] for f in expected])
+    np.testing.assert_allclose(got, want, rtol=1e-9)  # deterministic seeds: equal, not just close
+    assert any(t["pid"] != victim for t in stats["tasks"])
+
+
+def test_bad_file_on_the_cluster_is_one_line_naming_file_and_task(clean_blender, variants, client, tmp_path):
+    from radiometer.cluster import batch
+
+    broken = tmp_path / "broken.blend"
+    broken.write_bytes(b"BLENDER-v500" + os.urandom(300))  # a .blend header, then garbage
+    with pytest.raises(RadiometerError) as info:
+        batch.measure_batch([variants[0], str(broken)], quality="preview", client=client)
+    message = str(info.value)
+    assert "\n" not in message and "batch task 2" in message and "broken.blend" in message, message
+
+
+@pytest.mark.parametrize("where", ["in process", "cluster"])
+def test_missing_texture_fails_the_run_naming_it(clean_blender, client, tmp_path, where):
+    from radiometer.cluster import batch
+
+    missing = str(tmp_path / "textures" / "brick.png")
+    path = _variant(tmp_path / "textured.blend", 100.0, texture=missing)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    with pytest.raises(RadiometerError) as info:
+        batch.measure_batch([path], quality="preview", client=client if where == "cluster" else None)
+    message = str(info.value)
+    assert "\n" not in message and "batch task 1" in message and "textured.blend" in message, message
+    assert "brick.png" in message and "missing" in message
+
+
+def test_in_process_live_scene_progress_order_and_cancel(clean_blender, build):
+    from radiometer.cluster import batch, run_scene_tasks
+
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "POINT", (0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0)
+    heights = [0.5, 1.0, 1.5]
+    kwargs = [dict(meters=[(0.0, 0.0, h)], method="analytic") for h in heights]
+    seen = []
+    results = run_scene_tasks(scene, batch.measure_file, kwargs, progress=lambda d, t, s: seen.append(d))
+    # Closed form: E = I / d^2 with I = P / (4 pi) (Blender's point light, README conventions).
+    lux = [f.readings[0].illuminance for f in results]
+    efficacy = results[0].readings[0].efficacy
+    wy = results[0].readings[0].irradiance / (100.0 / (4 * np.pi) / 1.5 ** 2)
+    np.testing.assert_allclose(lux, [efficacy * wy * 100.0 / (4 * np.pi) / (2.0 - h) ** 2 for h in heights],
+                               rtol=1e-7)
+    assert seen == [1, 2, 3]
+    with pytest.raises(MeasurementCancelled):
+        run_scene_tasks(scene, batch.measure_file, kwargs, cancelled=lambda: True)
+
+
+def _start(args, **kw):
+    return subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd="/", **kw)
+
+
+def test_dask_cli_scheduler_and_two_workers_run_a_study(clean_blender, variants, tmp_path):
+    from radiometer.cluster import batch, connect
+
+    scheduler_file = tmp_path / "scheduler.json"
+    procs = [_start([os.path.join(VENV_BIN, "dask"), "scheduler", "--host", "127.0.0.1", "--port", "0",
+                     "--no-dashboard", "--scheduler-file", str(scheduler_file)])]
+    try:
+        deadline = time.monotonic() + 120
+        while not scheduler_file.exists() and time.monotonic() < deadline:
+            time.sleep(0.2)
+        address = json.loads(scheduler_file.read_text())["address"]
+        procs += [_start([os.path.join(VENV_BIN, "dask"), "worker", address, "--nthreads", "1", "--no-dashboard",
+                          "--name", f"w{k}"]) for k in range(2)]
+        c = connect(address)
+        try:
+            c.wait_for_workers(2, timeout=120)
+            kwargs = [dict(meters=POINTS, quality="preview", method="render", seed=k) for k in range(4)]
+            stats = {}
+            got = batch.measure_batch  # noqa: F841  (the study: 4 seeds of one scene, like 4 times)
+            from radiometer.cluster import run_scene_tasks
+
+            there = run_scene_tasks(variants[1], batch.measure_file, kwargs, client=c, stats=stats,
+                                    label="study")
+            here = run_scene_tasks(variants[1], batch.measure_file, kwargs, label="study")
+        finally:
+            c.close()
+        a = np.array([[r.illuminance for r in f.readings] for f in here])
+        b = np.array([[r.illuminance for r in f.readings] for f in there])
+        se = np.array([[r.illuminance * r.rel_std_error for r in f.readings] for f in here])
+        assert np.all(np.abs(a - b) <= 3 * np.sqrt(2) * se)
+        assert len({t["pid"] for t in stats["tasks"]}) == 2  # both separately started workers ran tasks
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+        for p in procs:
+            try:
+                p.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
