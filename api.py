@@ -348,6 +348,29 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
                        north_offset_deg=north_offset_deg, elevation_m=elevation_m)
 
 
+# --- daylight: CIE skies and the daylight factor (issue 19) ---------------------------------------
+
+def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_direction=None, ground_reflectance=0.2):
+    """Make the scene's world a CIE sky whose shader evaluates the sky's luminance formula on the ray
+    direction (a new World; the old one stays in the file).
+
+    ``sky_type``: "overcast" (the traditional CIE overcast sky, L = Lz (1 + 2 cos Z) / 3) or an ISO
+    15469 / CIE S 011 general sky type 1..15 (int, or "cie:12"). ``horizontal_illuminance_lux``:
+    the unobstructed horizontal illuminance from the sky (default 10 000 lx); ``sun_direction``:
+    unit vector towards the sun (+X east, +Y north, +Z up; needed by the types that depend on the
+    sun, e.g. from :func:`sun_position`); the uniform ground below a sharp horizon has luminance
+    ``ground_reflectance`` x E_h / pi. The meter reads this world exactly where nothing lies above
+    its horizon (see docs/daylight-sky.md). Returns a dict (world, sky_type, zenith_luminance,
+    ground_luminance, ..., notes).
+    """
+    import bpy
+
+    from .measure import sky
+
+    return sky.set_cie_sky(scene or bpy.context.scene, sky_type, horizontal_illuminance_lux=horizontal_illuminance_lux,
+                           sun_direction=sun_direction, ground_reflectance=ground_reflectance)
+
+
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------
 
 def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0, client=None, progress=None,

@@ -124,6 +124,11 @@ def read_world(scene):
     if vis is not None and not getattr(vis, "diffuse", True):
         return environment.WorldLight("black", np.zeros(3), notes=["world invisible to diffuse rays: no light on a diffuse sensor"])
     tree = active_node_tree(world)
+    if "radiometer_cie_sky" in world.keys():  # a Radiometer CIE sky (measure/sky.py): exact while unedited
+        from . import sky
+
+        found = sky.read_sky_world(world, tree)
+        return _not_modelled(found) if isinstance(found, str) else found
     if tree is None:
         return environment.WorldLight("constant", np.array(world.color[:3], float), node="")
     outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputWorld"]
