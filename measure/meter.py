@@ -14,10 +14,11 @@ import numpy as np
 from .. import quality as quality_presets
 from ..radiometry import allocation
 from ..errors import RadiometerError
+from ..radiometry.constants import K_M_LM_PER_W
 from ..readings import IlluminanceReading
 from . import render_settings, scene_guard, sensors
 
-DEFAULT_EFFICACY = 683.0  # lm/W, Blender's glTF convention; see README "Conventions"
+DEFAULT_EFFICACY = K_M_LM_PER_W  # 683 lm/W, Blender's glTF convention; see README "Conventions"
 
 
 # --- inputs ---------------------------------------------------------------------------------------
@@ -49,9 +50,10 @@ def as_directions(direction, count, name="normal"):
 
 def scene_photometry(scene):
     """(colour space name, luminance weights (3,), efficacy lm/W) for this scene."""
+    from ..compat import working_colour_space
     from ..radiometry import photometry
 
-    space = bpy.data.colorspace.working_space if hasattr(bpy.data, "colorspace") else "Linear Rec.709"
+    space = working_colour_space()
     settings = getattr(scene, "radiometer", None)
     efficacy = float(settings.efficacy) if settings is not None else DEFAULT_EFFICACY
     return space, np.asarray(photometry.luminance_weights(space), float), efficacy
@@ -215,7 +217,8 @@ def single_delta_light(decision):
     sample), so this shortcut needs exactly one.
     """
     model = decision["model"]
-    if model.needs.get("geometry") or model.world_emits or model.emissive_surfaces or decision["uncovered"]:
+    if model.needs.get("geometry") or model.needs.get("volume") or model.world_emits or model.emissive_surfaces \
+            or decision["uncovered"]:
         return False
     emitting = [lt for lt in model.lights if not lt.portal]
     if len(emitting) != 1 or emitting[0].spec is None:

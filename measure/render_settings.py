@@ -222,7 +222,8 @@ def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None):
             layer.cycles.use_denoising = False
     overrides = [f"{getattr(s, 'name', '?')}.{a}" for s, a, _ in suspend_layer_overrides(scene, snapshot)] \
         if snapshot is not None else []
-    interreflection = bounces if needs["geometry"] else 0
+    # A world volume scatters light with no geometry in the scene: bounces are needed for it too.
+    interreflection = bounces if (needs["geometry"] or needs.get("volume")) else 0
     cy.diffuse_bounces = interreflection
     cy.glossy_bounces = interreflection if needs["glossy"] else 0
     cy.transmission_bounces = interreflection if needs["transmission"] else 0

@@ -80,7 +80,7 @@ def _mesh_triangles(obj):
 
 def _collect(depsgraph):
     """Walk the render depsgraph; returns a SceneModel (positions still in scene units)."""
-    lights, names, shadow, reflects, unmodelled = [], [], [], [], []
+    lights, names, shadow, reflects, unmodelled, volumes = [], [], [], [], [], []
     tri_chunks, obj_chunks, opaque_chunks, emissive_chunks = [], [], [], []
     needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
     material_cache, local_cache, instance_count = {}, {}, {}
@@ -105,6 +105,7 @@ def _collect(depsgraph):
         needs["geometry"] = True
         if obj.type == "VOLUME":
             needs["volume"] = True
+            volumes.append((name,) + _bound_box_m(obj, inst.matrix_world))
         if obj.type not in _MESHABLE:
             unmodelled.append(name)
             continue
@@ -137,6 +138,9 @@ def _collect(depsgraph):
         slot = np.clip(mat_index, 0, len(traits) - 1)
         m = np.array(inst.matrix_world, dtype=np.float64)
         world = (tris_local @ m[:3, :3].T + m[:3, 3]) * _Capture.scale  # metres
+        if traits[np.unique(slot), 4].any():  # a Volume shader fills this mesh (issue 18)
+            flat = world.reshape(-1, 3)
+            volumes.append((name, flat.min(axis=0), flat.max(axis=0)))
         index = len(names)
         names.append(name)
         shadow.append(bool(obj.visible_shadow))
@@ -150,7 +154,16 @@ def _collect(depsgraph):
         triangles=cat(tri_chunks, (0, 3, 3)), object_index=cat(obj_chunks, (0,)).astype(int), object_names=names,
         casts_shadow=np.array(shadow, bool), opaque=cat(opaque_chunks, (0,)).astype(bool),
         reflects=np.array(reflects, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled)
+    needs["volumes"] = volumes
     return lights, geometry, needs
+
+
+def _bound_box_m(obj, matrix_world):
+    """(min (3,), max (3,)) in metres of an evaluated object's bounding box in world space."""
+    corners = np.array([tuple(c) for c in obj.bound_box], float)
+    m = np.array(matrix_world, dtype=np.float64)
+    world = (corners @ m[:3, :3].T + m[:3, 3]) * _Capture.scale
+    return world.min(axis=0), world.max(axis=0)
 
 
 def _light_entry(obj, name, matrix_world):
@@ -242,10 +255,12 @@ def capture(scene, view_layer=None, exclude=()):
             reaches_diffuse=item["reaches_diffuse"], portal=item["portal"], notes=item["notes"],
             source=item["source"]))
     needs["world_emits"] = render_settings.world_emits(scene.world)
-    needs["volume"] |= render_settings._uses_volume(
-        render_settings.active_node_tree(scene.world) if scene.world else None)
+    world_volume = render_settings._uses_volume(render_settings.active_node_tree(scene.world) if scene.world else None)
+    needs["volume"] |= world_volume
+    volumes = needs.pop("volumes", [])
     return scene_model.SceneModel(lights=model_lights, geometry=geometry, world_emits=needs["world_emits"],
-                                  needs=needs, scale_length=scale, world=_world(scene, needs["world_emits"]))
+                                  needs=needs, scale_length=scale, world=_world(scene, needs["world_emits"]),
+                                  volumes=volumes, world_volume=bool(world_volume))
 
 
 def _world(scene, emits):

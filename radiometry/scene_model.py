@@ -115,6 +115,12 @@ class SceneModel:
     scale_length: float = 1.0
     notes: list = field(default_factory=list)
     world: object = None  # radiometry.environment.WorldLight when the world emits (modelled or not)
+    #: Participating media (issue 18): (name, box min (3,), box max (3,)) in metres per volume object
+    #: (a mesh with a Volume shader, an OpenVDB volume); ``world_volume`` when the world has one.
+    volumes: list = field(default_factory=list)
+    world_volume: bool = False
+    #: Recognised thin glass panes (``radiometry.thin_glass.Pane``) by object index (issue 18).
+    panes: dict = field(default_factory=dict)
 
     @property
     def emissive_surfaces(self):
@@ -280,6 +286,9 @@ def indirect_possible(model, p, n, tol):
     """
     if model.world_emits and not world_modelled(model):
         return True, "the world emits light"
+    volume = volume_above(model, p, n, tol)
+    if volume:
+        return True, f"{volume} scatters light toward the meter (in-scattering is rendered)"
     g = model.geometry
     if g.unmodelled:
         return True, f"geometry without triangles ({', '.join(g.unmodelled[:3])})"
@@ -345,8 +354,74 @@ def plan_direct(model, points, normals, exact_model):
             else:
                 where = f" by {blocker!r}" if blocker else " (meter inside the light)"
                 status[i, k], reason[i, k] = RENDER, f"may be partly occluded{where}"
+    if model.world_volume or model.volumes:
+        for i, light in enumerate(model.lights):
+            if light.spec is None or light.portal or not light.reaches_diffuse:
+                continue
+            media = volume_on_paths(model, light.spec, points, tol, reach)
+            for k in np.flatnonzero(media != None):  # noqa: E711 - object array
+                if status[i, k] in (EXACT, BOUNDED):
+                    status[i, k], reason[i, k] = RENDER, (f"{media[k]} may lie between the meter and the light: it "
+                                                          "attenuates and scatters it (no closed form); rendered")
     world_status, world_reason = world_statuses(model, points, normals, tol)
     return DirectPlan(status, reason, indirect, indirect_reason, world_status, world_reason)
+
+
+# --- participating media (issue 18) ------------------------------------------------------------------
+
+def volume_on_paths(model, spec, points, tol, scene_reach):
+    """(N,) object array: the name of a volume that may meet a segment from each receiver to the
+    light (the world's volume, or a volume object whose bounding box meets the bounding box of the
+    region holding those segments), else None. Conservative: a box overlap is not a crossing."""
+    points = np.asarray(points, float)
+    n = len(points)
+    out = np.full(n, None, dtype=object)
+    if model.world_volume:
+        out[:] = "the world's volume"
+        return out
+    if not model.volumes or not n:
+        return out
+    kind, ends, _inside = _source_bases(spec, points, scene_reach)
+    for k in range(n):
+        region = np.vstack([points[k][None, :], np.reshape(ends[k], (-1, 3))])
+        lo, hi = region.min(axis=0) - tol, region.max(axis=0) + tol
+        for name, vlo, vhi in model.volumes:
+            vlo, vhi = np.asarray(vlo, float), np.asarray(vhi, float)
+            if not (np.all(vhi >= lo) and np.all(vlo <= hi)):
+                continue
+            if kind == "segment" and not _segment_meets_box(points[k], ends[k], vlo - tol, vhi + tol):
+                continue
+            out[k] = f"volume {name!r}"
+            break
+    return out
+
+
+def _segment_meets_box(a, b, lo, hi):
+    """True when the segment a -> b meets the closed box [lo, hi] (slab test)."""
+    d = np.asarray(b, float) - a
+    t0, t1 = 0.0, 1.0
+    for axis in range(3):
+        if abs(d[axis]) < 1e-300:
+            if a[axis] < lo[axis] or a[axis] > hi[axis]:
+                return False
+            continue
+        u, v = (lo[axis] - a[axis]) / d[axis], (hi[axis] - a[axis]) / d[axis]
+        t0, t1 = max(t0, min(u, v)), min(t1, max(u, v))
+        if t0 > t1:
+            return False
+    return True
+
+
+def volume_above(model, p, n, tol):
+    """Name of a medium that may scatter light to a receiver at ``p`` facing ``n`` (the world's
+    volume, or a volume object with a bounding-box corner above the horizon plane), else ''."""
+    if model.world_volume:
+        return "the world's volume"
+    for name, lo, hi in model.volumes:
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        if np.any((corners - p) @ n > tol):
+            return f"volume {name!r}"
+    return ""
 
 
 # --- the world as its own contribution (issue 14) -------------------------------------------------------
@@ -380,6 +455,10 @@ def world_statuses(model, points, normals, tol):
     relevant = np.asarray(g.reflects, bool) | np.asarray(g.casts_shadow, bool) if len(g.object_names) else []
     for k in range(n):
         p, nk = points[k], normals[k]
+        medium = volume_above(model, p, nk, tol)
+        if medium:  # issue 18: a medium above the horizon attenuates and scatters the world's light
+            status[k], reason[k] = RENDER, f"{medium} attenuates and scatters the world's light"
+            continue
         status[k], reason[k] = closed, f"world {world.kind}: closed form over its pixels; nothing above the horizon"
         if g.unmodelled:
             status[k], reason[k] = RENDER, "geometry without triangles may block the world"
