@@ -11,7 +11,6 @@ terminal (not with ``--quiet``, which also drops the results text: use ``--json`
 import argparse
 import importlib
 import json
-import math
 import os
 import sys
 
@@ -102,34 +101,10 @@ def _open_blend(path):
         raise RadiometerError(f"cannot open {shown(path)}: {str(exc).strip().splitlines()[-1]}") from None
 
 
-def _json_default(value):
-    try:
-        import numpy as np
-
-        if isinstance(value, np.ndarray):
-            return value.tolist()
-        if isinstance(value, np.generic):
-            return value.item()
-    except ImportError:
-        pass
-    if hasattr(value, "to_dict"):
-        return value.to_dict()
-    raise TypeError(f"not JSON serialisable: {type(value).__name__}")
-
-
-def _sanitise(value):
-    # JSON has no NaN/inf; write null so other tools can read the file.
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, dict):
-        return {k: _sanitise(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_sanitise(v) for v in value]
-    return value
-
-
 def json_text(result):
-    return json.dumps(_sanitise(json.loads(json.dumps(result, default=_json_default))), indent=2) + "\n"
+    from .outputs import json_safe  # the one JSON/NaN policy (NaN and inf as null)
+
+    return json.dumps(json_safe(result), indent=2, allow_nan=False) + "\n"
 
 
 def write_json(path, result, interrupt=None):
@@ -162,7 +137,7 @@ def _without_scratch_paths(result):
             return clean(value.to_dict())
         return value
 
-    return clean(json.loads(json.dumps(result, default=_json_default)))
+    return clean(outputs.json_safe(result))
 
 
 #: Options that name files or folders a subcommand writes, and arguments naming files it reads.

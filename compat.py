@@ -57,3 +57,12 @@ def active_node_tree(idblock):
     if tree is None or bpy.app.version >= (5, 0, 0):
         return tree
     return tree if idblock.use_nodes else None
+
+
+def working_colour_space():
+    """The blend file's scene-linear working colour space: the one place Radiometer reads it (RGB
+    to CIE Y weights come from it, ``radiometry.photometry.luminance_weights``). Blender 4.5 has no
+    choice (``bpy.data.colorspace`` is new in 5.0): Linear Rec.709."""
+    import bpy
+
+    return bpy.data.colorspace.working_space if hasattr(bpy.data, "colorspace") else "Linear Rec.709"

@@ -280,3 +280,27 @@ def refuse_overlaps(outputs, inputs):
         for other, q in outs[i + 1:]:
             if same_file(p, q):
                 raise RadiometerError(f"{label} and {other} name the same file {shown(p)}: choose two files")
+
+
+def json_safe(value):
+    """``value`` as plain JSON data: the one NaN/inf policy of every JSON file Radiometer writes.
+
+    numpy arrays and scalars become lists and numbers; inf and NaN become ``None`` (JSON has neither,
+    and ``null`` keeps the file readable by every tool); objects with ``to_dict()`` and NamedTuples
+    become dicts; tuples become lists. Anything else is returned as it is (``json.dumps`` decides).
+    """
+    import math
+
+    if hasattr(value, "to_dict"):
+        return json_safe(value.to_dict())
+    if hasattr(value, "_asdict"):
+        return json_safe(value._asdict())
+    if type(value).__module__ == "numpy":  # arrays and numpy scalars, without importing numpy here
+        return json_safe(value.tolist() if hasattr(value, "tolist") else value.item())
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_safe(v) for v in value]
+    return value

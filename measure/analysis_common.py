@@ -11,26 +11,16 @@ import bpy
 import numpy as np
 
 from .. import plots as _plots
+from ..outputs import json_safe
 from . import meter
 
 
 # --- JSON-safe results ----------------------------------------------------------------------------
 
 def plain(value):
-    """``value`` as JSON-safe Python (numpy arrays as lists, inf/nan as None, results as dicts)."""
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, (np.floating, np.integer, np.bool_)):
-        return value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None  # JSON has no inf/nan
-    if isinstance(value, dict):
-        return {k: plain(v) for k, v in value.items()}
-    if dataclasses.is_dataclass(value) or hasattr(value, "_asdict"):
-        return value.to_dict()
-    if isinstance(value, (list, tuple)):
-        return [plain(v) for v in value]
-    return value
+    """``value`` as JSON-safe Python (numpy arrays as lists, inf/nan as None, results as dicts):
+    ``outputs.json_safe``, the one JSON/NaN policy."""
+    return json_safe(value)
 
 
 class ToDict:

@@ -25,6 +25,7 @@ import bpy
 import numpy as np
 
 from ..errors import RadiometerError
+from ..radiometry.constants import K_M_LM_PER_W
 from ..radiometry import photometric_files as pf
 
 #: Custom properties Radiometer puts on an imported light's data.
@@ -38,7 +39,7 @@ _MAPPING_SCALE = (1.0, -1.0, 1.0)
 def scene_efficacy(scene):
     settings = getattr(scene, "radiometer", None)
     value = float(getattr(settings, "efficacy", 0.0) or 0.0) if settings is not None else 0.0
-    return value if value > 0.0 else 683.0
+    return value if value > 0.0 else K_M_LM_PER_W
 
 
 # --- import ---------------------------------------------------------------------------------------

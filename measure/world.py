@@ -203,9 +203,9 @@ def read_world(scene):
 
 
 def bpy_working_space():
-    import bpy
+    from ..compat import working_colour_space  # one home for the scene's colour space
 
-    return bpy.data.colorspace.working_space if hasattr(bpy.data, "colorspace") else "Linear Rec.709"
+    return working_colour_space()
 
 
 # --- photometry -------------------------------------------------------------------------------------

@@ -109,12 +109,14 @@ def write_lobe_plot(material, path):
     """PNG of the model's in-plane lobes (solid) against the Cycles closure (dashed), luminance-weighted."""
     import numpy as np
 
+    from ..compat import working_colour_space
     from ..plots import pyplot
+    from ..radiometry import photometry
 
     model, fid, lobes = lobe_data(material)
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=100)
-    w = np.array([0.2126, 0.7152, 0.0722])
+    w = photometry.luminance_weights(working_colour_space())  # the file's working space, as the meter
     for (ti, to, fm, fc), colour in zip(lobes, ("C0", "C1", "C2")):
         ax.plot(to, fm @ w, color=colour, label=f"model, θi = {ti:.0f}°")
         ax.plot(to, fc @ w, color=colour, ls="--", label=f"Cycles, θi = {ti:.0f}°")

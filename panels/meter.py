@@ -155,9 +155,10 @@ class RADIOMETER_PT_active_meter(bpy.types.Panel):
                        f"{m.value_rgb[2]:.4g})")
         col.label(text="exact" if m.exact else f"relative standard error {100 * m.rel_std_error:.3g} %")
         col.label(text=f"{m.method}, {m.samples} samples, {m.seconds:.3g} s, K = {m.efficacy:g} lm/W")
+        from ..compat import working_colour_space
         from ..readings import photographic_text
 
-        space = bpy.data.colorspace.working_space if hasattr(bpy.data, "colorspace") else "Linear Rec.709"
+        space = working_colour_space()
         photo = photographic_text("luminance" if m.kind == "LUMINANCE" else "illuminance", m.photometric,
                                   tuple(m.value_rgb), space)
         if photo and m.kind != "RADIANCE_MAP":

@@ -5,6 +5,7 @@ from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorPro
                        PointerProperty, StringProperty)
 
 from ..quality import PRESETS
+from ..radiometry.constants import K_M_LM_PER_W, K_RADIANCE_WHITE_LM_PER_W
 
 METER_KINDS = [
     ("ILLUMINANCE", "Illuminance", "Cosine-corrected meter: irradiance (W/m²) and illuminance (lux) on its +Z side"),
@@ -26,7 +27,7 @@ EFFICACY_CONVENTIONS = [
     ("RADIANCE_179", "179 lm/W (Radiance)", "Equal-energy white over the visible range, as the Radiance renderer"),
     ("CUSTOM", "Custom", "Your own luminous efficacy"),
 ]
-_EFFICACY_VALUES = {"BLENDER_683": 683.0, "RADIANCE_179": 179.0}
+_EFFICACY_VALUES = {"BLENDER_683": K_M_LM_PER_W, "RADIANCE_179": K_RADIANCE_WHITE_LM_PER_W}
 
 
 def _live_changed(self, _context):
@@ -76,7 +77,7 @@ class RadiometerSceneSettings(bpy.types.PropertyGroup):
                                       update=_convention_changed,
                                       description="Which luminous efficacy turns watts into lumens")
     efficacy: FloatProperty(name="lm/W", description="Luminous efficacy K: lux = K x CIE Y of RGB irradiance",
-                            default=683.0, min=1.0, max=683.0)
+                            default=K_M_LM_PER_W, min=1.0, max=K_M_LM_PER_W)
     method: EnumProperty(name="Method", items=METHODS, default="auto",
                          description="How meters are measured: closed forms, Cycles, or both")
     quality: EnumProperty(name="Quality", items=QUALITIES, default="standard",
