@@ -138,10 +138,9 @@ def _notify(progress, done, total, started):
         return
     elapsed = time.monotonic() - started
     left = elapsed / done * (total - done) if done else None
-    try:
-        progress(done, total, left)
-    except TypeError:
-        progress(done, total)
+    from ..progress import reporter  # one adapter for both callback forms
+
+    reporter(progress)(done, total, left)
 
 
 def run_scene_tasks(scene_or_path, fn, kwargs_list, *, client=None, progress=None, cancelled=None,

@@ -29,12 +29,10 @@ CHUNK_SECONDS = 1.0
 
 
 def _call_progress(progress, fraction, seconds_left):
-    if progress is None:
-        return
-    try:
-        progress(int(round(1000 * fraction)), 1000, seconds_left)
-    except TypeError:
-        progress(int(round(1000 * fraction)), 1000)
+    if progress is not None:
+        from ..progress import reporter  # one adapter for both callback forms
+
+        reporter(progress)(int(round(1000 * fraction)), 1000, seconds_left)
 
 
 def _linking_collection(snapshot, light_obj, name):

@@ -11,6 +11,7 @@ import bpy
 import numpy as np
 
 from ..errors import MeasurementCancelled, RadiometerError
+from ..progress import reporter
 from . import camera, meter
 
 _DISPLAY = {"ILLUMINANCE": ("SINGLE_ARROW", 0.3), "LUMINANCE": ("CONE", 0.1), "RADIANCE_MAP": ("SPHERE", 0.1)}
@@ -42,17 +43,13 @@ def add_meter(context, kind, location, acceptance_deg=1.0, rotation=None):
 
 def _call(progress, done, total, seconds_left=None):
     """Call a progress callback that takes (done, total, seconds_left) or only (done, total)."""
-    if progress is None:
-        return
-    try:
-        progress(done, total, seconds_left)
-    except TypeError:
-        progress(done, total)
+    if progress is not None:
+        reporter(progress)(done, total, seconds_left)
 
 
 def _two_args(progress):
     # camera.measure_luminance reports (done, total): pass them on with no ETA.
-    return None if progress is None else (lambda done, total: _call(progress, done, total))
+    return reporter(progress)
 
 
 def map_path(name):

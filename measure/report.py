@@ -156,10 +156,9 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
             return
         elapsed = time.perf_counter() - started
         eta = elapsed * (1 - fraction) / fraction if fraction > 0.02 else None
-        try:
-            progress(int(round(1000 * fraction)), 1000, eta)
-        except TypeError:
-            progress(int(round(1000 * fraction)), 1000)
+        from ..progress import reporter  # one adapter for both callback forms
+
+        reporter(progress)(int(round(1000 * fraction)), 1000, eta)
 
     def part_progress(done, total, *_rest):
         k = state["part"]
