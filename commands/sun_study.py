@@ -4,6 +4,8 @@ HELP = ("sun study: illuminance from the sun at points (--points CSV or --plane 
         "every --step minutes; sunlit flags and sunlight hours; --csv and --json")
 NEEDS_SCENE = True
 
+from . import _cluster  # noqa: E402
+
 
 def add_arguments(parser):
     from .sun import add_place_arguments
@@ -25,6 +27,7 @@ def add_arguments(parser):
                         help="sun altitude below which a sample adds no sunlight hours (EN 17037 site minimum)")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
     parser.add_argument("--csv", metavar="FILE", help="write one row per time and point")
+    _cluster.add_arguments(parser)
 
 
 def read_points(path):
@@ -131,10 +134,11 @@ def run(args):
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = f"sun study, {len(times)} times x {len(locations)} points"
-    r = api.sun_study(locations, normals, times, latitude_deg=args.lat, longitude_deg=args.lon,
-                      elevation_m=args.elevation, direct_normal_illuminance_lux=args.lux, scene=scene,
-                      quality=args.quality, north_offset_deg=args.north, min_elevation_deg=args.min_elevation,
-                      progress=progress, cancelled=getattr(args, "cancelled", None))
+    with _cluster.client(args) as client:
+        r = api.sun_study(locations, normals, times, latitude_deg=args.lat, longitude_deg=args.lon,
+                          elevation_m=args.elevation, direct_normal_illuminance_lux=args.lux, scene=scene,
+                          quality=args.quality, north_offset_deg=args.north, min_elevation_deg=args.min_elevation,
+                          client=client, progress=progress, cancelled=getattr(args, "cancelled", None))
     if progress is not None:
         progress.clear()
     print(f"sun study: {len(times)} times x {len(locations)} points at {args.lat:.4f} N, {args.lon:.4f} E "

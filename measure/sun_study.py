@@ -302,7 +302,8 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
         except ImportError:
             raise RadiometerError("client= needs radiometer.cluster.run_scene_tasks (the Dask scale-out), "
                                   "which is unavailable in this build") from None
-        steps = run_scene_tasks(scene, sun_study_step, tasks, client=client, progress=progress)
+        steps = run_scene_tasks(scene, sun_study_step, tasks, client=client, progress=progress,
+                                cancelled=cancelled, label="sun study")
     else:
         steps = []
         for i, kwargs in enumerate(tasks):

@@ -194,37 +194,64 @@ def _start(args, **kw):
     return subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd="/", **kw)
 
 
-def test_dask_cli_scheduler_and_two_workers_run_a_study(clean_blender, variants, tmp_path):
-    from radiometer.cluster import batch, connect
+def _sun_study_scene(path):
+    """A floor, a wall to the south that shades part of it and reflects onto the rest (rendered)."""
+    import radiometer
 
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    radiometer.register()
+    scene = bpy.context.scene
+    add_plane(scene, 6.0, (0.0, 0.0, 0.0))
+    add_plane(scene, 6.0, (0.0, -1.0, 1.5), (np.pi / 2, 0.0, 0.0), name="wall")
+    bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
+    return scene
+
+
+SUN_POINTS = np.array([[0.0, -0.5, 0.01], [1.0, 1.0, 0.01], [-1.5, 2.0, 0.01]])
+
+
+def _sun_study(client, scene):
+    import datetime as dt
+
+    from radiometer import api
+
+    tz = dt.timezone(dt.timedelta(hours=1))
+    times = [dt.datetime(2026, 6, 21, h, 0, tzinfo=tz) for h in (8, 11, 14, 17)]  # 4 times: 4 tasks
+    return api.sun_study(SUN_POINTS, (0.0, 0.0, 1.0), times, latitude_deg=48.2, longitude_deg=16.4, scene=scene,
+                         quality="preview", client=client)
+
+
+def test_dask_cli_scheduler_and_two_workers_run_a_sun_study(clean_blender, tmp_path):
+    from radiometer.cluster import connect
+
+    scene = _sun_study_scene(tmp_path / "court.blend")
+    here = _sun_study(None, scene)
     scheduler_file = tmp_path / "scheduler.json"
-    procs = [_start([os.path.join(VENV_BIN, "dask"), "scheduler", "--host", "127.0.0.1", "--port", "0",
-                     "--no-dashboard", "--scheduler-file", str(scheduler_file)])]
+    dask = os.path.join(VENV_BIN, "dask")
+    procs = [_start([dask, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+                     "--scheduler-file", str(scheduler_file)])]
     try:
         deadline = time.monotonic() + 120
         while not scheduler_file.exists() and time.monotonic() < deadline:
             time.sleep(0.2)
         address = json.loads(scheduler_file.read_text())["address"]
-        procs += [_start([os.path.join(VENV_BIN, "dask"), "worker", address, "--nthreads", "1", "--no-dashboard",
-                          "--name", f"w{k}"]) for k in range(2)]
+        # Two workers as separate processes, as on two machines: `dask worker ADDRESS --nthreads 1`.
+        procs += [_start([dask, "worker", address, "--nthreads", "1", "--no-dashboard", "--name", f"w{k}"])
+                  for k in range(2)]
         c = connect(address)
         try:
             c.wait_for_workers(2, timeout=120)
-            kwargs = [dict(meters=POINTS, quality="preview", method="render", seed=k) for k in range(4)]
-            stats = {}
-            got = batch.measure_batch  # noqa: F841  (the study: 4 seeds of one scene, like 4 times)
-            from radiometer.cluster import run_scene_tasks
-
-            there = run_scene_tasks(variants[1], batch.measure_file, kwargs, client=c, stats=stats,
-                                    label="study")
-            here = run_scene_tasks(variants[1], batch.measure_file, kwargs, label="study")
+            pids = set(c.run(os.getpid).values())
+            there = _sun_study(c, scene)
+            ran = set(c.run(lambda: __import__("sys").modules.get("bpy") is not None).values())
         finally:
             c.close()
-        a = np.array([[r.illuminance for r in f.readings] for f in here])
-        b = np.array([[r.illuminance for r in f.readings] for f in there])
-        se = np.array([[r.illuminance * r.rel_std_error for r in f.readings] for f in here])
-        assert np.all(np.abs(a - b) <= 3 * np.sqrt(2) * se)
-        assert len({t["pid"] for t in stats["tasks"]}) == 2  # both separately started workers ran tasks
+        assert len(pids) == 2 and ran == {True}  # both worker processes opened the scene (imported bpy)
+        assert there.illuminance.shape == here.illuminance.shape == (4, 3)
+        assert np.array_equal(there.sunlit, here.sunlit) and np.allclose(there.sunlight_hours, here.sunlight_hours)
+        assert here.sunlit.any() and not here.sunlit.all()  # the wall shades some points at some times
+        se = np.hypot(here.illuminance * here.rel_std_error, there.illuminance * there.rel_std_error)
+        assert np.all(np.abs(there.illuminance - here.illuminance) <= 3 * se + 1e-9 * here.illuminance)
     finally:
         for p in reversed(procs):
             p.terminate()
@@ -234,3 +261,44 @@ def test_dask_cli_scheduler_and_two_workers_run_a_study(clean_blender, variants,
             except subprocess.TimeoutExpired:
                 p.kill()
                 p.wait()
+
+
+def test_cli_workers_ctrl_c_leaves_no_worker_running(clean_blender, variants, tmp_path):
+    import psutil
+
+    # A long batch on a local cluster of 2 worker processes: Ctrl-C once both workers are measuring.
+    files = [variants[k % 2] for k in range(40)]
+    proc = subprocess.Popen([sys.executable, "-m", "radiometer", "batch", *files, "--quality", "reference",
+                             "--method", "render", "--workers", "2", "--json", str(tmp_path / "out.json")],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=str(tmp_path))
+    try:
+        deadline = time.monotonic() + 180
+        workers = []
+        while time.monotonic() < deadline and proc.poll() is None:
+            children = psutil.Process(proc.pid).children(recursive=True)
+            # a worker process is measuring once it has imported bpy: ~120 MB before, ~300 MB after (measured)
+            workers = [c for c in children if _rss(c) > 250e6]
+            if len(workers) >= 2:
+                break
+            time.sleep(0.5)
+        assert proc.poll() is None and len(workers) >= 2, "the workers never started measuring"
+        children = psutil.Process(proc.pid).children(recursive=True)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130, err
+    assert "interrupted" in err and "Traceback" not in err
+    assert not (tmp_path / "out.json").exists()
+    _, alive = psutil.wait_procs(children, timeout=30)
+    assert not alive, [p.pid for p in alive]  # no worker (nor nanny, nor spawner) left running
+
+
+def _rss(process):
+    import psutil
+
+    try:
+        return process.memory_info().rss
+    except psutil.Error:
+        return 0
