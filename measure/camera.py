@@ -16,7 +16,7 @@ import time
 import bpy
 import numpy as np
 
-from .. import envmap
+from ..radiometry import environment
 from .. import quality as quality_presets
 from ..errors import MeasurementCancelled, RadiometerError
 from ..radiometry import allocation
@@ -51,7 +51,7 @@ class RadianceMap:
 
     def irradiance_for(self, normal):
         """E (W/m^2, RGB) on a surface facing ``normal`` (world), from the stored map."""
-        return envmap.irradiance_from_map(exr.read_rgb(self.path), normal, _PANO_ROTATION)
+        return environment.irradiance(exr.read_rgb(self.path), normal, _PANO_ROTATION)[0]
 
 
 def default_map_path(name):
@@ -234,7 +234,7 @@ def capture_radiance_map(location, path, *, resolution=128, scene=None, quality=
     finally:
         shutil.rmtree(folder, ignore_errors=True)
     path = path if path.endswith(".exr") else path + ".exr"
-    e_rgb = envmap.irradiance_from_map(img, (0.0, 0.0, 1.0), _PANO_ROTATION)
+    e_rgb = environment.irradiance(img, (0.0, 0.0, 1.0), _PANO_ROTATION)[0]  # exact for the pixels
     e = float(e_rgb @ weights)
     notes = [f"equirectangular {2 * resolution}x{resolution} px, 32-bit EXR at {path}",
              "irradiance for +Z integrates L cos(theta) d omega over the map (the lecture's irradiance map)",

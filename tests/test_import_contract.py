@@ -8,7 +8,7 @@ Layers, lowest first; a module may import its own layer and the layers below it,
 
 ==========  ======================================================================================
 core        pure Python + numpy: ``radiometry/``, ``brdf/``, ``errors``, ``quality``, ``readings``,
-            ``envmap``, ``outputs``, ``validation``, ``progress``. Never imports bpy, mathutils, bmesh, gpu, blf.
+            ``outputs``, ``validation``, ``progress``. Never imports bpy, mathutils, bmesh, gpu, blf.
 host        Blender side: ``compat``, ``measure/``, ``shading/``, ``demo/``, ``cluster/``.
 plots       presentation (matplotlib): ``plots/``; no bpy. Analyses return numbers; the api, the UI and
             the CLI draw them.
@@ -41,7 +41,7 @@ BLENDER_MODULES = {"bpy", "mathutils", "bmesh", "gpu", "gpu_extras", "blf", "bpy
 
 LAYER_OF_TOP = {
     "radiometry": "core", "brdf": "core", "errors": "core", "quality": "core", "readings": "core",
-    "envmap": "core", "outputs": "core", "validation": "core", "progress": "core",
+    "outputs": "core", "validation": "core", "progress": "core",
     "plots": "plots",
     "compat": "host", "measure": "host", "shading": "host", "demo": "host", "cluster": "host",
     "api": "api",

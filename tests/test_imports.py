@@ -8,7 +8,7 @@ import pytest
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PURE_PACKAGES = ["radiometer", "radiometer.brdf", "radiometer.radiometry", "radiometer.readings",
-                 "radiometer.envmap", "radiometer.quality"]
+                 "radiometer.quality"]
 
 
 @pytest.mark.parametrize("module", PURE_PACKAGES)
