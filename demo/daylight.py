@@ -1,0 +1,194 @@
+"""A daylit room, built by code: a 4 x 4 x 3 m room with a window in its south wall and a 6 mm
+glass pane in it, the sun where it stands at a chosen place and time (``api.set_sun``), and a few
+meters measured by a one-time sun study (``api.sun_study``).
+
+Run it with ``python -m radiometer.demo.daylight [--out DIR] [--glass]`` (``make demo`` does, after
+the electric-light demo; about 2 s). By default the pane is hidden in renders (an open window): the
+sun behind a Glass BSDF slab is a caustic that Cycles finds slowly and reads low (docs/FACTS.md), so
+``--glass`` takes minutes until the meter models thin glass (issue 18). Scene axes: +X east, +Y north, +Z up, metres; floor at z = 0, room centred on
+the origin; the window (2.0 x 1.2 m, sill 0.9 m) faces south so the northern-hemisphere sun comes in.
+
+The room is built of separate closed boxes (floor, roof, four walls, the south wall in four pieces
+around the opening), the way an architect's model arrives; the pane is a closed 6 mm slab with a
+Glass BSDF (IOR 1.5).
+"""
+
+import argparse
+import datetime as dt
+import math
+import os
+import sys
+import time
+
+import bpy
+
+from ..compat import ensure_node_tree
+from .scene import _closed_box, diffuse_material
+
+ROOM = (4.0, 4.0, 3.0)
+WALL = 0.1
+WINDOW = {"width": 2.0, "sill": 0.9, "head": 2.1}
+PANE_THICKNESS = 0.006
+SITE = {"name": "London", "latitude_deg": 51.5074, "longitude_deg": -0.1278, "time_zone": "Europe/London"}
+WHEN = (2026, 3, 20, 12, 0)  # local wall-clock time on the March equinox
+
+#: Meter name -> (location, normal): scene coordinates, m.
+METERS = {
+    "Roof (open sky)": ((0.0, 0.0, ROOM[2] + WALL + 0.05), (0.0, 0.0, 1.0)),
+    "South facade": ((1.6, -ROOM[1] / 2 - WALL - 0.01, 1.5), (0.0, -1.0, 0.0)),
+    "Floor in the sun patch": ((0.0, -0.4, 0.0), (0.0, 0.0, 1.0)),
+    "Desk height near window": ((0.0, -1.0, 0.75), (0.0, 0.0, 1.0)),
+    "Floor, back corner": ((-1.5, 1.5, 0.0), (0.0, 0.0, 1.0)),
+}
+
+
+def glass_material(name="Glass (IOR 1.5)", ior=1.5):
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    glass = tree.nodes.new("ShaderNodeBsdfGlass")
+    glass.inputs["IOR"].default_value = ior
+    glass.inputs["Roughness"].default_value = 0.0
+    tree.links.new(glass.outputs["BSDF"], out.inputs["Surface"])
+    return mat
+
+
+def build(scene=None, *, glass=True, pane_renders=True):
+    """Build the room into ``scene`` (default: the context scene) with a black world; returns it.
+
+    ``glass``: put the pane in the window; ``pane_renders``: False hides it in renders (the window is
+    then open for Cycles and the meter)."""
+    scene = scene or bpy.context.scene
+    scene.render.engine = "CYCLES"
+    scene.unit_settings.system = "METRIC"
+    scene.unit_settings.scale_length = 1.0
+    world = bpy.data.worlds.new("Black")
+    background = ensure_node_tree(world).nodes["Background"]
+    background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    background.inputs["Strength"].default_value = 0.0
+    scene.world = world
+    room = bpy.data.collections.new("Daylit Room")
+    scene.collection.children.link(room)
+    hx, hy, h, t = ROOM[0] / 2, ROOM[1] / 2, ROOM[2], WALL
+    walls = diffuse_material("Walls (albedo 0.6)", (0.6, 0.6, 0.6))
+    floor = diffuse_material("Floor (albedo 0.3)", (0.3, 0.3, 0.3))
+    box = lambda name, lo, hi, mat: _closed_box(  # noqa: E731
+        name, tuple((a + b) / 2 for a, b in zip(lo, hi)), tuple((b - a) / 2 for a, b in zip(lo, hi)), mat, room)
+    box("Floor", (-hx - t, -hy - t, -t), (hx + t, hy + t, 0.0), floor)
+    box("Roof", (-hx - t, -hy - t, h), (hx + t, hy + t, h + t), walls)
+    box("North Wall", (-hx - t, hy, 0.0), (hx + t, hy + t, h), walls)
+    box("East Wall", (hx, -hy, 0.0), (hx + t, hy, h), walls)
+    box("West Wall", (-hx - t, -hy, 0.0), (-hx, hy, h), walls)
+    w, sill, head = WINDOW["width"] / 2, WINDOW["sill"], WINDOW["head"]
+    y0, y1 = -hy - t, -hy
+    box("South Wall below", (-hx - t, y0, 0.0), (hx + t, y1, sill), walls)
+    box("South Wall above", (-hx - t, y0, head), (hx + t, y1, h), walls)
+    box("South Wall west", (-hx - t, y0, sill), (-w, y1, head), walls)
+    box("South Wall east", (w, y0, sill), (hx + t, y1, head), walls)
+    if glass:
+        yc = -hy - t / 2
+        pane = box("Window Pane", (-w, yc - PANE_THICKNESS / 2, sill), (w, yc + PANE_THICKNESS / 2, head),
+                   glass_material())
+        pane.hide_render = not pane_renders
+    return scene
+
+
+def local_time(when=WHEN, time_zone=SITE["time_zone"]):
+    from ..radiometry import solar_position
+
+    return solar_position.local_datetime(*when, time_zone)
+
+
+def run(out_dir="out", *, quality="preview", when=WHEN, glass=False, stream=sys.stdout):
+    """Build the room, set the sun, measure the meters; print a summary; save ``out_dir``/daylight_room.blend.
+
+    ``glass``: render the pane (a Glass BSDF slab). Off by default: the sun behind a Glass BSDF pane is
+    a caustic for Cycles (docs/FACTS.md), so the meter needs minutes and still reads it low; the pane
+    is built either way and only hidden in renders. Returns a dict (sun, readings per meter, seconds)."""
+    from .. import api
+
+    started = time.perf_counter()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    if not hasattr(bpy.types.Scene, "radiometer"):
+        import radiometer
+
+        radiometer.register()
+    scene = build(bpy.context.scene, glass=True, pane_renders=glass)
+    t = local_time(when)
+    sun = api.set_sun(scene, SITE["latitude_deg"], SITE["longitude_deg"], t)
+    p = lambda *a: print(*a, file=stream)  # noqa: E731
+    p(f"Radiometer daylit room: {SITE['name']} ({SITE['latitude_deg']:.4f} N, {SITE['longitude_deg']:.4f} E), "
+      f"{t.isoformat()} ({SITE['time_zone']})")
+    p(f"Sun (NREL SPA): azimuth {sun['azimuth_deg']:.3f} deg from north, elevation {sun['elevation_deg']:.3f} deg "
+      f"(apparent); direction ({', '.join(f'{v:.4f}' for v in sun['direction'])})")
+    p(f"Direct normal illuminance {sun['direct_normal_illuminance_lux']:.0f} lx ({sun['model']}); "
+      f"Blender sun strength {sun['strength_w_m2']:.4g} W/m² at {scene.radiometer.efficacy:g} lm/W")
+    p(f"Room 4 x 4 x 3 m, window {WINDOW['width']:.1f} x {WINDOW['head'] - WINDOW['sill']:.1f} m facing south"
+      + (", 6 mm clear glass pane (Glass BSDF, IOR 1.5)" if glass else
+         ", its 6 mm glass pane hidden in renders (open window; --glass renders it)") + "; black sky")
+    names = list(METERS)
+    study = api.sun_study([METERS[n][0] for n in names], [METERS[n][1] for n in names], [t],
+                          latitude_deg=SITE["latitude_deg"], longitude_deg=SITE["longitude_deg"],
+                          direct_normal_illuminance_lux=sun["direct_normal_illuminance_lux"], scene=scene,
+                          quality=quality)
+    import numpy as np
+
+    direction = np.asarray(sun["direction"])
+    p(f"\n{'meter':<26} {'E lx':>10} {'± 1 s.e.':>9} {'sunlit':>7} {'E_dn max(0, n.s)':>17}")
+    rows = {}
+    for k, name in enumerate(names):
+        e, se = float(study.illuminance[0, k]), float(study.rel_std_error[0, k])
+        n = np.asarray(METERS[name][1], float)
+        direct = sun["direct_normal_illuminance_lux"] * max(0.0, float(n @ direction))
+        err = "exact" if study.exact[0, k] else f"{100 * se:.1f} %"
+        lit = f"{100 * study.sunlit_fraction[0, k]:.0f} %"
+        p(f"{name:<26} {e:10.0f} {err:>9} {lit:>7} {direct:17.0f}")
+        rows[name] = {"illuminance_lx": e, "rel_std_error": se, "exact": bool(study.exact[0, k]),
+                      "sunlit": bool(study.sunlit[0, k]), "sunlit_fraction": float(study.sunlit_fraction[0, k]),
+                      "unobstructed_direct_lx": direct}
+    p("(E_dn max(0, n.s): the sun's direct light on an unobstructed meter; sunlit: share of the sun's disc "
+      "the meter sees, glass counted as clear)")
+    if glass:
+        p("Note: behind a Glass BSDF pane the sun reaches a surface only by refraction, a caustic that Cycles "
+          "finds slowly and reads low (docs/FACTS.md) until the meter models thin glass (issue 18).")
+    blend = None
+    if out_dir:
+        from ..commands import _io
+
+        folder = _io.check_output_dir(out_dir, "--out folder")
+        blend = os.path.join(folder, "daylight_room.blend")
+        from ..commands.sun import _save_copy
+
+        _save_copy(blend, None)
+        p(f"\nWrote {blend}")
+    seconds = time.perf_counter() - started
+    p(f"({seconds:.1f} s)")
+    return {"sun": sun, "time": t.isoformat(), "meters": rows, "blend": blend, "seconds": seconds}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python -m radiometer.demo.daylight", description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default="out", help="folder for daylight_room.blend (created if missing)")
+    parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="preview")
+    parser.add_argument("--glass", action="store_true", help="render the glass pane (slow: the sun behind a Glass "
+                        "BSDF is a caustic for Cycles)")
+    parser.add_argument("--time", default=None, metavar="YYYY-MM-DDTHH:MM",
+                        help="local time in London (default 2026-03-20T12:00)")
+    args = parser.parse_args(argv)
+    when = WHEN
+    if args.time:
+        t = dt.datetime.fromisoformat(args.time)
+        when = (t.year, t.month, t.day, t.hour, t.minute)
+    from ..errors import RadiometerError
+
+    try:
+        run(args.out, quality=args.quality, when=when, glass=args.glass)
+    except (RadiometerError, ValueError) as exc:
+        print(f"radiometer: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,40 @@
+"""The daylit demo room (issue 19 item 7): it builds, sets the sun and reads what the closed forms say
+where they hold; the sun patch reads the sun plus the room's reflections."""
+
+import math
+import os
+
+import bpy
+import numpy as np
+import pytest
+
+from radiometer import api
+from radiometer.demo import daylight
+
+
+def test_daylit_demo_room(clean_blender, tmp_path):
+    out = daylight.run(str(tmp_path), quality="preview", stream=open(os.devnull, "w"))
+    sun = out["sun"]
+    pos = api.sun_position(daylight.SITE["latitude_deg"], daylight.SITE["longitude_deg"], daylight.local_time())
+    assert sun["azimuth_deg"] == pytest.approx(float(pos.azimuth_deg), abs=1e-9)
+    assert 30 < sun["elevation_deg"] < 45  # London, March equinox, noon: 90 - 51.5 + refraction
+    m = out["meters"]
+    e_dn = sun["direct_normal_illuminance_lux"]
+    # Proven unoccluded with nothing above their horizon: the closed form, zero error. (In a batch that
+    # renders other meters the meter labels every reading "hybrid", exact=False, even these.)
+    roof = m["Roof (open sky)"]
+    assert roof["rel_std_error"] == 0.0
+    assert roof["illuminance_lx"] == pytest.approx(e_dn * math.sin(math.radians(sun["elevation_deg"])), rel=1e-5)
+    facade = m["South facade"]
+    assert facade["rel_std_error"] == 0.0
+    assert facade["illuminance_lx"] == pytest.approx(facade["unobstructed_direct_lx"], rel=1e-5)
+    patch = m["Floor in the sun patch"]
+    assert patch["sunlit"] and not patch["exact"]
+    # the sun's direct light plus what the room reflects onto the patch, within 3 stated errors
+    assert patch["illuminance_lx"] >= patch["unobstructed_direct_lx"] * (1 - 3 * patch["rel_std_error"])
+    corner = m["Floor, back corner"]
+    assert not corner["sunlit"] and 0 < corner["illuminance_lx"] < 0.05 * patch["illuminance_lx"]
+    assert os.path.exists(out["blend"])
+    bpy.ops.wm.open_mainfile(filepath=out["blend"])
+    assert bpy.data.objects["Window Pane"].hide_render
+    assert [ob.name for ob in bpy.data.objects if ob.type == "LIGHT"] == ["Radiometer Sun"]
