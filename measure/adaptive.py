@@ -53,7 +53,7 @@ def _exclude_from(coll, obj):
 
 def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, weights, target=None,
                   time_budget=None, fixed_samples=None, exclusions=None, offset=None, progress=None,
-                  cancelled=None, seed=0, max_samples=allocation.MAX_SAMPLES_PER_METER):
+                  cancelled=None, seed=0, max_samples=allocation.MAX_SAMPLES_PER_METER, panes=None):
     """Rendered irradiance at the sensors, W/m^2 SI, each meter sampled to its own need.
 
     ``exclusions``: per meter, a frozenset of light OBJECT names whose direct light is added
@@ -61,6 +61,7 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
     (CIE-Y weighted) irradiance, W/m^2, so the target applies to the whole reading. Returns a dict:
     mean_rgb (N, 3) and se_rgb (N, 3) of the rendered part, se (N,) scalar, samples (N,),
     rounds, stopped, reached, seconds, record (render settings).
+    ``panes``: thin glass panes (``SceneModel.panes``), rendered as thin panes (``measure.glass``).
     """
     n = len(points_scene)
     scale = scene.unit_settings.scale_length
@@ -80,6 +81,10 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
 
     with scene_guard.preserved_scene(scene) as snapshot:
         record = render_settings.apply(scene, samples=allocation.PILOT_SPP, bounces=bounces, needs=needs)
+        if panes:  # issue 18: a pane refracting a small light is a caustic; thin glass converges
+            from . import glass
+
+            record = dict(record, thin_panes=glass.swap_panes(snapshot, panes))
         # One receiver collection per excluded light, filled each round with its groups' sensors.
         light_objects = {name for key in group_keys for name in key}
         linking = {}

@@ -81,6 +81,7 @@ def _mesh_triangles(obj):
 def _collect(depsgraph):
     """Walk the render depsgraph; returns a SceneModel (positions still in scene units)."""
     lights, names, shadow, reflects, unmodelled, volumes = [], [], [], [], [], []
+    panes, refractors = {}, []
     tri_chunks, obj_chunks, opaque_chunks, emissive_chunks = [], [], [], []
     needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
     material_cache, local_cache, instance_count = {}, {}, {}
@@ -138,6 +139,9 @@ def _collect(depsgraph):
         slot = np.clip(mat_index, 0, len(traits) - 1)
         m = np.array(inst.matrix_world, dtype=np.float64)
         world = (tris_local @ m[:3, :3].T + m[:3, 3]) * _Capture.scale  # metres
+        if traits[np.unique(slot), 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
+            _glass_object(panes, refractors, len(names), name, original.name, world,
+                          [slots[j] for j in np.unique(slot)], material_cache)
         if traits[np.unique(slot), 4].any():  # a Volume shader fills this mesh (issue 18)
             flat = world.reshape(-1, 3)
             volumes.append((name, flat.min(axis=0), flat.max(axis=0)))
@@ -155,7 +159,38 @@ def _collect(depsgraph):
         casts_shadow=np.array(shadow, bool), opaque=cat(opaque_chunks, (0,)).astype(bool),
         reflects=np.array(reflects, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled)
     needs["volumes"] = volumes
+    needs["panes"], needs["refractors"] = panes, refractors
     return lights, geometry, needs
+
+
+def _glass_object(panes, refractors, index, name, source, world_tris, materials, cache):
+    """Record a transmissive object as a thin pane (``radiometry.thin_glass.Pane`` in ``panes`` by
+    object index) when every material it uses is a pane with the same optics and its triangles form
+    a planar pane; else as a refractor (name, reason) that Cycles renders as it is."""
+    from ..radiometry import thin_glass
+    from . import glass
+
+    optics = []
+    for material in materials:
+        key = ("pane", material.as_pointer() if material is not None else 0)
+        if key not in cache:
+            cache[key] = glass.pane_optics(material)
+        optics.append(cache[key])
+    if any(o is None for o, _why in optics) or any(o != optics[0][0] for o, _why in optics):
+        why = next((w for o, w in optics if o is None and w), "not a recognised glass shader")
+        refractors.append((name, why))
+        return
+    flat = world_tris.reshape(-1, 3)
+    tol = 1e-6 * max(1.0, float(np.abs(flat).max()))  # float32 vertices through a transform
+    geom, why = thin_glass.pane_geometry(world_tris, tol)
+    if geom is None:
+        refractors.append((name, f"curved or thick refractor ({why})"))
+        return
+    o = optics[0][0]
+    shape = f"a slab {1000 * geom.thickness:.3g} mm thick" if len(geom.heights) == 2 else "a single face"
+    panes[index] = thin_glass.Pane(name=name, ior=o["ior"], thickness=geom.thickness, tint_t=o["tint_t"],
+                                   tint_r=o["tint_r"], geometry=geom, trick=bool(o.get("trick")),
+                                   model=f"{o['model']}, IOR {o['ior']:g}, {shape}", source=source)
 
 
 def _bound_box_m(obj, matrix_world):
@@ -258,9 +293,11 @@ def capture(scene, view_layer=None, exclude=()):
     world_volume = render_settings._uses_volume(render_settings.active_node_tree(scene.world) if scene.world else None)
     needs["volume"] |= world_volume
     volumes = needs.pop("volumes", [])
+    panes, refractors = needs.pop("panes", {}), needs.pop("refractors", [])
     return scene_model.SceneModel(lights=model_lights, geometry=geometry, world_emits=needs["world_emits"],
                                   needs=needs, scale_length=scale, world=_world(scene, needs["world_emits"]),
-                                  volumes=volumes, world_volume=bool(world_volume))
+                                  volumes=volumes, world_volume=bool(world_volume), panes=panes,
+                                  refractors=refractors)
 
 
 def _world(scene, emits):

@@ -121,6 +121,8 @@ class SceneModel:
     world_volume: bool = False
     #: Recognised thin glass panes (``radiometry.thin_glass.Pane``) by object index (issue 18).
     panes: dict = field(default_factory=dict)
+    #: Transmissive objects that are not thin panes (name, reason): rendered as they are (issue 18).
+    refractors: list = field(default_factory=list)
 
     @property
     def emissive_surfaces(self):
@@ -138,6 +140,11 @@ class DirectPlan:
     indirect_reason: np.ndarray
     world_status: np.ndarray = None  # (N,) EXACT/ZERO/BOUNDED/RENDER of the world's light (world_statuses)
     world_reason: np.ndarray = None
+    #: (L, N, 3) factor of the thin panes crossed on the way to each light (1 without glass), and
+    #: (L, N) its relative bound over the light's extent (issue 18).
+    transmittance: np.ndarray = None
+    glass_bound: np.ndarray = None
+    interpane: np.ndarray = None  # (L, N) share of T from light bouncing between panes (not rendered)
 
     def exact_points(self):
         """(N,) bool: every contribution is a closed form with verified conditions, no indirect light."""
@@ -223,8 +230,10 @@ def _source_bases(spec, points, scene_reach):
     return "polytope", bases, inside
 
 
-def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach):
-    """(status (N,), blocker object name or None (N,)) of the light as seen from every receiver.
+def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach, panes=None):
+    """(status (N,), blocker object name or None (N,)) of the light as seen from every receiver;
+    with ``panes`` (thin panes by object index) also the panes crossed whole on the way, per
+    receiver a list of (object index, cos at the light's centre, cos_min, cos_max).
 
     Triangles entirely below a receiver's horizon are ignored (they cannot cut light arriving
     from above it), as are objects that cast no shadow. Candidates come from the triangle grid;
@@ -235,11 +244,13 @@ def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach):
     n = len(points)
     status = np.full(n, visibility.CLEAR, dtype=object)
     blocker = np.full(n, None, dtype=object)
+    crossings = [[] for _ in range(n)]
     if not geometry.count or not n:
-        return status, blocker
+        return (status, blocker, crossings) if panes is not None else (status, blocker)
     kind, ends, inside = _source_bases(spec, points, scene_reach)
     status[inside] = visibility.PARTIAL
     shadow = geometry.shadow_triangles()
+    pane_tri = np.isin(geometry.object_index, list(panes or ()))
     pair_point, pair_tri = [], []
     for k in np.flatnonzero(~inside):
         p = points[k]
@@ -253,11 +264,20 @@ def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach):
             idx = idx[shadow[idx]]
         if idx.size:
             idx = idx[~visibility.below_plane(geometry.triangles[idx], p, normals[k], tol)]
+        if idx.size and pane_tri[idx].any():
+            # Thin panes the segments provably cross whole are a factor T, not an occluder (issue 18).
+            keep = np.ones(idx.size, bool)
+            for obj in np.unique(geometry.object_index[idx[pane_tri[idx]]]):
+                crossed = _pane_crossing(panes[obj].geometry, spec, kind, p, ends[k], tol)
+                if crossed is not None:
+                    crossings[k].append((int(obj),) + crossed)
+                    keep &= geometry.object_index[idx] != obj
+            idx = idx[keep]
         if idx.size:
             pair_point.append(np.full(idx.size, k))
             pair_tri.append(idx)
     if not pair_point:
-        return status, blocker
+        return (status, blocker, crossings) if panes is not None else (status, blocker)
     pk, pt = np.concatenate(pair_point), np.concatenate(pair_tri)
     tris = geometry.triangles[pt]
     names = geometry.object_names
@@ -267,13 +287,63 @@ def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach):
         for k in np.unique(pk[meets]):
             status[k] = visibility.PARTIAL
             blocker[k] = names[geometry.object_index[pt[meets & (pk == k)][0]]]
-        return status, blocker
+        return (status, blocker, crossings) if panes is not None else (status, blocker)
     for k in np.unique(pk):
         sel = pk == k
         state, j = visibility.segment_status(points[k], ends[k], tris[sel], geometry.opaque[pt[sel]], tol)
         status[k] = state
         blocker[k] = names[geometry.object_index[pt[sel][j]]] if j >= 0 else None
-    return status, blocker
+    return (status, blocker, crossings) if panes is not None else (status, blocker)
+
+
+def _pane_crossing(geom, spec, kind, p, end, tol):
+    """(cos at the light's centre, cos_min, cos_max) when every segment from ``p`` to the light
+    crosses the pane whole (``thin_glass`` proofs), else None."""
+    from . import thin_glass
+
+    if kind == "segment":
+        ok, c = thin_glass.segment_crossing(geom, p, end, tol)
+        return (c, c, c) if ok else None
+    ok, cmin, cmax = thin_glass.pyramid_crossing(geom, p, end, tol)
+    if not ok:
+        return None
+    centre = spec.axes[:, 2] if spec.kind == "SUN" else np.asarray(spec.position, float) - p
+    c = float(abs(centre @ geom.normal) / np.linalg.norm(centre))
+    return c, min(cmin, c), max(cmax, c)
+
+
+def glass_factor(model, crossings):
+    """(T (3,), relative bound, words) of the panes crossed on the way to a light: the adding
+    formula over the panes at the light's centre direction; the bound is the largest relative change
+    of T over the directions to the light (T is monotone in the angle)."""
+    from . import thin_glass
+
+    if not crossings:
+        return np.ones(3), 0.0, ""
+    layers, lo_layers, hi_layers, words = [], [], [], []
+    for obj, c, cmin, cmax in crossings:
+        pane = model.panes[obj]
+        for cos, out in ((c, layers), (cmin, lo_layers), (cmax, hi_layers)):
+            T, R, _A = pane.optics(cos)
+            out.append((T, R))
+        words.append(f"{pane.name!r} ({pane.model}) at {np.degrees(np.arccos(min(c, 1.0))):.1f} deg")
+    T, _R = thin_glass.stack(layers)
+    spread = max(np.max(np.abs(thin_glass.stack(x)[0] - T)) for x in (lo_layers, hi_layers))
+    bound = float(spread / max(float(np.max(T)), 1e-300))
+    return T, bound, "; ".join(words)
+
+
+def interpane_fraction(model, crossings):
+    """Relative share of T that light bouncing between two or more panes carries (1 - prod T_i / T):
+    a render of thin panes cannot find it (a specular chain to a small light)."""
+    from . import thin_glass
+
+    if len(crossings) < 2:
+        return 0.0
+    layers = [model.panes[obj].optics(c)[:2] for obj, c, _lo, _hi in crossings]
+    T = thin_glass.stack(layers)[0]
+    single = np.prod([t for t, _r in layers], axis=0)
+    return float(np.max(1.0 - single / np.maximum(T, 1e-300)))
 
 
 def indirect_possible(model, p, n, tol):
@@ -318,6 +388,9 @@ def plan_direct(model, points, normals, exact_model):
     reach = 4.0 * (np.linalg.norm(hi - lo) + np.max(np.abs(points)) + 1.0) if n_pts else 1.0
     indirect = np.zeros(n_pts, bool)
     indirect_reason = np.full(n_pts, "", dtype=object)
+    transmittance = np.ones((n_lights, n_pts, 3))   # thin glass on the way (issue 18)
+    glass_bound = np.zeros((n_lights, n_pts))
+    interpane = np.zeros((n_lights, n_pts))
     for k in range(n_pts):
         indirect[k], indirect_reason[k] = indirect_possible(model, points[k], normals[k], tol)
     for i, light in enumerate(model.lights):
@@ -344,10 +417,19 @@ def plan_direct(model, points, normals, exact_model):
         if not light.casts_shadow:
             status[i], reason[i] = closed, f"{model_name}; casts no shadow (use_shadow off)"
             continue
-        states, blockers = occlusion_statuses(light.spec, points, normals, model.geometry, tol, reach)
+        states, blockers, crossed = occlusion_statuses(light.spec, points, normals, model.geometry, tol, reach,
+                                                       panes=model.panes)
         for k in range(n_pts):
             state, blocker = states[k], blockers[k]
-            if state == visibility.CLEAR:
+            if state == visibility.CLEAR and crossed[k]:
+                T, bound, words = glass_factor(model, crossed[k])
+                transmittance[i, k], glass_bound[i, k] = T, bound
+                interpane[i, k] = interpane_fraction(model, crossed[k])
+                status[i, k] = closed if bound == 0.0 else BOUNDED
+                reason[i, k] = (f"{model_name}; proved unoccluded but for thin glass: {words}; T = "
+                                f"{', '.join(f'{t:.4f}' for t in T)} (RGB)"
+                                + (f", +-{100 * bound:.2g} % over the light's extent" if bound else ""))
+            elif state == visibility.CLEAR:
                 status[i, k], reason[i, k] = closed, f"{model_name}; proved unoccluded"
             elif state == visibility.BLOCKED:
                 status[i, k], reason[i, k] = ZERO, f"blocked by opaque {blocker!r}"
@@ -364,7 +446,8 @@ def plan_direct(model, points, normals, exact_model):
                     status[i, k], reason[i, k] = RENDER, (f"{media[k]} may lie between the meter and the light: it "
                                                           "attenuates and scatters it (no closed form); rendered")
     world_status, world_reason = world_statuses(model, points, normals, tol)
-    return DirectPlan(status, reason, indirect, indirect_reason, world_status, world_reason)
+    return DirectPlan(status, reason, indirect, indirect_reason, world_status, world_reason,
+                      transmittance=transmittance, glass_bound=glass_bound, interpane=interpane)
 
 
 # --- participating media (issue 18) ------------------------------------------------------------------

@@ -120,6 +120,7 @@ class Pane:
     geometry: object = None
     model: str = ""
     trick: bool = False             # the archviz "Is Shadow Ray -> Transparent" glass
+    source: str = ""                # the object (shared by its instances) whose material is swapped
 
     def optics(self, cos_i):
         """(T, R, A) RGB at incidence cosine ``cos_i``."""

@@ -1,0 +1,245 @@
+"""Thin glass in the scene (issue 18): which materials are window panes, and the thin-pane shader
+that a measurement renders in their place.
+
+``pane_optics(material)`` reads a material as a pane when its surface is one of
+
+* a Glass BSDF of roughness 0 (IOR and Color from the node; Color tints every crossing and every
+  reflection, as Cycles weights the closure),
+* a Principled BSDF that is all transmission (Transmission Weight 1, Metallic 0, Roughness 0, Alpha 1,
+  no coat, sheen, subsurface, emission or thin film; Base Color tints transmission, Specular Tint the
+  reflection, the IOR from the node; Specular IOR Level 0.5),
+* the archviz trick: a Mix Shader whose factor is Light Path > Is Shadow Ray, with a white Transparent
+  BSDF for shadow rays and one of the above for the rest. It is read as the real pane it depicts:
+  Cycles would count the light twice there (shadow ray through the transparent part + refraction).
+
+with every input unlinked and no Volume. Anything else that transmits (a rough "frosted" pane, a
+textured or absorbing one) stays rendered as it is, and the reason is kept for the notes.
+
+``thin_pane_material(pane)`` builds the material a measurement swaps in (restored by the scene
+guard): per shading point, the incidence cosine |N . I| from the geometry drives exact Fresnel (math
+nodes, both polarisations), and the whole pane's T goes to a Transparent BSDF and its R to a sharp
+Glossy BSDF (no Fresnel in Cycles 4+), on the faces hit from the front; back faces of a slab are
+fully transparent (the front face already stands for the pane), so a ray through the slab keeps
+T(theta) of the closed form and a shadow ray through it converges like direct light. Reflection is
+seen only by rays that were not already reflected by a glossy surface (Light Path > Is Glossy Ray):
+light bouncing between the panes of double glazing is in the closed form's adding formula instead.
+"""
+
+import bpy
+
+from ..compat import ensure_node_tree
+
+#: Largest Glass/Principled roughness read as a smooth pane.
+SMOOTH = 0.0
+
+
+def _unlinked(node, *names):
+    return all(node.inputs.get(n) is None or not node.inputs[n].is_linked for n in names)
+
+
+def _value(node, name, default=None):
+    socket = node.inputs.get(name)
+    return default if socket is None else socket.default_value
+
+
+def _surface_node(tree):
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+    active = [n for n in outputs if n.is_active_output and getattr(n, "target", "ALL") in ("ALL", "CYCLES")]
+    out = (active or [n for n in outputs if getattr(n, "target", "ALL") in ("ALL", "CYCLES")] or [None])[0]
+    if out is None:
+        return None, None
+    if out.inputs["Volume"].is_linked:
+        return None, "a Volume inside the pane (absorbing glass is not modelled here)"
+    surface = out.inputs["Surface"]
+    if not surface.is_linked:
+        return None, None
+    return surface.links[0].from_node, None
+
+
+def _node_optics(node):
+    """(optics dict, reason) of a shader node read as a pane, or (None, reason)."""
+    kind = node.bl_idname
+    if kind == "ShaderNodeBsdfGlass":
+        if not _unlinked(node, "Color", "Roughness", "IOR", "Normal"):
+            return None, "Glass BSDF with linked inputs"
+        rough = float(_value(node, "Roughness", 0.0))
+        if rough > SMOOTH:
+            return None, f"frosted Glass BSDF (roughness {rough:g}): rendered"
+        colour = tuple(float(c) for c in _value(node, "Color")[:3])
+        return {"ior": float(_value(node, "IOR", 1.5)), "tint_t": colour, "tint_r": colour,
+                "model": "Glass BSDF"}, ""
+    if kind == "ShaderNodeBsdfPrincipled":
+        zero = ("Metallic", "Roughness", "Coat Weight", "Sheen Weight", "Subsurface Weight", "Emission Strength",
+                "Thin Film Thickness")
+        if not _unlinked(node, *(zero + ("Base Color", "IOR", "Transmission Weight", "Alpha", "Specular Tint",
+                                        "Specular IOR Level", "Normal"))):
+            return None, "Principled BSDF with linked inputs"
+        if float(_value(node, "Transmission Weight", 0.0)) != 1.0:
+            return None, "Principled BSDF not fully transmissive"
+        for name in zero:
+            if float(_value(node, name, 0.0)) != 0.0:
+                return None, f"Principled BSDF glass with {name} {float(_value(node, name)):g}: rendered"
+        if float(_value(node, "Alpha", 1.0)) != 1.0 or abs(float(_value(node, "Specular IOR Level", 0.5)) - 0.5) > 1e-9:
+            return None, "Principled BSDF glass with alpha or a specular level: rendered"
+        return {"ior": float(_value(node, "IOR", 1.5)),
+                "tint_t": tuple(float(c) for c in _value(node, "Base Color")[:3]),
+                "tint_r": tuple(float(c) for c in _value(node, "Specular Tint", (1, 1, 1, 1))[:3]),
+                "model": "Principled BSDF (transmission 1)"}, ""
+    if kind == "ShaderNodeMixShader":
+        fac = node.inputs[0]
+        if not fac.is_linked:
+            return None, "Mix Shader"
+        link = fac.links[0]
+        shadow, other = node.inputs[2], node.inputs[1]
+        if (link.from_node.bl_idname != "ShaderNodeLightPath" or link.from_socket.name != "Is Shadow Ray"
+                or not shadow.is_linked or not other.is_linked):
+            return None, "Mix Shader"
+        transparent = shadow.links[0].from_node
+        if transparent.bl_idname != "ShaderNodeBsdfTransparent" or not _unlinked(transparent, "Color") \
+                or tuple(_value(transparent, "Color")[:3]) != (1.0, 1.0, 1.0):
+            return None, "Is Shadow Ray mix without a white Transparent BSDF"
+        optics, why = _node_optics(other.links[0].from_node)
+        if optics is None:
+            return None, why
+        return dict(optics, model=optics["model"] + " with the 'Is Shadow Ray -> Transparent' trick", trick=True), ""
+    return None, ""
+
+
+def pane_optics(material):
+    """(optics dict or None, reason): the material read as a thin pane (module docstring)."""
+    if material is None:
+        return None, ""
+    from ..compat import active_node_tree
+
+    tree = active_node_tree(material)
+    if tree is None:
+        return None, ""
+    node, why = _surface_node(tree)
+    if node is None:
+        return None, why or ""
+    return _node_optics(node)
+
+
+# --- the thin-pane shader swapped in for a measurement ----------------------------------------------
+
+class _Math:
+    """Tiny expression builder over Math nodes (scalars)."""
+
+    def __init__(self, tree):
+        self.tree = tree
+
+    def op(self, operation, a, b=None):
+        node = self.tree.nodes.new("ShaderNodeMath")
+        node.operation = operation
+        node.use_clamp = False
+        for k, x in enumerate((a, b)):
+            if x is None:
+                continue
+            if isinstance(x, (int, float)):
+                node.inputs[k].default_value = float(x)
+            else:
+                self.tree.links.new(x, node.inputs[k])
+        return node.outputs[0]
+
+    def add(self, a, b): return self.op("ADD", a, b)  # noqa: E704
+    def sub(self, a, b): return self.op("SUBTRACT", a, b)  # noqa: E704
+    def mul(self, a, b): return self.op("MULTIPLY", a, b)  # noqa: E704
+    def div(self, a, b): return self.op("DIVIDE", a, b)  # noqa: E704
+    def sqrt(self, a): return self.op("SQRT", a)  # noqa: E704
+    def exp(self, a): return self.op("EXPONENT", a)  # noqa: E704
+    def max(self, a, b): return self.op("MAXIMUM", a, b)  # noqa: E704
+
+
+def thin_pane_material(pane, name):
+    """A new material (removed by the scene guard with every data-block a measurement creates) that
+    renders ``pane`` (``radiometry.thin_glass.Pane``) as thin glass with the closed form's T and R."""
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    m = _Math(tree)
+    geo = tree.nodes.new("ShaderNodeNewGeometry")
+    dot = tree.nodes.new("ShaderNodeVectorMath")
+    dot.operation = "DOT_PRODUCT"
+    tree.links.new(geo.outputs["True Normal"], dot.inputs[0])
+    tree.links.new(geo.outputs["Incoming"], dot.inputs[1])
+    cos_i = m.op("ABSOLUTE", dot.outputs["Value"])
+    cos_i = m.op("MINIMUM", m.max(cos_i, 1e-6), 1.0)
+    n = float(pane.ior)
+    sin_t2 = m.div(m.sub(1.0, m.mul(cos_i, cos_i)), n * n)
+    cos_t = m.sqrt(m.max(m.sub(1.0, sin_t2), 0.0))
+    n_ct = m.mul(cos_t, n)
+    n_ci = m.mul(cos_i, n)
+    rs = m.op("POWER", m.div(m.sub(cos_i, n_ct), m.add(cos_i, n_ct)), 2.0)
+    rp = m.op("POWER", m.div(m.sub(n_ci, cos_t), m.add(n_ci, cos_t)), 2.0)
+    channels_t, channels_r = [], []
+    for ch in range(3):
+        sigma = float(pane.absorption[ch]) * float(pane.thickness)
+        a = m.exp(m.div(-sigma, m.max(cos_t, 1e-6))) if sigma > 0 else 1.0
+        t, cr = float(pane.tint_t[ch]), float(pane.tint_r[ch])
+        T_sum, R_sum = None, None
+        for r in (rs, rp):
+            one_r = m.sub(1.0, r)
+            ra = m.mul(r, a) if not isinstance(a, float) else r
+            denom = m.sub(1.0, m.mul(m.mul(ra, ra), cr * cr))
+            top = m.mul(m.mul(one_r, one_r), t * t)
+            top = m.mul(top, a) if not isinstance(a, float) else top
+            T_pol = m.div(top, denom)
+            a2 = m.mul(a, a) if not isinstance(a, float) else 1.0
+            R_pol = m.add(m.mul(r, cr), m.div(m.mul(m.mul(m.mul(m.mul(one_r, one_r), r), a2), t * t * cr), denom))
+            T_sum = T_pol if T_sum is None else m.add(T_sum, T_pol)
+            R_sum = R_pol if R_sum is None else m.add(R_sum, R_pol)
+        channels_t.append(m.mul(T_sum, 0.5))
+        channels_r.append(m.mul(R_sum, 0.5))
+
+    def combine(channels):
+        node = tree.nodes.new("ShaderNodeCombineColor")
+        for k, s in enumerate(channels):
+            tree.links.new(s, node.inputs[k])
+        return node.outputs[0]
+
+    transparent = tree.nodes.new("ShaderNodeBsdfTransparent")
+    tree.links.new(combine(channels_t), transparent.inputs["Color"])
+    glossy = tree.nodes.new("ShaderNodeBsdfGlossy")
+    glossy.inputs["Roughness"].default_value = 0.0
+    tree.links.new(combine(channels_r), glossy.inputs["Color"])
+    add = tree.nodes.new("ShaderNodeAddShader")
+    tree.links.new(transparent.outputs[0], add.inputs[0])
+    tree.links.new(glossy.outputs[0], add.inputs[1])
+    path = tree.nodes.new("ShaderNodeLightPath")
+    # Rays already reflected by a glossy surface see the pane's transmission only (module docstring).
+    no_mirror = tree.nodes.new("ShaderNodeMixShader")
+    tree.links.new(path.outputs["Is Glossy Ray"], no_mirror.inputs[0])
+    tree.links.new(add.outputs[0], no_mirror.inputs[1])
+    transparent_only = tree.nodes.new("ShaderNodeBsdfTransparent")
+    tree.links.new(combine(channels_t), transparent_only.inputs["Color"])
+    tree.links.new(transparent_only.outputs[0], no_mirror.inputs[2])
+    shader = no_mirror
+    if pane.thickness > 0.0:
+        # A slab: the face a ray enters by stands for the whole pane, the face it leaves by is clear.
+        clear = tree.nodes.new("ShaderNodeBsdfTransparent")
+        back = tree.nodes.new("ShaderNodeMixShader")
+        tree.links.new(geo.outputs["Backfacing"], back.inputs[0])
+        tree.links.new(no_mirror.outputs[0], back.inputs[1])
+        tree.links.new(clear.outputs[0], back.inputs[2])
+        shader = back
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    tree.links.new(shader.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def swap_panes(snapshot, panes):
+    """Give every thin pane's object the thin-pane material for the measurement (the old slot
+    materials are remembered by ``snapshot``, a ``scene_guard.SceneSnapshot``, and come back on
+    exit; the new materials are removed with every data-block the measurement created). Returns the
+    names of the objects swapped."""
+    done = {}
+    for pane in (panes or {}).values():
+        obj = bpy.data.objects.get(pane.source)
+        if obj is None or pane.source in done or not obj.material_slots:
+            continue
+        mat = thin_pane_material(pane, f"radiometer thin pane {pane.source}")
+        for slot in obj.material_slots:
+            snapshot.remember(slot, "material")
+            slot.material = mat
+        done[pane.source] = mat
+    return sorted(done)
