@@ -396,14 +396,16 @@ def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0
 
 def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevation_m=0.0,
               direct_normal_illuminance_lux=None, sky=None, scene=None, quality="standard", client=None,
-              north_offset_deg=0.0, min_elevation_deg=0.0, method="auto", seed=0, progress=None, cancelled=None):
+              north_offset_deg=0.0, min_elevation_deg=0.0, method="auto", seed=0, progress=None, cancelled=None,
+              sky_horizontal_illuminance_lux=None):
     """Illuminance from the sun where it stands at each of ``times`` on N meters (issue 19).
 
     ``locations`` (N, 3) scene coordinates, ``normals`` (3,) or (N, 3); ``times``: timezone-aware
     datetimes; the site's latitude/longitude (deg, north/east +) and ``north_offset_deg`` as in
     :func:`sun_position`. Per time the sun is set (0.53 deg; ``direct_normal_illuminance_lux``: one
     value, one per time, or None for the IES clear-day model), every other light and the world are
-    switched off (``sky="overcast" | "cie:<type>"``: that CIE sky instead, needs ``set_cie_sky``),
+    switched off (``sky="overcast" | "cie:<type>"``: that CIE sky instead, with the sun's direction
+    and ``sky_horizontal_illuminance_lux`` (the same at every time; None: set_cie_sky's default)),
     and the meter measures (exact where nothing can block the sun, rendered to ``quality``
     elsewhere); the scene is restored after every step. ``client``: a Dask client
     (``radiometer.cluster``); None runs here. Returns a ``SunStudyResult``: ``illuminance`` (T, N)
@@ -418,7 +420,7 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
                            elevation_m=elevation_m, direct_normal_illuminance_lux=direct_normal_illuminance_lux,
                            sky=sky, scene=scene, quality=quality, client=client, north_offset_deg=north_offset_deg,
                            min_elevation_deg=min_elevation_deg, method=method, seed=seed, progress=progress,
-                           cancelled=cancelled)
+                           cancelled=cancelled, sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux)
 
 
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------

@@ -117,7 +117,7 @@ def _light_objects(scene, model):
     return sorted((ob for ob in objects if ob.type == "LIGHT"), key=lambda ob: ob.name)
 
 
-def _set_sky(scene, sky, direction):
+def _set_sky(scene, sky, direction, horizontal_illuminance_lux=None):
     """Put a temporary world with the CIE sky ``sky`` on ``scene`` (inside the caller's guard)."""
     import bpy
 
@@ -129,12 +129,13 @@ def _set_sky(scene, sky, direction):
     sky_type = "overcast" if sky == "overcast" else sky.split(":", 1)[1]
     if sky_type.isdigit():
         sky_type = int(sky_type)
-    api.set_cie_sky(scene, sky_type, sun_direction=tuple(float(x) for x in direction))
+    api.set_cie_sky(scene, sky_type, horizontal_illuminance_lux=horizontal_illuminance_lux,
+                    sun_direction=tuple(float(x) for x in direction))
 
 
 def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_deg, elevation_m=0.0,
                    direct_normal_illuminance_lux=None, north_offset_deg=0.0, sky=None, quality="standard",
-                   method="auto", seed=0, cancelled=None):
+                   method="auto", seed=0, cancelled=None, sky_horizontal_illuminance_lux=None):
     """Illuminance from the sun (and ``sky``) at one time; the scene is as before afterwards.
 
     ``locations``/``normals``: (N, 3) scene coordinates; ``when``: a timezone-aware datetime.
@@ -166,7 +167,7 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
                            north_offset_deg=north_offset_deg, elevation_m=elevation_m, sun=obj)
         direction = np.asarray(info["direction"], float)
         if sky is not None:
-            _set_sky(scene, sky, direction)
+            _set_sky(scene, sky, direction, sky_horizontal_illuminance_lux)
         view_layer_of(scene).update()
         out = {"azimuth_deg": info["azimuth_deg"], "elevation_deg": info["elevation_deg"],
                "direct_normal_illuminance_lux": info["direct_normal_illuminance_lux"]}
@@ -261,7 +262,8 @@ def _check_times(times):
 
 def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevation_m=0.0,
               direct_normal_illuminance_lux=None, sky=None, scene=None, quality="standard", client=None,
-              north_offset_deg=0.0, min_elevation_deg=0.0, method="auto", seed=0, progress=None, cancelled=None):
+              north_offset_deg=0.0, min_elevation_deg=0.0, method="auto", seed=0, progress=None, cancelled=None,
+              sky_horizontal_illuminance_lux=None):
     """See ``radiometer.api.sun_study``."""
     import bpy
 
@@ -292,7 +294,8 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
         raise RadiometerError("min_elevation_deg must be finite")
     common = dict(locations=points, normals=dirs, latitude_deg=float(latitude_deg),
                   longitude_deg=float(longitude_deg), elevation_m=float(elevation_m),
-                  north_offset_deg=float(north_offset_deg), sky=sky, quality=quality, method=method)
+                  north_offset_deg=float(north_offset_deg), sky=sky, quality=quality, method=method,
+                  sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux)
     tasks = [dict(common, when=times[i], direct_normal_illuminance_lux=dni[i], seed=int(seed) + 1009 * i)
              for i in range(n_t)]
     started = time.perf_counter()
@@ -325,7 +328,9 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
     notes = ["sunlit: the ray to the centre of the sun's disc meets no opaque shadow-casting surface; sunlight "
              "hours: each time sample counts for half the gaps to its neighbours (trapezoid rule)"
              + (f", sun at least {min_elevation_deg:g} deg high" if min_elevation_deg else ""),
-             "illuminance: the sun" + (f" and the {sky} sky" if sky else " alone (other lights and the world off)")]
+             "illuminance: the sun" + (f" and the {sky} sky (the same horizontal illuminance at every time: "
+                                       f"{sky_horizontal_illuminance_lux or 'set_cie_sky default'} lx)" if sky
+                                       else " alone (other lights and the world off)")]
     return SunStudyResult(times=times, locations=points, normals=dirs, illuminance=stack("illuminance"),
                           rel_std_error=stack("rel_std_error"), exact=stack("exact", bool), sunlit=sunlit,
                           sunlit_fraction=stack("sunlit_fraction"), sun=sun_rows, sample_hours=weights,

@@ -116,7 +116,7 @@ def test_cluster_path_runs_the_step_function_per_time(clean_blender, monkeypatch
     times = [dt.datetime(2026, 6, 21, h, tzinfo=UTC) for h in (8, 12, 16)]
     calls = {}
 
-    def run_scene_tasks(scene_arg, step_fn, kwargs_list, *, client, progress=None):
+    def run_scene_tasks(scene_arg, step_fn, kwargs_list, *, client, progress=None, cancelled=None, **_options):
         calls.update(scene=scene_arg, step=step_fn, kwargs=kwargs_list, client=client)
         return [step_fn(scene_arg, **kw) for kw in kwargs_list]
 
@@ -154,4 +154,17 @@ def test_bad_input_and_cancel_leave_the_scene_alone(clean_blender):
             api.sun_study([(0, 0, 0)], (0, 0, 1), t, latitude_deg=LAT, longitude_deg=LON, sky="overcast")
     with pytest.raises(MeasurementCancelled):
         api.sun_study([(0, 0, 0)], (0, 0, 1), t, latitude_deg=LAT, longitude_deg=LON, cancelled=lambda: True)
+    assert scene_fingerprint(scene) == before
+
+
+@pytest.mark.skipif(not hasattr(api, "set_cie_sky"), reason="the CIE skies (api.set_cie_sky) are not in this build")
+def test_sun_and_overcast_sky_add_up_on_an_unobstructed_meter(clean_blender):
+    scene = bpy.context.scene
+    before = scene_fingerprint(scene)
+    times = [dt.datetime(2026, 6, 21, h, tzinfo=UTC) for h in (1, 12)]
+    r = api.sun_study([(0, 0, 0)], (0, 0, 1), times, latitude_deg=LAT, longitude_deg=LON,
+                      direct_normal_illuminance_lux=100_000.0, sky="overcast", sky_horizontal_illuminance_lux=20_000.0)
+    pos = api.sun_position(LAT, LON, times)
+    sun = 100_000.0 * np.maximum(0.0, pos.direction[:, 2]) * (pos.elevation_deg > 0)
+    assert np.allclose(r.illuminance[:, 0], 20_000.0 + sun, rtol=1e-4)
     assert scene_fingerprint(scene) == before
