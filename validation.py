@@ -238,3 +238,154 @@ def check_input_file(value, what="file", *, max_bytes=MAX_INPUT_BYTES):
         raise RadiometerError(f"{shown(value)} is too large for a {what} file ({st.st_size} bytes; "
                               f"at most {max_bytes})")
     return full
+
+
+# --- the API boundary -----------------------------------------------------------------------------
+
+QUALITIES = ("preview", "standard", "reference")
+METHODS = ("auto", "analytic", "hybrid", "render")
+
+# Errors of the pure readers whose message is already one line for the user (file and line named).
+_USER_ERRORS = ()
+
+
+def _user_errors():
+    global _USER_ERRORS
+    if not _USER_ERRORS:
+        from .radiometry import environment, photometric_files
+
+        _USER_ERRORS = (photometric_files.PhotometricFileError, environment.EnvironmentInputError)
+    return _USER_ERRORS
+
+
+def _where(exc):
+    import traceback
+
+    frames = traceback.extract_tb(exc.__traceback__)
+    if not frames:
+        return ""
+    last = frames[-1]
+    return f" at {os.path.basename(last.filename)}:{last.lineno}"
+
+
+def _first_line(exc):
+    text = str(exc).strip()
+    return text.splitlines()[0][:300] if text else type(exc).__name__
+
+
+#: Reading attributes that must be finite in a result (a NaN reading is never an answer).
+_READING_VALUES = ("illuminance", "irradiance", "luminance", "radiance")
+
+
+def check_finite_result(result, what):
+    """RadiometerError when a reading in ``result`` (a reading, a list of them, or a dict with
+    reading keys) is NaN or infinite: a wrong number must not pass as an answer."""
+    items = result if isinstance(result, (list, tuple)) else [result]
+    for k, item in enumerate(items):
+        for key in _READING_VALUES:
+            value = item.get(key) if isinstance(item, dict) else getattr(item, key, None)
+            if isinstance(value, (float, np.floating)) and not math.isfinite(value):
+                which = f" #{k}" if len(items) > 1 else ""
+                raise RadiometerError(f"{what}{which} gave a non-finite {key} ({value}): an input of the scene is "
+                                      "NaN or infinite (a light's power, a texture, a world image); fix it and measure "
+                                      "again")
+    return result
+
+
+def boundary(func=None, *, finite=False):
+    """Decorator for an ``api`` function: whatever goes wrong below it leaves as ONE error type,
+    ``RadiometerError`` with one line (issue 21). Errors of the pure file readers keep their message;
+    anything unexpected is wrapped with the function's name, the exception type and where it arose
+    (chained, so a developer still gets the traceback); MemoryError says the request is too large.
+    ``finite``: the result's readings must be finite. Ctrl-C (KeyboardInterrupt) passes through."""
+    import functools
+
+    def wrap(f):
+        @functools.wraps(f)
+        def guarded(*args, **kwargs):
+            try:
+                result = f(*args, **kwargs)
+            except RadiometerError:
+                raise
+            except MemoryError:
+                raise RadiometerError(f"{f.__name__}: not enough memory for this request (too many points or "
+                                      "pixels); ask for less") from None
+            except RecursionError as exc:
+                raise RadiometerError(f"{f.__name__}: the input is nested too deeply ({_first_line(exc)})") from None
+            except Exception as exc:  # noqa: BLE001 - the boundary: one error type for the caller
+                if isinstance(exc, _user_errors()):
+                    raise RadiometerError(_first_line(exc)) from None
+                raise RadiometerError(f"{f.__name__}: unexpected {type(exc).__name__}: {_first_line(exc)}"
+                                      f"{_where(exc)} (bad input not caught earlier, or a bug: please report it)"
+                                      ) from exc
+            if finite:
+                check_finite_result(result, f.__name__)
+            return result
+
+        guarded.__radiometer_boundary__ = True
+        return guarded
+
+    return wrap(func) if func is not None else wrap
+
+
+def quality(value, name="quality", *, allow_none=False):
+    if value is None and allow_none:
+        return None
+    return choice(value, name, QUALITIES)
+
+
+def method(value, name="method", *, allow_none=False, options=METHODS):
+    if value is None and allow_none:
+        return None
+    return choice(value, name, options)
+
+
+def measurement(*, scene_=None, quality_=None, method_=None, target_rel_error=None, samples_=None,
+                time_budget_s=None, progress=None, cancelled=None, seed_=0, allow_none_quality=False,
+                allow_none_method=False):
+    """The keywords most measurements share, checked together (returns nothing; raises one line)."""
+    scene(scene_)
+    quality(quality_, allow_none=allow_none_quality)
+    method(method_, allow_none=allow_none_method)
+    fraction(target_rel_error, "target_rel_error", allow_none=True)
+    samples(samples_)
+    time_budget(time_budget_s)
+    callable_or_none(progress, "progress")
+    callable_or_none(cancelled, "cancelled")
+    seed(seed_)
+
+
+def resolution2(value, name="resolution", *, low=1, high=MAX_MAP_SIDE, allow_none=False):
+    """Two integers (width, height) or (nx, ny) in [low, high]."""
+    if value is None and allow_none:
+        return None
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
+        _fail(name, f"two integers in [{low}, {high}]", value)
+    return tuple(integer(v, name, low=low, high=high) for v in value)
+
+
+def angles(value, name, *, low, high, allow_none=True, max_count=10_000):
+    """None or a non-empty 1-D list of finite angles (deg) in [low, high]."""
+    if value is None and allow_none:
+        return None
+    a = _array(value, name, f"a list of angles in degrees within [{low:g}, {high:g}]")
+    if a.ndim != 1 or not 1 <= a.size <= max_count or not np.all(np.isfinite(a)) or np.any(a < low) \
+            or np.any(a > high):
+        _fail(name, f"a list of 1 to {max_count} angles in degrees within [{low:g}, {high:g}]", value)
+    return a
+
+
+def distances(value, name="distances", *, max_count=10_000):
+    """None or a non-empty 1-D list of finite distances > 0 (m)."""
+    if value is None:
+        return None
+    a = _array(value, name, "a list of distances > 0 in m")
+    if a.ndim != 1 or not 1 <= a.size <= max_count or not np.all(np.isfinite(a)) or np.any(a <= 0) \
+            or np.any(a > MAX_COORDINATE):
+        _fail(name, f"a list of 1 to {max_count} finite distances > 0 in m", value)
+    return a
+
+
+def optional_output(value, name):
+    """None, or a path a file can be written to (checked now, before the work)."""
+    return None if value is None else output_file(value, name)

@@ -109,6 +109,9 @@ def _render_exr(scene, folder, name, width, height):
     return exr.read_rgb(path + ".exr")
 
 
+#: Largest radiance-map height (px; the width is twice it): 4096 x 8192 float RGBA is 512 MB.
+MAX_MAP_HEIGHT = 4096
+
 #: Independent renders per round of a luminance reading (batch means need a few).
 RENDERS_PER_ROUND = 4
 
@@ -213,8 +216,10 @@ def capture_radiance_map(location, path, *, resolution=128, scene=None, quality=
     scene = scene or bpy.context.scene
     points, _ = meter.as_points(location)
     resolution = int(resolution)
-    if resolution < 4:
-        raise RadiometerError(f"radiance map height must be at least 4 px, got {resolution}")
+    if not 4 <= resolution <= MAX_MAP_HEIGHT:  # 10**9 would render for ever and ignore Ctrl-C
+        raise RadiometerError(f"radiance map height must be 4 to {MAX_MAP_HEIGHT} px, got {resolution}")
+    if not str(path).strip():
+        raise RadiometerError("radiance map path is empty: name an .exr file")
     path = os.path.abspath(bpy.path.abspath(path) if path.startswith("//") else path)
     if not os.path.isdir(os.path.dirname(path)):
         raise RadiometerError(f"cannot write {path}: its folder does not exist")
@@ -230,10 +235,16 @@ def capture_radiance_map(location, path, *, resolution=128, scene=None, quality=
             cam.data.panorama_type = "EQUIRECTANGULAR"
             img = _render_exr(scene, folder, "map", 2 * resolution, resolution)
             img /= scene.unit_settings.scale_length ** 2  # the file keeps Cycles' own values
-        shutil.copyfile(os.path.join(folder, "map.exr"), path if path.endswith(".exr") else path + ".exr")
+        path = path if path.endswith(".exr") else path + ".exr"
+        if not np.all(np.isfinite(img)):
+            raise RadiometerError("the radiance map has NaN or infinite pixels (a light's power, a texture or the "
+                                  "world of the scene is not finite); no map written")
+        from ..outputs import atomic_output
+
+        with atomic_output(path) as tmp:  # whole or not at all, never through a planted link
+            shutil.copyfile(os.path.join(folder, "map.exr"), tmp)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
-    path = path if path.endswith(".exr") else path + ".exr"
     e_rgb = environment.irradiance(img, (0.0, 0.0, 1.0), _PANO_ROTATION)[0]  # exact for the pixels
     e = float(e_rgb @ weights)
     notes = [f"equirectangular {2 * resolution}x{resolution} px, 32-bit EXR at {path}",

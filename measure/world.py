@@ -69,7 +69,9 @@ def _mapping_rotation(node):
 def _image_pixels(image):
     """(H, W, 4) float64, top row first, or a reason string."""
     if image is None:
-        return "the Environment Texture has no image (Cycles renders it magenta)"
+        # Measuring Cycles' magenta stand-in would be a wrong number without an error (issue 21).
+        raise RadiometerError("the world's Environment Texture has no image (Cycles renders it magenta): "
+                              "open an image in it or remove the node")
     w, h = image.size[:]
     if not image.has_data:
         try:
@@ -78,7 +80,11 @@ def _image_pixels(image):
             pass
         w, h = image.size[:]
     if w == 0 or h == 0:
-        return f"the image {image.name!r} cannot be loaded ({image.filepath or 'no file'})"
+        from ..outputs import shown
+
+        raise RadiometerError(f"the world's image {image.name!r} cannot be loaded "
+                              f"({shown(image.filepath) if image.filepath else 'no file'}: missing, unreadable or "
+                              "empty); Cycles would render a magenta placeholder, so it is not measured")
     px = np.empty(w * h * image.channels, np.float32)
     image.pixels.foreach_get(px)
     px = px.reshape(h, w, image.channels)[::-1].astype(np.float64)
@@ -100,6 +106,10 @@ def _image_radiance(image, working_space):
         return px
     space = image.colorspace_settings.name
     rgb = px[..., :3]
+    if not np.all(np.isfinite(rgb)):
+        bad = int(np.count_nonzero(~np.isfinite(rgb).all(axis=-1)))
+        raise RadiometerError(f"the world's image {image.name!r} has {bad} pixel(s) that are NaN or infinite: "
+                              "no finite reading exists; fix or clamp the image")
     if space in ("Non-Color", working_space):
         pass
     elif space == "sRGB" and working_space == "Linear Rec.709" and not image.is_float:
@@ -108,8 +118,6 @@ def _image_radiance(image, working_space):
         return f"the image's colour space {space!r} is not modelled (working space {working_space!r})"
     if image.alpha_mode not in ("NONE", "CHANNEL_PACKED") and np.any(px[..., 3] < 1.0):
         return f"the image {image.name!r} has alpha < 1 (Cycles' alpha handling is not modelled)"
-    if not np.all(np.isfinite(rgb)):
-        return f"the image {image.name!r} has non-finite pixels"
     return rgb
 
 

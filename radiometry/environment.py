@@ -40,6 +40,24 @@ SIGGRAPH 2001, pp. 497-500 (eq. 8-13, the constants c1..c5 and the 9 % remark).
 
 import numpy as np
 
+
+class EnvironmentInputError(ValueError):
+    """A radiance map that no finite answer can come from (NaN/inf pixels, wrong shape); one line."""
+
+
+def check_finite_radiance(radiance, what="radiance map"):
+    """``radiance`` as a float array (H, W, >= 3), or EnvironmentInputError when it is empty, has the
+    wrong shape or any NaN/inf pixel (their integrals would be NaN/inf: issue 21)."""
+    a = np.asarray(radiance, dtype=np.float64)
+    if a.ndim != 3 or a.shape[0] < 1 or a.shape[1] < 1 or a.shape[2] < 3:
+        raise EnvironmentInputError(f"{what}: expected an (H, W, 3) image, got shape {a.shape}")
+    bad = ~np.isfinite(a[..., :3]).all(axis=-1)
+    if bad.any():
+        y, x = np.argwhere(bad)[0]
+        raise EnvironmentInputError(f"{what}: {int(bad.sum())} pixel(s) are NaN or infinite (first at row {y}, "
+                                    f"column {x}); no finite irradiance exists")
+    return a
+
 #: capture_radiance_map's panorama: local +Y (image up) -> world +Z, local +Z -> world -Y.
 RADIANCE_MAP_ROTATION = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 #: Blender's equirectangular Environment Texture (measured, see the module docstring).
@@ -356,6 +374,7 @@ def irradiance_map(radiance, rotation=np.eye(3), *, resolution=(64, 32), method=
     width, height = int(resolution[0]), int(resolution[1])
     if width < 1 or height < 1:
         raise ValueError(f"resolution must be positive, got {resolution}")
+    radiance = check_finite_radiance(radiance)
     out_rotation = rotation if out_rotation is None else out_rotation
     dirs, _ = pixel_directions(height, width, out_rotation)
     coeffs = sh9_coefficients(radiance, rotation)

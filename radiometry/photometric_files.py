@@ -68,6 +68,14 @@ IES_FORMATS = {
 }
 _PHOTOMETRIC_TYPES = {1: "C", 2: "B", 3: "A"}
 _ANGLE_TOL = 1e-4  # deg; Cycles' angle_close
+#: No luminaire comes near this (searchlights reach ~1e9 cd); above it a table is a broken file, and
+#: its flux would overflow (1e308 cd gives lumens = inf).
+MAX_CANDELA = 1e12
+#: Multipliers and ballast factors outside (0, MAX_FACTOR] are refused (a factor of -1 makes a
+#: negative table, 0 a black one).
+MAX_FACTOR = 1e6
+#: Photometric files are text tables of a few kB to a few MB.
+MAX_FILE_BYTES = 64 * 1024 * 1024
 
 
 class PhotometricFileError(ValueError):
@@ -171,7 +179,17 @@ class Photometry:
         h_full, v_full, table = self.full_table()
         v = np.asarray(vertical_deg, dtype=np.float64)
         h = np.mod(np.asarray(horizontal_deg, dtype=np.float64), 360.0)
-        return catmull_rom_table(h_full, v_full, table, h, v)
+        out = catmull_rom_table(h_full, v_full, table, h, v)
+        # At the table's last vertical angle (usually 180 deg) Cycles' lookup gives 0 (its cells are
+        # half-open: the meter's light model keeps that, it is what renders); the READER answers
+        # the table's own value there, interpolated along C only (a column repeated past the end).
+        at_end = np.broadcast_to(v == v_full[-1], np.broadcast_shapes(v.shape, h.shape))
+        if np.any(at_end):
+            v_ext = np.append(v_full, v_full[-1] + 1.0)
+            t_ext = np.hstack([table, table[:, -1:]])
+            end = catmull_rom_table(h_full, v_ext, t_ext, h, np.full(np.shape(v), v_full[-1]))
+            out = np.where(at_end, end, out)
+        return out[()] if np.ndim(out) == 0 else out
 
     # --- derived quantities ----------------------------------------------------------------------
     @property
@@ -388,10 +406,25 @@ def _check_ascending(values, lines, what, path):
                                        f"got {values[i]:g} after {values[i - 1]:g}")
 
 
-def _check_candela(values, lines, path, unit="candela"):
+def _check_candela(values, lines, path, unit="candela", scale=1.0):
     for i, value in enumerate(values.ravel()):
         if value < 0.0:
             raise PhotometricFileError(f"{path}: line {lines[i]}: expected a non-negative {unit} value, got {value:g}")
+        if not value * scale <= MAX_CANDELA:
+            raise PhotometricFileError(f"{path}: line {lines[i]}: expected a {unit} value giving at most "
+                                       f"{MAX_CANDELA:g} cd, got {value:g}" + (f" (x {scale:g})" if scale != 1 else ""))
+
+
+def _check_factor(value, line, what, path):
+    if not 0.0 < value <= MAX_FACTOR:
+        raise PhotometricFileError(f"{path}: line {line}: expected {what} in (0, {MAX_FACTOR:g}], got {value:g}")
+
+
+def _check_range(values, lines, low, high, what, path):
+    for value, line in zip(values, lines):
+        if not low - _ANGLE_TOL <= value <= high + _ANGLE_TOL:
+            raise PhotometricFileError(f"{path}: line {line}: expected {what} within {low:g}..{high:g} deg, "
+                                       f"got {value:g}")
 
 
 def _classify_c(h, path, line):
@@ -476,7 +509,7 @@ def parse_ies(text, path="<text>", tilt_loader=None):
 
     n_lamps, _ = tokens.number("the number of lamps (an integer)", integer=True)
     lumens_per_lamp, _ = tokens.number("the lumens per lamp (or -1 for absolute photometry)")
-    multiplier, _ = tokens.number("the candela multiplier")
+    multiplier, line_mult = tokens.number("the candela multiplier")
     n_v, line_nv = tokens.number("the number of vertical angles (an integer)", integer=True)
     n_h, line_nh = tokens.number("the number of horizontal angles (an integer)", integer=True)
     ptype, line_pt = tokens.number("the photometric type (1 = C, 2 = B, 3 = A)", integer=True)
@@ -491,9 +524,15 @@ def parse_ies(text, path="<text>", tilt_loader=None):
     width, _ = tokens.number("the luminous width")
     length, _ = tokens.number("the luminous length")
     height, _ = tokens.number("the luminous height")
-    ballast, _ = tokens.number("the ballast factor")
-    third, _ = tokens.number("the ballast-lamp photometric factor / future use / file generation type")
+    ballast, line_ballast = tokens.number("the ballast factor")
+    third, line_third = tokens.number("the ballast-lamp photometric factor / future use / file generation type")
     watts, _ = tokens.number("the input watts")
+    left = len(tokens.items) - tokens.pos
+    if n_v + n_h + n_v * n_h > max(left, 1_000_000):  # before allocating: counts of 1e9 would need gigabytes
+        raise PhotometricFileError(f"{path}: line {line_nv}: expected {n_v} vertical and {n_h} horizontal angles "
+                                   f"and {n_v} x {n_h} candela values, the file has only {left} numbers left")
+    _check_factor(multiplier, line_mult, "the candela multiplier", path)
+    _check_factor(ballast, line_ballast, "the ballast factor", path)
     v, v_lines = tokens.numbers(n_v, "vertical angles")
     h, h_lines = tokens.numbers(n_h, "horizontal angles")
     cd_raw, cd_lines = tokens.numbers(n_v * n_h, "candela values")
@@ -503,10 +542,11 @@ def parse_ies(text, path="<text>", tilt_loader=None):
                                    f"values, got {tok!r} (wrong angle counts?)")
     _check_ascending(v, v_lines, "vertical angles", path)
     _check_ascending(h, h_lines, "horizontal angles", path)
-    _check_candela(cd_raw, cd_lines, path)
     factor = multiplier * ballast
     if fmt in ("LM-63-1986", "LM-63-1991", "LM-63-1995"):
+        _check_factor(third, line_third, "the ballast-lamp photometric factor", path)
         factor *= third  # ballast-lamp photometric factor; later versions repurposed the field
+    _check_candela(cd_raw, cd_lines, path, scale=factor)
     metadata.update({"units_type": units, "luminous_width": width, "luminous_length": length,
                      "luminous_height": height, "ballast_factor": ballast, "candela_multiplier": multiplier,
                      "number_of_lamps": n_lamps, "lumens_per_lamp": lumens_per_lamp})
@@ -516,6 +556,7 @@ def parse_ies(text, path="<text>", tilt_loader=None):
         metadata["ballast_lamp_factor"] = third
     kind = _PHOTOMETRIC_TYPES[ptype]
     if kind == "C":
+        _check_range(h, h_lines, 0.0, 360.0, "type-C horizontal angles", path)
         if v[0] < -_ANGLE_TOL or v[-1] > 180.0 + _ANGLE_TOL:
             raise PhotometricFileError(f"{path}: line {v_lines[0]}: expected type-C vertical angles within 0-180 deg, "
                                        f"got {v[0]:g}-{v[-1]:g}")
@@ -524,6 +565,7 @@ def parse_ies(text, path="<text>", tilt_loader=None):
         if v[0] < -90.0 - _ANGLE_TOL or v[-1] > 90.0 + _ANGLE_TOL:
             raise PhotometricFileError(f"{path}: line {v_lines[0]}: expected type-{kind} vertical angles within "
                                        f"-90..90 deg, got {v[0]:g}-{v[-1]:g}")
+        _check_range(h, h_lines, -180.0, 180.0, f"type-{kind} horizontal angles", path)
         symmetry = ("bilateral" if abs(h[0]) < _ANGLE_TOL else "none") if h.size > 1 else "axial"
     rated = None if lumens_per_lamp < 0 else n_lamps * lumens_per_lamp
     return Photometry(vertical_angles_deg=v, horizontal_angles_deg=h, candela=cd_raw.reshape(n_h, n_v) * factor,
@@ -632,6 +674,7 @@ def parse_ldt(text, path="<text>"):
         g_lines.append(ln)
     c, g = np.array(c), np.array(g)
     _check_ascending(c, c_lines, "C-plane angles", path)
+    _check_range(c, c_lines, 0.0, 360.0, "C-plane angles", path)
     _check_ascending(g, g_lines, "gamma angles", path)
     if g[0] < -_ANGLE_TOL or g[-1] > 180.0 + _ANGLE_TOL:
         raise PhotometricFileError(f"{path}: line {g_lines[0]}: expected gamma angles within 0-180 deg, "
@@ -656,7 +699,11 @@ def parse_ldt(text, path="<text>"):
         values.append(value)
         v_lines.append(ln)
     values = np.array(values)
-    _check_candela(values, v_lines, path, "luminous intensity")
+    flux = sum(abs(s["lamp_flux_lm"]) for s in sets)
+    if not 0.0 < md["conversion_factor"] <= MAX_FACTOR:
+        raise PhotometricFileError(f"{path}: line 24: expected the conversion factor in (0, {MAX_FACTOR:g}], "
+                                   f"got {md['conversion_factor']:g}")
+    _check_candela(values, v_lines, path, "luminous intensity", scale=flux / 1000.0 * md["conversion_factor"])
     h = c[planes] if isym != 1 else np.array([0.0])
     symmetry = _LDT_SYMMETRY[isym]
     if isym == 0:
@@ -678,10 +725,21 @@ def parse_ldt(text, path="<text>"):
 def read_photometry(path):
     """Read an IES LM-63 (``.ies``) or EULUMDAT (``.ldt``) file; the format is decided by the
     extension, else by content (a first line of ``IESNA``/``IES:``/``TILT=`` means LM-63)."""
+    import stat
+
     path = os.fspath(path)
     try:
+        # A FIFO blocks forever and /dev/zero never ends: only regular files of a sane size are read.
+        st = os.stat(path)
+        if stat.S_ISDIR(st.st_mode):
+            raise PhotometricFileError(f"{path}: is a folder, not a photometric file")
+        if not stat.S_ISREG(st.st_mode):
+            raise PhotometricFileError(f"{path}: not a regular file (a pipe or a device): refusing to read it")
+        if st.st_size > MAX_FILE_BYTES:
+            raise PhotometricFileError(f"{path}: {st.st_size} bytes is too large for a photometric file "
+                                       f"(at most {MAX_FILE_BYTES})")
         with open(path, "rb") as fh:
-            data = fh.read()
+            data = fh.read(MAX_FILE_BYTES + 1)
     except FileNotFoundError:
         raise PhotometricFileError(f"{path}: no such file") from None
     except OSError as exc:

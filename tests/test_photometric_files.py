@@ -159,7 +159,11 @@ def test_candela_at_is_exact_at_tabulated_angles_and_vectorised(tmp_path):
     assert p.candela_at(V_FULL[:3], 30.0).shape == (3,)
     assert p.candela_at(np.zeros((2, 3)), np.zeros((2, 1))).shape == (2, 3)
     assert np.isnan(p.candela_at(np.nan, 0.0))
-    assert p.candela_at(180.0, 0.0) == 0.0          # Cycles: v >= last tabulated angle gives 0
+    # The reader answers the table at a tabulated 180 deg (Cycles' lookup gives 0 there: the light
+    # model of the meter keeps that, see catmull_rom_table); issue 18.
+    assert p.candela_at(180.0, 0.0) == pytest.approx(cd[0, -1], rel=1e-10)
+    np.testing.assert_allclose(p.candela_at(180.0, h), cd[:, -1], rtol=1e-10)
+    assert pf.catmull_rom_table(*p.full_table(), 0.0, 180.0) == 0.0
 
 
 def test_symmetries_expand_as_lm63_says(tmp_path):
