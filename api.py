@@ -6,9 +6,11 @@ evaluated depsgraph). Bad input raises ``radiometer.errors.RadiometerError`` wit
 message and leaves the scene untouched; so does a failed or cancelled measurement.
 """
 
+from . import validation as _v
 from .errors import MeasurementCancelled, RadiometerError  # noqa: F401  (re-exported)
 
 
+@_v.boundary(finite=True)
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
                         seed=0):
@@ -31,6 +33,11 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     ``exact``, ``method``, ``parts`` (which light came from closed forms), ``samples``, ``seconds``,
     ``notes``.
     """
+    location = _v.points(location, "location")
+    normal = _v.directions(normal, "normal")
+    _v.same_count(location, normal)
+    _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error, samples_=samples,
+                   time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     from .measure import meter
 
     return meter.measure_illuminance(location, normal, scene=scene, method=method, quality=quality,
@@ -38,16 +45,26 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                                      time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed=seed)
 
 
+@_v.boundary
 def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     """Analytic per-light breakdown: list of dicts with light, irradiance, illuminance, model, exact."""
+    location = _v.points(location, "location", allow_many=False)
+    normal = _v.directions(normal, "normal", allow_many=False)
+    _v.scene(scene)
     from .measure import meter
 
     return meter.predict_illuminance(location, normal, scene=scene)
 
 
+@_v.boundary(finite=True)
 def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, quality="standard",
                       target_rel_error=None, progress=None, cancelled=None):
     """Average radiance W/(m^2 sr) and luminance cd/m^2 seen in a cone of ``acceptance_deg`` (full angle)."""
+    location = _v.points(location, "location", allow_many=False)
+    direction = _v.directions(direction, "direction", allow_many=False)
+    acceptance_deg = _v.real(acceptance_deg, "acceptance_deg", low=0.0, high=120.0, low_open=True, high_open=True)
+    _v.measurement(scene_=scene, quality_=quality, target_rel_error=target_rel_error, progress=progress,
+                   cancelled=cancelled, method_="render")
     from .measure import camera
 
     return camera.measure_luminance(location, direction, acceptance_deg=acceptance_deg, scene=scene,
@@ -55,20 +72,46 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
                                     cancelled=cancelled)
 
 
+@_v.boundary(finite=True)
 def capture_radiance_map(location, path, *, resolution=256, scene=None, quality="standard"):
     """Write a 32-bit equirectangular EXR of the incident radiance at ``location``; returns a RadianceMap."""
+    import os
+
+    location = _v.points(location, "location", allow_many=False)
+    if isinstance(path, str) and path.startswith("//"):  # relative to the .blend, as Blender writes it
+        import bpy
+
+        path = bpy.path.abspath(path)
+    path = _v.path(path, "path")
+    if os.path.isdir(path) or str(path).endswith(os.sep):
+        raise RadiometerError(f"path must name an .exr file, got the folder {path!r:.200}")
+    # The file written is the file reported: "map" becomes "map.exr" before anything is checked.
+    path = _v.output_file(path if path.lower().endswith(".exr") else f"{path}.exr", "path")
+    resolution = _v.integer(resolution, "resolution", low=4, high=_v.MAX_MAP_SIDE // 2)
+    _v.scene(scene)
+    _v.quality(quality)
     from .measure import camera
 
     return camera.capture_radiance_map(location, path, resolution=resolution, scene=scene, quality=quality)
 
 
+@_v.boundary
 def measure_meters(objects=None, *, scene=None, quality=None, progress=None, cancelled=None):
     """Measure meter objects (default: every meter in the scene) and store the readings on them."""
+    _v.scene(scene)
+    _v.quality(quality, allow_none=True)
+    _v.callable_or_none(progress, "progress")
+    _v.callable_or_none(cancelled, "cancelled")
+    if objects is not None:
+        if isinstance(objects, (str, bytes)) or not hasattr(objects, "__iter__"):
+            raise RadiometerError(f"objects must be a list of meter objects or None, got {objects!r:.60}")
+        objects = [_v.blender_object(ob, "objects") for ob in objects]
     from .measure import meters
 
     return meters.measure_meters(objects, scene=scene, quality=quality, progress=progress, cancelled=cancelled)
 
 
+@_v.boundary
 def check_inverse_square(light, *, scene=None, distances=None, method="auto", quality="standard",
                          tolerance=0.01, target_rel_error=None, samples=None, time_budget_s=None, seed=0, plot=None,
                          progress=None, cancelled=None):
@@ -93,6 +136,13 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     scene W/m^2, direct_deviation, scene_share, shadowed, direct_rel_std_error, total_ok;
     deviations and shares as fractions). ``plot``: PNG path. A sun raises RadiometerError.
     """
+    _v.scene(scene)
+    light = _v.blender_object(light, "light", scene_=scene, types=("LIGHT",))
+    distances = _v.distances(distances)
+    _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error,
+                   samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
+    tolerance = _v.fraction(tolerance, "tolerance")
+    plot = _v.optional_output(plot, "plot")
     from .measure import analysis
 
     return analysis.check_inverse_square(light, scene=scene, distances=distances, method=method, quality=quality,
@@ -101,6 +151,7 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
                                          cancelled=cancelled)
 
 
+@_v.boundary
 def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, method="auto", quality="standard",
                      tolerance=0.01, target_rel_error=None, samples=None, time_budget_s=None, seed=0, plot=None,
                      progress=None, cancelled=None):
@@ -115,6 +166,14 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
     predicted cos, ratio, rel_deviation, ratio_rel_se, model_ratio, ok, direct W/m^2,
     direct_ratio, direct_deviation, scene W/m^2, scene_share, total_ok).
     """
+    _v.scene(scene)
+    light = _v.blender_object(light, "light", scene_=scene, types=("LIGHT",))
+    location = None if location is None else _v.points(location, "location", allow_many=False)
+    angles_deg = _v.angles(angles_deg, "angles_deg", low=0.0, high=90.0)
+    _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error,
+                   samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
+    tolerance = _v.fraction(tolerance, "tolerance")
+    plot = _v.optional_output(plot, "plot")
     from .measure import analysis
 
     return analysis.check_cosine_law(light, scene=scene, location=location, angles_deg=angles_deg, method=method,
@@ -123,6 +182,7 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
                                      progress=progress, cancelled=cancelled)
 
 
+@_v.boundary
 def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, method="auto", quality="standard",
                      target_rel_error=None, samples=None, time_budget_s=None, seed=0, png=None, csv=None,
                      progress=None, cancelled=None):
@@ -137,6 +197,13 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     ``csv``: point table. ``progress(done, total, seconds_left)`` and ``cancelled()`` as in
     :func:`measure_illuminance` (law checks too).
     """
+    _v.scene(scene)
+    target = _v.blender_object(target, "target", scene_=scene, types=("MESH",))
+    resolution = _v.resolution2(resolution, "resolution", high=1000, allow_none=True)
+    spacing = _v.positive(spacing, "spacing", high=_v.MAX_COORDINATE, allow_none=True)
+    _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error,
+                   samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
+    png, csv = _v.optional_output(png, "png"), _v.optional_output(csv, "csv")
     from .measure import analysis
 
     return analysis.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,
@@ -145,6 +212,7 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
                                      cancelled=cancelled)
 
 
+@_v.boundary
 def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.0, 1.0), samples=(4, 16, 64, 256),
                       target_error=0.01, replicas=8, reference_samples=None, quality=None, target_rel_error=None,
                       time_budget_s=None, targeted=True, seed=0, plot=None):
@@ -161,6 +229,20 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     ``seconds_for_target`` (s, t0 + c N), ``seconds_for_target_by_time_fit`` (s) and ``targeted``
     (samples, seconds, rel_std_error, rms_error).
     """
+    _v.scene(scene)
+    if target is not None:
+        target = _v.blender_object(target, "target", scene_=scene)
+    location = None if location is None else _v.points(location, "location", allow_many=False)
+    normal = _v.directions(normal, "normal", allow_many=False)
+    if isinstance(samples, (str, bytes)) or not hasattr(samples, "__len__") or not 1 <= len(samples) <= 64:
+        raise RadiometerError(f"samples must be a list of 1 to 64 sample counts, got {samples!r:.60}")
+    samples = tuple(_v.integer(n, "samples", low=1, high=_v.MAX_SAMPLES) for n in samples)
+    target_error = _v.fraction(target_error, "target_error")
+    replicas = _v.integer(replicas, "replicas", low=2, high=1000)
+    reference_samples = _v.samples(reference_samples, "reference_samples")
+    _v.measurement(scene_=scene, quality_=quality, target_rel_error=target_rel_error, time_budget_s=time_budget_s,
+                   seed_=seed, allow_none_quality=True)
+    plot = _v.optional_output(plot, "plot")
     from .measure import analysis
 
     return analysis.convergence_study(target, scene=scene, location=location, normal=normal, samples=samples,
@@ -170,6 +252,7 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
                                       targeted=targeted, seed=seed, plot=plot)
 
 
+@_v.boundary
 def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
                   convergence=True):
     """Write report.json, report.md and PNG plots for every meter, light and work plane into ``out_dir``.
@@ -177,6 +260,9 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
     ``quality`` (preset name), ``method`` and ``target_rel_error`` (fraction) default to the
     scene's Radiometer settings; ``time_budget_s`` (s) bounds each measurement of the report.
     """
+    out_dir = _v.path(out_dir, "out_dir")
+    _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error,
+                   time_budget_s=time_budget_s, allow_none_quality=True, allow_none_method=True)
     from .measure import report
 
     return report.export_report(out_dir, scene=scene, quality=quality, method=method,
@@ -184,6 +270,7 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
                                 convergence=convergence)
 
 
+@_v.boundary
 def assign_brdf(material, model, method="nodes", **params):
     """Give ``material`` the parametric BRDF ``model`` (a name from ``radiometer.brdf.names()``).
 
@@ -192,6 +279,13 @@ def assign_brdf(material, model, method="nodes", **params):
     Cycles' closures: kind "exact" or "approximate" with the measured RMS relative difference and
     directional-albedo difference. The material stays re-editable from its Radiometer BRDF panel.
     """
+    import bpy
+
+    if not isinstance(material, bpy.types.Material):
+        raise RadiometerError(f"material must be a bpy.types.Material, got {material!r:.60}")
+    _v.choice(method, "method", ("nodes", "osl"))
+    if not isinstance(model, str):
+        raise RadiometerError(f"model must be a BRDF model name, got {model!r:.60}")
     from .shading import assign
 
     return assign.assign_brdf(material, model, method=method, **params)
@@ -199,11 +293,13 @@ def assign_brdf(material, model, method="nodes", **params):
 
 # --- luminaires (IES LM-63, EULUMDAT) ----------------------------------------------------------
 
+@_v.boundary
 def read_photometry(path):
     """Read an IES LM-63 (.ies) or EULUMDAT (.ldt) file into a ``Photometry`` (no Blender needed):
     ``vertical_angles_deg``, ``horizontal_angles_deg``, ``candela`` (n_h, n_v), ``candela_at(v, h)``,
     ``lumens``, ``rated_lumens``, ``max_candela``, ``beam_angle_deg``, ``field_angle_deg``,
     ``symmetry``, ``metadata``, ``summary()``. Bad files raise RadiometerError naming the line."""
+    path = _v.check_input_file(path, "photometric file")
     from .radiometry import photometric_files
 
     try:
@@ -212,20 +308,31 @@ def read_photometry(path):
         raise RadiometerError(str(exc)) from None
 
 
+@_v.boundary
 def import_luminaire(path, *, scene=None, location=(0.0, 0.0, 0.0), rotation_euler=(0.0, 0.0, 0.0), name=None):
     """Add a photometric file as a point light whose Cycles render gives the file's candela at the
     scene's luminous efficacy (vertical 0 deg along the light's local -Z, C0 along local +X, C90 along
     local +Y). Returns the light object; bad input raises RadiometerError and creates nothing."""
+    path = _v.check_input_file(path, "photometric file")
+    _v.scene(scene)
+    location = _v.points(location, "location", allow_many=False)
+    rotation_euler = _v.points(rotation_euler, "rotation_euler", allow_many=False)
+    if name is not None and (not isinstance(name, str) or not name.strip() or len(name) > 63):
+        raise RadiometerError(f"name must be a non-empty object name of at most 63 characters, got {name!r:.60}")
     from .measure import luminaires
 
     return luminaires.import_luminaire(path, scene=scene, location=location, rotation_euler=rotation_euler,
                                        name=name)
 
 
+@_v.boundary
 def goniometric_diagram(source, path, *, title=None):
     """Write a polar plot of the C0-C180 and C90-C270 planes of ``source`` (a file path, a
     ``Photometry`` or a light object Radiometer can read) to ``path`` (PNG); cd/klm when the file
     has a rated lamp flux, else cd. Returns ``path``. RadiometerError when matplotlib is missing."""
+    path = _v.output_file(path, "path")
+    if title is not None and not isinstance(title, str):
+        raise RadiometerError(f"title must be a string, got {title!r:.60}")
     import os
 
     import numpy as np
@@ -254,6 +361,7 @@ def goniometric_diagram(source, path, *, title=None):
 
 # --- environment lighting (issue 14) -------------------------------------------------------------
 
+@_v.boundary
 def irradiance_environment_map(source, path, *, method="exact", resolution=(64, 32), scene=None):
     """Write the irradiance environment map E(n) of ``source`` as a 32-bit EXR (W/m^2 per pixel, the
     pixel's direction as the normal) and return a dict with ``path``, the 9 SH ``coefficients``
@@ -262,31 +370,48 @@ def irradiance_environment_map(source, path, *, method="exact", resolution=(64, 
     ``capture_radiance_map``), or "world" / a scene (its world, when modelled). ``method``:
     "exact" (pixel-exact clamped-cosine integral) or "sh9" (Ramamoorthi & Hanrahan 2001);
     ``resolution`` = (width, height) of the output."""
+    import os
+
+    if isinstance(source, (str, os.PathLike)) and source != "world":
+        source = _v.check_input_file(source, "radiance map")
+    path = _v.output_file(path, "path")
+    _v.choice(method, "method", ("exact", "sh9"))
+    resolution = _v.resolution2(resolution, "resolution")
+    _v.scene(scene)
     from .measure import world
 
     return world.irradiance_environment_map(source, path, method=method, resolution=resolution, scene=scene)
 
 
+@_v.boundary(finite=True)
 def world_illuminance(scene=None, normal=(0.0, 0.0, 1.0)):
     """Illuminance (lux) on a surface facing ``normal`` from the world alone, with its brightest
     direction and that direction's luminance: a dict (``illuminance``, ``irradiance_rgb``,
     ``method`` "analytic" when the world is modelled, else "render", ``exact``,
     ``brightest_direction``, ``brightest_luminance`` cd/m^2, ``notes``)."""
+    _v.scene(scene)
+    normal = _v.directions(normal, "normal", allow_many=False)
     from .measure import world
 
     return world.world_illuminance(scene, normal)
 
 
+@_v.boundary
 def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
     """Set the world's Background strength so that the world alone gives ``illuminance_lux`` on a
     surface facing ``normal``; returns a dict with old/new strength and the illuminance after."""
+    _v.scene(scene)
+    illuminance_lux = _v.positive(illuminance_lux, "illuminance_lux", high=1e7)
+    normal = _v.directions(normal, "normal", allow_many=False)
     from .measure import world
 
     return world.calibrate_world(scene, illuminance_lux, normal)
 
 
+@_v.boundary
 def world_model(scene=None):
     """The world as Radiometer models it (``radiometry.environment.WorldLight``: kind, reason, ...)."""
+    _v.scene(scene)
     import bpy
 
     from .measure import world
@@ -294,20 +419,29 @@ def world_model(scene=None):
     return world.read_world(scene or bpy.context.scene)
 
 
+@_v.boundary
 def mirror_ball_probe(scene=None, *, size=256, shape=(128, 256), view=(0.0, -1.0, 0.0)):
     """Render the classic light probe (an ideal chrome ball in the scene's world, seen along ``view``)
     and convert it to an equirect map of ``shape`` (h, w) in the Environment Texture orientation.
     Returns (probe (size, size, 3), equirect (h, w, 3)); see README "Environment lighting" for the
     resolution loss towards the direction behind the ball."""
+    _v.scene(scene)
+    size = _v.integer(size, "size", low=8, high=_v.MAX_MAP_SIDE)
+    shape = _v.resolution2(shape, "shape", low=2)
+    view = _v.directions(view, "view", allow_many=False)
     from .measure import world
     from .radiometry import environment
 
-    probe, camera = world.render_mirror_ball(scene, size=size, view=view)
+    from .measure import scene_guard
+
+    with scene_guard.preserved_scene(scene):  # the render leaves a 'Render Result' image otherwise
+        probe, camera = world.render_mirror_ball(scene, size=size, view=view)
     return probe, environment.probe_to_equirect(probe, shape, environment.BLENDER_WORLD_ROTATION, camera)
 
 
 # --- daylight: the sun (issue 19) ----------------------------------------------------------------
 
+@_v.boundary
 def sun_position(latitude_deg, longitude_deg, when, *, elevation_m=0.0, pressure_hpa=1013.25, temperature_c=12.0,
                  north_offset_deg=0.0, delta_t_s=None):
     """Where the sun is (NREL SPA, Reda & Andreas 2008; no Blender needed).
@@ -332,6 +466,7 @@ def sun_position(latitude_deg, longitude_deg, when, *, elevation_m=0.0, pressure
         raise RadiometerError(str(exc).splitlines()[0]) from None
 
 
+@_v.boundary
 def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminance_lux=None, north_offset_deg=0.0,
             elevation_m=0.0):
     """Create or update the scene's Sun light (angle 0.53 deg) for this place and time.
@@ -350,6 +485,7 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
 
 # --- daylight: CIE skies and the daylight factor (issue 19) ---------------------------------------
 
+@_v.boundary
 def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_direction=None, ground_reflectance=0.2):
     """Make the scene's world a CIE sky whose shader evaluates the sky's luminance formula on the ray
     direction (a new World; the old one stays in the file).
@@ -373,6 +509,7 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
 
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------
 
+@_v.boundary
 def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0, client=None, progress=None,
                   cancelled=None):
     """Readings of many .blend files (design variants), one list per file, in the order of ``files``.
@@ -394,6 +531,7 @@ def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0
                                progress=progress, cancelled=cancelled)
 
 
+@_v.boundary
 def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevation_m=0.0,
               direct_normal_illuminance_lux=None, sky=None, scene=None, quality="standard", client=None,
               north_offset_deg=0.0, min_elevation_deg=0.0, method="auto", seed=0, progress=None, cancelled=None,
