@@ -30,6 +30,7 @@ sys.path.insert(0, HERE)
 import bpy  # noqa: E402
 
 import scenes  # noqa: E402
+import speed  # noqa: E402
 from radiometer import api  # noqa: E402
 from radiometer import quality as quality_presets  # noqa: E402
 from radiometer.measure import adaptive, meter, render_settings, scene_capture, scene_guard, sensors  # noqa: E402
@@ -397,7 +398,8 @@ def bench_throughput():
         t_ours, rs = timed(lambda: api.measure_illuminance(pts, nrm, target_rel_error=TARGET, seed=1))
     st = reading_stats(rs, TARGET)
     ours = {"seconds": t_ours, "meters_per_s_per_core": n / t_ours / CORES, **st,
-            "breakdown": prof.breakdown(t_ours), "rounds": prof.rounds()}
+            "breakdown": prof.breakdown(t_ours), "rounds": prof.rounds(),
+            "irradiance_W_m2": [r.irradiance for r in rs]}  # for the Radiance section's cross-check
     log(f"  throughput ours: {t_ours:.1f} s, {ours['meters_per_s_per_core']:.1f} meters/s/core")
 
     # Brute force A: one bare bake per meter at the total samples the allocator chose for it
@@ -936,12 +938,43 @@ def markdown(res):
                 f"Refinement of the demo room's preview to standard (1 %), spot meter included, while idle: "
                 f"{d['refine_to_standard_s']:.1f} s in {d['refine_ticks']} ticks (worst "
                 f"{100 * d['refined_worst_rel_error']:.2g} %); each tick blocks the UI for its batch.", ""]
+    if "capture" in res:
+        out += speed.capture_markdown(res["capture"])
+    if "radiance" in res:
+        out += speed.radiance_markdown(res["radiance"])
+    if "cluster" in res:
+        c = res["cluster"]
+        out += ["## Scale-out on Dask (issue 20)", "",
+                f"A {c['points']}-point x {c['times']}-time sun study: t(1 worker) / t(2 workers) = "
+                f"{c['ratio_1_over_2']:.2f} (warm workers; 2 cores); projected annual daylight coefficients "
+                f"(1000 points x 8760 h) on 16 / 64 / 256 cores: "
+                + " / ".join(f"{r['total_s'] / 60:.1f} min" for r in c["projection"])
+                + ". Overheads and the projection's model: bench/cluster.md (bench/cluster.py).", ""]
     return "\n".join(out)
 
 
 BENCHES = {"batching": bench_batching, "overhead": bench_overhead, "throughput": bench_throughput,
            "hybrid": bench_hybrid, "presets": bench_presets, "analytic": bench_analytic, "guard": bench_guard,
            "memory": bench_memory, "live": bench_live}
+# Issue 17 (bench/speed.py): capture reuse; the throughput room against Radiance (after "throughput").
+BENCHES["capture"] = lambda: speed.bench_capture(QUICK)
+BENCHES["radiance"] = lambda: speed.bench_radiance(_RESULTS.get("throughput"), QUICK)
+_RESULTS = {}
+
+
+# Issue 20 (bench/cluster.py, run as its own process: a LocalCluster's workers are spawned and re-import
+# the main script, and this one imports bpy at its top, which breaks bpy in the workers; FACTS.md).
+def bench_cluster():
+    import tempfile
+
+    out = tempfile.mkdtemp(prefix="radiometer-bench-") if QUICK else HERE  # quick runs never overwrite results
+    subprocess.run([sys.executable, os.path.join(HERE, "cluster.py"), "--out", out] + (["--quick"] if QUICK else []),
+                   check=True, timeout=3600)
+    with open(os.path.join(out, "cluster.json"), encoding="utf-8") as f:
+        return json.load(f)
+
+
+BENCHES["cluster"] = bench_cluster
 
 
 def main(argv=None):
@@ -952,7 +985,8 @@ def main(argv=None):
     parser.add_argument("--out", default=HERE, help="folder for results.json and results.md")
     args = parser.parse_args(argv)
     QUICK = args.quick
-    results = {"machine": machine(), "quick": QUICK}
+    results = _RESULTS
+    results.update({"machine": machine(), "quick": QUICK})
     started = time.perf_counter()
     # Memory first: its RSS curve must not include the large scenes of the other benchmarks.
     order = ["memory"] + [k for k in BENCHES if k != "memory"]

@@ -62,11 +62,12 @@ def budget(quality="standard", target_rel_error=None, samples=None, time_budget_
 
 
 def measure(scene, points_scene, normals, *, method, budget, seed=0, progress=None, cancelled=None,
-            direct_only=False):
-    """One batch of illuminance readings (always a list), one scene sync, samples per meter."""
+            direct_only=False, model=None):
+    """One batch of illuminance readings (always a list), one scene sync, samples per meter.
+    ``model``: the scene's ``SceneModel`` as it is now, when the analysis has it (else captured)."""
     readings = meter.measure_illuminance(points_scene, normals, scene=scene, method=method, seed=seed,
                                          progress=progress, cancelled=cancelled, direct_only=direct_only,
-                                         **budget)
+                                         model=model, **budget)
     return readings if isinstance(readings, list) else [readings]
 
 

@@ -155,15 +155,18 @@ def measure_light_and_scene(scene, obj, points_scene, normals, *, method, budget
     :class:`LightAndScene`. The direct part uses closed forms where the scene model proves them
     (``method`` "analytic": always) and Cycles at 0 bounces elsewhere, with the same budget."""
     with isolated_light(scene, obj, model) as off:
+        # The light alone, captured once: the total's bakes restore the scene exactly (scene_guard), so
+        # the direct-light measurement reuses it instead of capturing again (issue 17).
+        alone = scene_model(scene)
         total = common.measure(scene, points_scene, normals, method=method, budget=budget, seed=seed,
-                               progress=_part(progress, 0.0, 0.5), cancelled=cancelled)
+                               progress=_part(progress, 0.0, 0.5), cancelled=cancelled, model=alone)
         exact = all(r.exact for r in total)
         if exact:
             direct = total
         else:
             direct = common.measure(scene, points_scene, normals, method="analytic" if method == "analytic"
                                     else "auto", budget=budget, seed=seed + 7919, progress=_part(progress, 0.5, 1.0),
-                                    cancelled=cancelled, direct_only=True)
+                                    cancelled=cancelled, direct_only=True, model=alone)
     t = np.array([r.irradiance for r in total])
     t_se = common.rel_errors(total)
     d = np.array([r.irradiance for r in direct])

@@ -126,6 +126,17 @@ def test_inverse_square_check_captures_the_unchanged_scene_once(clean_blender, b
     assert len(captures) == 2
 
 
+def test_rendered_inverse_square_check_captures_twice(clean_blender, build, captures):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "POINT", location=(0.0, 0.0, 3.0), energy=100.0, shadow_soft_size=0.0)
+    build.plane(scene, size=8.0, location=(0.0, 0.0, -0.5), albedo=0.5)  # reflects: the total is rendered
+    result = api.check_inverse_square("point", method="render", samples=16, distances=[0.5, 1.0, 2.0])
+    assert result.method == "render" and result.direct_method == "analytic"  # two measurements, one model
+    # The scene, then the light alone once for both the total and its direct light (was 5 in all).
+    assert len(captures) == 2
+
+
 def test_model_is_a_copy_with_shared_geometry(clean_blender, build, captures):
     scene = bpy.context.scene
     build.black_world(scene)

@@ -1,0 +1,232 @@
+"""Issue 17's speed sections of `make bench`: capture reuse, and the same room against Radiance.
+
+* ``bench_capture``: what one scene capture costs (a miss: probe render + triangles) against a cache
+  hit (nothing changed: a depsgraph evaluation and the key), in the 130k-triangle room; and how many
+  captures an inverse-square check makes now (it made 4-5 before the capture was passed down).
+* ``bench_radiance``: the interreflecting throughput room (bench/scenes.py ``room``: 4 x 4 x 3 m,
+  albedo 0.7, 1 m square 400 W ceiling panel) written as a Radiance scene and measured at the
+  throughput section's points with ``rtrace -I`` the way its users run it: Honeybee-like ambient-cache
+  detail levels 0 and 1, and as a path tracer (``-aa 0 -ad 1 -u+``, each point traced K times; the
+  spread gives the error). Radiance ships with pyradiance, a bench dependency only (never at run time).
+  Each renderer's error is against its OWN converged reference on a subset of points (Radiance: a
+  path-traced reference with 16x the samples; Radiometer: its stated 1-sigma error), so the table
+  compares time against error at each one's settings; the two references are compared with each
+  other as a check that both scenes are the same room.
+"""
+
+import math
+import os
+import shutil
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+
+import bpy
+
+import scenes
+from radiometer import api
+from radiometer.measure import capture_cache, law_checks, meter, scene_capture
+
+Y = np.array([0.2126, 0.7152, 0.0722])  # Rec.709 Y: grey walls and a white light, all channels equal
+
+
+def _median(xs):
+    return float(np.median(np.asarray(xs, float)))
+
+
+# --- capture reuse ----------------------------------------------------------------------------------
+
+def bench_capture(quick=False):
+    scene, tris = scenes.big_room()
+    layer = bpy.context.view_layer
+    lamp = next(ob for ob in scene.objects if ob.type == "LIGHT" and ob.data.type == "AREA")
+    reps = 3 if quick else 7
+    miss, hit = [], []
+    for k in range(reps):
+        lamp.data.energy += 1e-3 * (1 if k % 2 else -1)  # an edit: the next capture must be taken again
+        t0 = time.perf_counter()
+        meter.capture_model(scene, layer)
+        miss.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        meter.capture_model(scene, layer)
+        hit.append(time.perf_counter() - t0)
+    calls, seconds = [], []
+    real = scene_capture.capture
+
+    def counting(*args, **kwargs):
+        t0 = time.perf_counter()
+        try:
+            return real(*args, **kwargs)
+        finally:
+            calls.append(1)
+            seconds.append(time.perf_counter() - t0)
+
+    scene_capture.capture = counting
+    try:
+        capture_cache.clear()
+        t0 = time.perf_counter()
+        law_checks.check_inverse_square(lamp, scene=scene, quality="preview", distances=[0.5, 1.0, 1.5, 2.0])
+        t_check = time.perf_counter() - t0
+    finally:
+        scene_capture.capture = real
+    return {"triangles": tris, "reps": reps, "miss_s": _median(miss), "hit_s": _median(hit),
+            "hit_over_miss": _median(hit) / _median(miss),
+            "inverse_square_captures": len(calls), "inverse_square_capture_s": float(sum(seconds)),
+            "inverse_square_s": t_check, "inverse_square_captures_before": "5 (issue 17: 4-5)"}
+
+
+# --- Radiance ---------------------------------------------------------------------------------------
+
+def radiance_bin():
+    try:
+        import pyradiance
+    except ImportError:
+        return None
+    folder = os.path.join(os.path.dirname(pyradiance.__file__), "bin")
+    return folder if os.path.exists(os.path.join(folder, "rtrace")) else None
+
+
+#: Honeybee-like rtrace ambient-cache settings (honeybee-radiance's grid-based detail levels 0, 1).
+HONEYBEE = {
+    0: "-ab 2 -ad 512 -as 128 -ar 16 -aa 0.25 -dj 0 -ds 0.5 -dt 0.5 -dc 0.25 -dr 0 -dp 64 -st 0.85 -lr 4 -lw 0.05",
+    1: "-ab 3 -ad 2048 -as 2048 -ar 64 -aa 0.2 -dj 0.5 -ds 0.25 -dt 0.25 -dc 0.5 -dr 1 -dp 256 -st 0.5 -lr 6 "
+       "-lw 0.01",
+}
+#: Path tracing: no ambient cache, one ambient ray per bounce, Russian roulette by weight, random numbers.
+PATH = "-ab 12 -aa 0 -ad 1 -as 0 -lr -12 -lw 1e-5 -dj 1 -ds 0.02 -u+"
+
+
+def _room_rad(size=(4.0, 4.0, 3.0), albedo=0.7, energy=400.0):
+    hx, hy, h = size[0] / 2, size[1] / 2, size[2]
+    quads = [  # the same vertex order as bench/scenes.py room(): normals point into the room
+        [(-hx, -hy, 0), (hx, -hy, 0), (hx, hy, 0), (-hx, hy, 0)],
+        [(-hx, -hy, h), (-hx, hy, h), (hx, hy, h), (hx, -hy, h)],
+        [(-hx, -hy, 0), (-hx, hy, 0), (-hx, hy, h), (-hx, -hy, h)],
+        [(hx, -hy, 0), (hx, -hy, h), (hx, hy, h), (hx, hy, 0)],
+        [(-hx, -hy, 0), (-hx, -hy, h), (hx, -hy, h), (hx, -hy, 0)],
+        [(-hx, hy, 0), (hx, hy, 0), (hx, hy, h), (-hx, hy, h)],
+    ]
+    radiance = energy / (math.pi * 1.0)  # Blender's area light: L = P / (pi A), W/(m^2 sr) per channel
+    z = h - 0.01
+    panel = [(-0.5, -0.5, z), (-0.5, 0.5, z), (0.5, 0.5, z), (0.5, -0.5, z)]  # normal -Z, as the light
+    lines = [f"void plastic wall 0 0 5 {albedo} {albedo} {albedo} 0 0",
+             f"void light panel 0 0 3 {radiance} {radiance} {radiance}"]
+    for k, quad in enumerate(quads):
+        lines.append(f"wall polygon q{k} 0 0 12 " + " ".join(f"{c:g}" for v in quad for c in v))
+    lines.append("panel polygon lamp 0 0 12 " + " ".join(f"{c:g}" for v in panel for c in v))
+    return "\n".join(lines) + "\n"
+
+
+def _rtrace(bindir, octree, options, points, normals, repeat=1):
+    rays = np.repeat(np.c_[points, normals], repeat, axis=0)
+    text = "\n".join(" ".join(f"{x:.9g}" for x in row) for row in rays) + "\n"
+    env = dict(os.environ, PATH=bindir + os.pathsep + os.environ.get("PATH", ""))
+    t0 = time.perf_counter()
+    out = subprocess.run([os.path.join(bindir, "rtrace"), "-I", "-h", "-n", "1", *options.split(), octree],
+                         input=text, capture_output=True, text=True, env=env, check=True).stdout
+    dt = time.perf_counter() - t0
+    rgb = np.array([line.split()[:3] for line in out.splitlines() if line.strip()], float)
+    return (rgb @ Y).reshape(len(points), repeat), dt
+
+
+def bench_radiance(throughput=None, quick=False):
+    bindir = radiance_bin()
+    if bindir is None:
+        return {"available": False, "note": "pyradiance (Radiance binaries) is not installed"}
+    n = 200 if quick else 1000
+    pts, nrm = scenes.meter_points(n, half_width=1.8, z=0.75, seed=3)  # the throughput section's points
+    sub = np.random.default_rng(17).choice(n, 20 if quick else 40, replace=False)
+    work = tempfile.mkdtemp(prefix="radiometer-bench-radiance-")
+    try:
+        rad = os.path.join(work, "room.rad")
+        with open(rad, "w", encoding="utf-8") as f:
+            f.write(_room_rad())
+        octree = os.path.join(work, "room.oct")
+        with open(octree, "wb") as f:
+            subprocess.run([os.path.join(bindir, "oconv"), rad], stdout=f, check=True)
+        # Reference: path tracing with many repeats on the subset.
+        k_ref = 512 if quick else 4096
+        ref_values, t_ref = _rtrace(bindir, octree, PATH, pts[sub], nrm[sub], repeat=k_ref)
+        ref = ref_values.mean(axis=1)
+        ref_se = ref_values.std(axis=1, ddof=1) / math.sqrt(k_ref) / ref
+        rows = []
+        for level, options in HONEYBEE.items():
+            values, dt = _rtrace(bindir, octree, options, pts, nrm)
+            err = values[sub, 0] / ref - 1.0
+            rows.append({"setting": f"rtrace -I, Honeybee-like detail level {level} (ambient cache)",
+                         "options": options, "points": n, "seconds": dt,
+                         "worst_error": float(np.max(np.abs(err))), "rms_error": float(np.sqrt(np.mean(err ** 2))),
+                         "error_kind": "against the Radiance reference (subset)"})
+        # Path tracing at about 1 % per point: K from the reference's per-path spread.
+        spread = float(np.median(ref_values.std(axis=1, ddof=1) / ref))
+        k = int(min(4096, max(4, math.ceil((spread / 0.01) ** 2))))
+        t0 = time.perf_counter()
+        values, dt = _rtrace(bindir, octree, PATH, pts, nrm, repeat=k)
+        mean = values.mean(axis=1)
+        se = values.std(axis=1, ddof=1) / math.sqrt(k) / mean
+        err = mean[sub] / ref - 1.0
+        rows.append({"setting": f"rtrace -I as a path tracer, {k} paths per point", "options": PATH, "points": n,
+                     "seconds": dt, "paths_per_point": k, "seconds_per_path": dt / (n * k),
+                     "worst_error": float(np.max(np.abs(err))), "rms_error": float(np.sqrt(np.mean(err ** 2))),
+                     "stated_error_median": float(np.median(se)), "error_kind": "against the Radiance reference "
+                     "(subset); its own 1-sigma spread also stated"})
+        out = {"available": True, "points": n, "subset": int(len(sub)), "reference_paths": k_ref,
+               "reference_seconds": t_ref, "reference_rel_se_max": float(np.max(ref_se)),
+               "per_path_spread": spread, "rows": rows, "cores_used_by_rtrace": 1}
+        if throughput is not None:
+            ours = throughput["ours"]
+            readings = throughput.get("_readings")
+            out["radiometer"] = {"setting": "Radiometer, 1 % target (throughput section)", "points": n,
+                                 "seconds": ours["seconds"], "cores": throughput["cores"],
+                                 "worst_error": ours.get("worst_rel_error"), "error_kind": "stated 1-sigma"}
+            if readings is not None:
+                ours_e = np.array([readings[i] for i in sub])
+                out["references_differ_rms"] = float(np.sqrt(np.mean((ours_e / ref - 1.0) ** 2)))
+        return out
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+# --- markdown -----------------------------------------------------------------------------------------
+
+def capture_markdown(c):
+    return ["## Capture reuse (issue 17)", "",
+            f"130k-triangle room ({c['triangles']:,} triangles), median of {c['reps']}: a capture after an edit "
+            f"(miss) {c['miss_s']:.4f} s, the same capture with nothing changed (hit: one depsgraph evaluation and "
+            f"the key) {c['hit_s']:.2g} s = **{c['hit_over_miss']:.2g}** of a miss.",
+            f"An inverse-square check of the area light (preview, 4 distances): **{c['inverse_square_captures']}** "
+            f"captures ({c['inverse_square_capture_s']:.3f} s of {c['inverse_square_s']:.2f} s); before: "
+            f"{c['inverse_square_captures_before']} (the whole scene 3 times, then each of the 2 measurements); now the "
+            "whole scene once and the light alone once, handed to both measurements. Across separate calls a "
+            "measurement's own bakes change the scene and restore it, which Blender reports as an update: the "
+            "next call captures again (the cache never assumes a restore was exact), so one meter measured "
+            "again and again by separate calls still captures every time.", ""]
+
+
+def radiance_markdown(r):
+    if not r.get("available"):
+        return ["## Radiance comparison", "", r.get("note", "not run"), ""]
+    out = ["## Radiance comparison (same room, same points)", "",
+           f"The throughput room as a Radiance scene, {r['points']} points; errors against a Radiance path-traced "
+           f"reference on {r['subset']} of them ({r['reference_paths']} paths per point, worst 1-sigma "
+           f"{100 * r['reference_rel_se_max']:.2f} %). rtrace runs on 1 core (`-n 1`); Radiometer's time is for "
+           f"the whole machine ({r.get('radiometer', {}).get('cores', '?')} cores).", "",
+           "| renderer, settings | seconds | worst error | RMS error | error is |", "|---|---:|---:|---:|---|"]
+    for row in r["rows"]:
+        out.append(f"| {row['setting']} | {row['seconds']:.2f} | {100 * row['worst_error']:.2f} % | "
+                   f"{100 * row['rms_error']:.2f} % | {row['error_kind']} |")
+    ours = r.get("radiometer")
+    if ours:
+        worst = ours["worst_error"]
+        out.append(f"| {ours['setting']} | {ours['seconds']:.2f} | "
+                   f"{'' if worst is None else f'{100 * worst:.2f} %'} | | {ours['error_kind']} |")
+    path = next((row for row in r["rows"] if "paths_per_point" in row), None)
+    if path:
+        out += ["", f"Radiance path tracing: {1e6 * path['seconds_per_path']:.0f} µs per path, per-path spread "
+                    f"{100 * r['per_path_spread']:.0f} % (so {path['paths_per_point']} paths for 1 %)."]
+    if "references_differ_rms" in r:
+        out += [f"Radiometer's readings against the Radiance reference: RMS {100 * r['references_differ_rms']:.2f} % "
+                "(the model difference: Cycles' lights are transparent to rays, Radiance's `light` polygon is not)."]
+    return out + [""]
