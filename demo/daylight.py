@@ -2,10 +2,10 @@
 glass pane in it, the sun where it stands at a chosen place and time (``api.set_sun``), and a few
 meters measured by a one-time sun study (``api.sun_study``).
 
-Run it with ``python -m radiometer.demo.daylight [--out DIR] [--glass]`` (``make demo`` does, after
-the electric-light demo; about 2 s). By default the pane is hidden in renders (an open window): the
-sun behind a Glass BSDF slab is a caustic that Cycles finds slowly and reads low (docs/FACTS.md), so
-``--glass`` takes minutes until the meter models thin glass (issue 18). Scene axes: +X east, +Y north, +Z up, metres; floor at z = 0, room centred on
+Run it with ``python -m radiometer.demo.daylight [--out DIR] [--open]`` (``make demo`` does, after
+the electric-light demo; about 2 s). The sun reaches the floor through the pane: the meter reads a
+planar Glass BSDF slab as thin glass (issue 18; without that the sun behind it is a caustic Cycles
+hardly finds, docs/FACTS.md). ``--open`` hides the pane in renders (an open window). Scene axes: +X east, +Y north, +Z up, metres; floor at z = 0, room centred on
 the origin; the window (2.0 x 1.2 m, sill 0.9 m) faces south so the northern-hemisphere sun comes in.
 
 The room is built of separate closed boxes (floor, roof, four walls, the south wall in four pieces
@@ -100,12 +100,11 @@ def local_time(when=WHEN, time_zone=SITE["time_zone"]):
     return solar_position.local_datetime(*when, time_zone)
 
 
-def run(out_dir="out", *, quality="preview", when=WHEN, glass=False, stream=sys.stdout):
+def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.stdout):
     """Build the room, set the sun, measure the meters; print a summary; save ``out_dir``/daylight_room.blend.
 
-    ``glass``: render the pane (a Glass BSDF slab). Off by default: the sun behind a Glass BSDF pane is
-    a caustic for Cycles (docs/FACTS.md), so the meter needs minutes and still reads it low; the pane
-    is built either way and only hidden in renders. Returns a dict (sun, readings per meter, seconds)."""
+    ``glass``: render the pane (a Glass BSDF slab); False hides it in renders (an open window; the
+    pane is built either way). Returns a dict (sun, readings per meter, seconds)."""
     from .. import api
 
     started = time.perf_counter()
@@ -126,7 +125,7 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=False, stream=sys.
       f"Blender sun strength {sun['strength_w_m2']:.4g} W/m² at {scene.radiometer.efficacy:g} lm/W")
     p(f"Room 4 x 4 x 3 m, window {WINDOW['width']:.1f} x {WINDOW['head'] - WINDOW['sill']:.1f} m facing south"
       + (", 6 mm clear glass pane (Glass BSDF, IOR 1.5)" if glass else
-         ", its 6 mm glass pane hidden in renders (open window; --glass renders it)") + "; black sky")
+         ", its 6 mm glass pane hidden in renders (an open window)") + "; black sky")
     names = list(METERS)
     study = api.sun_study([METERS[n][0] for n in names], [METERS[n][1] for n in names], [t],
                           latitude_deg=SITE["latitude_deg"], longitude_deg=SITE["longitude_deg"],
@@ -149,9 +148,6 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=False, stream=sys.
                       "unobstructed_direct_lx": direct}
     p("(E_dn max(0, n.s): the sun's direct light on an unobstructed meter; sunlit: share of the sun's disc "
       "the meter sees, glass counted as clear)")
-    if glass:
-        p("Note: behind a Glass BSDF pane the sun reaches a surface only by refraction, a caustic that Cycles "
-          "finds slowly and reads low (docs/FACTS.md) until the meter models thin glass (issue 18).")
     blend = None
     if out_dir:
         from ..commands import _io
@@ -171,8 +167,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m radiometer.demo.daylight", description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="out", help="folder for daylight_room.blend (created if missing)")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="preview")
-    parser.add_argument("--glass", action="store_true", help="render the glass pane (slow: the sun behind a Glass "
-                        "BSDF is a caustic for Cycles)")
+    parser.add_argument("--open", action="store_true", help="hide the glass pane in renders (an open window)")
     parser.add_argument("--time", default=None, metavar="YYYY-MM-DDTHH:MM",
                         help="local time in London (default 2026-03-20T12:00)")
     args = parser.parse_args(argv)
@@ -183,7 +178,7 @@ def main(argv=None):
     from ..errors import RadiometerError
 
     try:
-        run(args.out, quality=args.quality, when=when, glass=args.glass)
+        run(args.out, quality=args.quality, when=when, glass=not args.open)
     except (RadiometerError, ValueError) as exc:
         print(f"radiometer: error: {exc}", file=sys.stderr)
         return 2

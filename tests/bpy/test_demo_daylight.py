@@ -1,5 +1,6 @@
 """The daylit demo room (issue 19 item 7): it builds, sets the sun and reads what the closed forms say
-where they hold; the sun patch reads the sun plus the room's reflections."""
+where they hold; the sun patch behind the 6 mm pane reads at least the sun's light through it (Fresnel
+transmittance of a clear slab, closed form below) plus the room's reflections."""
 
 import math
 import os
@@ -30,11 +31,22 @@ def test_daylit_demo_room(clean_blender, tmp_path):
     assert facade["illuminance_lx"] == pytest.approx(facade["unobstructed_direct_lx"], rel=1e-5)
     patch = m["Floor in the sun patch"]
     assert patch["sunlit"] and not patch["exact"]
-    # the sun's direct light plus what the room reflects onto the patch, within 3 stated errors
-    assert patch["illuminance_lx"] >= patch["unobstructed_direct_lx"] * (1 - 3 * patch["rel_std_error"])
+    # Through the pane: unpolarised Fresnel transmittance of a non-absorbing slab, T = (1 - R) / (1 + R) per
+    # polarisation (incoherent multiple reflections; Born & Wolf), at the sun's incidence on the pane.
+    cos_i = abs(float(np.dot(sun["direction"], (0.0, -1.0, 0.0))))
+    n = 1.5
+    cos_t = math.sqrt(1 - (1 - cos_i ** 2) / n ** 2)
+    r_s = ((cos_i - n * cos_t) / (cos_i + n * cos_t)) ** 2
+    r_p = ((n * cos_i - cos_t) / (n * cos_i + cos_t)) ** 2
+    t_slab = 0.5 * ((1 - r_s) / (1 + r_s) + (1 - r_p) / (1 + r_p))
+    assert 0.85 < t_slab < 0.95
+    # the sun's light through the glass plus what the room reflects onto the patch, within 3 stated errors;
+    # the room (albedo 0.3 floor, 0.6 walls, one window) adds well under 20 %
+    low = t_slab * patch["unobstructed_direct_lx"] * (1 - 3 * patch["rel_std_error"])
+    assert low <= patch["illuminance_lx"] <= 1.2 * t_slab * patch["unobstructed_direct_lx"]
     corner = m["Floor, back corner"]
     assert not corner["sunlit"] and 0 < corner["illuminance_lx"] < 0.05 * patch["illuminance_lx"]
     assert os.path.exists(out["blend"])
     bpy.ops.wm.open_mainfile(filepath=out["blend"])
-    assert bpy.data.objects["Window Pane"].hide_render
+    assert not bpy.data.objects["Window Pane"].hide_render
     assert [ob.name for ob in bpy.data.objects if ob.type == "LIGHT"] == ["Radiometer Sun"]
