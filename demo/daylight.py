@@ -177,8 +177,11 @@ def main(argv=None):
         when = (t.year, t.month, t.day, t.hour, t.minute)
     from ..errors import RadiometerError
 
+    from ..commands import _io
+
     try:
-        run(args.out, quality=args.quality, when=when, glass=not args.open)
+        with _io.blender_logs_silenced():  # Blender's own "Info: ..." and bake lines, as the CLI drops them
+            run(args.out, quality=args.quality, when=when, glass=not args.open, stream=sys.stdout)
     except (RadiometerError, ValueError) as exc:
         print(f"radiometer: error: {exc}", file=sys.stderr)
         return 2
