@@ -582,3 +582,18 @@ def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0
 
     return batch.measure_batch(files, meters, quality=quality, method=method, seed=seed, client=client,
                                progress=progress, cancelled=cancelled)
+
+
+# --- deliverables: glare (issue 23) --------------------------------------------------------------
+
+@_v.boundary
+def glare_ugr(observer, view_direction, *, scene=None, quality="standard"):
+    """CIE 117-1995 Unified Glare Rating for an eye at ``observer`` (scene coordinates) looking along
+    ``view_direction`` (+Z up). Returns a ``GlareResult``: ``ugr``, ``ugr_std_error``,
+    ``background_luminance`` (cd/m², indirect vertical illuminance at the eye / pi), ``sources`` (name,
+    luminance cd/m², solid_angle sr, position_index, sigma_deg, tau_deg), ``left_out`` (name, reason),
+    ``notes``. Area lights and IES/EULUMDAT lights with a flat luminous opening are rated; see
+    ``measure.glare``."""
+    from .measure import glare
+
+    return glare.glare_ugr(observer, view_direction, scene=scene, quality=quality)

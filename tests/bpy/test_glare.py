@@ -1,0 +1,116 @@
+"""UGR (issue 23 item 3) on a small office against an independent CIE 117 computation written
+differently: solid angles and direct illuminance by numerical integration over each panel (400 x 400
+cells), the position index from Guth's geometry (H, T, R: height above the eye, lateral offset, distance
+along the line of sight; tau = atan(T/H), sigma = atan(sqrt(H² + T²)/R)), the background from the
+reference patch render of the total vertical illuminance (tests/bpy/reference.py) minus the integrated
+direct part. And against Radiance's evalglare on a fisheye render of the same office (test-only)."""
+
+import math
+import os
+import subprocess
+import sys
+
+import bpy
+import numpy as np
+import pytest
+
+sys.path.insert(0, os.path.dirname(__file__))
+import office  # noqa: E402
+import reference  # noqa: E402
+
+from radiometer import api  # noqa: E402
+
+
+def _panel_integrals(eye, view, centre, side, cells=400):
+    """(solid angle sr, projected solid angle on the plane facing ``view``) of a down-facing square."""
+    h = side / 2
+    t = (np.arange(cells) + 0.5) / cells * side - h
+    gx, gy = np.meshgrid(centre[0] + t, centre[1] + t)
+    r = np.stack([gx - eye[0], gy - eye[1], np.full_like(gx, centre[2] - eye[2])], -1)
+    dist = np.linalg.norm(r, axis=-1)
+    cos_src = r[..., 2] / dist            # the panel faces -z: cos between its normal and the ray back to the eye
+    da = (side / cells) ** 2
+    omega = float(np.sum(cos_src * da / dist**2))
+    cos_eye = np.maximum(r @ np.asarray(view, float) / dist, 0.0)
+    return omega, float(np.sum(cos_eye * cos_src * da / dist**2))
+
+
+def _levin(sigma, tau):
+    return math.exp((35.2 - 0.31889 * tau - 1.22 * math.exp(-2 * tau / 9)) / 1000 * sigma
+                    + (21 + 0.26667 * tau - 0.002963 * tau * tau) / 1e5 * sigma * sigma)
+
+
+def test_ugr_office_area_lights_against_independent_cie117(clean_blender):
+    scene = bpy.context.scene
+    office.build(scene)
+    eye, view = np.array(office.EYE), np.array(office.VIEW)
+    g = api.glare_ugr(office.EYE, office.VIEW, scene=scene, quality="standard")
+    assert len(g.sources) == 4 and not g.left_out
+    lum = office.panel_luminance()
+    terms, e_direct = 0.0, 0.0
+    for name, (x, y) in zip(("Panel 1", "Panel 2", "Panel 3", "Panel 4"), office.PANELS):
+        omega, projected = _panel_integrals(eye, view, (x, y, office.PANEL_Z), office.PANEL)
+        H, T, R = office.PANEL_Z - eye[2], abs(x - eye[0]), y - eye[1]
+        tau, sigma = math.degrees(math.atan2(T, H)), math.degrees(math.atan(math.hypot(H, T) / R))
+        p = _levin(sigma, tau)
+        terms += lum**2 * omega / p**2
+        e_direct += lum * projected
+        mine = next(s for s in g.sources if s["name"] == name)
+        assert mine["luminance"] == pytest.approx(lum, rel=1e-5)
+        assert mine["solid_angle"] == pytest.approx(omega, rel=1e-4)
+        assert mine["position_index"] == pytest.approx(p, rel=1e-6)  # float32 light positions
+    e_rgb, se, _info = reference.reference_irradiance(scene, tuple(eye), tuple(view), target_rel_error=3e-3)
+    e_total = reference.luminance(e_rgb)[1]
+    lb = (e_total - e_direct) / math.pi
+    expected = 8 * math.log10(0.25 / lb * terms)
+    assert g.background_luminance == pytest.approx(lb, rel=0.03)
+    assert abs(g.ugr - expected) < 0.5, (g.ugr, expected, g.background_luminance, lb)
+    assert g.ugr_std_error < 0.2
+
+
+def test_ugr_left_out_sources_are_named(clean_blender):
+    scene = bpy.context.scene
+    lights = office.build(scene)
+    lights[0].location.z = 1.0  # below the eye's line of sight (eye at 1.2 m): outside CIE 117's field
+    lights[0].rotation_euler = (-math.pi / 2, 0.0, 0.0)  # facing the eye (-y), so it is not just seen from behind
+    point = bpy.data.lights.new("Bare Lamp", "POINT")
+    obj = bpy.data.objects.new("Bare Lamp", point)
+    obj.location = (0.0, 1.0, 2.5)
+    scene.collection.objects.link(obj)
+    g = api.glare_ugr(office.EYE, office.VIEW, scene=scene, quality="preview")
+    left = {d["name"]: d["reason"] for d in g.left_out}
+    assert "below the line of sight" in left["Panel 1"]
+    assert "luminous area" in left["Bare Lamp"]
+    assert len(g.sources) == 3
+    with pytest.raises(api.RadiometerError if hasattr(api, "RadiometerError") else Exception):
+        api.glare_ugr(office.EYE, (0, 0, 1), scene=scene)
+
+
+RADIANCE = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), ".venv",
+                        "lib", "python3.11", "site-packages", "pyradiance")
+
+
+@pytest.mark.skipif(not os.path.exists(os.path.join(RADIANCE, "bin", "evalglare")), reason="pyradiance not installed")
+def test_ugr_office_against_evalglare(clean_blender, tmp_path):
+    """evalglare on a 160 x 160 fisheye (rpict -vta, 2 ambient bounces): its UGR within about 1."""
+    scene = bpy.context.scene
+    office.build(scene)
+    g = api.glare_ugr(office.EYE, office.VIEW, scene=scene, quality="standard")
+    env = dict(os.environ, RAYPATH=f".:{os.path.join(RADIANCE, 'lib')}")
+    b = os.path.join(RADIANCE, "bin")
+    rad = office.radiance_scene(str(tmp_path / "office.rad"))
+    oct_path, hdr = tmp_path / "office.oct", tmp_path / "fish.hdr"
+    with open(oct_path, "wb") as f:
+        subprocess.run([os.path.join(b, "oconv"), rad], stdout=f, check=True, env=env)
+    view = ["-vta", "-vp", *map(str, office.EYE), "-vd", *map(str, office.VIEW), "-vu", "0", "0", "1",
+            "-vh", "180", "-vv", "180"]
+    with open(hdr, "wb") as f:
+        subprocess.run([os.path.join(b, "rpict"), *view, "-x", "160", "-y", "160", "-ab", "2", "-ad", "512", "-as",
+                        "0", "-aa", "0.15", "-ar", "64", "-ps", "1", "-dj", "0", str(oct_path)], stdout=f, check=True,
+                       env=env)
+    out = subprocess.run([os.path.join(b, "evalglare"), "-vta", "-vh", "180", "-vv", "180", "-b", "2000", str(hdr)],
+                         capture_output=True, text=True, check=True, env=env).stdout
+    names, values = out.split(":")
+    result = dict(zip(names.split(","), map(float, values.split())))
+    print(f"UGR {g.ugr:.2f} (Lb {g.background_luminance:.1f} cd/m²); evalglare {result['ugr']:.2f}")
+    assert abs(g.ugr - result["ugr"]) < 1.0, (g.ugr, result)
