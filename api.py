@@ -485,7 +485,6 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
 
 # --- daylight: CIE skies and the daylight factor (issue 19) ---------------------------------------
 
-@_v.boundary
 def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_direction=None, ground_reflectance=0.2):
     """Make the scene's world a CIE sky whose shader evaluates the sky's luminance formula on the ray
     direction (a new World; the old one stays in the file).
@@ -506,6 +505,41 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
     return sky.set_cie_sky(scene or bpy.context.scene, sky_type, horizontal_illuminance_lux=horizontal_illuminance_lux,
                            sun_direction=sun_direction, ground_reflectance=ground_reflectance)
 
+
+def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="standard", ground_reflectance=0.2,
+                    target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None):
+    """Daylight factor DF = 100 x E_in / E_out,h (%) under the CIE overcast sky, at ``locations``
+    (3 numbers or (N, 3), scene coordinates) facing ``normals``.
+
+    Measured with every light switched off and a temporary overcast world (E_out,h = 10 000 lx,
+    uniform ground ``ground_reflectance`` x E_h / pi below a sharp horizon); the user's world,
+    lights and data-blocks are restored afterwards. Returns a ``DaylightFactorReading`` (or a list):
+    ``daylight_factor`` (%), ``rel_std_error``, ``illuminance`` (lux), ``exact``, ``method``, ``notes``.
+    """
+    from .measure import daylight_factor as df
+
+    return df.daylight_factor(locations, normals, scene=scene, quality=quality, ground_reflectance=ground_reflectance,
+                              target_rel_error=target_rel_error, method=method, seed=seed, progress=progress,
+                              cancelled=cancelled)
+
+
+def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, quality="standard",
+                         ground_reflectance=0.2, target_percent=None, median_external_illuminance_lux=None,
+                         target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None):
+    """Daylight factor on a work-plane object's grid (points as :func:`illuminance_grid` lays them out).
+
+    Returns a ``DaylightFactorGrid``: ``daylight_factor`` (ny, nx) %, ``rel_std_error``, ``points``
+    and ``stats``: average (BS 8206-2), minimum, maximum, median, uniformity (min / average),
+    ``share_above_target`` for ``target_percent``, and EN 17037 D_T / D_TM checks per level when the
+    site's ``median_external_illuminance_lux`` (E_v,d, EN 17037 Annex A) is given.
+    """
+    from .measure import daylight_factor as df
+
+    return df.daylight_factor_grid(target, resolution=resolution, spacing=spacing, scene=scene, quality=quality,
+                                   ground_reflectance=ground_reflectance, target_percent=target_percent,
+                                   median_external_illuminance_lux=median_external_illuminance_lux,
+                                   target_rel_error=target_rel_error, method=method, seed=seed, progress=progress,
+                                   cancelled=cancelled)
 
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------
 

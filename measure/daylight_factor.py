@@ -1,0 +1,202 @@
+"""Daylight factor: DF = 100 x E_in / E_out,h under the CIE overcast sky (issue 19).
+
+Inside ``scene_guard.preserved_scene`` every rendering light (sun lights and instanced lights too)
+is hidden in renders and the world is replaced by a temporary traditional CIE overcast sky
+(``measure.sky``: L = Lz (1 + 2 cos Z) / 3, E_out,h = 10 000 lx, a uniform ground of luminance
+rho_g E_h / pi below a sharp horizon); the ordinary meter measures (exact where nothing lies above a
+meter's horizon, rendered with a stated error through windows); the guard then restores the
+user's world, lights and data-blocks. Emitting surfaces (emission shaders) are NOT switched off:
+they are counted as daylight (a note says so when the scene has any).
+
+Grid form (``daylight_factor_grid``): the work plane's points as ``measure.grid`` lays them out,
+with the average (BS 8206-2 / CIBSE LG10 average daylight factor: the mean over the working plane),
+minimum, maximum, median, uniformity (min / average), the share of the plane at or above a target
+DF, and EN 17037:2018 (Table A.1 levels, target D_T = 100 E_T / E_v,d over 50 % of the plane and
+minimum target D_TM = 100 E_TM / E_v,d over 95 %) when the site's median external diffuse
+illuminance E_v,d is given (EN 17037 Annex A tabulates it per CEN capital; pass the value for the
+site: Radiometer ships no table).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ..errors import RadiometerError
+
+#: Unobstructed horizontal illuminance of the temporary overcast sky (lux); DF does not depend on it.
+SKY_HORIZONTAL_LUX = 10_000.0
+#: EN 17037:2018 Table A.1, daylight provision by a vertical/inclined opening: level -> (E_T over 50 %
+#: of the plane, E_TM over 95 % of the plane), lux.
+EN17037_LEVELS = {"minimum": (300.0, 100.0), "medium": (500.0, 300.0), "high": (750.0, 500.0)}
+
+
+@dataclasses.dataclass
+class DaylightFactorReading:
+    """``daylight_factor`` (%) and its 1-sigma ``rel_std_error``; ``illuminance`` (lux) under an
+    overcast sky of ``sky_horizontal_lux``; ``exact``, ``method``, ``notes`` from the meter."""
+
+    location: tuple
+    normal: tuple
+    daylight_factor: float
+    rel_std_error: float
+    illuminance: float
+    sky_horizontal_lux: float
+    exact: bool
+    method: str
+    notes: list
+
+    def to_dict(self):
+        return dataclasses.asdict(self)
+
+
+def _light_objects(scene, model):
+    import bpy
+
+    names = {lt.source or lt.name for lt in model.lights}
+    objects = {ob for ob in scene.objects if ob.type == "LIGHT" and not ob.hide_render}
+    objects |= {bpy.data.objects[n] for n in names if n in bpy.data.objects}
+    return sorted((ob for ob in objects if ob.type == "LIGHT"), key=lambda ob: ob.name)
+
+
+def overcast_only(scene, snapshot, ground_reflectance):
+    """Inside the caller's guard: lights hidden in renders, the world a temporary overcast sky.
+    Returns notes."""
+    from . import meter, sky
+    from .analysis_common import view_layer_of
+
+    model = meter.capture_model(scene, view_layer_of(scene))
+    hidden = _light_objects(scene, model)
+    for ob in hidden:
+        snapshot.remember(ob, "hide_render")
+        ob.hide_render = True
+    sky.set_cie_sky(scene, "overcast", horizontal_illuminance_lux=SKY_HORIZONTAL_LUX,
+                    ground_reflectance=ground_reflectance)
+    view_layer_of(scene).update()
+    notes = [f"CIE overcast sky (L = Lz (1 + 2 cos Z) / 3), E_out,h = {SKY_HORIZONTAL_LUX:g} lx, ground "
+             f"reflectance {ground_reflectance:g} below a sharp horizon; {len(hidden)} light(s) switched off"]
+    if model.emissive_surfaces:
+        notes.append("the scene's emitting surfaces stay on and are counted as daylight")
+    return notes
+
+
+def _check_rho(ground_reflectance):
+    try:
+        rho = float(ground_reflectance)
+    except (TypeError, ValueError):
+        raise RadiometerError(f"ground_reflectance must be a number within 0..1, got {ground_reflectance!r}") from None
+    if not (math.isfinite(rho) and 0.0 <= rho <= 1.0):
+        raise RadiometerError(f"ground_reflectance must be within 0..1, got {ground_reflectance!r}")
+    return rho
+
+
+def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="standard", ground_reflectance=0.2,
+                    target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None):
+    """Daylight factor (%) at ``locations`` (3,) or (N, 3) facing ``normals``; a reading or a list."""
+    import bpy
+
+    from . import meter, scene_guard
+
+    scene = scene or bpy.context.scene
+    rho = _check_rho(ground_reflectance)
+    points, single = meter.as_points(locations, "locations")
+    dirs = meter.as_directions(normals, len(points), "normals")
+    with scene_guard.preserved_scene(scene) as snapshot:
+        notes = overcast_only(scene, snapshot, rho)
+        readings = meter.measure_illuminance(points, dirs, scene=scene, method=method, quality=quality,
+                                             target_rel_error=target_rel_error, seed=seed, progress=progress,
+                                             cancelled=cancelled)
+    readings = readings if isinstance(readings, list) else [readings]
+    out = [DaylightFactorReading(tuple(map(float, p)), tuple(map(float, n)), 100.0 * r.illuminance / SKY_HORIZONTAL_LUX,
+                                 float(r.rel_std_error), float(r.illuminance), SKY_HORIZONTAL_LUX, bool(r.exact),
+                                 r.method, notes + list(r.notes))
+           for p, n, r in zip(points, dirs, readings)]
+    return out[0] if single else out
+
+
+# --- the grid form ---------------------------------------------------------------------------------
+
+def plane_statistics(df, *, target_percent=None, median_external_illuminance_lux=None):
+    """Statistics of daylight factors ``df`` (%) over equal-area grid cells (pure numpy).
+
+    Returns a dict: average (BS 8206-2 average daylight factor), minimum, maximum, median,
+    uniformity (min / average), share_above_target (fraction of cells with DF >= target_percent),
+    and ``en17037`` per level (minimum/medium/high): D_T, D_TM (%), share of the plane reaching each,
+    and whether the level is met (D_T over >= 50 %, D_TM over >= 95 % of the plane).
+    """
+    v = np.asarray(df, float).ravel()
+    if v.size == 0 or not np.all(np.isfinite(v)):
+        raise RadiometerError("daylight factors must be finite numbers (got an empty or non-finite grid)")
+    avg = float(v.mean())
+    out = {"average": avg, "minimum": float(v.min()), "maximum": float(v.max()), "median": float(np.median(v)),
+           "uniformity": float(v.min() / avg) if avg > 0 else 0.0, "points": int(v.size)}
+    if target_percent is not None:
+        out["target_percent"] = float(target_percent)
+        out["share_above_target"] = float(np.mean(v >= float(target_percent)))
+    if median_external_illuminance_lux is not None:
+        evd = float(median_external_illuminance_lux)
+        if not (math.isfinite(evd) and evd > 0):
+            raise RadiometerError(f"median external illuminance must be > 0 lux, got {median_external_illuminance_lux!r}")
+        levels = {}
+        for name, (e_t, e_tm) in EN17037_LEVELS.items():
+            d_t, d_tm = 100.0 * e_t / evd, 100.0 * e_tm / evd
+            s_t, s_tm = float(np.mean(v >= d_t)), float(np.mean(v >= d_tm))
+            levels[name] = {"E_T_lux": e_t, "E_TM_lux": e_tm, "D_T": d_t, "D_TM": d_tm, "share_D_T": s_t,
+                            "share_D_TM": s_tm, "met": bool(s_t >= 0.5 and s_tm >= 0.95)}
+        out["en17037"] = {"median_external_illuminance_lux": evd, "levels": levels}
+    return out
+
+
+@dataclasses.dataclass
+class DaylightFactorGrid:
+    """``daylight_factor`` (ny, nx) %, ``rel_std_error`` (ny, nx), ``points`` (ny, nx, 3), ``stats``
+    (``plane_statistics``), ``target``, ``normal``, ``method``, ``exact``, ``notes``."""
+
+    target: str
+    nx: int
+    ny: int
+    daylight_factor: np.ndarray
+    rel_std_error: np.ndarray
+    points: np.ndarray
+    normal: tuple
+    stats: dict
+    method: str
+    exact: bool
+    notes: list
+
+    def to_dict(self):
+        d = dataclasses.asdict(self)
+        for k in ("daylight_factor", "rel_std_error", "points"):
+            d[k] = np.asarray(d[k]).tolist()
+        return d
+
+    def csv_text(self):
+        lines = ["x,y,z,daylight_factor_percent,rel_std_error"]
+        for p, v, e in zip(self.points.reshape(-1, 3), self.daylight_factor.ravel(), self.rel_std_error.ravel()):
+            lines.append(f"{p[0]:.6g},{p[1]:.6g},{p[2]:.6g},{v:.6g},{e:.4g}")
+        return "\n".join(lines) + "\n"
+
+
+def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, quality="standard",
+                         ground_reflectance=0.2, target_percent=None, median_external_illuminance_lux=None,
+                         target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None):
+    """Daylight factor on a work plane object's grid (``measure.grid.illuminance_grid`` points)."""
+    import bpy
+
+    from . import grid, scene_guard
+
+    scene = scene or bpy.context.scene
+    rho = _check_rho(ground_reflectance)
+    with scene_guard.preserved_scene(scene) as snapshot:
+        notes = overcast_only(scene, snapshot, rho)
+        result = grid.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,
+                                       quality=quality, target_rel_error=target_rel_error, seed=seed,
+                                       progress=progress, cancelled=cancelled)
+    df = 100.0 * np.asarray(result.lux, float) / SKY_HORIZONTAL_LUX
+    stats = plane_statistics(df, target_percent=target_percent,
+                             median_external_illuminance_lux=median_external_illuminance_lux)
+    return DaylightFactorGrid(result.target, result.nx, result.ny, df, np.asarray(result.rel_std_error, float),
+                              np.asarray(result.points, float), tuple(result.normal), stats, result.method,
+                              bool(result.exact), notes + list(result.notes))

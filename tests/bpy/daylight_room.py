@@ -1,0 +1,93 @@
+"""A side-lit room for daylight tests and the bench: the same quads built in Blender and written for
+Radiance (rtrace as a path tracer under the sharp-horizon CIE overcast sky, tests only)."""
+
+import os
+import subprocess
+
+import numpy as np
+
+W, D, H = 4.0, 3.0, 2.7            # x width, y depth, z height (m); the window wall is y = 0
+WINDOW = (1.0, 3.0, 0.9, 2.1)      # x0, x1, z0, z1 of the opening (m)
+RHO = {"floor": 0.2, "ceiling": 0.7, "walls": 0.5}
+POINTS = [(2.0, 0.75, 0.85), (2.0, 1.5, 0.85), (2.0, 2.5, 0.85)]
+
+
+def quads():
+    x0, x1, z0, z1 = WINDOW
+    return [("floor", [(0, 0, 0), (W, 0, 0), (W, D, 0), (0, D, 0)]),
+            ("ceiling", [(0, 0, H), (0, D, H), (W, D, H), (W, 0, H)]),
+            ("walls", [(0, D, 0), (W, D, 0), (W, D, H), (0, D, H)]),
+            ("walls", [(0, 0, 0), (0, D, 0), (0, D, H), (0, 0, H)]),
+            ("walls", [(W, 0, 0), (W, 0, H), (W, D, H), (W, D, 0)]),
+            ("walls", [(0, 0, 0), (x0, 0, 0), (x0, 0, H), (0, 0, H)]),
+            ("walls", [(x1, 0, 0), (W, 0, 0), (W, 0, H), (x1, 0, H)]),
+            ("walls", [(x0, 0, 0), (x1, 0, 0), (x1, 0, z0), (x0, 0, z0)]),
+            ("walls", [(x0, 0, z1), (x1, 0, z1), (x1, 0, H), (x0, 0, H)])]
+
+
+def build_blender(scene):
+    import bpy
+
+    from radiometer.compat import ensure_node_tree
+
+    order = list(RHO)
+    me = bpy.data.meshes.new("room")
+    verts, faces, index = [], [], []
+    for name, q in quads():
+        faces.append(tuple(range(len(verts), len(verts) + 4)))
+        verts += q
+        index.append(order.index(name))
+    me.from_pydata(verts, [], faces)
+    for name in order:
+        m = bpy.data.materials.new(name)
+        t = ensure_node_tree(m)
+        t.nodes.clear()
+        out = t.nodes.new("ShaderNodeOutputMaterial")
+        bsdf = t.nodes.new("ShaderNodeBsdfDiffuse")
+        bsdf.inputs["Color"].default_value = (RHO[name],) * 3 + (1.0,)
+        t.links.new(bsdf.outputs[0], out.inputs[0])
+        me.materials.append(m)
+    for poly, k in zip(me.polygons, index):
+        poly.material_index = k
+    ob = bpy.data.objects.new("room", me)
+    scene.collection.objects.link(ob)
+    return ob
+
+
+def radiance_bin():
+    import pyradiance
+
+    root = os.path.dirname(pyradiance.__file__)
+    return os.path.join(root, "bin"), os.path.join(root, "lib")
+
+
+def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000, ground_reflectance=0.2, seed=1):
+    """DF (%) and its relative standard error per point, from ``rtrace -I`` used as a path tracer:
+    -aa 0 (no ambient cache), -ad 1 -as 0 (one hemisphere ray per input line), -ab 32 -lr 64 -lw 1e-9,
+    -u+ (uncorrelated sampling), each point repeated ``samples`` times; the mean and its standard
+    error over the repeats. The sky: a brightfunc glow source over the whole sphere, L/Lz =
+    (1 + 2 Dz) / 3 above the horizon and the ground rho x 7/9 below it (sharp horizon; gensky's
+    blended ground glow is NOT used). DF = 100 E / (7 pi / 9), the overcast sky's E_h for Lz = 1."""
+    bindir, libdir = radiance_bin()
+    env = dict(os.environ, PATH=bindir + os.pathsep + os.environ.get("PATH", ""),
+               RAYPATH=os.pathsep.join([folder, libdir]))
+    with open(os.path.join(folder, "sky.cal"), "w") as f:
+        f.write(f"skybr = if(Dz, (1 + 2*Dz)/3, {ground_reflectance!r}*7/9);\n")
+    lines = ["void brightfunc skyfunc\n2 skybr sky.cal\n0\n0\n", "skyfunc glow skyglow\n0\n0\n4 1 1 1 0\n",
+             "skyglow source sky\n0\n0\n4 0 0 1 360\n"]
+    for name, r in RHO.items():
+        lines.append(f"void plastic {name}\n0\n0\n5 {r} {r} {r} 0 0\n")
+    for k, (name, q) in enumerate(quads()):
+        lines.append(f"{name} polygon p{k}\n0\n0\n12 " + " ".join(f"{c:g}" for v in q for c in v) + "\n")
+    with open(os.path.join(folder, "scene.rad"), "w") as f:
+        f.write("".join(lines))
+    with open(os.path.join(folder, "scene.oct"), "wb") as f:
+        subprocess.run(["oconv", "scene.rad"], cwd=folder, env=env, stdout=f, check=True)
+    normals = np.broadcast_to(np.asarray(normals, float), (len(points), 3))
+    rays = "".join(f"{p[0]} {p[1]} {p[2]} {n[0]} {n[1]} {n[2]}\n" * samples for p, n in zip(points, normals))
+    out = subprocess.run(["rtrace", "-h", "-I", "-ab", "32", "-aa", "0", "-ad", "1", "-as", "0", "-lw", "1e-9",
+                          "-lr", "64", "-u+",
+                          "scene.oct"], cwd=folder, env=env, input=rays, capture_output=True, text=True, check=True)
+    y = np.array(out.stdout.split(), float).reshape(len(points), samples, 3)[..., 1]  # equal RGB: channel G
+    mean = y.mean(axis=1)
+    return 100.0 * mean / (7 * np.pi / 9), y.std(axis=1, ddof=1) / np.sqrt(samples) / mean

@@ -1,0 +1,86 @@
+"""Daylight factor (api.daylight_factor / daylight_factor_grid, measure/daylight_factor.py): exact
+outdoors, a side-lit room against Radiance's rtrace run as a path tracer under the same sharp-horizon
+overcast sky, the user's world, lights and data-blocks unchanged afterwards."""
+
+import importlib.util
+import math
+import pathlib
+
+import bpy
+import numpy as np
+import pytest
+
+from radiometer import api
+from radiometer.errors import RadiometerError
+
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(name, pathlib.Path(__file__).with_name(f"{name}.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+room = _load("daylight_room")
+
+
+def _state(scene):
+    ids = {name: sorted(b.name for b in getattr(bpy.data, name)) for name in ("objects", "worlds", "lights", "materials")}
+    lights = {ob.name: (ob.hide_render, ob.data.energy) for ob in scene.objects if ob.type == "LIGHT"}
+    return ids, lights, scene.world
+
+
+def test_unobstructed_daylight_factor_is_exact(clean_blender, build):
+    scene = bpy.context.scene
+    world = bpy.data.worlds.new("user world")
+    scene.world = world
+    build.light(scene, "POINT", (0, 0, 3), energy=1000.0)
+    before = _state(scene)
+    rs = api.daylight_factor([(0, 0, 0), (0, 0, 0), (5, 5, 1)], [(0, 0, 1), (0, 1, 0), (0, 0, -1)], ground_reflectance=0.3)
+    vertical = 100 * ((math.pi / 6 + 4 / 9) / (7 * math.pi / 9) + 0.3 / 2)  # sky + ground, closed forms
+    for r, want in zip(rs, (100.0, vertical, 30.0)):
+        assert r.exact and r.method == "analytic"
+        assert r.daylight_factor == pytest.approx(want, rel=1e-9)
+    assert _state(scene) == before  # world, light (hidden during the run), data-blocks as they were
+    with pytest.raises(RadiometerError, match="ground_reflectance"):
+        api.daylight_factor((0, 0, 0), ground_reflectance=1.5)
+
+
+def test_grid_statistics_and_en17037(clean_blender, build):
+    scene = bpy.context.scene
+    plane = build.plane(scene, size=2.0, location=(0, 0, 0.5), name="work plane")
+    plane.hide_render = True  # an imaginary work plane
+    g = api.daylight_factor_grid(plane, resolution=(3, 2), target_percent=2.0, median_external_illuminance_lux=15_000.0)
+    np.testing.assert_allclose(g.daylight_factor, 100.0, rtol=1e-9)
+    assert g.stats["average"] == pytest.approx(100.0) and g.stats["uniformity"] == pytest.approx(1.0)
+    assert g.stats["share_above_target"] == 1.0
+    lv = g.stats["en17037"]["levels"]
+    assert lv["minimum"]["D_T"] == pytest.approx(2.0) and lv["minimum"]["D_TM"] == pytest.approx(100 / 150)
+    assert lv["high"]["D_T"] == pytest.approx(5.0) and all(v["met"] for v in lv.values())
+    from radiometer.measure.daylight_factor import plane_statistics
+
+    s = plane_statistics([1.0, 2.0, 3.0, 6.0], target_percent=2.5, median_external_illuminance_lux=15_000.0)
+    assert s["average"] == 3.0 and s["minimum"] == 1.0 and s["uniformity"] == pytest.approx(1 / 3)
+    assert s["share_above_target"] == 0.5
+    # minimum level: D_T = 2 % reached by 3/4 (>= 50 %), D_TM = 0.667 % by 4/4 (>= 95 %): met
+    assert s["en17037"]["levels"]["minimum"]["met"] and not s["en17037"]["levels"]["high"]["met"]
+    with pytest.raises(RadiometerError):
+        plane_statistics([1.0, float("nan")])
+
+
+def test_side_lit_room_against_radiance(clean_blender, build, tmp_path):
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    world = bpy.data.worlds.new("user world")
+    scene.world = world
+    build.light(scene, "AREA", (2, 1.5, 2.6), rotation=(math.pi, 0, 0), energy=200.0)
+    before = _state(scene)
+    rs = api.daylight_factor(room.POINTS, quality="standard", seed=3)
+    assert _state(scene) == before
+    ref, ref_rel = room.radiance_daylight_factor(str(tmp_path), room.POINTS)
+    for r, df_ref, rel_ref in zip(rs, ref, ref_rel):
+        assert not r.exact and r.method in ("render", "hybrid")
+        se = math.hypot(r.rel_std_error * r.daylight_factor, rel_ref * df_ref)
+        print(f"DF Radiometer {r.daylight_factor:.4f} % +- {100 * r.rel_std_error:.2f} %, "
+              f"Radiance {df_ref:.4f} % +- {100 * rel_ref:.2f} %")
+        assert abs(r.daylight_factor - df_ref) <= max(3 * se, 0.01 * df_ref)
