@@ -485,6 +485,7 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
 
 # --- daylight: CIE skies and the daylight factor (issue 19) ---------------------------------------
 
+@_v.boundary
 def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_direction=None, ground_reflectance=0.2):
     """Make the scene's world a CIE sky whose shader evaluates the sky's luminance formula on the ray
     direction (a new World; the old one stays in the file).
@@ -506,6 +507,7 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
                            sun_direction=sun_direction, ground_reflectance=ground_reflectance)
 
 
+@_v.boundary
 def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="standard", ground_reflectance=0.2,
                     target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None):
     """Daylight factor DF = 100 x E_in / E_out,h (%) under the CIE overcast sky, at ``locations``
@@ -523,6 +525,7 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
                               cancelled=cancelled)
 
 
+@_v.boundary
 def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, quality="standard",
                          ground_reflectance=0.2, target_percent=None, median_external_illuminance_lux=None,
                          target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None):
