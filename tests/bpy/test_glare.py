@@ -114,3 +114,49 @@ def test_ugr_office_against_evalglare(clean_blender, tmp_path):
     result = dict(zip(names.split(","), map(float, values.split())))
     print(f"UGR {g.ugr:.2f} (Lb {g.background_luminance:.1f} cd/m²); evalglare {result['ugr']:.2f}")
     assert abs(g.ugr - result["ugr"]) < 1.0, (g.ugr, result)
+
+
+IES_COSINE = """IESNA:LM-63-2002
+[TEST] cosine panel for the glare test
+[LUMINAIRE] 600 x 600 mm panel, I = I0 cos(gamma)
+TILT=NONE
+1 -1 1 19 1 1 2 0.6 0.6 0
+1 1 30
+{v}
+0
+{cd}
+"""
+
+
+def test_ugr_office_ies_luminaires_against_independent_cie117(clean_blender, tmp_path):
+    """IES luminaires with a 0.6 x 0.6 m flat opening and I = I0 cos(gamma): L = I0 / A in every direction,
+    omega = A cos(gamma) / d² (CIE 117's definitions), direct E at the eye = sum I cos(theta_eye) / d²."""
+    scene = bpy.context.scene
+    office.build(scene, panels=False)
+    i0 = 2500.0  # cd
+    v = [5.0 * k for k in range(19)]
+    path = tmp_path / "panel.ies"
+    path.write_text(IES_COSINE.format(v=" ".join(f"{a:g}" for a in v),
+                                      cd=" ".join(f"{i0 * math.cos(math.radians(a)):.6f}" for a in v)))
+    for k, (x, y) in enumerate(office.PANELS):
+        api.import_luminaire(str(path), scene=scene, location=(x, y, office.PANEL_Z), name=f"Luminaire {k + 1}")
+    g = api.glare_ugr(office.EYE, office.VIEW, scene=scene, quality="standard")
+    assert len(g.sources) == 4, g.left_out
+    eye, view = np.array(office.EYE), np.array(office.VIEW)
+    area = 0.36
+    terms, e_direct = 0.0, 0.0
+    for x, y in office.PANELS:
+        r = np.array([x, y, office.PANEL_Z]) - eye
+        d = float(np.linalg.norm(r))
+        cos_gamma = r[2] / d
+        omega = area * cos_gamma / d**2
+        H, T, R = r[2], abs(r[0]), r[1]
+        p = _levin(math.degrees(math.atan(math.hypot(H, T) / R)), math.degrees(math.atan2(T, H)))
+        terms += (i0 / area) ** 2 * omega / p**2
+        e_direct += i0 * cos_gamma * (r @ view) / d / d**2
+    for s in g.sources:
+        assert s["luminance"] == pytest.approx(i0 / area, rel=2e-3)  # Catmull-Rom between 5-degree rows
+    e_rgb, _se, _info = reference.reference_irradiance(scene, tuple(eye), tuple(view), target_rel_error=3e-3)
+    lb = (reference.luminance(e_rgb)[1] - e_direct) / math.pi
+    expected = 8 * math.log10(0.25 / lb * terms)
+    assert abs(g.ugr - expected) < 0.5, (g.ugr, expected, g.background_luminance, lb)
