@@ -950,6 +950,10 @@ def markdown(res):
                 f"(1000 points x 8760 h) on 16 / 64 / 256 cores: "
                 + " / ".join(f"{r['total_s'] / 60:.1f} min" for r in c["projection"])
                 + ". Overheads and the projection's model: bench/cluster.md (bench/cluster.py).", ""]
+    if "sun_study" in res:
+        import sun_study
+
+        out += sun_study.markdown(res["sun_study"])
     return "\n".join(out)
 
 
@@ -975,6 +979,8 @@ def bench_cluster():
 
 
 BENCHES["cluster"] = bench_cluster
+# Issue 19 (bench/sun_study.py): an hourly sun study's cost per time step.
+BENCHES["sun_study"] = lambda: __import__("sun_study").bench_sun_study(QUICK)
 
 
 def main(argv=None):
