@@ -19,4 +19,5 @@ SUBCOMMANDS = {
     "batch": "batch",
     "sun": "sun",
     "sun-study": "sun_study",
+    "daylight-factor": "daylight_factor",
 }

@@ -84,3 +84,30 @@ def test_side_lit_room_against_radiance(clean_blender, build, tmp_path):
         print(f"DF Radiometer {r.daylight_factor:.4f} % +- {100 * r.rel_std_error:.2f} %, "
               f"Radiance {df_ref:.4f} % +- {100 * rel_ref:.2f} %")
         assert abs(r.daylight_factor - df_ref) <= max(3 * se, 0.01 * df_ref)
+
+
+def test_cli_daylight_factor(clean_blender, build, tmp_path, capsys):
+    import json
+
+    from radiometer import cli
+
+    scene = bpy.context.scene
+    plane = build.plane(scene, size=2.0, location=(0, 0, 0.5), name="Work plane")
+    plane.hide_render = True
+    points = tmp_path / "points.csv"
+    points.write_text("x,y,z,nx,ny,nz\n0,0,0,0,0,1\n1,2,3,0,0,-1\n", encoding="utf-8")
+    js, table = tmp_path / "df.json", tmp_path / "df.csv"
+    assert cli._blender_cli(["daylight-factor", "--points", str(points), "--ground-reflectance", "0.1",
+                             "--json", str(js), "--csv", str(table)]) == 0
+    rows = json.loads(js.read_text())["daylight_factor"]
+    assert [r["daylight_factor"] for r in rows] == pytest.approx([100.0, 10.0], rel=1e-9)
+    assert table.read_text().count("\n") == 3
+    js2 = tmp_path / "grid.json"
+    assert cli._blender_cli(["daylight-factor", "--plane", "Work plane", "--resolution", "2", "2", "--target", "2",
+                             "--median-external-lux", "15000", "--json", str(js2)]) == 0
+    grid = json.loads(js2.read_text())
+    assert np.array(grid["daylight_factor"]).shape == (2, 2) and grid["stats"]["average"] == pytest.approx(100.0)
+    assert "EN 17037 minimum" in capsys.readouterr().out
+    assert cli._blender_cli(["daylight-factor", "--plane", "Nope"]) == 2
+    assert "no object named" in capsys.readouterr().err
+    assert cli._blender_cli(["daylight-factor", "--points", str(points), "--target", "2"]) == 2
