@@ -155,3 +155,22 @@ def test_clear_day_model_parts_against_pvlib():
     assert np.all(np.diff(e) < 0)
     assert sp.clear_day_direct_normal_illuminance(90.0) == 0.0 and sp.clear_day_direct_normal_illuminance(120.0) == 0.0
     assert np.all(sp.clear_day_direct_normal_illuminance(z, sky="overcast") == 0.0)
+
+
+def test_time_zone_parsing_and_wall_clock_times():
+    assert sp.parse_time_zone("Europe/London") == zoneinfo.ZoneInfo("Europe/London")
+    assert sp.parse_time_zone("UTC") is UTC
+    offsets = {"+02:00": 120, "-0530": -330, "UTC+1": 60, "+5.5": 330, "GMT-3": -180, "+14": 840}
+    for text, minutes in offsets.items():
+        assert sp.parse_time_zone(text).utcoffset(None) == dt.timedelta(minutes=minutes), text
+    for bad in ("", "Mars/Olympus", "+15:00", "UTC+99"):
+        with pytest.raises(ValueError) as info:
+            sp.parse_time_zone(bad)
+        assert "\n" not in str(info.value)
+    # summer time in London: 12:00 local is 11:00 UTC; the skipped hour is refused; the repeated one is the first
+    t = sp.local_datetime(2026, 6, 21, 12, 0, "Europe/London")
+    assert t.astimezone(UTC) == dt.datetime(2026, 6, 21, 11, 0, tzinfo=UTC)
+    with pytest.raises(ValueError, match="does not exist"):
+        sp.local_datetime(2026, 3, 29, 1, 30, "Europe/London")
+    first = sp.local_datetime(2026, 10, 25, 1, 30, "Europe/London")
+    assert first.astimezone(UTC) == dt.datetime(2026, 10, 25, 0, 30, tzinfo=UTC)
