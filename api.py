@@ -634,3 +634,12 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard"):
     from .measure import glare
 
     return glare.glare_ugr(observer, view_direction, scene=scene, quality=quality)
+
+
+def cluster_info(scheduler):
+    """Workers of the Dask cluster at ``scheduler`` ("tcp://host:8786"): a dict with ``workers``,
+    ``threads``, ``hosts``, ``memory_bytes``; an unreachable scheduler raises RadiometerError (one line,
+    after 5 s). See docs/cluster.md."""
+    from .cluster import cluster_info as info
+
+    return info(scheduler)

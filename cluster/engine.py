@@ -20,7 +20,7 @@ from . import worker
 INSTALL_HINT = ("Dask is not installed: pip install dask==2026.8.0 distributed==2026.8.0 (the versions in "
                 "requirements.txt) into the Python that runs Radiometer")
 CONNECT_TIMEOUT_S = 5.0
-_POLL_S = 0.2
+_POLL_S = 0.02  # how often the client looks for finished tasks and polls cancelled() (s)
 
 
 def available():
@@ -357,3 +357,20 @@ def _task_error(future, index, label, name):
         return RadiometerError(f"{label} task {index + 1} ({name}): the workers running it died repeatedly "
                                "(out of memory or a crash in Blender); see the worker logs")
     return RadiometerError(f"{label} task {index + 1} ({name}) failed: {type(exc).__name__}: {text}")
+
+
+def cluster_info(address, *, timeout_s=CONNECT_TIMEOUT_S):
+    """What the cluster at ``address`` offers: a dict with ``address``, ``workers``, ``threads``
+    (Dask threads over all workers: 1 per worker is what Radiometer needs), ``hosts`` and
+    ``memory_bytes``. An unreachable scheduler is a one-line RadiometerError."""
+    client = connect(address, timeout_s=timeout_s)
+    try:
+        workers = (client.scheduler_info(n_workers=-1) if _takes_n_workers(client) else
+                   client.scheduler_info())["workers"]
+    finally:
+        with contextlib.suppress(Exception):
+            client.close(timeout=10)
+    return {"address": address, "workers": len(workers),
+            "threads": sum(int(w.get("nthreads", 0)) for w in workers.values()),
+            "hosts": len({worker.host_of(a) for a in workers}),
+            "memory_bytes": sum(int(w.get("memory_limit") or 0) for w in workers.values())}

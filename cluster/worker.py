@@ -224,3 +224,15 @@ def host_of(address):
     """'tcp://10.0.0.5:40123' -> '10.0.0.5'."""
     rest = address.split("://", 1)[-1]
     return rest.rsplit(":", 1)[0] if ":" in rest else rest
+
+
+def describe(scene):
+    """A task that measures nothing: which process and Blender ran it, with which Cycles threads.
+
+    A health check of a cluster (every worker opens the scene and answers) and the benchmark's
+    measure of the per-task overhead (dispatch, arguments and result travelling, no rendering).
+    """
+    import bpy
+
+    return {"pid": os.getpid(), "worker": _worker_address(), "blender": bpy.app.version_string, "scene": scene.name,
+            "threads_mode": scene.render.threads_mode, "threads": scene.render.threads}

@@ -3,6 +3,6 @@
 from ..registration import ModuleGroup
 
 # Submodules in registration order; each owns a ``classes`` tuple.
-_group = ModuleGroup(__name__, ("meter", "brdf", "analysis", "luminaires", "world", "daylight"))
+_group = ModuleGroup(__name__, ("meter", "brdf", "analysis", "luminaires", "world", "daylight", "cluster", "sky"))
 register = _group.register
 unregister = _group.unregister

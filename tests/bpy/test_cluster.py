@@ -242,6 +242,11 @@ def test_dask_cli_scheduler_and_two_workers_run_a_sun_study(clean_blender, tmp_p
         try:
             c.wait_for_workers(2, timeout=120)
             pids = set(c.run(os.getpid).values())
+            # The UI's check (sidebar > Radiometer > Scale-out) sees the same cluster.
+            from radiometer.operators.cluster import LAST
+
+            assert bpy.ops.radiometer.cluster_check(scheduler=address) == {"FINISHED"}
+            assert LAST["info"]["workers"] == 2 and LAST["info"]["threads"] == 2
             there = _sun_study(c, scene)
             ran = set(c.run(lambda: __import__("sys").modules.get("bpy") is not None).values())
         finally:
@@ -302,3 +307,16 @@ def _rss(process):
         return process.memory_info().rss
     except psutil.Error:
         return 0
+
+
+def test_ui_check_of_an_unreachable_scheduler_says_so_in_one_line(clean_blender):
+    import socket
+
+    from radiometer.operators.cluster import LAST
+
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        address = f"tcp://127.0.0.1:{sock.getsockname()[1]}"
+    with pytest.raises(RuntimeError, match="cannot reach the Dask scheduler"):
+        bpy.ops.radiometer.cluster_check(scheduler=address)
+    assert "\n" not in LAST["error"] and address in LAST["error"]
