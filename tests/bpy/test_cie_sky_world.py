@@ -99,3 +99,17 @@ def test_edited_sky_is_not_exact_and_bad_input(clean_blender):
         api.set_cie_sky(scene, 12, sun_direction=(0, 1, -0.2))
     with pytest.raises(RadiometerError, match="> 0"):
         api.set_cie_sky(scene, "overcast", horizontal_illuminance_lux=float("nan"))
+
+
+def test_set_cie_sky_operator_is_undoable_and_uses_the_scene_sun(clean_blender, build):
+    scene = bpy.context.scene
+    assert "UNDO" in bpy.types.RADIOMETER_OT_set_cie_sky.bl_options
+    assert bpy.ops.radiometer.set_cie_sky(sky_type="overcast", horizontal_illuminance=8000.0) == {"FINISHED"}
+    assert api.measure_illuminance((0, 0, 0), (0, 0, 1)).illuminance == pytest.approx(8000.0, rel=1e-9)
+    with pytest.raises(RuntimeError, match="depends on the sun"):  # no Sun light yet
+        bpy.ops.radiometer.set_cie_sky(sky_type="12")
+    sun = build.light(scene, "SUN", rotation=(math.radians(60), 0, math.radians(200)), energy=0.0)  # direction only
+    assert bpy.ops.radiometer.set_cie_sky(sky_type="12", horizontal_illuminance=9000.0) == {"FINISHED"}
+    w = api.world_model(scene)
+    np.testing.assert_allclose(w.sun_direction, np.array(sun.matrix_world.to_3x3().col[2]), atol=1e-6)
+    assert api.measure_illuminance((0, 0, 0), (0, 0, 1)).illuminance == pytest.approx(9000.0, rel=1e-9)
