@@ -643,3 +643,15 @@ def cluster_info(scheduler):
     from .cluster import cluster_info as info
 
     return info(scheduler)
+
+
+def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None):  # noqa: A002
+    """False-colour luminance image of the camera view (issue 23): renders the scene camera (or
+    ``camera``) at ``resolution`` (width, height; default the scene's, at most 320 px a side), writes
+    ``path`` (32-bit EXR, cd/m² in every channel) and a false-colour PNG with a legend in cd/m² beside
+    it (``scale`` "log" | "linear", ``range`` (lo, hi) cd/m² or automatic). Returns a ``LuminanceImage``:
+    ``luminance`` (H, W) cd/m², ``rel_std_error`` (H, W), ``paths``, ``notes``."""
+    from .measure import luminance_image as images
+
+    return images.luminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
+                                  scale=scale, range=range)

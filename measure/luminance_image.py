@@ -1,0 +1,168 @@
+"""False-colour images of the camera view (host side): per-pixel luminance (cd/m²) with its standard
+error, written as a 32-bit EXR and a false-colour PNG with a legend.
+
+Method: independent Cycles renders of the scene camera's view (new seed each, measurement-grade
+settings as for the spot meter: no denoising, clamping or adaptive sampling, box pixel filter of one
+pixel, lights visible to camera rays) at ``spp`` samples; per pixel the mean and the batch-means
+standard error std / sqrt(renders). Rounds of :data:`RENDERS` renders; when the 90th percentile of the
+pixels' relative error is above the quality's target the next round renders at 4x the samples (up to
+1024: float32 accumulation), and only the last round is kept.
+A pixel's luminance = K x CIE Y of its radiance (the scene's working colour space and efficacy).
+Delta lights (radius 0) are invisible to camera rays: they light the scene but are not seen.
+"""
+
+import dataclasses
+import math
+import shutil
+import time
+
+import bpy
+import numpy as np
+
+from .. import quality as quality_presets
+from ..errors import MeasurementCancelled, RadiometerError
+from . import camera as camera_mod
+from . import meter, scene_guard
+
+RENDERS = 8            #: independent renders per round (7 degrees of freedom per pixel error)
+MAX_SPP = 1024
+MAX_PIXELS = 1024 * 1024
+
+
+@dataclasses.dataclass
+class LuminanceImage:
+    """Per-pixel luminance of the camera view. Arrays (H, W), top row first."""
+
+    luminance: np.ndarray          #: cd/m²
+    rel_std_error: np.ndarray      #: 1 s.e. relative (nan where the luminance is 0)
+    radiance_rgb: np.ndarray       #: (H, W, 3) W/(m² sr)
+    camera: str
+    resolution: tuple              #: (width, height) px
+    samples: int                   #: samples per pixel over the kept renders
+    target_rel_error: float
+    share_on_target: float         #: fraction of lit pixels whose error reached the target
+    efficacy: float
+    colour_space: str
+    seconds: float
+    notes: list
+    paths: dict = dataclasses.field(default_factory=dict)  #: "exr", "png"
+
+    def to_dict(self):
+        d = {k: v for k, v in dataclasses.asdict(self).items() if k not in ("luminance", "rel_std_error",
+                                                                          "radiance_rgb")}
+        d["luminance_stats"] = {"min": float(np.min(self.luminance)), "max": float(np.max(self.luminance)),
+                                "mean": float(np.mean(self.luminance))}
+        return d
+
+
+def _resolution(scene, resolution):
+    if resolution is None:
+        r = scene.render
+        w = r.resolution_x * r.resolution_percentage / 100
+        h = r.resolution_y * r.resolution_percentage / 100
+        k = min(1.0, 320.0 / max(w, h))
+        return max(1, round(w * k)), max(1, round(h * k))
+    try:
+        w, h = (int(v) for v in resolution)
+    except (TypeError, ValueError):
+        raise RadiometerError(f"resolution must be two integers (width, height), got {resolution!r}") from None
+    if w < 1 or h < 1 or w * h > MAX_PIXELS:
+        raise RadiometerError(f"resolution must be at least 1 x 1 and at most {MAX_PIXELS} pixels, got {w} x {h}")
+    return w, h
+
+
+def render_luminance(*, scene=None, camera=None, resolution=None, quality="standard", target_rel_error=None,
+                     progress=None, cancelled=None):
+    """:class:`LuminanceImage` of ``camera`` (an object or its name; default the scene camera)."""
+    scene = scene or bpy.context.scene
+    cam = scene.camera if camera is None else (scene.objects.get(camera) if isinstance(camera, str) else camera)
+    if cam is None or getattr(cam, "type", None) != "CAMERA":
+        raise RadiometerError("no camera to render from: give camera= or set the scene's camera")
+    width, height = _resolution(scene, resolution)
+    preset = quality_presets.preset(quality)
+    target = float(target_rel_error) if target_rel_error is not None else float(preset["target"])
+    space, weights, efficacy = meter.scene_photometry(scene)
+    unit_area = scene.unit_settings.scale_length ** 2
+    folder = camera_mod._scratch_folder()
+    started = time.perf_counter()
+    spp, k = 16, 0
+    try:
+        with scene_guard.preserved_scene(scene) as snapshot:
+            camera_mod._prepare(scene, dict(preset, samples=spp), snapshot)
+            scene.camera = cam
+            while True:
+                images = []
+                for _ in range(RENDERS):
+                    if cancelled is not None and cancelled():
+                        raise MeasurementCancelled("measurement cancelled; the scene was restored")
+                    scene.cycles.seed = k
+                    scene.cycles.samples = spp
+                    images.append(camera_mod._render_exr(scene, folder, f"img{k}", width, height) / unit_area)
+                    k += 1
+                    if progress is not None:
+                        progress(k, k + RENDERS)
+                stack = np.array(images)                      # (R, H, W, 3)
+                mean_rgb = stack.mean(axis=0)
+                y = stack @ weights                            # (R, H, W)
+                mean_y = y.mean(axis=0)
+                se_y = y.std(axis=0, ddof=1) / math.sqrt(RENDERS)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    rel = np.where(mean_y > 0, se_y / mean_y, np.nan)
+                lit = rel[np.isfinite(rel)]
+                p90 = float(np.percentile(lit, 90)) if lit.size else 0.0
+                if p90 <= target or spp >= MAX_SPP:
+                    break
+                spp = min(MAX_SPP, spp * 4)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    share = float(np.mean(lit <= target)) if lit.size else 1.0
+    notes = [f"{RENDERS} independent renders of {spp} samples per pixel; error per pixel by batch means",
+             f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}",
+             "delta lights (radius 0) are invisible to camera rays: they light the scene but are not seen"]
+    if share < 0.9:
+        notes.append(f"only {100 * share:.0f} % of the lit pixels reached the {100 * target:g} % target at "
+                     f"{MAX_SPP} samples per pixel")
+    return LuminanceImage(luminance=efficacy * mean_y, rel_std_error=rel, radiance_rgb=mean_rgb, camera=cam.name,
+                          resolution=(width, height), samples=spp * RENDERS, target_rel_error=target,
+                          share_on_target=share, efficacy=efficacy, colour_space=space,
+                          seconds=time.perf_counter() - started, notes=notes)
+
+
+def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log",
+                    range=None, progress=None, cancelled=None):  # noqa: A002 - the API's documented name
+    """Render :func:`render_luminance` and write ``path`` (.exr: 32-bit, luminance in cd/m² in R, G and
+    B) and the false-colour PNG beside it (same stem, .png; legend in cd/m², ``scale`` 'log' | 'linear',
+    ``range`` (lo, hi) cd/m² or automatic). Returns the :class:`LuminanceImage` with ``paths``."""
+    import os
+
+    from . import world
+
+    if scale not in ("log", "linear"):
+        raise RadiometerError(f"scale must be 'log' or 'linear', got {scale!r}")
+    path = os.fspath(path)
+    if not path.lower().endswith(".exr"):
+        raise RadiometerError(f"path must name an .exr file, got {path!r:.200}")
+    if range is not None:
+        from ..plots.false_colour_image import scale_range
+
+        try:
+            scale_range([1.0], scale, range)
+        except ValueError as exc:
+            raise RadiometerError(str(exc)) from None
+    result = render_luminance(scene=scene, camera=camera, resolution=resolution, quality=quality,
+                              progress=progress, cancelled=cancelled)
+    world.write_exr(path, np.repeat(result.luminance[..., None], 3, axis=-1))
+    result.paths["exr"] = path
+    from ..plots import matplotlib_available
+
+    if matplotlib_available():
+        from ..plots.false_colour_image import false_colour_png
+
+        png = os.path.splitext(path)[0] + ".png"
+        false_colour_png(png, result.luminance, unit="cd/m²", quantity="luminance", scale=scale, value_range=range,
+                         title=f"Luminance seen by {result.camera} ({result.resolution[0]} x {result.resolution[1]} px,"
+                               f" {100 * result.target_rel_error:g} % target)")
+        result.paths["png"] = png
+    else:
+        result.notes.append("no false-colour PNG: matplotlib is not installed (the EXR holds the numbers)")
+    return result

@@ -1,0 +1,54 @@
+"""Deliverable pictures in Blender: the camera view's false-colour luminance image, shown in the image
+editor (thin: one ``api.luminance_image`` call, the PNG loaded as an image data-block)."""
+
+import bpy
+from bpy.props import EnumProperty
+
+from ..errors import RadiometerError
+
+
+class RADIOMETER_OT_luminance_image(bpy.types.Operator):
+    """Render the scene camera's view as a false-colour luminance image (cd/m², with a legend) and
+    show it in an Image Editor"""
+
+    bl_idname = "radiometer.luminance_image"
+    bl_label = "False-Colour Luminance Image"
+    bl_options = {"REGISTER"}  # writes files and an image data-block; the scene itself is left as it was
+
+    scale: EnumProperty(name="Scale", description="Colour scale of the false-colour legend",
+                        items=(("log", "Logarithmic", "Decades of luminance, as Radiance's falsecolor -log"),
+                               ("linear", "Linear", "0 to the brightest pixels (99.5th percentile)")),
+                        default="log")
+
+    @classmethod
+    def poll(cls, context):
+        if context.scene is None or context.scene.camera is None:
+            cls.poll_message_set("the scene has no camera")
+            return False
+        return True
+
+    def execute(self, context):
+        import os
+
+        from .. import api, outputs
+
+        scene = context.scene
+        path = os.path.join(outputs.user_folder("images"), f"{outputs.file_stem(scene.camera.name)}_luminance.exr")
+        try:
+            img = api.luminance_image(path, scene=scene, quality=scene.radiometer.quality, scale=self.scale)
+        except RadiometerError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        shown = img.paths.get("png", img.paths["exr"])
+        image = bpy.data.images.load(shown, check_existing=True)
+        image.reload()
+        for area in getattr(context.screen, "areas", []) if context.screen else []:
+            if area.type == "IMAGE_EDITOR":
+                area.spaces.active.image = image
+                break
+        self.report({"INFO"}, f"Luminance image {os.path.basename(shown)} loaded as image {image.name!r} "
+                              f"({img.resolution[0]} x {img.resolution[1]} px)")
+        return {"FINISHED"}
+
+
+classes = (RADIOMETER_OT_luminance_image,)
