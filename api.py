@@ -655,3 +655,48 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
 
     return images.luminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
                                   scale=scale, range=range)
+
+
+def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None, ugr_limit=None, ra_required=None,
+                       maintenance_factor=0.8, observers=(), ra=None, scene=None, quality="standard", grid=None):
+    """EN 12464-1 compliance of a work plane (issue 23): ``task`` a key of
+    ``radiometry.compliance.TASKS`` (values cited there) or the user's own ``maintained_lx`` (lx),
+    ``uniformity``, ``ugr_limit``, ``ra_required``; ``maintenance_factor`` (Ēm = MF x Ē); ``observers``:
+    ((x, y, z), (dx, dy, dz)) eye positions and view directions rated for UGR; ``ra``: the luminaires'
+    rated Ra; ``grid``: a ``GridResult`` already measured on ``plane`` (else one is measured at the
+    EN 12464-1 spacing). Returns a dict: ``requirement``, ``checks`` (quantity, required, achieved, unit,
+    status pass/fail/marginal/not assessed, margin, std_error, note), ``overall``, ``grid``, ``glare``."""
+    import dataclasses
+
+    import numpy as np
+
+    from .radiometry import compliance
+
+    try:
+        req = compliance.requirement(task, maintained_lx=maintained_lx, uniformity=uniformity,
+                                     ugr_limit=ugr_limit, ra=ra_required)
+    except ValueError as exc:
+        raise RadiometerError(str(exc)) from None
+    g = grid if grid is not None else illuminance_grid(plane, scene=scene, quality=quality)
+    lo_index = int(np.argmin(g.lux)) if hasattr(g.lux, "size") else 0
+    glare_results = []
+    for k, obs in enumerate(observers or ()):
+        try:
+            position, direction = obs
+        except (TypeError, ValueError):
+            raise RadiometerError(f"observer {k + 1}: give ((x, y, z), (dx, dy, dz)), got {obs!r}") from None
+        glare_results.append(glare_ugr(position, direction, scene=scene, quality=quality))
+    try:
+        rows = compliance.assess(req, average_lx=g.stats["avg"], minimum_lx=g.stats["min"],
+                                 maintenance_factor=maintenance_factor,
+                                 # the mean of independent readings: s.e. = sqrt(sum (E_i s_i)^2) / sum E_i
+                                 average_rel_se=float(np.sqrt(np.sum(np.square(g.lux * g.rel_std_error)))
+                                                      / max(float(np.sum(g.lux)), 1e-300)),
+                                 minimum_rel_se=float(g.rel_std_error.ravel()[lo_index]),
+                                 ugr=[(f"observer {k + 1}", r.ugr, r.ugr_std_error) for k, r in enumerate(glare_results)],
+                                 ra=ra)
+    except ValueError as exc:
+        raise RadiometerError(str(exc)) from None
+    return {"requirement": dataclasses.asdict(req), "checks": [dataclasses.asdict(r) for r in rows],
+            "overall": compliance.overall(rows), "maintenance_factor": float(maintenance_factor), "grid": g,
+            "glare": glare_results}
