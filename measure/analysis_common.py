@@ -77,8 +77,8 @@ def rel_errors(readings):
 
 
 def can_plot(notes):
-    """True if matplotlib is installed; else add the reason to ``notes`` (the numbers need no plot)."""
-    if _plots.matplotlib_available():
-        return True
-    notes.append("no plot written: " + _plots.missing_message())
-    return False
+    """True if matplotlib is installed; a plot was asked for, so without it this raises the one-line
+    RadiometerError of :func:`plots.require_matplotlib` (asked for a file, unable to write it: an
+    error, never a silent success). Callers that can do without pictures pass no plot path."""
+    _plots.require_matplotlib()
+    return True

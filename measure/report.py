@@ -181,7 +181,8 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
 
     stems = outputs.Stems(sorted({ob.name for ob in lights} | {ob.name for ob in planes}))
     watch = {"cancelled": cancelled, "progress": part_progress}
-    if not plots.matplotlib_available():
+    draw = plots.matplotlib_available()  # without matplotlib: the numbers, no plot paths asked for
+    if not draw:
         report["errors"].append("no plots: " + plots.missing_message())
     # Meters (readings are not written to the objects: a report leaves the scene as it was).
     if objs:
@@ -203,7 +204,7 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
         slug = stems(light.name)
         try:
             r = analysis.check_inverse_square(light, scene=scene, method=m, **budget, **watch,
-                                              plot=os.path.join(out, f"inverse_square_{slug}.png"))
+                                              plot=os.path.join(out, f"inverse_square_{slug}.png") if draw else None)
             report["inverse_square"].append(r.to_dict())
         except MeasurementCancelled:
             raise
@@ -211,7 +212,7 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
             report["inverse_square"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
         try:
             r = analysis.check_cosine_law(light, scene=scene, method=m, **budget, **watch,
-                                          plot=os.path.join(out, f"cosine_{slug}.png"))
+                                          plot=os.path.join(out, f"cosine_{slug}.png") if draw else None)
             report["cosine"].append(r.to_dict())
         except MeasurementCancelled:
             raise
@@ -223,7 +224,7 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
         slug = stems(plane.name)
         try:
             g = analysis.illuminance_grid(plane, scene=scene, method=m, **budget, **watch,
-                                          png=os.path.join(out, f"isolux_{slug}.png"),
+                                          png=os.path.join(out, f"isolux_{slug}.png") if draw else None,
                                           csv_path=os.path.join(out, f"grid_{slug}.csv"))
             report["grids"].append(g.to_dict())
         except MeasurementCancelled:
@@ -237,7 +238,7 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
         try:
             c = analysis.convergence_study(target, scene=scene, samples=convergence_samples, quality=q,
                                            target_rel_error=goal, time_budget_s=time_budget_s, cancelled=cancelled,
-                                           plot=os.path.join(out, "convergence.png"))
+                                           plot=os.path.join(out, "convergence.png") if draw else None)
             report["convergence"] = c.to_dict()
         except MeasurementCancelled:
             raise

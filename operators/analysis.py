@@ -66,6 +66,12 @@ def warn_without_plots(operator):
         operator.report({"WARNING"}, plots.missing_message())
 
 
+def _plot_path(path):
+    """``path`` where matplotlib can draw it, else None: the operators' pictures are extras (the
+    warning above says why they are missing); the API raises when a plot path is given without it."""
+    return path if plots.matplotlib_available() else None
+
+
 def _has_lights(cls, context):
     if context.scene is None or not hasattr(context.scene, "radiometer_analysis"):
         cls.poll_message_set("Radiometer is not registered for this scene")
@@ -140,7 +146,7 @@ def _law_task(self, context, kind):
             continue
 
         def fn(progress, cancelled, light=light):
-            plot = os.path.join(out, f"{kind}_{_slug(light.name)}.png")
+            plot = _plot_path(os.path.join(out, f"{kind}_{_slug(light.name)}.png"))
             if kind == "inverse_square":
                 results[light.name] = analysis.check_inverse_square(
                     light, scene=context.scene, plot=plot, progress=progress, cancelled=cancelled,
@@ -290,7 +296,7 @@ class RADIOMETER_OT_illuminance_grid(TaskOperator, bpy.types.Operator):
             {"spacing": settings.spacing or None}
         def call(progress, cancelled):
             return analysis.illuminance_grid(
-                plane, scene=context.scene, png=os.path.join(out, f"isolux_{slug}.png"),
+                plane, scene=context.scene, png=_plot_path(os.path.join(out, f"isolux_{slug}.png")),
                 csv_path=os.path.join(out, f"grid_{slug}.csv"), progress=progress, cancelled=cancelled, **kwargs,
                 **_measure_settings(context))
 
@@ -345,7 +351,7 @@ class RADIOMETER_OT_convergence_study(TaskOperator, bpy.types.Operator):
         def call(_progress, cancelled):  # the study reports no progress of its own (one step)
             return analysis.convergence_study(
                 target, scene=context.scene, target_error=settings.target_error,
-                quality=context.scene.radiometer.quality, plot=os.path.join(out, "convergence.png"),
+                quality=context.scene.radiometer.quality, plot=_plot_path(os.path.join(out, "convergence.png")),
                 cancelled=cancelled)
 
         return one_call_task("Convergence Study", target.name, "study", call)

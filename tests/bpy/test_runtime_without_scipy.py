@@ -3,7 +3,8 @@
 A fresh bpy process blocks the three imports (``sys.modules[name] = None``), registers the add-on,
 builds a point light + area light scene and runs a rendered measurement to 1 % (Student-t interval,
 radiometry.stats), a BRDF assignment with a fitted closure (shading.fit: BVLS + Nelder-Mead), a law
-check whose plot is skipped with a note, the analysis operators and the report (numbers, CSV, JSON,
+check asked for a plot (a one-line error) and without one, the analysis operators (pictures skipped
+with a warning) and the report (numbers, CSV, JSON,
 report.md without images), and the BRDF plot operator and ``check --plots``, which must say clearly
 why they cannot plot. Reference values: the analytic illuminance of the same lights (point: I cos / d^2; disk
 formula of tests/bpy/test_meter.py) and the fidelity stated with scipy (tests/test_shading_optim.py).
@@ -60,11 +61,13 @@ SCRIPT = textwrap.dedent("""
     out["ward"] = [fid.kind, fid.rms_rel_diff, fid.albedo_diff]
 
     plot = os.path.join(tempfile.mkdtemp(), "inverse_square.png")
-    r = api.check_inverse_square(point, scene=scene, method="analytic", plot=plot)
-    out["law_plot"] = r.plot
+    try:  # asked for a plot that cannot be drawn: an error, never a silent success
+        api.check_inverse_square(point, scene=scene, method="analytic", plot=plot)
+        out["law_plot_error"] = None
+    except RadiometerError as exc:
+        out["law_plot_error"] = str(exc)
     out["law_plot_exists"] = os.path.exists(plot)
-    out["law_notes"] = r.notes
-    out["law_exponent"] = r.exponent
+    out["law_exponent"] = api.check_inverse_square(point, scene=scene, method="analytic").exponent
 
     mat.radiometer_brdf.model = "ward"
     try:
@@ -123,10 +126,10 @@ def test_addon_runs_in_a_numpy_only_python():
     ref = realise("ward", "nodes")[1]  # stated in this (scipy-equipped) process
     assert abs(rms - ref.rms_rel_diff) < 1e-3 * ref.rms_rel_diff
     assert abs(albedo - ref.albedo_diff) < 1e-3 * ref.albedo_diff
-    # a law check still gives its numbers; the image is skipped with the reason in the notes
-    assert out["law_plot"] == "" and not out["law_plot_exists"]
+    # a law check asked for a plot says it cannot draw it (one line); without a plot it gives its numbers
+    assert "plots need matplotlib, which this Blender's Python lacks" in out["law_plot_error"]
+    assert "\n" not in out["law_plot_error"] and not out["law_plot_exists"]
     assert abs(out["law_exponent"] + 2.0) < 1e-3  # point light: E ~ d^-2 exactly
-    assert any("plots need matplotlib, which this Blender's Python lacks" in n for n in out["law_notes"])
     assert out["op_inverse"] == ["FINISHED"] and abs(out["op_inverse_exponent"] + 2.0) < 1e-3
     assert out["op_grid"] == ["FINISHED"]
     grid_avg, grid_image, grid_csv_exists = out["grid"]
