@@ -1,8 +1,33 @@
-"""``python -m radiometer <subcommand> [scene.blend] ...`` with bpy installed as a module."""
+"""``python -m radiometer <subcommand> [scene.blend] ...`` with bpy installed as a module.
 
+Ctrl-C (SIGINT) and SIGTERM are handled from the first statement, before bpy or the CLI is imported:
+until the CLI installs its own handler (and again after it removes it) a signal ends the process at
+once with one line and exit code 130 (SIGINT) or 143 (SIGTERM); nothing has been written then, and
+the private temporary folder, if one exists, is removed. A KeyboardInterrupt raised inside bpy's
+start-up or the add-on's registration crashed Blender (issue 21, finding 10), so none is raised.
+"""
+
+import os
+import signal
 import sys
 
-from .cli import main
+
+def _stop_at_once(signum, _frame):
+    what = "terminated (SIGTERM)" if signum == signal.SIGTERM else "interrupted (Ctrl-C)"
+    io = sys.modules.get(f"{__package__}.commands._io")
+    if io is not None:
+        io.remove_scratch()
+    os.write(2, f"radiometer: {what}; stopped, no file left half-written\n".encode())
+    os._exit(128 + signum)
+
 
 if __name__ == "__main__":
-    sys.exit(main())
+    for _sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(_sig, _stop_at_once)
+    from .cli import main
+
+    code = main()
+    # The run is over and its files are written: a signal now must not kill the interpreter's (and
+    # Blender's) exit half-way (Python restores the default action while finalising): block it.
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    sys.exit(code)

@@ -207,6 +207,8 @@ def main(argv=None, *, in_blender=False):
         if json_to_stdout:
             args.quiet = True  # stdout carries the JSON alone
         args.interrupt, args.cancelled = interrupt, interrupt.cancelled
+        if not in_blender:
+            _scratch_inside_private_root()
         with interrupt, _io.blender_logs_silenced(enabled=not args.verbose, quiet=args.quiet) as err_fd, \
                 _quiet_numpy():
             args.progress = _io.Progress(err_fd, enabled=not args.quiet)
@@ -214,9 +216,17 @@ def main(argv=None, *, in_blender=False):
             try:
                 if module.NEEDS_SCENE and args.blend:
                     _open_blend(args.blend)
+                if interrupt.cancelled():  # safe points between the start-up steps
+                    raise KeyboardInterrupt
                 if not in_blender:
                     _ensure_registered()
-                result = module.run(args)
+                if interrupt.cancelled():
+                    raise KeyboardInterrupt
+                interrupt.raise_ok = True
+                try:
+                    result = module.run(args)
+                finally:
+                    interrupt.raise_ok = False
                 if interrupt.cancelled():
                     raise KeyboardInterrupt
                 deliver(args, result)
@@ -227,12 +237,12 @@ def main(argv=None, *, in_blender=False):
             sys.stdout.flush()
         return 0
     except KeyboardInterrupt:
-        print(f"{PROG}: interrupted (Ctrl-C); stopped, no file left half-written", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        print(interrupt.message, file=sys.stderr)
+        return interrupt.exit_code
     except RadiometerError as exc:
         if interrupt.cancelled():  # a measurement that saw the flag (MeasurementCancelled) or a cut-short bake
-            print(f"{PROG}: interrupted (Ctrl-C); stopped, no file left half-written", file=sys.stderr)
-            return EXIT_INTERRUPTED
+            print(interrupt.message, file=sys.stderr)
+            return interrupt.exit_code
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except OSError as exc:
@@ -247,15 +257,29 @@ def main(argv=None, *, in_blender=False):
 
 
 def _remove_scratch():
-    """Remove this process's private temporary folder (radiance maps, plots with no other home):
-    nothing of a run is left in the temp folder once the CLI exits."""
-    import shutil
+    """Remove this process's private temporary folder (radiance maps, plots with no other home,
+    render scratch folders): nothing of a run is left in the temp folder once the CLI exits."""
+    import tempfile
+
+    if getattr(_remove_scratch, "saved_tempdir", False) is not False:
+        tempfile.tempdir = _remove_scratch.saved_tempdir
+        del _remove_scratch.saved_tempdir
+    _io.remove_scratch()
+
+
+def _scratch_inside_private_root():
+    """Every temporary folder of the run (render scratch, probes) goes inside this process's private
+    folder, so one removal cleans all of it, also after a forced exit (watchdog, SIGTERM)."""
+    import tempfile
 
     from . import outputs
 
-    root, outputs._private_root = outputs._private_root, None
-    if root is not None:
-        shutil.rmtree(root, ignore_errors=True)
+    try:
+        root = outputs.private_temp_root()
+    except OSError:
+        return  # an unwritable TMPDIR: the measurements say so themselves when they need a folder
+    _remove_scratch.saved_tempdir = tempfile.tempdir
+    tempfile.tempdir = root
 
 
 class _quiet_numpy:

@@ -148,11 +148,37 @@ def blender_logs_silenced(enabled=True, quiet=False):
         os.close(null)
 
 
+def stop_message(signum):
+    """The one line said when a signal stops the CLI."""
+    what = "terminated (SIGTERM)" if signum == signal.SIGTERM else "interrupted (Ctrl-C)"
+    return f"radiometer: {what}; stopped, no file left half-written"
+
+
+def exit_code(signum):
+    """128 + the signal number, as shells report a process ended by it (130 Ctrl-C, 143 SIGTERM)."""
+    return 128 + int(signum or signal.SIGINT)
+
+
+def remove_scratch():
+    """Remove this process's private temporary folder and everything in it (also the render scratch
+    folders the CLI puts there), now: used on every exit, forced ones included."""
+    import shutil
+
+    from .. import outputs
+
+    root, outputs._private_root = outputs._private_root, None
+    if root is not None:
+        shutil.rmtree(root, ignore_errors=True)
+
+
 class Interrupt:
-    """Ctrl-C as a flag polled by ``cancelled()``, with a watchdog that ends a run that does not stop."""
+    """Ctrl-C (SIGINT) and SIGTERM as a flag polled by ``cancelled()``, with a watchdog that ends a
+    run that does not stop. ``signum`` says which signal came first (the exit code is 128 + it)."""
 
     def __init__(self, grace_s=GRACE_S):
         self.grace_s = grace_s
+        self.signum = None
+        self.raise_ok = False  # main() allows a KeyboardInterrupt only while the subcommand runs
         self.flag = threading.Event()
         self.finished = threading.Event()
         self._writing = threading.Lock()
@@ -169,13 +195,31 @@ class Interrupt:
         with self._writing:
             yield
 
-    def _handler(self, _signum, frame):
+    @property
+    def exit_code(self):
+        return exit_code(self.signum)
+
+    @property
+    def message(self):
+        return stop_message(self.signum or signal.SIGINT)
+
+    def _handler(self, signum, frame):
+        if self.signum is None:
+            self.signum = signum
         self.flag.set()
-        # Inside Cycles' Python (a render/bake callback) Blender swallows the exception: just flag it;
-        # the measurement stops at its next cancelled() poll. Elsewhere stop now.
+        # Raise only where an exception can travel back to main() cleanly: while the subcommand runs
+        # (``raise_ok``), and not inside Python that Blender's C code runs for itself (Cycles' render
+        # and bake callbacks, bpy's own scripts, imports): Blender prints or swallows an exception
+        # there, and one raised in its start-up or our registration crashed it (issue 21, finding 10).
+        # Elsewhere just flag it: main() and the measurements stop at their next cancelled() poll,
+        # the watchdog after GRACE_S at the latest.
+        if not self.raise_ok:
+            return
         f = frame
         while f is not None:
-            if f"{os.sep}cycles{os.sep}" in f.f_code.co_filename:
+            name = f.f_code.co_filename
+            if (f"{os.sep}cycles{os.sep}" in name or f"{os.sep}bpy{os.sep}" in name
+                    or name.startswith("<frozen importlib")):
                 return
             f = f.f_back
         raise KeyboardInterrupt
@@ -188,8 +232,11 @@ class Interrupt:
                 return
             if not data or self.finished.is_set():
                 return
-            if signal.SIGINT not in data:
+            got = [s for s in (signal.SIGINT, signal.SIGTERM) if s in data]
+            if not got:
                 continue
+            if self.signum is None:
+                self.signum = got[0]
             self.flag.set()
             self._signals += 1
             if self._signals == 1 and self.finished.wait(self.grace_s):
@@ -197,15 +244,18 @@ class Interrupt:
             with self._writing:
                 if self.finished.is_set():
                     return
-                os.write(self.stderr_fd, b"radiometer: interrupted (Ctrl-C); the run did not stop in time, ended it; "
-                            b"no result file was written\n")
-                os._exit(EXIT_INTERRUPTED)
+                what = "terminated (SIGTERM)" if self.signum == signal.SIGTERM else "interrupted (Ctrl-C)"
+                remove_scratch()
+                os.write(self.stderr_fd, f"radiometer: {what}; the run did not stop in time, ended it; "
+                                         "no result file was written\n".encode())
+                os._exit(self.exit_code)
 
     def install(self):
         """Install the handler (main thread only; elsewhere Ctrl-C keeps its default behaviour)."""
         if threading.current_thread() is not threading.main_thread():
             return self
         self._old_handler = signal.signal(signal.SIGINT, self._handler)
+        self._old_term = signal.signal(signal.SIGTERM, self._handler)
         self._read, self._write_end = socket.socketpair()
         self._write_end.setblocking(False)
         try:
@@ -224,6 +274,7 @@ class Interrupt:
         if self._old_wakeup is not None:
             signal.set_wakeup_fd(self._old_wakeup)
         signal.signal(signal.SIGINT, self._old_handler)
+        signal.signal(signal.SIGTERM, self._old_term)
         with contextlib.suppress(OSError):
             self._write_end.send(b"\0")  # wake the watchdog so it sees `finished` and returns
         self._write_end.close()
