@@ -72,7 +72,7 @@ def local_client(workers):
     workers = int(workers)
     if workers < 1:
         raise RadiometerError(f"--workers must be at least 1, got {workers}")
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                            silence_logs=logging.ERROR, host="127.0.0.1")
     return Client(cluster, set_as_default=False)
 

@@ -5,6 +5,8 @@ HELP = ("daylight factor under the CIE overcast sky (lights off, the world repla
         "--csv and --json")
 NEEDS_SCENE = True
 
+from . import _cluster  # noqa: E402
+
 
 def add_arguments(parser):
     where = parser.add_mutually_exclusive_group(required=True)
@@ -23,6 +25,7 @@ def add_arguments(parser):
                              "Annex A) for the D_T / D_TM checks")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
     parser.add_argument("--csv", metavar="FILE", help="write one row per point")
+    _cluster.add_arguments(parser)
 
 
 def run(args):
@@ -46,8 +49,10 @@ def run(args):
         locations, normals = read_points(args.points)
         if progress is not None:
             progress.label = f"daylight factor, {len(locations)} points"
-        rs = api.daylight_factor(locations, normals, scene=scene, quality=args.quality,
-                                 ground_reflectance=args.ground_reflectance, progress=progress, cancelled=cancelled)
+        with _cluster.client(args) as client:
+            rs = api.daylight_factor(locations, normals, scene=scene, quality=args.quality,
+                                     ground_reflectance=args.ground_reflectance, progress=progress,
+                                     cancelled=cancelled, **({"client": client} if client is not None else {}))
         if progress is not None:
             progress.clear()
         print(f"daylight factor at {len(rs)} points (CIE overcast sky, ground reflectance {args.ground_reflectance:g})")
@@ -60,6 +65,9 @@ def run(args):
             f"{r.location[0]:.6g},{r.location[1]:.6g},{r.location[2]:.6g},{r.normal[0]:.6g},{r.normal[1]:.6g},"
             f"{r.normal[2]:.6g},{r.daylight_factor:.6g},{r.rel_std_error:.4g},{int(r.exact)}\n" for r in rs)
     else:
+        if getattr(args, "workers", None) or getattr(args, "scheduler", None):
+            raise RadiometerError("--workers/--scheduler go with --points for now (a plane's grid runs in this "
+                                  "process)")
         if progress is not None:
             progress.label = f"daylight factor on {args.plane}"
         g = api.daylight_factor_grid(args.plane, resolution=args.resolution, spacing=args.spacing, scene=scene,

@@ -92,9 +92,25 @@ def _check_rho(ground_reflectance):
     return rho
 
 
+#: Points per task when a daylight-factor run goes to a Dask cluster (fixed, so that the readings do
+#: not depend on the number of workers: each chunk is one measurement with its own seed).
+CHUNK_POINTS = 256
+
+
+def daylight_factor_chunk(scene, *, locations, normals, **kwargs):
+    """One cluster task: the daylight factor at a chunk of points (a list of readings)."""
+    out = daylight_factor(locations, normals, scene=scene, **kwargs)
+    return out if isinstance(out, list) else [out]
+
+
 def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="standard", ground_reflectance=0.2,
-                    target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None):
-    """Daylight factor (%) at ``locations`` (3,) or (N, 3) facing ``normals``; a reading or a list."""
+                    target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None,
+                    chunk_points=CHUNK_POINTS):
+    """Daylight factor (%) at ``locations`` (3,) or (N, 3) facing ``normals``; a reading or a list.
+
+    ``client``: a Dask client: the points go in chunks of ``chunk_points`` (task k seeded
+    ``seed + 7919 k``) to the cluster's workers (``radiometer.cluster.run_scene_tasks``).
+    """
     import bpy
 
     from . import meter, scene_guard
@@ -103,6 +119,17 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
     rho = _check_rho(ground_reflectance)
     points, single = meter.as_points(locations, "locations")
     dirs = meter.as_directions(normals, len(points), "normals")
+    if client is not None:
+        from ..cluster import run_scene_tasks
+
+        size = max(1, int(chunk_points))
+        tasks = [dict(locations=points[k:k + size], normals=dirs[k:k + size], quality=quality,
+                      ground_reflectance=rho, target_rel_error=target_rel_error, method=method,
+                      seed=int(seed) + 7919 * (k // size)) for k in range(0, len(points), size)]
+        parts = run_scene_tasks(scene, daylight_factor_chunk, tasks, client=client, progress=progress,
+                                cancelled=cancelled, label="daylight factor")
+        out = [r for part in parts for r in part]
+        return out[0] if single else out
     with scene_guard.preserved_scene(scene) as snapshot:
         notes = overcast_only(scene, snapshot, rho)
         readings = meter.measure_illuminance(points, dirs, scene=scene, method=method, quality=quality,

@@ -320,3 +320,21 @@ def test_ui_check_of_an_unreachable_scheduler_says_so_in_one_line(clean_blender)
     with pytest.raises(RuntimeError, match="cannot reach the Dask scheduler"):
         bpy.ops.radiometer.cluster_check(scheduler=address)
     assert "\n" not in LAST["error"] and address in LAST["error"]
+
+
+def test_daylight_factor_points_on_the_cluster_agree_in_chunks(clean_blender, client, tmp_path):
+    from radiometer.measure import daylight_factor as df
+
+    scene = _sun_study_scene(tmp_path / "court.blend")  # a wall above the points' horizon: rendered
+    points = np.array([[x, y, 0.8] for x in (-1.0, 1.0) for y in (-0.5, 0.5, 2.0)])
+    here = df.daylight_factor(points, scene=scene, quality="preview", chunk_points=2)
+    stats_seen = []
+    there = df.daylight_factor(points, scene=scene, quality="preview", client=client, chunk_points=2,
+                               progress=lambda d, t, s: stats_seen.append((d, t)))
+    assert stats_seen[-1] == (3, 3)  # 6 points in chunks of 2: 3 tasks
+    a = np.array([r.daylight_factor for r in here])
+    b = np.array([r.daylight_factor for r in there])
+    se = np.hypot(a * [r.rel_std_error for r in here], b * [r.rel_std_error for r in there])
+    assert not all(r.exact for r in there)
+    assert np.all(np.abs(a - b) <= 3 * se + 1e-9), (a, b, se)
+    assert [r.location for r in there] == [tuple(p) for p in points]  # merged in order
