@@ -940,6 +940,8 @@ def markdown(res):
                 f"{100 * d['refined_worst_rel_error']:.2g} %); each tick blocks the UI for its batch.", ""]
     if "capture" in res:
         out += speed.capture_markdown(res["capture"])
+    if "batch_cost" in res:
+        out += speed.batch_cost_markdown(res["batch_cost"])
     if "radiance" in res:
         out += speed.radiance_markdown(res["radiance"])
     if "cluster" in res:
@@ -954,6 +956,10 @@ def markdown(res):
         import sun_study
 
         out += sun_study.markdown(res["sun_study"])
+    if "daylight_factor" in res:
+        import daylight_factor
+
+        out += daylight_factor.markdown(res["daylight_factor"])
     return "\n".join(out)
 
 
@@ -962,6 +968,7 @@ BENCHES = {"batching": bench_batching, "overhead": bench_overhead, "throughput":
            "memory": bench_memory, "live": bench_live}
 # Issue 17 (bench/speed.py): capture reuse; the throughput room against Radiance (after "throughput").
 BENCHES["capture"] = lambda: speed.bench_capture(QUICK)
+BENCHES["batch_cost"] = lambda: speed.bench_batch_cost(QUICK)
 BENCHES["radiance"] = lambda: speed.bench_radiance(_RESULTS.get("throughput"), QUICK)
 _RESULTS = {}
 
@@ -982,6 +989,8 @@ BENCHES["cluster"] = bench_cluster
 # Issue 19 (bench/sun_study.py): an hourly sun study's cost per time step.
 BENCHES["sun_study"] = lambda: __import__("sun_study").bench_sun_study(QUICK)
 
+# Issue 19 (bench/daylight_factor.py): 100-point daylight-factor grid vs electric-light grid at 1 %.
+BENCHES["daylight_factor"] = lambda: __import__("daylight_factor").bench_daylight_factor(QUICK)
 
 def main(argv=None):
     global QUICK

@@ -77,6 +77,62 @@ def bench_capture(quick=False):
             "inverse_square_s": t_check, "inverse_square_captures_before": "5 (issue 17: 4-5)"}
 
 
+# --- per-sample cost of a batch ------------------------------------------------------------------------
+
+def bench_batch_cost(quick=False):
+    """Seconds per meter-sample of a 100-meter call against a 1-meter call, both at the same FIXED samples
+    per meter (130k-triangle room, floor meters): the whole call, and the bakes alone."""
+    from radiometer.measure import sensors
+
+    scene, tris = scenes.big_room()
+    samples = 1024
+    reps = 2 if quick else 3
+    pts1, nrm1 = scenes.floor_meters(1, seed=11)
+    pts100, nrm100 = scenes.floor_meters(100, seed=200)
+    api.measure_illuminance(pts1, nrm1, samples=64)  # warm-up
+    real = sensors.run_bake
+    bake = []
+
+    def timed_bake(*args, **kwargs):
+        t0 = time.perf_counter()
+        try:
+            return real(*args, **kwargs)
+        finally:
+            bake[-1] += time.perf_counter() - t0
+
+    sensors.run_bake = timed_bake
+    rows = {}
+    try:
+        for n, pts, nrm in ((1, pts1, nrm1), (100, pts100, nrm100)):
+            calls, bakes = [], []
+            for rep in range(reps):
+                bake.append(0.0)
+                t0 = time.perf_counter()
+                api.measure_illuminance(pts, nrm, samples=samples, seed=rep, method="render")
+                calls.append(time.perf_counter() - t0)
+                bakes.append(bake[-1])
+            rows[n] = {"call_s": _median(calls), "bake_s": _median(bakes)}
+    finally:
+        sensors.run_bake = real
+    per_call = (rows[100]["call_s"] / 100) / rows[1]["call_s"]
+    per_bake = (rows[100]["bake_s"] / 100) / rows[1]["bake_s"]
+    return {"triangles": tris, "samples_per_meter": samples, "reps": reps, "rows": rows,
+            "per_sample_ratio_call": per_call, "per_sample_ratio_bakes": per_bake, "goal": 1.5,
+            "goal_met_call": per_call <= 1.5, "goal_met_bakes": per_bake <= 1.5}
+
+
+def batch_cost_markdown(b):
+    r1, r100 = b["rows"][1], b["rows"][100]
+    return ["## Per-sample cost of a batch (issue 17)", "",
+            f"130k-triangle room, {b['samples_per_meter']} samples per meter fixed, `method='render'`, median of "
+            f"{b['reps']}: 1 meter {r1['call_s']:.3f} s (bakes {r1['bake_s']:.3f} s), 100 meters "
+            f"{r100['call_s']:.3f} s (bakes {r100['bake_s']:.3f} s).",
+            f"Per meter-sample, 100 meters / 1 meter: whole call **{b['per_sample_ratio_call']:.2f}**, bakes alone "
+            f"**{b['per_sample_ratio_bakes']:.2f}** (goal <= {b['goal']}: "
+            f"{'met' if b['goal_met_call'] else 'NOT met'} for the call, "
+            f"{'met' if b['goal_met_bakes'] else 'NOT met'} for the bakes).", ""]
+
+
 # --- Radiance ---------------------------------------------------------------------------------------
 
 def radiance_bin():
