@@ -1,0 +1,76 @@
+"""Bench section for issue 19: a 100-point daylight-factor grid at 1 % against a 100-point
+electric-light grid at 1 % in the same room, as a ratio of times taken in the same run.
+
+The side-lit room of tests/bpy/daylight_room.py (4 x 3 x 2.7 m, a 2 x 1.2 m open window), a 10 x 10
+grid on an imaginary work plane at 0.85 m. Electric light: one 0.6 m square area light under the
+ceiling, a black world. Daylight: the same grid under the CIE overcast sky (api.daylight_factor_grid:
+lights off, temporary overcast world).
+"""
+
+import importlib.util
+import os
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def _room_module():
+    path = os.path.join(HERE, "..", "tests", "bpy", "daylight_room.py")
+    spec = importlib.util.spec_from_file_location("daylight_room", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def bench_daylight_factor(quick=False):
+    import bpy
+    import numpy as np
+
+    import radiometer
+    from radiometer import api
+
+    room = _room_module()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    if not hasattr(bpy.types.Scene, "radiometer"):
+        radiometer.register()
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    from radiometer.compat import ensure_node_tree
+
+    world = bpy.data.worlds.new("black")
+    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
+    scene.world = world
+    me = bpy.data.meshes.new("work plane")
+    me.from_pydata([(0.25, 0.25, 0), (3.75, 0.25, 0), (3.75, 2.75, 0), (0.25, 2.75, 0)], [], [(0, 1, 2, 3)])
+    plane = bpy.data.objects.new("work plane", me)
+    plane.location = (0, 0, 0.85)
+    plane.hide_render = True
+    scene.collection.objects.link(plane)
+    light = bpy.data.lights.new("panel", "AREA")
+    light.size, light.energy = 0.6, 200.0
+    lamp = bpy.data.objects.new("panel", light)
+    lamp.location = (2.0, 1.5, 2.65)
+    scene.collection.objects.link(lamp)
+    n = 4 if quick else 10
+    target = 0.05 if quick else 0.01
+    t0 = time.perf_counter()
+    electric = api.illuminance_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target)
+    t_electric = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    daylight = api.daylight_factor_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target)
+    t_daylight = time.perf_counter() - t0
+    return {"points": n * n, "target_rel_error": target, "electric_s": t_electric, "daylight_factor_s": t_daylight,
+            "ratio_daylight_over_electric": t_daylight / t_electric,
+            "electric_max_rel_std_error": float(electric.max_rel_std_error),
+            "daylight_max_rel_std_error": float(np.max(daylight.rel_std_error)),
+            "average_daylight_factor": daylight.stats["average"], "uniformity": daylight.stats["uniformity"]}
+
+
+def markdown(s):
+    return ["## Daylight factor grid against an electric-light grid (issue 19)", "",
+            f"Side-lit room (tests/bpy/daylight_room.py), {s['points']} points on the work plane, target "
+            f"{100 * s['target_rel_error']:.2g} % (1 s.e.) each: the daylight-factor grid (CIE overcast sky, "
+            f"lights off) took {s['ratio_daylight_over_electric']:.2f} x the electric-light grid (one area light, "
+            f"black world). This run: {s['daylight_factor_s']:.1f} s vs {s['electric_s']:.1f} s; average DF "
+            f"{s['average_daylight_factor']:.2f} %, uniformity {s['uniformity']:.2f}; worst stated errors "
+            f"{100 * s['daylight_max_rel_std_error']:.2g} % / {100 * s['electric_max_rel_std_error']:.2g} %.", ""]
