@@ -28,6 +28,12 @@ _SKIP = {"rna_type", "is_evaluated", "original", "users", "session_uid", "is_mis
 
 
 _WRITABLE = {}  # RNA struct identifier -> identifiers of its writable plain properties
+_NESTED = {}  # RNA struct identifier -> identifiers of its nested (non-ID) struct pointers
+
+#: How deep nested setting structs are followed (render > image_settings > view_settings >
+#: curve_mapping is 3). Every level is snapshotted and restored, parents first (setting a parent's
+#: enum, e.g. file_format, resets its children, e.g. linear_colorspace_settings: issue 21).
+MAX_DEPTH = 4
 
 
 def _writable_identifiers(struct):
@@ -40,6 +46,65 @@ def _writable_identifiers(struct):
                        and prop.type not in {"POINTER", "COLLECTION"})
         _WRITABLE[key] = idents
     return idents
+
+
+# Nested structs that only hold a value when their parent says so (reading them otherwise logs
+# "current value '-1' matches no enum" on every snapshot: a PNG output has no linear colour space).
+_ONLY_WHEN = {"linear_colorspace_settings": "has_linear_colorspace"}
+
+
+def _is_id(rna):
+    while rna is not None:
+        if rna.identifier == "ID":
+            return True
+        rna = rna.base
+    return False
+
+
+def _nested_identifiers(struct):
+    """Pointer properties of ``struct`` to nested setting structs (not to data-blocks, which are
+    restored by identity: camera, world)."""
+    key = struct.bl_rna.identifier
+    idents = _NESTED.get(key)
+    if idents is None:
+        idents = tuple(prop.identifier for prop in struct.bl_rna.properties
+                       if prop.type == "POINTER" and prop.identifier not in _SKIP
+                       and prop.fixed_type is not None and not _is_id(prop.fixed_type))
+        _NESTED[key] = idents
+    return idents
+
+
+def _tree_values(struct, depth=MAX_DEPTH, seen=None):
+    """``{"values": plain values, "nested": {ident: tree}}`` of ``struct`` and its nested structs."""
+    seen = set() if seen is None else seen
+    # A struct embedded first in its parent has the parent's address: the type tells them apart.
+    seen.add((struct.bl_rna.identifier, struct.as_pointer()))
+    nested = {}
+    if depth > 0:
+        for ident in _nested_identifiers(struct):
+            flag = _ONLY_WHEN.get(ident)
+            if flag is not None and not getattr(struct, flag, True):
+                continue
+            try:
+                child = getattr(struct, ident)
+            except (AttributeError, RuntimeError):
+                continue
+            if child is None or not hasattr(child, "bl_rna") \
+                    or (child.bl_rna.identifier, child.as_pointer()) in seen:
+                continue
+            nested[ident] = _tree_values(child, depth - 1, seen)
+    return {"values": _rna_values(struct), "nested": nested}
+
+
+def _restore_tree(struct, tree):
+    _restore_values(struct, tree["values"])  # parents first: their enums may reset the children
+    for ident, child_tree in tree["nested"].items():
+        try:
+            child = getattr(struct, ident)
+        except (AttributeError, RuntimeError):
+            continue
+        if child is not None:
+            _restore_tree(child, child_tree)
 
 
 def _rna_values(struct):
@@ -87,6 +152,8 @@ def _render_structs(scene):
         "display_settings": scene.display_settings,
         "scene": scene,
     }
+    # The scene's own nested structs are walked through the entries above (render, view/display
+    # settings, cycles), so the scene itself is taken flat (depth 0 in _snapshot_structs).
     if hasattr(scene, "cycles"):
         structs["cycles"] = scene.cycles
     for i, layer in enumerate(scene.view_layers):
@@ -94,6 +161,13 @@ def _render_structs(scene):
         if hasattr(layer, "cycles"):
             structs[f"view_layer{i}.cycles"] = layer.cycles
     return structs
+
+
+def _snapshot_structs(scene):
+    """Every writable property of the render-related structs, nested setting structs included
+    (image settings' colour management, view settings and their curve mapping, bake settings and
+    their image settings, ...): what a measurement may change and must give back."""
+    return {key: _tree_values(s, 0 if key == "scene" else MAX_DEPTH) for key, s in _render_structs(scene).items()}
 
 
 def _data_pointers():
@@ -107,7 +181,7 @@ def _selection(view_layer):
 class SceneSnapshot:
     def __init__(self, scene):
         self.scene = scene
-        self.values = {key: _rna_values(s) for key, s in _render_structs(scene).items()}
+        self.values = _snapshot_structs(scene)
         self.camera = scene.camera
         self.world = scene.world
         self.frame = (scene.frame_current, scene.frame_subframe)
@@ -129,7 +203,7 @@ class SceneSnapshot:
         self._remove_new_data()
         for key, struct in _render_structs(scene).items():
             if key in self.values:
-                _restore_values(struct, self.values[key])
+                _restore_tree(struct, self.values[key])
         if scene.camera != self.camera:
             scene.camera = self.camera
         if scene.world != self.world:
@@ -171,7 +245,7 @@ def scene_fingerprint(scene=None):
     scene = scene or bpy.context.scene
     layer = bpy.context.view_layer
     return {
-        "values": {key: _rna_values(s) for key, s in _render_structs(scene).items()},
+        "values": _snapshot_structs(scene),
         "camera": scene.camera.name if scene.camera else None,
         "world": scene.world.name if scene.world else None,
         "frame": (scene.frame_current, scene.frame_subframe),

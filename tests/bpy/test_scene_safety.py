@@ -70,8 +70,10 @@ def test_failing_bake_leaves_scene_untouched(clean_blender, build, monkeypatch):
     from radiometer.measure import sensors
 
     monkeypatch.setattr(sensors, "run_bake", broken)
-    with pytest.raises(RuntimeError, match="simulated"):
+    # The API boundary wraps what escapes from below as one RadiometerError, chained (issue 21).
+    with pytest.raises(RadiometerError, match="simulated") as info:
         api.measure_illuminance((0, 0, 0.5), method="render")
+    assert isinstance(info.value.__cause__, RuntimeError)
     assert scene_fingerprint(scene) == before
 
 
