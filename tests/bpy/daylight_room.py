@@ -25,6 +25,50 @@ def quads():
             ("walls", [(x0, 0, z1), (x1, 0, z1), (x1, 0, H), (x0, 0, H)])]
 
 
+PANE = 0.006  # m: a 6 mm clear pane filling the opening, outside the wall plane (y from -PANE to 0)
+IOR = 1.52
+
+
+def pane_quads():
+    """The pane's 6 faces, outward normals (counter-clockwise seen from outside)."""
+    x0, x1, z0, z1 = WINDOW
+    y0, y1 = -PANE, 0.0
+    return [[(x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1)],   # -y (outside face)
+            [(x0, y1, z0), (x0, y1, z1), (x1, y1, z1), (x1, y1, z0)],   # +y (room side)
+            [(x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)],   # -x
+            [(x1, y0, z0), (x1, y1, z0), (x1, y1, z1), (x1, y0, z1)],   # +x
+            [(x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)],   # -z
+            [(x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]]   # +z
+
+
+def add_pane_blender(scene):
+    """A solid 6 mm pane of Glass BSDF (roughness 0, IOR 1.52, white) in the opening."""
+    import bpy
+
+    from radiometer.compat import ensure_node_tree
+
+    verts, faces = [], []
+    for q in pane_quads():
+        faces.append(tuple(range(len(verts), len(verts) + 4)))
+        verts += q
+    me = bpy.data.meshes.new("pane")
+    me.from_pydata(verts, [], faces)
+
+    m = bpy.data.materials.new("glass")
+    t = ensure_node_tree(m)
+    t.nodes.clear()
+    out = t.nodes.new("ShaderNodeOutputMaterial")
+    g = t.nodes.new("ShaderNodeBsdfGlass")
+    g.inputs["Roughness"].default_value = 0.0
+    g.inputs["IOR"].default_value = IOR
+    g.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    t.links.new(g.outputs[0], out.inputs[0])
+    me.materials.append(m)
+    ob = bpy.data.objects.new("pane", me)
+    scene.collection.objects.link(ob)
+    return ob
+
+
 def build_blender(scene):
     import bpy
 
@@ -61,13 +105,16 @@ def radiance_bin():
     return os.path.join(root, "bin"), os.path.join(root, "lib")
 
 
-def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000, ground_reflectance=0.2, seed=1):
+def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000, ground_reflectance=0.2, seed=1,
+                             glass=False):
     """DF (%) and its relative standard error per point, from ``rtrace -I`` used as a path tracer:
     -aa 0 (no ambient cache), -ad 1 -as 0 (one hemisphere ray per input line), -ab 32 -lr 64 -lw 1e-9,
     -u+ (uncorrelated sampling), each point repeated ``samples`` times; the mean and its standard
     error over the repeats. The sky: a brightfunc glow source over the whole sphere, L/Lz =
     (1 + 2 Dz) / 3 above the horizon and the ground rho x 7/9 below it (sharp horizon; gensky's
-    blended ground glow is NOT used). DF = 100 E / (7 pi / 9), the overcast sky's E_h for Lz = 1."""
+    blended ground glow is NOT used). DF = 100 E / (7 pi / 9), the overcast sky's E_h for Lz = 1.
+    ``glass``: the 6 mm pane as a closed box of Radiance ``dielectric`` (n = 1.52, no absorption,
+    outward normals), the same solid as the Blender pane (not Radiance's thin ``glass``)."""
     bindir, libdir = radiance_bin()
     env = dict(os.environ, PATH=bindir + os.pathsep + os.environ.get("PATH", ""),
                RAYPATH=os.pathsep.join([folder, libdir]))
@@ -79,6 +126,10 @@ def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000,
         lines.append(f"void plastic {name}\n0\n0\n5 {r} {r} {r} 0 0\n")
     for k, (name, q) in enumerate(quads()):
         lines.append(f"{name} polygon p{k}\n0\n0\n12 " + " ".join(f"{c:g}" for v in q for c in v) + "\n")
+    if glass:
+        lines.append(f"void dielectric pane_glass\n0\n0\n5 1 1 1 {IOR} 0\n")
+        for k, q in enumerate(pane_quads()):
+            lines.append(f"pane_glass polygon g{k}\n0\n0\n12 " + " ".join(f"{c:g}" for v in q for c in v) + "\n")
     with open(os.path.join(folder, "scene.rad"), "w") as f:
         f.write("".join(lines))
     with open(os.path.join(folder, "scene.oct"), "wb") as f:

@@ -111,3 +111,18 @@ def test_cli_daylight_factor(clean_blender, build, tmp_path, capsys):
     assert cli._blender_cli(["daylight-factor", "--plane", "Nope"]) == 2
     assert "no object named" in capsys.readouterr().err
     assert cli._blender_cli(["daylight-factor", "--points", str(points), "--target", "2"]) == 2
+
+
+def test_side_lit_room_with_6mm_glass_pane_against_radiance(clean_blender, tmp_path):
+    # The pane is a solid of Glass BSDF (IOR 1.52); Radiance gets the same solid as a dielectric box.
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    room.add_pane_blender(scene)
+    points = room.POINTS[:2]
+    rs = api.daylight_factor(points, quality="standard", seed=5)
+    ref, ref_rel = room.radiance_daylight_factor(str(tmp_path), points, samples=80_000, glass=True)
+    for r, df_ref, rel_ref in zip(rs, ref, ref_rel):
+        se = math.hypot(r.rel_std_error * r.daylight_factor, rel_ref * df_ref)
+        print(f"DF behind glass: Radiometer {r.daylight_factor:.4f} % +- {100 * r.rel_std_error:.2f} %, "
+              f"Radiance {df_ref:.4f} % +- {100 * rel_ref:.2f} %")
+        assert abs(r.daylight_factor - df_ref) <= max(3 * se, 0.01 * df_ref)
