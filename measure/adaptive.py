@@ -53,7 +53,8 @@ def _exclude_from(coll, obj):
 
 def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, weights, target=None,
                   time_budget=None, fixed_samples=None, exclusions=None, offset=None, progress=None,
-                  cancelled=None, seed=0, max_samples=allocation.MAX_SAMPLES_PER_METER, panes=None):
+                  cancelled=None, seed=0, max_samples=allocation.MAX_SAMPLES_PER_METER, panes=None,
+                  may_be_lit=None):
     """Rendered irradiance at the sensors, W/m^2 SI, each meter sampled to its own need.
 
     ``exclusions``: per meter, a frozenset of light OBJECT names whose direct light is added
@@ -166,7 +167,8 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
             _call_progress(progress, fraction, seconds_left)
 
         result = allocation.allocate(bake, n, target=target, time_budget=time_budget, fixed_samples=fixed_samples,
-                                     offset=offset, max_samples=max_samples, progress=report)
+                                     offset=offset, max_samples=max_samples, progress=report,
+                                     may_be_lit=may_be_lit)
     tally = result.tally
     record = dict(record, samples=None, rounds=result.rounds, bakes=state["bakes"])
     return {
@@ -174,4 +176,5 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
         "samples": result.samples, "rounds": result.rounds, "stopped": result.stopped, "reached": result.reached,
         "seconds": time.perf_counter() - started, "bake_seconds": state["bake_seconds"], "record": record,
         "round_log": tally.rounds, "groups": len(group_keys),
+        "dark": allocation.dark_meters(tally, may_be_lit),
     }

@@ -306,6 +306,19 @@ def hybrid_split(model, direct, count):
     return out
 
 
+def may_be_lit(direct, direct_only=False):
+    """(N,) bool: meters that rendered light may reach by a path a pilot can miss (issue 18): a
+    reflecting surface above the horizon, a light that must be rendered there, or the world."""
+    from ..radiometry import scene_model
+
+    out = np.any(direct.status == scene_model.RENDER, axis=0)
+    if not direct_only:
+        out = out | np.asarray(direct.indirect, bool)
+    if direct.world_status is not None:
+        out = out | (direct.world_status == scene_model.RENDER)
+    return out
+
+
 def glass_notes(model):
     """Notes naming every thin pane and how it was read, and every refractor rendered as it is."""
     notes = []
@@ -465,10 +478,19 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
         run = adaptive.render_hybrid(scene, view_layer, sensors_scene, normals, needs=model.needs,
                                      bounces=0 if direct_only else preset["bounces"], weights=weights, target=target, time_budget=budget,
                                      fixed_samples=fixed, exclusions=split, offset=offset_rgb @ weights,
-                                     progress=progress, cancelled=cancelled, seed=seed, panes=model.panes)
+                                     progress=progress, cancelled=cancelled, seed=seed, panes=model.panes,
+                                     may_be_lit=may_be_lit(direct, direct_only))
         mean_rgb = run["mean_rgb"] + offset_rgb
         se_rgb = np.nan_to_num(run["se_rgb"])
         scalar_se = np.nan_to_num(run["se"])
+        dark = np.asarray(run.get("dark", np.zeros(n, bool)), bool)
+        if dark.any():
+            # Issue 18: no rendered light found although some may arrive (a small bright region past
+            # an obstruction): the error is unknown, never 0.
+            scalar_se = np.where(dark & (np.abs(mean_rgb @ weights) == 0.0), np.inf, scalar_se)
+            notes.append(f"{int(dark.sum())} meter(s) found no rendered light in {int(run['samples'][dark].min()):,}+ samples "
+                         "although lit surfaces or partly hidden lights lie above their horizon: light from a small "
+                         "bright region may be missing; a reading of 0 then states an unknown (infinite) error")
         exact_points = np.zeros(n, bool)
         spent, record = run["samples"], run["record"]
         method_used = "hybrid" if any(split) else "render"

@@ -48,6 +48,11 @@ SMALL_ROUND = 0.1
 #: almost nothing (a dark corner lit only by faint reflections) can need unbounded samples for a
 #: RELATIVE target; it stops here and its reading says the target was not reached.
 MAX_SAMPLES_PER_METER = 1 << 22
+#: A meter whose every texel so far is 0 while light may reach it (a lit surface above its horizon,
+#: a light that may be partly hidden) is not converged until it has taken this many samples: a small
+#: bright region seen past an obstruction is a rare path, and a pilot that missed it reads 0 +- 0
+#: (issue 18: 58.5 lx read as 0 lx with a stated error of 0).
+DARK_FLOOR = 1 << 16
 
 
 @dataclass
@@ -144,7 +149,15 @@ class MeterTally:
         return v_last, s_last, alpha, ok
 
 
-def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_SAMPLES_PER_METER):
+def dark_meters(tally, may_be_lit):
+    """(N,) bool: meters whose rendered texels are all exactly 0 so far although ``may_be_lit``."""
+    if may_be_lit is None:
+        return np.zeros(tally.count, bool)
+    return np.asarray(may_be_lit, bool) & (tally.mean == 0.0) & (tally.std_error == 0.0)
+
+
+def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_SAMPLES_PER_METER,
+               may_be_lit=None):
     """Blocks per meter for a round at ``spp`` samples per texel so that, COMBINED with the rounds
     so far, each unconverged meter reaches ``target`` (1-sigma relative, on mean + offset), by the
     texel-variance model. Meters already at the target (with a margin for the noise of their own
@@ -179,6 +192,10 @@ def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_
     # overshoot a smooth integrand by orders of magnitude: take one short step first (<= 8x the
     # pilot's samples), then plan precisely.
     blocks = np.where(measured, blocks, np.minimum(blocks, 2 * PILOT_BLOCKS))
+    dark = dark_meters(tally, may_be_lit) & (tally.n < min(DARK_FLOOR, max_samples))
+    if dark.any():  # keep looking for rare light up to the floor (``DARK_FLOOR``)
+        need = np.ceil((min(DARK_FLOOR, max_samples) - tally.n) / (spp * BLOCK_TEXELS ** 2))
+        blocks = np.where(dark, np.maximum(need, MIN_BLOCKS), blocks)
     cap = np.maximum(np.floor((max_samples - tally.n) / (spp * BLOCK_TEXELS ** 2)), MIN_BLOCKS)
     blocks = np.minimum(blocks, cap).astype(int)
     max_blocks = MAX_BLOCKS if max_blocks is None else max_blocks
@@ -187,7 +204,7 @@ def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_
     return blocks
 
 
-def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_METER):
+def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_METER, may_be_lit=None):
     """Samples per texel for the next round: 4x the previous one while some meter's decay exponent
     is unmeasured (it needs two sample counts), then whichever of 1x, 2x, 4x the previous plans the
     fewest samples (small remaining needs are not rounded up to 32 texels x 1024; never fewer samples
@@ -203,7 +220,8 @@ def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_
     for spp in sorted({previous, min(MAX_SPP, 2 * previous), grown}):
         # Samples, plus each texel's own cost (reading it back, its share of the image) counted
         # as TEXEL_COST samples.
-        blocks = plan_round(tally, target, spp, offset, max_blocks=1 << 40, max_samples=max_samples).sum()
+        blocks = plan_round(tally, target, spp, offset, max_blocks=1 << 40, max_samples=max_samples,
+                            may_be_lit=may_be_lit).sum()
         cost = blocks * (spp + TEXEL_COST) * (1.0 if blocks <= MAX_BLOCKS else np.inf)
         if cost < best_cost * 0.95:  # prefer fewer, larger texels when it is a tie
             best, best_cost = spp, cost
@@ -223,7 +241,7 @@ class AllocationResult:
 
 
 def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, offset=0.0, max_rounds=8,
-             max_samples=MAX_SAMPLES_PER_METER, progress=None, clock=None):
+             max_samples=MAX_SAMPLES_PER_METER, progress=None, clock=None, may_be_lit=None):
     """Run rounds of ``bake`` until every meter meets ``target`` (1-sigma relative standard error),
     or spend about ``time_budget`` seconds lowering the worst error, or spend ``fixed_samples`` per
     meter.
@@ -232,7 +250,8 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     returns ``(meter_index (M,), scalar (M,), rgb (M, 3))`` for its M texels. ``offset`` (N,) is the
     exact part of each reading (rendered mean + offset is the reading). ``progress(fraction,
     seconds_left)`` is called before every round with the plan's estimate. Returns an
-    :class:`AllocationResult`.
+    :class:`AllocationResult`. ``may_be_lit`` (N,) bool: meters that light may reach by a path the
+    pilot can miss; while all their texels read 0 they are not converged (``DARK_FLOOR``).
     """
     import time
 
@@ -287,8 +306,8 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
                 break
             n_now = tally.n.sum()
             goal = float(np.max(finite)) * np.sqrt(n_now / (n_now + left))
-        spp = choose_spp(tally, goal, spp, offset, max_samples=max_samples)
-        blocks = plan_round(tally, goal, spp, offset, max_samples=max_samples)
+        spp = choose_spp(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=may_be_lit)
+        blocks = plan_round(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=may_be_lit)
         if not blocks.any():
             reached, stopped = True, "target reached" if target is not None else "converged"
             break
