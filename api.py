@@ -509,7 +509,7 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
 
 @_v.boundary
 def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="standard", ground_reflectance=0.2,
-                    target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None):
+                    target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None):
     """Daylight factor DF = 100 x E_in / E_out,h (%) under the CIE overcast sky, at ``locations``
     (3 numbers or (N, 3), scene coordinates) facing ``normals``.
 
@@ -517,24 +517,26 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
     uniform ground ``ground_reflectance`` x E_h / pi below a sharp horizon); the user's world,
     lights and data-blocks are restored afterwards. Returns a ``DaylightFactorReading`` (or a list):
     ``daylight_factor`` (%), ``rel_std_error``, ``illuminance`` (lux), ``exact``, ``method``, ``notes``.
+    ``client``: a Dask client: the points run in chunks of 256 on its workers (docs/cluster.md).
     """
     from .measure import daylight_factor as df
 
     return df.daylight_factor(locations, normals, scene=scene, quality=quality, ground_reflectance=ground_reflectance,
                               target_rel_error=target_rel_error, method=method, seed=seed, progress=progress,
-                              cancelled=cancelled)
+                              cancelled=cancelled, client=client)
 
 
 @_v.boundary
 def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, quality="standard",
                          ground_reflectance=0.2, target_percent=None, median_external_illuminance_lux=None,
-                         target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None):
+                         target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None):
     """Daylight factor on a work-plane object's grid (points as :func:`illuminance_grid` lays them out).
 
     Returns a ``DaylightFactorGrid``: ``daylight_factor`` (ny, nx) %, ``rel_std_error``, ``points``
     and ``stats``: average (BS 8206-2), minimum, maximum, median, uniformity (min / average),
     ``share_above_target`` for ``target_percent``, and EN 17037 D_T / D_TM checks per level when the
-    site's ``median_external_illuminance_lux`` (E_v,d, EN 17037 Annex A) is given.
+    site's ``median_external_illuminance_lux`` (E_v,d, EN 17037 Annex A) is given. ``client``: a Dask
+    client: the grid's points run in chunks of 256 on its workers (docs/cluster.md).
     """
     from .measure import daylight_factor as df
 
@@ -542,7 +544,8 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
                                    ground_reflectance=ground_reflectance, target_percent=target_percent,
                                    median_external_illuminance_lux=median_external_illuminance_lux,
                                    target_rel_error=target_rel_error, method=method, seed=seed, progress=progress,
-                                   cancelled=cancelled)
+                                   cancelled=cancelled, client=client)
+
 
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------
 
@@ -596,29 +599,6 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
                            sky=sky, scene=scene, quality=quality, client=client, north_offset_deg=north_offset_deg,
                            min_elevation_deg=min_elevation_deg, method=method, seed=seed, progress=progress,
                            cancelled=cancelled, sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux)
-
-
-# --- scale-out on Dask (issue 20) ----------------------------------------------------------------
-
-def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0, client=None, progress=None,
-                  cancelled=None):
-    """Readings of many .blend files (design variants), one list per file, in the order of ``files``.
-
-    ``meters``: None (every light-meter object of each file, with the file's method), meter object
-    names, or illuminance points: (x, y, z), ((x, y, z), (nx, ny, nz)) or {"location", "normal"}
-    (scene coordinates; normal default +Z). ``quality``: "preview" | "standard" | "reference"
-    (1-sigma targets 5 %, 1 %, 0.2 %); ``seed``: first Cycles seed of point readings. ``client``:
-    None runs in this process (each file opened in turn, the open file reopened afterwards; see
-    docs/cluster.md), or a ``distributed.Client`` (``radiometer.cluster.local_client(n)`` or
-    ``connect(address)``): one task per file on the cluster's workers. ``progress(done, total,
-    seconds_left)`` after each file. Returns ``FileReadings`` (``file``, ``scene``, ``names``,
-    ``readings``, ``to_dict()``) per file. A bad or unreadable file, or a missing texture, raises
-    RadiometerError naming the file and the task.
-    """
-    from .cluster import batch
-
-    return batch.measure_batch(files, meters, quality=quality, method=method, seed=seed, client=client,
-                               progress=progress, cancelled=cancelled)
 
 
 # --- deliverables: glare (issue 23) --------------------------------------------------------------

@@ -18,10 +18,15 @@ import os
 import re
 import sys
 import tempfile
+import threading
 import time
 
 # Blender's own script folders ("bpy/5.0/scripts/modules", "~/.config/blender/5.0/scripts/addons/modules").
 _BLENDER_SCRIPTS = re.compile(r"[/\\](bpy|blender)[/\\]\d+\.\d+[/\\]scripts([/\\]|$)", re.IGNORECASE)
+
+# bpy is not thread-safe: a worker started with more than one thread (`dask worker --nthreads 4`) still
+# runs one task at a time in this process.
+_BPY_LOCK = threading.Lock()
 
 # This process's open scene: content hash, name of the scene, seconds the load took.
 _open = {"key": None, "loads": 0, "load_s": 0.0}
@@ -182,6 +187,11 @@ def run_task(source, fn_name, kwargs, index, label, threads_by_host):
     file and the task (no worker traceback reaches the user).
     """
     clean_sys_path()
+    with _BPY_LOCK:
+        return _run_task_locked(source, fn_name, kwargs, index, label, threads_by_host)
+
+
+def _run_task_locked(source, fn_name, kwargs, index, label, threads_by_host):
     from ..errors import RadiometerError
 
     started = time.perf_counter()

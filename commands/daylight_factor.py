@@ -65,15 +65,15 @@ def run(args):
             f"{r.location[0]:.6g},{r.location[1]:.6g},{r.location[2]:.6g},{r.normal[0]:.6g},{r.normal[1]:.6g},"
             f"{r.normal[2]:.6g},{r.daylight_factor:.6g},{r.rel_std_error:.4g},{int(r.exact)}\n" for r in rs)
     else:
-        if getattr(args, "workers", None) or getattr(args, "scheduler", None):
-            raise RadiometerError("--workers/--scheduler go with --points for now (a plane's grid runs in this "
-                                  "process)")
         if progress is not None:
             progress.label = f"daylight factor on {args.plane}"
-        g = api.daylight_factor_grid(args.plane, resolution=args.resolution, spacing=args.spacing, scene=scene,
-                                     quality=args.quality, ground_reflectance=args.ground_reflectance,
-                                     target_percent=args.target, median_external_illuminance_lux=args.median_external_lux,
-                                     progress=progress, cancelled=cancelled)
+        with _cluster.client(args) as client:
+            g = api.daylight_factor_grid(args.plane, resolution=args.resolution, spacing=args.spacing, scene=scene,
+                                         quality=args.quality, ground_reflectance=args.ground_reflectance,
+                                         target_percent=args.target,
+                                         median_external_illuminance_lux=args.median_external_lux,
+                                         progress=progress, cancelled=cancelled,
+                                         **({"client": client} if client is not None else {}))
         if progress is not None:
             progress.clear()
         s = g.stats

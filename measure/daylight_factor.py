@@ -206,16 +206,68 @@ class DaylightFactorGrid:
         return "\n".join(lines) + "\n"
 
 
+def _grid_layout(scene, target, resolution, spacing):
+    """(plane object, nx, ny, points (ny, nx, 3), normal): the cell centres exactly as
+    ``measure.grid.illuminance_grid`` lays them out (a test compares the two)."""
+    from ..radiometry import grid as grid_math
+    from . import grid
+
+    obj = scene.objects.get(target) if isinstance(target, str) else target
+    if obj is None:
+        raise RadiometerError(f"no object named {target!r} in scene {scene.name!r}")
+    (x0, x1, y0, y1, zc), mw, normal = grid.plane_frame(obj, scene)
+    scale = scene.unit_settings.scale_length
+    size_x = (x1 - x0) * np.linalg.norm(mw[:3, 0]) * scale
+    size_y = (y1 - y0) * np.linalg.norm(mw[:3, 1]) * scale
+    if resolution is not None and spacing is not None:
+        raise RadiometerError("give a resolution or a spacing, not both")
+    if resolution is not None:
+        try:
+            nx, ny = (int(v) for v in resolution)
+        except (TypeError, ValueError):
+            raise RadiometerError(f"resolution must be two integers (nx, ny), got {resolution!r}") from None
+        if nx < 1 or ny < 1:
+            raise RadiometerError(f"resolution must be at least 1 x 1 points, got {nx} x {ny}")
+    else:
+        if spacing is not None and not (float(spacing) > 0 and math.isfinite(float(spacing))):
+            raise RadiometerError(f"spacing must be > 0 m, got {spacing}")
+        p = float(grid_math.en12464_spacing(max(size_x, size_y))) if spacing is None else float(spacing)
+        nx, ny = grid_math.grid_counts(size_x, size_y, p)
+    local = grid_math.cell_centres((x0, x1), (y0, y1), nx, ny)
+    local4 = np.concatenate([local, np.full(local.shape[:2] + (1,), zc), np.ones(local.shape[:2] + (1,))], axis=-1)
+    return obj, nx, ny, (local4 @ mw.T)[..., :3], np.asarray(normal, float)
+
+
 def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, quality="standard",
                          ground_reflectance=0.2, target_percent=None, median_external_illuminance_lux=None,
-                         target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None):
-    """Daylight factor on a work plane object's grid (``measure.grid.illuminance_grid`` points)."""
+                         target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None,
+                         chunk_points=CHUNK_POINTS):
+    """Daylight factor on a work plane object's grid (``measure.grid.illuminance_grid`` points).
+
+    ``client``: a Dask client: the grid's points run in chunks of ``chunk_points`` on its workers
+    (see :func:`daylight_factor`).
+    """
     import bpy
 
     from . import grid, scene_guard
 
     scene = scene or bpy.context.scene
     rho = _check_rho(ground_reflectance)
+    if client is not None:
+        obj, nx, ny, points, normal = _grid_layout(scene, target, resolution, spacing)
+        readings = daylight_factor(points.reshape(-1, 3), np.broadcast_to(normal, (nx * ny, 3)), scene=scene,
+                                   quality=quality, ground_reflectance=rho, target_rel_error=target_rel_error,
+                                   method=method, seed=seed, progress=progress, cancelled=cancelled, client=client,
+                                   chunk_points=chunk_points)
+        df = np.array([r.daylight_factor for r in readings], float).reshape(ny, nx)
+        se = np.array([r.rel_std_error for r in readings], float).reshape(ny, nx)
+        stats = plane_statistics(df, target_percent=target_percent,
+                                 median_external_illuminance_lux=median_external_illuminance_lux)
+        notes = [f"{nx} x {ny} points at cell centres on the plane, measured on a Dask cluster in chunks of "
+                 f"{int(chunk_points)} points"] + list(readings[0].notes)
+        methods = sorted({r.method for r in readings})
+        return DaylightFactorGrid(obj.name, nx, ny, df, se, points, tuple(float(v) for v in normal), stats,
+                                  "/".join(methods), all(r.exact for r in readings), notes)
     with scene_guard.preserved_scene(scene) as snapshot:
         notes = overcast_only(scene, snapshot, rho)
         result = grid.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,

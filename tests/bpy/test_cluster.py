@@ -338,3 +338,16 @@ def test_daylight_factor_points_on_the_cluster_agree_in_chunks(clean_blender, cl
     assert not all(r.exact for r in there)
     assert np.all(np.abs(a - b) <= 3 * se + 1e-9), (a, b, se)
     assert [r.location for r in there] == [tuple(p) for p in points]  # merged in order
+
+
+def test_daylight_factor_grid_on_the_cluster_lays_out_the_same_points(clean_blender, client, tmp_path):
+    from radiometer.measure import daylight_factor as df
+
+    scene = _sun_study_scene(tmp_path / "court.blend")
+    here = df.daylight_factor_grid("plane", resolution=(3, 2), scene=scene, quality="preview")
+    there = df.daylight_factor_grid("plane", resolution=(3, 2), scene=scene, quality="preview", client=client,
+                                    chunk_points=2)
+    np.testing.assert_array_equal(there.points, here.points)  # the grid's own layout, point for point
+    se = np.hypot(here.daylight_factor * here.rel_std_error, there.daylight_factor * there.rel_std_error)
+    assert np.all(np.abs(there.daylight_factor - here.daylight_factor) <= 3 * se + 1e-9)
+    assert set(there.stats) == set(here.stats) and there.nx == 3 and there.ny == 2
