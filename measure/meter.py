@@ -510,6 +510,8 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                                                                              + offset_rgb @ weights)))
             notes.append(f"target {100 * target:g} % NOT reached at {missed} of {n} meter(s) ({run['stopped']}; "
                          f"at most {allocation.MAX_SAMPLES_PER_METER:,} samples per meter)")
+        if record and record.get("settings_missing"):
+            notes.append("render settings this Blender lacks (skipped): " + "; ".join(record["settings_missing"]))
         if scale != 1.0:
             notes.append(f"unit scale {scale:g} m per unit: Cycles' scene-unit result divided by scale²")
     seconds = time.perf_counter() - started

@@ -131,12 +131,68 @@ def layer_overrides_suspended(scene):
         restore_layer_overrides(changed)
 
 
+class _Writes:
+    """Every setting ``apply`` writes (struct, attribute, value), and those this Blender lacks."""
+
+    current = None
+
+    def __init__(self):
+        self.items, self.missing = [], []
+
+
+def _label(struct, attr):
+    return f"{type(struct).__name__}.{attr}"
+
+
 def _set(struct, attr, value):
-    # Properties that a Blender version lacks (or whose enum is dynamic) are skipped, not fatal.
+    # Properties that a Blender version lacks (or whose enum item it lacks) are skipped, not fatal,
+    # and recorded (issue 18: "a missing property is a note, not silence"; a misspelt name shows
+    # up there too, and the audit test requires that list to be empty on the pinned Blender).
+    log = _Writes.current
     try:
         setattr(struct, attr, value)
-    except (AttributeError, TypeError, ValueError):
-        pass
+    except (AttributeError, TypeError, ValueError) as exc:
+        if log is not None:
+            what = "no such setting" if not hasattr(struct, attr) else f"value {value!r} not available ({exc})"
+            log.missing.append(f"{_label(struct, attr)}: {what}")
+        return
+    if log is not None:
+        log.items.append((struct, attr, value))
+
+
+class _Recorder:
+    """Writes through to a settings struct and logs every write for the read-back."""
+
+    def __init__(self, struct):
+        object.__setattr__(self, "_struct", struct)
+
+    def __getattr__(self, attr):
+        return getattr(object.__getattribute__(self, "_struct"), attr)
+
+    def __setattr__(self, attr, value):
+        struct = object.__getattribute__(self, "_struct")
+        setattr(struct, attr, value)  # strict: a misspelt name raises here
+        if _Writes.current is not None:
+            _Writes.current.items.append((struct, attr, value))
+
+
+def _same(got, want):
+    if isinstance(want, float) or isinstance(got, float):
+        return abs(float(got) - float(want)) <= 1e-6 * max(1.0, abs(float(want)))  # float32 storage
+    return got == want
+
+
+def read_back(items):
+    """Compare every written setting with what Blender now holds; raises ``RadiometerError`` naming
+    the first that did not take (clamped, ignored, overwritten by a dependent setting)."""
+    from ..errors import RadiometerError
+
+    for struct, attr, want in items:
+        got = getattr(struct, attr)
+        if not _same(got, want):
+            raise RadiometerError(f"render setting {_label(struct, attr)} = {want!r} did not take (reads {got!r}); "
+                                  "the measurement would not be what it states")
+    return len(items)
 
 
 def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None):
@@ -149,9 +205,18 @@ def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None):
     ``scene_guard.SceneSnapshot``; when given, view-layer pointer overrides are suspended too
     (bakes do that per bake in ``sensors.run_bake``).
     """
-    scene.render.engine = "CYCLES"
-    cy = scene.cycles
-    r = scene.render
+    writes = _Writes.current = _Writes()
+    try:
+        return _apply(scene, samples=samples, bounces=bounces, needs=needs, seed=seed, snapshot=snapshot,
+                      writes=writes)
+    finally:
+        _Writes.current = None
+
+
+def _apply(scene, *, samples, bounces, needs, seed, snapshot, writes):
+    cy = _Recorder(scene.cycles)
+    r = _Recorder(scene.render)
+    r.engine = "CYCLES"
     from .device import measurement_device
 
     device, device_label, device_note = measurement_device(scene)  # the user's GPU where it can (issue 17)
@@ -210,7 +275,7 @@ def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None):
     _set(r.image_settings, "color_management", "FOLLOW_SCENE")
     # Bake options the operator does not take as arguments come from the scene's bake settings.
     _set(r.bake, "view_from", "ABOVE_SURFACE")
-    for layer in scene.view_layers:
+    for layer in map(_Recorder, scene.view_layers):
         # Layer filters are compositing tools: without Sky the world's light vanishes from bakes
         # (measured), without Solid camera renders see no surfaces at all.
         layer.use_sky = True
@@ -219,7 +284,7 @@ def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None):
         layer.use_volumes = True
         layer.use_motion_blur = False
         if hasattr(layer, "cycles"):
-            layer.cycles.use_denoising = False
+            _Recorder(layer.cycles).use_denoising = False
     overrides = [f"{getattr(s, 'name', '?')}.{a}" for s, a, _ in suspend_layer_overrides(scene, snapshot)] \
         if snapshot is not None else []
     # A world volume scatters light with no geometry in the scene: bounces are needed for it too.
@@ -265,4 +330,7 @@ def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None):
         "suspended_layer_overrides": overrides,
         "bounce_limited_lights": limited,
         "scene_has": {k: bool(v) for k, v in needs.items()},
+        # Issue 18: every write read back (raises on a mismatch); settings this Blender lacks.
+        "settings_read_back": read_back(writes.items),
+        "settings_missing": list(writes.missing),
     }
