@@ -9,7 +9,9 @@ ALBEDO_ANGLES_DEG = (0.0, 30.0, 60.0, 75.0)
 
 
 def add_arguments(parser):
-    parser.add_argument("model", help="BRDF model name (see radiometer.brdf.names())")
+    parser.add_argument("model", nargs="?", help="BRDF model name (--list shows them)")
+    parser.add_argument("--list", action="store_true",
+                        help="list the BRDF models with their parameters (default, range) and exit")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="parameter value; a colour is r,g,b (repeatable)")
     parser.add_argument("--method", choices=("nodes", "osl"), default="nodes",
@@ -39,10 +41,42 @@ def parse_params(pairs):
     return out
 
 
+def list_models():
+    """{name: {"summary", "parameters": [{name, default, min, max, kind, unit, description}]}} of every model."""
+    from .. import brdf
+
+    out = {}
+    for name in brdf.names():
+        d = brdf.describe(name)
+        params = [{k: p[k] for k in ("name", "default", "min", "max", "kind", "unit", "description")}
+                  for p in d["parameters"]]
+        first = " ".join(d["doc"].split("\n\n")[0].split())  # first paragraph, one line
+        out[name] = {"summary": first.split(". ")[0].rstrip(".:") + ".", "parameters": params}
+    return out
+
+
+def format_models(models):
+    lines = []
+    for name, m in models.items():
+        lines.append(f"{name:<18} {m['summary']}")
+        for p in m["parameters"]:
+            default = "-" if p["default"] is None else p["default"]
+            lines.append(f"    {p['name']:<10} default {default}, {p['min']:g}..{p['max']:g} ({p['kind']})")
+    return "\n".join(lines)
+
+
 def run(args):
     import numpy as np
 
     from .. import brdf
+    from ..errors import RadiometerError
+
+    if args.list:
+        models = list_models()
+        print(format_models(models))
+        return {"models": models}
+    if not args.model:
+        raise RadiometerError("give a BRDF model name, or --list to see them: " + ", ".join(brdf.names()))
     from ..shading.realise import check_params, realise, resolve_params
 
     params = parse_params(args.param)

@@ -6,7 +6,8 @@ NEEDS_SCENE = True
 
 def add_arguments(parser):
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default=None,
-                        help="quality preset (default: the scene's setting)")
+                        help="quality preset: its target error wins over a target stored in the .blend "
+                             "(default: the scene's setting)")
     parser.add_argument("--method", choices=("auto", "analytic", "hybrid", "render"), default=None,
                         help="measurement method (default: the scene's setting)")
     parser.add_argument("--target", type=float, default=None, metavar="FRACTION",
@@ -45,27 +46,62 @@ def format_table(results):
     return "\n".join(lines)
 
 
+def used_settings(args, stored):
+    """The settings this run uses and where each comes from: the command line wins over the .blend.
+
+    ``stored``: the scene's (method, quality, target_rel_error) with target 0 meaning "the quality
+    preset's". A ``--quality`` given without ``--target`` measures to that preset's target even when
+    the .blend stores a target of its own (asked for reference quality: reference quality).
+    Returns {"method", "quality", "target_rel_error", "source": {name: "command line" | ".blend"}}.
+    """
+    from ..quality import preset
+
+    method, quality, target = stored
+    src = {"method": ".blend", "quality": ".blend", "target_rel_error": ".blend"}
+    if args.method:
+        method, src["method"] = args.method, "command line"
+    if args.quality:
+        quality, src["quality"] = args.quality, "command line"
+    if args.target is not None:
+        target, src["target_rel_error"] = args.target, "command line"
+    elif args.quality or not target:
+        target, src["target_rel_error"] = preset(quality)["target"], f"quality {quality}"
+    return {"method": method, "quality": quality, "target_rel_error": float(target), "source": src}
+
+
+def format_settings(used):
+    src = used["source"]
+    return (f"settings: method {used['method']} ({src['method']}), quality {used['quality']} ({src['quality']}), "
+            f"target {100 * used['target_rel_error']:g} % 1-sigma ({src['target_rel_error']})")
+
+
 def run(args):
     import bpy
 
     from ..measure import meters
 
     scene = bpy.context.scene
-    if args.method:
-        scene.radiometer.method = args.method
     if args.target is not None:
         from ..errors import RadiometerError
 
         if not 0 < args.target < 0.5:
             raise RadiometerError(f"--target must be a fraction in (0, 0.5), got {args.target}")
-        scene.radiometer.target_rel_error = args.target
+    s = scene.radiometer
+    used = used_settings(args, (s.method, s.quality, s.target_rel_error))
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = "measuring"
-    results = meters.measure_meters(scene=scene, quality=args.quality, progress=progress,
-                                    cancelled=getattr(args, "cancelled", None))
+    # For this run only: the scene's own settings are put back (`blender -c` may run in a user's session).
+    before = (s.method, s.quality, s.target_rel_error)
+    s.method, s.quality, s.target_rel_error = used["method"], used["quality"], used["target_rel_error"]
+    try:
+        results = meters.measure_meters(scene=scene, quality=used["quality"], progress=progress,
+                                        cancelled=getattr(args, "cancelled", None))
+    finally:
+        s.method, s.quality, s.target_rel_error = before
     if progress is not None:
         progress.clear()
+    print(format_settings(used))
     print(format_table(results))
-    return {"scene": scene.name, "file": bpy.data.filepath,
+    return {"scene": scene.name, "file": bpy.data.filepath, "settings": used,
             "meters": [dict(name=obj.name, **r.to_dict()) for obj, r in results]}

@@ -25,6 +25,8 @@ import math
 import bpy
 from mathutils import Vector
 
+from radiometer.compat import ensure_node_tree  # Blender 4.5: new worlds/materials have no tree yet
+
 Case = collections.namedtuple("Case", "label point normal note on_surface scene_name", defaults=(False, None))
 
 
@@ -37,14 +39,14 @@ def reset():
 
 def black_world(scene):
     world = bpy.data.worlds.new("black")
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
     return world
 
 
 def colour_world(scene, colour=(0.4, 0.6, 1.0), strength=1.0):
     world = bpy.data.worlds.new("sky")
-    bg = world.node_tree.nodes["Background"]
+    bg = ensure_node_tree(world).nodes["Background"]
     bg.inputs["Color"].default_value = (*colour, 1.0)
     bg.inputs["Strength"].default_value = strength
     scene.world = world
@@ -53,7 +55,7 @@ def colour_world(scene, colour=(0.4, 0.6, 1.0), strength=1.0):
 
 def diffuse(name, albedo):
     mat = bpy.data.materials.new(name)
-    tree = mat.node_tree
+    tree = ensure_node_tree(mat)
     tree.nodes.clear()
     out = tree.nodes.new("ShaderNodeOutputMaterial")
     bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
@@ -65,8 +67,8 @@ def diffuse(name, albedo):
 
 def principled(name, base, roughness=0.5):
     mat = bpy.data.materials.new(name)
-    bsdf = mat.node_tree.nodes.get("Principled BSDF")
-    if bsdf is None:  # pragma: no cover - Blender 5 gives new materials a Principled BSDF
+    bsdf = ensure_node_tree(mat).nodes.get("Principled BSDF")
+    if bsdf is None:  # pragma: no cover - a new node tree has a Principled BSDF (4.5 and 5)
         raise RuntimeError("no Principled BSDF in a new material")
     b = base if isinstance(base, (tuple, list)) else (base,) * 3
     bsdf.inputs["Base Color"].default_value = (*b, 1.0)

@@ -50,6 +50,8 @@ import bpy
 import OpenEXR
 from mathutils import Matrix, Vector
 
+from radiometer.compat import ensure_node_tree  # the product's 4.5/5.0 layer
+
 # Rec.709 / sRGB luminance weights (ITU-R BT.709-6, item 3.3), used only to turn the RGB result into
 # one scalar for the relative-error stopping rule and for lux in the baseline (K = 683 lm/W).
 REC709_Y = (0.2126, 0.7152, 0.0722)
@@ -129,7 +131,7 @@ def _add_patch(scene, point, normal, size):
     attr.data.foreach_set("vector", [c for _ in range(3) for c in n])
     mesh.shade_smooth()
     mat = bpy.data.materials.new(_PATCH_NAME)
-    tree = mat.node_tree  # Blender 5: materials always have a node tree
+    tree = ensure_node_tree(mat)  # Blender 4.5 gives a new material no tree until use_nodes is set
     tree.nodes.clear()
     out = tree.nodes.new("ShaderNodeOutputMaterial")
     out.target = "ALL"

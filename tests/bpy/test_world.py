@@ -243,15 +243,32 @@ def test_cli_world_calibrates_and_writes_the_map(clean_blender, tmp_path, capsys
     env_world(scene, hot_spot_map(), strength=1.0)
     blend = tmp_path / "w.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+    before = blend.read_bytes()
     out = tmp_path / "irr.exr"
-    assert cli._blender_cli(["world", "--calibrate", "20000", "--irradiance-map", str(out)]) == 0
+    calibrated = tmp_path / "calibrated.blend"
+    assert cli._blender_cli(["world", "--calibrate", "20000", "--out", str(calibrated),
+                             "--irradiance-map", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "20000 lx" in text and "L00" in text
+    assert "20000 lx" in text and "L00" in text and f"saved the calibrated scene to {calibrated}" in text
     assert exr.read_rgb(str(out)).shape == (32, 64, 3)
     assert api.world_illuminance(scene)["illuminance"] == pytest.approx(20000.0, rel=1e-6)
-    assert cli._blender_cli(["world", "--calibrate", "-3"]) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "--calibrate" in err and "Traceback" not in err
+    # the input is untouched, the session still names it, and the new file holds the calibration
+    assert blend.read_bytes() == before and bpy.data.filepath == str(blend)
+    strength = scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value
+    bpy.ops.wm.open_mainfile(filepath=str(calibrated))  # (the generated map is not saved: compare the strength)
+    assert bpy.context.scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value == strength != 1.0
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    for argv, word in ((["world", "--calibrate", "-3"], "--calibrate"),
+                       (["world", "--calibrate", "100", "--out", str(blend)], "input"),
+                       (["world", "--out", str(tmp_path / "x.blend")], "--calibrate")):
+        assert cli._blender_cli(argv) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and word in err and "Traceback" not in err, err
+    assert blend.read_bytes() == before and not (tmp_path / "x.blend").exists()
+    # without --out: calibrated in this run only, and it says so
+    env_world(bpy.context.scene, hot_spot_map(), strength=1.0)  # (the reopened file lost the generated map)
+    assert cli._blender_cli(["world", "--calibrate", "1000"]) == 0
+    assert "--out FILE.blend saves" in capsys.readouterr().out and blend.read_bytes() == before
 
 
 def smooth_map(h=32, w=64):
