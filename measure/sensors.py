@@ -149,12 +149,13 @@ def run_bake(scene, view_layer, obj):
     (a world override changed a reading by +2 %) and restored afterwards.
     """
     from . import render_settings
+    from .op_reports import operator_reports_dropped
 
     objs = list(obj) if isinstance(obj, (list, tuple)) else [obj]
     obj = objs[0]
     active_uv = obj.data.uv_layers.active
     uv_layer = active_uv.name if active_uv is not None else ""  # "": the operator's own choice (and error)
-    with render_settings.layer_overrides_suspended(scene), \
+    with render_settings.layer_overrides_suspended(scene), operator_reports_dropped(), \
             bpy.context.temp_override(scene=scene, view_layer=view_layer, active_object=obj,
                                       object=obj, selected_objects=objs, selected_editable_objects=objs):
         return bpy.ops.object.bake(type="DIFFUSE", pass_filter={"DIRECT", "INDIRECT"}, margin=0,

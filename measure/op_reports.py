@@ -1,0 +1,64 @@
+"""Keep Blender's operator reports off stdout while the API runs an operator.
+
+``bpy.ops`` prints an operator's reports ("Info: Baking map saved to internal image, save it
+externally or pack it", one per bake) through ``sys.stdout`` (``PySys_WriteStdout``), so a script
+that calls ``api.measure_illuminance`` five times got five such lines on its stdout. The API prints
+nothing to stdout: inside :func:`operator_reports_dropped`, "Info: " lines are dropped, "Warning: "
+and "Error: " lines go to stderr (the operator also raises on an error), anything else passes.
+"""
+
+import contextlib
+import sys
+
+_DROP = ("Info: ",)
+_TO_STDERR = ("Warning: ", "Error: ")
+
+
+class _Filter:
+    def __init__(self, out):
+        self._out, self._pending = out, ""
+        self.encoding = getattr(out, "encoding", "utf-8")
+        self.errors = getattr(out, "errors", "strict")
+
+    def write(self, text):
+        self._pending += text
+        while "\n" in self._pending:
+            line, self._pending = self._pending.split("\n", 1)
+            self._emit(line + "\n")
+        return len(text)
+
+    def _emit(self, line):
+        if line.startswith(_DROP):
+            return
+        (sys.__stderr__ if line.startswith(_TO_STDERR) and sys.__stderr__ else self._out).write(line)
+
+    def close_pending(self):
+        if self._pending:
+            self._emit(self._pending)
+            self._pending = ""
+
+    def flush(self):
+        self._out.flush()
+
+    def isatty(self):
+        return False
+
+    def fileno(self):
+        return self._out.fileno()
+
+
+@contextlib.contextmanager
+def operator_reports_dropped():
+    """Inside: operator reports printed by ``bpy.ops`` do not reach stdout (see the module docstring)."""
+    original = sys.stdout
+    if original is None:
+        yield
+        return
+    filt = _Filter(original)
+    sys.stdout = filt
+    try:
+        yield
+    finally:
+        filt.close_pending()
+        if sys.stdout is filt:
+            sys.stdout = original
