@@ -351,3 +351,15 @@ def test_daylight_factor_grid_on_the_cluster_lays_out_the_same_points(clean_blen
     se = np.hypot(here.daylight_factor * here.rel_std_error, there.daylight_factor * there.rel_std_error)
     assert np.all(np.abs(there.daylight_factor - here.daylight_factor) <= 3 * se + 1e-9)
     assert set(there.stats) == set(here.stats) and there.nx == 3 and there.ny == 2
+
+
+def test_workers_render_with_their_share_of_the_cores(clean_blender, variants, client):
+    from radiometer.cluster import run_scene_tasks
+    from radiometer.cluster.worker import describe
+
+    answers = run_scene_tasks(variants[0], describe, [{} for _ in range(4)], client=client, label="check")
+    cores = len(os.sched_getaffinity(0))
+    assert {a["threads_mode"] for a in answers} == {"FIXED"}
+    assert {a["threads"] for a in answers} == {max(1, cores // 2)}  # 2 workers on this host
+    assert {a["blender"] for a in answers} == {bpy.app.version_string}
+    assert all(a["pid"] != os.getpid() for a in answers)
