@@ -363,3 +363,25 @@ def test_workers_render_with_their_share_of_the_cores(clean_blender, variants, c
     assert {a["threads"] for a in answers} == {max(1, cores // 2)}  # 2 workers on this host
     assert {a["blender"] for a in answers} == {bpy.app.version_string}
     assert all(a["pid"] != os.getpid() for a in answers)
+
+
+def _scheduler_task_keys(dask_scheduler):
+    return [str(k) for k in dask_scheduler.tasks]
+
+
+def test_cancel_on_the_cluster_leaves_no_task_of_the_run(clean_blender, variants, client):
+    from radiometer.cluster import batch, run_scene_tasks
+
+    kwargs = [dict(meters=POINTS, quality="standard", method="render", seed=k) for k in range(12)]
+    done = []
+    with pytest.raises(MeasurementCancelled):
+        run_scene_tasks(variants[1], batch.measure_file, kwargs, client=client, label="cancel test",
+                        progress=lambda d, t, s: done.append(d), cancelled=lambda: len(done) >= 1)
+    assert len(done) < 12
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        left = [k for k in client.run_on_scheduler(_scheduler_task_keys) if k.startswith("radiometer-")]
+        if not left:
+            break
+        time.sleep(0.2)
+    assert not left, left  # every future of the run cancelled and forgotten by the scheduler
