@@ -136,7 +136,7 @@ class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
 
     bl_idname = "radiometer.brdf_plot"
     bl_label = "Plot BRDF"
-    bl_options = {"REGISTER"}
+    bl_options = {"REGISTER", "UNDO"}  # loads the plot as an image data-block
 
     kind: bpy.props.EnumProperty(
         name="Plot", default="LOBE",

@@ -205,7 +205,7 @@ class RADIOMETER_OT_toggle_false_colour(bpy.types.Operator):
 
     bl_idname = "radiometer.toggle_false_colour"
     bl_label = "Toggle False Colour"
-    bl_options = {"REGISTER"}
+    bl_options = {"REGISTER", "UNDO"}  # adds/removes an object: one undo step (the legend follows, _on_undo_redo)
 
     @classmethod
     def poll(cls, context):
@@ -243,14 +243,32 @@ def _on_load_post(*_args):
         _remove_object(obj)
 
 
+@persistent
+def _on_undo_redo(*_args):
+    """Undo and redo bring the coloured copy back or take it away; the legend follows what exists."""
+    present = [ob.name for ob in bpy.data.objects if ob.get(OBJECT_MARK)]
+    _state["objects"] = present
+    if not present and _state["handler"] is not None:
+        bpy.types.SpaceView3D.draw_handler_remove(_state["handler"], "WINDOW")
+        _state["handler"] = None
+    elif present and _state["handler"] is None:
+        _state["handler"] = bpy.types.SpaceView3D.draw_handler_add(draw_legend, (), "WINDOW", "POST_PIXEL")
+    _redraw()
+
+
+_HANDLERS = (("load_pre", _on_load_pre), ("load_post", _on_load_post), ("undo_post", _on_undo_redo),
+             ("redo_post", _on_undo_redo))
+
+
 def register_extra():
-    bpy.app.handlers.load_pre.append(_on_load_pre)
-    bpy.app.handlers.load_post.append(_on_load_post)
+    for name, fn in _HANDLERS:
+        getattr(bpy.app.handlers, name).append(fn)
 
 
 def unregister_extra():
     hide()
-    for handlers, fn in ((bpy.app.handlers.load_pre, _on_load_pre), (bpy.app.handlers.load_post, _on_load_post)):
+    for name, fn in _HANDLERS:
+        handlers = getattr(bpy.app.handlers, name)
         while fn in handlers:
             handlers.remove(fn)
 

@@ -188,6 +188,20 @@ def _summary(results):
     return "; ".join(parts)
 
 
+def measured_line(done, total, summary):
+    """The status-bar line after *Measure*: how many of the scene's meters were measured, and why.
+
+    A selection that holds meters limits the run to them (a stale selection would otherwise measure
+    one meter of five without a word); none selected measures them all.
+    """
+    if done == total:
+        head = f"Measured all {total} meter{'s' if total != 1 else ''}"
+    else:
+        head = (f"Measured {done} of {total} meters (the selected ones; deselect all to measure every "
+                "meter)")
+    return f"{head}: {summary}" if summary else head
+
+
 UI_BATCH = 8  # illuminance meters per modal step: short steps, so Esc and the progress bar respond
 
 
@@ -226,7 +240,8 @@ class RADIOMETER_OT_measure(TaskOperator, bpy.types.Operator):
         for obj, reading in task.results:
             meters.write_reading(obj, reading)
         context.scene.radiometer.last_summary = _summary(task.results)
-        return context.scene.radiometer.last_summary
+        total = sum(1 for ob in context.scene.objects if ob.radiometer_meter.is_meter)
+        return measured_line(len(task.results), total, context.scene.radiometer.last_summary)
 
 
 def measure_task(scene, objects, batch=UI_BATCH):

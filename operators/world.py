@@ -80,7 +80,7 @@ class RADIOMETER_OT_world_irradiance_map(bpy.types.Operator):
 
     bl_idname = "radiometer.world_irradiance_map"
     bl_label = "Irradiance Map"
-    bl_options = {"REGISTER"}
+    bl_options = {"REGISTER", "UNDO"}  # loads the map as an image data-block
 
     @classmethod
     def poll(cls, context):

@@ -16,7 +16,8 @@ class RadiometerLawResult(bpy.types.PropertyGroup):
     """One light's last law checks (name = light name)."""
 
     kind: StringProperty(description="Light type (Point, Spot, Area, Sun)", name="Type")
-    inverse_checked: BoolProperty(description="The inverse-square law has been checked for this light",
+    inverse_checked: BoolProperty(name="Inverse Square Checked",
+                                  description="The inverse-square law has been checked for this light",
                                   default=False)
     inverse_note: StringProperty(name="Inverse Square", description="Why it was not checked")
     exponent: FloatProperty(name="Exponent", description="Fitted exponent of E vs d over the far field (ideal -2)")
@@ -26,7 +27,8 @@ class RadiometerLawResult(bpy.types.PropertyGroup):
                                     "from I/d² stays within tolerance, m (0: everywhere; -1: never)", unit="LENGTH")
     inverse_passed: BoolProperty(description="The far-field exponent is -2 within tolerance",
                                  name="Inverse Square Passed")
-    cosine_checked: BoolProperty(description="The cosine law has been checked for this light", default=False)
+    cosine_checked: BoolProperty(name="Cosine Law Checked",
+                                 description="The cosine law has been checked for this light", default=False)
     cosine_max_dev: FloatProperty(name="Cosine Max Deviation", description="max |E(θ)/(E(0) cos θ) - 1|",
                                   subtype="FACTOR")
     cosine_onset: FloatProperty(name="Onset (deg)", description="Smallest failing tilt (-1: none)")
@@ -61,24 +63,27 @@ class RadiometerAnalysisSettings(bpy.types.PropertyGroup):
                                description="Add a coloured copy of the grid (colour attribute) over the plane")
     target_error: FloatProperty(name="Target Error", default=0.01, min=1e-4, max=0.5, subtype="FACTOR",
                                 description="Relative error the convergence study solves for")
-    laws: CollectionProperty(description="Last law-check results, one per light", type=RadiometerLawResult)
+    laws: CollectionProperty(name="Law Checks",
+                             description="Last law-check results, one per light", type=RadiometerLawResult)
     grid_target: StringProperty(description="Work plane of the last illuminance grid", name="Grid")
-    grid_nx: IntProperty(description="Number of grid points along X of the last grid")
-    grid_ny: IntProperty(description="Number of grid points along Y of the last grid")
+    grid_nx: IntProperty(name="Grid Points X", description="Number of grid points along X of the last grid")
+    grid_ny: IntProperty(name="Grid Points Y", description="Number of grid points along Y of the last grid")
     grid_avg: FloatProperty(description="Average illuminance of the last grid, lx", name="E_avg (lx)")
     grid_min: FloatProperty(description="Minimum illuminance of the last grid, lx", name="E_min (lx)")
     grid_max: FloatProperty(description="Maximum illuminance of the last grid, lx", name="E_max (lx)")
     grid_u0: FloatProperty(description="Uniformity E_min / E_avg of the last grid (dimensionless)", name="U0")
-    grid_method: StringProperty(description="How the last grid was measured (rendered or analytic)")
-    grid_image: StringProperty(description="False-colour PNG of the last grid", subtype="FILE_PATH")
-    grid_csv: StringProperty(description="CSV file of the last grid's illuminances", subtype="FILE_PATH")
+    grid_method: StringProperty(name="Grid Method", description="How the last grid was measured (rendered or analytic)")
+    grid_image: StringProperty(name="Grid Image", description="False-colour PNG of the last grid", subtype="FILE_PATH")
+    grid_csv: StringProperty(name="Grid CSV",
+                             description="CSV file of the last grid's illuminances", subtype="FILE_PATH")
     conv_target: StringProperty(description="Meter of the last convergence study", name="Convergence")
     conv_slope: FloatProperty(description="Fitted slope of log(error) vs log(samples) (ideal -0.5)", name="Slope")
-    conv_slope_se: FloatProperty(description="Standard error of the convergence slope")
+    conv_slope_se: FloatProperty(name="Slope Standard Error", description="Standard error of the convergence slope")
     conv_samples: FloatProperty(description="Samples needed to reach the target error", name="Samples for Target")
     conv_seconds: FloatProperty(description="Estimated render time to reach the target error, s",
                                 name="Seconds for Target")
-    conv_plot: StringProperty(description="PNG plot of the error vs samples", subtype="FILE_PATH")
+    conv_plot: StringProperty(name="Convergence Plot",
+                              description="PNG plot of the error vs samples", subtype="FILE_PATH")
     report_path: StringProperty(description="Last exported report file", name="Report", subtype="FILE_PATH")
 
 

@@ -284,18 +284,24 @@ class RADIOMETER_PG_brdf_param(bpy.types.PropertyGroup):
     """One BRDF parameter (name = the library's parameter name, e.g. alpha, f0, sigma)."""
 
     # name (StringProperty) comes from PropertyGroup
-    kind: StringProperty(default="float", description="Parameter kind: 'float', 'color' (RGB) or 'option'")
-    optional: BoolProperty(default=False, description="The parameter is optional (passed only when Use is on)")
+    kind: StringProperty(name="Kind", default="float", description="Parameter kind: 'float', 'color' (RGB) or 'option'")
+    optional: BoolProperty(name="Optional", default=False,
+                           description="The parameter is optional (passed only when Use is on)")
     use: BoolProperty(name="Use", default=False, update=_on_param_change,
                       description="Pass this optional parameter (e.g. ior instead of f0)")
-    has_default: BoolProperty(default=True, description="The library gives this parameter a default value")
-    default_value: FloatProperty(default=0.0, description="The library's default value (mean for RGB)")
-    default_text: StringProperty(default="", description="The library's default choice of an option")
-    values: StringProperty(default="", description="Allowed choices of an option, comma-separated")
-    unit: StringProperty(default="", description="Unit of the parameter ('1' = dimensionless, 'rad' = radians)")
-    description: StringProperty(default="", description="What the parameter means (from radiometer.brdf)")
-    soft_min: FloatProperty(default=0.0, description="Smallest allowed value")
-    soft_max: FloatProperty(default=1.0, description="Largest allowed value")
+    has_default: BoolProperty(name="Has Default", default=True,
+                              description="The library gives this parameter a default value")
+    default_value: FloatProperty(name="Default Value", default=0.0,
+                                 description="The library's default value (mean for RGB)")
+    default_text: StringProperty(name="Default Choice", default="",
+                                 description="The library's default choice of an option")
+    values: StringProperty(name="Choices", default="", description="Allowed choices of an option, comma-separated")
+    unit: StringProperty(name="Unit", default="",
+                         description="Unit of the parameter ('1' = dimensionless, 'rad' = radians)")
+    description: StringProperty(name="Description", default="",
+                                description="What the parameter means (from radiometer.brdf)")
+    soft_min: FloatProperty(name="Minimum", default=0.0, description="Smallest allowed value")
+    soft_max: FloatProperty(name="Maximum", default=1.0, description="Largest allowed value")
     value: FloatProperty(name="Value", update=_on_param_change, precision=4,
                          description="Value of the parameter (library units: dimensionless or radians)")
     angle: FloatProperty(name="Angle", subtype="ANGLE", get=_get_angle, set=_set_angle,
@@ -319,7 +325,7 @@ class RADIOMETER_PG_brdf(bpy.types.PropertyGroup):
                ("osl", "OSL Script", "Open Shading Language script: Cycles on the CPU with OSL enabled")],
         default="nodes", update=_on_param_change,
         description="How the BRDF is realised: Cycles closure nodes, or an OSL script (exact for more models)")
-    params: CollectionProperty(type=RADIOMETER_PG_brdf_param,
+    params: CollectionProperty(name="Parameters", type=RADIOMETER_PG_brdf_param,
                                description="The model's parameters (before Apply; afterwards the group node's inputs)")
     tangent_source: EnumProperty(
         name="Tangent",
@@ -331,22 +337,30 @@ class RADIOMETER_PG_brdf(bpy.types.PropertyGroup):
                            description="UV map whose tangent orients the anisotropy (empty: the active one)")
     live_update: BoolProperty(name="Live Update", default=True,
                               description="Re-apply the BRDF whenever a parameter changes")
-    applied: BoolProperty(default=False, description="The BRDF has been applied to this material")
-    error: StringProperty(default="", description="Why the last Apply failed (empty: it succeeded)")
-    fidelity_kind: StringProperty(default="", description="'exact' or 'approximate' (Cycles vs the library)")
-    fidelity_rms: FloatProperty(default=0.0, description="RMS relative difference of f (dimensionless)")
-    fidelity_albedo: FloatProperty(default=0.0, description="Max directional-albedo difference")
-    fidelity_has_pointwise: BoolProperty(default=False,
+    applied: BoolProperty(name="Applied", default=False, description="The BRDF has been applied to this material")
+    error: StringProperty(name="Last Error", default="", description="Why the last Apply failed (empty: it succeeded)")
+    fidelity_kind: StringProperty(name="Fidelity", default="",
+                                  description="'exact' or 'approximate' (Cycles vs the library)")
+    fidelity_rms: FloatProperty(name="Fidelity RMS Difference", default=0.0,
+                                description="RMS relative difference of f (dimensionless)")
+    fidelity_albedo: FloatProperty(name="Fidelity Albedo Difference", default=0.0,
+                                   description="Max directional-albedo difference")
+    fidelity_has_pointwise: BoolProperty(name="Has Pointwise Ratios", default=False,
                                          description="Pointwise ratio statistics are available")
-    fidelity_median: FloatProperty(default=1.0, description="Median ratio f_Cycles / f_model on the uniform "
+    fidelity_median: FloatProperty(name="Median Ratio", default=1.0,
+                                   description="Median ratio f_Cycles / f_model on the uniform "
                                    "direction set (1 = right on average)")
-    fidelity_p95: FloatProperty(default=1.0, description="95 % of direction pairs lie within this factor "
+    fidelity_p95: FloatProperty(name="95th Percentile Ratio", default=1.0,
+                                description="95 % of direction pairs lie within this factor "
                                 "of the model (max(q, 1/q))")
-    fidelity_max: FloatProperty(default=1.0, description="Largest factor max(q, 1/q) between Cycles and "
+    fidelity_max: FloatProperty(name="Largest Ratio", default=1.0,
+                                description="Largest factor max(q, 1/q) between Cycles and "
                                 "the model on the uniform direction set")
-    fidelity_closure: StringProperty(default="", description="What Cycles renders (closures and nodes)")
-    fidelity_notes: StringProperty(default="", description="Notes on the mapping (fits, limits, OSL state)")
-    fidelity_summary: StringProperty(default="", description="One-line fidelity summary")
+    fidelity_closure: StringProperty(name="Cycles Closure", default="",
+                                     description="What Cycles renders (closures and nodes)")
+    fidelity_notes: StringProperty(name="Fidelity Notes", default="",
+                                   description="Notes on the mapping (fits, limits, OSL state)")
+    fidelity_summary: StringProperty(name="Fidelity Summary", default="", description="One-line fidelity summary")
 
 
 classes = (RADIOMETER_PG_brdf_param, RADIOMETER_PG_brdf)

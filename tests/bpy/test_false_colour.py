@@ -111,3 +111,25 @@ def test_legend_layout_ticks_colours_and_scale():
     flat = legend_layout(42.0, 42.0, 300, 200)  # uniform grid, tiny region: still a valid bar
     assert all(v == 42.0 for _, v, _ in flat["ticks"]) and flat["bar"][3] > flat["bar"][1]
     assert legend_layout(float("nan"), float("nan"), 300, 200)["ticks"][0][2] == "n/a"
+
+
+def test_toggle_is_one_undo_step_and_the_legend_follows(clean_blender, tmp_path):
+    """Toggling adds/removes an object, so it is undoable; after undo/redo the legend's draw handler
+    exists exactly when the coloured copy does (as the UI calls it: EXEC_DEFAULT with undo)."""
+    from radiometer.operators import false_colour as fc
+
+    assert "UNDO" in bpy.types.RADIOMETER_OT_toggle_false_colour.bl_options
+    _grid_scene(tmp_path)
+    bpy.ops.ed.undo_push(message="grid")
+    assert bpy.ops.radiometer.toggle_false_colour("EXEC_DEFAULT", True) == {"FINISHED"}
+    marked = lambda: [ob.name for ob in bpy.data.objects if ob.get(fc.OBJECT_MARK)]  # noqa: E731
+    assert len(marked()) == 1 and fc._state["handler"] is not None
+    assert bpy.ops.ed.undo() == {"FINISHED"}
+    assert marked() == [] and not fc.is_shown() and fc._state["handler"] is None
+    assert bpy.ops.ed.redo() == {"FINISHED"}
+    assert len(marked()) == 1 and fc.is_shown() and fc._state["handler"] is not None
+    assert bpy.ops.radiometer.toggle_false_colour("EXEC_DEFAULT", True) == {"FINISHED"}  # hide
+    assert marked() == [] and not fc.is_shown()
+    assert bpy.ops.ed.undo() == {"FINISHED"}  # the hide undone: shown again
+    assert len(marked()) == 1 and fc._state["handler"] is not None
+    fc.hide()
