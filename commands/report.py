@@ -1,6 +1,7 @@
 """`report`: every meter, law checks for every light, grids on work planes and a convergence study."""
 
-HELP = "write report.json, report.md and PNG plots (meters, law checks, grids, convergence) into --out"
+HELP = ("write the client report (report.html, report.pdf) and report.json, report.md and PNG plots (meters, law "
+        "checks, grids, compliance, glare, convergence) into --out")
 NEEDS_SCENE = True
 
 from .check import add_budget_arguments, budget_kwargs  # noqa: E402
@@ -13,6 +14,15 @@ def add_arguments(parser):
     parser.add_argument("--method", choices=("auto", "analytic", "hybrid", "render"), default=None)
     add_budget_arguments(parser)
     parser.add_argument("--no-convergence", action="store_true", help="skip the convergence study")
+    parser.add_argument("--project", metavar="NAME", help="project name on the client report (default: the file name)")
+    parser.add_argument("--task", metavar="KEY", help="EN 12464-1 task of the work planes for the compliance table, "
+                        "e.g. office_writing, classroom, corridor (see docs/deliverables.md)")
+    parser.add_argument("--maintenance-factor", type=float, default=0.8, metavar="MF",
+                        help="maintenance factor: maintained illuminance = MF x the new installation's (default 0.8)")
+    parser.add_argument("--observer", type=float, nargs=6, action="append", metavar=("X", "Y", "Z", "DX", "DY", "DZ"),
+                        help="eye position (m) and view direction for a UGR rating (repeatable)")
+    parser.add_argument("--ra", type=float, default=None, help="the luminaires' rated colour rendering index Ra")
+    parser.add_argument("--no-client", action="store_true", help="skip the client's report.html and report.pdf")
 
 
 def run(args):
@@ -22,13 +32,27 @@ def run(args):
     from . import _io
 
     _io.check_output_dir(args.out, "--out folder")
+    from ..errors import RadiometerError
+
+    if not 0 < args.maintenance_factor <= 1:
+        raise RadiometerError(f"--maintenance-factor must be in (0, 1], got {args.maintenance_factor}")
+    if args.task is not None:
+        from ..radiometry import compliance
+
+        if args.task not in compliance.TASKS:
+            raise RadiometerError(f"unknown --task {args.task!r}; known: {', '.join(sorted(compliance.TASKS))}")
+    observers = [((o[0], o[1], o[2]), (o[3], o[4], o[5])) for o in (args.observer or [])]
     progress = getattr(args, "progress", None)
     result = report.export_report(args.out, scene=bpy.context.scene, quality=args.quality, method=args.method,
                                   convergence=not args.no_convergence, progress=progress,
                                   phase=None if progress is None else progress.step,
-                                  cancelled=getattr(args, "cancelled", None), **budget_kwargs(args))
+                                  cancelled=getattr(args, "cancelled", None), client=not args.no_client,
+                                  project={"name": args.project} if args.project else None, task=args.task,
+                                  maintenance_factor=args.maintenance_factor, observers=observers, ra=args.ra,
+                                  **budget_kwargs(args))
     if progress is not None:
         progress.clear()
     print(result["summary"])
-    print(f"\nWrote {result['paths']['markdown']} and {result['paths']['json']} ({result['seconds']:.1f} s)")
+    written = [result["paths"][k] for k in ("html", "pdf", "markdown", "json") if k in result["paths"]]
+    print(f"\nWrote {', '.join(written)} ({result['seconds']:.1f} s)")
     return {"paths": result["paths"], "summary": result["summary"]}

@@ -99,7 +99,8 @@ def export_report(out_dir, **kwargs):
 
 
 def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
-                convergence=True, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None):
+                convergence=True, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None,
+                client=True, project=None, task=None, maintenance_factor=0.8, observers=(), ra=None):
     """The report as a generator of parts, for modal operators: one ``next()`` measures one part.
 
     The first ``next()`` measures nothing and yields the plan, a list of (label, weight); every
@@ -116,6 +117,12 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     s or None; ``phase(label)``: the part being measured ("meters", "laws Lamp", ...);
     ``cancelled()``: polled by every measurement, True raises MeasurementCancelled (nothing written).
     report.json is written before report.md, each whole or not at all.
+
+    ``client``: also write the client's report.html and report.pdf (``measure.client_report``: project
+    data ``project`` (dict), luminaire schedule, EN 12464-1 compliance for ``task`` with
+    ``maintenance_factor``, UGR at ``observers`` ((x, y, z), (dx, dy, dz)), the luminaires' rated
+    ``ra``, a false-colour luminance image of the scene camera, the isolux plots, the readings, and the
+    law checks as an engineering appendix).
     """
     scene = scene or bpy.context.scene
     out = os.path.abspath(out_dir)
@@ -211,7 +218,16 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
         except RadiometerError as exc:
             report["inverse_square"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
         try:
-            r = analysis.check_cosine_law(light, scene=scene, method=m, **budget, **watch,
+            where = {}
+            if light.data.type == "SUN":
+                # a sun's cosine check means something only where the sun shines in the room: at the centre
+                # of the first work plane (else the first illuminance meter), never at the origin
+                spot = _room_point(planes, objs)
+                if spot is None:
+                    raise RadiometerError("a sun's cosine check needs a point in the room: add a work plane or an "
+                                          "illuminance meter")
+                where = {"location": spot}
+            r = analysis.check_cosine_law(light, scene=scene, method=m, **budget, **watch, **where,
                                           plot=os.path.join(out, f"cosine_{slug}.png") if draw else None)
             report["cosine"].append(r.to_dict())
         except MeasurementCancelled:
@@ -244,14 +260,36 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
             raise
         except RadiometerError as exc:
             report["convergence"] = {"target": target.name, "error": str(exc)}
+    if client:
+        from . import client_report
+
+        client_report.client_report(report, out, scene=scene, project=project, task=task,
+                                    maintenance_factor=maintenance_factor, observers=observers, ra=ra, quality=q,
+                                    cancelled=cancelled)
     _overall(1.0)
     report["seconds"] = time.perf_counter() - started
     report["summary"] = summary_table(report)
     report["paths"] = {"json": os.path.join(out, "report.json"), "markdown": os.path.join(out, "report.md")}
+    report["paths"].update(report.get("client", {}).get("paths", {}))
     # JSON first: it holds everything; the Markdown is a view of it.
     outputs.write_text(report["paths"]["json"], json.dumps(plain(report), indent=2) + "\n")
     outputs.write_text(report["paths"]["markdown"], markdown(report))
     return report
+
+
+def _room_point(planes, meter_objects):
+    """Scene coordinates of the first work plane's centre, else of the first illuminance meter, else None."""
+    for plane in planes:
+        if plane.type == "MESH" and len(plane.data.vertices):
+            import numpy as np
+
+            co = np.array([v.co[:] for v in plane.data.vertices])
+            centre = (co.min(axis=0) + co.max(axis=0)) / 2
+            return tuple(plane.matrix_world @ __import__("mathutils").Vector(centre))
+    for ob in meter_objects:
+        if ob.radiometer_meter.kind == "ILLUMINANCE":
+            return tuple(ob.matrix_world.translation)
+    return None
 
 
 def summary_table(report):
@@ -282,7 +320,8 @@ def summary_table(report):
         lines.append(f"{r['light']:<18} {r['kind']:<6} {inv} {cos}")
     if report["inverse_square"]:
         lines.append("(the laws are judged on each light's own direct light; 'scene': the largest share of a reading "
-                     "the room adds by interreflection; FLAG(light) / FLAG(scene): who broke the law)")
+                     "the room adds by interreflection; 'departs (light)': the light's own direct light departs from the law, "
+                     "e.g. in the near field of an extended source)")
     for g in report["grids"]:
         lines.append("")
         if "error" in g:
@@ -304,12 +343,29 @@ def summary_table(report):
     return "\n".join(lines)
 
 
+def _pct(value):
+    """A signed relative deviation in %: '+1.2 %', and '0 %' for rounding noise (|x| < 5e-7, e.g. 3e-16)."""
+    if not _given(value) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        return "n/a"
+    return "0 %" if abs(value) < 5e-7 else f"{100 * value:+.3g} %"
+
+
+def _row_mark(row, result):
+    """'✓', 'near field' (closer than the near-field limit: an extended source, as expected) or '✗'."""
+    if row["ok"]:
+        return "✓"
+    limit = result.get("near_field_limit")
+    if _given(limit) and isinstance(limit, float) and math.isfinite(limit) and row["distance"] < limit:
+        return "near field"
+    return "✗"
+
+
 def verdict(result):
-    """'ok', 'ok (scene)' (the light obeys; the room's light on top does not), or 'FLAG(...)'."""
+    """'ok', 'ok(scene)' (the light obeys; the room's light on top does not), or 'departs (...)'."""
     if result.get("passed"):
         return "ok" if result.get("total_passed", True) else "ok(scene)"
     broken = result.get("broken_by", "light")
-    return "FLAG(light)" if "light" in (broken if isinstance(broken, str) else "light") else "FLAG"
+    return "departs(light)" if "light" in (broken if isinstance(broken, str) else "light") else "departs"
 
 
 def _share(result):
@@ -327,8 +383,8 @@ def _img(path):
 def markdown(report):
     """report.md: tables of every result with the plots inline (relative links); missing numbers "n/a"."""
     report = _robust(report)
-    md = [f"# Radiometer report: {report['scene']}\n",
-          f"File `{report['file'] or '(unsaved)'}`; quality `{report['quality']}`, method `{report['method']}`; "
+    md = [f"# Radiometer analysis report: {report['scene']}\n",
+          f"File `{os.path.basename(report['file']) if report['file'] else '(unsaved)'}`; quality `{report['quality']}`, method `{report['method']}`; "
           f"{report['seconds']:.1f} s. Units: lux, W/m², m, deg.\n",
           "```\n" + report["summary"] + "\n```\n"]
     if report["errors"]:
@@ -347,7 +403,7 @@ def markdown(report):
         if "error" in r:
             md.append(f"Not checked: {r['error']}\n")
             continue
-        md.append(f"{'PASSED' if r['passed'] else 'FLAGGED'}: exponent {_fmt(r['exponent'], '.4f')} ± "
+        md.append(f"{'Follows the law' if r['passed'] else 'Departs from I/d² (see causes)'}: exponent {_fmt(r['exponent'], '.4f')} ± "
                   f"{_fmt(r['exponent_se'], '.2g')} (fit from {_fmt(r['fit_from'], '.3g')} m), near-field limit "
                   f"{'not reached' if not _given(r['near_field_limit']) else _fmt(r['near_field_limit'], '.4g') + ' m'}, source size {r['source_size']:.3g} m (five-times rule "
                   f"{r['five_times']['rule_distance']:.3g} m: {'holds' if r['five_times']['rule_holds'] else 'does not hold'}"
@@ -364,10 +420,10 @@ def markdown(report):
                   "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
         for row in r["rows"]:
             md.append(f"| {row['distance']:.4g} | {row['measured']:.5g} | {row.get('direct', row['measured']):.5g} | "
-                      f"{row['predicted']:.5g} | {100 * row.get('direct_deviation', row['rel_deviation']):+.3g} % | "
-                      f"{100 * row['rel_deviation']:+.3g} % | {100 * row.get('scene_share', 0):.3g} % | "
-                      f"{100 * row['rel_std_error']:.2g} % | {100 * row['model_deviation']:+.3g} % | "
-                      f"{'✓' if row['ok'] else '✗'} |")
+                      f"{row['predicted']:.5g} | {_pct(row.get('direct_deviation', row['rel_deviation']))} | "
+                      f"{_pct(row['rel_deviation'])} | {100 * row.get('scene_share', 0):.3g} % | "
+                      f"{100 * row['rel_std_error']:.2g} % | {_pct(row['model_deviation'])} | "
+                      f"{_row_mark(row, r)} |")
         md.append("")
         md.append(_img(r.get("plot")))
     md.append("## Cosine law\n")
@@ -376,7 +432,7 @@ def markdown(report):
         if "error" in c:
             md.append(f"Not checked: {c['error']}\n")
             continue
-        md.append(f"{'PASSED' if c['passed'] else 'FLAGGED'} at {tuple(round(v, 3) for v in c['location'])}: max "
+        md.append(f"{'Follows the law' if c['passed'] else 'Departs from cos θ (see causes)'} at {tuple(round(v, 3) for v in c['location'])}: max "
                   f"deviation {100 * c['max_rel_deviation']:.3g} % at {c['max_at_deg']:g} deg; onset "
                   f"{_fmt(c['onset_deg'], 'g')} deg; source reaches the horizon at {c['horizon_onset_deg']:.3g} deg. "
                   f"Judged on the light's own direct light; with the room's light the total deviates up to "
@@ -388,8 +444,8 @@ def markdown(report):
                   "| rel. s.e. | ok |\n|---:|---:|---:|---:|---:|---:|---:|---:|---|")
         for row in c["rows"]:
             md.append(f"| {row['angle']:g} | {row.get('direct_ratio', row['ratio']):.5g} | {row['ratio']:.5g} | "
-                      f"{row['predicted']:.5g} | {100 * row.get('direct_deviation', row['rel_deviation']):+.3g} % | "
-                      f"{100 * row['rel_deviation']:+.3g} % | {100 * row.get('scene_share', 0):.3g} % | "
+                      f"{row['predicted']:.5g} | {_pct(row.get('direct_deviation', row['rel_deviation']))} | "
+                      f"{_pct(row['rel_deviation'])} | {100 * row.get('scene_share', 0):.3g} % | "
                       f"{100 * row['ratio_rel_se']:.2g} % | {'✓' if row['ok'] else '✗'} |")
         md.append("")
         md.append(_img(c.get("plot")))

@@ -33,6 +33,9 @@ def inverse_square_plot(path, distances, measured, predicted, rel_std_error, *, 
     ax1.loglog(d, p, "-", color="0.4", label="I/d² (far-field intensity)")
     ax1.errorbar(d, m, yerr=3 * s * np.abs(m), fmt="o", ms=3, color="C0", label="measured (±3 s.e.)")
     ax1.set_ylabel(f"irradiance E ({unit})")
+    if not (near_field_limit is not None and np.isfinite(near_field_limit)):
+        # "limit inf m" means the far field was not reached: say so in words, never "inf m"
+        title = str(title).replace("near-field limit inf m", "far field not reached in the free space checked")
     ax1.set_title(_wrapped(title), fontsize=9)
     dev = 100 * (m - p) / p
     ax2.semilogx(d, dev, "o-", ms=3, color="C0")

@@ -126,7 +126,7 @@ def assess(req, *, average_lx, minimum_lx, maintenance_factor, average_rel_se=0.
     if req.ra is not None:
         if ra is None:
             rows.append(Check("Ra", f">= {req.ra:g}", math.nan, "", "not assessed", math.nan,
-                              note="a render has no spectra: give the luminaires' rated Ra"))
+                              note="no spectra in a render: rated Ra needed"))
         else:
             rows.append(Check("Ra", f">= {req.ra:g}", float(ra), "", _status(float(ra) - req.ra, 0.0),
                               float(ra) - req.ra, 0.0, "rated value of the luminaires (user-given)"))

@@ -1,0 +1,68 @@
+"""The client's report (issue 23 item 7): schedule, compliance, readings, HTML and PDF without absolute paths."""
+
+import os
+import shutil
+import subprocess
+import sys
+
+import bpy
+import pytest
+
+sys.path.insert(0, os.path.dirname(__file__))
+import office  # noqa: E402
+
+from radiometer import api  # noqa: E402
+
+pytest.importorskip("matplotlib")
+
+IES = """IESNA:LM-63-2002
+[LUMINAIRE] Downlight DL-1
+TILT=NONE
+1 2000 1 3 1 1 2 0.2 0.2 0
+1 1 25
+0 45 90
+0
+800 500 0
+"""
+
+
+def test_client_report_html_pdf(clean_blender, build, tmp_path):
+    scene = bpy.context.scene
+    office.build(scene)
+    ies = tmp_path / "dl1.ies"
+    ies.write_text(IES)
+    for k in range(2):
+        api.import_luminaire(str(ies), scene=scene, location=(-2.0 + 4.0 * k, -1.0, 2.9), name="DL-1")
+    plane = build.plane(scene, size=1.0, location=(0.0, 0.5, 0.75), name="Work Plane")
+    plane.scale = (4.0, 2.4, 1.0)
+    plane.hide_render = True
+    out = tmp_path / "client"
+    out.mkdir()
+    g = api.illuminance_grid(plane, resolution=(6, 4), quality="preview", png=str(out / "isolux_work_plane.png"))
+    reading = api.measure_illuminance((0.0, 0.0, 0.8), (0, 0, 1), quality="preview")
+    report = {"quality": "preview", "grids": [g.to_dict()], "meters": [dict(name="Desk", **reading.to_dict())],
+              "inverse_square": [], "cosine": [], "convergence": None, "errors": []}
+    from radiometer.measure import client_report
+
+    client = client_report.client_report(report, str(out), scene=scene, project={"name": "Office 2.14"},
+                                         task="office_writing", maintenance_factor=0.8,
+                                         observers=[(office.EYE, office.VIEW)], quality="preview")
+    by_type = {s["file"] or s["type"]: s for s in client["schedule"]}
+    assert by_type["dl1.ies"]["count"] == 2 and by_type["dl1.ies"]["power_w"] == pytest.approx(25.0)
+    flux = by_type["dl1.ies"]["flux_lm"]
+    assert flux > 0 and by_type["dl1.ies"]["efficacy_lm_w"] == pytest.approx(flux / 25.0)
+    panels = [s for s in client["schedule"] if s["type"].startswith("Blender area")]
+    assert panels and panels[0]["count"] == 4
+    assert panels[0]["flux_lm"] == pytest.approx(683 * office.PANEL_POWER, rel=1e-6)  # white: K x P
+    comp = client["compliance"][0]
+    assert {c["quantity"] for c in comp["checks"]} >= {"Ēm", "U0", "UGR (observer 1)", "Ra"}
+    text = (out / "report.html").read_text()
+    assert "Office 2.14" in text and "EN 12464-1:2011 Table 5.26.2" in text and "Luminaire schedule" in text
+    assert "Desk" in text and " lx ±" in text and "EV100" in text
+    assert str(tmp_path) not in text and "isolux_work_plane.png" in text  # file names only, no absolute paths
+    assert "FLAG" not in text
+    pdf = out / "report.pdf"
+    assert pdf.read_bytes()[:5] == b"%PDF-"
+    if shutil.which("pdftoppm"):
+        subprocess.run(["pdftoppm", "-png", "-r", "30", str(pdf), str(out / "page")], check=True)
+        assert len([p for p in os.listdir(out) if p.startswith("page")]) >= 2
