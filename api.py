@@ -254,11 +254,15 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
 
 @_v.boundary
 def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
-                  convergence=True):
+                  convergence=True, client=True, project=None, task=None, maintenance_factor=0.8, observers=(),
+                  ra=None):
     """Write report.json, report.md and PNG plots for every meter, light and work plane into ``out_dir``.
 
     ``quality`` (preset name), ``method`` and ``target_rel_error`` (fraction) default to the
     scene's Radiometer settings; ``time_budget_s`` (s) bounds each measurement of the report.
+    ``client``: also the client's report.html and report.pdf (``project`` data dict, EN 12464-1
+    ``task`` with ``maintenance_factor``, UGR ``observers`` ((x, y, z), (dx, dy, dz)), rated ``ra``;
+    see docs/deliverables.md).
     """
     out_dir = _v.path(out_dir, "out_dir")
     _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error,
@@ -267,7 +271,8 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
 
     return report.export_report(out_dir, scene=scene, quality=quality, method=method,
                                 target_rel_error=target_rel_error, time_budget_s=time_budget_s,
-                                convergence=convergence)
+                                convergence=convergence, client=client, project=project, task=task,
+                                maintenance_factor=maintenance_factor, observers=observers, ra=ra)
 
 
 @_v.boundary
