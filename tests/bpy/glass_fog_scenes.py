@@ -9,6 +9,7 @@ list of ``(label, point, normal)`` in scene coordinates.
 import math
 
 import bpy
+import numpy as np
 
 from radiometer.compat import ensure_node_tree  # Blender 4.5: new worlds/materials have no tree yet
 
@@ -138,4 +139,86 @@ def window(name, light="SUN", elevation_deg=60.0):
     return scene, [(f"{name} {light.lower()}", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0))]
 
 
+def _diffuse(name, albedo):
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    bsdf.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
+    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def _quads(scene, name, quads, material):
+    verts, faces = [], []
+    for quad in quads:
+        faces.append(tuple(range(len(verts), len(verts) + 4)))
+        verts.extend(quad)
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    mesh.materials.append(material)
+    obj = bpy.data.objects.new(name, mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def constant_pane_material(name, T, R):
+    """Thin glass at ONE angle: Transparent BSDF of colour T plus a sharp Glossy BSDF of colour R
+    (the reference for the sun's part, whose rays all cross the pane at the sun's angle). Put it on
+    a single face: on both faces of a slab a ray would pass T twice."""
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    transparent = tree.nodes.new("ShaderNodeBsdfTransparent")
+    transparent.inputs["Color"].default_value = tuple(T) + (1.0,)
+    glossy = tree.nodes.new("ShaderNodeBsdfGlossy")
+    glossy.inputs["Roughness"].default_value = 0.0
+    glossy.inputs["Color"].default_value = tuple(R) + (1.0,)
+    add = tree.nodes.new("ShaderNodeAddShader")
+    tree.links.new(transparent.outputs[0], add.inputs[0])
+    tree.links.new(glossy.outputs[0], add.inputs[1])
+    tree.links.new(add.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+#: Skylight room: 6 x 6 x 3 m, a 1.5 x 1.5 m opening in the ceiling glazed with a 6 mm Glass BSDF
+#: pane (IOR 1.52), a sun of 100 W/m^2 at 60 degrees elevation (0.53 degree disc) and a uniform sky
+#: of radiance 0.5 W/(m^2 sr). Meters on the floor: in the sun patch and in the shade.
+ROOM_SUN_ELEVATION = 60.0
+
+
+def window_room(part=None):
+    """``part``: None (the scene), "sun" (black sky, the pane as constant thin glass at the sun's
+    angle from the slab's closed form) or "sky" (the sun hidden, the real Glass BSDF pane)."""
+    scene = reset()
+    _world(scene, strength=0.0 if part == "sun" else 0.5)
+    wall = _diffuse("walls", 0.5)
+    h, top, g = 3.0, 3.0, 0.75
+    floor = [[(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)]]
+    walls = [[(-h, -h, 0), (-h, h, 0), (-h, h, top), (-h, -h, top)], [(h, -h, 0), (h, -h, top), (h, h, top), (h, h, 0)],
+             [(-h, -h, 0), (-h, -h, top), (h, -h, top), (h, -h, 0)], [(-h, h, 0), (h, h, 0), (h, h, top), (-h, h, top)]]
+    ceiling = [[(-h, -h, top), (-h, h, top), (-g, h, top), (-g, -h, top)], [(g, -h, top), (g, h, top), (h, h, top), (h, -h, top)],
+               [(-g, -h, top), (-g, -g, top), (g, -g, top), (g, -h, top)], [(-g, g, top), (-g, h, top), (g, h, top), (g, g, top)]]
+    _quads(scene, "Room", floor + walls + ceiling, wall)
+    if part == "sun":
+        from radiometer.radiometry import thin_glass  # the slab's closed form (reference side)
+
+        c = math.cos(math.radians(90.0 - ROOM_SUN_ELEVATION))
+        T, R, _A = thin_glass.slab(c, float(np.float32(1.52)))
+        pane_mat = constant_pane_material("pane at the sun's angle", T, R)
+    else:
+        pane_mat = glass_material("skylight glass", "glass", 1.52)
+    # The sun's reference pane is one face (a ray crosses it once: T once, not at both slab faces).
+    add_pane(scene, "Skylight", pane_mat, centre=(0.0, 0.0, top), size=(2 * g, 2 * g),
+             thickness=0.0 if part == "sun" else 0.006)
+    if part != "sky":
+        _light(scene, "SUN", (0.0, 0.0, 5.0), rotation=(math.radians(90.0 - ROOM_SUN_ELEVATION), 0.0, 0.0),
+               energy=100.0, angle=math.radians(0.53))
+    return scene, [("floor in the sun", (0.0, 1.7, 0.0), (0.0, 0.0, 1.0)),
+                   ("floor in the shade", (-2.0, -2.0, 0.0), (0.0, 0.0, 1.0))]
+
+
 SCENES = {f"fog_{k.lower()}": (lambda k=k: fog(k)) for k in FOG_LIGHTS}
+SCENES.update({"window_room_sun": lambda: window_room("sun"), "window_room_sky": lambda: window_room("sky")})

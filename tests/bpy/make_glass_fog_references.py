@@ -7,6 +7,11 @@ The numbers come from ``reference.reference_irradiance`` (a tiny white Lambertia
 orthographic Cycles camera, E = pi x pixel, batch-means standard error) on the scenes that
 ``glass_fog_scenes.py`` builds; nothing of Radiometer's measurement code runs. A patch render in a
 world volume costs minutes (every camera path crosses the medium), hence the cache.
+
+The skylight room's reference is two renders added: ``window_room_sun`` (black sky, the pane as thin
+glass at the sun's angle with T and R from the slab's closed form: every sun ray crosses it at that
+angle) and ``window_room_sky`` (the sun hidden, the real Glass BSDF pane: a sky is a large source,
+so Cycles converges through real refraction).
 """
 
 import datetime
@@ -43,7 +48,9 @@ def main(names):
     for name in names or list(scenes.SCENES):
         scene, cases = scenes.SCENES[name]()
         for label, point, normal in cases:
-            e_rgb, se, info = reference.reference_irradiance(scene, point, normal, target_rel_error=TARGET,
+            # Meters on the floor: the patch sits just off the surface (reference.lift_off_surface).
+            at = reference.lift_off_surface(scene, point, normal) if point[2] == 0.0 else point
+            e_rgb, se, info = reference.reference_irradiance(scene, at, normal, target_rel_error=TARGET,
                                                              max_seconds=MAX_SECONDS, seed=SEED)
             data["values"][f"{name}/{label}"] = {"point": list(point), "normal": list(normal), "E_rgb": list(e_rgb),
                                                  "rel_std_error": se, "samples": info.get("samples")}

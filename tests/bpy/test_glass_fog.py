@@ -146,3 +146,22 @@ def test_frosted_and_curved_glass_stay_rendered(clean_blender):
     pane.data.materials[0] = scenes.glass_material("clear")
     r = api.measure_illuminance(point, normal, scene=scene, method="analytic")
     assert any("curved or thick refractor" in note for note in r.notes), r.notes
+
+
+@pytest.mark.parametrize("case", [0, 1])
+def test_skylight_room_against_sun_and_sky_references(clean_blender, case):
+    """A room lit by the sun and a uniform sky through a 6 mm glass skylight; meters on the floor in
+    the sun patch and in the shade. Reference: the sun's part rendered with the pane as thin glass at
+    the sun's angle (T, R from the slab's closed form) plus the sky's part rendered through the real
+    Glass BSDF (a large source: Cycles converges through refraction), each a patch render."""
+    from radiometer import api
+
+    scene, cases = scenes.window_room()
+    label, point, normal = cases[case]
+    parts = [_stored(f"window_room_{part}/{label}", point, normal) for part in ("sun", "sky")]
+    ref_lux = sum(lux for lux, _se in parts)
+    ref_se = math.hypot(*(lux * se for lux, se in parts)) / ref_lux
+    r = api.measure_illuminance(point, normal, scene=scene, quality="standard" if case == 0 else "preview")
+    assert r.method == "hybrid" if case == 0 else r.method in ("render", "hybrid")
+    assert any("thin glass 'Skylight'" in note for note in r.notes)
+    _check(r, ref_lux, ref_se)
