@@ -3,8 +3,8 @@
 Run: ``.venv/bin/python tools/make_tour.py [OUT_DIR]`` (bpy as a module; not part of ``make test``).
 Builds the demo room, measures an illuminance grid on its work plane and the meters, renders a small
 Cycles image with the meters (camera-only markers, labelled with their readings) and the false-colour
-grid, and writes the isolux plot, a GGX lobe plot and the goniometric diagram of a luminaire file it
-writes itself.
+grid, and writes the isolux plot (with the room's outline), the camera's false-colour luminance image,
+a GGX lobe plot and the goniometric diagram (beam and field angles) of a luminaire file it writes itself.
 """
 
 import math
@@ -152,8 +152,26 @@ def main(argv):
     grid = api.illuminance_grid(plane, resolution=(18, 18), scene=scene, quality="preview",
                                 png=os.path.join(out, "isolux.png"))
     print(f"grid: E_avg {grid.stats['avg']:.4g} lx, U0 {grid.stats['u0']:.3f} ({grid.method}, {grid.seconds:.1f} s)")
+    # the isolux plot again, with the room's walls as its outline (demo.scene.ROOM: width x depth, centred)
+    from radiometer.demo.scene import ROOM
+
+    hx, hy = ROOM[0] / 2, ROOM[1] / 2
+    grid.write_png(os.path.join(out, "isolux.png"), outline=[(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)],
+                   mark_points=False)
     api.measure_meters(scene=scene, quality="preview")
     paths = [render_room(bpy, scene, grid, os.path.join(out, "room.png")), grid.image]
+    # the camera's view in false-colour luminance (cd/m²), without the tour's camera-only markers
+    for ob in [o for o in scene.objects if o.name.startswith("Marker ")]:
+        bpy.data.objects.remove(ob, do_unlink=True)
+    import shutil
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        img = api.luminance_image(os.path.join(tmp, "luminance.exr"), scene=scene, resolution=(320, 180),
+                                  quality="preview")
+        paths.append(shutil.copy(img.paths["png"], os.path.join(out, "luminance.png")))
+    print(f"luminance image: {img.samples} samples per pixel, {100 * img.share_on_target:.0f} % of the pixels on "
+          f"the {100 * img.target_rel_error:g} % target")
 
     from radiometer.brdf import plots as brdf_plots
 
