@@ -220,5 +220,27 @@ def window_room(part=None):
                    ("floor in the shade", (-2.0, -2.0, 0.0), (0.0, 0.0, 1.0))]
 
 
+def glossy_floor(roughness=0.3):
+    """A 6 x 6 m metal floor (Glossy BSDF, GGX, white) under a small sphere light (radius 5 cm,
+    100 W at 2 m); meters facing down at 1 m: all their light arrives by the floor's glossy
+    reflection (issue 18: z = -3.0 and -2.5 at `standard`)."""
+    scene = reset()
+    _world(scene, strength=0.0)
+    mat = bpy.data.materials.new("metal floor")
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    bsdf = tree.nodes.new("ShaderNodeBsdfGlossy")
+    bsdf.distribution = "GGX"
+    bsdf.inputs["Roughness"].default_value = roughness
+    bsdf.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    _quads(scene, "Floor", [[(-3, -3, 0), (3, -3, 0), (3, 3, 0), (-3, 3, 0)]], mat)
+    _light(scene, "POINT", (0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.05)
+    return scene, [("over the highlight", (0.0, 0.0, 1.0), (0.0, 0.0, -1.0)),
+                   ("beside the highlight", (1.0, 0.0, 1.0), (0.0, 0.0, -1.0))]
+
+
 SCENES = {f"fog_{k.lower()}": (lambda k=k: fog(k)) for k in FOG_LIGHTS}
+SCENES["glossy_floor"] = glossy_floor
 SCENES.update({"window_room_sun": lambda: window_room("sun"), "window_room_sky": lambda: window_room("sky")})

@@ -165,3 +165,17 @@ def test_skylight_room_against_sun_and_sky_references(clean_blender, case):
     assert r.method == "hybrid" if case == 0 else r.method in ("render", "hybrid")
     assert any("thin glass 'Skylight'" in note for note in r.notes)
     _check(r, ref_lux, ref_se)
+
+
+@pytest.mark.parametrize("case", [0, 1])
+def test_glossy_floor_reflection_against_a_patch_render(clean_blender, case):
+    """All of the meter's light arrives by a metal floor's glossy reflection (issue 18 measured
+    z = -3.0 and -2.5 there at `standard`; bench/coverage_rare_paths.py measures the coverage)."""
+    from radiometer import api
+
+    scene, cases = scenes.glossy_floor()
+    label, point, normal = cases[case]
+    ref_lux, ref_se = _stored(f"glossy_floor/{label}", point, normal)
+    r = api.measure_illuminance(point, normal, scene=scene, quality="preview")
+    assert r.render_settings["filter_glossy"] == 0.0 and scene.cycles.blur_glossy == 1.0  # the user's, restored
+    _check(r, ref_lux, ref_se)
