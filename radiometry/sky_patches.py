@@ -1,0 +1,83 @@
+"""Sky patches for daylight coefficients (pure numpy): Tregenza (145) and Reinhart MF:m subdivisions
+plus one ground patch, in the order and geometry of Radiance's ``reinhartb.cal`` / ``gendaymtx``.
+
+Patch 0 is the ground (the whole lower hemisphere, 2 pi sr). Sky rows r = 0 .. 7m-1 span altitudes
+[r alpha, (r+1) alpha] with alpha = 90 deg / (7 m + 0.5); row r holds m x (30, 30, 24, 24, 18, 12, 6)
+[r // m] patches, patch j of a row centred on azimuth 360 j / n (clockwise from north, +Y, towards
+east, +X), spanning +- 180 / n deg; the last patch is the zenith cap above 7 m alpha. m = 1 gives the
+145 Tregenza patches (Tregenza 1987; Reinhart & Walkenhorst 2001 for the subdivisions).
+Directions: (cos alt sin az, cos alt cos az, sin alt) with +X east, +Y north, +Z up.
+"""
+
+import numpy as np
+
+__all__ = ["SkyPatches", "reinhart_patches", "patch_of"]
+
+_ROW_COUNTS = (30, 30, 24, 24, 18, 12, 6)
+
+
+class SkyPatches:
+    """Arrays over P patches (index 0 = ground): ``alt_lo``, ``alt_hi``, ``az_lo``, ``az_hi`` (rad;
+    azimuths may start below 0 for the patch centred on north), ``altitude``/``azimuth`` of the
+    centre, ``solid_angle`` (sr), ``direction`` (P, 3); ``m`` the subdivision."""
+
+    def __init__(self, m):
+        self.m = int(m)
+        alpha = (np.pi / 2) / (7 * self.m + 0.5)
+        lo, hi, az_lo, az_hi, alt_c, az_c, dom = [-np.pi / 2], [0.0], [0.0], [2 * np.pi], [-np.pi / 2], [0.0], [2 * np.pi]
+        for r in range(7 * self.m):
+            n = self.m * _ROW_COUNTS[r // self.m]
+            a0, a1 = r * alpha, (r + 1) * alpha
+            for j in range(n):
+                c = 2 * np.pi * j / n
+                lo.append(a0)
+                hi.append(a1)
+                az_lo.append(c - np.pi / n)
+                az_hi.append(c + np.pi / n)
+                alt_c.append((r + 0.5) * alpha)
+                az_c.append(c)
+                dom.append(2 * np.pi * (np.sin(a1) - np.sin(a0)) / n)
+        top = 7 * self.m * alpha
+        lo.append(top)
+        hi.append(np.pi / 2)
+        az_lo.append(0.0)
+        az_hi.append(2 * np.pi)
+        alt_c.append(np.pi / 2)
+        az_c.append(0.0)
+        dom.append(2 * np.pi * (1 - np.sin(top)))
+        self.alt_lo, self.alt_hi = np.array(lo), np.array(hi)
+        self.az_lo, self.az_hi = np.array(az_lo), np.array(az_hi)
+        self.altitude, self.azimuth = np.array(alt_c), np.array(az_c)
+        self.solid_angle = np.array(dom)
+        ca = np.cos(self.altitude)
+        self.direction = np.stack([ca * np.sin(self.azimuth), ca * np.cos(self.azimuth), np.sin(self.altitude)], axis=-1)
+
+    @property
+    def count(self):
+        return len(self.solid_angle)
+
+    def cos_zenith(self):
+        """cos of the zenith angle at each sky patch's centre (0 for the ground)."""
+        return np.where(np.arange(self.count) == 0, 0.0, np.sin(self.altitude))
+
+
+def reinhart_patches(m=1):
+    """``SkyPatches`` for Reinhart MF:m (m = 1: Tregenza, 146 patches with the ground)."""
+    if int(m) != m or m < 1 or m > 8:
+        raise ValueError(f"the Reinhart subdivision must be an integer 1..8, got {m!r}")
+    return SkyPatches(int(m))
+
+
+def patch_of(directions, patches):
+    """Patch index (...,) of unit world ``directions`` (..., 3); the ground (0) for z < 0."""
+    d = np.asarray(directions, float)
+    alt = np.arcsin(np.clip(d[..., 2], -1, 1))
+    az = np.mod(np.arctan2(d[..., 0], d[..., 1]), 2 * np.pi)
+    out = np.zeros(alt.shape, int)
+    for p in range(1, patches.count):
+        a0, a1 = patches.alt_lo[p], patches.alt_hi[p]
+        z0, z1 = patches.az_lo[p], patches.az_hi[p]
+        in_alt = (alt >= a0) & ((alt < a1) | (p == patches.count - 1))
+        rel = np.mod(az - z0, 2 * np.pi)
+        out = np.where(in_alt & (rel < (z1 - z0)) & (d[..., 2] >= 0), p, out)
+    return out
