@@ -179,7 +179,7 @@ def _appendix(report):
 
         words = fit_in_words(c["fit"]["slope"], "samples") or "no convergence measured"
         lines.append((f"Convergence ({c['target']})", f"{words}; {100 * c['target_error']:g} % needs about "
-                      f"{c['samples_for_target']:.2g} samples per reading", c.get("plot")))
+                      f"{_plain(c['samples_for_target'], 2)} samples per reading", c.get("plot")))
     return lines
 
 
@@ -226,8 +226,8 @@ def write_pdf(path, out_dir, report, client):
         y = 0.95
         if heading:
             fig.text(0.07, y, heading[0], fontsize=15, weight="bold")
-            fig.text(0.07, y - 0.025, heading[1], fontsize=8, wrap=True)
-            y -= 0.06
+            fig.text(0.07, y - 0.018, "\n".join(_wrap(heading[1], 120)), fontsize=8, va="top")
+            y -= 0.07
         for title, header, rows in blocks:
             lines = _wrap(title, 95)
             fig.text(0.07, y, "\n".join(lines), fontsize=10, weight="bold", va="top")
@@ -375,8 +375,8 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
     for grid in report.get("grids", []):
         if grid.get("image"):
             s = grid["stats"]
-            client["images"].append((f"Isolux lines on {grid['target']} (lx): Ē {s['avg']:.3g} lx, E_min "
-                                     f"{s['min']:.3g} lx, U0 {s['u0']:.2f}", os.path.basename(grid["image"])))
+            client["images"].append((f"Isolux lines on {grid['target']} (lx): Ē {_plain(s['avg'], 3)} lx, E_min "
+                                     f"{_plain(s['min'], 3)} lx, U0 {s['u0']:.2f}", os.path.basename(grid["image"])))
     report["client"] = client
     html_path = os.path.join(out_dir, "report.html")
     write_html(html_path, report, client)
