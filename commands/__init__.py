@@ -20,4 +20,5 @@ SUBCOMMANDS = {
     "sun": "sun",
     "sun-study": "sun_study",
     "daylight-factor": "daylight_factor",
+    "annual": "annual",
 }

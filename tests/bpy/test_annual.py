@@ -45,3 +45,16 @@ def test_patch_worlds_give_closed_form_coefficients(clean_blender, build):
             ref = closed_form(p, patches, n)
             assert abs(dc[k, i] - ref) <= max(3 * se[k, i], 0.02 * ref) + 1e-9, (p, n, dc[k, i], ref, se[k, i])
     assert dc[0, 2] == pytest.approx(math.pi, rel=0.06)  # the ground seen from a meter facing down
+
+
+def test_cli_annual_bad_input(clean_blender, tmp_path, capsys):
+    from radiometer import cli
+
+    points = tmp_path / "p.csv"
+    points.write_text("0,0,0\n", encoding="utf-8")
+    assert cli._blender_cli(["annual", "--epw", str(tmp_path / "none.epw"), "--points", str(points)]) == 2
+    assert "no such file" in capsys.readouterr().err
+    bad = tmp_path / "bad.epw"
+    bad.write_text("not a weather file\n", encoding="utf-8")
+    assert cli._blender_cli(["annual", "--epw", str(bad), "--points", str(points)]) == 2
+    assert "not an EPW" in capsys.readouterr().err

@@ -1,0 +1,68 @@
+"""`annual`: climate-based daylight (sDA, ASE, UDI) from an EPW file at points or on a work plane."""
+
+HELP = ("annual daylight from an EPW weather file by daylight coefficients (one render per sky patch): "
+        "sDA300/50%, ASE1000/250h, UDI 100-2000 lx at points (--points CSV) or on a plane's grid; --csv and --json")
+NEEDS_SCENE = True
+
+
+def add_arguments(parser):
+    parser.add_argument("--epw", required=True, metavar="FILE", help="EnergyPlus weather file (.epw)")
+    where = parser.add_mutually_exclusive_group(required=True)
+    where.add_argument("--points", metavar="CSV", help="points as CSV rows x,y,z[,nx,ny,nz] (scene units; a "
+                       "header line is skipped; normal default +Z)")
+    where.add_argument("--plane", metavar="NAME", help="a grid over this plane object's local XY (its +Z side)")
+    size = parser.add_mutually_exclusive_group()
+    size.add_argument("--spacing", type=float, metavar="M", help="with --plane: cell size in m (default EN 12464-1)")
+    size.add_argument("--resolution", type=int, nargs=2, metavar=("NX", "NY"), help="with --plane: points along x, y")
+    parser.add_argument("--subdivision", type=int, default=1, metavar="M",
+                        help="Reinhart sky subdivision MF:M (1 = Tregenza, 146 patches with the ground)")
+    parser.add_argument("--ground-reflectance", type=float, default=0.2, metavar="RHO",
+                        help="reflectance of the ground (default 0.2)")
+    parser.add_argument("--north", type=float, default=0.0, metavar="DEG",
+                        help="angle from the scene's +Y axis to true north, counter-clockwise seen from above")
+    parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="preview",
+                        help="target error of each patch's coefficients (default preview, 5 %%)")
+    parser.add_argument("--csv", metavar="FILE", help="write one row per point")
+
+
+def run(args):
+    import os
+
+    import bpy
+    import numpy as np
+
+    from .. import api
+    from ..cli import deliver
+    from ..errors import RadiometerError
+    from . import _io
+    from .sun_study import plane_points, read_points
+
+    _io.check_output_file(args.csv, "--csv file")
+    if not os.path.isfile(args.epw):
+        raise RadiometerError(f"--epw {args.epw}: no such file")
+    scene = bpy.context.scene
+    if args.points:
+        if args.spacing is not None or args.resolution is not None:
+            raise RadiometerError("--spacing/--resolution go with --plane, not --points")
+        locations, normals = read_points(args.points)
+    else:
+        locations, normals = plane_points(scene, args.plane, args.spacing, args.resolution)
+    progress = getattr(args, "progress", None)
+    if progress is not None:
+        progress.label = f"annual daylight, {len(locations)} points"
+    r = api.annual_daylight(locations, normals, args.epw, scene=scene, m=args.subdivision, quality=args.quality,
+                            ground_reflectance=args.ground_reflectance, north_offset_deg=args.north, progress=progress,
+                            cancelled=getattr(args, "cancelled", None))
+    if progress is not None:
+        progress.clear()
+    print(f"annual daylight at {len(locations)} points: sDA300/50% {100 * r.sda:.1f} %, ASE1000/250h "
+          f"{100 * r.ase:.1f} %, mean UDI 100-2000 lx {100 * float(np.mean(r.udi[1])):.1f} % of occupied hours "
+          f"(worst stated hourly error {100 * r.max_rel_std_error:.2g} %)")
+    for note in r.notes:
+        print(note)
+    result = r.to_dict()
+    deliver(args, result)
+    if args.csv:
+        _io.write_text(args.csv, r.csv_text(), getattr(args, "interrupt", None))
+        print(f"wrote {args.csv}")
+    return result
