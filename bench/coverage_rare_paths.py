@@ -1,7 +1,7 @@
 """Coverage of the stated error where light arrives by rare paths (issue 18): many seeds per case,
 each reading compared with its independent reference; writes bench/coverage_rare_paths.md.
 
-    .venv/bin/python bench/coverage_rare_paths.py [seeds=50] [room|glossy]
+    .venv/bin/python bench/coverage_rare_paths.py [seeds=50] [room|glossy|sphere]
 
 Cases: the skylight room of tests/bpy/glass_fog_scenes.py (meters in the sun patch and in the shade,
 light through a glass pane and by interreflection), with the references cached in
@@ -37,6 +37,20 @@ CASES = {
 }
 
 
+def _sphere_cases():
+    """The integrating sphere of tests/bpy/corpus.py (albedo 0.8, a point light at the centre: light
+    by many interreflections) with its polygon-corrected closed form as the reference."""
+    corpus = _load(ROOT / "tests/bpy/corpus.py", "corpus")
+    res = corpus.integrating_sphere()
+    out = []
+    for case in res["cases"][:1]:
+        c = np.asarray(case.point)
+        direct = res["power"] / (4 * math.pi) * float(np.dot(-c / np.linalg.norm(c), case.normal)) / float(c @ c)
+        closed = direct + res["rho"] * res["power"] / ((1 - res["rho"]) * res["area_poly"])
+        out.append((case.label + " (inner wall)", case.point, case.normal, 683.0 * closed))
+    return res["scene"], out
+
+
 def main(seeds=50, which="room"):
     import radiometer
     from radiometer import api
@@ -44,6 +58,13 @@ def main(seeds=50, which="room"):
     scenes = _load(ROOT / "tests/bpy/glass_fog_scenes.py", "gfs")
     refs = json.loads((ROOT / "tests/bpy/glass_fog_references.json").read_text())["values"]
     rows = []
+    if which == "sphere":
+        scene, cases = _sphere_cases()
+        radiometer.register()
+        label, point, normal, ref = cases[0]
+        rows.append(_seeds(api, scene, label, point, normal, "standard", ref, 0.0, seeds))
+        _write(rows, "coverage_rare_paths_sphere.md")
+        return
     builder, prefixes, plan, out = CASES[which]
     for case, quality in plan:
         scene, cases = getattr(scenes, builder)()
@@ -53,20 +74,24 @@ def main(seeds=50, which="room"):
                  for p in prefixes]
         ref = sum(v for v, _ in parts)
         ref_se = math.hypot(*(v * s for v, s in parts))
-        z, stated, seconds = [], [], []
-        for seed in range(seeds):
-            t0 = time.perf_counter()
-            r = api.measure_illuminance(point, normal, scene=scene, quality=quality, seed=1000 * seed + 1)
-            seconds.append(time.perf_counter() - t0)
-            se = math.hypot(r.rel_std_error * r.illuminance, ref_se)
-            z.append((r.illuminance - ref) / se)
-            stated.append(r.rel_std_error)
-            print(label, quality, seed, r.illuminance, r.rel_std_error, z[-1], flush=True)
-        z = np.array(z)
-        rows.append((label, quality, ref, len(z), float(np.mean(np.abs(z) < 1.96)), float(np.std(z)),
-                     float(np.mean(z)), float(np.mean(stated)), float(np.median(seconds))))
+        rows.append(_seeds(api, scene, label, point, normal, quality, ref, ref_se, seeds))
         radiometer.unregister()
         _write(rows, out)  # after every case: a long study keeps what it has
+
+
+def _seeds(api, scene, label, point, normal, quality, ref, ref_se, seeds):
+    z, stated, seconds = [], [], []
+    for seed in range(seeds):
+        t0 = time.perf_counter()
+        r = api.measure_illuminance(point, normal, scene=scene, quality=quality, seed=1000 * seed + 1)
+        seconds.append(time.perf_counter() - t0)
+        se = math.hypot(r.rel_std_error * r.illuminance, ref_se)
+        z.append((r.illuminance - ref) / se)
+        stated.append(r.rel_std_error)
+        print(label, quality, seed, r.illuminance, r.rel_std_error, z[-1], flush=True)
+    z = np.array(z)
+    return (label, quality, ref, len(z), float(np.mean(np.abs(z) < 1.96)), float(np.std(z)), float(np.mean(z)),
+            float(np.mean(stated)), float(np.median(seconds)))
 
 
 def _write(rows, out="coverage_rare_paths.md"):

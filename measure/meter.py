@@ -204,8 +204,12 @@ def render_irradiance(scene, view_layer, points_scene, normals, preset, *, needs
     sensor positions themselves (callers offset meters from surfaces first).
     """
     scale = scene.unit_settings.scale_length
-    with scene_guard.preserved_scene(scene):
+    with scene_guard.preserved_scene(scene) as snapshot:
         record = render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs)
+        if needs.get("thin_panes"):  # issue 18: planar panes render as thin glass
+            from . import glass
+
+            record = dict(record, thin_panes=glass.swap_panes(snapshot, needs["thin_panes"]))
         estimates, info = sensors.bake_irradiance(
             scene, view_layer, points_scene, normals, samples=preset["samples"], texels=preset["texels"],
             bakes=preset["bakes"], progress=progress, cancelled=cancelled, seed0=seed)

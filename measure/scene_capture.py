@@ -294,6 +294,7 @@ def capture(scene, view_layer=None, exclude=()):
     needs["volume"] |= world_volume
     volumes = needs.pop("volumes", [])
     panes, refractors = needs.pop("panes", {}), needs.pop("refractors", [])
+    needs["thin_panes"] = panes  # every render path swaps these for thin glass (measure.glass.swap_panes)
     return scene_model.SceneModel(lights=model_lights, geometry=geometry, world_emits=needs["world_emits"],
                                   needs=needs, scale_length=scale, world=_world(scene, needs["world_emits"]),
                                   volumes=volumes, world_volume=bool(world_volume), panes=panes,
