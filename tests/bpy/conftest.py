@@ -6,6 +6,26 @@ bpy = pytest.importorskip("bpy")
 
 from radiometer.compat import ensure_node_tree  # noqa: E402
 
+# Blender 4.5's bpy module can hang at interpreter exit: its delayed-file-close thread and a global
+# destructor wait on each other (gdb: GlobalState::~GlobalState in pthread_cond_destroy while
+# delayed_close_thread_run waits); 5.0 exits normally. On 4.x the session ends with os._exit once
+# pytest has reported, with pytest's exit status.
+_session = {"status": 0}
+
+
+def pytest_sessionfinish(session, exitstatus):
+    _session["status"] = int(exitstatus)
+
+
+def pytest_unconfigure(config):
+    if bpy.app.version < (5, 0, 0):
+        import os
+        import sys
+
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(_session["status"])
+
 
 @pytest.fixture
 def clean_blender():

@@ -42,7 +42,9 @@ def test_install_enable_run_disable_in_fresh_process(tmp_path):
         assert bpy.context.active_object.radiometer_meter.is_meter
         bpy.ops.preferences.addon_disable(module=module)
         assert not hasattr(bpy.types.Scene, "radiometer")
-        print("INSTALL-OK")
+        print("INSTALL-OK", flush=True)
+        import os
+        os._exit(0)  # Blender 4.5's bpy can hang at exit (see tests/bpy/conftest.py)
     """)
     env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user"))
     # Run from / so the repo's own copy (the .venv symlink) cannot be imported by mistake.

@@ -102,7 +102,9 @@ SCRIPT = textwrap.dedent("""
     out["cli_grid_csv"] = cli._blender_cli(["grid", "--csv", os.path.join(outdir, "g.csv")])
     out["blocked_loaded"] = [n for n in ("scipy", "matplotlib", "colour") if sys.modules.get(n) is not None]
     radiometer.unregister()
-    print("RESULT " + json.dumps(out))
+    print("RESULT " + json.dumps(out), flush=True)
+    sys.stderr.flush()
+    os._exit(0)  # Blender 4.5's bpy can hang at exit (see tests/bpy/conftest.py)
 """)
 
 
