@@ -122,7 +122,8 @@ def bench_batch_cost(quick=False):
 
 
 def batch_cost_markdown(b):
-    r1, r100 = b["rows"][1], b["rows"][100]
+    rows = {int(k): v for k, v in b["rows"].items()}  # JSON turns the keys into strings
+    r1, r100 = rows[1], rows[100]
     return ["## Per-sample cost of a batch (issue 17)", "",
             f"130k-triangle room, {b['samples_per_meter']} samples per meter fixed, `method='render'`, median of "
             f"{b['reps']}: 1 meter {r1['call_s']:.3f} s (bakes {r1['bake_s']:.3f} s), 100 meters "
@@ -284,5 +285,8 @@ def radiance_markdown(r):
                     f"{100 * r['per_path_spread']:.0f} % (so {path['paths_per_point']} paths for 1 %)."]
     if "references_differ_rms" in r:
         out += [f"Radiometer's readings against the Radiance reference: RMS {100 * r['references_differ_rms']:.2f} % "
-                "(the model difference: Cycles' lights are transparent to rays, Radiance's `light` polygon is not)."]
+                "(not explained yet; a known difference of the two scenes: Cycles' lights are transparent to rays, so "
+                "the ceiling behind the panel lights the room, while Radiance's `light` polygon is opaque; unmeasured).",
+                "The ambient-cache levels stop at 2 and 3 ambient bounces (`-ab`): in a closed room of albedo 0.7 "
+                "most of the light has bounced more often, hence their large errors."]
     return out + [""]
