@@ -12,8 +12,10 @@ that a measurement renders in their place.
   BSDF for shadow rays and one of the above for the rest. It is read as the real pane it depicts:
   Cycles would count the light twice there (shadow ray through the transparent part + refraction).
 
-with every input unlinked and no Volume. Anything else that transmits (a rough "frosted" pane, a
-textured or absorbing one) stays rendered as it is, and the reason is kept for the notes.
+with every input unlinked, and no Volume or a plain Volume Absorption (absorption coefficient
+density x (1 - Color) per scene unit, Cycles' definition) along the refracted path. Anything else that
+transmits (a rough "frosted" pane, a textured one) stays rendered as it is, and the reason is kept for
+the notes.
 
 ``thin_pane_material(pane)`` builds the material a measurement swaps in (restored by the scene
 guard): per shading point, the incidence cosine |N . I| from the geometry drives exact Fresnel (math
@@ -48,12 +50,25 @@ def _surface_node(tree):
     out = (active or [n for n in outputs if getattr(n, "target", "ALL") in ("ALL", "CYCLES")] or [None])[0]
     if out is None:
         return None, None
-    if out.inputs["Volume"].is_linked:
-        return None, "a Volume inside the pane (absorbing glass is not modelled here)"
     surface = out.inputs["Surface"]
     if not surface.is_linked:
         return None, None
     return surface.links[0].from_node, None
+
+
+def _absorption(tree):
+    """(sigma_a per scene unit (3,), "") of the material's Volume: nothing, or one Volume Absorption
+    with unlinked inputs (Cycles: sigma_a = density (1 - Color)); else (None, reason)."""
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+    active = [n for n in outputs if n.is_active_output] or outputs
+    volume = active[0].inputs["Volume"] if active else None
+    if volume is None or not volume.is_linked:
+        return (0.0, 0.0, 0.0), ""
+    node = volume.links[0].from_node
+    if node.bl_idname != "ShaderNodeVolumeAbsorption" or not _unlinked(node, "Color", "Density"):
+        return None, "a Volume other than a plain Volume Absorption inside the pane: rendered"
+    density = float(_value(node, "Density", 1.0))
+    return tuple(density * (1.0 - float(c)) for c in _value(node, "Color")[:3]), ""
 
 
 def _node_optics(node):
@@ -117,7 +132,15 @@ def pane_optics(material):
     node, why = _surface_node(tree)
     if node is None:
         return None, why or ""
-    return _node_optics(node)
+    optics, why = _node_optics(node)
+    if optics is None:
+        return None, why
+    sigma, why = _absorption(tree)
+    if sigma is None:
+        return None, why
+    if any(sigma):
+        optics = dict(optics, absorption=sigma, model=optics["model"] + " with a Volume Absorption inside")
+    return optics, ""
 
 
 # --- the thin-pane shader swapped in for a measurement ----------------------------------------------

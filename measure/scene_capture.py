@@ -142,7 +142,7 @@ def _collect(depsgraph):
         if traits[np.unique(slot), 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
             _glass_object(panes, refractors, len(names), name, original.name, world,
                           [slots[j] for j in np.unique(slot)], material_cache)
-        if traits[np.unique(slot), 4].any():  # a Volume shader fills this mesh (issue 18)
+        if traits[np.unique(slot), 4].any() and len(names) not in panes:  # a medium fills this mesh (issue 18)
             flat = world.reshape(-1, 3)
             volumes.append((name, flat.min(axis=0), flat.max(axis=0)))
         index = len(names)
@@ -188,7 +188,10 @@ def _glass_object(panes, refractors, index, name, source, world_tris, materials,
         return
     o = optics[0][0]
     shape = f"a slab {1000 * geom.thickness:.3g} mm thick" if len(geom.heights) == 2 else "a single face"
+    # Volume Absorption density is per scene unit: per metre it is density / scale.
+    absorption = tuple(float(a) / _Capture.scale for a in o.get("absorption", (0.0, 0.0, 0.0)))
     panes[index] = thin_glass.Pane(name=name, ior=o["ior"], thickness=geom.thickness, tint_t=o["tint_t"],
+                                   absorption=absorption,
                                    tint_r=o["tint_r"], geometry=geom, trick=bool(o.get("trick")),
                                    model=f"{o['model']}, IOR {o['ior']:g}, {shape}", source=source)
 

@@ -241,6 +241,27 @@ def glossy_floor(roughness=0.3):
                    ("beside the highlight", (1.0, 0.0, 1.0), (0.0, 0.0, -1.0))]
 
 
+#: Absorbing pane: Volume Absorption inside a 6 mm Glass BSDF slab (Cycles: sigma_a = density (1 - Color)).
+ABSORBER = {"density": 20.0, "colour": (0.5, 0.8, 0.9)}
+
+
+def absorbing_pane_sky(sun=False):
+    """The "plain" window of ``window`` with a Volume Absorption in the pane, under a uniform sky of
+    radiance 1 W/(m^2 sr) (optionally the sun too)."""
+    scene, cases = window("plain", light="SUN")
+    if not sun:
+        bpy.data.objects.remove(next(o for o in scene.objects if o.type == "LIGHT"))
+    scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+    tree = bpy.data.objects["Pane 1"].data.materials[0].node_tree
+    absorb = tree.nodes.new("ShaderNodeVolumeAbsorption")
+    absorb.inputs["Density"].default_value = ABSORBER["density"]
+    absorb.inputs["Color"].default_value = tuple(ABSORBER["colour"]) + (1.0,)
+    out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    tree.links.new(absorb.outputs[0], out.inputs["Volume"])
+    return scene, [("under an absorbing pane, sky", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0))]
+
+
 SCENES = {f"fog_{k.lower()}": (lambda k=k: fog(k)) for k in FOG_LIGHTS}
+SCENES["absorbing_pane_sky"] = absorbing_pane_sky
 SCENES["glossy_floor"] = glossy_floor
 SCENES.update({"window_room_sun": lambda: window_room("sun"), "window_room_sky": lambda: window_room("sky")})

@@ -179,3 +179,30 @@ def test_glossy_floor_reflection_against_a_patch_render(clean_blender, case):
     r = api.measure_illuminance(point, normal, scene=scene, quality="preview")
     assert r.render_settings["filter_glossy"] == 0.0 and scene.cycles.blur_glossy == 1.0  # the user's, restored
     _check(r, ref_lux, ref_se)
+
+
+def test_volume_absorption_inside_a_pane(clean_blender):
+    """A Volume Absorption inside a solid pane is absorption along the refracted path (Cycles:
+    sigma_a = density (1 - Color) per scene unit). Under a uniform sky the reference is a patch
+    render through the real Glass BSDF with its volume (a large source: it converges); the slab's
+    closed form integrated over the pane agrees with it, and so does the meter."""
+    from radiometer import api
+    from radiometer.radiometry import photometry, thin_glass
+
+    scene, [(label, point, normal)] = scenes.absorbing_pane_sky()
+    ref_lux, ref_se = _stored(f"absorbing_pane_sky/{label}", point, normal)
+    # Closed form: the world lies all round, so the pane passes T of the sky above and reflects R of
+    # the sky below: E = pi L - L * integral over the pane of A(theta) cos(theta) d omega, A = 1 - T - R.
+    sigma = np.array([scenes.ABSORBER["density"] * (1.0 - float(np.float32(c))) for c in scenes.ABSORBER["colour"]])
+    x, w = np.polynomial.legendre.leggauss(96)
+    gx, gy = np.meshgrid(x, x)  # the 2 x 2 m pane at 1 m: x, y in [-1, 1]
+    r2 = gx ** 2 + gy ** 2 + 1.0
+    A = thin_glass.slab(1.0 / np.sqrt(r2), float(np.float32(1.52)), 0.006, sigma)[2]
+    lost = np.einsum("ij,ij,ijc->c", np.outer(w, w), 1.0 / r2 ** 2, A)
+    weights = np.asarray(photometry.luminance_weights("Linear Rec.709"), float)
+    closed_lux = 683.0 * float((math.pi - lost) @ weights)
+    assert abs(closed_lux / ref_lux - 1.0) <= max(3 * ref_se, 0.005), (closed_lux, ref_lux)
+    r = api.measure_illuminance(point, normal, scene=scene, quality="standard")
+    assert any("Volume Absorption inside" in note for note in r.notes), r.notes
+    assert not r.exact  # the sky through the pane is rendered (through the thin-pane shader)
+    _check(r, ref_lux, ref_se)
