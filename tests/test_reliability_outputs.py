@@ -190,6 +190,14 @@ def test_full_disk_device_is_an_error_naming_it(blend):
     assert "/dev/full" in line
 
 
+def test_png_onto_a_full_device_is_an_error_and_writes_no_other_file(blend):
+    # Finding 14: `--png /dev/full` wrote /dev/full.png and reported success.
+    pytest.importorskip("matplotlib")
+    line = one_error_line(run_cli("grid", blend, "--resolution", "2", "2", "--method", "analytic",
+                                  "--png", "/dev/full"), "No space left")
+    assert "/dev/full" in line and not os.path.exists("/dev/full.png")
+
+
 # --- finding 13: EXR write errors and radiance maps left in a temp folder -------------------------------
 
 def test_irradiance_map_onto_a_full_device_is_an_error(blend):
