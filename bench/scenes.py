@@ -74,12 +74,10 @@ def area_lit(energy=40.0, size=1.0, height=1.0):
     return scene
 
 
-def room(size=(4.0, 4.0, 3.0), albedo=0.7, energy=400.0):
-    """Closed diffuse room (floor at z=0, normals inward) lit by a 1 m square ceiling area light."""
-    scene = fresh()
+def room_quads(size=(4.0, 4.0, 3.0)):
+    """The six walls of the closed room (floor at z=0), each quad's normal pointing into the room (m)."""
     hx, hy, h = size[0] / 2, size[1] / 2, size[2]
-    mat = diffuse_material("bench wall", albedo)
-    quads = [
+    return [
         [(-hx, -hy, 0), (hx, -hy, 0), (hx, hy, 0), (-hx, hy, 0)],          # floor, +Z
         [(-hx, -hy, h), (-hx, hy, h), (hx, hy, h), (hx, -hy, h)],          # ceiling, -Z
         [(-hx, -hy, 0), (-hx, hy, 0), (-hx, hy, h), (-hx, -hy, h)],        # x = -hx, +X
@@ -87,7 +85,14 @@ def room(size=(4.0, 4.0, 3.0), albedo=0.7, energy=400.0):
         [(-hx, -hy, 0), (-hx, -hy, h), (hx, -hy, h), (hx, -hy, 0)],        # y = -hy, +Y
         [(-hx, hy, 0), (hx, hy, 0), (hx, hy, h), (-hx, hy, h)],            # y = +hy, -Y
     ]
-    quad_mesh(scene, "bench room", quads, mat)
+
+
+def room(size=(4.0, 4.0, 3.0), albedo=0.7, energy=400.0):
+    """Closed diffuse room (floor at z=0, normals inward) lit by a 1 m square ceiling area light."""
+    scene = fresh()
+    h = size[2]
+    mat = diffuse_material("bench wall", albedo)
+    quad_mesh(scene, "bench room", room_quads(size), mat)
     light(scene, "AREA", (0.0, 0.0, h - 0.01), energy=energy, shape="SQUARE", size=1.0)
     return scene
 

@@ -156,15 +156,9 @@ PATH = "-ab 64 -aa 0 -ad 1 -as 0 -lr 0 -lw 1e-6 -dj 1 -ds 0.02 -u+"
 
 
 def _room_rad(size=(4.0, 4.0, 3.0), albedo=0.7, energy=400.0):
-    hx, hy, h = size[0] / 2, size[1] / 2, size[2]
-    quads = [  # the same vertex order as bench/scenes.py room(): normals point into the room
-        [(-hx, -hy, 0), (hx, -hy, 0), (hx, hy, 0), (-hx, hy, 0)],
-        [(-hx, -hy, h), (-hx, hy, h), (hx, hy, h), (hx, -hy, h)],
-        [(-hx, -hy, 0), (-hx, hy, 0), (-hx, hy, h), (-hx, -hy, h)],
-        [(hx, -hy, 0), (hx, -hy, h), (hx, hy, h), (hx, hy, 0)],
-        [(-hx, -hy, 0), (-hx, -hy, h), (hx, -hy, h), (hx, -hy, 0)],
-        [(-hx, hy, 0), (hx, hy, 0), (hx, hy, h), (-hx, hy, h)],
-    ]
+    """bench/scenes.py ``room`` as a Radiance scene: the same quads, a Lambertian 0.7 wall, the panel."""
+    h = size[2]
+    quads = scenes.room_quads(size)
     radiance = energy / (math.pi * 1.0)  # Blender's area light: L = P / (pi A), W/(m^2 sr) per channel
     z = h - 0.01
     panel = [(-0.5, -0.5, z), (-0.5, 0.5, z), (0.5, 0.5, z), (0.5, -0.5, z)]  # normal -Z, as the light
