@@ -280,6 +280,14 @@ def _wrap(text, width):
     return textwrap.wrap(text, width) or [""]
 
 
+def _picture_size(scene, longest=240):
+    """The camera's aspect at ``longest`` pixels on the longer side."""
+    r = scene.render
+    w, h = max(r.resolution_x, 1), max(r.resolution_y, 1)
+    k = longest / max(w, h)
+    return max(1, round(w * k)), max(1, round(h * k))
+
+
 def _plain(value, digits=4):
     """``value`` to ``digits`` significant digits without scientific notation: 10240 -> '10240'."""
     v = float(f"{float(value):.{digits}g}")
@@ -366,10 +374,13 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
         from . import luminance_image
 
         try:
+            # a picture, not a measurement: preview target, at most 64 samples per pixel per render
             img = luminance_image.luminance_image(os.path.join(out_dir, "luminance.exr"), scene=scene,
-                                                  quality="preview", cancelled=cancelled)
+                                                  resolution=_picture_size(scene), quality="preview",
+                                                  cancelled=cancelled, max_spp=64)
             client["images"].append((f"False-colour luminance seen by the camera {scene.camera.name} (cd/m², log "
-                                     f"scale; each pixel to about {100 * img.target_rel_error:g} %)", "luminance.png"))
+                                     f"scale; {100 * img.share_on_target:.0f} % of the pixels within "
+                                     f"{100 * img.target_rel_error:g} %)", "luminance.png"))
         except RadiometerError as exc:
             report.setdefault("errors", []).append(f"luminance image: {exc}")
     for grid in report.get("grids", []):

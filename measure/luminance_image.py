@@ -72,8 +72,11 @@ def _resolution(scene, resolution):
 
 
 def render_luminance(*, scene=None, camera=None, resolution=None, quality="standard", target_rel_error=None,
-                     progress=None, cancelled=None):
-    """:class:`LuminanceImage` of ``camera`` (an object or its name; default the scene camera)."""
+                     progress=None, cancelled=None, max_spp=MAX_SPP):
+    """:class:`LuminanceImage` of ``camera`` (an object or its name; default the scene camera).
+
+    ``max_spp``: cap on the samples per pixel of one render (16..1024); the notes say how many pixels
+    reached the target."""
     scene = scene or bpy.context.scene
     cam = scene.camera if camera is None else (scene.objects.get(camera) if isinstance(camera, str) else camera)
     if cam is None or getattr(cam, "type", None) != "CAMERA":
@@ -85,6 +88,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
     unit_area = scene.unit_settings.scale_length ** 2
     folder = camera_mod._scratch_folder()
     started = time.perf_counter()
+    cap = int(min(max(int(max_spp), 16), MAX_SPP))
     spp, k = 16, 0
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
@@ -110,9 +114,9 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
                     rel = np.where(mean_y > 0, se_y / mean_y, np.nan)
                 lit = rel[np.isfinite(rel)]
                 p90 = float(np.percentile(lit, 90)) if lit.size else 0.0
-                if p90 <= target or spp >= MAX_SPP:
+                if p90 <= target or spp >= cap:
                     break
-                spp = min(MAX_SPP, spp * 4)
+                spp = min(cap, spp * 4)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
     share = float(np.mean(lit <= target)) if lit.size else 1.0
@@ -121,7 +125,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
              "delta lights (radius 0) are invisible to camera rays: they light the scene but are not seen"]
     if share < 0.9:
         notes.append(f"only {100 * share:.0f} % of the lit pixels reached the {100 * target:g} % target at "
-                     f"{MAX_SPP} samples per pixel")
+                     f"{spp} samples per pixel")
     return LuminanceImage(luminance=efficacy * mean_y, rel_std_error=rel, radiance_rgb=mean_rgb, camera=cam.name,
                           resolution=(width, height), samples=spp * RENDERS, target_rel_error=target,
                           share_on_target=share, efficacy=efficacy, colour_space=space,
@@ -129,7 +133,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
 
 
 def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log",
-                    range=None, progress=None, cancelled=None):  # noqa: A002 - the API's documented name
+                    range=None, progress=None, cancelled=None, max_spp=MAX_SPP):  # noqa: A002 - the API's name
     """Render :func:`render_luminance` and write ``path`` (.exr: 32-bit, luminance in cd/m² in R, G and
     B) and the false-colour PNG beside it (same stem, .png; legend in cd/m², ``scale`` 'log' | 'linear',
     ``range`` (lo, hi) cd/m² or automatic). Returns the :class:`LuminanceImage` with ``paths``."""
@@ -150,7 +154,7 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
         except ValueError as exc:
             raise RadiometerError(str(exc)) from None
     result = render_luminance(scene=scene, camera=camera, resolution=resolution, quality=quality,
-                              progress=progress, cancelled=cancelled)
+                              progress=progress, cancelled=cancelled, max_spp=max_spp)
     world.write_exr(path, np.repeat(result.luminance[..., None], 3, axis=-1))
     result.paths["exr"] = path
     from ..plots import matplotlib_available
@@ -160,8 +164,9 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
 
         png = os.path.splitext(path)[0] + ".png"
         false_colour_png(png, result.luminance, unit="cd/m²", quantity="luminance", scale=scale, value_range=range,
-                         title=f"Luminance seen by {result.camera} ({result.resolution[0]} x {result.resolution[1]} px,"
-                               f" {100 * result.target_rel_error:g} % target)")
+                         title=f"Luminance seen by {result.camera} ({result.resolution[0]} x {result.resolution[1]} px; "
+                               f"{100 * result.share_on_target:.0f} % of the pixels within "
+                               f"{100 * result.target_rel_error:g} %)")
         result.paths["png"] = png
     else:
         result.notes.append("no false-colour PNG: matplotlib is not installed (the EXR holds the numbers)")

@@ -167,8 +167,10 @@ def main(argv):
     import tempfile
 
     with tempfile.TemporaryDirectory() as tmp:
-        img = api.luminance_image(os.path.join(tmp, "luminance.exr"), scene=scene, resolution=(320, 180),
-                                  quality="preview")
+        from radiometer.measure import luminance_image
+
+        img = luminance_image.luminance_image(os.path.join(tmp, "luminance.exr"), scene=scene,
+                                              resolution=(240, 135), quality="preview", max_spp=64)
         paths.append(shutil.copy(img.paths["png"], os.path.join(out, "luminance.png")))
     print(f"luminance image: {img.samples} samples per pixel, {100 * img.share_on_target:.0f} % of the pixels on "
           f"the {100 * img.target_rel_error:g} % target")
