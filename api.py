@@ -572,6 +572,7 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
                                   north_offset_deg=north_offset_deg, occupied_from=occupied_from,
                                   occupied_to=occupied_to, seed=seed, progress=progress, cancelled=cancelled)
 
+
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------
 
 @_v.boundary
