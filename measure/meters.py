@@ -122,19 +122,23 @@ def run_step(scene, step, settings, *, progress=None, cancelled=None):
 
 
 def write_reading(obj, reading):
+    """Store ``reading`` on the meter object (read-only properties of ``obj.radiometer_meter``: the
+    values are ID properties of the same names, so they persist in the .blend and follow undo)."""
     m = obj.radiometer_meter
-    m.has_reading = True
     if reading.quantity == "illuminance":
-        m.value_rgb, m.value, m.photometric = reading.irradiance_rgb, reading.irradiance, reading.illuminance
+        rgb, value, photometric = reading.irradiance_rgb, reading.irradiance, reading.illuminance
     elif reading.quantity == "luminance":
-        m.value_rgb, m.value, m.photometric = reading.radiance_rgb, reading.radiance, reading.luminance
+        rgb, value, photometric = reading.radiance_rgb, reading.radiance, reading.luminance
     else:  # radiance map: store the irradiance it implies for the meter's +Z normal
-        m.value_rgb, m.value, m.photometric = reading.irradiance_rgb, reading.irradiance, reading.illuminance
-        m.map_path = reading.path
-    m.rel_std_error = reading.rel_std_error if np.isfinite(reading.rel_std_error) else 0.0
-    m.exact, m.method, m.samples = reading.exact, reading.method, int(reading.samples)
-    m.seconds, m.efficacy = reading.seconds, reading.efficacy
-    m.notes = " | ".join(reading.notes)
+        rgb, value, photometric = reading.irradiance_rgb, reading.irradiance, reading.illuminance
+        m["map_path"] = reading.path
+    m["value_rgb"] = [float(v) for v in rgb]
+    m["value"], m["photometric"] = float(value), float(photometric)
+    m["rel_std_error"] = float(reading.rel_std_error) if np.isfinite(reading.rel_std_error) else 0.0
+    m["exact"], m["method"], m["samples"] = bool(reading.exact), str(reading.method), int(reading.samples)
+    m["seconds"], m["efficacy"] = float(reading.seconds), float(reading.efficacy)
+    m["notes"] = " | ".join(reading.notes)
+    m["has_reading"] = True
 
 
 def scene_settings(scene, quality=None):

@@ -42,6 +42,17 @@ def _convention_changed(self, _context):
         self.efficacy = _EFFICACY_VALUES[self.efficacy_convention]
 
 
+def _reading(key, default):
+    """Getter of a stored reading (an ID property of the same name; ``default`` before the first)."""
+    kind = type(default)
+
+    def get(self):
+        value = self.get(key, default)
+        return tuple(float(v) for v in value) if kind is tuple else kind(value)
+
+    return get
+
+
 class RadiometerMeterSettings(bpy.types.PropertyGroup):
     is_meter: BoolProperty(name="Is Light Meter", default=False,
                            description="This object is a Radiometer light meter (Measure reads it)")
@@ -51,24 +62,31 @@ class RadiometerMeterSettings(bpy.types.PropertyGroup):
                                   default=1.0, min=0.01, max=60.0, unit="NONE", subtype="NONE")
     map_resolution: IntProperty(name="Map Height", description="Radiance map height in pixels (width = 2x)",
                                 default=128, min=8, max=4096)
-    # Reading (SI); written by radiometer.measure, persisted in the .blend.
-    has_reading: BoolProperty(name="Has Reading", default=False,
+    # Reading (SI); written by radiometer.measure (measure.meters.write_reading stores them as ID
+    # properties of the same names), persisted in the .blend. Read-only: a reading is a measurement,
+    # not a setting, so neither the UI nor a script can edit it (getters without setters).
+    has_reading: BoolProperty(name="Has Reading", get=_reading("has_reading", False),
                               description="The meter has been measured (the reading below is stored in the file)")
-    value_rgb: FloatVectorProperty(name="RGB", size=3, description="Irradiance W/m² or radiance W/(m² sr), RGB")
-    value: FloatProperty(name="Radiometric", description="Irradiance W/m² or radiance W/(m² sr) (CIE Y weighted)")
-    photometric: FloatProperty(name="Photometric", description="Illuminance (lux) or luminance (cd/m²)")
-    rel_std_error: FloatProperty(name="Relative Standard Error", default=0.0,
+    value_rgb: FloatVectorProperty(name="RGB", size=3, get=_reading("value_rgb", (0.0, 0.0, 0.0)),
+                                   description="Irradiance W/m² or radiance W/(m² sr), RGB")
+    value: FloatProperty(name="Radiometric", get=_reading("value", 0.0),
+                         description="Irradiance W/m² or radiance W/(m² sr) (CIE Y weighted)")
+    photometric: FloatProperty(name="Photometric", get=_reading("photometric", 0.0),
+                               description="Illuminance (lux) or luminance (cd/m²)")
+    rel_std_error: FloatProperty(name="Relative Standard Error", get=_reading("rel_std_error", 0.0),
                                  description="Stated 1-sigma relative standard error of the reading (fraction)")
-    exact: BoolProperty(name="Exact", default=False,
+    exact: BoolProperty(name="Exact", get=_reading("exact", False),
                         description="The reading came from closed forms proven exact for this scene (no noise)")
-    method: StringProperty(name="Method", description="How the reading was made: analytic, hybrid or render")
-    samples: IntProperty(name="Samples", description="Path-tracing samples spent on the reading (0 if analytic)")
-    seconds: FloatProperty(name="Seconds", description="Wall time of the measurement, s")
-    efficacy: FloatProperty(name="Efficacy (lm/W)", description="Luminous efficacy used for the photometric "
-                            "value when it was measured, lm/W")
-    notes: StringProperty(name="Notes", description="Caveats of the reading (placement, enclosure, method), "
-                          "separated by |")
-    map_path: StringProperty(name="Radiance Map", subtype="FILE_PATH",
+    method: StringProperty(name="Method", get=_reading("method", ""),
+                           description="How the reading was made: analytic, hybrid or render")
+    samples: IntProperty(name="Samples", get=_reading("samples", 0),
+                         description="Path-tracing samples spent on the reading (0 if analytic)")
+    seconds: FloatProperty(name="Seconds", get=_reading("seconds", 0.0), description="Wall time of the measurement, s")
+    efficacy: FloatProperty(name="Efficacy (lm/W)", get=_reading("efficacy", 0.0),
+                            description="Luminous efficacy used for the photometric value when it was measured, lm/W")
+    notes: StringProperty(name="Notes", get=_reading("notes", ""),
+                          description="Caveats of the reading (placement, enclosure, method), separated by |")
+    map_path: StringProperty(name="Radiance Map", subtype="FILE_PATH", get=_reading("map_path", ""),
                              description="The EXR file of the last radiance map")
 
 

@@ -69,9 +69,10 @@ def test_meter_settings_and_readings_survive_save_and_reload(clean_blender, tmp_
     bpy.ops.radiometer.add_meter(kind="LUMINANCE", acceptance_deg=2.5)
     meter = bpy.context.active_object
     name = meter.name
-    meter.radiometer_meter.photometric = 123.25
-    meter.radiometer_meter.has_reading = True
-    meter.radiometer_meter.notes = "note a | note b"
+    # readings are read-only properties, stored as ID properties by measure.meters.write_reading
+    meter.radiometer_meter["photometric"] = 123.25
+    meter.radiometer_meter["has_reading"] = True
+    meter.radiometer_meter["notes"] = "note a | note b"
     scene.radiometer.efficacy_convention = "RADIANCE_179"
     path = str(tmp_path / "saved.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)

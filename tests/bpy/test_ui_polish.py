@@ -76,3 +76,30 @@ def test_measure_says_what_it_measured(clean_blender, capsys):
     assert all(m.radiometer_meter.has_reading for m in meters)
     assert "Measured all 3 meters: " in capsys.readouterr().out
     assert measured_line(1, 1, "") == "Measured all 1 meter"
+
+
+READINGS = ("has_reading", "value_rgb", "value", "photometric", "rel_std_error", "exact", "method", "samples",
+            "seconds", "efficacy", "notes", "map_path")
+
+
+def test_readings_are_read_only(clean_blender):
+    import pytest
+
+    from radiometer.operators.meter import add_meter
+
+    scene = bpy.context.scene
+    make_black_world(scene)
+    add_light(scene, "POINT", (0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0)
+    meter = add_meter(bpy.context, "ILLUMINANCE", (0.0, 0.0, 0.0))
+    props = meter.radiometer_meter.bl_rna.properties
+    assert [k for k in READINGS if not props[k].is_readonly] == []
+    assert not props["acceptance_deg"].is_readonly  # settings stay editable
+    scene.radiometer.method = "analytic"
+    assert bpy.ops.radiometer.measure() == {"FINISHED"}
+    m = meter.radiometer_meter
+    # closed form: E = P / (4 pi r^2) x 683 lm/W for a 100 W point light 2 m above (Blender's unit)
+    assert m.has_reading and m.exact and m.photometric == pytest.approx(683 * 100 / (4 * 3.141592653589793 * 4))
+    for key, value in (("photometric", 1.0), ("has_reading", False), ("notes", "x"), ("value_rgb", (1, 1, 1))):
+        with pytest.raises((AttributeError, TypeError)):
+            setattr(m, key, value)
+    assert m.photometric == pytest.approx(683 * 100 / (4 * 3.141592653589793 * 4))
