@@ -572,7 +572,6 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
                                   north_offset_deg=north_offset_deg, occupied_from=occupied_from,
                                   occupied_to=occupied_to, seed=seed, progress=progress, cancelled=cancelled)
 
-
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------
 
 @_v.boundary
@@ -601,7 +600,7 @@ def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0
 def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevation_m=0.0,
               direct_normal_illuminance_lux=None, sky=None, scene=None, quality="standard", client=None,
               north_offset_deg=0.0, min_elevation_deg=0.0, method="auto", seed=0, progress=None, cancelled=None,
-              sky_horizontal_illuminance_lux=None):
+              sky_horizontal_illuminance_lux=None, time_budget_s=None):
     """Illuminance from the sun where it stands at each of ``times`` on N meters (issue 19).
 
     ``locations`` (N, 3) scene coordinates, ``normals`` (3,) or (N, 3); ``times``: timezone-aware
@@ -611,7 +610,9 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
     switched off (``sky="overcast" | "cie:<type>"``: that CIE sky instead, with the sun's direction
     and ``sky_horizontal_illuminance_lux`` (the same at every time; None: set_cie_sky's default)),
     and the meter measures (exact where nothing can block the sun, rendered to ``quality``
-    elsewhere); the scene is restored after every step. ``client``: a Dask client
+    elsewhere; ``time_budget_s``: at most about that many seconds per time step, whichever of target
+    and budget comes first: a low sun gives small readings whose relative target is costly); the
+    scene is restored after every step. ``client``: a Dask client
     (``radiometer.cluster``); None runs here. Returns a ``SunStudyResult``: ``illuminance`` (T, N)
     lux, ``rel_std_error``, ``exact``, ``sunlit`` (T, N: the disc's centre is visible),
     ``sunlit_fraction``, ``sun`` (azimuth_deg, elevation_deg per time), ``sample_hours`` (T,),
@@ -624,7 +625,8 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
                            elevation_m=elevation_m, direct_normal_illuminance_lux=direct_normal_illuminance_lux,
                            sky=sky, scene=scene, quality=quality, client=client, north_offset_deg=north_offset_deg,
                            min_elevation_deg=min_elevation_deg, method=method, seed=seed, progress=progress,
-                           cancelled=cancelled, sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux)
+                           cancelled=cancelled, sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux,
+                           time_budget_s=time_budget_s)
 
 
 # --- deliverables: glare (issue 23) --------------------------------------------------------------

@@ -26,6 +26,9 @@ def add_arguments(parser):
     parser.add_argument("--min-elevation", type=float, default=0.0, metavar="DEG",
                         help="sun altitude below which a sample adds no sunlight hours (EN 17037 site minimum)")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
+    parser.add_argument("--time-budget", type=float, default=None, metavar="S",
+                        help="seconds per time step at most: it stops at the quality's target or the budget, "
+                             "whichever comes first (a low sun gives small, costly readings)")
     parser.add_argument("--csv", metavar="FILE", help="write one row per time and point")
     _cluster.add_arguments(parser)
 
@@ -138,6 +141,7 @@ def run(args):
         r = api.sun_study(locations, normals, times, latitude_deg=args.lat, longitude_deg=args.lon,
                           elevation_m=args.elevation, direct_normal_illuminance_lux=args.lux, scene=scene,
                           quality=args.quality, north_offset_deg=args.north, min_elevation_deg=args.min_elevation,
+                      time_budget_s=args.time_budget,
                           client=client, progress=progress, cancelled=getattr(args, "cancelled", None))
     if progress is not None:
         progress.clear()

@@ -135,10 +135,12 @@ def _set_sky(scene, sky, direction, horizontal_illuminance_lux=None):
 
 def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_deg, elevation_m=0.0,
                    direct_normal_illuminance_lux=None, north_offset_deg=0.0, sky=None, quality="standard",
-                   method="auto", seed=0, cancelled=None, sky_horizontal_illuminance_lux=None):
+                   method="auto", seed=0, cancelled=None, sky_horizontal_illuminance_lux=None, time_budget_s=None):
     """Illuminance from the sun (and ``sky``) at one time; the scene is as before afterwards.
 
-    ``locations``/``normals``: (N, 3) scene coordinates; ``when``: a timezone-aware datetime.
+    ``locations``/``normals``: (N, 3) scene coordinates; ``when``: a timezone-aware datetime;
+    ``time_budget_s``: seconds for this step's measurement (it stops at the quality's target or the
+    budget, whichever comes first; the reached error is in ``rel_std_error``).
     Returns a dict of plain arrays: ``illuminance`` (N,) lux, ``rel_std_error`` (N,), ``exact``
     (N,), ``sunlit`` (N,) bool, ``sunlit_fraction`` (N,), ``azimuth_deg``, ``elevation_deg``,
     ``direct_normal_illuminance_lux``, ``method``, ``seconds``.
@@ -190,7 +192,7 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
             centre_clear = np.zeros(n, bool)
         if info["above_horizon"] or sky is not None:
             readings = meter.measure_illuminance(points, normals, scene=scene, method=method, quality=quality,
-                                                 seed=seed, cancelled=cancelled)
+                                                 seed=seed, cancelled=cancelled, time_budget_s=time_budget_s)
             out["illuminance"] = np.array([r.illuminance for r in readings])
             out["rel_std_error"] = np.array([r.rel_std_error for r in readings])
             out["exact"] = np.array([bool(r.exact) for r in readings])
@@ -263,7 +265,7 @@ def _check_times(times):
 def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevation_m=0.0,
               direct_normal_illuminance_lux=None, sky=None, scene=None, quality="standard", client=None,
               north_offset_deg=0.0, min_elevation_deg=0.0, method="auto", seed=0, progress=None, cancelled=None,
-              sky_horizontal_illuminance_lux=None):
+              sky_horizontal_illuminance_lux=None, time_budget_s=None):
     """See ``radiometer.api.sun_study``."""
     import bpy
 
@@ -290,12 +292,14 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
         raise RadiometerError(f"sky={sky!r} needs api.set_cie_sky (the CIE skies), which this build does not have")
     if quality not in ("preview", "standard", "reference"):
         raise RadiometerError(f"unknown quality {quality!r}; choose preview, standard or reference")
+    if time_budget_s is not None and not (float(time_budget_s) > 0 and math.isfinite(float(time_budget_s))):
+        raise RadiometerError(f"time_budget_s must be > 0 seconds per time step, got {time_budget_s}")
     if not math.isfinite(min_elevation_deg):
         raise RadiometerError("min_elevation_deg must be finite")
     common = dict(locations=points, normals=dirs, latitude_deg=float(latitude_deg),
                   longitude_deg=float(longitude_deg), elevation_m=float(elevation_m),
                   north_offset_deg=float(north_offset_deg), sky=sky, quality=quality, method=method,
-                  sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux)
+                  sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux, time_budget_s=time_budget_s)
     tasks = [dict(common, when=times[i], direct_normal_illuminance_lux=dni[i], seed=int(seed) + 1009 * i)
              for i in range(n_t)]
     started = time.perf_counter()

@@ -128,6 +128,7 @@ def test_cluster_path_runs_the_step_function_per_time(clean_blender, monkeypatch
     assert calls["step"] is sun_study.sun_study_step and calls["client"] == "a client"
     assert [kw["seed"] for kw in calls["kwargs"]] == [5, 5 + 1009, 5 + 2 * 1009]
     assert [kw["when"] for kw in calls["kwargs"]] == times
+    assert all(kw["time_budget_s"] is None for kw in calls["kwargs"])
     local = api.sun_study([(0, 0, 0)], (0, 0, 1), times, latitude_deg=LAT, longitude_deg=LON, seed=5)
     assert np.array_equal(r.illuminance, local.illuminance)
     monkeypatch.setitem(sys.modules, "radiometer.cluster", types.ModuleType("radiometer.cluster"))
@@ -147,6 +148,8 @@ def test_bad_input_and_cancel_leave_the_scene_alone(clean_blender):
     with pytest.raises(RadiometerError):
         api.sun_study([(0, 0, 0)], (0, 0, 1), t, latitude_deg=LAT, longitude_deg=LON,
                       direct_normal_illuminance_lux=-1.0)
+    with pytest.raises(RadiometerError, match="time_budget_s"):
+        api.sun_study([(0, 0, 0)], (0, 0, 1), t, latitude_deg=LAT, longitude_deg=LON, time_budget_s=0.0)
     with pytest.raises(RadiometerError, match="no times"):
         api.sun_study([(0, 0, 0)], (0, 0, 1), [], latitude_deg=LAT, longitude_deg=LON)
     if not hasattr(api, "set_cie_sky"):
