@@ -66,3 +66,14 @@ def test_client_report_html_pdf(clean_blender, build, tmp_path):
     if shutil.which("pdftoppm"):
         subprocess.run(["pdftoppm", "-png", "-r", "30", str(pdf), str(out / "page")], check=True)
         assert len([p for p in os.listdir(out) if p.startswith("page")]) >= 2
+
+
+def test_sun_cosine_check_point_is_in_the_room(clean_blender, build):
+    """The report runs a sun's cosine check at the first work plane's centre, never at the origin."""
+    from radiometer.measure import report
+
+    scene = bpy.context.scene
+    plane = build.plane(scene, size=2.0, location=(1.0, 2.0, 0.75), name="Work Plane")
+    plane.scale = (2.0, 1.0, 1.0)
+    assert report._room_point(report.work_planes(scene), []) == pytest.approx((1.0, 2.0, 0.75))
+    assert report._room_point([], []) is None
