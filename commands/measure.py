@@ -57,14 +57,15 @@ def used_settings(args, stored):
     from ..quality import preset
 
     method, quality, target = stored
+    given = {k: getattr(args, k, None) for k in ("method", "quality", "target")}  # `demo` has no --method
     src = {"method": ".blend", "quality": ".blend", "target_rel_error": ".blend"}
-    if args.method:
-        method, src["method"] = args.method, "command line"
-    if args.quality:
-        quality, src["quality"] = args.quality, "command line"
-    if args.target is not None:
-        target, src["target_rel_error"] = args.target, "command line"
-    elif args.quality or not target:
+    if given["method"]:
+        method, src["method"] = given["method"], "command line"
+    if given["quality"]:
+        quality, src["quality"] = given["quality"], "command line"
+    if given["target"] is not None:
+        target, src["target_rel_error"] = given["target"], "command line"
+    elif given["quality"] or not target:
         target, src["target_rel_error"] = preset(quality)["target"], f"quality {quality}"
     return {"method": method, "quality": quality, "target_rel_error": float(target), "source": src}
 
