@@ -75,5 +75,6 @@ def test_sun_cosine_check_point_is_in_the_room(clean_blender, build):
     scene = bpy.context.scene
     plane = build.plane(scene, size=2.0, location=(1.0, 2.0, 0.75), name="Work Plane")
     plane.scale = (2.0, 1.0, 1.0)
+    bpy.context.view_layer.update()  # matrix_world of objects made through bpy.data (a report measures first)
     assert report._room_point(report.work_planes(scene), []) == pytest.approx((1.0, 2.0, 0.75))
     assert report._room_point([], []) is None
