@@ -12,11 +12,17 @@ can change the result has changed since it was taken:
   simplify settings, a world node or a collection's render visibility all fire it. Loading a file,
   undo and redo bump the count too.
 * **What does not fire it** (measured): properties defined in Python by Cycles (``light.cycles.is_portal``),
-  the text of an IES data-block and an IES file on disk, an image's pixels. The first two are part of
-  the key (``_untracked_state``: every light's ``is_portal``, the IES texts' hash, the IES files' size
-  and mtime); the world, which reads image pixels, is read again on every hit (``world.read_world``).
+  the text of an IES data-block and an IES file on disk, an image's pixels, and settings that only the
+  render sees (a Subdivision modifier's render levels, a particle system's rendered children). These are
+  part of the key (``_untracked_state``: every light's ``is_portal``, the IES texts' hash, the IES files'
+  size and mtime; ``_render_only_state``: a hash of every modifier's, particle system's, curve's and
+  metaball's settings); the world, which reads image pixels, is read again on every hit.
 * The key also holds the scene (pointer and name), the view layer, the frame and subframe, the unit
   scale and the excluded objects.
+* **Animated scenes are never served from the cache**: a driver may read a custom property, whose edit
+  fires nothing (measured: a light's power driven by ``obj["power"]`` kept its old value), and
+  keyframes edited from Python need not be announced. Any data-block with animation data turns the
+  cache off; the analyses still pass their one capture down explicitly.
 
 A hit costs one depsgraph evaluation (nothing to evaluate when nothing changed) and one pass over the
 lights; a miss is one capture. Our own measurements change the scene inside
@@ -105,9 +111,77 @@ def _untracked_state(scene):
     return tuple(state)
 
 
+#: ``bpy.data`` collections whose data-blocks can carry animation data (keyframes, drivers, NLA).
+_ANIMATABLE = ("objects", "meshes", "lights", "materials", "worlds", "node_groups", "scenes", "shape_keys",
+               "curves", "cameras", "metaballs", "volumes", "pointclouds", "hair_curves", "lattices", "armatures",
+               "grease_pencils", "textures", "particles", "collections")
+
+
+def _animated():
+    """True if any data-block has animation data. A driver may read a value whose edit Blender does not
+    announce (a custom property: measured, the cache served the old power), and keyframes edited from
+    Python need not be announced either; such scenes are captured every time."""
+    import bpy
+
+    for name in _ANIMATABLE:
+        for block in getattr(bpy.data, name, ()):
+            if getattr(block, "animation_data", None) is not None:
+                return True
+    return False
+
+
+_SIMPLE = {"BOOLEAN", "INT", "FLOAT", "ENUM", "STRING"}
+
+
+def _settings(struct):
+    """Every simple RNA value of ``struct`` (pointers by the name of the data-block), and its ID properties."""
+    import bpy
+
+    values = []
+    for prop in struct.bl_rna.properties:
+        if prop.type not in _SIMPLE and prop.type != "POINTER":
+            continue
+        try:
+            value = getattr(struct, prop.identifier)
+        except (AttributeError, RuntimeError, TypeError):
+            continue
+        if prop.type == "POINTER":
+            value = value.name if isinstance(value, bpy.types.ID) else None
+        elif isinstance(value, (set, frozenset)):
+            value = tuple(sorted(value))
+        elif not isinstance(value, (str, bool, int, float)):
+            try:
+                value = tuple(value)
+            except TypeError:
+                value = repr(value)
+        values.append((prop.identifier, value))
+    try:
+        values += [(key, repr(struct[key])) for key in struct.keys()]  # geometry-nodes inputs live here
+    except (AttributeError, TypeError):
+        pass
+    return tuple(values)
+
+
+def _render_only_state():
+    """Settings that change what a render sees but not the viewport, whose edits fire no update (measured:
+    a Subdivision modifier's render levels, a particle system's rendered children): every modifier's
+    settings, particle settings, curve and metaball data (render resolution), hashed."""
+    import bpy
+
+    digest = hashlib.blake2b(digest_size=16)
+    for obj in bpy.data.objects:
+        for modifier in obj.modifiers:
+            digest.update(repr((obj.name, modifier.name, _settings(modifier))).encode("utf-8", "replace"))
+    for name in ("particles", "curves", "metaballs"):
+        for block in getattr(bpy.data, name, ()):
+            digest.update(repr((name, block.name, _settings(block))).encode("utf-8", "replace"))
+    return digest.digest()
+
+
 def _key(scene, view_layer, exclude):
     return (scene.as_pointer(), scene.name, view_layer.name, scene.frame_current, float(scene.frame_subframe),
-            float(scene.unit_settings.scale_length), frozenset(exclude), _untracked_state(scene))
+            float(scene.unit_settings.scale_length), frozenset(exclude), _untracked_state(scene),
+            _render_only_state())
 
 
 def _copy(model, scene):
@@ -127,6 +201,9 @@ def capture(scene, view_layer=None, exclude=()):
     view_layer = view_layer or scene.view_layers[0]
     if _ensure_handlers():
         clear()  # updates may have gone uncounted while the handler was missing
+    if _animated():
+        _state["misses"] += 1
+        return scene_capture.capture(scene, view_layer, exclude=exclude)
     view_layer.update()  # a pending edit fires the handler now, before the look-up
     key = _key(scene, view_layer, exclude)
     entry = _entries.get(key)

@@ -167,3 +167,35 @@ def test_other_scene_and_frame_are_their_own_entries(clean_blender, build, captu
     reading = api.measure_illuminance((0, 0, 0), (0, 0, 1), method="analytic", scene=other)
     assert reading.illuminance == pytest.approx(_point_lux(10.0, 0.5), rel=1e-7)
     assert light_isolation.scene_model(scene).lights[0].spec.position[2] == pytest.approx(2.0)
+
+
+def test_a_driver_reading_a_custom_property_is_followed(clean_blender, build, captures):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    lamp = build.light(scene, "POINT", location=(0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0)
+    lamp["power"] = 100.0
+    driver = lamp.data.driver_add("energy").driver
+    driver.type = "SCRIPTED"
+    variable = driver.variables.new()
+    variable.name = "p"
+    variable.targets[0].id_type, variable.targets[0].id = "OBJECT", lamp
+    variable.targets[0].data_path = '["power"]'
+    driver.expression = "p"
+    assert _lux() == pytest.approx(_point_lux(100.0, 2.0), rel=1e-7)
+    lamp["power"] = 300.0  # a custom property: Blender announces no update, the render reads the new value
+    assert _lux() == pytest.approx(_point_lux(300.0, 2.0), rel=1e-7)
+    assert len(captures) == 2  # an animated scene is captured every time
+
+
+def test_render_only_settings_are_followed(clean_blender, captures):
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_cube_add()
+    subdivision = bpy.context.active_object.modifiers.new("subdivision", "SUBSURF")
+    subdivision.levels = subdivision.render_levels = 1
+    layer = bpy.context.view_layer
+    assert meter.capture_model(scene, layer).geometry.count == 6 * 4 * 2  # the render's level: 1
+    assert meter.capture_model(scene, layer).geometry.count == 48 and len(captures) == 1
+    subdivision.render_levels = 2  # only the render sees it: Blender announces no update
+    assert meter.capture_model(scene, layer).geometry.count == 6 * 16 * 2
+    assert len(captures) == 2
+
