@@ -91,10 +91,12 @@ def linux_zip(tmp_path_factory):
     return path
 
 
-def test_each_platform_zip_holds_its_own_wheels_once(linux_zip):
+def test_each_platform_zip_validates_and_holds_its_own_wheels_once(linux_zip):
     lock = extension.read_lock()
     for platform in extension.PLATFORMS:
         zip_path = os.path.join(os.path.dirname(linux_zip), f"radiometer-0.1.0-{platform.replace('-', '_')}.zip")
+        result = extension.run_tool("validate", zip_path)  # Blender's own validator, on the built zip
+        assert result.returncode == 0 and "Success" in result.stdout, result.stdout + result.stderr
         wheels = sorted(n.split("/")[-1] for n in zipfile.ZipFile(zip_path).namelist() if n.endswith(".whl"))
         expected = sorted(f for p, f, _h in lock if p in ("any", platform)
                           or (platform.startswith("macos") and p.startswith("macos") and "universal2" in f))
