@@ -129,8 +129,13 @@ def _prepare(scene, preset, snapshot):
         if obj is not None and obj.type == "LIGHT" and not obj.visible_camera:
             snapshot.remember(obj, "visible_camera")
             obj.visible_camera = True
-    return render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=model.needs,
-                                 snapshot=snapshot)
+    record = render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=model.needs,
+                                   snapshot=snapshot)
+    if model.needs.get("thin_panes"):  # issue 18: planar panes render as thin glass (sun patches converge)
+        from . import glass
+
+        record = dict(record, thin_panes=glass.swap_panes(snapshot, model.needs["thin_panes"]))
+    return record
 
 
 def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, quality="standard",

@@ -206,3 +206,17 @@ def test_volume_absorption_inside_a_pane(clean_blender):
     assert any("Volume Absorption inside" in note for note in r.notes), r.notes
     assert not r.exact  # the sky through the pane is rendered (through the thin-pane shader)
     _check(r, ref_lux, ref_se)
+
+
+def test_luminance_of_a_sun_patch_behind_glass(clean_blender):
+    """A luminance meter sees the floor's sun patch under the skylight (camera renders swap the panes
+    for thin glass too; through the real Glass BSDF the patch would be a caustic, nearly black)."""
+    from radiometer import api
+
+    scene, cases = scenes.window_room()
+    label, point, normal = cases[0]
+    e_lux = sum(_stored(f"window_room_{part}/{label}", point, normal)[0] for part in ("sun", "sky"))
+    r = api.measure_luminance((point[0], point[1], 1.0), (0.0, 0.0, -1.0), acceptance_deg=2.0, quality="preview")
+    expected = 0.5 * e_lux / math.pi  # the floor is Lambertian, albedo 0.5: L = rho E / pi
+    assert abs(r.luminance / expected - 1.0) <= max(3 * r.rel_std_error, 0.01), (r.luminance, expected)
+    assert not any(m.name.startswith("radiometer thin pane") for m in bpy.data.materials)
