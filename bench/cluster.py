@@ -56,6 +56,28 @@ def build_court(path):
     return scene
 
 
+def _git(*args):
+    import subprocess
+
+    try:
+        return subprocess.run(["git", *args], cwd=os.path.dirname(HERE), capture_output=True, text=True,
+                              timeout=30).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return ""
+
+
+def _changed_since(started):
+    """Package .py files modified during the run: workers import the code as it is when they start, so an
+    edit during the run (a shared working tree) can make them measure differently from this process."""
+    root = os.path.dirname(HERE)
+    changed = []
+    for folder, dirs, files in os.walk(root):
+        dirs[:] = [d for d in dirs if not d.startswith(".") and d not in ("tests", "bench", "docs", "out")]
+        changed += [os.path.relpath(os.path.join(folder, f), root) for f in files
+                    if f.endswith(".py") and os.path.getmtime(os.path.join(folder, f)) > started]
+    return sorted(changed)
+
+
 def grid_points(n_side):
     xs = np.linspace(-5.0, 5.0, n_side)
     pts = np.array([(x, y, 0.8) for y in xs for x in xs])  # work plane 0.8 m above the floor
@@ -139,31 +161,50 @@ def fit_cost(n_small, t_small, n_big, t_big):
 
 
 def projection(a, b, overhead_s, load_s, import_s, scatter_s, matmul_s_per_hour_point, cores_list,
-               points=1000, hours=8760, sky_patches=146, sun_positions=2305):
-    """Annual daylight coefficients on C single-threaded workers (one task = one patch x all points).
+               points=1000, hours=8760, patches=146, chunks=(1, 2, 4, 8)):
+    """Annual daylight coefficients on C single-threaded workers (one per core).
 
-    Tasks: 146 sky patches (Tregenza 145 + ground) and 2305 sun positions (Reinhart MF:4, as the
-    5-phase method's direct-sun coefficients), each one rendered step over the points at the measured
-    cost t(n) = a + b n plus the measured per-task overhead; then per hour a weighted sum of the
-    coefficients (the (8760 x patches) @ (patches x points) product, measured here with numpy).
+    Tasks: every sky patch (Reinhart MF:1: 145 + the ground, the two-phase method of
+    ``measure.annual``: the sun spread over patches) x a chunk of the points, each a rendered
+    measurement at the measured cost t(n) = a + b n plus the measured per-task overhead; the points
+    are split into 1, 2, 4 or 8 chunks, whichever finishes first (more, smaller tasks fill many cores
+    but pay ``a`` more often). Then per hour a weighted sum of the coefficients (the (8760 x P) @
+    (P x points) product, measured here with numpy).
     """
-    tasks = sky_patches + sun_positions
-    per_task = a + b * points + overhead_s
+    start = import_s + load_s + scatter_s  # every worker in parallel: once
+    combine = matmul_s_per_hour_point * hours * points
     rows = []
     for cores in cores_list:
-        rounds = math.ceil(tasks / cores)
-        compute = rounds * per_task
-        start = import_s + load_s + scatter_s  # every worker in parallel: once
-        combine = matmul_s_per_hour_point * hours * points
-        total = start + compute + combine
-        serial = tasks * per_task + start + combine
-        rows.append({"cores": cores, "tasks": tasks, "rounds": rounds, "per_task_s": per_task,
-                     "start_s": start, "compute_s": compute, "combine_s": combine, "total_s": total,
-                     "speedup_vs_1": serial / total, "efficiency": serial / total / cores})
+        best = None
+        for k in chunks:
+            size = math.ceil(points / k)
+            per_task = a + b * size + overhead_s
+            tasks = patches * k
+            rounds = math.ceil(tasks / cores)
+            total = start + rounds * per_task + combine
+            if best is None or total < best["total_s"]:
+                best = {"cores": cores, "chunks": k, "points_per_task": size, "tasks": tasks, "rounds": rounds,
+                        "per_task_s": per_task, "start_s": start, "compute_s": rounds * per_task,
+                        "combine_s": combine, "total_s": total}
+        serial = patches * (a + b * points + overhead_s) + start + combine
+        best.update(speedup_vs_1=serial / best["total_s"], efficiency=serial / best["total_s"] / cores)
+        rows.append(best)
     return rows
 
 
-def matmul_cost(points=1000, hours=8760, patches=2451):
+def dc_task_seconds(scene, points, normals, patches=(10, 40, 80, 120)):
+    """Seconds per sky patch of the real daylight-coefficient task (``measure.annual.patch_coefficients``),
+    or None when this build has no annual daylight."""
+    try:
+        from radiometer.measure.annual import patch_coefficients
+    except ImportError:
+        return None
+    t0 = time.perf_counter()
+    patch_coefficients(scene, locations=points, normals=normals, patch_indices=list(patches), m=1, quality=QUALITY)
+    return (time.perf_counter() - t0) / len(patches)
+
+
+def matmul_cost(points=1000, hours=8760, patches=146):
     rng = np.random.default_rng(0)
     sky = rng.random((hours, patches)).astype(np.float64)
     dc = rng.random((patches, points)).astype(np.float64)
@@ -200,7 +241,11 @@ def markdown(res):
         "",
         f"**Ratio t(1 worker) / t(2 workers) = {res['ratio_1_over_2']:.2f}** (ideal 2 on 2 idle cores). "
         f"Readings: in process vs 2 workers, max |difference| = {res['max_diff_over_se']:.2g} combined "
-        "standard errors (the same seeds give the same readings).",
+        "standard errors (the same seeds give the same readings)"
+        + (f"; package files edited by others during the run (workers import the code as it is when they "
+           f"start): {', '.join(res['files_changed_since_start'])}." if res["files_changed_since_start"] else
+           "; no package file changed during the run.")
+        + f" Code: commit {res['commit']} plus the working tree.",
         "",
         "## Per-task overhead (2 workers)",
         "",
@@ -219,26 +264,27 @@ def markdown(res):
         "",
         "## Projection: annual daylight coefficients, 1000 points x 8760 hours",
         "",
-        f"Cost per task t(n) = a + b n from sun-study steps in process at {res['fit']['n_small']} and "
-        f"{res['fit']['n_big']} points: a = {res['fit']['a']:.3f} s, b = {1000 * res['fit']['b']:.3f} ms per "
-        "point (a proxy: the coefficient tasks are not measured here, a sky patch is a rendered source "
-        "like the reflected part of a step; scale by the measured ratio once they are). Tasks: 146 sky "
-        "patches (Tregenza 145 + ground) and 2305 sun positions (Reinhart MF:4), one per task over all "
-        "1000 points; start-up = Blender + scene load + scatter once per worker (in parallel); combine = the "
-        "8760 x 2451 by 2451 x 1000 product (numpy, measured). Single-threaded workers, one per core; "
-        "the in-process step cost above used all cores, so it is multiplied by the measured "
-        "1-worker/in-process ratio.",
+        f"Cost per task t(n) = a + b n (n points) measured in this process at {res['fit']['n_small']} and "
+        f"{res['fit']['n_big']} points with {res['fit']['cost_from']}: a = {res['fit']['a']:.3f} s, "
+        f"b = {1000 * res['fit']['b']:.3f} ms per point; multiplied by the measured median step time on 1 worker / in this process "
+        f"= {res['fit']['single_thread_factor']:.2f} (a worker has one Cycles thread; this process had "
+        f"{m['cores']}). Tasks: the 146 sky patches of Reinhart MF:1 (two-phase, the sun spread over patches, as "
+        "`measure.annual`) x 1, 2, 4 or 8 chunks of the 1000 points, whichever is fastest; start-up = Blender + "
+        "scene load + scatter, once per worker in parallel; per task + the measured round-trip overhead; "
+        "combine = the (8760 x 146) @ (146 x 1000) product (numpy, measured). Single-threaded workers, one per "
+        "core.",
         "",
-        "| cores | rounds of tasks | per task s | start-up s | compute s | combine s | total | speed-up | efficiency |",
-        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "| cores | point chunks | tasks | rounds | per task s | start-up s | compute s | combine s | total | "
+        "speed-up | efficiency |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in res["projection"]:
-        lines.append(f"| {r['cores']} | {r['rounds']} | {r['per_task_s']:.2f} | {r['start_s']:.1f} | "
-                     f"{r['compute_s']:.0f} | {r['combine_s']:.1f} | {r['total_s'] / 60:.1f} min | "
+        lines.append(f"| {r['cores']} | {r['chunks']} | {r['tasks']} | {r['rounds']} | {r['per_task_s']:.2f} | "
+                     f"{r['start_s']:.1f} | {r['compute_s']:.0f} | {r['combine_s']:.2f} | {r['total_s'] / 60:.1f} min | "
                      f"{r['speedup_vs_1']:.0f}x | {100 * r['efficiency']:.0f} % |")
-    lines += ["", "The run is compute-bound: start-up and per-task overheads stay below a few per cent up to 256 "
-              "cores, where 2451 tasks are still ~10 rounds; beyond that, split the points into chunks "
-              "(more, smaller tasks) or the rounds go uneven."]
+    lines += ["", "Speed-up and efficiency against the same run on one worker. The fixed per-measurement cost a "
+              "(scene capture, proofs, the bake's set-up) limits how finely the points can be split; start-up "
+              "and per-task overheads are the rest of the gap."]
     return "\n".join(lines)
 
 
@@ -249,6 +295,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     n_side, n_times = (4, 6) if args.quick else (10, 48)
     load_before = os.getloadavg()[0]
+    started = time.time()
     import bpy  # noqa: F401  (after spawn-safety: only the main process runs this)
 
     from radiometer.cluster import source
@@ -260,12 +307,19 @@ def main(argv=None):
     tasks = study_tasks(points, normals, n_times)
     log(f"bench cluster: {len(points)} points x {len(tasks)} times in process ...")
     here, in_process_s, _ = run(scene, tasks, None)
-    # t(n) = a + b n: steps at a quarter of the points and at all of them (a few times each, in process).
+    # t(n) = a + b n at a quarter of the points and at all of them (in process): the daylight-coefficient
+    # task itself when this build has it, else sun-study steps (the closest rendered workload).
     small_pts, small_n = grid_points(max(2, n_side // 2))
-    few = tasks[len(tasks) // 3: len(tasks) // 3 + 6]
-    step_small = [s["seconds"] for s in run(scene, [dict(t, locations=small_pts, normals=small_n) for t in few],
-                                             None)[0]]
-    step_big = [s["seconds"] for s in run(scene, few, None)[0]]
+    dc_small = dc_task_seconds(scene, small_pts, small_n)
+    if dc_small is not None:
+        cost_from = "measure.annual.patch_coefficients (4 sky patches per call, seconds per patch)"
+        step_small, step_big = [dc_small], [dc_task_seconds(scene, points, normals)]
+    else:
+        cost_from = "sun-study steps (a proxy: this build has no measure.annual)"
+        few = tasks[len(tasks) // 3: len(tasks) // 3 + 6]
+        step_small = [s["seconds"] for s in run(scene, [dict(t, locations=small_pts, normals=small_n) for t in few],
+                                                 None)[0]]
+        step_big = [s["seconds"] for s in run(scene, few, None)[0]]
     results = {}
     for workers in (1, 2):
         log(f"bench cluster: LocalCluster with {workers} worker(s) ...")
@@ -291,17 +345,20 @@ def main(argv=None):
                 "kwargs_bytes": kwargs_bytes, "result_bytes": result_bytes, "pickle_s": pickle_s,
                 "step_s": statistics.median(two["task_s"])}
     a, b = fit_cost(len(small_pts), statistics.median(step_small), len(points), statistics.median(step_big))
-    single_thread = results["1"]["wall_s"] / in_process_s  # 1 worker (1 Cycles thread) vs this process
+    # A worker renders with 1 Cycles thread, this process with all cores: the ratio of median step times of
+    # the same 48 steps (medians: robust to bursts of load from other users of the machine).
+    single_thread = statistics.median(results["1"]["task_s"]) / statistics.median(s["seconds"] for s in here)
     a1, b1 = max(a, 0.0) * single_thread, max(b, 0.0) * single_thread
     proj = projection(a1, b1, overhead["task_overhead_s"], overhead["load_s"], overhead["import_s"],
                       overhead["scatter_s"], matmul_cost(), (16, 64, 256))
     res = {"date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), "quick": args.quick,
+           "commit": _git("rev-parse", "--short", "HEAD"), "files_changed_since_start": _changed_since(started),
            "machine": {"cores": os.cpu_count(), "load_before": load_before, "load_after": os.getloadavg()[0]},
            "points": len(points), "times": len(tasks), "quality": QUALITY, "in_process_s": in_process_s,
            "cluster": {k: {kk: vv for kk, vv in v.items() if kk != "steps"} for k, v in results.items()},
            "ratio_1_over_2": results["1"]["wall_s"] / results["2"]["wall_s"],
            "max_diff_over_se": max_diff_over_se, "overhead": overhead,
-           "fit": {"n_small": len(small_pts), "n_big": len(points), "a": a, "b": b,
+           "fit": {"n_small": len(small_pts), "n_big": len(points), "a": a, "b": b, "cost_from": cost_from,
                    "single_thread_factor": single_thread, "steps_small_s": step_small, "steps_big_s": step_big},
            "projection": proj}
     os.makedirs(args.out, exist_ok=True)
