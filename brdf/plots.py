@@ -28,9 +28,12 @@ def _figure(width, height):
 
 
 def _save(fig, path):
+    from ..outputs import atomic_output
+
     path = os.fspath(path)
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    fig.savefig(path)
+    with atomic_output(path) as tmp:  # whole or not at all, never through a planted link (issue 21)
+        fig.savefig(tmp, format=os.path.splitext(path)[1].lstrip(".").lower() or "png")
     return path
 
 

@@ -126,8 +126,13 @@ def write_lobe_plot(material, path):
     ax.set_title(f"{model}: model vs {fid.closure} ({fid.summary()})", fontsize=8)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    from ..outputs import atomic_output
+
+    try:
+        with atomic_output(path) as tmp:  # whole or not at all, never through a planted link (issue 21)
+            fig.savefig(tmp, format="png")
+    finally:
+        plt.close(fig)
     return path
 
 

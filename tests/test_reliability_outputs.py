@@ -150,6 +150,17 @@ def test_planted_symlink_is_not_followed(blend, tmp_path, option):
     assert victim.read_text() == "precious" and os.path.islink(link)
 
 
+def test_brdf_plot_through_a_planted_symlink_is_refused(tmp_path):
+    # Finding 2/3: `brdf --plot` wrote its PNG in place (through a link at the destination).
+    pytest.importorskip("matplotlib")
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious")
+    link = tmp_path / "lobe.png"
+    link.symlink_to(victim)
+    one_error_line(run_cli("brdf", "lambert", "--plot", link), "symbolic link")
+    assert victim.read_text() == "precious"
+
+
 # --- finding 2: a full disk leaves the old file whole and names the file ------------------------------
 
 @contextlib.contextmanager
