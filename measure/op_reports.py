@@ -48,6 +48,35 @@ class _Filter:
 
 
 @contextlib.contextmanager
+def _c_progress_dropped():
+    """Blender 4.x in background mode prints Cycles' progress ("Fra:1 Mem:8.49M ... Synchronizing
+    object") from C straight to descriptor 1 during a bake; 5.0 does not. There, and only there,
+    descriptor 1 points to /dev/null for the operator's duration (Python's own writes go through
+    ``sys.stdout``, which the caller filters)."""
+    import os
+
+    import bpy
+
+    if not bpy.app.background or bpy.app.version >= (5, 0, 0):
+        yield
+        return
+    try:
+        sys.stdout.flush()
+        saved = os.dup(1)
+    except (OSError, ValueError, AttributeError):
+        yield
+        return
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(null)
+
+
+@contextlib.contextmanager
 def operator_reports_dropped():
     """Inside: operator reports printed by ``bpy.ops`` do not reach stdout (see the module docstring)."""
     original = sys.stdout
@@ -57,7 +86,8 @@ def operator_reports_dropped():
     filt = _Filter(original)
     sys.stdout = filt
     try:
-        yield
+        with _c_progress_dropped():
+            yield
     finally:
         filt.close_pending()
         if sys.stdout is filt:
