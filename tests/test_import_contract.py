@@ -83,9 +83,33 @@ EXCEPTIONS = {
     ("layer", "commands.demo", "cli"): f"{_TODAY}: as commands.brdf (deliver, write_json, _ensure_registered)",
     ("layer", "commands.grid", "cli"): f"{_TODAY}: as commands.brdf",
     ("private", "commands.demo", "cli._ensure_registered"): f"{_TODAY}: as commands.brdf",
-    ("circle", "measure.capture_cache <-> measure.meter <-> measure.scene_capture <-> measure.world", None):
+    ("circle", "measure.capture_cache <-> measure.meter <-> measure.scene_capture <-> measure.sky <-> measure.world",
+     None):
         f"{_TODAY}: measure/world.py both reads the world as data (scene_capture needs it) and measures it "
-        "(world_illuminance calls the meter); splitting it touches files H4 and H6 own this session",
+        "(world_illuminance calls the meter); measure/sky.py joined it this session (world reads CIE skies, sky "
+        "measures); splitting them touches files H4 and H6 own this session",
+    # Added this session by other engineers while the contract was being written; found by this test at the
+    # end of the session and listed here so the suite states them (each is a small move for its owner).
+    ("circle", "api <-> measure.sun <-> measure.sun_study", None):
+        f"{_TODAY}: H3's measure/sun.py and sun_study.py import api.sun_position; it is pure (radiometry."
+        "solar_position): import it from there",
+    ("layer", "measure.sun", "api"): f"{_TODAY}: as the api <-> measure.sun circle (H3)",
+    ("layer", "measure.sun_study", "api"): f"{_TODAY}: as the api <-> measure.sun circle (H3)",
+    ("layer", "commands.sun_study", "cli"): f"{_TODAY}: as commands.brdf (H3's new subcommand)",
+    ("layer", "commands.daylight_factor", "cli"): f"{_TODAY}: as commands.brdf (H4's new subcommand)",
+    ("layer", "commands.annual", "cli"): f"{_TODAY}: as commands.brdf (H4's new subcommand)",
+    ("layer", "demo.daylight", "api"): f"{_TODAY}: H3's daylit demo calls the api and the sun subcommand's "
+                                       "helpers; the demo is host code: it should use measure.sun directly",
+    ("layer", "demo.daylight", "commands._io"): f"{_TODAY}: as demo.daylight -> api (H3)",
+    ("layer", "demo.daylight", "commands.sun"): f"{_TODAY}: as demo.daylight -> api (H3)",
+    ("private", "demo.daylight", "commands.sun._save_copy"): f"{_TODAY}: as demo.daylight -> api (H3)",
+    ("circle", "measure.client_report <-> measure.report", None):
+        f"{_TODAY}: H5's client report imports the report module that calls it; one of them should take the "
+        "shared parts",
+    ("layer", "measure.client_report", "plots"): f"{_TODAY}: as measure.analysis_common (H5's new module)",
+    ("layer", "measure.client_report", "plots.convergence"): f"{_TODAY}: as measure.analysis_common (H5)",
+    ("layer", "measure.luminance_image", "plots"): f"{_TODAY}: as measure.analysis_common (H5's new module)",
+    ("layer", "measure.luminance_image", "plots.false_colour_image"): f"{_TODAY}: as measure.analysis_common (H5)",
     ("private", "operators.brdf", "props.brdf._params_dict"):
         f"{_TODAY}: the BRDF operators share the property group's helpers (H2 owns props/ this session)",
     ("private", "operators.brdf", "props.brdf._guard"): f"{_TODAY}: as props.brdf._params_dict",
