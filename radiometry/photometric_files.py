@@ -842,6 +842,12 @@ def to_ies_text(photometry, factor=1.0, label="Radiometer"):
     exactly as :meth:`Photometry.candela_at` interprets the original: no TILT, no symmetry left
     for Cycles to interpret, multipliers folded in (written with 9 significant digits)."""
     h, v, cd = photometry.full_table()
+    if h.size == 2 and np.array_equal(cd[0], cd[1]):
+        # Axially symmetric: written as 37 identical C planes (every 10 deg). Blender 4.5 reads a
+        # one- or two-plane table 7-12 % high, and near the nadir it depends on the plane spacing
+        # (measured against 5.0's exact render: 90 deg 2.3 %, 30 deg 0.6 %, 10 deg 0.2 %).
+        h = np.linspace(0.0, 360.0, 37)
+        cd = np.repeat(cd[:1], h.size, axis=0)
     cd = cd * float(factor)
     out = ["IESNA:LM-63-2002", f"[TEST] {label}"]
     for key in ("MANUFAC", "LUMCAT", "LUMINAIRE", "LAMP"):

@@ -129,15 +129,7 @@ CASES = {
 ANGLES = [(0.0, 0.0), (30.0, 0.0), (45.0, 120.0), (60.0, 210.0), (20.0, 300.0), (85.0, 90.0)]
 
 
-# Blender 4.5 LTS renders the single-C-plane (axially symmetric) file 7-12 % above the closed form in
-# 5 of the 6 directions below (exact at v = 30 deg, C = 0); 5.0 agrees everywhere, so does 4.5 for the
-# asymmetric file. Not yet explained: the closed form is still marked exact on 4.5 (strict xfail: a
-# fix makes this fail, so the marker goes with it).
-_AXIAL_ON_45 = pytest.mark.xfail(bpy.app.version < (5, 0, 0), strict=True,
-                                 reason="4.5 renders a single-plane IES file 7-12 % off the closed form")
-
-
-@pytest.mark.parametrize("case", [pytest.param(c, marks=_AXIAL_ON_45) if c == "axial" else c for c in sorted(CASES)])
+@pytest.mark.parametrize("case", sorted(CASES))
 def test_imported_luminaire_analytic_and_rendered(scene, tmp_path, case):
     h, func = CASES[case]
     cd = [func(V, c) for c in h]
