@@ -261,7 +261,9 @@ def swap_panes(snapshot, panes):
         if obj is None or pane.source in done or not obj.material_slots:
             continue
         mat = thin_pane_material(pane, f"radiometer thin pane {pane.source}")
-        for slot in obj.material_slots:
+        for j, slot in enumerate(obj.material_slots):
+            if pane.slots and j not in pane.slots:
+                continue  # a window frame in the same mesh keeps its material
             snapshot.remember(slot, "material")
             slot.material = mat
         done[pane.source] = mat

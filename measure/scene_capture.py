@@ -81,7 +81,7 @@ def _mesh_triangles(obj):
 def _collect(depsgraph):
     """Walk the render depsgraph; returns a SceneModel (positions still in scene units)."""
     lights, names, shadow, reflects, unmodelled, volumes = [], [], [], [], [], []
-    panes, refractors = {}, []
+    panes, refractors, pane_chunks = {}, [], []
     tri_chunks, obj_chunks, opaque_chunks, emissive_chunks = [], [], [], []
     needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
     material_cache, local_cache, instance_count = {}, {}, {}
@@ -139,9 +139,11 @@ def _collect(depsgraph):
         slot = np.clip(mat_index, 0, len(traits) - 1)
         m = np.array(inst.matrix_world, dtype=np.float64)
         world = (tris_local @ m[:3, :3].T + m[:3, 3]) * _Capture.scale  # metres
+        pane_mask = None
         if traits[np.unique(slot), 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
-            _glass_object(panes, refractors, len(names), name, original.name, world,
-                          [slots[j] for j in np.unique(slot)], material_cache)
+            pane_mask = _glass_object(panes, refractors, len(names), name, original.name, world, slot, slots,
+                                      traits, material_cache)
+        pane_chunks.append(np.where(pane_mask, len(names), -1) if pane_mask is not None else np.full(len(world), -1))
         if traits[np.unique(slot), 4].any() and len(names) not in panes:  # a medium fills this mesh (issue 18)
             flat = world.reshape(-1, 3)
             volumes.append((name, flat.min(axis=0), flat.max(axis=0)))
@@ -157,35 +159,44 @@ def _collect(depsgraph):
     geometry = scene_model.SceneGeometry(
         triangles=cat(tri_chunks, (0, 3, 3)), object_index=cat(obj_chunks, (0,)).astype(int), object_names=names,
         casts_shadow=np.array(shadow, bool), opaque=cat(opaque_chunks, (0,)).astype(bool),
-        reflects=np.array(reflects, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled)
+        reflects=np.array(reflects, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled,
+        pane_of=cat(pane_chunks, (0,)).astype(int))
     needs["volumes"] = volumes
     needs["panes"], needs["refractors"] = panes, refractors
     return lights, geometry, needs
 
 
-def _glass_object(panes, refractors, index, name, source, world_tris, materials, cache):
-    """Record a transmissive object as a thin pane (``radiometry.thin_glass.Pane`` in ``panes`` by
-    object index) when every material it uses is a pane with the same optics and its triangles form
-    a planar pane; else as a refractor (name, reason) that Cycles renders as it is."""
+def _glass_object(panes, refractors, index, name, source, world_tris, slot, slots, traits, cache):
+    """Record the transmissive part of an object as a thin pane (``radiometry.thin_glass.Pane`` in
+    ``panes`` by object index) when every transmissive material it uses is a pane with the same
+    optics and those triangles form a planar pane (other slots, e.g. an opaque window frame in the
+    same mesh, stay ordinary geometry); returns the (T,) mask of the pane's triangles. Otherwise the
+    object is recorded as a refractor (name, reason) that Cycles renders as it is, and None returned."""
     from ..radiometry import thin_glass
     from . import glass
 
-    optics = []
-    for material in materials:
+    optics, glass_slots = [], []
+    for j in np.unique(slot):
+        if not traits[j, 3]:
+            continue
+        material = slots[j]
         key = ("pane", material.as_pointer() if material is not None else 0)
         if key not in cache:
             cache[key] = glass.pane_optics(material)
         optics.append(cache[key])
+        glass_slots.append(int(j))
     if any(o is None for o, _why in optics) or any(o != optics[0][0] for o, _why in optics):
         why = next((w for o, w in optics if o is None and w), "not a recognised glass shader")
         refractors.append((name, why))
-        return
+        return None
+    mask = np.isin(slot, glass_slots)
+    pane_tris = world_tris[mask]
     flat = world_tris.reshape(-1, 3)
     tol = 1e-6 * max(1.0, float(np.abs(flat).max()))  # float32 vertices through a transform
-    geom, why = thin_glass.pane_geometry(world_tris, tol)
+    geom, why = thin_glass.pane_geometry(pane_tris, tol)
     if geom is None:
         refractors.append((name, f"curved or thick refractor ({why})"))
-        return
+        return None
     o = optics[0][0]
     shape = f"a slab {1000 * geom.thickness:.3g} mm thick" if len(geom.heights) == 2 else "a single face"
     # Volume Absorption density is per scene unit: per metre it is density / scale.
@@ -193,7 +204,9 @@ def _glass_object(panes, refractors, index, name, source, world_tris, materials,
     panes[index] = thin_glass.Pane(name=name, ior=o["ior"], thickness=geom.thickness, tint_t=o["tint_t"],
                                    absorption=absorption,
                                    tint_r=o["tint_r"], geometry=geom, trick=bool(o.get("trick")),
-                                   model=f"{o['model']}, IOR {o['ior']:g}, {shape}", source=source)
+                                   model=f"{o['model']}, IOR {o['ior']:g}, {shape}", source=source,
+                                   slots=tuple(glass_slots))
+    return mask
 
 
 def _bound_box_m(obj, matrix_world):

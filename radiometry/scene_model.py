@@ -57,10 +57,14 @@ class SceneGeometry:
     reflects: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))      # per object
     emissive: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))      # per triangle
     unmodelled: list = field(default_factory=list)  # render-visible geometry not triangulated
+    #: (T,) per triangle: the object index of the thin pane it belongs to, or -1 (issue 18).
+    pane_of: np.ndarray = None
 
     def __post_init__(self):
         self.triangles = np.asarray(self.triangles, float).reshape(-1, 3, 3)
         self.object_index = np.asarray(self.object_index, int)
+        if self.pane_of is None or len(self.pane_of) != len(self.triangles):
+            self.pane_of = np.full(len(self.triangles), -1, int)
         self.tri_min = self.triangles.min(axis=1) if len(self.triangles) else np.zeros((0, 3))
         self.tri_max = self.triangles.max(axis=1) if len(self.triangles) else np.zeros((0, 3))
         self._grid = None
@@ -250,7 +254,7 @@ def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach, panes=
     kind, ends, inside = _source_bases(spec, points, scene_reach)
     status[inside] = visibility.PARTIAL
     shadow = geometry.shadow_triangles()
-    pane_tri = np.isin(geometry.object_index, list(panes or ()))
+    pane_tri = (geometry.pane_of >= 0) & np.isin(geometry.pane_of, list(panes or ()))
     pair_point, pair_tri = [], []
     for k in np.flatnonzero(~inside):
         p = points[k]
@@ -267,11 +271,11 @@ def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach, panes=
         if idx.size and pane_tri[idx].any():
             # Thin panes the segments provably cross whole are a factor T, not an occluder (issue 18).
             keep = np.ones(idx.size, bool)
-            for obj in np.unique(geometry.object_index[idx[pane_tri[idx]]]):
+            for obj in np.unique(geometry.pane_of[idx[pane_tri[idx]]]):
                 crossed = _pane_crossing(panes[obj].geometry, spec, kind, p, ends[k], tol)
                 if crossed is not None:
                     crossings[k].append((int(obj),) + crossed)
-                    keep &= geometry.object_index[idx] != obj
+                    keep &= geometry.pane_of[idx] != obj
             idx = idx[keep]
         if idx.size:
             pair_point.append(np.full(idx.size, k))

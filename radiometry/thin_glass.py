@@ -121,6 +121,7 @@ class Pane:
     model: str = ""
     trick: bool = False             # the archviz "Is Shadow Ray -> Transparent" glass
     source: str = ""                # the object (shared by its instances) whose material is swapped
+    slots: tuple = ()               # its material slots that are the pane (others: a frame, ...)
 
     def optics(self, cos_i):
         """(T, R, A) RGB at incidence cosine ``cos_i``."""

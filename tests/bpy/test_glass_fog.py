@@ -220,3 +220,44 @@ def test_luminance_of_a_sun_patch_behind_glass(clean_blender):
     expected = 0.5 * e_lux / math.pi  # the floor is Lambertian, albedo 0.5: L = rho E / pi
     assert abs(r.luminance / expected - 1.0) <= max(3 * r.rel_std_error, 0.01), (r.luminance, expected)
     assert not any(m.name.startswith("radiometer thin pane") for m in bpy.data.materials)
+
+
+def test_window_with_its_frame_in_one_mesh(clean_blender):
+    """Archviz windows are often one object: an opaque frame and the glass as two material slots.
+    The glass slot is the pane, the frame stays an occluder, and only the glass is swapped."""
+    from radiometer import api
+
+    scene, [(_label, point, normal)] = scenes.window("single_face", light="POINT")
+    pane = bpy.data.objects["Pane 1"]
+    frame_mat = scenes._diffuse("frame", 0.3)
+    mesh = pane.data
+    # A 0.5 m wide frame around the 2 x 2 m pane, in its plane, as a second slot of the same mesh.
+    ring = [[(-1.5, -1.5), (1.5, -1.5), (1.5, -1.0), (-1.5, -1.0)], [(-1.5, 1.0), (1.5, 1.0), (1.5, 1.5), (-1.5, 1.5)],
+            [(-1.5, -1.0), (-1.0, -1.0), (-1.0, 1.0), (-1.5, 1.0)], [(1.0, -1.0), (1.5, -1.0), (1.5, 1.0), (1.0, 1.0)]]
+    verts = [tuple(v.co) for v in mesh.vertices]
+    faces = [tuple(p.vertices) for p in mesh.polygons]
+    for quad in ring:
+        faces.append(tuple(range(len(verts), len(verts) + 4)))
+        verts.extend((x, y, 1.0) for x, y in quad)
+    new = bpy.data.meshes.new("framed window")
+    new.from_pydata(verts, [], faces)
+    new.materials.append(mesh.materials[0])
+    new.materials.append(frame_mat)
+    for k, poly in enumerate(new.polygons):
+        poly.material_index = 0 if k == 0 else 1
+    pane.data = new
+    rows = api.predict_illuminance(point, normal, scene=scene)
+    assert rows[0]["status"] == "exact" and "thin glass" in rows[0]["reason"], rows[0]
+    d = np.array([0.0, 0.5, 3.0])
+    from radiometer.radiometry import photometry
+
+    weights = np.asarray(photometry.luminance_weights("Linear Rec.709"), float)
+    expected = 683.0 * 1000.0 / (4 * math.pi) * (3.0 / np.linalg.norm(d)) / (d @ d) * float(
+        _slab_reference("single_face", 3.0 / np.linalg.norm(d)) @ weights)
+    assert rows[0]["illuminance"] == pytest.approx(expected, rel=1e-9)
+    # Under the frame: the lamp is blocked by the opaque frame.
+    blocked = api.predict_illuminance((0.0, -2.1, 0.0), normal, scene=scene)
+    assert blocked[0]["status"] == "zero" and blocked[0]["illuminance"] == 0.0, blocked[0]
+    r = api.measure_illuminance(point, normal, scene=scene, method="render", quality="preview")
+    assert abs(r.illuminance / expected - 1.0) <= max(3 * r.rel_std_error, 0.005), (r.illuminance, expected)
+    assert [m.name for m in pane.data.materials] == [mesh.materials[0].name, "frame"]
