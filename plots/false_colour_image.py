@@ -10,9 +10,9 @@ from . import pyplot
 
 
 def scale_range(values, scale="log", value_range=None):
-    """(lo, hi) of the colour scale: ``value_range`` when given; else for 'log' the decades around the
-    99.5th percentile down to 1e-3 of it (4 decades at most below the top), for 'linear' 0 .. the
-    99.5th percentile. Non-positive or non-finite pixels do not count."""
+    """(lo, hi) of the colour scale: ``value_range`` when given; else for 'log' the whole decades from the
+    0.5th to the 99.5th percentile (2 to 4 decades), for 'linear' 0 .. the 99.5th percentile.
+    Non-positive or non-finite pixels do not count."""
     v = np.asarray(values, float)
     if value_range is not None:
         lo, hi = (float(x) for x in value_range)
@@ -24,8 +24,12 @@ def scale_range(values, scale="log", value_range=None):
         return (1e-3, 1.0) if scale == "log" else (0.0, 1.0)
     top = float(np.percentile(good, 99.5))
     if scale == "log":
+        # whole decades from the 0.5th to the 99.5th percentile: at least 2, at most 4 (a lamp's
+        # few pixels must not squeeze the room into one colour, nor a dark corner spread it thin)
         hi = 10.0 ** math.ceil(math.log10(top))
-        return hi * 1e-4, hi
+        lo = 10.0 ** math.floor(math.log10(float(np.percentile(good, 0.5))))
+        lo = min(max(lo, hi * 1e-4), hi * 1e-2)
+        return lo, hi
     return 0.0, top
 
 

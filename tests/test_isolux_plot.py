@@ -91,3 +91,14 @@ def test_other_plots_have_plain_axes_and_words(tmp_path):
     laws.cosine_plot(str(tmp_path / "c.png"), [0, 30, 60], [1, 0.866, 0.5], [0.01] * 3, title="x " * 80)
     assert (tmp_path / "c.png").read_bytes()[:4] == b"\x89PNG"
     assert "\n" in laws._wrapped("x " * 80)
+
+
+def test_false_colour_scale_range():
+    from radiometer.plots.false_colour_image import scale_range
+
+    v = np.concatenate([np.linspace(12, 80, 1000), [5000.0]])
+    assert scale_range(v, "log") == (1.0, 100.0)  # two decades around the room, the lamp pixel clipped
+    assert scale_range(v, "log", (0.1, 1e4)) == (0.1, 1e4)
+    assert scale_range(np.zeros(4), "log") == (1e-3, 1.0)
+    with pytest.raises(ValueError):
+        scale_range(v, "log", (0.0, 10.0))
