@@ -35,6 +35,7 @@ whose triangle grid is built lazily, is shared, so the proofs' spatial index is 
 
 import collections
 import dataclasses
+import functools
 import hashlib
 import os
 
@@ -45,7 +46,7 @@ from . import scene_capture
 #: Captures kept (one 130k-triangle model is ~10 MB).
 CAPACITY = 4
 
-_state = {"updates": 0, "hits": 0, "misses": 0}
+_state = {"updates": 0, "hits": 0, "misses": 0, "restamps": 0}
 _entries = collections.OrderedDict()
 
 
@@ -82,7 +83,7 @@ def clear():
 
 
 def stats():
-    """{'hits', 'misses', 'updates'} since the module was loaded (the tests and the bench read it)."""
+    """{'hits', 'misses', 'updates', 'restamps'} since the module was loaded (the tests and the bench read it)."""
     return dict(_state)
 
 
@@ -219,3 +220,59 @@ def capture(scene, view_layer=None, exclude=()):
     while len(_entries) > CAPACITY:
         _entries.popitem(last=False)
     return _copy(model, scene)
+
+
+class Watch:
+    """Keeps the capture a measurement used valid across the measurement's own scene changes.
+
+    A measurement changes the scene (sensors, render settings, light linking) inside
+    ``scene_guard.preserved_scene`` and restores it; Blender reports that as updates, so the next call
+    would capture again. Built right after the capture (``meter.measure_illuminance``), a Watch notes
+    the entry; the measurement's ``progress`` and ``cancelled`` callbacks go through :meth:`wrap`, which
+    evaluates the depsgraph before and after each call, so an edit made by a callback is seen and
+    spoils the Watch; :meth:`done`, called only when the measurement succeeded (after the guard
+    restored the scene), stamps the entry with the present update count. Nothing else runs inside a
+    measurement (it is synchronous), and whatever fires no update is part of the key, recomputed then.
+    """
+
+    def __init__(self, scene, view_layer=None, exclude=()):
+        self.scene, self.view_layer = scene, view_layer or scene.view_layers[0]
+        self.key = None
+        self.spoiled = False
+        if _animated():
+            return
+        self.view_layer.update()
+        key = _key(scene, self.view_layer, exclude)
+        entry = _entries.get(key)
+        if entry is not None and entry[0] == _state["updates"]:
+            self.key = key  # the measurement uses this entry's model, and nothing changed since
+
+    def wrap(self, callback):
+        """``callback`` with the depsgraph evaluated before and after it (None stays None)."""
+        if callback is None or self.key is None:
+            return callback
+
+        def watched(*args, **kwargs):
+            self.view_layer.update()  # the measurement's own pending changes: counted before the call
+            before = _state["updates"]
+            try:
+                return callback(*args, **kwargs)
+            finally:
+                self.view_layer.update()
+                if _state["updates"] != before:
+                    self.spoiled = True  # the callback changed the scene
+
+        # The callback's signature stays visible (progress.reporter decides its form from it).
+        return functools.update_wrapper(watched, callback, assigned=(), updated=())
+
+    def done(self):
+        """The measurement succeeded and its guard restored the scene: keep the entry valid."""
+        if self.key is None or self.spoiled:
+            return
+        self.view_layer.update()
+        entry = _entries.get(self.key)
+        if entry is None or _animated() or _key(self.scene, self.view_layer, self.key[6]) != self.key:
+            return
+        _entries[self.key] = (_state["updates"], entry[1])
+        _state["restamps"] += 1
+

@@ -409,6 +409,10 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     scale = scene.unit_settings.scale_length
     started = time.perf_counter()
     model = capture_model(scene, view_layer, exclude=exclude) if model is None else model
+    from . import capture_cache  # keeps that capture valid across this measurement's own bakes (issue 17)
+
+    watch = capture_cache.Watch(scene, view_layer, exclude)
+    progress, cancelled = watch.wrap(progress), watch.wrap(cancelled)
     sensors_scene, eps = sensor_points(points_scene, normals, scale, model)
     sensors_m, eps_m = sensors_scene * scale, eps * scale
     decision = plan(scene, model, sensors_m, normals, method, direct_only=direct_only)
@@ -537,6 +541,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
             exact=bool(exact_points[k]) and method_used == "analytic",
             std_error_rgb=tuple(float(v) for v in se_rgb[k]), notes=list(notes), render_settings=record,
             rel_error_bound=rel_bound, target_rel_error=target, parts=parts[k]))
+    watch.done()  # only on success, after the guard restored the scene
     return readings[0] if single else readings
 
 

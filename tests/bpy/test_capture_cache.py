@@ -199,3 +199,62 @@ def test_render_only_settings_are_followed(clean_blender, captures):
     assert meter.capture_model(scene, layer).geometry.count == 6 * 16 * 2
     assert len(captures) == 2
 
+
+def _rendered_scene(build):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    lamp = build.light(scene, "POINT", location=(0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0)
+    build.plane(scene, size=6.0, location=(0.0, 0.0, 3.0), rotation=(math.pi, 0.0, 0.0), albedo=0.5)
+    return lamp
+
+
+def _render(**kwargs):
+    return api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), method="render", samples=16, **kwargs)
+
+
+def test_a_measurement_keeps_its_capture_for_the_next_call(clean_blender, build, captures):
+    _rendered_scene(build)
+    restamps = capture_cache.stats()["restamps"]
+    first, second = _render(), _render(seed=1)
+    assert len(captures) == 1  # the bakes changed the scene and restored it: the capture stays valid
+    assert capture_cache.stats()["restamps"] == restamps + 2
+    assert second.irradiance == pytest.approx(first.irradiance, rel=0.2)
+
+
+def test_a_callback_that_edits_the_scene_spoils_the_capture(clean_blender, build, captures):
+    lamp = _rendered_scene(build)
+    scene, layer = bpy.context.scene, bpy.context.view_layer
+
+    def power():
+        return float(np.sum(meter.capture_model(scene, layer).lights[0].spec.rgb_power))
+
+    def progress(done, total, seconds_left=None):
+        lamp.data.energy = 300.0  # a user's callback editing the scene mid-measurement
+
+    at_100 = power()  # capture 1
+    _render(progress=progress)  # served from capture 1; the callback's edit spoils it
+    at_300 = power()  # capture 2
+    assert at_300 == pytest.approx(3.0 * at_100, rel=1e-12) and len(captures) == 2
+    before = power()  # a hit
+    moved = []
+
+    def cancelled():
+        if not moved:
+            lamp.location.z = 1.0
+            moved.append(True)
+        return False
+
+    _render(cancelled=cancelled)  # served from capture 2, then spoiled by the callback
+    assert meter.capture_model(scene, layer).lights[0].spec.position[2] == pytest.approx(1.0)  # capture 3
+    assert len(captures) == 3 and power() == pytest.approx(before)
+
+
+def test_a_failed_measurement_does_not_keep_its_capture(clean_blender, build, captures):
+    _rendered_scene(build)
+    from radiometer.errors import MeasurementCancelled
+
+    with pytest.raises(MeasurementCancelled):
+        _render(cancelled=lambda: True)
+    _render()
+    assert len(captures) == 2
+
