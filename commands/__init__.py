@@ -21,4 +21,5 @@ SUBCOMMANDS = {
     "sun-study": "sun_study",
     "daylight-factor": "daylight_factor",
     "annual": "annual",
+    "glare": "glare",
 }

@@ -160,3 +160,17 @@ def test_ugr_office_ies_luminaires_against_independent_cie117(clean_blender, tmp
     lb = (reference.luminance(e_rgb)[1] - e_direct) / math.pi
     expected = 8 * math.log10(0.25 / lb * terms)
     assert abs(g.ugr - expected) < 0.5, (g.ugr, expected, g.background_luminance, lb)
+
+
+def test_glare_cli(clean_blender, tmp_path, capsys):
+    from radiometer import cli
+
+    scene = bpy.context.scene
+    office.build(scene)
+    blend = str(tmp_path / "office.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    obs = [str(v) for v in office.EYE + office.VIEW]
+    assert cli.main(["glare", blend, "--observer", *obs, "--quality", "preview", "--json", str(tmp_path / "g.json")]) == 0
+    text = capsys.readouterr().out
+    assert "UGR " in text and "Panel 1" in text and "cd/m²" in text
+    assert cli.main(["glare", blend]) == 2  # nothing asked: one line, exit code 2
