@@ -302,7 +302,8 @@ def hybrid_split(model, direct, count):
         for source, idx in by_source.items():
             ok = all(model.lights[i].spec is not None and not model.lights[i].portal
                      and model.lights[i].reaches_diffuse
-                     and (direct.status[i, k] in (scene_model.EXACT, scene_model.ZERO) or _glass_bounded(direct, i, k))
+                     and (direct.status[i, k] in (scene_model.EXACT, scene_model.ZERO)
+                          or _glass_bounded(model.lights[i], direct, i, k))
                      for i in idx)
             if ok:
                 chosen.add(source)
@@ -361,14 +362,14 @@ def caustic_risk(model, direct, split):
     return out
 
 
-def _glass_bounded(direct, i, k):
+def _glass_bounded(light, direct, i, k):
     """True when light i at meter k is BOUNDED only by the spread of a thin pane's T over the light's
-    extent (issue 18): its closed form is added with that bound, stated in the reading."""
-    from ..radiometry import scene_model
+    extent (its own closed form is exact; issue 18): its closed form is added with that bound,
+    stated in the reading."""
+    from ..radiometry import lights as light_models, scene_model
 
     return (direct.status[i, k] == scene_model.BOUNDED and direct.glass_bound is not None
-            and direct.glass_bound[i, k] > 0.0 and "but for thin glass" in str(direct.reason[i, k])
-            and "quadrature" not in str(direct.reason[i, k]))
+            and direct.glass_bound[i, k] > 0.0 and bool(light_models.exactness(light.spec)[0]))
 
 
 def _budget_mode(preset, target_rel_error, samples, time_budget_s):
