@@ -25,9 +25,9 @@ can change the result has changed since it was taken:
   cache off; the analyses still pass their one capture down explicitly.
 
 A hit costs one depsgraph evaluation (nothing to evaluate when nothing changed) and one pass over the
-lights; a miss is one capture. Our own measurements change the scene inside
-``scene_guard.preserved_scene`` and restore it, which fires the handler: the next capture after a
-measurement is taken again (correct, conservative: the cache never assumes a restore was exact).
+lights and modifiers; a miss is one capture. Our own measurements change the scene inside
+``scene_guard.preserved_scene`` and restore it, which fires the handler; :class:`Watch` keeps the
+capture a measurement used valid across that, and only that (see its docstring).
 
 Hits return a shallow copy of the cached ``SceneModel`` (its own lists and dicts; the geometry,
 whose triangle grid is built lazily, is shared, so the proofs' spatial index is built once too).
