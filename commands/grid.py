@@ -50,11 +50,20 @@ def run(args):
                                   cancelled=getattr(args, "cancelled", None), **budget_kwargs(args))
     if progress is not None:
         progress.clear()
+    import numpy as np
+
+    from ..readings import format_quantity, format_value
+
     s = g.stats
     print(f"grid {g.target}: {g.nx} x {g.ny} points, cells {g.spacing[0]:.3g} x {g.spacing[1]:.3g} m"
           + (f" ({g.spacing_rule})" if g.spacing_rule else ""))
-    print(f"E_avg {s['avg']:.5g} lx  E_min {s['min']:.5g} lx  E_max {s['max']:.5g} lx  U0 {s['u0']:.3f}  "
-          f"[{g.method}, {g.seconds:.2f} s, worst error {100 * g.max_rel_std_error:.3g} %]")
+    # the mean of independent readings: s.e. = sqrt(sum (E_i s_i)^2) / sum E_i; min/max: their point's error
+    avg_se = float(np.sqrt(np.sum((g.lux * g.rel_std_error) ** 2)) / max(float(np.sum(g.lux)), 1e-300))
+    se_min = float(g.rel_std_error.ravel()[int(np.argmin(g.lux))])
+    se_max = float(g.rel_std_error.ravel()[int(np.argmax(g.lux))])
+    print(f"E_avg {format_quantity(s['avg'], 'lx', avg_se, g.exact)}  E_min {format_value(s['min'], se_min, g.exact)} lx  "
+          f"E_max {format_value(s['max'], se_max, g.exact)} lx  U0 {s['u0']:.2f}  "
+          f"[{g.method}, {g.seconds:.2f} s, worst error {100 * g.max_rel_std_error:.2g} %]")
     deliver(args, g.to_dict())  # the numbers are safe on disk before the CSV and the image
     written = []
     if args.csv:

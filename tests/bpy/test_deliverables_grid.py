@@ -58,3 +58,19 @@ def test_isolux_of_a_wall_is_in_the_plane_own_metres(clean_blender, build):
     origin, u, v, labels = g.plot_frame()
     assert list(origin) == [0.0, 0.0] and u == pytest.approx([4.0, 0.0]) and v == pytest.approx([0.0, 2.0])
     assert "plane" in labels[0]
+
+
+def test_grid_cli_prints_digits_the_error_supports(clean_blender, build, tmp_path, capsys):
+    from radiometer import cli
+
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "POINT", (0.5, 0.3, 2.5), energy=200.0, shadow_soft_size=0.0)
+    plane = build.plane(scene, size=2.0, location=(0.0, 0.0, 0.75), name="Work Plane")
+    plane.hide_render = True
+    blend = str(tmp_path / "g.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    assert cli.main(["grid", blend, "--resolution", "3", "2", "--method", "analytic"]) == 0
+    line = [t for t in capsys.readouterr().out.splitlines() if t.startswith("E_avg")][0]
+    # exact closed forms: 5 significant digits, "exact", units on every number
+    assert " lx exact" in line and "E_min" in line and line.count(" lx") >= 3 and "e+" not in line
