@@ -67,7 +67,8 @@ def build_parser():
     sub = parser.add_subparsers(dest="command", metavar="<subcommand>", parser_class=_ArgumentParser)
     for name in SUBCOMMANDS:
         module = _command_module(name)
-        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        # argparse %-formats a subcommand's help: a plain "50 %" in HELP crashed --help and the usage.
+        p = sub.add_parser(name, help=module.HELP.replace("%%", "%").replace("%", "%%"), description=module.HELP)
         if module.NEEDS_SCENE:
             p.add_argument("blend", nargs="?", help="scene .blend file (default: the file Blender has open)")
         p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE (written first, "
@@ -268,6 +269,15 @@ def main(argv=None, *, in_blender=False):
         return EXIT_BAD_INPUT
     except SystemExit as exc:  # --help, --version
         return exc.code if isinstance(exc.code, int) else 0
+    except Exception as exc:  # noqa: BLE001 - the last boundary: a bug is one line too, never a traceback
+        if interrupt.cancelled():
+            print(interrupt.message, file=sys.stderr)
+            return interrupt.exit_code
+        from .validation import _first_line, _where
+
+        print(f"{PROG}: internal error: {type(exc).__name__}: {_first_line(exc)}{_where(exc)} (a bug: please "
+              "report it with the command line)", file=sys.stderr)
+        return EXIT_FAILURE
     finally:
         interrupt.uninstall()
         if not in_blender:
