@@ -644,6 +644,7 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard"):
     return glare.glare_ugr(observer, view_direction, scene=scene, quality=quality)
 
 
+@_v.boundary
 def cluster_info(scheduler):
     """Workers of the Dask cluster at ``scheduler`` ("tcp://host:8786"): a dict with ``workers``,
     ``threads``, ``hosts``, ``memory_bytes``; an unreachable scheduler raises RadiometerError (one line,
@@ -653,6 +654,7 @@ def cluster_info(scheduler):
     return info(scheduler)
 
 
+@_v.boundary
 def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None):  # noqa: A002
     """False-colour luminance image of the camera view (issue 23): renders the scene camera (or
     ``camera``) at ``resolution`` (width, height; default the scene's, at most 320 px a side), writes
@@ -665,6 +667,7 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
                                   scale=scale, range=range)
 
 
+@_v.boundary
 def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None, ugr_limit=None, ra_required=None,
                        maintenance_factor=0.8, observers=(), ra=None, scene=None, quality="standard", grid=None):
     """EN 12464-1 compliance of a work plane (issue 23): ``task`` a key of
