@@ -147,6 +147,7 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
     """
     import bpy
 
+    from .. import quality as quality_presets
     from . import meter, scene_guard, sun
     from .analysis_common import view_layer_of
 
@@ -192,7 +193,11 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
             centre_clear = np.zeros(n, bool)
         if info["above_horizon"] or sky is not None:
             readings = meter.measure_illuminance(points, normals, scene=scene, method=method, quality=quality,
-                                                 seed=seed, cancelled=cancelled, time_budget_s=time_budget_s)
+                                                 seed=seed, cancelled=cancelled, time_budget_s=time_budget_s,
+                                                 # with a budget the meter drops the preset's target unless it
+                                                 # is given: give it, so whichever comes first stops the step
+                                                 target_rel_error=(quality_presets.PRESETS[quality]["target"]
+                                                                   if time_budget_s is not None else None))
             out["illuminance"] = np.array([r.illuminance for r in readings])
             out["rel_std_error"] = np.array([r.rel_std_error for r in readings])
             out["exact"] = np.array([bool(r.exact) for r in readings])
