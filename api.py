@@ -711,3 +711,15 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
     return {"requirement": dataclasses.asdict(req), "checks": [dataclasses.asdict(r) for r in rows],
             "overall": compliance.overall(rows), "maintenance_factor": float(maintenance_factor), "grid": g,
             "glare": glare_results}
+
+
+def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None):  # noqa: A002
+    """Illuminance (lx) on the surfaces the camera sees, from Cycles' diffuse light passes:
+    E = pi x (Diffuse Direct + Diffuse Indirect), exact for Lambertian surfaces (Diffuse BSDF, roughness 0);
+    0 where nothing diffuse is seen (see ``measure.luminance_image.illuminance_image`` for where it does
+    not hold). Writes ``path`` (32-bit EXR, lx) and a false-colour PNG beside it; returns an
+    ``IlluminanceImage``: ``illuminance`` (H, W) lx, ``rel_std_error`` (H, W), ``paths``, ``notes``."""
+    from .measure import luminance_image as images
+
+    return images.illuminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
+                                    scale=scale, range=range)

@@ -171,3 +171,159 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
     else:
         result.notes.append("no false-colour PNG: matplotlib is not installed (the EXR holds the numbers)")
     return result
+
+
+# --- illuminance on the visible surfaces --------------------------------------------------------------
+
+@dataclasses.dataclass
+class IlluminanceImage:
+    """Illuminance (lx) on the surface seen in each pixel, (H, W), top row first."""
+
+    illuminance: np.ndarray
+    rel_std_error: np.ndarray
+    camera: str
+    resolution: tuple
+    samples: int
+    target_rel_error: float
+    share_on_target: float
+    efficacy: float
+    colour_space: str
+    seconds: float
+    notes: list
+    paths: dict = dataclasses.field(default_factory=dict)
+
+
+def _render_composited(scene, folder, name, width, height):
+    """Render and write the compositor's output as a 32-bit EXR (as ``camera._render_exr``, compositing on)."""
+    import os
+
+    from . import exr
+
+    r = scene.render
+    r.resolution_x, r.resolution_y, r.resolution_percentage = int(width), int(height), 100
+    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
+    r.use_border = False
+    r.use_compositing = True
+    r.use_sequencer = False
+    r.use_single_layer = True
+    r.use_file_extension = True
+    ims = r.image_settings
+    if hasattr(ims, "media_type"):
+        ims.media_type = "IMAGE"
+    ims.file_format = "OPEN_EXR"
+    ims.color_depth = "32"
+    ims.color_mode = "RGBA"
+    path = os.path.join(folder, name)
+    r.filepath = path
+    result = bpy.ops.render.render(write_still=True, scene=scene.name)
+    if result != {"FINISHED"}:
+        raise RadiometerError(f"Cycles render did not finish ({result})")
+    return exr.read_rgb(path + ".exr")
+
+
+def _light_pass_compositor(scene):
+    """A compositor node group whose output is Diffuse Direct + Diffuse Indirect; returns it."""
+    tree = bpy.data.node_groups.new("radiometer_diffuse_light", "CompositorNodeTree")
+    tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+    layers = tree.nodes.new("CompositorNodeRLayers")
+    layers.scene = scene
+    add = tree.nodes.new("ShaderNodeMix")
+    add.data_type, add.blend_type = "RGBA", "ADD"
+    add.inputs["Factor"].default_value = 1.0
+    tree.links.new(layers.outputs["Diffuse Direct"], add.inputs[6])
+    tree.links.new(layers.outputs["Diffuse Indirect"], add.inputs[7])
+    tree.links.new(add.outputs[2], tree.nodes.new("NodeGroupOutput").inputs[0])
+    return tree
+
+
+def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log",
+                      range=None, max_spp=MAX_SPP, cancelled=None):  # noqa: A002 - the API's name
+    """Illuminance (lx) on the surfaces the camera sees: E = pi x (Diffuse Direct + Diffuse Indirect).
+
+    Why it holds: Cycles writes a BSDF's light passes divided by its colour pass (Combined = (Direct +
+    Indirect) x Colour), so on a Lambertian surface (Diffuse BSDF, roughness 0) of any albedo rho the
+    passes hold L / rho = E / pi. Measured on a lit wall of albedo 0.3: pi x passes = E to 1e-4 (the
+    test compares with the reference patch render). Where it does not hold: surfaces with no diffuse
+    component (metals, glass, emitters, the world: 0 there), rough diffuse (Oren-Nayar, roughness > 0,
+    whose reflection is not rho E / pi), and the Principled BSDF's diffuse lobe (not verified here).
+    Writes ``path`` (.exr, lux in R, G, B) and a false-colour PNG beside it; sampling as
+    :func:`render_luminance`. Returns :class:`IlluminanceImage`.
+    """
+    import os
+
+    scene = scene or bpy.context.scene
+    cam = scene.camera if camera is None else (scene.objects.get(camera) if isinstance(camera, str) else camera)
+    if cam is None or getattr(cam, "type", None) != "CAMERA":
+        raise RadiometerError("no camera to render from: give camera= or set the scene's camera")
+    path = os.fspath(path)
+    if not path.lower().endswith(".exr"):
+        raise RadiometerError(f"path must name an .exr file, got {path!r:.200}")
+    if scale not in ("log", "linear"):
+        raise RadiometerError(f"scale must be 'log' or 'linear', got {scale!r}")
+    width, height = _resolution(scene, resolution)
+    preset = quality_presets.preset(quality)
+    target = float(preset["target"])
+    space, weights, efficacy = meter.scene_photometry(scene)
+    unit_area = scene.unit_settings.scale_length ** 2
+    cap = int(min(max(int(max_spp), 16), MAX_SPP))
+    folder = camera_mod._scratch_folder()
+    started = time.perf_counter()
+    spp, k = 16, 0
+    old_group = scene.compositing_node_group
+    layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
+    try:
+        with scene_guard.preserved_scene(scene) as snapshot:
+            camera_mod._prepare(scene, dict(preset, samples=spp), snapshot)
+            scene.camera = cam
+            for attr in ("use_pass_diffuse_direct", "use_pass_diffuse_indirect"):
+                snapshot.remember(layer, attr)
+                setattr(layer, attr, True)
+            tree = _light_pass_compositor(scene)
+            scene.compositing_node_group = tree
+            while True:
+                values = []
+                for _ in np.arange(RENDERS):  # 'range' is the colour scale's argument here
+                    if cancelled is not None and cancelled():
+                        raise MeasurementCancelled("measurement cancelled; the scene was restored")
+                    scene.cycles.seed = k
+                    scene.cycles.samples = spp
+                    img = _render_composited(scene, folder, f"e{k}", width, height)
+                    values.append(math.pi * img / unit_area @ weights)
+                    k += 1
+                y = np.array(values)
+                mean_y = y.mean(axis=0)
+                se_y = y.std(axis=0, ddof=1) / math.sqrt(RENDERS)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    rel = np.where(mean_y > 0, se_y / mean_y, np.nan)
+                lit = rel[np.isfinite(rel)]
+                p90 = float(np.percentile(lit, 90)) if lit.size else 0.0
+                if p90 <= target or spp >= cap:
+                    break
+                spp = min(cap, spp * 4)
+    finally:
+        # the scene guard removes the node group it saw created; put the user's compositor back
+        scene.compositing_node_group = old_group
+        shutil.rmtree(folder, ignore_errors=True)
+    share = float(np.mean(lit <= target)) if lit.size else 1.0
+    notes = ["E = pi (Diffuse Direct + Diffuse Indirect): holds on Lambertian surfaces (Diffuse BSDF, roughness 0); "
+             "0 where nothing diffuse is seen (metal, glass, emitters, the world)",
+             f"{RENDERS} independent renders of {spp} samples per pixel; error per pixel by batch means",
+             f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"]
+    result = IlluminanceImage(illuminance=efficacy * mean_y, rel_std_error=rel, camera=cam.name,
+                              resolution=(width, height), samples=spp * RENDERS, target_rel_error=target,
+                              share_on_target=share, efficacy=efficacy, colour_space=space,
+                              seconds=time.perf_counter() - started, notes=notes)
+    from . import world
+
+    world.write_exr(path, np.repeat(result.illuminance[..., None], 3, axis=-1))
+    result.paths["exr"] = path
+    from ..plots import matplotlib_available
+
+    if matplotlib_available():
+        from ..plots.false_colour_image import false_colour_png
+
+        png = os.path.splitext(path)[0] + ".png"
+        false_colour_png(png, result.illuminance, unit="lx", quantity="illuminance", scale=scale, value_range=range,
+                         title=f"Illuminance on the surfaces seen by {cam.name} ({width} x {height} px)")
+        result.paths["png"] = png
+    return result

@@ -80,3 +80,30 @@ def test_operator_loads_the_image(clean_blender, build):
     scene.radiometer.quality = "preview"
     assert bpy.ops.radiometer.luminance_image(scale="linear") == {"FINISHED"}
     assert any(img.name.endswith("_luminance.png") for img in bpy.data.images)
+
+
+def test_illuminance_image_of_a_lit_wall(clean_blender, build, tmp_path):
+    """E = pi (Diffuse Direct + Diffuse Indirect) on a Lambertian wall of albedo 0.3, against the patch
+    reference (tests/bpy/reference.py), within 3 standard errors; the scene is left as it was."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "POINT", (0.3, 0.0, 0.6), energy=200.0, shadow_soft_size=0.0)
+    build.plane(scene, size=4.0, location=(0.0, 1.0, 0.5), rotation=(math.pi / 2, 0.0, 0.0), albedo=0.3,
+                name="Wall")
+    side, n = 0.04, 8
+    _ortho_camera(scene, (0.0, 0.0, 0.5), (math.pi / 2, 0.0, 0.0), side)
+    before = scene_fingerprint(scene)
+    groups = len(bpy.data.node_groups)
+    img = api.illuminance_image(str(tmp_path / "e.exr"), scene=scene, resolution=(n, n), quality="standard")
+    assert scene_fingerprint(scene) == before and len(bpy.data.node_groups) == groups
+    assert open(img.paths["png"], "rb").read(4) == b"\x89PNG"
+    for (row, col) in ((0, 0), (5, 2)):
+        x = (col + 0.5) / n * side - side / 2
+        z = 0.5 + side / 2 - (row + 0.5) / n * side
+        point = reference.lift_off_surface(scene, (x, 1.0, z), (0.0, -1.0, 0.0))
+        e_rgb, se, _info = reference.reference_irradiance(scene, point, (0.0, -1.0, 0.0), target_rel_error=1e-3)
+        expected = reference.luminance(e_rgb)[1]
+        pixel = img.illuminance[row, col]
+        pixel_se = img.rel_std_error[row, col] * pixel
+        assert abs(pixel - expected) <= 3 * math.hypot(pixel_se, se * expected) + 1e-5 * expected, \
+            (pixel, expected, pixel_se, se)
