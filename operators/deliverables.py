@@ -8,12 +8,18 @@ from ..errors import RadiometerError
 
 
 class RADIOMETER_OT_luminance_image(bpy.types.Operator):
-    """Render the scene camera's view as a false-colour luminance image (cd/m², with a legend) and
-    show it in an Image Editor"""
+    """Render the scene camera's view as a false-colour luminance (cd/m²) or illuminance (lx) image with a
+    legend and show it in an Image Editor"""
 
     bl_idname = "radiometer.luminance_image"
-    bl_label = "False-Colour Luminance Image"
+    bl_label = "False-Colour Image"
     bl_options = {"REGISTER"}  # writes files and an image data-block; the scene itself is left as it was
+
+    quantity: EnumProperty(name="Quantity", description="What the false colours show",
+                           items=(("LUMINANCE", "Luminance (cd/m²)", "What the camera sees, in cd/m²"),
+                                  ("ILLUMINANCE", "Illuminance (lx)", "Light arriving on the visible surfaces, in lx "
+                                   "(exact on Lambertian surfaces; 0 on metal, glass and emitters)")),
+                           default="LUMINANCE")
 
     scale: EnumProperty(name="Scale", description="Colour scale of the false-colour legend",
                         items=(("log", "Logarithmic", "Decades of luminance, as Radiance's falsecolor -log"),
@@ -33,9 +39,11 @@ class RADIOMETER_OT_luminance_image(bpy.types.Operator):
         from .. import api, outputs
 
         scene = context.scene
-        path = os.path.join(outputs.user_folder("images"), f"{outputs.file_stem(scene.camera.name)}_luminance.exr")
+        what = self.quantity.lower()
+        path = os.path.join(outputs.user_folder("images"), f"{outputs.file_stem(scene.camera.name)}_{what}.exr")
+        make = api.luminance_image if self.quantity == "LUMINANCE" else api.illuminance_image
         try:
-            img = api.luminance_image(path, scene=scene, quality=scene.radiometer.quality, scale=self.scale)
+            img = make(path, scene=scene, quality=scene.radiometer.quality, scale=self.scale)
         except RadiometerError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -46,7 +54,7 @@ class RADIOMETER_OT_luminance_image(bpy.types.Operator):
             if area.type == "IMAGE_EDITOR":
                 area.spaces.active.image = image
                 break
-        self.report({"INFO"}, f"Luminance image {os.path.basename(shown)} loaded as image {image.name!r} "
+        self.report({"INFO"}, f"{self.quantity.capitalize()} image {os.path.basename(shown)} loaded as image {image.name!r} "
                               f"({img.resolution[0]} x {img.resolution[1]} px)")
         return {"FINISHED"}
 

@@ -80,6 +80,8 @@ def test_operator_loads_the_image(clean_blender, build):
     scene.radiometer.quality = "preview"
     assert bpy.ops.radiometer.luminance_image(scale="linear") == {"FINISHED"}
     assert any(img.name.endswith("_luminance.png") for img in bpy.data.images)
+    assert bpy.ops.radiometer.luminance_image(quantity="ILLUMINANCE") == {"FINISHED"}
+    assert any(img.name.endswith("_illuminance.png") for img in bpy.data.images)
 
 
 def test_illuminance_image_of_a_lit_wall(clean_blender, build, tmp_path):
