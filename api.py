@@ -713,6 +713,7 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
             "glare": glare_results}
 
 
+@_v.boundary
 def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None):  # noqa: A002
     """Illuminance (lx) on the surfaces the camera sees, from Cycles' diffuse light passes:
     E = pi x (Diffuse Direct + Diffuse Indirect), exact for Lambertian surfaces (Diffuse BSDF, roughness 0);
