@@ -33,7 +33,7 @@ MAX_SEED = 2**31 - 1
 
 
 def _shown(value, limit=60):
-    text = repr(value)
+    text = " ".join(repr(value).split())  # one line: an array's repr spans several
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
@@ -305,7 +305,9 @@ def boundary(func=None, *, finite=False):
         def guarded(*args, **kwargs):
             try:
                 result = f(*args, **kwargs)
-            except RadiometerError:
+            except RadiometerError as exc:
+                if "\n" in str(exc).strip():  # one line, whoever wrote the message (an array's repr)
+                    exc.args = (" ".join(str(exc).split()),)
                 raise
             except MemoryError:
                 raise RadiometerError(f"{f.__name__}: not enough memory for this request (too many points or "
