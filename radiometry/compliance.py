@@ -40,19 +40,19 @@ class Requirement:
 _EN = "EN 12464-1:2011"
 TASKS = {
     "office_writing": Requirement("Offices: writing, typing, reading, data processing", 500, 0.60, 19, 80,
-                                  f"{_EN} Table 5.26.2"),
-    "office_technical_drawing": Requirement("Offices: technical drawing", 750, 0.70, 16, 80, f"{_EN} Table 5.26.3"),
-    "office_cad": Requirement("Offices: CAD work stations", 500, 0.60, 19, 80, f"{_EN} Table 5.26.4"),
-    "conference": Requirement("Conference and meeting rooms", 500, 0.60, 19, 80, f"{_EN} Table 5.26.5"),
-    "reception": Requirement("Reception desk", 300, 0.60, 22, 80, f"{_EN} Table 5.26.6"),
-    "archive": Requirement("Archives", 200, 0.40, 25, 80, f"{_EN} Table 5.26.7"),
-    "classroom": Requirement("Classrooms, tutorial rooms", 300, 0.60, 19, 80, f"{_EN} Table 5.36.2"),
-    "lecture_hall": Requirement("Auditorium, lecture halls", 500, 0.60, 19, 80, f"{_EN} Table 5.36.4"),
-    "corridor": Requirement("Circulation areas and corridors", 100, 0.40, 28, 40, f"{_EN} Table 5.1.2"),
-    "stairs": Requirement("Stairs, escalators", 150, 0.40, 25, 40, f"{_EN} Table 5.1.3"),
-    "toilets": Requirement("Cloakrooms, washrooms, toilets", 200, 0.40, 25, 80, f"{_EN} Table 5.2.4"),
-    "retail_sales": Requirement("Sales area", 300, 0.40, 22, 80, f"{_EN} Table 5.29.1"),
-    "restaurant": Requirement("Self-service restaurant", 200, 0.40, 22, 80, f"{_EN} Table 5.32.5"),
+                                  f"{_EN} Table 5.26"),
+    "office_technical_drawing": Requirement("Offices: technical drawing", 750, 0.70, 16, 80, f"{_EN} Table 5.26"),
+    "office_cad": Requirement("Offices: CAD work stations", 500, 0.60, 19, 80, f"{_EN} Table 5.26"),
+    "conference": Requirement("Conference and meeting rooms", 500, 0.60, 19, 80, f"{_EN} Table 5.26"),
+    "reception": Requirement("Reception desk", 300, 0.60, 22, 80, f"{_EN} Table 5.26"),
+    "archive": Requirement("Archives", 200, 0.40, 25, 80, f"{_EN} Table 5.26"),
+    "classroom": Requirement("Classrooms, tutorial rooms", 300, 0.60, 19, 80, f"{_EN} Table 5.36"),
+    "lecture_hall": Requirement("Auditorium, lecture halls", 500, 0.60, 19, 80, f"{_EN} Table 5.36"),
+    "corridor": Requirement("Circulation areas and corridors", 100, 0.40, 28, 40, f"{_EN} Table 5.1"),
+    "stairs": Requirement("Stairs, escalators, travolators", 100, 0.40, 25, 40, f"{_EN} Table 5.1"),
+    "toilets": Requirement("Cloakrooms, washrooms, toilets", 200, 0.40, 25, 80, f"{_EN} Table 5.2"),
+    "retail_sales": Requirement("Sales area", 300, 0.40, 22, 80, f"{_EN} Table 5.29"),
+    "restaurant": Requirement("Self-service restaurant", 200, 0.40, 22, 80, f"{_EN} Table 5.32"),
 }
 
 
