@@ -27,7 +27,9 @@ if __name__ == "__main__":
     from .cli import main
 
     code = main()
-    # The run is over and its files are written: a signal now must not kill the interpreter's (and
-    # Blender's) exit half-way (Python restores the default action while finalising): block it.
-    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    # The run is over and its files are written: a signal now must not kill the interpreter's and
+    # Blender's exit half-way (Python puts back the default action while finalising, and Blender's
+    # threads would take it): ignore them, which finalisation keeps.
+    for _sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(_sig, signal.SIG_IGN)
     sys.exit(code)

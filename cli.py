@@ -241,11 +241,7 @@ def main(argv=None, *, in_blender=False):
                     _ensure_registered()
                 if interrupt.cancelled():
                     raise KeyboardInterrupt
-                interrupt.raise_ok = True
-                try:
-                    result = module.run(args)
-                finally:
-                    interrupt.raise_ok = False
+                result = module.run(args)
                 if interrupt.cancelled():
                     raise KeyboardInterrupt
                 deliver(args, result)
@@ -292,6 +288,13 @@ def _remove_scratch():
     if getattr(_remove_scratch, "saved_tempdir", False) is not False:
         tempfile.tempdir = _remove_scratch.saved_tempdir
         del _remove_scratch.saved_tempdir
+    if getattr(_remove_scratch, "saved_env", False) is not False:
+        saved = _remove_scratch.saved_env
+        del _remove_scratch.saved_env
+        if saved is None:
+            os.environ.pop("TMPDIR", None)
+        else:
+            os.environ["TMPDIR"] = saved
     _io.remove_scratch()
 
 
@@ -308,6 +311,9 @@ def _scratch_inside_private_root():
         return  # an unwritable TMPDIR: the measurements say so themselves when they need a folder
     _remove_scratch.saved_tempdir = tempfile.tempdir
     tempfile.tempdir = root
+    if "bpy" not in sys.modules:  # Blender's own temporary folder (blender_XXXX) goes inside it too
+        _remove_scratch.saved_env = os.environ.get("TMPDIR")
+        os.environ["TMPDIR"] = root
 
 
 class _quiet_numpy:

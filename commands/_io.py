@@ -178,7 +178,6 @@ class Interrupt:
     def __init__(self, grace_s=GRACE_S):
         self.grace_s = grace_s
         self.signum = None
-        self.raise_ok = False  # main() allows a KeyboardInterrupt only while the subcommand runs
         self.flag = threading.Event()
         self.finished = threading.Event()
         self._writing = threading.Lock()
@@ -207,22 +206,12 @@ class Interrupt:
         if self.signum is None:
             self.signum = signum
         self.flag.set()
-        # Raise only where an exception can travel back to main() cleanly: while the subcommand runs
-        # (``raise_ok``), and not inside Python that Blender's C code runs for itself (Cycles' render
-        # and bake callbacks, bpy's own scripts, imports): Blender prints or swallows an exception
-        # there, and one raised in its start-up or our registration crashed it (issue 21, finding 10).
-        # Elsewhere just flag it: main() and the measurements stop at their next cancelled() poll,
-        # the watchdog after GRACE_S at the latest.
-        if not self.raise_ok:
-            return
-        f = frame
-        while f is not None:
-            name = f.f_code.co_filename
-            if (f"{os.sep}cycles{os.sep}" in name or f"{os.sep}bpy{os.sep}" in name
-                    or name.startswith("<frozen importlib")):
-                return
-            f = f.f_back
-        raise KeyboardInterrupt
+        # Only a flag, never an exception: a KeyboardInterrupt raised in Python that Blender's C code
+        # runs (Cycles' render and bake callbacks, depsgraph handlers, property update callbacks,
+        # bpy's start-up scripts, the add-on's registration) is printed by Blender as a traceback or
+        # swallowed, and one raised in start-up or registration crashed it (issue 21, finding 10).
+        # main() and every measurement poll cancelled() between steps (bakes, renders, start-up
+        # steps); a step that does not poll is ended by the watchdog after GRACE_S with one line.
 
     def _watch(self, sock):
         while True:
