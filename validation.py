@@ -110,7 +110,8 @@ def callable_or_none(value, name):
 
 def choice(value, name, options):
     if not isinstance(value, str) or value not in options:
-        _fail(name, "one of " + ", ".join(repr(o) for o in options), value)
+        raise RadiometerError(f"unknown {name} {_shown(value)}: must be one of "
+                              + ", ".join(repr(o) for o in options))
     return value
 
 
@@ -138,7 +139,7 @@ def points(value, name="location", *, allow_many=True):
         _fail(name, expected + f" (at most {MAX_POINTS} points)" if allow_many else expected,
               f"an array of shape {a.shape}")
     if not np.all(np.isfinite(a)):
-        _fail(name, expected, value)
+        raise RadiometerError(f"{name} is not finite: it must be {expected}, got {_shown(value)}")
     if np.any(np.abs(a) > MAX_COORDINATE):
         _fail(name, f"coordinates within ±{MAX_COORDINATE:g}", value)
     return a
@@ -149,7 +150,7 @@ def directions(value, name="normal", *, allow_many=True):
     a = points(value, name, allow_many=allow_many)
     norms = np.linalg.norm(np.atleast_2d(a), axis=1)
     if not np.all(norms > 1e-12) or not np.all(np.isfinite(norms)):
-        _fail(name, "a non-zero finite direction", value)
+        raise RadiometerError(f"{name} has zero length: it must be a non-zero finite direction, got {_shown(value)}")
     return a
 
 
@@ -193,7 +194,8 @@ def blender_object(value, name="object", *, scene_=None, types=None):
     except ReferenceError:
         raise RadiometerError(f"{name} was removed from the file") from None
     if types is not None and value.type not in types:
-        raise RadiometerError(f"{name} {value.name!r} is a {value.type}, expected " + " or ".join(types))
+        raise RadiometerError(f"{name} {value.name!r} is not a " + " or ".join(t.lower() for t in types)
+                              + f" (it is a {value.type.lower()})")
     return value
 
 
@@ -342,13 +344,17 @@ def method(value, name="method", *, allow_none=False, options=METHODS):
     return choice(value, name, options)
 
 
-def measurement(*, scene_=None, quality_=None, method_=None, target_rel_error=None, samples_=None,
+_UNSET = object()
+
+
+def measurement(*, scene_=None, quality_=None, method_=_UNSET, target_rel_error=None, samples_=None,
                 time_budget_s=None, progress=None, cancelled=None, seed_=0, allow_none_quality=False,
                 allow_none_method=False):
     """The keywords most measurements share, checked together (returns nothing; raises one line)."""
     scene(scene_)
     quality(quality_, allow_none=allow_none_quality)
-    method(method_, allow_none=allow_none_method)
+    if method_ is not _UNSET:  # functions without a method argument do not pass one
+        method(method_, allow_none=allow_none_method)
     fraction(target_rel_error, "target_rel_error", allow_none=True)
     samples(samples_)
     time_budget(time_budget_s)
@@ -361,9 +367,13 @@ def resolution2(value, name="resolution", *, low=1, high=MAX_MAP_SIDE, allow_non
     """Two integers (width, height) or (nx, ny) in [low, high]."""
     if value is None and allow_none:
         return None
+    expected = f"two integers in [{low}, {high}] (at least {low} x {low})"
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
-        _fail(name, f"two integers in [{low}, {high}]", value)
-    return tuple(integer(v, name, low=low, high=high) for v in value)
+        _fail(name, expected, value)
+    try:
+        return tuple(integer(v, name, low=low, high=high) for v in value)
+    except RadiometerError:
+        _fail(name, expected, value)
 
 
 def angles(value, name, *, low, high, allow_none=True, max_count=10_000):
