@@ -228,6 +228,10 @@ def main(argv=None, *, in_blender=False):
         args.interrupt, args.cancelled = interrupt, interrupt.cancelled
         if not in_blender:
             _scratch_inside_private_root()
+        if args.verbose:
+            from .measure import op_reports
+
+            op_reports.keep_reports = True  # --verbose shows Blender's own reports too
         with interrupt, _io.blender_logs_silenced(enabled=not args.verbose, quiet=args.quiet) as err_fd, \
                 _quiet_numpy():
             args.progress = _io.Progress(err_fd, enabled=not args.quiet)

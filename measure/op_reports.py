@@ -11,6 +11,9 @@ import contextlib
 import sys
 
 _DROP = ("Info: ",)
+
+#: The CLI's ``--verbose`` sets this: Blender's own reports then pass as they are.
+keep_reports = False
 _TO_STDERR = ("Warning: ", "Error: ")
 
 
@@ -80,7 +83,7 @@ def _c_progress_dropped():
 def operator_reports_dropped():
     """Inside: operator reports printed by ``bpy.ops`` do not reach stdout (see the module docstring)."""
     original = sys.stdout
-    if original is None:
+    if original is None or keep_reports:
         yield
         return
     filt = _Filter(original)
