@@ -16,6 +16,7 @@ import json
 import math
 import os
 import time
+import unicodedata
 
 import bpy
 
@@ -62,10 +63,19 @@ class _Missing(float):
 MISSING = _Missing()
 
 
+def _text(value):
+    # Object names may hold newlines, control characters or "|": one table cell, one line.
+    cleaned = "".join(" " if unicodedata.category(ch) in ("Cc", "Zl", "Zp") else ch for ch in value)
+    return cleaned.replace("|", "\\|")
+
+
 def _robust(value):
-    """A copy of a result dict for the text writers: None and NaN numbers become MISSING."""
+    """A copy of a result dict for the text writers: None and NaN numbers become MISSING, strings
+    lose control characters (a name with a newline must not break a table)."""
     if value is None or isinstance(value, _Missing):
         return MISSING
+    if isinstance(value, str):
+        return _text(value)
     if isinstance(value, float) and math.isnan(value):
         return MISSING
     if isinstance(value, dict):
@@ -125,6 +135,9 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     law checks as an engineering appendix).
     """
     scene = scene or bpy.context.scene
+    from .meter import capture_model
+
+    capture_model(scene)  # bad input (a light of non-finite power) is one error, as for `measure`
     out = os.path.abspath(out_dir)
     try:
         os.makedirs(out, exist_ok=True)

@@ -142,3 +142,24 @@ def test_operators_store_results_for_the_sidebar(clean_blender, build, tmp_path)
     assert settings.grid_nx > 0 and settings.grid_avg > 0 and os.path.exists(settings.grid_image)
     assert bpy.ops.radiometer.export_report(convergence=False) == {"FINISHED"}
     assert os.path.exists(settings.report_path)
+
+
+def test_report_names_with_control_characters_and_a_nan_light(clean_blender, build, tmp_path):
+    """Issue 21 finding 14: a name with a newline or "|" stays one table cell in report.md; a light of
+    NaN power makes `report` fail with one line (exit 2), as `measure` does, and writes nothing."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    light = build.light(scene, "POINT", (0, 0, 2.0), energy=100.0, shadow_soft_size=0.0)
+    light.name = "Lamp\nrow|two\x07"
+    out = tmp_path / "report"
+    api.export_report(str(out), quality="preview")
+    text = open(out / "report.md").read()
+    heading = [line for line in text.splitlines() if line.startswith("### Lamp")]
+    assert heading and set(heading) == {"### Lamp row\\|two  (POINT)"}  # inverse-square and cosine sections
+    light.data.energy = float("nan")
+    blend = str(tmp_path / "nan.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    assert cli.main(["report", blend, "--out", str(tmp_path / "r2"), "--quality", "preview"]) == 2
+    assert not (tmp_path / "r2").exists() or not any((tmp_path / "r2").iterdir())  # no file written
+    with pytest.raises(RadiometerError, match="non-finite"):
+        api.export_report(str(tmp_path / "r3"))
