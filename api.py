@@ -555,7 +555,7 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
 @_v.boundary
 def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=None, m=1, quality="preview",
                     samples=None, target_rel_error=None, ground_reflectance=0.2, north_offset_deg=0.0,
-                    occupied_from=8.0, occupied_to=18.0, seed=0, progress=None, cancelled=None):
+                    occupied_from=8.0, occupied_to=18.0, seed=0, progress=None, cancelled=None, client=None):
     """Annual climate-based daylight at ``locations`` from an EPW weather file, the two-phase way.
 
     Daylight coefficients: one render per sky patch (Reinhart MF:``m``; 146 patches with the ground
@@ -563,14 +563,17 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
     Perez all-weather sky and the sun (spread over its 4 nearest patches) give the patch luminances;
     hourly illuminance = sky x coefficients. Returns an ``AnnualResult``: ``illuminance`` (T, N) lux,
     ``sda`` (sDA300/50 %), ``ase`` (ASE1000/250 h, with the sun's interreflections), ``udi``,
-    per-point fractions, ``to_dict()``, ``csv_text()``. See docs/daylight-sky.md.
+    per-point fractions, ``to_dict()``, ``csv_text()``. See docs/daylight-sky.md. ``client``: a Dask
+    client: the patches run in chunks of 16 on its workers (the same tasks, the same numbers; docs/cluster.md).
     """
     from .measure import annual
 
     return annual.annual_daylight(locations, normals, epw_path, scene=scene, m=m, quality=quality, samples=samples,
                                   target_rel_error=target_rel_error, ground_reflectance=ground_reflectance,
                                   north_offset_deg=north_offset_deg, occupied_from=occupied_from,
-                                  occupied_to=occupied_to, seed=seed, progress=progress, cancelled=cancelled)
+                                  occupied_to=occupied_to, seed=seed, progress=progress, cancelled=cancelled,
+                                  client=client)
+
 
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------
 

@@ -4,6 +4,8 @@ HELP = ("annual daylight from an EPW weather file by daylight coefficients (one 
         "sDA300/50%, ASE1000/250h, UDI 100-2000 lx at points (--points CSV) or on a plane's grid; --csv and --json")
 NEEDS_SCENE = True
 
+from . import _cluster  # noqa: E402
+
 
 def add_arguments(parser):
     parser.add_argument("--epw", required=True, metavar="FILE", help="EnergyPlus weather file (.epw)")
@@ -23,6 +25,7 @@ def add_arguments(parser):
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="preview",
                         help="target error of each patch's coefficients (default preview, 5 %%)")
     parser.add_argument("--csv", metavar="FILE", help="write one row per point")
+    _cluster.add_arguments(parser)
 
 
 def run(args):
@@ -50,9 +53,10 @@ def run(args):
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = f"annual daylight, {len(locations)} points"
-    r = api.annual_daylight(locations, normals, args.epw, scene=scene, m=args.subdivision, quality=args.quality,
-                            ground_reflectance=args.ground_reflectance, north_offset_deg=args.north, progress=progress,
-                            cancelled=getattr(args, "cancelled", None))
+    with _cluster.client(args) as client:
+        r = api.annual_daylight(locations, normals, args.epw, scene=scene, m=args.subdivision, quality=args.quality,
+                                ground_reflectance=args.ground_reflectance, north_offset_deg=args.north,
+                                progress=progress, cancelled=getattr(args, "cancelled", None), client=client)
     if progress is not None:
         progress.clear()
     print(f"annual daylight at {len(locations)} points: sDA300/50% {100 * r.sda:.1f} %, ASE1000/250h "

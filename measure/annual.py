@@ -129,25 +129,46 @@ def patch_coefficients(scene, *, locations, normals, patch_indices, m=1, quality
     return dc, se
 
 
+def coefficient_tasks(locations, normals, *, m=1, quality="preview", samples=None, target_rel_error=None, seed=0):
+    """The :func:`patch_coefficients` kwargs of every chunk of 16 patches (chunk from patch s seeded
+    ``seed + 7919 s``): the same list in this process and on a cluster."""
+    from ..radiometry import sky_patches
+
+    count, chunk = sky_patches.reinhart_patches(m).count, 16
+    return [dict(locations=locations, normals=normals, patch_indices=list(range(start, min(count, start + chunk))),
+                 m=m, quality=quality, samples=samples, target_rel_error=target_rel_error, seed=seed + 7919 * start)
+            for start in range(0, count, chunk)]
+
+
 def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, scene=None, m=1, quality="preview", samples=None,
-                          target_rel_error=None, seed=0, progress=None, cancelled=None):
-    """(DC (P, N) lux per cd/m^2, standard error (P, N)) for every patch of Reinhart MF:m."""
+                          target_rel_error=None, seed=0, progress=None, cancelled=None, client=None):
+    """(DC (P, N) lux per cd/m^2, standard error (P, N)) for every patch of Reinhart MF:m.
+
+    The patches go in chunks of 16 (chunk starting at patch s seeded ``seed + 7919 s``), one
+    :func:`patch_coefficients` task each: here one after the other, or with a Dask ``client`` on its
+    workers (``radiometer.cluster.run_scene_tasks``); the same tasks either way, so the same numbers.
+    """
     import bpy
 
     from ..radiometry import sky_patches
 
     scene = scene or bpy.context.scene
     count = sky_patches.reinhart_patches(m).count
+    tasks = coefficient_tasks(locations, normals, m=m, quality=quality, samples=samples,
+                              target_rel_error=target_rel_error, seed=seed)
+    if client is not None:
+        from ..cluster import run_scene_tasks
+
+        parts = run_scene_tasks(scene, patch_coefficients, tasks, client=client, progress=progress,
+                                cancelled=cancelled, label="annual daylight")
+        return np.concatenate([d for d, _ in parts]), np.concatenate([s for _, s in parts])
     dc, se = [], []
-    chunk = 16
-    for start in range(0, count, chunk):
-        idx = list(range(start, min(count, start + chunk)))
-        d, s = patch_coefficients(scene, locations=locations, normals=normals, patch_indices=idx, m=m,
-                                  quality=quality, samples=samples, target_rel_error=target_rel_error,
-                                  seed=seed + 7919 * start, cancelled=cancelled)
+    for task in tasks:
+        d, s = patch_coefficients(scene, cancelled=cancelled, **task)
         dc.append(d)
         se.append(s)
         if progress is not None:
+            idx = task["patch_indices"]
             progress(int(1000 * idx[-1] / max(count - 1, 1)), 1000, None)
     return np.concatenate(dc), np.concatenate(se)
 
@@ -209,8 +230,9 @@ class AnnualResult:
 
 def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=None, m=1, quality="preview",
                     samples=None, target_rel_error=None, ground_reflectance=0.2, north_offset_deg=0.0,
-                    occupied_from=8.0, occupied_to=18.0, seed=0, progress=None, cancelled=None):
-    """Annual daylight metrics at points from an EPW file (module docstring). Returns ``AnnualResult``."""
+                    occupied_from=8.0, occupied_to=18.0, seed=0, progress=None, cancelled=None, client=None):
+    """Annual daylight metrics at points from an EPW file (module docstring). Returns ``AnnualResult``.
+    ``client``: a Dask client for the daylight coefficients (:func:`daylight_coefficients`)."""
     import bpy
 
     from ..radiometry import daylight_metrics, epw, sky_patches
@@ -234,7 +256,7 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
     patches = sky_patches.reinhart_patches(m)
     dc, dc_se = daylight_coefficients(points, dirs, scene=scene, m=m, quality=quality, samples=samples,
                                       target_rel_error=target_rel_error, seed=seed, progress=progress,
-                                      cancelled=cancelled)
+                                      cancelled=cancelled, client=client)
     s_all, s_sun, hours = sky_matrix(weather, patches, ground_reflectance=rho, north_offset_deg=north_offset_deg)
     e = s_all @ dc
     e_sun = s_sun @ dc

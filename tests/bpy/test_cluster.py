@@ -385,3 +385,22 @@ def test_cancel_on_the_cluster_leaves_no_task_of_the_run(clean_blender, variants
             break
         time.sleep(0.2)
     assert not left, left  # every future of the run cancelled and forgotten by the scheduler
+
+
+def test_annual_daylight_coefficient_tasks_on_the_cluster_give_the_same_numbers(clean_blender, client, tmp_path):
+    from radiometer.cluster import run_scene_tasks
+    from radiometer.measure import annual
+
+    scene = _sun_study_scene(tmp_path / "court.blend")
+    points = np.array([[0.0, -0.5, 0.8], [1.0, 2.0, 0.8]])
+    # daylight_coefficients(client=) sends exactly these tasks (146 patches in chunks of 16); two chunks
+    # (32 patch renders at a small fixed sample count) keep the test short. Same tasks, same seeds:
+    # the coefficients are equal, not just close.
+    tasks = annual.coefficient_tasks(points, np.tile([0.0, 0.0, 1.0], (2, 1)), samples=16)
+    assert len(tasks) == 10 and tasks[-1]["patch_indices"][-1] == 145
+    here = [annual.patch_coefficients(scene, **t) for t in tasks[1:3]]
+    there = run_scene_tasks(scene, annual.patch_coefficients, tasks[1:3], client=client, label="annual daylight")
+    for (d0, s0), (d1, s1) in zip(here, there):
+        assert d0.shape == (16, 2) and d0.sum() > 0
+        np.testing.assert_allclose(d1, d0, rtol=1e-9, atol=0)
+        np.testing.assert_allclose(s1, s0, rtol=1e-9, atol=0)
