@@ -141,6 +141,8 @@ class _Writes:
 
 
 def _label(struct, attr):
+    if type(struct).__name__ == "_Recorder":
+        struct = object.__getattribute__(struct, "_struct")
     return f"{type(struct).__name__}.{attr}"
 
 
@@ -149,6 +151,10 @@ def _set(struct, attr, value):
     # and recorded (issue 18: "a missing property is a note, not silence"; a misspelt name shows
     # up there too, and the audit test requires that list to be empty on the pinned Blender).
     log = _Writes.current
+    if not _has_setting(struct, attr):  # Blender 4.5 lets setattr of an unknown name pass silently
+        if log is not None:
+            log.missing.append(f"{_label(struct, attr)}: no such setting")
+        return
     try:
         setattr(struct, attr, value)
     except (AttributeError, TypeError, ValueError) as exc:
@@ -158,6 +164,16 @@ def _set(struct, attr, value):
         return
     if log is not None:
         log.items.append((struct, attr, value))
+
+
+def _has_setting(struct, attr):
+    """True if ``attr`` is a property of the settings struct (RNA, Python-defined ones included).
+
+    On Blender 4.5 a Python-defined property group such as ``scene.cycles`` accepts ``setattr`` of
+    any name (a plain attribute, no error); on 5.0 an unknown name raises. Asking the RNA works on both.
+    """
+    rna = getattr(struct, "bl_rna", None)
+    return attr in rna.properties if rna is not None else hasattr(struct, attr)
 
 
 class _Recorder:
@@ -171,7 +187,9 @@ class _Recorder:
 
     def __setattr__(self, attr, value):
         struct = object.__getattribute__(self, "_struct")
-        setattr(struct, attr, value)  # strict: a misspelt name raises here
+        if not _has_setting(struct, attr):  # strict: a misspelt name raises here (4.5 would not)
+            raise AttributeError(f"{_label(struct, attr)}: no such setting")
+        setattr(struct, attr, value)
         if _Writes.current is not None:
             _Writes.current.items.append((struct, attr, value))
 

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from radiometer import api
+from radiometer.compat import ensure_node_tree
 from radiometer.measure import capture_cache, light_isolation, meter, scene_capture
 
 K = 683.0  # lm/W, the default efficacy; a white light's CIE Y weight is 1
@@ -100,7 +101,7 @@ def test_world_image_pixels_are_read_again(clean_blender, captures):
     scene = bpy.context.scene
     world = bpy.data.worlds.new("image world")
     scene.world = world
-    tree = world.node_tree
+    tree = ensure_node_tree(world)  # Blender 4.5 gives a new world no tree until use_nodes is set
     image = bpy.data.images.new("sky", 8, 4, float_buffer=True)
     image.colorspace_settings.name = "Non-Color"
     image.pixels.foreach_set(np.ones(8 * 4 * 4, np.float32))

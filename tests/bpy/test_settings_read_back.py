@@ -15,9 +15,16 @@ def test_every_written_setting_is_read_back_and_none_is_missing(clean_blender):
     with scene_guard.preserved_scene(scene) as snapshot:
         record = render_settings.apply(scene, samples=64, bounces=8, needs=NEEDS, seed=3, snapshot=snapshot)
         assert record["settings_read_back"] >= 50
-        # On the pinned Blender every name exists: a misspelt one would be listed here.
-        assert record["settings_missing"] == []
+        # On the pinned Blender every name exists: a misspelt one would be listed here. Blender 4.5
+        # has no volume_biased (5.0 added null-scattering volumes; 4.5 ray-marches): noted, not fatal.
+        missing = [m.split(":")[0].split(".")[-1] for m in record["settings_missing"]]
+        assert missing == ([] if bpy.app.version >= (5, 0, 0) else ["volume_biased"]), record["settings_missing"]
         assert scene.cycles.blur_glossy == 0.0  # Filter Glossy (there is no "filter_glossy")
+
+
+# Filter Glossy's Python name is blur_glossy; "filter_glossy" was the real slip (FACTS.md) on 5.0, but
+# Blender 4.5 still has a property of that name, so the misspelling tested is one neither version has.
+MISSPELT = "filter_glossy_radiometer"
 
 
 def test_a_misspelt_or_missing_name_is_recorded_not_silent(clean_blender):
@@ -26,15 +33,15 @@ def test_a_misspelt_or_missing_name_is_recorded_not_silent(clean_blender):
     scene = bpy.context.scene
     log = render_settings._Writes.current = render_settings._Writes()
     try:
-        render_settings._set(scene.cycles, "filter_glossy", 0.0)
+        render_settings._set(scene.cycles, MISSPELT, 0.0)
         render_settings._set(scene.cycles, "sampling_pattern", "NO_SUCH_PATTERN")
     finally:
         render_settings._Writes.current = None
-    assert len(log.missing) == 2 and "filter_glossy: no such setting" in log.missing[0]
+    assert len(log.missing) == 2 and f"{MISSPELT}: no such setting" in log.missing[0]
     assert "not available" in log.missing[1]
     # A strict write of a misspelt name raises at once.
     with pytest.raises(AttributeError):
-        render_settings._Recorder(scene.cycles).filter_glossy = 0.0
+        setattr(render_settings._Recorder(scene.cycles), MISSPELT, 0.0)
 
 
 def test_a_setting_that_does_not_take_fails_the_read_back(clean_blender):
