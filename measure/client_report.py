@@ -289,7 +289,10 @@ def _picture_size(scene, longest=240):
 
 
 def _plain(value, digits=4):
-    """``value`` to ``digits`` significant digits without scientific notation: 10240 -> '10240'."""
+    """``value`` to ``digits`` significant digits without scientific notation: 10240 -> '10240';
+    "n/a" for a missing or non-finite number (an exact scene's convergence fit has no samples figure)."""
+    if value is None or not math.isfinite(float(value)):
+        return "n/a"
     v = float(f"{float(value):.{digits}g}")
     return f"{v:.0f}" if abs(v) >= 10 ** (digits - 1) else f"{v:g}"
 
