@@ -283,11 +283,13 @@ def markdown(res):
                      f"{r['start_s']:.1f} | {r['compute_s']:.0f} | {r['combine_s']:.2f} | {r['total_s'] / 60:.1f} min | "
                      f"{r['speedup_vs_1']:.0f}x | {100 * r['efficiency']:.0f} % |")
     if m["load_before"] > 2 * m["cores"] or res["fit"]["b"] < 0:
-        lines += ["", f"**Caveat: this run is not a credible measurement of scaling.** The load average was "
+        lines += ["", f"**Caveat: read this run's scaling with care.** The load average was "
                   f"{m['load_before']:.0f}-{m['load_after']:.0f} on {m['cores']} cores (other users' test runs): the "
                   "1-vs-2-worker ratio measures contention, not Dask; "
-                  + (f"the cost fit came out with b = {1000 * res['fit']['b']:.1f} ms per point < 0 (impossible; "
-                     "clamped to 0 above), so the projection's per-task cost is not a prediction. "
+                  + (f"the cost fit gave b = {1000 * res['fit']['b']:.1f} ms per point < 0: within the noise the "
+                     "per-patch cost does not grow from the small to the large point set (a patch render's cost is "
+                     "set by reaching the target error on one small source), so b is taken as 0 and the "
+                     "projection rests on a alone. "
                      if res["fit"]["b"] < 0 else "")
                   + "The overhead rows (start-up, scene load, scatter, pickling) are upper bounds. Rerun `make bench` "
                   "(or `bench/cluster.py`) on a quiet machine."]
