@@ -17,6 +17,11 @@ def _stop_at_once(signum, _frame):
     io = sys.modules.get(f"{__package__}.commands._io")
     if io is not None:
         io.remove_scratch()
+    else:  # before the CLI's plumbing is imported: the private folders outputs made, if any
+        import shutil
+
+        for folder in getattr(sys.modules.get(f"{__package__}.outputs"), "created_roots", ()):
+            shutil.rmtree(folder, ignore_errors=True)
     os.write(2, f"radiometer: {what}; stopped, no file left half-written\n".encode())
     os._exit(128 + signum)
 

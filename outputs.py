@@ -25,11 +25,26 @@ _WINDOWS_RESERVED = {"con", "prn", "aux", "nul", *(f"com{i}" for i in range(1, 1
 MAX_STEM = 80
 
 
+#: Every private folder this process made (removed together: one made after an earlier removal too).
+created_roots = []
+
+
 def private_temp_root():
     """This process's private temporary folder (created once with mkdtemp, mode 0700)."""
     global _private_root
     if _private_root is None or not os.path.isdir(_private_root):
-        _private_root = tempfile.mkdtemp(prefix="radiometer-")
+        # A signal between mkdtemp and the assignment would leave a folder that no handler knows of.
+        import signal
+
+        mask = getattr(signal, "pthread_sigmask", None)
+        held = (signal.SIGINT, signal.SIGTERM)
+        old = mask(signal.SIG_BLOCK, held) if mask else None
+        try:
+            _private_root = tempfile.mkdtemp(prefix="radiometer-")
+            created_roots.append(_private_root)
+        finally:
+            if mask:
+                mask(signal.SIG_SETMASK, old)
     return _private_root
 
 

@@ -167,8 +167,9 @@ def remove_scratch():
     from .. import outputs
 
     root, outputs._private_root = outputs._private_root, None
-    if root is not None:
-        shutil.rmtree(root, ignore_errors=True)
+    for folder in {root, *outputs.created_roots} - {None}:
+        shutil.rmtree(folder, ignore_errors=True)
+    outputs.created_roots.clear()
 
 
 class Interrupt:
