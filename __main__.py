@@ -7,28 +7,36 @@ the private temporary folder, if one exists, is removed. A KeyboardInterrupt rai
 start-up or the add-on's registration crashed Blender (issue 21, finding 10), so none is raised.
 """
 
+import _signal  # the builtin itself: `import signal` imports enum first, a window where Ctrl-C gave a traceback
 import os
-import signal
 import sys
 
 
 def _stop_at_once(signum, _frame):
-    what = "terminated (SIGTERM)" if signum == signal.SIGTERM else "interrupted (Ctrl-C)"
-    io = sys.modules.get(f"{__package__}.commands._io")
-    if io is not None:
-        io.remove_scratch()
-    else:  # before the CLI's plumbing is imported: the private folders outputs made, if any
-        import shutil
-
-        for folder in getattr(sys.modules.get(f"{__package__}.outputs"), "created_roots", ()):
-            shutil.rmtree(folder, ignore_errors=True)
+    what = "terminated (SIGTERM)" if signum == _signal.SIGTERM else "interrupted (Ctrl-C)"
+    # The CLI's plumbing may not be imported yet, or only half (the signal came during its import):
+    # then the private folders that outputs made, if any, are removed here.
+    # Nothing is imported here: the signal may have come in the middle of an import.
+    try:
+        remove = getattr(sys.modules.get(f"{__package__}.commands._io"), "remove_scratch", None)
+        if remove is not None:
+            remove()
+        else:
+            roots = getattr(sys.modules.get(f"{__package__}.outputs"), "created_roots", ())
+            shutil = sys.modules.get("shutil")  # loaded whenever a folder was made (tempfile needs it)
+            for folder in roots if shutil is not None else ():
+                shutil.rmtree(folder, ignore_errors=True)
+    except Exception:  # noqa: BLE001 - a half-imported module: the line and the exit code still follow
+        pass
     os.write(2, f"radiometer: {what}; stopped, no file left half-written\n".encode())
     os._exit(128 + signum)
 
 
 if __name__ == "__main__":
-    for _sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(_sig, _stop_at_once)
+    for _sig in (_signal.SIGINT, _signal.SIGTERM):
+        _signal.signal(_sig, _stop_at_once)
+    import signal
+
     from .cli import main
 
     code = main()
