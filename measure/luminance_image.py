@@ -252,6 +252,10 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
     import os
 
     scene = scene or bpy.context.scene
+    if not hasattr(scene, "compositing_node_group"):
+        # Blender 4.x has no compositor node groups (the passes are summed in one); not ported yet.
+        raise RadiometerError("illuminance images need Blender 5.0 or newer; luminance images "
+                              "(luminance_image) work on 4.5 too")
     cam = scene.camera if camera is None else (scene.objects.get(camera) if isinstance(camera, str) else camera)
     if cam is None or getattr(cam, "type", None) != "CAMERA":
         raise RadiometerError("no camera to render from: give camera= or set the scene's camera")
