@@ -45,4 +45,14 @@ if __name__ == "__main__":
     # threads would take it): ignore them, which finalisation keeps.
     for _sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(_sig, signal.SIG_IGN)
+    bpy = sys.modules.get("bpy")
+    if bpy is not None and tuple(getattr(getattr(bpy, "app", None), "version", (5,))) < (5, 0, 0):
+        # Blender 4.x as a module can hang or crash while Python finalises (seen with gdb, and a
+        # segmentation fault after a Dask run): the results are written, so leave now.
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError, AttributeError):
+                pass
+        os._exit(code if isinstance(code, int) else 1)
     sys.exit(code)
