@@ -111,11 +111,12 @@ def test_empty_json_name_is_an_error(blend):
     one_error_line(run_cli("world", blend, "--json", ""), "--json")
 
 
-def test_json_dash_is_stdout_alone(blend):
-    out = run_cli("world", blend, "--json", "-")
+def test_json_dash_is_stdout_alone(blend, tmp_path):
+    out = subprocess.run([sys.executable, "-m", "radiometer", "world", str(blend), "--json", "-"],
+                         capture_output=True, text=True, cwd=tmp_path, timeout=300)
     assert out.returncode == 0, out.stderr
     data = json.loads(out.stdout)  # nothing but the JSON on stdout
-    assert data["world"]["illuminance"] == 0.0 and not os.path.exists("/-")
+    assert data["world"]["illuminance"] == 0.0 and os.listdir(tmp_path) == []  # no file named "-"
 
 
 def test_no_arguments_prints_usage_on_stderr_exit_2():
