@@ -10,7 +10,7 @@ def format_value(value, rel_std_error=0.0, exact=False):
 
     402.283 at 1.1 % -> '402'; at 0.12 % -> '402.3'; an exact (closed-form) value gets 5 digits.
     Plain decimals between 0.001 and 10^6, else scientific notation; "n/a" for None or non-finite.
-    (The same rule as the sidebar's ``panels.meter.format_value``.)
+    (The sidebar, the CLI and the reports all use this one.)
     """
     if value is None or not math.isfinite(value):
         return "n/a"

@@ -2,31 +2,9 @@
 
 import bpy
 
+from ..readings import format_value  # the one digits rule, shared with the CLI and the reports
+
 _draw_handle = None
-
-
-def format_value(value, rel_std_error=0.0, exact=False):
-    """``value`` with as many significant digits as its standard error supports (2 to 6).
-
-    402.283 at 1.1 % -> '402'; at 0.12 % -> '402.3'; an exact (closed-form) value gets 5 digits.
-    Plain decimals between 0.001 and 10^6, else scientific notation.
-    """
-    import math
-
-    if value is None or not math.isfinite(value):
-        return "n/a"
-    if value == 0:
-        return "0"
-    magnitude = math.floor(math.log10(abs(value)))
-    if exact or not rel_std_error or not math.isfinite(rel_std_error) or rel_std_error <= 0:
-        digits = 5
-    else:
-        digits = magnitude - math.floor(math.log10(abs(value) * rel_std_error)) + 1
-    digits = min(max(digits, 2), 6)
-    if 1e-3 <= abs(value) < 1e6:
-        decimals = digits - 1 - magnitude
-        return f"{round(value, decimals):.{max(decimals, 0)}f}"  # 123456.7 at 1 % -> 123000
-    return f"{value:.{digits - 1}e}"
 
 
 def format_reading(meter):
