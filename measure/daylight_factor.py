@@ -207,35 +207,12 @@ class DaylightFactorGrid:
 
 
 def _grid_layout(scene, target, resolution, spacing):
-    """(plane object, nx, ny, points (ny, nx, 3), normal): the cell centres exactly as
-    ``measure.grid.illuminance_grid`` lays them out (a test compares the two)."""
-    from ..radiometry import grid as grid_math
+    """(plane object, nx, ny, points (ny, nx, 3), normal): ``measure.grid.grid_layout``, the layout
+    ``illuminance_grid`` uses too."""
     from . import grid
 
-    obj = scene.objects.get(target) if isinstance(target, str) else target
-    if obj is None:
-        raise RadiometerError(f"no object named {target!r} in scene {scene.name!r}")
-    (x0, x1, y0, y1, zc), mw, normal = grid.plane_frame(obj, scene)
-    scale = scene.unit_settings.scale_length
-    size_x = (x1 - x0) * np.linalg.norm(mw[:3, 0]) * scale
-    size_y = (y1 - y0) * np.linalg.norm(mw[:3, 1]) * scale
-    if resolution is not None and spacing is not None:
-        raise RadiometerError("give a resolution or a spacing, not both")
-    if resolution is not None:
-        try:
-            nx, ny = (int(v) for v in resolution)
-        except (TypeError, ValueError):
-            raise RadiometerError(f"resolution must be two integers (nx, ny), got {resolution!r}") from None
-        if nx < 1 or ny < 1:
-            raise RadiometerError(f"resolution must be at least 1 x 1 points, got {nx} x {ny}")
-    else:
-        if spacing is not None and not (float(spacing) > 0 and math.isfinite(float(spacing))):
-            raise RadiometerError(f"spacing must be > 0 m, got {spacing}")
-        p = float(grid_math.en12464_spacing(max(size_x, size_y))) if spacing is None else float(spacing)
-        nx, ny = grid_math.grid_counts(size_x, size_y, p)
-    local = grid_math.cell_centres((x0, x1), (y0, y1), nx, ny)
-    local4 = np.concatenate([local, np.full(local.shape[:2] + (1,), zc), np.ones(local.shape[:2] + (1,))], axis=-1)
-    return obj, nx, ny, (local4 @ mw.T)[..., :3], np.asarray(normal, float)
+    layout = grid.grid_layout(scene, target, resolution, spacing)
+    return layout.obj, layout.nx, layout.ny, layout.points, np.asarray(layout.normal, float)
 
 
 def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, quality="standard",

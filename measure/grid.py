@@ -10,6 +10,7 @@ import csv
 import dataclasses
 import math
 import time
+import typing
 
 import bpy
 import numpy as np
@@ -128,17 +129,26 @@ def plane_frame(obj, scene):
     return (x0, x1, y0, y1, 0.5 * (z0 + z1)), mw, normal
 
 
-def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, method="auto", quality="standard",
-                     target_rel_error=None, samples=None, time_budget_s=None, seed=0, png=None, csv_path=None,
-                     progress=None, cancelled=None):
-    """Illuminance at the cell centres of a grid on a plane object's local XY (its +Z side).
+class GridLayout(typing.NamedTuple):
+    """Where a plane's grid points lie: ``points`` (ny, nx, 3) scene coordinates at the cell centres."""
 
-    ``target``: a mesh object or its name. ``resolution``: (nx, ny); ``spacing``: cell size in m;
-    neither: the EN 12464-1 spacing p = 0.2 x 5^log10(d). ``quality`` / ``target_rel_error``
-    (fraction, every point) / ``samples`` (per point) / ``time_budget_s`` (s, the whole grid) as in
-    ``meter.measure_illuminance``. Returns :class:`GridResult`.
-    """
-    scene = common.scene_or_context(scene)
+    obj: object
+    nx: int
+    ny: int
+    points: np.ndarray
+    normal: np.ndarray
+    local_extent: tuple
+    local_z: float
+    matrix_world: np.ndarray
+    size_x: float  # m
+    size_y: float  # m
+    scale_length: float
+    spacing_rule: str
+
+
+def grid_layout(scene, target, resolution=None, spacing=None):
+    """The cell centres of ``target``'s grid (a mesh object or its name) for a ``resolution`` (nx, ny),
+    a ``spacing`` (m) or, with neither, the EN 12464-1 spacing: the one layout every grid uses."""
     obj = scene.objects.get(target) if isinstance(target, str) else target
     if obj is None:
         raise RadiometerError(f"no object named {target!r} in scene {scene.name!r}")
@@ -169,8 +179,25 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
         raise RadiometerError(f"{nx} x {ny} points is too many for one measurement: use a coarser grid")
     local = grid_math.cell_centres((x0, x1), (y0, y1), nx, ny)
     local3 = np.concatenate([local, np.full(local.shape[:2] + (1,), zc), np.ones(local.shape[:2] + (1,))], axis=-1)
-    points = local3 @ mw.T
-    points = points[..., :3]
+    return GridLayout(obj, nx, ny, (local3 @ mw.T)[..., :3], normal, (x0, x1, y0, y1), zc, mw, size_x, size_y,
+                      scale, rule)
+
+
+def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, method="auto", quality="standard",
+                     target_rel_error=None, samples=None, time_budget_s=None, seed=0, png=None, csv_path=None,
+                     progress=None, cancelled=None):
+    """Illuminance at the cell centres of a grid on a plane object's local XY (its +Z side).
+
+    ``target``: a mesh object or its name. ``resolution``: (nx, ny); ``spacing``: cell size in m;
+    neither: the EN 12464-1 spacing p = 0.2 x 5^log10(d). ``quality`` / ``target_rel_error``
+    (fraction, every point) / ``samples`` (per point) / ``time_budget_s`` (s, the whole grid) as in
+    ``meter.measure_illuminance``. Returns :class:`GridResult`.
+    """
+    scene = common.scene_or_context(scene)
+    layout = grid_layout(scene, target, resolution, spacing)
+    obj, nx, ny, points, normal = layout.obj, layout.nx, layout.ny, layout.points, layout.normal
+    (x0, x1, y0, y1), zc, mw = layout.local_extent, layout.local_z, layout.matrix_world
+    size_x, size_y, scale, rule = layout.size_x, layout.size_y, layout.scale_length, layout.spacing_rule
     started = time.perf_counter()
     readings = common.measure(scene, points.reshape(-1, 3), normal, method=method, seed=seed, progress=progress,
                               cancelled=cancelled,
