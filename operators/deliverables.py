@@ -13,7 +13,7 @@ class RADIOMETER_OT_luminance_image(bpy.types.Operator):
 
     bl_idname = "radiometer.luminance_image"
     bl_label = "False-Colour Image"
-    bl_options = {"REGISTER"}  # writes files and an image data-block; the scene itself is left as it was
+    bl_options = {"REGISTER", "UNDO"}  # loads the picture as an image data-block: one undo step removes it
 
     quantity: EnumProperty(name="Quantity", description="What the false colours show",
                            items=(("LUMINANCE", "Luminance (cd/m²)", "What the camera sees, in cd/m²"),

@@ -11,9 +11,7 @@ READ_ONLY = {
     "brdf_param_info": "INTERNAL: shows a parameter's description",
 }
 #: Known to change data without an undo step yet; named here so that this test says so.
-PENDING = {
-    "luminance_image": "issue 23 (operators/deliverables.py): loads an image data-block, needs UNDO",
-}
+PENDING = {}  # operators that still lack an undo step, with the issue that owns them
 
 
 def _raw(prop):
