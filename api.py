@@ -419,9 +419,9 @@ def world_model(scene=None):
     _v.scene(scene)
     import bpy
 
-    from .measure import world
+    from .measure import world_capture
 
-    return world.read_world(scene or bpy.context.scene)
+    return world_capture.read_world(scene or bpy.context.scene)
 
 
 @_v.boundary

@@ -190,9 +190,9 @@ def _copy(model, scene):
     fresh = dataclasses.replace(model, **{f.name: type(value)(value) for f in dataclasses.fields(model)
                                          if isinstance(value := getattr(model, f.name), (list, dict))})
     if model.world is not None:  # the world reads image pixels, which fire no update: read it again
-        from . import world
+        from . import world_capture
 
-        fresh.world = world.read_world(scene)
+        fresh.world = world_capture.read_world(scene)
     return fresh
 
 

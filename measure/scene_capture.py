@@ -318,9 +318,9 @@ def capture(scene, view_layer=None, exclude=()):
 
 
 def _world(scene, emits):
-    """The world as pure data (``measure.world.read_world``) when it emits, else None (issue 14)."""
+    """The world as pure data (``measure.world_capture.read_world``) when it emits, else None (issue 14)."""
     if not emits:
         return None
-    from . import world
+    from . import world_capture
 
-    return world.read_world(scene)
+    return world_capture.read_world(scene)

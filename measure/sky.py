@@ -1,5 +1,5 @@
 """CIE sky worlds: build a World whose shader evaluates the ISO 15469 / CIE overcast luminance formula
-on the ray direction (``radiometry.cie_sky``), and recognise such a world when the meter reads it.
+on the ray direction (``radiometry.cie_sky``), and mark it so that the meter recognises it.
 
 The world's node tree: Texture Coordinate > Generated (the ray direction in world shaders) >
 Normalize > math nodes computing the sky luminance (as radiance, W/(m^2 sr) per scene unit^2:
@@ -7,40 +7,16 @@ luminance / luminous efficacy x scale_length^2) above the horizon and the unifor
 below a sharp horizon (cos Z > 0), into a Background's Strength with a white colour. The parameters
 are stored on the world as the custom property ``radiometer_cie_sky`` (JSON) with a fingerprint of
 the node tree: ``read_sky_world`` returns the exact ``cie_sky.CIESkyWorld`` only while the tree is
-exactly as built, and "not modelled" (rendered) once the user has edited it.
+exactly as built, and "not modelled" (rendered) once the user has edited it. Reading such a world
+(``read_sky_world``, the tag and the fingerprint) lives in ``measure/world_capture.py``.
 """
 
-import hashlib
 import json
 import math
 
-import numpy as np
-
 from ..errors import RadiometerError
 from ..radiometry import cie_sky
-
-TAG = "radiometer_cie_sky"
-_SCHEMA = 1
-
-
-def _fingerprint(tree):
-    """A hash of every node (type, operation, mute, unlinked input values) and link of ``tree``."""
-    items = []
-    for node in sorted(tree.nodes, key=lambda n: n.name):
-        entry = [node.name, node.bl_idname, getattr(node, "operation", ""), bool(node.mute),
-                 getattr(node, "is_active_output", None), getattr(node, "target", None),
-                 bool(getattr(node, "use_clamp", False))]
-        for sock in node.inputs:
-            value = getattr(sock, "default_value", None)
-            if value is not None and not sock.is_linked:
-                value = [round(float(v), 12) for v in value] if hasattr(value, "__len__") else round(float(value), 12)
-            entry.append((sock.identifier, sock.is_linked, value, bool(getattr(sock, "enabled", True))))
-        items.append(entry)
-    for link in tree.links:
-        items.append(("link", link.from_node.name, link.from_socket.identifier, link.to_node.name,
-                      link.to_socket.identifier, bool(getattr(link, "is_muted", False))))
-    items[len(tree.nodes):] = sorted(items[len(tree.nodes):], key=repr)
-    return hashlib.sha256(repr(items).encode()).hexdigest()
+from .world_capture import CIE_SKY_SCHEMA, CIE_SKY_TAG, sky_fingerprint
 
 
 def _math(tree, op, a=None, b=None, c=None, x=0):
@@ -148,34 +124,12 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
         world = bpy.data.worlds.new(name)
     tree = ensure_node_tree(world)
     build_sky_tree(tree, t, sun, zr, gr)
-    info = {"schema": _SCHEMA, "sky_type": t, "sun_direction": [float(v) for v in sun],
+    info = {"schema": CIE_SKY_SCHEMA, "sky_type": t, "sun_direction": [float(v) for v in sun],
             "horizontal_illuminance_lux": e_h, "ground_reflectance": rho, "zenith_luminance": lz,
             "ground_luminance": lg, "efficacy": efficacy, "scale_length": scene.unit_settings.scale_length,
-            "zenith_radiance": zr, "ground_radiance": gr, "fingerprint": _fingerprint(tree)}
-    world[TAG] = json.dumps(info)
+            "zenith_radiance": zr, "ground_radiance": gr, "fingerprint": sky_fingerprint(tree)}
+    world[CIE_SKY_TAG] = json.dumps(info)
     scene.world = world
     return dict(info, world=world.name, notes=[
         f"{name}: Lz = {lz:.6g} cd/m^2 for E_h = {e_h:g} lx (exact integration, radiometry/cie_sky.py), "
         f"ground {lg:.6g} cd/m^2 (rho_g = {rho:g}) below a sharp horizon; luminous efficacy {efficacy:g} lm/W"])
-
-
-def read_sky_world(world, tree):
-    """The exact ``cie_sky.CIESkyWorld`` of a Radiometer CIE sky world, or a reason string when the
-    tag is broken or the nodes were edited (then the world is rendered like any other)."""
-    try:
-        info = json.loads(world[TAG])
-        if info.get("schema") != _SCHEMA:
-            return f"the CIE sky tag has schema {info.get('schema')!r}, not {_SCHEMA}"
-        fingerprint = info["fingerprint"]
-        sky = cie_sky.CIESkyWorld(info["sky_type"], np.array(info["sun_direction"], float), info["zenith_radiance"],
-                                  info["ground_radiance"], node="")
-    except (KeyError, TypeError, ValueError) as exc:
-        return f"the world's CIE sky tag cannot be read ({exc})"
-    if tree is None or _fingerprint(tree) != fingerprint:
-        return "the CIE sky world's nodes were edited after it was made (set the sky again to read it exactly)"
-    bg = next((n for n in tree.nodes if n.bl_idname == "ShaderNodeBackground"), None)
-    sky.node = bg.name if bg is not None else ""
-    name = "CIE overcast sky" if sky.sky_type == "overcast" else f"CIE sky type {sky.sky_type}"
-    sky.notes.append(f"{name}, E_h {info['horizontal_illuminance_lux']:g} lx, ground rho {info['ground_reflectance']:g}: "
-                     "integrated exactly (radiometry/cie_sky.py)")
-    return sky
