@@ -10,7 +10,6 @@ terminal (not with ``--quiet``, which also drops the results text: use ``--json`
 
 import argparse
 import importlib
-import json
 import os
 import sys
 
@@ -120,45 +119,6 @@ def _open_blend(path):
         raise RadiometerError(f"cannot open {shown(path)}: {str(exc).strip().splitlines()[-1]}") from None
 
 
-def json_text(result):
-    from .outputs import json_safe  # the one JSON/NaN policy (NaN and inf as null)
-
-    return json.dumps(json_safe(result), indent=2, allow_nan=False) + "\n"
-
-
-def write_json(path, result, interrupt=None):
-    """Write ``result`` as JSON to ``path`` whole or not at all (RadiometerError with one line if it cannot).
-    ``path`` "-" means stdout: :func:`main` prints the final result there once the run is over."""
-    if path == "-":
-        return path
-    _io.check_output_file(path, "JSON file")
-    return _io.write_text(path, json_text(_without_scratch_paths(result)), interrupt)
-
-
-def _without_scratch_paths(result):
-    """``result`` with every path into this process's private temporary folder replaced by None:
-    the CLI removes that folder when it exits, so a JSON file must not point into it."""
-    from . import outputs
-
-    root = outputs._private_root
-    if root is None:
-        return result
-    prefix = os.path.join(root, "")
-
-    def clean(value):
-        if isinstance(value, str) and value.startswith(prefix):
-            return None
-        if isinstance(value, dict):
-            return {k: clean(v) for k, v in value.items()}
-        if isinstance(value, (list, tuple)):
-            return [clean(v) for v in value]
-        if hasattr(value, "to_dict"):
-            return clean(value.to_dict())
-        return value
-
-    return clean(outputs.json_safe(result))
-
-
 #: Options that name files or folders a subcommand writes, and arguments naming files it reads.
 OUTPUT_OPTIONS = {"json": "--json", "csv": "--csv", "png": "--png", "plot": "--plot", "plots": "--plots",
                   "irradiance_map": "--irradiance-map", "out": "--out"}
@@ -190,13 +150,6 @@ def _check_paths(args, in_blender):
     from . import outputs
 
     outputs.refuse_overlaps(outputs_, inputs)
-
-
-def deliver(args, result):
-    """Write ``--json`` now (commands call this before optional plots, so a failing plot cannot lose it)."""
-    if getattr(args, "json", None) and args.json != "-" and not getattr(args, "_json_written", False):
-        write_json(args.json, result, getattr(args, "interrupt", None))
-        args._json_written = True
 
 
 def _os_error_message(exc):
@@ -242,17 +195,17 @@ def main(argv=None, *, in_blender=False):
                 if interrupt.cancelled():  # safe points between the start-up steps
                     raise KeyboardInterrupt
                 if not in_blender:
-                    _ensure_registered()
+                    _io.ensure_registered()
                 if interrupt.cancelled():
                     raise KeyboardInterrupt
                 result = module.run(args)
                 if interrupt.cancelled():
                     raise KeyboardInterrupt
-                deliver(args, result)
+                _io.deliver(args, result)
             finally:
                 args.progress.clear()
         if json_to_stdout:
-            sys.stdout.write(json_text(_without_scratch_paths(result)))
+            sys.stdout.write(_io.json_text(_io.without_scratch_paths(result)))
             sys.stdout.flush()
         return 0
     except KeyboardInterrupt:
@@ -345,16 +298,6 @@ class _quiet_numpy:
             np.seterr(**self._err)
         self._warnings.__exit__(*exc)
         return False
-
-
-def _ensure_registered():
-    """With bpy as a module the add-on is not enabled: register it (idempotent)."""
-    import bpy
-
-    if not hasattr(bpy.types.Scene, "radiometer"):
-        from . import register
-
-        register()
 
 
 # --- Blender's `-c radiometer` entry point -------------------------------------------------------

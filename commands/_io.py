@@ -13,10 +13,14 @@
 * :func:`write_text` writes a whole file or nothing (``outputs.write_text``), uninterrupted.
 * :func:`check_output_file` / :func:`check_output_dir` say before a long run that an output cannot
   be written.
+* :func:`deliver` / :func:`write_json` / :func:`json_text` write a subcommand's result as JSON (the one
+  JSON/NaN policy, ``outputs.json_safe``); :func:`ensure_registered` registers the extension when bpy
+  runs as a module. Subcommands import these from here, never from ``cli`` (the import contract).
 """
 
 import contextlib
 import ctypes
+import json
 import os
 import signal
 import socket
@@ -359,3 +363,61 @@ def write_text(path, text, interrupt=None):
     guard = interrupt.critical() if interrupt is not None else contextlib.nullcontext()
     with guard:
         return outputs.write_text(path, text)
+
+
+# --- results of a subcommand: JSON and registration (shared by cli.py and the subcommands) -------------
+
+def json_text(result):
+    from ..outputs import json_safe  # the one JSON/NaN policy (NaN and inf as null)
+
+    return json.dumps(json_safe(result), indent=2, allow_nan=False) + "\n"
+
+
+def write_json(path, result, interrupt=None):
+    """Write ``result`` as JSON to ``path`` whole or not at all (RadiometerError with one line if it cannot).
+    ``path`` "-" means stdout: ``cli.main`` prints the final result there once the run is over."""
+    if path == "-":
+        return path
+    check_output_file(path, "JSON file")
+    return write_text(path, json_text(without_scratch_paths(result)), interrupt)
+
+
+def without_scratch_paths(result):
+    """``result`` with every path into this process's private temporary folder replaced by None:
+    the CLI removes that folder when it exits, so a JSON file must not point into it."""
+    from .. import outputs
+
+    root = outputs._private_root  # None until the CLI made one (remove_scratch resets it too)
+    if root is None:
+        return result
+    prefix = os.path.join(root, "")
+
+    def clean(value):
+        if isinstance(value, str) and value.startswith(prefix):
+            return None
+        if isinstance(value, dict):
+            return {k: clean(v) for k, v in value.items()}
+        if isinstance(value, (list, tuple)):
+            return [clean(v) for v in value]
+        if hasattr(value, "to_dict"):
+            return clean(value.to_dict())
+        return value
+
+    return clean(outputs.json_safe(result))
+
+
+def deliver(args, result):
+    """Write ``--json`` now (commands call this before optional plots, so a failing plot cannot lose it)."""
+    if getattr(args, "json", None) and args.json != "-" and not getattr(args, "_json_written", False):
+        write_json(args.json, result, getattr(args, "interrupt", None))
+        args._json_written = True
+
+
+def ensure_registered():
+    """With bpy as a module the add-on is not enabled: register it (idempotent)."""
+    import bpy
+
+    if not hasattr(bpy.types.Scene, "radiometer"):
+        from .. import register
+
+        register()

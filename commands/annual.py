@@ -35,7 +35,7 @@ def run(args):
     import numpy as np
 
     from .. import api
-    from ..cli import deliver
+    from ._io import deliver
     from ..errors import RadiometerError
     from . import _io
     from .sun_study import plane_points, read_points

@@ -100,7 +100,7 @@ def run(args):
     print(f"fidelity: {fid.summary()}  (rms_rel_diff {fid.rms_rel_diff:.2e}, albedo_diff {fid.albedo_diff:.2e})")
     if fid.notes:
         print(f"notes: {fid.notes}")
-    from ..cli import deliver
+    from ._io import deliver
 
     deliver(args, result)  # the numbers are on disk before the plot is drawn
     if plot_path:
@@ -109,7 +109,7 @@ def run(args):
         result["plot"] = write_plot(args.model, plot_path, **params)
         print(f"plot written to {plot_path}")
         if getattr(args, "json", None):
-            from ..cli import write_json
+            from ._io import write_json
 
             write_json(args.json, result, getattr(args, "interrupt", None))  # again, with the plot path
     return result

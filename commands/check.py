@@ -32,7 +32,7 @@ def run(args):
     import bpy
 
     from .. import outputs
-    from ..cli import deliver, write_json
+    from ._io import deliver, write_json
     from ..errors import MeasurementCancelled, RadiometerError
     from ..measure import analysis, report
     from . import _io

@@ -27,9 +27,9 @@ def run(args):
     cancelled = getattr(args, "cancelled", None)
     interrupt = getattr(args, "interrupt", None)
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    from ..cli import _ensure_registered
+    from ._io import ensure_registered
 
-    _ensure_registered()
+    ensure_registered()
     scene = demo_scene.build(bpy.context.scene)
     # Interreflection in a room is noisy (light bounces off the small sunlit floor patch): ask for
     # 95 % intervals within 2 % (about 1 % standard error) rather than a fixed sample count.
@@ -69,7 +69,7 @@ def run(args):
         print(f"  {obj.name:<20} {total:10.4g} lx direct ({parts}); rendered total {r.illuminance:.4g} lx")
     _save(blend, interrupt)  # with the readings stored
     result = {"blend": blend, "meters": [dict(name=o.name, **r.to_dict()) for o, r in results], "direct": direct}
-    from ..cli import deliver, write_json
+    from ._io import deliver, write_json
 
     write_json(os.path.join(out, "demo.json"), result, interrupt)
     deliver(args, result)

@@ -21,7 +21,7 @@ def add_arguments(parser):
 def run(args):
     import bpy
 
-    from ..cli import deliver
+    from ._io import deliver
     from ..errors import RadiometerError
     from ..measure import analysis, report
     from . import _io
@@ -76,7 +76,7 @@ def run(args):
     for path in written:
         print(f"wrote {path}")
     if written and getattr(args, "json", None):
-        from ..cli import write_json
+        from ._io import write_json
 
         write_json(args.json, g.to_dict(), getattr(args, "interrupt", None))  # again, with the file paths
     return g.to_dict()

@@ -119,7 +119,7 @@ def run(args):
     import numpy as np
 
     from .. import api
-    from ..cli import deliver
+    from ._io import deliver
     from ..errors import RadiometerError
     from . import _io
 
