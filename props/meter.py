@@ -31,7 +31,7 @@ _EFFICACY_VALUES = {"BLENDER_683": K_M_LM_PER_W, "RADIANCE_179": K_RADIANCE_WHIT
 
 
 def _live_changed(self, _context):
-    from ..operators import live
+    from ..measure import live
 
     if self.live:
         live.mark_dirty(self.id_data)  # measure every meter once the scene is still
