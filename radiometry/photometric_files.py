@@ -46,6 +46,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .emitters.photometric import catmull_rom_table, integrate_cells, table_flux
 from .units import frozen_array as _frozen
 
 __all__ = ["Photometry", "PhotometricFileError", "Tilt", "read_photometry", "parse_ies", "parse_ldt",
@@ -201,8 +202,7 @@ class Photometry:
         """Luminous flux (lm) of the interpolated distribution over the whole sphere."""
         if self.photometric_type == "C":
             h_full, v_full, table = self.full_table()
-            return _integrate_cells(lambda hh, vv: catmull_rom_table(h_full, v_full, table, hh, vv),
-                                    h_full, v_full, lambda v: np.sin(np.radians(v)))
+            return table_flux(h_full, v_full, table)
         return _lumens_type_ab(self)
 
     @property
@@ -270,72 +270,7 @@ class Photometry:
         }
 
 
-# --- interpolation ----------------------------------------------------------------------------
-
-def _cubic(a, b, c, d, x):
-    # Catmull-Rom through b (x = 0) and c (x = 1), Cycles' cubic_interp.
-    return 0.5 * (((d + 3.0 * (b - c) - a) * x + (2.0 * a - 5.0 * b + 4.0 * c - d)) * x + (c - a)) * x + b
-
-
-def catmull_rom_table(h_deg, v_deg, table, h, v):
-    """Cycles' IES interpolation of ``table`` (n_h, n_v) at C angles ``h`` and vertical angles
-    ``v`` (deg, broadcast). ``h_deg`` must run from 0 to 360 for the C wrap (otherwise the ends
-    repeat, and C outside the range gives 0)."""
-    H = np.asarray(h_deg, dtype=np.float64)
-    V = np.asarray(v_deg, dtype=np.float64)
-    T = np.asarray(table, dtype=np.float64)
-    h, v = np.broadcast_arrays(np.asarray(h, dtype=np.float64), np.asarray(v, dtype=np.float64))
-    shape = h.shape
-    h, v = h.ravel(), v.ravel()
-    n_h, n_v = H.size, V.size
-    out = np.zeros(h.shape)
-    nan = np.isnan(h) | np.isnan(v)
-    inside = ~nan & (v >= V[0]) & (v < V[-1]) & (h >= H[0]) & (h < H[-1])
-    wrap_h = H[0] < 1e-5 and H[-1] > 360.0 - 1e-5
-    wrap_vlow = V[0] < 1e-5
-    wrap_vhigh = V[-1] > 180.0 - 1e-5
-    hi, vi = h[inside], v[inside]
-    ih = np.clip(np.searchsorted(H, hi, side="left") - 1, 0, n_h - 2)
-    iv = np.clip(np.searchsorted(V, vi, side="left") - 1, 0, n_v - 2)
-    fh = (hi - H[ih]) / (H[ih + 1] - H[ih])
-    fv = (vi - V[iv]) / (V[iv + 1] - V[iv])
-
-    def vertical(rows):
-        b = T[rows, iv]
-        c = T[rows, iv + 1]
-        a = np.where(iv > 0, T[rows, np.maximum(iv - 1, 0)], T[rows, 1] if wrap_vlow else b)
-        d_idx = np.minimum(iv + 2, n_v - 1)
-        d = np.where(iv + 2 < n_v, T[rows, d_idx], T[rows, n_v - 2] if wrap_vhigh else c)
-        return _cubic(a, b, c, d, fv)
-
-    b = vertical(ih)
-    c = vertical(ih + 1)
-    if wrap_h:
-        a = vertical(np.where(ih > 0, ih - 1, n_h - 2))
-        d = vertical(np.where(ih + 2 < n_h, ih + 2, 1))
-    else:  # Cycles falls back to the second point at both ends
-        a = np.where(ih > 0, vertical(np.maximum(ih - 1, 0)), b)
-        d = np.where(ih + 2 < n_h, vertical(np.minimum(ih + 2, n_h - 1)), b)
-    out[inside] = np.maximum(_cubic(a, b, c, d, fh), 0.0)
-    out[nan] = np.nan
-    return out.reshape(shape)[()]
-
-
-_GL8 = np.polynomial.legendre.leggauss(8)
-
-
-def _integrate_cells(func, h_deg, v_deg, weight):
-    """int int func(h, v) weight(v) dh dv over the table's cells, both in radians, 8 x 8 GL nodes
-    per cell (the integrand is a polynomial inside each cell except for the clamp at 0)."""
-    x, w = _GL8
-    hs = 0.5 * (h_deg[:-1, None] + h_deg[1:, None]) + 0.5 * np.diff(h_deg)[:, None] * x[None, :]
-    whs = 0.5 * np.radians(np.diff(h_deg))[:, None] * w[None, :]
-    vs = 0.5 * (v_deg[:-1, None] + v_deg[1:, None]) + 0.5 * np.diff(v_deg)[:, None] * x[None, :]
-    wvs = 0.5 * np.radians(np.diff(v_deg))[:, None] * w[None, :]
-    hh, vv = hs.ravel(), vs.ravel()
-    values = func(hh[:, None], vv[None, :])
-    return float(np.einsum("ij,i,j->", values, whs.ravel(), wvs.ravel() * weight(vv)))
-
+# --- flux of type A/B tables (Cycles' IES kernel and the cell integration live in emitters.photometric) ---
 
 def _lumens_type_ab(p):
     """Flux of a type A/B table: angles (H lateral, V elevation) about a horizontal polar axis,
@@ -348,7 +283,7 @@ def _lumens_type_ab(p):
         factor *= 2.0
     if H.size == 1:
         raise ValueError("a type A/B table needs at least two horizontal angles")
-    return factor * _integrate_cells(lambda hh, vv: catmull_rom_table(H, V, T, hh, vv),
+    return factor * integrate_cells(lambda hh, vv: catmull_rom_table(H, V, T, hh, vv),
                                      H, V, lambda v: np.cos(np.radians(v)))
 
 

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from radiometer.radiometry import geometry, lights
+from radiometer.radiometry.emitters import area as area_emitter
 from radiometer.radiometry.lights import LightSpec
 
 UP = np.array([[0.0, 0.0, 1.0]])
@@ -249,7 +250,7 @@ def test_sheared_area_sampler_model_reduces_to_lambert_polygon_without_shear(sha
                      size=0.8, rgb_power=[1.0] * 3)
     pts, nrm = np.array([[0.3, 0.1, 0.0], [0.0, 0.0, 0.5]]), np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8]])
     exact = lights.irradiance(spec, pts, nrm)[:, 0]
-    model = lights._sheared_area_nee(spec, pts, nrm, 64)
+    model = area_emitter._sheared_area_nee(spec, pts, nrm, 64)
     np.testing.assert_allclose(model, exact, rtol=5e-5 if shape == "DISK" else 1e-9)
 
 
@@ -280,7 +281,7 @@ def test_disk_bound_covers_the_polygon_error_at_the_rim():
     spec = LightSpec(kind="AREA", position=[0, 0, 0.001], shape="DISK", size=1.0, rgb_power=[1.0] * 3)
     for x in (0.4999, 0.5001, 0.3):
         e, bound = lights.irradiance_with_bound(spec, [[x, 0, 0.0]], UP)
-        ref = geometry.polygon_projected_solid_angle(lights._outline_world(spec, 2**17), np.array([[x, 0, 0.0]]), UP)
+        ref = geometry.polygon_projected_solid_angle(area_emitter._outline_world(spec, 2**17), np.array([[x, 0, 0.0]]), UP)
         err = abs(e[0, 0] / (ref[0] / (np.pi * spec.area_m2)) - 1)
         assert err <= bound[0] + 1e-12
     assert lights.irradiance_with_bound(spec, [[0, 0, 0.0]], UP)[1][0] < 1e-12

@@ -1,0 +1,18 @@
+"""Light sources, one interface (:class:`.base.Emitter`), one module per kind; pure numpy, never bpy.
+
+Kinds: :mod:`.point`, :mod:`.spot`, :mod:`.sun`, :mod:`.area`, :mod:`.photometric` (the Blender lights,
+sharing :class:`.cycles_light.CyclesLight`), :mod:`.environment` (the world: constant, image, CIE sky),
+:mod:`.emissive_mesh` (surfaces with an Emission shader, rendered only). See README.md here and
+docs/emitters.md.
+"""
+
+from .base import Emitter, EmitterFlags, RayVisibility, SourceId
+from .cycles_light import CyclesLight, from_blender_values
+from .point import PointLight
+from .spot import SpotLight
+from .sun import SunLight
+from .area import AreaLight
+from .photometric import IntensityTable, PhotometricLight
+
+__all__ = ["Emitter", "EmitterFlags", "RayVisibility", "SourceId", "CyclesLight", "from_blender_values",
+           "PointLight", "SpotLight", "SunLight", "AreaLight", "IntensityTable", "PhotometricLight"]
