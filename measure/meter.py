@@ -117,8 +117,33 @@ def plan(scene, model, points_m, normals, method, direct_only=False):
         chosen = method
     exact = np.all(np.isin(direct.status, (scene_model.EXACT, scene_model.ZERO)), axis=0) if direct_only \
         else direct.exact_points()
+    closed = closed_form_points(model, direct, method, chosen, direct_only)
     return {"method": chosen, "needs": model.needs, "model": model, "direct": direct, "uncovered": uncovered,
-            "reasons": reasons, "analytic_exact": bool(analytic_ok and exact.all()), "exact_points": exact}
+            "reasons": reasons, "analytic_exact": bool(analytic_ok and exact.all()), "exact_points": exact,
+            "closed_points": closed & (exact if method == "hybrid" and chosen != "analytic" else True)}
+
+
+def closed_form_points(model, direct, method, chosen, direct_only=False):
+    """(N,) bool: the meters read from closed forms alone, whatever their neighbours need (issue 18).
+
+    A meter qualifies when every light's contribution there is EXACT, ZERO or BOUNDED, no light can
+    reach it by reflection (or, ``direct_only``, no emitting surface needs a render) and the world's
+    light there is not rendered. ``method``: as requested; ``chosen``: as planned. A plan of
+    "analytic" reads every meter from closed forms; a requested "render" renders every meter (the user
+    asked for it). (The hybrid takes only the EXACT ones: ``plan`` intersects.)
+    """
+    from ..radiometry import scene_model
+
+    n = direct.status.shape[1]
+    if chosen == "analytic":
+        return np.ones(n, bool)
+    if method == "render":
+        return np.zeros(n, bool)
+    ok = np.all(np.isin(direct.status, (scene_model.EXACT, scene_model.ZERO, scene_model.BOUNDED)), axis=0)
+    ok &= ~(np.full(n, bool(model.emissive_surfaces)) if direct_only else np.asarray(direct.indirect, bool))
+    if direct.world_status is not None:
+        ok &= direct.world_status != scene_model.RENDER
+    return ok
 
 
 def _world_rendered(direct):
@@ -389,6 +414,145 @@ def _budget_mode(preset, target_rel_error, samples, time_budget_s):
     return float(preset["target"]), None, None
 
 
+def _plan_at(direct, idx):
+    """The DirectPlan restricted to the receivers ``idx`` (per-receiver arrays cut on their first
+    axis, per-light-and-receiver arrays on their second)."""
+    import dataclasses
+
+    per_receiver = {"indirect", "indirect_reason", "world_status", "world_reason"}
+    cut = {}
+    for field in dataclasses.fields(direct):
+        value = getattr(direct, field.name)
+        if isinstance(value, np.ndarray):
+            cut[field.name] = value[idx] if field.name in per_receiver else value[:, idx]
+    return dataclasses.replace(direct, **cut)
+
+
+def _closed_form_part(model, decision, sensors_m, normals, direct_only):
+    """Closed-form readings at every meter: mean (N, 3) and bound (N, 3) W/m^2 SI, notes and parts
+    per meter. The caller keeps the meters that ``plan`` found need no render."""
+    from ..radiometry import scene_model
+
+    direct = decision["direct"]
+    n = len(sensors_m)
+    per_light, bounds, info = analytic_irradiance(model, direct, sensors_m, normals)
+    world_rgb, world_bound, world_note = world_irradiance(model, direct, normals)
+    head = ["analytic direct light: " + "; ".join(f"{lt.name}: {m} ({n_})" for lt, (_e, m, n_) in
+                                                  zip(model.lights, info))]
+    if world_note:
+        head.append(world_note)
+    exact = np.asarray(decision["exact_points"], bool)
+    forced = decision["method"] == "analytic" and not decision["analytic_exact"]
+    notes, parts = [], []
+    for k in range(n):
+        mine = list(head)
+        if exact[k]:
+            mine.append("exact: every contribution is a closed form and nothing can reflect or block it")
+        elif forced and decision["reasons"]:
+            mine.append("NOT exact for this scene: " + ", ".join(decision["reasons"]))
+        else:
+            why = [f"light {lt.name!r}: {direct.reason[i, k]}" for i, lt in enumerate(model.lights)
+                   if direct.status[i, k] != scene_model.EXACT and direct.status[i, k] != scene_model.ZERO]
+            if direct.world_status is not None and direct.world_status[k] not in (scene_model.EXACT, scene_model.ZERO):
+                why.append(f"world: {direct.world_reason[k]}")
+            mine.append("NOT exact at this meter: " + ("; ".join(why) or "quadrature"))
+        if direct.indirect[k] and not direct_only:
+            mine.append("direct light only: light reflected by surfaces or from the world is NOT included")
+        notes.append(mine)
+        parts.append({"analytic": [lt.name for lt in model.lights] + (["world"] if world_note else []),
+                      "rendered": []})
+    return per_light.sum(axis=0) + world_rgb, bounds.sum(axis=0) + world_bound, notes, parts
+
+
+def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sensors_m, normals, *, preset,
+                 method, direct_only, weights, target, budget, fixed, progress, cancelled, seed, scale, n_closed):
+    """Cycles (hybrid or render) at the meters that need it; ``direct`` is the plan cut to them
+    (``_plan_at``), as are the sensors and normals. Returns a dict: mean_rgb, bound_rgb, se_rgb (M, 3),
+    se, samples (M,), method, record, notes (common to these meters), parts (per meter)."""
+    from . import adaptive
+
+    n = len(sensors_scene)
+    notes = []
+    bound_rgb = np.zeros((n, 3))
+    if fixed is None and single_delta_light(decision):
+        # Next-event estimation samples a single delta light exactly: every path gives the same
+        # value, so one sample per texel is the exact render (more would only add float32 rounding).
+        fixed = allocation.MIN_BLOCKS * allocation.BLOCK_TEXELS ** 2
+        notes.append("a single delta light and nothing to reflect light: 1 sample per texel is exact "
+                     "(next-event estimation of one delta light has no variance)")
+    hybrid = method in ("auto", "hybrid")
+    split = hybrid_split(model, direct, n) if hybrid else [frozenset()] * n
+    offset_rgb = np.zeros((n, 3))
+    stacked = direct.interpane is not None and bool(np.any(direct.interpane > 0))
+    if any(split) or stacked:
+        per_light, light_bounds, _info = analytic_irradiance(model, direct, sensors_m, normals)
+        for i, light in enumerate(model.lights):
+            take = np.array([(light.source or light.name) in split[k] for k in range(n)])
+            offset_rgb[take] += per_light[i, take]
+            bound_rgb[take] += light_bounds[i, take]  # thin glass over a light's extent (issue 18)
+            if stacked:
+                # Rendered through two or more panes, the light bouncing between them is a
+                # specular chain to the light that no render finds: counted as a bound.
+                missing = ~take & (direct.interpane[i] > 0)
+                bound_rgb[missing] += np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
+    caustic = caustic_risk(model, direct, split)
+    if caustic.any():
+        per_light, _b, _i = analytic_irradiance(model, direct, sensors_m, normals)
+        bound_rgb += np.einsum("ln,lnc->nc", caustic, np.abs(per_light))
+        notes.append("caustic light may be missing: a small light reaches some meter only through a refracting "
+                     "object that is not a thin pane (Cycles rarely finds such paths); its unoccluded closed "
+                     "form is counted as the error bound, not a small error")
+    if stacked and bound_rgb.any():
+        notes.append("light bouncing between panes of multiple glazing is not found by rendering: its "
+                     "closed-form share is in the stated error bound")
+    parts = [{"analytic": [lt.name for lt in model.lights if (lt.source or lt.name) in split[k]],
+              "rendered": ["everything else (reflected light, other lights, world, emitting surfaces)"]}
+             for k in range(n)]
+    run = adaptive.render_hybrid(scene, view_layer, sensors_scene, normals, needs=model.needs,
+                                 bounces=0 if direct_only else preset["bounces"], weights=weights, target=target,
+                                 time_budget=budget, fixed_samples=fixed, exclusions=split,
+                                 offset=offset_rgb @ weights, progress=progress, cancelled=cancelled, seed=seed,
+                                 panes=model.panes, may_be_lit=may_be_lit(direct, direct_only))
+    mean_rgb = run["mean_rgb"] + offset_rgb
+    se_rgb = np.nan_to_num(run["se_rgb"])
+    scalar_se = np.nan_to_num(run["se"])
+    dark = np.asarray(run.get("dark", np.zeros(n, bool)), bool)
+    if dark.any():
+        # Issue 18: no rendered light found although some may arrive (a small bright region past
+        # an obstruction): the error is unknown, never 0.
+        scalar_se = np.where(dark & (np.abs(mean_rgb @ weights) == 0.0), np.inf, scalar_se)
+        notes.append(f"{int(dark.sum())} meter(s) found no rendered light in {int(run['samples'][dark].min()):,}+ samples "
+                     "although lit surfaces or partly hidden lights lie above their horizon: light from a small "
+                     "bright region may be missing; a reading of 0 then states an unknown (infinite) error")
+    spent = run["samples"]
+    why = "; ".join(decision["reasons"]) or "requested"
+    rule = (f"{fixed} samples per meter" if fixed is not None else
+            f"time budget {budget:g} s" + (f", target {100 * target:g} %" if target else "")
+            if budget is not None else f"target {100 * target:g} % (1 s.e.)")
+    notes.append(f"rendered with Cycles ({why}); {rule}: {run['rounds']} rounds, {run['groups']} sensor "
+                 f"group(s), samples per meter {int(np.min(spent))}..{int(np.max(spent))}; standard error from "
+                 "batch means over independent texels")
+    if n_closed:
+        notes.append(f"{n} of {n + n_closed} meters rendered; the other {n_closed} need no render (closed forms "
+                     "of every contribution, nothing to reflect light there) and were read from them")
+    if any(split):
+        names = sorted(set().union(*split))
+        notes.append(f"hybrid: direct light of {', '.join(repr(x) for x in names)} added from closed forms "
+                     "where proven (excluded from the sensor by light linking); Cycles rendered the rest")
+    if target is not None and not run["reached"]:
+        missed = int(np.sum(np.nan_to_num(scalar_se) > target * np.abs(run["mean_rgb"] @ weights
+                                                                         + offset_rgb @ weights)))
+        notes.append(f"target {100 * target:g} % NOT reached at {missed} of {n} rendered meter(s) ({run['stopped']}; "
+                     f"at most {allocation.MAX_SAMPLES_PER_METER:,} samples per meter)")
+    record = run["record"]
+    if record and record.get("settings_missing"):
+        notes.append("render settings this Blender lacks (skipped): " + "; ".join(record["settings_missing"]))
+    if scale != 1.0:
+        notes.append(f"unit scale {scale:g} m per unit: Cycles' scene-unit result divided by scale²")
+    return {"mean_rgb": mean_rgb, "bound_rgb": bound_rgb, "se_rgb": se_rgb, "se": scalar_se, "samples": spent,
+            "method": "hybrid" if any(split) else "render", "record": record, "notes": notes, "parts": parts}
+
+
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
                         exclude=(), seed=0, direct_only=False, model=None):
@@ -399,8 +563,6 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     ``model``: this scene's ``SceneModel`` (with ``exclude`` applied) when an analysis already has it
     for the scene as it is now (issue 17: capture once); None captures it.
     """
-    from . import adaptive
-
     scene = scene or bpy.context.scene
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     points_scene, single = as_points(location)
@@ -426,103 +588,32 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     notes += placement_notes(model, sensors_m, normals, eps_m)
     notes += glass_notes(model)
     n = len(points_scene)
-    bound_rgb = np.zeros((n, 3))
     direct = decision["direct"]
+    closed = np.asarray(decision["closed_points"], bool)
+    mean_rgb, bound_rgb = np.zeros((n, 3)), np.zeros((n, 3))
+    se_rgb, scalar_se, spent = np.zeros((n, 3)), np.zeros(n), np.zeros(n)
+    own_notes = [[] for _ in range(n)]
     parts = [{"analytic": [], "rendered": []} for _ in range(n)]
-    if decision["method"] == "analytic":
-        per_light, bounds, info = analytic_irradiance(model, direct, sensors_m, normals)
-        world_rgb, world_bound, world_note = world_irradiance(model, direct, normals)
-        mean_rgb = per_light.sum(axis=0) + world_rgb
-        bound_rgb = bounds.sum(axis=0) + world_bound
-        se_rgb = np.zeros_like(mean_rgb)
-        exact_points = decision["exact_points"]
-        notes.append("analytic direct light: " + "; ".join(f"{lt.name}: {m} ({n_})" for lt, (_e, m, n_) in
-                                                            zip(model.lights, info)))
-        if decision["analytic_exact"]:
-            notes.append("exact: every contribution is a closed form and nothing can reflect or block it")
-        else:
-            notes.append("NOT exact for this scene: " + ", ".join(decision["reasons"] or ["quadrature"]))
-            if direct.indirect.any() and not direct_only:
-                notes.append("direct light only: light reflected by surfaces or from the world is NOT included")
-        for k in range(n):
-            parts[k]["analytic"] = [lt.name for lt in model.lights] + (["world"] if world_note else [])
-        if world_note:
-            notes.append(world_note)
-        spent, record, scalar_se, method_used = np.zeros(n), None, np.zeros(n), "analytic"
-    else:
-        if fixed is None and single_delta_light(decision):
-            # Next-event estimation samples a single delta light exactly: every path gives the same
-            # value, so one sample per texel is the exact render (more would only add float32 rounding).
-            fixed = allocation.MIN_BLOCKS * allocation.BLOCK_TEXELS ** 2
-            notes.append("a single delta light and nothing to reflect light: 1 sample per texel is exact "
-                         "(next-event estimation of one delta light has no variance)")
-        hybrid = method in ("auto", "hybrid")
-        split = hybrid_split(model, direct, n) if hybrid else [frozenset()] * n
-        offset_rgb = np.zeros((n, 3))
-        stacked = direct.interpane is not None and bool(np.any(direct.interpane > 0))
-        if any(split) or stacked:
-            per_light, light_bounds, _info = analytic_irradiance(model, direct, sensors_m, normals)
-            for i, light in enumerate(model.lights):
-                take = np.array([(light.source or light.name) in split[k] for k in range(n)])
-                offset_rgb[take] += per_light[i, take]
-                bound_rgb[take] += light_bounds[i, take]  # thin glass over a light's extent (issue 18)
-                if stacked:
-                    # Rendered through two or more panes, the light bouncing between them is a
-                    # specular chain to the light that no render finds: counted as a bound.
-                    missing = ~take & (direct.interpane[i] > 0)
-                    bound_rgb[missing] += np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
-        caustic = caustic_risk(model, direct, split)
-        if caustic.any():
-            per_light, _b, _i = analytic_irradiance(model, direct, sensors_m, normals)
-            bound_rgb += np.einsum("ln,lnc->nc", caustic, np.abs(per_light))
-            notes.append("caustic light may be missing: a small light reaches some meter only through a refracting "
-                         "object that is not a thin pane (Cycles rarely finds such paths); its unoccluded closed "
-                         "form is counted as the error bound, not a small error")
-        if stacked and bound_rgb.any():
-                notes.append("light bouncing between panes of multiple glazing is not found by rendering: its "
-                             "closed-form share is in the stated error bound")
-        for k in range(n):
-            parts[k]["analytic"] = [lt.name for lt in model.lights if (lt.source or lt.name) in split[k]]
-            parts[k]["rendered"] = ["everything else (reflected light, other lights, world, emitting surfaces)"]
-        run = adaptive.render_hybrid(scene, view_layer, sensors_scene, normals, needs=model.needs,
-                                     bounces=0 if direct_only else preset["bounces"], weights=weights, target=target, time_budget=budget,
-                                     fixed_samples=fixed, exclusions=split, offset=offset_rgb @ weights,
-                                     progress=progress, cancelled=cancelled, seed=seed, panes=model.panes,
-                                     may_be_lit=may_be_lit(direct, direct_only))
-        mean_rgb = run["mean_rgb"] + offset_rgb
-        se_rgb = np.nan_to_num(run["se_rgb"])
-        scalar_se = np.nan_to_num(run["se"])
-        dark = np.asarray(run.get("dark", np.zeros(n, bool)), bool)
-        if dark.any():
-            # Issue 18: no rendered light found although some may arrive (a small bright region past
-            # an obstruction): the error is unknown, never 0.
-            scalar_se = np.where(dark & (np.abs(mean_rgb @ weights) == 0.0), np.inf, scalar_se)
-            notes.append(f"{int(dark.sum())} meter(s) found no rendered light in {int(run['samples'][dark].min()):,}+ samples "
-                         "although lit surfaces or partly hidden lights lie above their horizon: light from a small "
-                         "bright region may be missing; a reading of 0 then states an unknown (infinite) error")
-        exact_points = np.zeros(n, bool)
-        spent, record = run["samples"], run["record"]
-        method_used = "hybrid" if any(split) else "render"
-        why = "; ".join(decision["reasons"]) or "requested"
-        rule = (f"{fixed} samples per meter" if fixed is not None else
-                f"time budget {budget:g} s" + (f", target {100 * target:g} %" if target else "")
-                if budget is not None else f"target {100 * target:g} % (1 s.e.)")
-        notes.append(f"rendered with Cycles ({why}); {rule}: {run['rounds']} rounds, {run['groups']} sensor "
-                     f"group(s), samples per meter {int(spent.min())}..{int(spent.max())}; standard error from "
-                     "batch means over independent texels")
-        if any(split):
-            names = sorted(set().union(*split))
-            notes.append(f"hybrid: direct light of {', '.join(repr(x) for x in names)} added from closed forms "
-                         "where proven (excluded from the sensor by light linking); Cycles rendered the rest")
-        if target is not None and not run["reached"]:
-            missed = int(np.sum(np.nan_to_num(scalar_se) > target * np.abs(run["mean_rgb"] @ weights
-                                                                             + offset_rgb @ weights)))
-            notes.append(f"target {100 * target:g} % NOT reached at {missed} of {n} meter(s) ({run['stopped']}; "
-                         f"at most {allocation.MAX_SAMPLES_PER_METER:,} samples per meter)")
-        if record and record.get("settings_missing"):
-            notes.append("render settings this Blender lacks (skipped): " + "; ".join(record["settings_missing"]))
-        if scale != 1.0:
-            notes.append(f"unit scale {scale:g} m per unit: Cycles' scene-unit result divided by scale²")
+    methods = np.full(n, "analytic", dtype=object)
+    record = None
+    if closed.any():
+        c_mean, c_bound, c_notes, c_parts = _closed_form_part(model, decision, sensors_m, normals, direct_only)
+        mean_rgb[closed], bound_rgb[closed] = c_mean[closed], c_bound[closed]
+        for k in np.flatnonzero(closed):
+            own_notes[k], parts[k] = c_notes[k], c_parts[k]
+    rendered = np.flatnonzero(~closed)
+    if rendered.size:
+        run = _render_part(scene, view_layer, model, decision, _plan_at(direct, rendered),
+                           sensors_scene[rendered], sensors_m[rendered], normals[rendered], preset=preset,
+                           method=method, direct_only=direct_only, weights=weights, target=target, budget=budget,
+                           fixed=fixed, progress=progress, cancelled=cancelled, seed=seed, scale=scale,
+                           n_closed=int(closed.sum()))
+        mean_rgb[rendered], bound_rgb[rendered] = run["mean_rgb"], run["bound_rgb"]
+        se_rgb[rendered], scalar_se[rendered], spent[rendered] = run["se_rgb"], run["se"], run["samples"]
+        methods[rendered], record = run["method"], run["record"]
+        for j, k in enumerate(rendered):
+            own_notes[k], parts[k] = list(run["notes"]), run["parts"][j]
+    exact_points = closed & np.asarray(decision["exact_points"], bool)
     seconds = time.perf_counter() - started
     scalar_mean = mean_rgb @ weights
     scalar_bound = np.abs(bound_rgb) @ np.abs(weights)
@@ -537,10 +628,10 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
         rel_bound = float(scalar_bound[k] / abs(e)) if e != 0 else (0.0 if scalar_bound[k] == 0 else math.inf)
         readings.append(IlluminanceReading(
             irradiance_rgb=tuple(float(v) for v in mean_rgb[k]), irradiance=e, illuminance=efficacy * e,
-            rel_std_error=rel, method=method_used, samples=int(spent[k]), seconds=seconds / n,
+            rel_std_error=rel, method=str(methods[k]), samples=int(spent[k]), seconds=seconds / n,
             efficacy=efficacy, colour_space=space, location=tuple(points_scene[k]), normal=tuple(normals[k]),
-            exact=bool(exact_points[k]) and method_used == "analytic",
-            std_error_rgb=tuple(float(v) for v in se_rgb[k]), notes=list(notes), render_settings=record,
+            exact=bool(exact_points[k]), std_error_rgb=tuple(float(v) for v in se_rgb[k]),
+            notes=list(notes) + own_notes[k], render_settings=None if closed[k] else record,
             rel_error_bound=rel_bound, target_rel_error=target, parts=parts[k]))
     watch.done()  # only on success, after the guard restored the scene
     return readings[0] if single else readings
