@@ -86,7 +86,9 @@ def _law_sentence(r, kind):
     if kind == "inverse_square":
         limit = r.get("near_field_limit")
         fit = f"exponent {r['exponent']:.3f} ± {r['exponent_se']:.1g} (ideal -2)"
-        if limit is None or not math.isfinite(limit):
+        if r.get("departure"):
+            what = f"{r['departure']}: physics, not a fault"
+        elif limit is None or not math.isfinite(limit):
             what = ("its far field lies beyond the free space checked, so at every distance the light is an extended "
                     "source (near field) and departs from I/d² as expected; this is physics, not a fault")
         elif limit > 0:
@@ -97,9 +99,13 @@ def _law_sentence(r, kind):
         return (f"{what}; {fit}; the room's interreflections add up to "
                 f"{100 * r.get('max_scene_share', 0.0):.2g} % of a reading")
     dev = 100 * r["max_rel_deviation"]
-    return (f"cosine law at {tuple(round(v, 2) for v in r['location'])} m: largest deviation {dev:.2g} % at "
-            f"{r['max_at_deg']:g}° ({'within' if r.get('passed') else 'outside'} the tolerance); the room adds up "
-            f"to {100 * r.get('max_scene_share', 0.0):.2g} %")
+    where = f"cosine law at {tuple(round(v, 2) for v in r['location'])} m"
+    if r.get("departure"):
+        what = f"{r['departure']}: physics, not a fault"
+    else:
+        what = (f"largest deviation {dev:.2g} % at {r['max_at_deg']:g}° ({'within' if r.get('passed') else 'outside'} "
+                "the tolerance)")
+    return f"{where}: {what}; the room adds up to {100 * r.get('max_scene_share', 0.0):.2g} %"
 
 
 def _meter_rows(report):

@@ -91,6 +91,11 @@ class InverseSquareResult(common.ToDict):
     max_scene_share: float = 0.0  #: largest scene / measured over the sweep (fraction)
     direct_method: str = ""    #: how the direct light was obtained
     target_rel_error: float = None  #: the 1-sigma relative error asked of every reading (None: fixed samples)
+    expected_departure: bool = False  #: the light departs from I/d² exactly as the closed form of its own
+    #:                                   shape predicts (an extended source's near field, soft falloff): physics
+    departure: str = ""        #: that departure in words ("" when the light follows the law or it is unexplained)
+    efficacy: float = 0.0      #: lm/W of the scene: lux = efficacy x the W/m² above (0: no photometric meaning)
+    description: str = ""      #: the light in words ("area light 0.6 x 0.6 m")
 
 
 class CosineRow(typing.NamedTuple):
@@ -142,6 +147,10 @@ class CosineResult(common.ToDict):
     max_scene_share: float = 0.0  #: largest scene / measured over the tilts (fraction)
     direct_method: str = ""
     target_rel_error: float = None
+    expected_departure: bool = False  #: the light departs from cos θ exactly as its own shape's closed form
+    #:                                   predicts (an extended source partly below the meter's horizon)
+    departure: str = ""        #: that departure in words
+    description: str = ""      #: the light in words
 
 
 def _broken_by(light_broke, scene_broke):
@@ -265,6 +274,8 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
                                                scene_dev)
     if not passed and math.isfinite(free) and free < 5 * max(size, 0.01) and not in_shadow.any():
         causes.append(f"scene: a surface {free:.3g} m in front of the light leaves no room for the far field")
+    expected, departure = _expected_inverse_square(spec, d, direct, dse, model, model_dev, ok, judged, limit,
+                                                   far_passed, passed, tolerance)
     share = split.scene_share
     rows = [InverseSquareRow(float(d[k]), float(measured[k]), float(predicted[k]), float(dev[k]), float(se[k]),
                              float(model[k]), float(model_dev[k]), bool(ok[k] or in_shadow[k]),
@@ -278,10 +289,51 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
         source_size=size, five_times=rule, intensity=intensity, axis=tuple(axis.tolist()), tolerance=tolerance,
         rows=rows, causes=causes, notes=notes, fit_from=fit_from, seconds=seconds, total_passed=total_passed,
         broken_by=_broken_by(not passed, scene_broke), max_scene_share=float(np.max(share)),
-        direct_method=split.direct_method, target_rel_error=split.readings[0].target_rel_error)
+        direct_method=split.direct_method, target_rel_error=split.readings[0].target_rel_error,
+        expected_departure=expected, departure=departure, efficacy=float(efficacy), description=describe_light(spec))
     if plot and common.can_plot(result.notes):
         write_inverse_square_plot(result, plot)
     return result
+
+
+def describe_light(spec):
+    """The light in a designer's words: 'area light 0.6 x 0.6 m', 'point light, radius 0.1 m (soft falloff)'."""
+    kind = spec.kind.lower()
+    if spec.kind == "AREA":
+        u, v = spec.extents
+        shape = getattr(spec, "shape", "")
+        if shape in ("DISK", "ELLIPSE"):
+            return f"area light, disk {u:.2g} m" if abs(u - v) < 1e-9 else f"area light, ellipse {u:.2g} x {v:.2g} m"
+        return f"area light {u:.2g} x {v:.2g} m"
+    if spec.kind in ("POINT", "SPOT") and spec.radius > 0:
+        return (f"{kind} light, radius {spec.radius:.2g} m"
+                + (", soft falloff" if getattr(spec, "soft_falloff", False) else ""))
+    return f"{kind} light"
+
+
+def _explained(direct, direct_se, model, tolerance):
+    """Where the light's direct light equals the closed form of its own shape (within tolerance + 3 s.e.)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (model > 0) & (np.abs(direct / np.where(model > 0, model, 1.0) - 1.0) <= tolerance + 3 * direct_se)
+
+
+def _expected_inverse_square(spec, d, direct, dse, model, model_dev, ok, judged, limit, far_passed, passed,
+                             tolerance):
+    """(expected, words): does the light depart from I/d² only where, and as, its own shape's closed form
+    says it must? Then the departure is physics (the near field), not a fault of the light or the meter."""
+    fail = ~ok & judged
+    if passed or not fail.any():
+        return False, ""
+    shape = _explained(direct, dse, model, tolerance) & (np.abs(model_dev) > tolerance)
+    if not shape[fail].all() or not (far_passed or not math.isfinite(limit)):
+        return False, ""
+    k = int(np.flatnonzero(fail)[np.argmax(np.abs(model_dev[fail]))])
+    what = ("Blender's soft falloff on a sphere light" if spec.kind in ("POINT", "SPOT") and getattr(spec, "soft_falloff", False)
+            else f"the source ({describe_light(spec)}) is not a point at these distances")
+    where = (f"within {limit:.2g} m" if math.isfinite(limit)
+             else f"at every distance checked (to {d[-1]:.2g} m: the far field lies farther)")
+    return True, (f"near field {where}: {what}; its closed form predicts the departure measured "
+                  f"({100 * model_dev[k]:+.3g} % at {d[k]:.2g} m)")
 
 
 def _radiant_intensity(spec, direction):
@@ -332,17 +384,34 @@ def _scene_causes_inverse_square(split, d, dev, direct_dev, in_shadow, shadowed,
     return causes
 
 
+def _room_words(share):
+    return f"the room's interreflection adds up to {100 * share:.2g} % (not drawn)" if share > 0.0005 else \
+        "nothing from the room"
+
+
 def write_inverse_square_plot(result, path):
+    """The check's PNG: in lux when the scene has a luminous efficacy, else W/m²."""
     from ..plots.laws import inverse_square_plot
 
     r = result.rows
-    inverse_square_plot(path, [x.distance for x in r], [x.direct for x in r], [x.predicted for x in r],
-                        [x.direct_rel_std_error for x in r], near_field_limit=result.near_field_limit,
+    k, unit = (result.efficacy, "lx") if result.efficacy > 0 else (1.0, "W/m²")
+    limit = result.near_field_limit
+    if limit == 0:
+        field = "follows I/d² at every distance checked"
+    elif math.isfinite(limit):
+        field = f"near field to {limit:.2g} m, then I/d²"
+    else:
+        field = f"near field at every distance checked (to {r[-1].distance:.2g} m)"
+    exponent = (f"exponent {result.exponent:.3f} ± {result.exponent_se:.1g} (point: −2)"
+                if math.isfinite(result.exponent) else "no exponent fitted")
+    how = "closed form" if result.direct_method == "analytic" else result.direct_method
+    inverse_square_plot(path, [x.distance for x in r], [k * x.direct for x in r], [k * x.predicted for x in r],
+                        [x.direct_rel_std_error for x in r], near_field_limit=limit,
                         rule_distance=result.five_times["rule_distance"] or None, tolerance=result.tolerance,
-                        title=f"Inverse square: {result.light}'s direct light ({result.kind}, "
-                              f"{result.direct_method}); exponent {result.exponent:.4f} ± {result.exponent_se:.2g}, "
-                              f"near-field limit {result.near_field_limit:.3g} m; the scene adds up to "
-                              f"{100 * result.max_scene_share:.3g} %")
+                        unit=unit, model=[k * x.model for x in r],
+                        model_label=f"closed form of this {result.description or 'light'} (no room)",
+                        title=f"Inverse-square law: {result.light}, {result.description or result.kind.lower()}\n"
+                              f"{field}\n{exponent}; direct light by {how}\n{_room_words(result.max_scene_share)}")
     result.plot = path
     return path
 
@@ -465,6 +534,7 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
         causes.append(_interreflection_cause(split, k, total["rel_deviation"][k], own["rel_deviation"][k],
                                              f"{angles[k]:g} deg"))
     scene_broke = bool(by_scene.any() or any(c.startswith("scene:") for c in causes))
+    expected, departure = _expected_cosine(spec, angles, own, model_ratio, horizon, tolerance)
     share = split.scene_share
     rows = [CosineRow(float(angles[k]), float(split.total[k]), float(total["predicted"][k]),
                       float(total["ratio"][k]), float(total["rel_deviation"][k]), float(total["ratio_rel_se"][k]),
@@ -483,10 +553,31 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
         causes=causes, notes=notes, seconds=seconds, total_passed=total["passed"],
         total_max_rel_deviation=total["max_rel_deviation"],
         broken_by=_broken_by(not own["passed"], scene_broke), max_scene_share=float(np.max(share)),
-        direct_method=split.direct_method, target_rel_error=split.readings[0].target_rel_error)
+        direct_method=split.direct_method, target_rel_error=split.readings[0].target_rel_error,
+        expected_departure=expected, departure=departure, description=describe_light(spec))
     if plot and common.can_plot(result.notes):
         write_cosine_plot(result, plot)
     return result
+
+
+def _expected_cosine(spec, angles, own, model_ratio, horizon, tolerance):
+    """(expected, words): does the light depart from cos θ only as its own shape's closed form predicts
+    (an extended source partly below the meter's horizon at large tilts)?"""
+    fail = ~own["ok"]
+    if own["passed"] or not fail.any() or not np.all(np.isfinite(model_ratio)):
+        return False, ""
+    cos = np.cos(np.radians(angles))
+    shape = _explained(own["ratio"], own["ratio_rel_se"], model_ratio, tolerance) & (np.abs(model_ratio / cos - 1) > tolerance)
+    if not shape[fail].all():
+        return False, ""
+    k = int(np.flatnonzero(fail)[np.argmax(np.abs(own["rel_deviation"][fail]))])
+    if angles[fail].min() >= horizon - 1e-9 - (angles[1] - angles[0] if angles.size > 1 else 0):
+        why = (f"from {horizon:.3g}° on part of the source ({describe_light(spec)}) is below the meter's horizon, "
+               "so E falls slower than cos θ")
+    else:
+        why = f"the source ({describe_light(spec)}) is not a point seen from here"
+    return True, (f"extended source: {why}; its closed form predicts the departure measured "
+                  f"({100 * own['rel_deviation'][k]:+.3g} % of a small E at {angles[k]:g}°)")
 
 
 def _light_causes_cosine(spec, angles, own, model_ratio, alpha, horizon, tolerance):
@@ -510,13 +601,24 @@ def _light_causes_cosine(spec, angles, own, model_ratio, alpha, horizon, toleran
 
 
 def write_cosine_plot(result, path):
+    """The check's PNG (ratios: no unit)."""
     from ..plots.laws import cosine_plot
 
     r = result.rows
+    how = "closed form" if result.direct_method == "analytic" else result.direct_method
+    at = tuple(round(v, 2) for v in result.location)
+    if result.passed:
+        verdict = f"follows cos θ to {r[-1].angle:g}° (largest departure {100 * result.max_rel_deviation:.2g} %)"
+    elif result.expected_departure:
+        verdict = (f"follows cos θ to {result.horizon_onset_deg:.3g}°\nbeyond, part of the source is below the "
+                   "meter's horizon, as its shape predicts")
+    else:
+        verdict = f"departs by {100 * result.max_rel_deviation:.3g} % at {result.max_at_deg:g}° (see causes)"
     cosine_plot(path, [x.angle for x in r], [x.direct_ratio for x in r], [x.ratio_rel_se for x in r],
-                tolerance=result.tolerance,
-                title=f"Cosine law: {result.light}'s direct light ({result.kind}, {result.direct_method}); max "
-                      f"deviation {100 * result.max_rel_deviation:.3g} % at {result.max_at_deg:g} deg; the scene "
-                      f"adds up to {100 * result.max_scene_share:.3g} %")
+                tolerance=result.tolerance, model_ratio=[x.model_ratio for x in r],
+                horizon_deg=result.horizon_onset_deg if result.horizon_onset_deg < 90 - 1e-6 else None,
+                model_label=f"closed form of this {result.description or 'light'} (no room)",
+                title=f"Cosine law: {result.light}, {result.description or result.kind.lower()}\nmeter at {at} m; "
+                      f"{verdict}\ndirect light by {how}; {_room_words(result.max_scene_share)}")
     result.plot = path
     return path
