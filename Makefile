@@ -20,7 +20,7 @@ $(STAMP): requirements.txt
 
 demo: setup
 	$(PY) -m radiometer demo --out out
-	$(PY) -m radiometer.demo.daylight --out out
+	$(PY) -m radiometer demo --daylight --out out
 
 test: setup
 	$(PY) -m pytest -q tests

@@ -1,8 +1,10 @@
-"""`demo`: build the demo room, save it, measure it and print a summary (files under --out)."""
+"""`demo`: build the demo room, save it, measure it and print a summary (files under --out);
+`demo --daylight`: the daylit room (``demo/daylight.py``) instead."""
 
 import os
 
-HELP = "build the built-in demo room, measure it and write a summary under --out (default out/)"
+HELP = ("build the built-in demo room, measure it and write a summary under --out (default out/); --daylight: "
+        "the daylit room (a south window with a 6 mm pane, the sun in London)")
 NEEDS_SCENE = False
 
 
@@ -10,7 +12,15 @@ def add_arguments(parser):
     parser.add_argument("--out", default="out", help="output folder (created if missing)")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default=None,
                         help="accuracy preset (preview 5 %%, standard 1 %%, reference 0.2 %% 1-sigma); default: the "
-                             "demo's own target, 2 %% 1-sigma, with the standard preset's bounces")
+                             "demo's own target, 2 %% 1-sigma, with the standard preset's bounces; with --daylight: "
+                             "preview")
+    parser.add_argument("--daylight", action="store_true",
+                        help="the daylit room instead: a 4 x 4 x 3 m room with a south window and a 6 mm glass pane, "
+                             "the sun where it stands in London, five meters (saves daylight_room.blend)")
+    parser.add_argument("--open", action="store_true",
+                        help="with --daylight: hide the glass pane in renders (an open window)")
+    parser.add_argument("--time", default=None, metavar="YYYY-MM-DDTHH:MM",
+                        help="with --daylight: local time in London (default 2026-03-20T12:00, the March equinox)")
 
 
 def run(args):
@@ -23,6 +33,12 @@ def run(args):
     from . import _io
 
     out = _io.check_output_dir(args.out, "--out folder")
+    if args.daylight:
+        return _run_daylight(args, out)
+    if args.open or args.time:
+        from ..errors import RadiometerError
+
+        raise RadiometerError("--open and --time go with --daylight")
     progress = getattr(args, "progress", None)
     cancelled = getattr(args, "cancelled", None)
     interrupt = getattr(args, "interrupt", None)
@@ -103,3 +119,24 @@ def _save(path, interrupt):
             bpy.ops.wm.save_as_mainfile(filepath=path, check_existing=False)
         except RuntimeError as exc:
             raise RadiometerError(f"cannot save {path}: {str(exc).strip().splitlines()[-1]}") from None
+
+
+def _run_daylight(args, out):
+    import datetime as dt
+    import sys
+
+    from ..demo import daylight
+    from ..errors import RadiometerError
+    from ._io import deliver
+
+    when = daylight.WHEN
+    if args.time:
+        try:
+            t = dt.datetime.fromisoformat(args.time)
+        except ValueError:
+            raise RadiometerError(f"--time must be YYYY-MM-DDTHH:MM (local time in London), got {args.time!r}") from None
+        when = (t.year, t.month, t.day, t.hour, t.minute)
+    result = daylight.run(out, quality=args.quality or "preview", when=when, glass=not args.open,
+                          stream=sys.stdout, interrupt=getattr(args, "interrupt", None))
+    deliver(args, result)
+    return result

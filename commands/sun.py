@@ -93,28 +93,10 @@ def run(args):
         _io.check_output_file(args.out, "--out file")
         out = api.set_sun(bpy.context.scene, args.lat, args.lon, times[0], direct_normal_illuminance_lux=args.lux,
                           north_offset_deg=args.north, elevation_m=args.elevation)
-        _save_copy(args.out, getattr(args, "interrupt", None))
+        from ..measure.blend_file import save_copy
+
+        save_copy(args.out, getattr(args, "interrupt", None))
         print(f"sun {out['object']!r}: {out['direct_normal_illuminance_lux']:.6g} lx direct normal "
               f"({out['model']}), strength {out['strength_w_m2']:.6g} W/m²; wrote {args.out}")
         result["set"] = dict(out, blend=args.out)
     return result
-
-
-def _save_copy(path, interrupt):
-    """Save the open file as ``path`` (whole or not at all), leaving the input file as it is."""
-    import contextlib
-    import os
-
-    import bpy
-
-    from ..errors import RadiometerError
-    from ..outputs import atomic_output
-
-    guard = interrupt.critical() if interrupt is not None else contextlib.nullcontext()
-    with guard:
-        try:
-            with atomic_output(path) as tmp:
-                os.unlink(tmp)  # Blender keeps a .blend1 backup of a file it overwrites: give it none
-                bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(tmp), check_existing=False, copy=True)
-        except RuntimeError as exc:
-            raise RadiometerError(f"cannot save {path}: {str(exc).strip().splitlines()[-1]}") from None

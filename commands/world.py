@@ -68,10 +68,9 @@ def run(args):
             raise RadiometerError(f"--calibrate must be > 0 lux, got {args.calibrate}")
         cal = api.calibrate_world(scene, args.calibrate, normal)
         if args.out:
-            from ..outputs import atomic_output
+            from ..measure.blend_file import save_copy
 
-            with atomic_output(args.out) as tmp:  # whole or not at all; the session keeps its own file path
-                bpy.ops.wm.save_as_mainfile(filepath=tmp, copy=True, check_existing=False)
+            save_copy(args.out, getattr(args, "interrupt", None))  # whole or not at all; the session keeps its path
             cal["notes"].append(f"saved the calibrated scene to {args.out}")
             cal["saved"] = args.out
         else:

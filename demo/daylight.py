@@ -1,8 +1,8 @@
 """A daylit room, built by code: a 4 x 4 x 3 m room with a window in its south wall and a 6 mm
-glass pane in it, the sun where it stands at a chosen place and time (``api.set_sun``), and a few
-meters measured by a one-time sun study (``api.sun_study``).
+glass pane in it, the sun where it stands at a chosen place and time (``measure.sun.set_sun``, what
+``api.set_sun`` calls), and a few meters measured by a one-time sun study (``measure.sun_study``).
 
-Run it with ``python -m radiometer.demo.daylight [--out DIR] [--open]`` (``make demo`` does, after
+Run it with ``python -m radiometer demo --daylight [--out DIR] [--open]`` (``make demo`` does, after
 the electric-light demo; about 2 s). The sun reaches the floor through the pane: the meter reads a
 planar Glass BSDF slab as thin glass (issue 18; without that the sun behind it is a caustic Cycles
 hardly finds, docs/FACTS.md). ``--open`` hides the pane in renders (an open window). Scene axes: +X east, +Y north, +Z up, metres; floor at z = 0, room centred on
@@ -13,9 +13,6 @@ around the opening), the way an architect's model arrives; the pane is a closed 
 Glass BSDF (IOR 1.5).
 """
 
-import argparse
-import datetime as dt
-import math
 import os
 import sys
 import time
@@ -100,12 +97,14 @@ def local_time(when=WHEN, time_zone=SITE["time_zone"]):
     return solar_position.local_datetime(*when, time_zone)
 
 
-def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.stdout):
+def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.stdout, interrupt=None):
     """Build the room, set the sun, measure the meters; print a summary; save ``out_dir``/daylight_room.blend.
 
     ``glass``: render the pane (a Glass BSDF slab); False hides it in renders (an open window; the
-    pane is built either way). Returns a dict (sun, readings per meter, seconds)."""
-    from .. import api
+    pane is built either way); ``interrupt``: the CLI's Ctrl-C handler (the .blend is written inside its
+    critical section) or None. Returns a dict (sun, readings per meter, seconds)."""
+    from ..measure import sun as sun_light
+    from ..measure import sun_study
 
     started = time.perf_counter()
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -115,7 +114,7 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
         radiometer.register()
     scene = build(bpy.context.scene, glass=True, pane_renders=glass)
     t = local_time(when)
-    sun = api.set_sun(scene, SITE["latitude_deg"], SITE["longitude_deg"], t)
+    sun = sun_light.set_sun(scene, SITE["latitude_deg"], SITE["longitude_deg"], t)
     p = lambda *a: print(*a, file=stream)  # noqa: E731
     p(f"Radiometer daylit room: {SITE['name']} ({SITE['latitude_deg']:.4f} N, {SITE['longitude_deg']:.4f} E), "
       f"{t.isoformat()} ({SITE['time_zone']})")
@@ -127,10 +126,10 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
       + (", 6 mm clear glass pane (Glass BSDF, IOR 1.5)" if glass else
          ", its 6 mm glass pane hidden in renders (an open window)") + "; black sky")
     names = list(METERS)
-    study = api.sun_study([METERS[n][0] for n in names], [METERS[n][1] for n in names], [t],
-                          latitude_deg=SITE["latitude_deg"], longitude_deg=SITE["longitude_deg"],
-                          direct_normal_illuminance_lux=sun["direct_normal_illuminance_lux"], scene=scene,
-                          quality=quality)
+    study = sun_study.sun_study([METERS[n][0] for n in names], [METERS[n][1] for n in names], [t],
+                                latitude_deg=SITE["latitude_deg"], longitude_deg=SITE["longitude_deg"],
+                                direct_normal_illuminance_lux=sun["direct_normal_illuminance_lux"], scene=scene,
+                                quality=quality)
     import numpy as np
 
     direction = np.asarray(sun["direction"])
@@ -150,43 +149,15 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
       "the meter sees, glass counted as clear)")
     blend = None
     if out_dir:
-        from ..commands import _io
+        from ..errors import RadiometerError
+        from ..measure.blend_file import save_copy
 
-        folder = _io.check_output_dir(out_dir, "--out folder")
-        blend = os.path.join(folder, "daylight_room.blend")
-        from ..commands.sun import _save_copy
-
-        _save_copy(blend, None)
+        try:
+            os.makedirs(out_dir, exist_ok=True)  # `radiometer demo --daylight` checked it before the run
+        except OSError as exc:
+            raise RadiometerError(f"cannot create the output folder {out_dir}: {exc.strerror or exc}") from None
+        blend = save_copy(os.path.join(os.path.abspath(out_dir), "daylight_room.blend"), interrupt)
         p(f"\nWrote {blend}")
     seconds = time.perf_counter() - started
     p(f"({seconds:.1f} s)")
     return {"sun": sun, "time": t.isoformat(), "meters": rows, "blend": blend, "seconds": seconds}
-
-
-def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python -m radiometer.demo.daylight", description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="out", help="folder for daylight_room.blend (created if missing)")
-    parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="preview")
-    parser.add_argument("--open", action="store_true", help="hide the glass pane in renders (an open window)")
-    parser.add_argument("--time", default=None, metavar="YYYY-MM-DDTHH:MM",
-                        help="local time in London (default 2026-03-20T12:00)")
-    args = parser.parse_args(argv)
-    when = WHEN
-    if args.time:
-        t = dt.datetime.fromisoformat(args.time)
-        when = (t.year, t.month, t.day, t.hour, t.minute)
-    from ..errors import RadiometerError
-
-    from ..commands import _io
-
-    try:
-        with _io.blender_logs_silenced():  # Blender's own "Info: ..." and bake lines, as the CLI drops them
-            run(args.out, quality=args.quality, when=when, glass=not args.open, stream=sys.stdout)
-    except (RadiometerError, ValueError) as exc:
-        print(f"radiometer: error: {exc}", file=sys.stderr)
-        return 2
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -55,6 +55,16 @@ def sun_strength_w_m2(illuminance_lux, scene, colour=(1.0, 1.0, 1.0)):
     return float(illuminance_lux) * scene.unit_settings.scale_length ** 2 / (efficacy * y)
 
 
+def sun_position(latitude_deg, longitude_deg, when, **kwargs):
+    """``radiometry.solar_position.solar_position`` at the timezone-aware ``when`` (a datetime or a
+    sequence of them; keyword arguments as there), with bad input as a one-line RadiometerError: what
+    ``api.sun_position`` returns, for host code (which never imports the api)."""
+    try:
+        return sp.solar_position(sp.unix_seconds(when), latitude_deg, longitude_deg, **kwargs)
+    except (TypeError, ValueError) as exc:
+        raise RadiometerError(str(exc).splitlines()[0]) from None
+
+
 def _when_text(when):
     return when.isoformat() if isinstance(when, _dt.datetime) else str(when)
 
@@ -76,8 +86,6 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
         e = float(direct_normal_illuminance_lux)
         if not (math.isfinite(e) and e >= 0.0):
             raise RadiometerError(f"direct normal illuminance must be a finite number >= 0 lux, got {e}")
-    from ..api import sun_position
-
     pos = sun_position(latitude_deg, longitude_deg, when, elevation_m=elevation_m, pressure_hpa=pressure_hpa,
                        temperature_c=temperature_c, north_offset_deg=north_offset_deg)
     above = bool(pos.elevation_deg > 0.0)

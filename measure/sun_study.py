@@ -121,16 +121,14 @@ def _set_sky(scene, sky, direction, horizontal_illuminance_lux=None):
     """Put a temporary world with the CIE sky ``sky`` on ``scene`` (inside the caller's guard)."""
     import bpy
 
-    from .. import api
+    from . import sky as cie_sky_world
 
-    if not hasattr(api, "set_cie_sky"):
-        raise RadiometerError(f"sky={sky!r} needs api.set_cie_sky (the CIE skies), which this build does not have")
     scene.world = bpy.data.worlds.new("Radiometer sun-study sky")  # the guard removes it and restores the world
     sky_type = "overcast" if sky == "overcast" else sky.split(":", 1)[1]
     if sky_type.isdigit():
         sky_type = int(sky_type)
-    api.set_cie_sky(scene, sky_type, horizontal_illuminance_lux=horizontal_illuminance_lux,
-                    sun_direction=tuple(float(x) for x in direction))
+    cie_sky_world.set_cie_sky(scene, sky_type, horizontal_illuminance_lux=horizontal_illuminance_lux,
+                              sun_direction=tuple(float(x) for x in direction))
 
 
 def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_deg, elevation_m=0.0,
@@ -274,14 +272,13 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
     """See ``radiometer.api.sun_study``."""
     import bpy
 
-    from .. import api
-    from . import meter
+    from . import meter, sun
 
     scene = scene or bpy.context.scene
     points, _ = meter.as_points(locations, "locations")
     dirs = meter.as_directions(normals, len(points), "normals")
     times = _check_times(times)
-    pos = api.sun_position(latitude_deg, longitude_deg, times, elevation_m=elevation_m,
+    pos = sun.sun_position(latitude_deg, longitude_deg, times, elevation_m=elevation_m,
                            north_offset_deg=north_offset_deg)
     n_t = len(times)
     if direct_normal_illuminance_lux is None:
@@ -293,8 +290,6 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
         dni = [float(v) for v in dni]
     if sky is not None and not (sky == "overcast" or (isinstance(sky, str) and sky.startswith("cie:"))):
         raise RadiometerError(f"sky must be None, 'overcast' or 'cie:<type>', got {sky!r}")
-    if sky is not None and not hasattr(api, "set_cie_sky"):
-        raise RadiometerError(f"sky={sky!r} needs api.set_cie_sky (the CIE skies), which this build does not have")
     if quality not in ("preview", "standard", "reference"):
         raise RadiometerError(f"unknown quality {quality!r}; choose preview, standard or reference")
     if time_budget_s is not None and not (float(time_budget_s) > 0 and math.isfinite(float(time_budget_s))):

@@ -76,16 +76,6 @@ EXCEPTIONS = {
         "its callers are in operators/brdf.py and commands/brdf.py (H2 owns both this session)",
     # Added this session by other engineers while the contract was being written; found by this test at the
     # end of the session and listed here so the suite states them (each is a small move for its owner).
-    ("circle", "api <-> measure.sun <-> measure.sun_study", None):
-        f"{_TODAY}: H3's measure/sun.py and sun_study.py import api.sun_position; it is pure (radiometry."
-        "solar_position): import it from there",
-    ("layer", "measure.sun", "api"): f"{_TODAY}: as the api <-> measure.sun circle (H3)",
-    ("layer", "measure.sun_study", "api"): f"{_TODAY}: as the api <-> measure.sun circle (H3)",
-    ("layer", "demo.daylight", "api"): f"{_TODAY}: H3's daylit demo calls the api and the sun subcommand's "
-                                       "helpers; the demo is host code: it should use measure.sun directly",
-    ("layer", "demo.daylight", "commands._io"): f"{_TODAY}: as demo.daylight -> api (H3)",
-    ("layer", "demo.daylight", "commands.sun"): f"{_TODAY}: as demo.daylight -> api (H3)",
-    ("private", "demo.daylight", "commands.sun._save_copy"): f"{_TODAY}: as demo.daylight -> api (H3)",
     ("circle", "measure.client_report <-> measure.report", None):
         f"{_TODAY}: H5's client report imports the report module that calls it; one of them should take the "
         "shared parts",

@@ -50,3 +50,24 @@ def test_daylit_demo_room(clean_blender, tmp_path):
     bpy.ops.wm.open_mainfile(filepath=out["blend"])
     assert not bpy.data.objects["Window Pane"].hide_render
     assert [ob.name for ob in bpy.data.objects if ob.type == "LIGHT"] == ["Radiometer Sun"]
+
+
+def test_daylit_demo_from_the_command_line(clean_blender, tmp_path, capsys):
+    """`radiometer demo --daylight` runs the same room (the demo module imports no CLI code; the
+    subcommand owns the options); an open window and another time change what the meters read."""
+    import json
+
+    from radiometer import cli
+
+    out = tmp_path / "out"
+    assert cli.main(["demo", "--daylight", "--open", "--time", "2026-06-21T15:00", "--out", str(out),
+                     "--json", str(tmp_path / "d.json")]) == 0
+    result = json.loads((tmp_path / "d.json").read_text())
+    assert result["time"] == "2026-06-21T15:00:00+01:00"  # London summer time
+    assert result["blend"] == str(out / "daylight_room.blend") and os.path.exists(result["blend"])
+    assert sorted(p.name for p in out.iterdir()) == ["daylight_room.blend"]  # no temp file, no .blend1
+    bpy.ops.wm.open_mainfile(filepath=result["blend"])
+    assert bpy.data.objects["Window Pane"].hide_render  # --open: the pane is hidden in renders
+    capsys.readouterr()
+    assert cli.main(["demo", "--open", "--out", str(out)]) == 2
+    assert "--open and --time go with --daylight" in capsys.readouterr().err

@@ -251,6 +251,8 @@ def test_cli_world_calibrates_and_writes_the_map(clean_blender, tmp_path, capsys
     text = capsys.readouterr().out
     assert "20000 lx" in text and "L00" in text and f"saved the calibrated scene to {calibrated}" in text
     assert exr.read_rgb(str(out)).shape == (32, 64, 3)
+    # nothing else beside the outputs: no temp file, no .blend1 backup of one (measure.blend_file.save_copy)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["calibrated.blend", "irr.exr", "w.blend"]
     assert api.world_illuminance(scene)["illuminance"] == pytest.approx(20000.0, rel=1e-6)
     # the input is untouched, the session still names it, and the new file holds the calibration
     assert blend.read_bytes() == before and bpy.data.filepath == str(blend)
