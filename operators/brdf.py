@@ -36,7 +36,7 @@ class RADIOMETER_OT_assign_brdf(bpy.types.Operator):
         return _poll_material(cls, context)
 
     def execute(self, context):
-        from ..props.brdf import _params_dict, input_links, pull_from_node, restore_links
+        from ..props.brdf import input_links, params_dict, pull_from_node, restore_links
         from ..shading.assign import assign_brdf
 
         mat = _active_material(context)
@@ -49,7 +49,7 @@ class RADIOMETER_OT_assign_brdf(bpy.types.Operator):
         links = input_links(mat)  # textures / bump linked into the group node
         try:
             fid = assign_brdf(mat, s.model, s.method, tangent_source=s.tangent_source, uv_map=s.uv_map,
-                              **_params_dict(s))
+                              **params_dict(s))
             restore_links(mat, links)
         except RadiometerError as exc:
             s.error = str(exc)
@@ -79,7 +79,7 @@ def lobe_data(material, thetas_i=(0.0, 30.0, 60.0), n=91):
     import numpy as np
 
     from .. import brdf
-    from ..props.brdf import _params_dict, group_node
+    from ..props.brdf import group_node, params_dict
     from ..shading import closures as C
     from ..shading.assign import current_fidelity, node_params
     from ..shading.realise import realise
@@ -90,7 +90,7 @@ def lobe_data(material, thetas_i=(0.0, 30.0, 60.0), n=91):
         model, _, _, _, params = node_params(node)
         fid = current_fidelity(material)
     else:
-        model, params = s.model, _params_dict(s)
+        model, params = s.model, params_dict(s)
         fid = realise(model, s.method, **params)[1]
     theta_o = np.linspace(-89.0, 89.0, n)
     out = []
@@ -154,7 +154,7 @@ class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
         return _poll_material(cls, context)
 
     def execute(self, context):
-        from ..props.brdf import _params_dict
+        from ..props.brdf import params_dict
         from ..shading.plot import write_plot
 
         mat = _active_material(context)
@@ -165,7 +165,7 @@ class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
             if self.kind == "LOBE":
                 write_lobe_plot(mat, path)
             else:
-                write_plot(s.model, path, **_params_dict(s))
+                write_plot(s.model, path, **params_dict(s))
         except RadiometerError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -249,7 +249,7 @@ class RADIOMETER_OT_brdf_preset(bpy.types.Operator):
 
     def execute(self, context):
         from ..brdf.fresnel import PRESETS
-        from ..props.brdf import _guard, apply_settings, group_node, sync_params
+        from ..props.brdf import apply_settings, callbacks_muted, group_node, sync_params
 
         mat = _active_material(context)
         s = mat.radiometer_brdf
@@ -268,8 +268,7 @@ class RADIOMETER_OT_brdf_preset(bpy.types.Operator):
         if sock is not None and not sock.is_linked:  # the node is what renders: edit it in place
             sock.default_value = (f0, f0, f0, 1.0) if sock.type == "RGBA" else f0
         structural = False
-        _guard["busy"] = True
-        try:
+        with callbacks_muted():
             if item.kind == "color":
                 item.color = (f0, f0, f0)
             else:
@@ -279,8 +278,6 @@ class RADIOMETER_OT_brdf_preset(bpy.types.Operator):
                 if o is not None and o.use:
                     o.use = False
                     structural = True
-        finally:
-            _guard["busy"] = False
         if structural and s.applied:
             apply_settings(mat)
         self.report({"INFO"}, f"{mat.name}: F0 = {f0} ({self.preset.title()})")

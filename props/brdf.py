@@ -6,6 +6,8 @@ to the material when ``live_update`` is on and the BRDF has been applied once; a
 the material unchanged and shows the error in the panel.
 """
 
+import contextlib
+
 import bpy
 import numpy as np
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty, FloatVectorProperty,
@@ -30,12 +32,24 @@ def _model_items(self, context):
     return _enum_cache
 
 
+@contextlib.contextmanager
+def callbacks_muted():
+    """Inside, writing parameters fires no re-apply: the update callbacks return at once (an operator
+    that sets several values and applies once, or none)."""
+    previous = _guard["busy"]
+    _guard["busy"] = True
+    try:
+        yield
+    finally:
+        _guard["busy"] = previous
+
+
 def _material(owner):
     mat = owner.id_data
     return mat if isinstance(mat, bpy.types.Material) else None
 
 
-def _params_dict(settings):
+def params_dict(settings):
     """The parameters to pass: optional ones only when switched on, others only when not default
     (so that, e.g., the Schlick f0 default does not clash with an explicit ior)."""
     out = {}
@@ -154,7 +168,7 @@ def apply_settings(material, changed=()):
     links = input_links(material)
     try:
         fid = assign_brdf(material, settings.model, settings.method, tangent_source=settings.tangent_source,
-                          uv_map=settings.uv_map, **_params_dict(settings))
+                          uv_map=settings.uv_map, **params_dict(settings))
         restore_links(material, links)
     except RadiometerError as exc:
         _guard["busy"] = True
@@ -229,7 +243,7 @@ def store_assignment(material, model, method, params, fidelity):
     try:
         settings.model = model
         settings.method = method
-        if _params_dict(settings) != params or len(settings.params) == 0:
+        if params_dict(settings) != params or len(settings.params) == 0:
             sync_params(settings, model, params)
             _guard["busy"] = True
         settings.applied = True

@@ -83,9 +83,6 @@ EXCEPTIONS = {
     ("layer", "measure.client_report", "plots.convergence"): f"{_TODAY}: as measure.analysis_common (H5)",
     ("layer", "measure.luminance_image", "plots"): f"{_TODAY}: as measure.analysis_common (H5's new module)",
     ("layer", "measure.luminance_image", "plots.false_colour_image"): f"{_TODAY}: as measure.analysis_common (H5)",
-    ("private", "operators.brdf", "props.brdf._params_dict"):
-        f"{_TODAY}: the BRDF operators share the property group's helpers (H2 owns props/ this session)",
-    ("private", "operators.brdf", "props.brdf._guard"): f"{_TODAY}: as props.brdf._params_dict",
     ("private", "operators.analysis", "measure.report._slug"):
         f"{_TODAY}: the analysis operator names plot files like the report (H5 owns measure/report.py)",
 }
