@@ -175,10 +175,16 @@ def _tables(report, client):
 
 def _appendix(report):
     lines = []
+    types = report.get("law_types") or {}
+
+    def who(name):
+        others = types.get(name) or []
+        return f"{name} (and {len(others)} more of its type)" if others else name
+
     for r in report.get("inverse_square", []):
-        lines.append((f"{r['light']}: inverse square", _law_sentence(r, "inverse_square"), r.get("plot")))
+        lines.append((f"{who(r['light'])}: inverse square", _law_sentence(r, "inverse_square"), r.get("plot")))
     for r in report.get("cosine", []):
-        lines.append((f"{r['light']}: cosine law", _law_sentence(r, "cosine"), r.get("plot")))
+        lines.append((f"{who(r['light'])}: cosine law", _law_sentence(r, "cosine"), r.get("plot")))
     c = report.get("convergence")
     if c and "error" not in c:
         from ..plots.convergence import fit_in_words

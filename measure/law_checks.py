@@ -179,11 +179,12 @@ def default_distances(spec, count=24):
 
 def check_inverse_square(light, *, scene=None, distances=None, method="auto", quality="standard",
                          tolerance=laws.DEFAULT_TOLERANCE, exponent_tolerance=0.01, target_rel_error=None,
-                         samples=None, time_budget_s=None, seed=0, plot=None, progress=None, cancelled=None):
+                         samples=None, time_budget_s=None, seed=0, plot=None, progress=None, cancelled=None,
+                         points=24):
     """Sweep a meter facing ``light`` along its axis and compare the light's direct E with I/d^2.
 
-    ``distances`` in m from the light's centre (default :func:`default_distances`, shortened to the
-    free space in front of the light). ``quality`` / ``target_rel_error`` (fraction) /
+    ``distances`` in m from the light's centre (default :func:`default_distances` with ``points``
+    distances, shortened to the free space in front of the light). ``quality`` / ``target_rel_error`` (fraction) /
     ``samples`` (per meter) / ``time_budget_s`` (s, per measurement) as in
     ``meter.measure_illuminance``. Returns :class:`InverseSquareResult`.
     """
@@ -203,11 +204,14 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     notes, causes = [], []
     free = free_distance(scene, spec.position, axis, model)  # m
     if distances is None:
-        d = default_distances(spec)
+        points = int(points)
+        if points < 4:
+            raise RadiometerError(f"points must be at least 4 distances, got {points}")
+        d = default_distances(spec, points)
         if math.isfinite(free) and d[-1] > 0.95 * free:
             d = d[d < 0.95 * free]
             if d.size < 4:
-                d = np.geomspace(min(0.6 * (source_size(spec) or 0.1), 0.3 * free), 0.95 * free, 12)
+                d = np.geomspace(min(0.6 * (source_size(spec) or 0.1), 0.3 * free), 0.95 * free, min(12, points))
             notes.append(f"sweep shortened to the free space in front of the light: a surface {free:.3g} m away")
     else:
         d = np.sort(np.asarray(distances, float).ravel())

@@ -26,6 +26,52 @@ from . import analysis, meters
 from .analysis_common import plain
 
 
+#: The report's law checks are its engineering appendix, not the full study (that is ``check``'s job):
+#: a few distances and tilts per light, and at preview a fixed number of samples per reading instead
+#: of a target error (a tilted meter's tiny reading could otherwise take millions of samples). Closed
+#: forms, exact where proven, cost nothing either way; each reading still states its own error.
+REPORT_LAW_DISTANCES = 6
+REPORT_LAW_ANGLES_DEG = (0.0, 30.0, 60.0, 75.0, 85.0, 89.0)
+PREVIEW_LAW_SAMPLES = 1024
+
+
+def law_check_budget(budget, quality):
+    """The budget keywords of the report's law checks: the report's own, or at preview (and without a
+    time budget of the user's) a fixed ``PREVIEW_LAW_SAMPLES`` per reading."""
+    if quality == "preview" and budget.get("time_budget_s") is None:
+        return {"quality": quality, "samples": PREVIEW_LAW_SAMPLES}
+    return dict(budget)
+
+
+_TYPE_ATTRIBUTES = ("type", "energy", "exposure", "use_temperature", "temperature", "normalize", "use_soft_falloff",
+                    "shadow_soft_size", "spot_size", "spot_blend", "shape", "size", "size_y", "spread", "angle")
+
+
+def _light_type_key(obj):
+    """What makes two light objects the same luminaire for the law checks: the light's settings, its
+    colour, its photometric file and the object's scale (rotation and position do not change a light's
+    own law). A light with its own node tree and no photometric file is a type of its own."""
+    data = obj.data
+    source = data.get("radiometer_photometric_file") if hasattr(data, "get") else None
+    if getattr(data, "node_tree", None) is not None and getattr(data, "use_nodes", True) and not source:
+        return ("own", obj.name)
+    values = []
+    for name in _TYPE_ATTRIBUTES:
+        v = getattr(data, name, None)
+        values.append(round(float(v), 9) if isinstance(v, (int, float)) and not isinstance(v, bool) else v)
+    return (tuple(values), tuple(round(c, 6) for c in data.color), source,
+            tuple(round(v, 6) for v in obj.matrix_world.to_scale()))
+
+
+def light_types(lights):
+    """[(representative, [the others of its type])], in the order of ``lights``: the report checks
+    each type's laws once (a light's own inverse-square and cosine behaviour belongs to its type)."""
+    groups = {}
+    for ob in lights:
+        groups.setdefault(_light_type_key(ob), []).append(ob)
+    return [(members[0], members[1:]) for members in groups.values()]
+
+
 def work_planes(scene):
     return [ob for ob in scene.objects if ob.type == "MESH"
             and ("work plane" in ob.name.lower() or bool(ob.get("radiometer_work_plane", False)))]
@@ -152,13 +198,15 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     q, m, goal = settings["quality"], settings["method"], settings["target_rel_error"]
     budget = {"quality": q, "target_rel_error": goal, "time_budget_s": time_budget_s}
     started = time.perf_counter()
-    report = {"scene": scene.name, "file": bpy.data.filepath, "quality": q, "method": m,
+    report = {"scene": scene.name, "file": bpy.data.filepath, "quality": q, "method": m, "law_types": {},
               "target_rel_error": goal, "time_budget_s": time_budget_s,
               "meters": [], "inverse_square": [], "cosine": [], "grids": [], "convergence": None, "errors": []}
 
     objs = [ob for ob in scene.objects if ob.radiometer_meter.is_meter] if hasattr(bpy.types.Object,
                                                                                    "radiometer_meter") else []
-    lights = analysis.scene_lights_to_check(scene)
+    types = light_types(analysis.scene_lights_to_check(scene))
+    lights = [representative for representative, _same in types]  # one law check per luminaire type
+    report["law_types"] = {rep.name: [ob.name for ob in same] for rep, same in types if same}
     planes = work_planes(scene)
     conv_target = None
     if convergence:
@@ -219,11 +267,13 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
         except RadiometerError as exc:
             report["errors"].append(f"meters: {exc}")
     # Law checks per light.
+    law_budget = law_check_budget(budget, q)
     for light in lights:
         yield step(f"laws {light.name}")
         slug = stems(light.name)
         try:
-            r = analysis.check_inverse_square(light, scene=scene, method=m, **budget, **watch,
+            r = analysis.check_inverse_square(light, scene=scene, method=m, **law_budget, **watch,
+                                              points=REPORT_LAW_DISTANCES,
                                               plot=os.path.join(out, f"inverse_square_{slug}.png") if draw else None)
             report["inverse_square"].append(r.to_dict())
         except MeasurementCancelled:
@@ -240,7 +290,8 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
                     raise RadiometerError("a sun's cosine check needs a point in the room: add a work plane or an "
                                           "illuminance meter")
                 where = {"location": spot}
-            r = analysis.check_cosine_law(light, scene=scene, method=m, **budget, **watch, **where,
+            r = analysis.check_cosine_law(light, scene=scene, method=m, **law_budget, **watch, **where,
+                                          angles_deg=REPORT_LAW_ANGLES_DEG,
                                           plot=os.path.join(out, f"cosine_{slug}.png") if draw else None)
             report["cosine"].append(r.to_dict())
         except MeasurementCancelled:
@@ -344,6 +395,8 @@ def summary_table(report):
                                "physics, not a fault; 'departs': a departure its shape does not explain (see the "
                                "causes); 'scene': the largest share of a reading the room adds by interreflection)",
                                108)
+        lines += [f"{name}: also stands for {_same_type_text(others)} (same luminaire type: its laws checked once)"
+                  for name, others in (report.get("law_types") or {}).items()]
     for g in report["grids"]:
         lines.append("")
         if "error" in g:
@@ -363,6 +416,13 @@ def summary_table(report):
             lines.append(f"  error-targeted reading: {_fmt(t['samples'], '.3g')} samples, {t['seconds']:.3g} s, "
                          f"stated {100 * t['rel_std_error']:.3g} %, RMS error {100 * t['rms_error']:.3g} %")
     return "\n".join(lines)
+
+
+def _same_type_text(names, most=4):
+    """'Lamp 2, Lamp 3' or 'Lamp 2, Lamp 3, Lamp 4, Lamp 5 and 3 more'."""
+    names = list(names)
+    shown = ", ".join(names[:most])
+    return shown + (f" and {len(names) - most} more" if len(names) > most else "")
 
 
 def _pct(value):
@@ -435,6 +495,10 @@ def markdown(report):
             md.append(f"| {r['name']} | {value:.5g} | {'cd/m²' if lum else 'lx'} | {err} | {r['method']} |")
         md.append("")
     md.append("## Inverse-square law\n")
+    for name, others in (report.get("law_types") or {}).items():
+        md.append(f"- {name} also stands for {_same_type_text(others, 50)}: the same luminaire type (settings, colour, "
+                  "photometric file, scale), whose own laws are checked once.")
+    md.append("")
     for r in report["inverse_square"]:
         md.append(f"### {r['light']} ({r['kind']})\n")
         if "error" in r:

@@ -64,3 +64,25 @@ def test_a_departure_the_shape_does_not_explain_is_not_excused(clean_blender):
     faulty = model * np.array([0.95, 0.95, 1, 1, 1])
     assert law_checks._expected_inverse_square(*args, faulty, se, model, model_dev, ok, judged, 2.4, True, False,
                                                0.01) == (False, "")
+
+
+def test_report_checks_each_luminaire_type_once(clean_blender, build):
+    """Eight equal panels and one other light: two law checks, the others named as of the same type."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    panels = [build.light(scene, "AREA", (x, 0, 2.9), energy=15.0, shape="SQUARE", size=0.6) for x in range(8)]
+    lamp = build.light(scene, "POINT", (0, 2, 2.0), energy=10.0)
+    bigger = build.light(scene, "AREA", (0, -2, 2.9), energy=15.0, shape="SQUARE", size=0.6)
+    bigger.scale = (2.0, 1.0, 1.0)  # the object's scale makes it another luminaire
+    bpy.context.view_layer.update()
+    types = report.light_types(panels + [lamp, bigger])
+    assert [(rep.name, [o.name for o in same]) for rep, same in types] == [
+        (panels[0].name, [p.name for p in panels[1:]]), (lamp.name, []), (bigger.name, [])]
+    assert report.law_check_budget({"quality": "preview", "target_rel_error": 0.02, "time_budget_s": None},
+                                   "preview") == {"quality": "preview", "samples": report.PREVIEW_LAW_SAMPLES}
+    own = {"quality": "preview", "target_rel_error": None, "time_budget_s": 3.0}
+    assert report.law_check_budget(own, "preview") == own  # the user's time budget wins
+    checked = [{"light": panels[0].name, "kind": "AREA", "error": "not measured in this test"}]
+    text = report.summary_table({"meters": [], "inverse_square": checked, "cosine": [], "grids": [],
+                                 "law_types": {panels[0].name: [p.name for p in panels[1:]]}})
+    assert f"{panels[0].name}: also stands for" in text and "and 3 more" in text
