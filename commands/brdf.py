@@ -104,9 +104,9 @@ def run(args):
 
     deliver(args, result)  # the numbers are on disk before the plot is drawn
     if plot_path:
-        from ..shading.plot import write_plot
+        from ..plots.brdf import write_summary
 
-        result["plot"] = write_plot(args.model, plot_path, **params)
+        result["plot"] = write_summary(args.model, plot_path, **kwargs)
         print(f"plot written to {plot_path}")
         if getattr(args, "json", None):
             from ._io import write_json

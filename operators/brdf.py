@@ -106,34 +106,15 @@ def lobe_data(material, thetas_i=(0.0, 30.0, 60.0), n=91):
 
 
 def write_lobe_plot(material, path):
-    """PNG of the model's in-plane lobes (solid) against the Cycles closure (dashed), luminance-weighted."""
-    import numpy as np
-
+    """PNG of the model's in-plane lobes (solid) against the Cycles closure (dashed), luminance-weighted
+    in the file's working space, as the meter weighs them (``plots.brdf.write_lobes``)."""
     from ..compat import working_colour_space
-    from ..plots import pyplot
+    from ..plots.brdf import write_lobes
     from ..radiometry import photometry
 
     model, fid, lobes = lobe_data(material)
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=100)
-    w = photometry.luminance_weights(working_colour_space())  # the file's working space, as the meter
-    for (ti, to, fm, fc), colour in zip(lobes, ("C0", "C1", "C2")):
-        ax.plot(to, fm @ w, color=colour, label=f"model, θi = {ti:.0f}°")
-        ax.plot(to, fc @ w, color=colour, ls="--", label=f"Cycles, θi = {ti:.0f}°")
-    ax.set_yscale("symlog", linthresh=1e-3)
-    ax.set_xlabel("θo in the plane of incidence (deg, + = mirror side)")
-    ax.set_ylabel("f (1/sr, luminance)")
-    ax.set_title(f"{model}: model vs {fid.closure} ({fid.summary()})", fontsize=8)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    from ..outputs import atomic_output
-
-    try:
-        with atomic_output(path) as tmp:  # whole or not at all, never through a planted link (issue 21)
-            fig.savefig(tmp, format="png")
-    finally:
-        plt.close(fig)
-    return path
+    return write_lobes(path, model, fid.closure, fid.summary(), lobes,
+                       photometry.luminance_weights(working_colour_space()))
 
 
 class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
@@ -154,8 +135,9 @@ class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
         return _poll_material(cls, context)
 
     def execute(self, context):
+        from ..plots.brdf import write_summary
         from ..props.brdf import params_dict
-        from ..shading.plot import write_plot
+        from ..shading.realise import check_params
 
         mat = _active_material(context)
         s = mat.radiometer_brdf
@@ -165,7 +147,7 @@ class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
             if self.kind == "LOBE":
                 write_lobe_plot(mat, path)
             else:
-                write_plot(s.model, path, **params_dict(s))
+                write_summary(s.model, path, **check_params(s.model, params_dict(s)))
         except RadiometerError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}

@@ -39,9 +39,9 @@ SCRIPT = textwrap.dedent("""
     for model, method in (("ward", "nodes"), ("blinn_phong", "nodes"), ("blinn_phong", "osl")):
         _, fid = realise(model, method)
         out["fidelity"][f"{model} {method}"] = [fid.rms_rel_diff, fid.albedo_diff]
-    from radiometer.shading.plot import write_plot
+    from radiometer.plots.brdf import write_summary
     try:
-        write_plot("ward", os.path.join(tempfile.gettempdir(), "radiometer_no_mpl.png"))
+        write_summary("ward", os.path.join(tempfile.gettempdir(), "radiometer_no_mpl.png"))
     except RadiometerError as exc:
         out["plot_error"] = str(exc)
     from radiometer import plots

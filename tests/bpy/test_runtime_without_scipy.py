@@ -77,8 +77,8 @@ SCRIPT = textwrap.dedent("""
     except RuntimeError as exc:
         out["operator_error"] = str(exc)
     try:
-        from radiometer.shading.plot import write_plot
-        write_plot("ward", os.path.join(tempfile.mkdtemp(), "ward.png"))
+        from radiometer.plots.brdf import write_summary
+        write_summary("ward", os.path.join(tempfile.mkdtemp(), "ward.png"))
         out["plot_error"] = None
     except RadiometerError as exc:
         out["plot_error"] = str(exc)
