@@ -381,10 +381,12 @@ def summary_table(report):
             inv = f"{'n/a':>16} {'n/a':>15} {'--':>11} {'':>7}"
         else:
             limit = _near_field_text(r)
-            inv = (f"{_fmt(r['exponent'], '.3f'):>9} ± {_fmt(r['exponent_se'], '.1g'):<5}"
+            # an exact fit's standard error is rounding noise (4e-16): 0
+            se = r["exponent_se"] if not _given(r["exponent_se"]) or r["exponent_se"] >= 5e-7 else 0.0
+            inv = (f"{_fmt(r['exponent'], '.3f'):>9} ± {_fmt(se, '.1g'):<5}"
                    f"{limit:>15} {verdict(r):>11} {_share(r):>7}")
         cos = (f"{'n/a':>12} {'--':>11} {'':>7}" if "error" in c or not c else
-               f"{100 * c['max_rel_deviation']:>10.3g} % {verdict(c):>11} {_share(c):>7}")
+               f"{_pct(c['max_rel_deviation']).lstrip('+'):>12} {verdict(c):>11} {_share(c):>7}")
         lines.append(f"{r['light']:<18} {r['kind']:<6} {inv} {cos}")
     if report["inverse_square"]:
         import textwrap

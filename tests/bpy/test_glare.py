@@ -92,10 +92,24 @@ RADIANCE = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.
 
 @pytest.mark.skipif(not os.path.exists(os.path.join(RADIANCE, "bin", "evalglare")), reason="pyradiance not installed")
 def test_ugr_office_against_evalglare(clean_blender, tmp_path):
-    """evalglare on a 160 x 160 fisheye (rpict -vta, 2 ambient bounces): its UGR within about 1."""
+    """evalglare on a 160 x 160 fisheye (rpict -vta, 2 ambient bounces): its UGR within about 1, for the
+    office's area-light panels and for the same office lit by IES luminaires of the same luminance (a
+    0.6 m opening with I = I0 cos(gamma), I0 = L A, is a Lambertian panel of luminance L: one Radiance
+    scene, one evalglare run, serves both)."""
     scene = bpy.context.scene
-    office.build(scene)
+    panels = office.build(scene)
     g = api.glare_ugr(office.EYE, office.VIEW, scene=scene, quality="standard")
+    for obj in panels:
+        bpy.data.objects.remove(obj)
+    i0 = office.panel_luminance() * office.PANEL ** 2  # cd
+    v = [5.0 * k for k in range(19)]
+    path = tmp_path / "panel.ies"
+    path.write_text(IES_COSINE.format(v=" ".join(f"{a:g}" for a in v),
+                                      cd=" ".join(f"{i0 * math.cos(math.radians(a)):.6f}" for a in v)))
+    for k, (x, y) in enumerate(office.PANELS):
+        api.import_luminaire(str(path), scene=scene, location=(x, y, office.PANEL_Z), name=f"Luminaire {k + 1}")
+    g_ies = api.glare_ugr(office.EYE, office.VIEW, scene=scene, quality="standard")
+    assert len(g_ies.sources) == 4, g_ies.left_out
     env = dict(os.environ, RAYPATH=f".:{os.path.join(RADIANCE, 'lib')}")
     b = os.path.join(RADIANCE, "bin")
     rad = office.radiance_scene(str(tmp_path / "office.rad"))
@@ -112,8 +126,10 @@ def test_ugr_office_against_evalglare(clean_blender, tmp_path):
                          capture_output=True, text=True, check=True, env=env).stdout
     names, values = out.split(":")
     result = dict(zip(names.split(","), map(float, values.split())))
-    print(f"UGR {g.ugr:.2f} (Lb {g.background_luminance:.1f} cd/m²); evalglare {result['ugr']:.2f}")
+    print(f"UGR {g.ugr:.2f} (Lb {g.background_luminance:.1f} cd/m²), IES {g_ies.ugr:.2f} (Lb "
+          f"{g_ies.background_luminance:.1f} cd/m²); evalglare {result['ugr']:.2f}")
     assert abs(g.ugr - result["ugr"]) < 1.0, (g.ugr, result)
+    assert abs(g_ies.ugr - result["ugr"]) < 1.0, (g_ies.ugr, result)
 
 
 IES_COSINE = """IESNA:LM-63-2002
