@@ -157,7 +157,9 @@ def _tables(report, client):
             margin = c["margin"]
             mtext = "n/a" if not math.isfinite(margin) else (f"{margin:+.3g} {c['unit']}".strip())
             rows.append([c["quantity"], c["required"], shown, c["status"], mtext, c["note"]])
-        tables.append((f"EN 12464-1 compliance: {comp['plane']} ({req['task']}; {req['source']}; maintenance "
+        source = req["source"] + (", indicative values: check them against the standard or give your own"
+                                  if req.get("indicative") else "")
+        tables.append((f"EN 12464-1 compliance: {comp['plane']} ({req['task']}; {source}; maintenance "
                        f"factor {comp['maintenance_factor']:g}) - overall: {comp['overall']}",
                        ["quantity", "required", "achieved", "result", "margin", "how"], rows))
     meters = _meter_rows(report)

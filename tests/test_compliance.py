@@ -41,3 +41,10 @@ def test_marginal_when_within_two_standard_errors():
     rows = compliance.assess(compliance.TASKS["corridor"], average_lx=200, minimum_lx=100, maintenance_factor=1.0,
                              ugr=[("x", -math.inf, math.nan)], ra=82)
     assert compliance.overall(rows) == "pass"
+
+
+def test_quoted_rows_are_marked_indicative_and_user_rows_are_not():
+    """The standard's text could not be checked: every quoted row says so; the user's own values do not."""
+    assert all(t.indicative for t in compliance.TASKS.values())
+    assert not compliance.requirement(maintained_lx=400).indicative
+    assert compliance.TASKS["office_writing"].source == "EN 12464-1:2011 Table 5.26, ref. 5.26.2"
