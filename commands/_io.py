@@ -413,6 +413,14 @@ def deliver(args, result):
         args._json_written = True
 
 
+def deliver_with_csv(args, result, csv_text):
+    """:func:`deliver` the JSON, then write ``csv_text`` to ``--csv`` when one was asked for (and say so)."""
+    deliver(args, result)
+    if getattr(args, "csv", None):
+        write_text(args.csv, csv_text, getattr(args, "interrupt", None))
+        print(f"wrote {args.csv}")
+
+
 def ensure_registered():
     """With bpy as a module the add-on is not enabled: register it (idempotent)."""
     import bpy

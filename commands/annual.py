@@ -4,18 +4,12 @@ HELP = ("annual daylight from an EPW weather file by daylight coefficients (one 
         "sDA300/50%, ASE1000/250h, UDI 100-2000 lx at points (--points CSV) or on a plane's grid; --csv and --json")
 NEEDS_SCENE = True
 
-from . import _cluster  # noqa: E402
+from . import _cluster, _points  # noqa: E402
 
 
 def add_arguments(parser):
     parser.add_argument("--epw", required=True, metavar="FILE", help="EnergyPlus weather file (.epw)")
-    where = parser.add_mutually_exclusive_group(required=True)
-    where.add_argument("--points", metavar="CSV", help="points as CSV rows x,y,z[,nx,ny,nz] (scene units; a "
-                       "header line is skipped; normal default +Z)")
-    where.add_argument("--plane", metavar="NAME", help="a grid over this plane object's local XY (its +Z side)")
-    size = parser.add_mutually_exclusive_group()
-    size.add_argument("--spacing", type=float, metavar="M", help="with --plane: cell size in m (default EN 12464-1)")
-    size.add_argument("--resolution", type=int, nargs=2, metavar=("NX", "NY"), help="with --plane: points along x, y")
+    _points.add_arguments(parser)
     parser.add_argument("--subdivision", type=int, default=1, metavar="M",
                         help="Reinhart sky subdivision MF:M (1 = Tregenza, 146 patches with the ground)")
     parser.add_argument("--ground-reflectance", type=float, default=0.2, metavar="RHO",
@@ -35,21 +29,14 @@ def run(args):
     import numpy as np
 
     from .. import api
-    from ._io import deliver
     from ..errors import RadiometerError
     from . import _io
-    from .sun_study import plane_points, read_points
 
     _io.check_output_file(args.csv, "--csv file")
     if not os.path.isfile(args.epw):
         raise RadiometerError(f"--epw {args.epw}: no such file")
     scene = bpy.context.scene
-    if args.points:
-        if args.spacing is not None or args.resolution is not None:
-            raise RadiometerError("--spacing/--resolution go with --plane, not --points")
-        locations, normals = read_points(args.points)
-    else:
-        locations, normals = plane_points(scene, args.plane, args.spacing, args.resolution)
+    locations, normals = _points.from_args(args, scene)
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = f"annual daylight, {len(locations)} points"
@@ -65,8 +52,5 @@ def run(args):
     for note in r.notes:
         print(note)
     result = r.to_dict()
-    deliver(args, result)
-    if args.csv:
-        _io.write_text(args.csv, r.csv_text(), getattr(args, "interrupt", None))
-        print(f"wrote {args.csv}")
+    _io.deliver_with_csv(args, result, r.csv_text())
     return result

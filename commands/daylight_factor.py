@@ -5,17 +5,11 @@ HELP = ("daylight factor under the CIE overcast sky (lights off, the world repla
         "--csv and --json")
 NEEDS_SCENE = True
 
-from . import _cluster  # noqa: E402
+from . import _cluster, _points  # noqa: E402
 
 
 def add_arguments(parser):
-    where = parser.add_mutually_exclusive_group(required=True)
-    where.add_argument("--points", metavar="CSV", help="points as CSV rows x,y,z[,nx,ny,nz] (scene units; a "
-                       "header line is skipped; normal default +Z)")
-    where.add_argument("--plane", metavar="NAME", help="a grid over this plane object's local XY (its +Z side)")
-    size = parser.add_mutually_exclusive_group()
-    size.add_argument("--spacing", type=float, metavar="M", help="with --plane: cell size in m (default EN 12464-1)")
-    size.add_argument("--resolution", type=int, nargs=2, metavar=("NX", "NY"), help="with --plane: points along x, y")
+    _points.add_arguments(parser)
     parser.add_argument("--ground-reflectance", type=float, default=0.2, metavar="RHO",
                         help="reflectance of the uniform ground below the sharp horizon (default 0.2)")
     parser.add_argument("--target", type=float, default=None, metavar="PERCENT",
@@ -33,10 +27,8 @@ def run(args):
     import numpy as np
 
     from .. import api
-    from ._io import deliver
     from ..errors import RadiometerError
     from . import _io
-    from .sun_study import read_points
 
     _io.check_output_file(args.csv, "--csv file")
     scene = bpy.context.scene
@@ -46,7 +38,7 @@ def run(args):
         for name in ("spacing", "resolution", "target", "median_external_lux"):
             if getattr(args, name) is not None:
                 raise RadiometerError(f"--{name.replace('_', '-')} goes with --plane, not --points")
-        locations, normals = read_points(args.points)
+        locations, normals = _points.read_points(args.points)
         if progress is not None:
             progress.label = f"daylight factor, {len(locations)} points"
         with _cluster.client(args) as client:
@@ -89,8 +81,5 @@ def run(args):
                       f"{'met' if lv['met'] else 'not met'}")
         result = g.to_dict()
         csv = g.csv_text()
-    deliver(args, result)
-    if args.csv:
-        _io.write_text(args.csv, csv, getattr(args, "interrupt", None))
-        print(f"wrote {args.csv}")
+    _io.deliver_with_csv(args, result, csv)
     return result

@@ -1,0 +1,68 @@
+"""Where a subcommand measures: points from a CSV file (``--points``) or the grid on a plane object
+(``--plane`` with ``--spacing`` or ``--resolution``, laid out like every grid). Shared by
+``sun-study``, ``daylight-factor`` and ``annual``."""
+
+
+def add_arguments(parser):
+    """``--points CSV`` | ``--plane NAME`` (one required), and ``--spacing M`` | ``--resolution NX NY``."""
+    where = parser.add_mutually_exclusive_group(required=True)
+    where.add_argument("--points", metavar="CSV", help="points as CSV rows x,y,z[,nx,ny,nz] (scene units; a "
+                       "header line is skipped; normal default +Z)")
+    where.add_argument("--plane", metavar="NAME", help="a grid over this plane object's local XY (its +Z side)")
+    size = parser.add_mutually_exclusive_group()
+    size.add_argument("--spacing", type=float, metavar="M", help="with --plane: cell size in m (default EN 12464-1)")
+    size.add_argument("--resolution", type=int, nargs=2, metavar=("NX", "NY"), help="with --plane: points along x, y")
+
+
+def from_args(args, scene):
+    """(locations (N, 3), normals (N, 3)) that ``--points`` or ``--plane`` name; one-line errors."""
+    from ..errors import RadiometerError
+
+    if args.points:
+        if args.spacing is not None or args.resolution is not None:
+            raise RadiometerError("--spacing/--resolution go with --plane, not --points")
+        return read_points(args.points)
+    return plane_points(scene, args.plane, args.spacing, args.resolution)
+
+
+def read_points(path):
+    """(locations (N, 3), normals (N, 3)) from a CSV file; RadiometerError naming the line otherwise."""
+    import numpy as np
+
+    from ..errors import RadiometerError
+
+    try:
+        with open(path, encoding="utf-8") as f:
+            lines = f.read().splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RadiometerError(f"cannot read --points {path}: {getattr(exc, 'strerror', None) or exc}") from None
+    rows = []
+    for number, line in enumerate(lines, start=1):
+        cells = [c.strip() for c in line.split(",")]
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        try:
+            values = [float(c) for c in cells]
+        except ValueError:
+            if not rows and number == 1:
+                continue  # a header
+            raise RadiometerError(f"{path} line {number}: expected numbers x,y,z[,nx,ny,nz], got {line!r}") from None
+        if len(values) not in (3, 6) or not all(np.isfinite(values)):
+            raise RadiometerError(f"{path} line {number}: expected 3 or 6 finite numbers, got {line!r}")
+        rows.append(values if len(values) == 6 else values + [0.0, 0.0, 1.0])
+    if not rows:
+        raise RadiometerError(f"{path}: no points")
+    a = np.array(rows)
+    return a[:, :3], a[:, 3:]
+
+
+def plane_points(scene, name, spacing=None, resolution=None):
+    """Cell centres (N, 3) and normals (N, 3) of the grid on a plane object, laid out as every grid is
+    (``measure.grid.grid_layout``: EN 12464-1 spacing by default, at most 250 000 points)."""
+    import numpy as np
+
+    from ..measure.grid import grid_layout
+
+    layout = grid_layout(scene, name, resolution=resolution, spacing=spacing)
+    points = layout.points.reshape(-1, 3)
+    return points, np.broadcast_to(layout.normal, points.shape)
