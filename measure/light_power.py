@@ -3,7 +3,7 @@
 Uses the same convention as every reading: luminous = K x CIE Y of the light's RGB power in the
 file's working colour space (K from the scene's Radiometer settings, default 683 lm/W). Colour,
 temperature colour, exposure and normalize are honoured, because the conversion goes through the
-same ``LightSpec`` the analytic meter uses; every quantity is linear in ``energy``.
+same emitter (``radiometry.emitters``) the analytic meter uses; every quantity is linear in ``energy``.
 """
 
 import math
@@ -24,8 +24,9 @@ UNITS = {
 
 
 def _per_unit_energy(obj, unit, scene):
-    """Photometric value of ``obj`` per unit of ``energy`` (light data's own units)."""
-    from ..radiometry import lights as light_models
+    """Photometric value of ``obj`` per unit of ``energy`` (light data's own units), read from the
+    light's emitter (``radiometry.emitters``): its flux, intensity and area have no other home."""
+    from ..radiometry import emitters
 
     light = obj.data
     types, _label = UNITS[unit]
@@ -34,31 +35,22 @@ def _per_unit_energy(obj, unit, scene):
         raise RadiometerError(f"{unit.lower()} does not apply to a {light.type.lower()} light; use {allowed}")
     values = scene_lights.light_values(light, obj.matrix_world)
     values["energy"] = 1.0
-    spec = light_models.light_spec_from_values(values, scene.unit_settings.scale_length)
+    emitter = emitters.from_blender_values(values, scene.unit_settings.scale_length)
     _space, weights, efficacy = meter.scene_photometry(scene)
-    if spec.intensity_table is not None:
-        # A photometric (IES) light: its flux is its intensity integrated over the sphere (a
-        # Fibonacci sphere of 200k directions: 1e-4 relative for a smooth table).
+    if isinstance(emitter, emitters.PhotometricLight):
+        # A photometric (IES) light: its flux is its table integrated over the sphere (the emitter's
+        # one integration, emitters.photometric.table_flux).
         if unit != "LUMEN":
             raise RadiometerError("a photometric (IES) light's intensities come from its file: set its lumens")
-        count = 200_000
-        k = np.arange(count) + 0.5
-        z = 1.0 - 2.0 * k / count
-        phi = np.pi * (1.0 + 5 ** 0.5) * k
-        r = np.sqrt(1.0 - z * z)
-        dirs = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
-        intensity = light_models.radiant_intensity(spec, dirs) @ weights
-        return efficacy * float(4 * math.pi * intensity.mean())
-    flux = efficacy * float(np.asarray(spec.rgb_power) @ weights)
+        return emitter.luminous_flux_lm(weights, efficacy)
+    # Blender's convention for point and spot lights: lumens are those of the equivalent point
+    # (P, whatever the cone), and their intensity P / (4 pi) inside the cone.
+    flux = efficacy * float(np.asarray(emitter.rgb_power) @ weights)
     if unit == "CANDELA":
-        # Blender's point and spot lights: I = P / (4 pi) inside the cone, whatever its size.
-        return flux / (4 * math.pi)
+        return efficacy * float(emitter.intensity_towards(emitter.emission_direction) @ weights)
     if unit == "NIT":
         # Lambertian emitter: L = P / (pi A) with A the light's area in m^2 (object scale included).
-        side_y = spec.size_y if spec.shape in ("RECTANGLE", "ELLIPSE") else spec.size
-        area = spec.size * spec.scale[0] * side_y * spec.scale[1]
-        area *= math.pi / 4 if spec.shape in ("DISK", "ELLIPSE") else 1.0
-        return flux / (math.pi * area)
+        return flux / (math.pi * emitter.area_m2)
     return flux  # lumens (point, spot: flux of the equivalent point; area: total flux), lux (sun)
 
 

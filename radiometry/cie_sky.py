@@ -48,6 +48,8 @@ lux, luminance in cd/m^2.
 
 import numpy as np
 
+from .emitters.environment import EnvironmentEmitter
+
 __all__ = ["CIE_GENERAL_SKIES", "SKY_TYPES", "TYPICAL_HORIZONTAL_ILLUMINANCE", "parse_sky_type", "parameters",
            "needs_sun", "relative_luminance", "sky_integral", "zenith_luminance", "plane_illuminance",
            "ground_luminance", "CIESkyWorld"]
@@ -305,12 +307,13 @@ def plane_illuminance(normals, sky_type, sun_direction=None, *, horizontal_illum
 
 # --- the world as pure data (the meter's interface, like environment.WorldLight) ------------------------
 
-class CIESkyWorld:
+class CIESkyWorld(EnvironmentEmitter):
     """A Radiometer CIE sky world, as the meter integrates it (``measure.world`` recognises the tag).
 
     Radiance (W/(m^2 sr), per scene unit^2 like every world) is ``zenith_radiance`` x L/Lz above the
     horizon and ``ground_radiance`` below, the same in R, G and B (white). ``irradiance(normals)``
-    returns (E (..., 3), error (..., 3)) like ``environment.WorldLight.irradiance``.
+    returns (E (..., 3), error (..., 3)) like ``environment.WorldLight.irradiance``; an emitter
+    (:class:`.emitters.environment.EnvironmentEmitter`).
     """
 
     kind = "cie_sky"

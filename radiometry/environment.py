@@ -40,6 +40,8 @@ SIGGRAPH 2001, pp. 497-500 (eq. 8-13, the constants c1..c5 and the 9 % remark).
 
 import numpy as np
 
+from .emitters.environment import EnvironmentEmitter
+
 
 class EnvironmentInputError(ValueError):
     """A radiance map that no finite answer can come from (NaN/inf pixels, wrong shape); one line."""
@@ -473,8 +475,9 @@ def equirect_to_probe(radiance, size, rotation=np.eye(3), camera_rotation=np.eye
 
 # --- the world as pure data -------------------------------------------------------------------------
 
-class WorldLight:
+class WorldLight(EnvironmentEmitter):
     """The scene's world as Cycles renders it, when a closed form covers it (``measure.world`` fills it).
+    An emitter (:class:`.emitters.environment.EnvironmentEmitter`: ``irradiance_at``, flags INFINITE).
 
     ``kind``: "constant" (radiance (3,) in every direction), "equirect" (``radiance`` (H, W, 3) map
     with ``rotation`` local -> world, already multiplied by the Background colour x strength), "black"

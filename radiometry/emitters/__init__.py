@@ -13,6 +13,9 @@ from .spot import SpotLight
 from .sun import SunLight
 from .area import AreaLight
 from .photometric import IntensityTable, PhotometricLight
+from .environment import EnvironmentEmitter
+from .emissive_mesh import EmissiveMesh
 
 __all__ = ["Emitter", "EmitterFlags", "RayVisibility", "SourceId", "CyclesLight", "from_blender_values",
-           "PointLight", "SpotLight", "SunLight", "AreaLight", "IntensityTable", "PhotometricLight"]
+           "PointLight", "SpotLight", "SunLight", "AreaLight", "IntensityTable", "PhotometricLight",
+           "EnvironmentEmitter", "EmissiveMesh"]

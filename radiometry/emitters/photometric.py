@@ -115,7 +115,22 @@ def table_flux(h_deg, v_deg, table, direction_map=None):
         u = np.stack([-np.sin(vr) * np.sin(hr), -np.sin(vr) * np.cos(hr), -np.cos(vr)], axis=-1)
         return values * abs(np.linalg.det(b)) / np.linalg.norm(u @ b.T, axis=-1) ** 3
 
-    return integrate_cells(func, h_deg, v_deg, lambda v: np.sin(np.radians(v)))
+    cells_h, cells_v = h_deg, v_deg
+    if direction_map is not None:
+        # The Jacobian is smooth but not a polynomial: cut every table cell into pieces of at most
+        # JACOBIAN_CELL_DEG (the interpolant stays a polynomial on each piece).
+        cells_h, cells_v = _subdivide(h_deg, JACOBIAN_CELL_DEG), _subdivide(v_deg, JACOBIAN_CELL_DEG)
+    return integrate_cells(func, cells_h, cells_v, lambda v: np.sin(np.radians(v)))
+
+
+#: Largest integration cell (deg) when the direction map is not a similarity (8 x 8 Gauss-Legendre per
+#: cell: relative error < 1e-12 for a 3:1 non-uniform scale, 1e-7 at 25:1; 3e-5 at 3:1 with 90 deg cells).
+JACOBIAN_CELL_DEG = 5.0
+
+
+def _subdivide(angles, step):
+    pieces = [np.linspace(a, b, int(np.ceil((b - a) / step)) + 1)[:-1] for a, b in zip(angles[:-1], angles[1:])]
+    return np.concatenate(pieces + [angles[-1:]])
 
 
 @dataclass(frozen=True)
