@@ -49,55 +49,6 @@ def _stream_fd(stream):
         return None
 
 
-class _ReportFilter:
-    """A text stream for ``sys.stdout`` that drops Blender's operator reports.
-
-    ``bpy.ops`` prints an operator's reports ("Info: Baking map saved...", "Info: Saved as ...")
-    through ``sys.stdout`` (``PySys_WriteStdout``), not through a descriptor. Lines starting with
-    "Info: " are dropped, and so are "Error: " lines (the operator also raises, and the CLI says
-    what failed in one line); "Warning: " lines go to stderr; everything else passes.
-    """
-
-    _DROP = ("Info: ", "Error: ")
-    _TO_STDERR = ("Warning: ",)
-
-    def __init__(self, out, err):
-        self._out, self._err, self._pending = out, err, ""
-        self.encoding = getattr(out, "encoding", "utf-8")
-        self.errors = getattr(out, "errors", "strict")
-
-    def write(self, text):
-        self._pending += text
-        while "\n" in self._pending:
-            line, self._pending = self._pending.split("\n", 1)
-            self._emit(line + "\n")
-        return len(text)
-
-    def _emit(self, line):
-        if line.startswith(self._DROP):
-            return
-        (self._err if line.startswith(self._TO_STDERR) else self._out).write(line)
-
-    def flush(self):
-        self._out.flush()
-
-    def close(self):
-        if self._pending:
-            self._emit(self._pending)
-            self._pending = ""
-        self.flush()
-
-    def isatty(self):
-        return False
-
-    def fileno(self):
-        raise OSError("no descriptor: Radiometer's filtered stdout")
-
-    @property
-    def closed(self):
-        return False
-
-
 @contextlib.contextmanager
 def blender_logs_silenced(enabled=True, quiet=False):
     """Inside: C writes to fd 1/2 go to /dev/null; ``sys.stdout``/``sys.stderr`` to the real ones.
@@ -131,10 +82,14 @@ def blender_logs_silenced(enabled=True, quiet=False):
                 setattr(sys, name, mirror)
             os.dup2(null, fd)
         originals.setdefault("stdout", sys.stdout)
-        sys.stdout = _ReportFilter(open(os.devnull, "w") if quiet else sys.stdout, sys.stderr)
+        from ..measure.op_reports import ReportFilter  # the one filter of operator reports (the API's too)
+
+        out = open(os.devnull, "w") if quiet else sys.stdout
+        sys.stdout = ReportFilter(out, sys.stderr, drop=("Info: ", "Error: "), to_stderr=("Warning: ",),
+                                  has_descriptor=False)
         opened.insert(0, sys.stdout)
         if quiet:
-            opened.append(sys.stdout._out)
+            opened.append(out)
         yield saved[2]
     finally:
         _flush_c_streams()

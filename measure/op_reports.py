@@ -10,16 +10,23 @@ and "Error: " lines go to stderr (the operator also raises on an error), anythin
 import contextlib
 import sys
 
-_DROP = ("Info: ",)
-
 #: The CLI's ``--verbose`` sets this: Blender's own reports then pass as they are.
 keep_reports = False
-_TO_STDERR = ("Warning: ", "Error: ")
 
 
-class _Filter:
-    def __init__(self, out):
-        self._out, self._pending = out, ""
+class ReportFilter:
+    """A text stream for ``sys.stdout`` that drops Blender's operator reports, line by line.
+
+    Lines starting with one of ``drop`` vanish, those starting with one of ``to_stderr`` go to
+    ``err`` (default: ``sys.__stderr__`` when written), everything else to ``out``. ``fileno()`` is
+    ``out``'s, or OSError with ``has_descriptor=False`` (the CLI, whose descriptor 1 is /dev/null).
+    The API drops "Info: " and sends warnings and errors to stderr; the CLI (``commands/_io.py``)
+    drops "Error: " too, since it says what failed in one line itself.
+    """
+
+    def __init__(self, out, err=None, *, drop=("Info: ",), to_stderr=("Warning: ", "Error: "), has_descriptor=True):
+        self._out, self._err, self._pending = out, err, ""
+        self._drop, self._to_stderr, self._has_descriptor = tuple(drop), tuple(to_stderr), has_descriptor
         self.encoding = getattr(out, "encoding", "utf-8")
         self.errors = getattr(out, "errors", "strict")
 
@@ -31,11 +38,13 @@ class _Filter:
         return len(text)
 
     def _emit(self, line):
-        if line.startswith(_DROP):
+        if line.startswith(self._drop):
             return
-        (sys.__stderr__ if line.startswith(_TO_STDERR) and sys.__stderr__ else self._out).write(line)
+        err = self._err if self._err is not None else sys.__stderr__
+        (err if line.startswith(self._to_stderr) and err else self._out).write(line)
 
     def close_pending(self):
+        """Write (or drop) a last line that has no newline yet."""
         if self._pending:
             self._emit(self._pending)
             self._pending = ""
@@ -43,11 +52,21 @@ class _Filter:
     def flush(self):
         self._out.flush()
 
+    def close(self):
+        self.close_pending()
+        self.flush()
+
     def isatty(self):
         return False
 
     def fileno(self):
+        if not self._has_descriptor:
+            raise OSError("no descriptor: Radiometer's filtered stdout")
         return self._out.fileno()
+
+    @property
+    def closed(self):
+        return False
 
 
 @contextlib.contextmanager
@@ -86,7 +105,7 @@ def operator_reports_dropped():
     if original is None or keep_reports:
         yield
         return
-    filt = _Filter(original)
+    filt = ReportFilter(original)
     sys.stdout = filt
     try:
         with _c_progress_dropped():
