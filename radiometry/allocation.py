@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["MeterTally", "plan_round", "allocate", "PILOT_SPP", "MAX_SPP", "BLOCK_TEXELS"]
+__all__ = ["MeterTally", "plan_round", "known_spp_share", "allocate", "PILOT_SPP", "MAX_SPP", "BLOCK_TEXELS"]
 
 #: Samples per texel in the pilot round, and at most in any round: Cycles accumulates a pixel in
 #: float32, and beyond ~1024 samples the rounding drifts (5e-6 at 16384, README "Quality presets").
@@ -49,6 +49,9 @@ BUDGET_GROWTH = 8
 #: A round costs a scene sync: a round planned below this fraction of the samples spent so far is
 #: doubled, so the last few meters do not take one round each.
 SMALL_ROUND = 0.1
+#: Standard deviations of a texel variance estimate's own noise added when planning a round (so one
+#: unlucky low estimate does not leave the meter for yet another round).
+PLAN_SPREAD_SDS = 1.5
 #: Most samples one meter may take in a target-driven measurement (about 4 M): a meter that reads
 #: almost nothing (a dark corner lit only by faint reflections) can need unbounded samples for a
 #: RELATIVE target; it stops here and its reading says the target was not reached.
@@ -185,7 +188,7 @@ def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         # 1.5 standard deviations of v_last's own noise (relative sd sqrt(2 / dof)) on top, so one
         # unlucky low estimate does not leave the meter for yet another round.
-        v = (1.0 + 1.5 * np.sqrt(2.0 / np.maximum(tally.dof, 1.0))) * v_last * (s_last / spp) ** alpha
+        v = (1.0 + PLAN_SPREAD_SDS * np.sqrt(2.0 / np.maximum(tally.dof, 1.0))) * v_last * (s_last / spp) ** alpha
         c = (target / margin * total) ** 2
         qa = c * spp ** 2
         qb = 2 * c * n_old * spp - spp ** 2 * v
@@ -195,8 +198,10 @@ def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_
     blocks = np.where(todo, np.maximum(np.ceil(texels / BLOCK_TEXELS ** 2), MIN_BLOCKS), 0)
     # Until a meter's decay exponent is measured (two rounds at different spp), alpha = 1 may
     # overshoot a smooth integrand by orders of magnitude: take one short step first (<= 8x the
-    # pilot's samples), then plan precisely.
-    blocks = np.where(measured, blocks, np.minimum(blocks, 2 * PILOT_BLOCKS))
+    # pilot's samples), then plan precisely. At the spp its variance was measured at, the plan
+    # needs no exponent and is precise already.
+    known = measured | (s_last == spp)
+    blocks = np.where(known, blocks, np.minimum(blocks, 2 * PILOT_BLOCKS))
     dark = dark_meters(tally, may_be_lit) & (tally.n < min(DARK_FLOOR, max_samples))
     if dark.any():  # keep looking for rare light up to the floor (``DARK_FLOOR``)
         need = np.ceil((min(DARK_FLOOR, max_samples) - tally.n) / (spp * BLOCK_TEXELS ** 2))
@@ -233,6 +238,34 @@ def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_
         elif cost <= best_cost * 1.05:
             best = spp
     return best
+
+
+def known_spp_share(tally, target, known_spp, blocks, spp, offset=0.0,
+                    max_samples=MAX_SAMPLES_PER_METER, may_be_lit=None):
+    """Blocks (N,) at ``known_spp`` for the meters that finish more cheaply there than in the planned
+    step (``blocks`` at ``spp``), or None.
+
+    The step to a new spp is capped while a meter's decay exponent is unmeasured, and its whole
+    blocks at 4x the samples per texel overshoot a small remaining need (the throughput room: 1024
+    samples where ~500 were needed). At the spp a meter's texel variance was measured at, its plan
+    needs no exponent: a meter whose remaining need costs fewer samples there is baked there, in a
+    bake of its own (one more scene sync: only in the step right after the pilot, and when it saves
+    at least ``SMALL_ROUND`` of the samples spent so far, the rule that sizes the smallest round worth
+    a sync) or, in any round, instead of the step when every meter fits. Which spp a meter's texels have does not change the estimator: rounds are combined by
+    their samples, each with its own batch-means variance.
+    """
+    same = plan_round(tally, target, known_spp, offset, max_samples=max_samples, may_be_lit=may_be_lit)
+    _v, s_last, _alpha, measured = tally.texel_variance_model()
+    # Only meters whose step is the capped one (exponent unmeasured, variance known at known_spp):
+    # the others' plan is precise at any spp and choose_spp already picked the best common one.
+    fits = (blocks > 0) & (same > 0) & ~measured & (s_last == known_spp) & (same * known_spp <= blocks * spp)
+    if not fits.any():
+        return None
+    if np.any((blocks > 0) & ~fits):  # a bake of its own: right after the pilot only, and when worth it
+        saved = float(np.sum(np.where(fits, blocks * spp - same * known_spp, 0))) * BLOCK_TEXELS ** 2
+        if len(tally.rounds) > 1 or saved < SMALL_ROUND * tally.n.sum():
+            return None
+    return np.where(fits, same, 0)
 
 
 @dataclass
@@ -311,16 +344,35 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
                 break
             n_now = tally.n.sum()
             goal = float(np.max(finite)) * np.sqrt(n_now / (n_now + left))
+        previous = spp
         spp = choose_spp(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=may_be_lit)
         blocks = plan_round(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=may_be_lit)
         if not blocks.any():
             reached, stopped = True, "target reached" if target is not None else "converged"
             break
+        side, known = None, None
+        _v, s_last, _alpha, measured = tally.texel_variance_model()
+        unmeasured = s_last[(blocks > 0) & ~measured & (s_last > 0)]
+        if time_budget is None and unmeasured.size:
+            values, counts = np.unique(unmeasured, return_counts=True)
+            known = int(values[np.argmax(counts)])  # the spp those meters' variance was measured at
+            if known != spp:
+                side = known_spp_share(tally, goal, known, blocks, spp, offset, max_samples=max_samples,
+                                       may_be_lit=may_be_lit)
+            if side is not None:
+                blocks = np.where(side > 0, 0, blocks)
         planned = float(blocks.sum()) * BLOCK_TEXELS ** 2 * spp
+        planned += 0.0 if side is None else float(side.sum()) * BLOCK_TEXELS ** 2 * known
         if target is not None and planned < SMALL_ROUND * tally.n.sum():
-            blocks = np.minimum(2 * blocks, np.maximum(blocks, np.floor((max_samples - tally.n) / (
-                spp * BLOCK_TEXELS ** 2)).astype(int)))
+            def doubled(b, s):
+                return np.minimum(2 * b, np.maximum(b, np.floor((max_samples - tally.n) / (
+                    s * BLOCK_TEXELS ** 2)).astype(int)))
+
+            blocks = doubled(blocks, spp)
             planned = float(blocks.sum()) * BLOCK_TEXELS ** 2 * spp
+            if side is not None:
+                side = doubled(side, known)
+                planned += float(side.sum()) * BLOCK_TEXELS ** 2 * known
         if time_budget is not None:
             a, b = time_model()
             affordable = (time_budget - elapsed - a) / b
@@ -336,7 +388,12 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
                 planned = float(blocks.sum()) * BLOCK_TEXELS ** 2 * spp
         a, b = time_model()
         report(tally.n.sum() / (tally.n.sum() + planned), a + b * planned)
-        run(spp, blocks)
+        if side is not None:
+            run(known, side)
+        if blocks.any():
+            run(spp, blocks)
+        else:
+            spp = previous  # every meter took the known-spp share: the next step grows from there
     report(1.0, 0.0)
     if target is not None:
         reached = bool(np.all(tally.rel_std_error(offset) <= target))
