@@ -23,7 +23,7 @@ def run(args):
 
     from ._io import deliver
     from ..errors import RadiometerError
-    from ..measure import analysis, report
+    from ..measure import analysis, grid
     from . import _io
 
     if args.png:
@@ -38,7 +38,7 @@ def run(args):
         if plane is None:
             raise RadiometerError(f"no object named {args.plane!r} in scene {scene.name!r}")
     else:
-        planes = report.work_planes(scene)
+        planes = grid.work_planes(scene)
         if not planes:
             raise RadiometerError("no work plane in the scene: name one with --plane NAME")
         plane = planes[0]

@@ -326,7 +326,7 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
     from .. import plots
     from ..radiometry import compliance
     from . import glare as glare_mod
-    from . import report as report_mod
+    from .grid import work_planes
 
     scene = scene or bpy.context.scene
     blend = os.path.basename(bpy.data.filepath) if bpy.data.filepath else "(unsaved file)"
@@ -361,7 +361,7 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
                                 if math.isfinite(g.ugr) else "no source in the field",
                                 "lb_text": f"{_num(g.background_luminance, g.background_rel_std_error)} cd/m²",
                                 "sources": g.sources, "left_out": g.left_out})
-    planes = {p.name: p for p in report_mod.work_planes(scene)}
+    planes = {p.name: p for p in work_planes(scene)}
     for grid in report.get("grids", []):
         if "error" in grid:
             continue

@@ -100,6 +100,14 @@ class GridResult(common.ToDict):
         return path
 
 
+def work_planes(scene):
+    """The scene's work planes: mesh objects whose name contains "work plane" (any case) or that carry
+    the custom property ``radiometer_work_plane`` (what the report, the client report and ``grid --all``
+    measure)."""
+    return [ob for ob in scene.objects if ob.type == "MESH"
+            and ("work plane" in ob.name.lower() or bool(ob.get("radiometer_work_plane", False)))]
+
+
 def plane_frame(obj, scene):
     """(local extent x0, x1, y0, y1, z) in scene units, matrix_world as numpy 4x4, normal."""
     if obj.type != "MESH":

@@ -24,6 +24,7 @@ from .. import outputs, plots
 from ..errors import MeasurementCancelled, RadiometerError
 from . import analysis, meters
 from .analysis_common import plain
+from .grid import work_planes  # noqa: F401 - report.work_planes: the planes the report grids
 
 
 #: The report's law checks are its engineering appendix, not the full study (that is ``check``'s job):
@@ -72,13 +73,9 @@ def light_types(lights):
     return [(members[0], members[1:]) for members in groups.values()]
 
 
-def work_planes(scene):
-    return [ob for ob in scene.objects if ob.type == "MESH"
-            and ("work plane" in ob.name.lower() or bool(ob.get("radiometer_work_plane", False)))]
-
-
-def _slug(name, among=()):
-    """A readable file-name stem for an object name, unique among the names ``among`` (``outputs.Stems``)."""
+def plot_stem(name, among=()):
+    """A readable file-name stem for an object name, unique among the names ``among`` (``outputs.Stems``):
+    how the report and the analysis operators name an object's plot files."""
     return outputs.Stems(sorted(set(among) | {name}))(name)
 
 

@@ -123,9 +123,9 @@ def _measure_settings(context):
 
 def _slug(name):
     """The report's file-name stem for an object: readable, unique among the scene's objects."""
-    from ..measure.report import _slug as slug
+    from ..measure.report import plot_stem
 
-    return slug(name, among=[ob.name for ob in bpy.context.scene.objects])
+    return plot_stem(name, among=[ob.name for ob in bpy.context.scene.objects])
 
 
 def _law_task(self, context, kind):

@@ -79,8 +79,8 @@ def test_report_plot_names_are_unique_per_object_name(clean_blender):
     from radiometer.measure import report
 
     names = ("Lamp.1", "Lamp_1", "Lampe größer", "Lampe grösser", "LAMP.1")
-    assert len({report._slug(n, among=names) for n in names}) == 5
-    assert report._slug("Work Plane") == "work_plane"
+    assert len({report.plot_stem(n, among=names) for n in names}) == 5
+    assert report.plot_stem("Work Plane") == "work_plane"
 
 
 def test_radiance_map_paths_are_private_and_distinct(clean_blender):
