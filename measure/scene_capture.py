@@ -55,8 +55,76 @@ def _material_traits(material):
                     if socket.is_linked or (socket.default_value != (0.0 if name != "Alpha" else 1.0)):
                         transmissive = True
     volume = render_settings._uses_volume(tree)
-    return (not transmissive and not volume, bool(types & render_settings._EMISSIVE_NODES),
+    emissive = bool(types & render_settings._EMISSIVE_NODES) or _principled_emits(tree)
+    return (not transmissive and not volume, emissive,
             bool(types & render_settings._GLOSSY_NODES), transmissive, volume)
+
+
+def _principled_emits(tree):
+    """True when a Principled BSDF of ``tree`` may emit (Emission Strength linked or > 0 with a colour)."""
+    if tree is None:
+        return False
+    for node in tree.nodes:
+        if node.bl_idname != "ShaderNodeBsdfPrincipled" or node.mute:
+            continue
+        strength, colour = node.inputs.get("Emission Strength"), node.inputs.get("Emission Color")
+        if strength is None or colour is None:
+            continue
+        if strength.is_linked or colour.is_linked:
+            return True
+        if strength.default_value != 0.0 and any(c != 0.0 for c in colour.default_value[:3]):
+            return True
+    return False
+
+
+def _emission_radiance(material):
+    """(3,) radiance per channel (render units: W/(scene unit^2 sr)) of a material that is one plain
+    emitter (Material Output <- Emission, or <- Principled BSDF with only emission), else None.
+    Cycles' Emission strength is radiance ("1.0 gives the Color input in the image")."""
+    from ..compat import active_node_tree
+
+    tree = active_node_tree(material) if material is not None else None
+    if tree is None:
+        return None
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial" and not n.mute]
+    active = [n for n in outputs if n.is_active_output] or outputs
+    if len(active) != 1:
+        return None
+    surface = active[0].inputs.get("Surface")
+    links = [link for link in surface.links if link.is_valid and not link.is_muted] if surface is not None else []
+    if len(links) != 1:
+        return None
+    node = links[0].from_node
+    names = {"ShaderNodeEmission": ("Color", "Strength"),
+             "ShaderNodeBsdfPrincipled": ("Emission Color", "Emission Strength")}.get(node.bl_idname)
+    if names is None or node.mute:
+        return None
+    colour, strength = (node.inputs.get(k) for k in names)
+    if colour is None or strength is None or colour.is_linked or strength.is_linked:
+        return None
+    return np.array(colour.default_value[:3], float) * float(strength.default_value)
+
+
+def _source_id(inst, original, part=-1):
+    """The emitter's stable identity (``radiometry.emitters.SourceId``): object session uid, library,
+    the instance's persistent id, and a part index (material slot)."""
+    from ..radiometry.emitters import SourceId
+
+    library = original.library.filepath if getattr(original, "library", None) is not None else ""
+    instance = tuple(int(k) for k in inst.persistent_id) if inst.is_instance else ()
+    return SourceId(int(getattr(original, "session_uid", 0)), library, instance, int(part))
+
+
+def _ray_visibility(obj, shadow):
+    """``radiometry.emitters.RayVisibility`` of an evaluated object (``shadow``: casts shadows)."""
+    from ..radiometry.emitters import RayVisibility as V
+
+    flags = V.NONE
+    for attr, flag in (("visible_camera", V.CAMERA), ("visible_diffuse", V.DIFFUSE), ("visible_glossy", V.GLOSSY),
+                       ("visible_transmission", V.TRANSMISSION), ("visible_volume_scatter", V.VOLUME_SCATTER)):
+        if getattr(obj, attr, True):
+            flags |= flag
+    return flags | (V.SHADOW if shadow else V.NONE)
 
 
 def _mesh_triangles(obj):
@@ -81,7 +149,7 @@ def _mesh_triangles(obj):
 def _collect(depsgraph):
     """Walk the render depsgraph; returns a SceneModel (positions still in scene units)."""
     lights, names, shadow, reflects, unmodelled, volumes = [], [], [], [], [], []
-    panes, refractors, pane_chunks = {}, [], []
+    panes, refractors, pane_chunks, meshes = {}, [], [], []
     tri_chunks, obj_chunks, opaque_chunks, emissive_chunks = [], [], [], []
     needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
     material_cache, local_cache, instance_count = {}, {}, {}
@@ -96,7 +164,9 @@ def _collect(depsgraph):
             parent = inst.parent.original.name if inst.parent is not None and inst.parent.original else "?"
             name = f"{name} (instance {k} of {parent!r})"
         if obj.type == "LIGHT":
-            lights.append(dict(_light_entry(obj, name, inst.matrix_world), source=original.name))
+            lights.append(dict(_light_entry(obj, name, inst.matrix_world), source=original.name,
+                               source_id=_source_id(inst, original),
+                               visibility=_ray_visibility(obj, bool(getattr(obj.data, "use_shadow", True)))))
             continue
         if obj.type not in _GEOMETRY_TYPES or original.name in _Capture.exclude:
             continue
@@ -147,6 +217,8 @@ def _collect(depsgraph):
         if traits[np.unique(slot), 4].any() and len(names) not in panes:  # a medium fills this mesh (issue 18)
             flat = world.reshape(-1, 3)
             volumes.append((name, flat.min(axis=0), flat.max(axis=0)))
+        if traits[np.unique(slot), 1].any():  # emits: one EmissiveMesh emitter per emitting slot
+            _emissive_meshes(meshes, inst, original, name, world, slot, slots, traits, material_cache)
         index = len(names)
         names.append(name)
         shadow.append(bool(obj.visible_shadow))
@@ -163,7 +235,28 @@ def _collect(depsgraph):
         pane_of=cat(pane_chunks, (0,)).astype(int))
     needs["volumes"] = volumes
     needs["panes"], needs["refractors"] = panes, refractors
+    needs["emissive_meshes"] = meshes
     return lights, geometry, needs
+
+
+def _emissive_meshes(meshes, inst, original, name, world_tris, slot, slots, traits, cache):
+    """Append a ``radiometry.emitters.EmissiveMesh`` (metres, SI radiance or None when the emission is
+    not a plain value) for every emitting material slot of one object instance."""
+    from ..radiometry.emitters import EmissiveMesh
+
+    visibility = _ray_visibility(inst.object, bool(inst.object.visible_shadow))
+    for j in np.unique(slot):
+        if not traits[j, 1]:
+            continue
+        material = slots[j]
+        key = ("emission", material.as_pointer() if material is not None else 0)
+        if key not in cache:
+            cache[key] = _emission_radiance(material)
+        radiance = cache[key]
+        # Cycles renders in scene units: radiance per scene unit^2 is radiance / scale^2 per m^2.
+        si = None if radiance is None else radiance / _Capture.scale**2
+        meshes.append(EmissiveMesh(world_tris[slot == j], si, name=f"{name} [{getattr(material, 'name', 'default')}]",
+                                   source_id=_source_id(inst, original, int(j)), visibility=visibility))
 
 
 def _glass_object(panes, refractors, index, name, source, world_tris, slot, slots, traits, cache):
@@ -275,8 +368,9 @@ def _render_probe(scene, view_layer):
 
 
 def capture(scene, view_layer=None, exclude=()):
-    """The scene as Cycles renders it: a ``SceneModel`` in metres (``LightSpec``s, triangles)."""
-    from ..radiometry import lights as light_models
+    """The scene as Cycles renders it: a ``SceneModel`` in metres: emitters (``radiometry.emitters``,
+    built here once per capture, with their source identity and ray visibility) and triangles."""
+    from ..radiometry import emitters
 
     view_layer = view_layer or scene.view_layers[0]
     _Capture.exclude, _Capture.result, _Capture.error = frozenset(exclude), None, None
@@ -298,23 +392,25 @@ def capture(scene, view_layer=None, exclude=()):
         spec, uncovered = None, item["uncovered"]
         if uncovered is None:
             try:
-                spec = light_models.light_spec_from_values(item["values"], scale)
+                spec = emitters.from_blender_values(item["values"], scale, source_id=item["source_id"],
+                                                    visibility=item["visibility"])
             except ValueError as exc:
                 uncovered = f"has no closed form here ({exc})"
         model_lights.append(scene_model.ModelLight(
             name=item["name"], spec=spec, uncovered=uncovered, casts_shadow=item["casts_shadow"],
             reaches_diffuse=item["reaches_diffuse"], portal=item["portal"], notes=item["notes"],
-            source=item["source"]))
+            source=item["source"], source_id=item["source_id"]))
     needs["world_emits"] = render_settings.world_emits(scene.world)
     world_volume = render_settings._uses_volume(render_settings.active_node_tree(scene.world) if scene.world else None)
     needs["volume"] |= world_volume
     volumes = needs.pop("volumes", [])
     panes, refractors = needs.pop("panes", {}), needs.pop("refractors", [])
+    emissive_meshes = needs.pop("emissive_meshes", [])
     needs["thin_panes"] = panes  # every render path swaps these for thin glass (measure.glass.swap_panes)
     return scene_model.SceneModel(lights=model_lights, geometry=geometry, world_emits=needs["world_emits"],
                                   needs=needs, scale_length=scale, world=_world(scene, needs["world_emits"]),
                                   volumes=volumes, world_volume=bool(world_volume), panes=panes,
-                                  refractors=refractors)
+                                  refractors=refractors, emissive_meshes=emissive_meshes)
 
 
 def _world(scene, emits):

@@ -33,7 +33,10 @@ ROUND_SIDES = 16
 
 @dataclass
 class ModelLight:
-    """One light as Cycles renders it. ``spec`` is None when no closed form covers it (``uncovered``)."""
+    """The scene's slot for one light instance: its emitter (``spec``, a :mod:`.emitters` kind built once
+    by the capture layer; None when no closed form covers it, ``uncovered`` says why: only a render
+    measures it) and what the planner needs beside it (portal, shadow and diffuse visibility, notes).
+    ``source_id`` is the instance's stable identity (:class:`.emitters.SourceId`), ``name`` its label."""
 
     name: str
     spec: object = None
@@ -43,6 +46,12 @@ class ModelLight:
     portal: bool = False           # light.cycles.is_portal: guides world sampling, emits nothing
     notes: tuple = ()
     source: str = ""               # the light OBJECT (shared by all its instances)
+    source_id: tuple = None        # emitters.SourceId: object session uid, library, instance id, part
+
+    @property
+    def emitter(self):
+        """The light's emitter (:class:`.emitters.Emitter`), or None when only a render measures it."""
+        return self.spec
 
 
 @dataclass
@@ -127,10 +136,22 @@ class SceneModel:
     panes: dict = field(default_factory=dict)
     #: Transmissive objects that are not thin panes (name, reason): rendered as they are (issue 18).
     refractors: list = field(default_factory=list)
+    #: Surfaces with an Emission shader as emitters (:class:`.emitters.EmissiveMesh`, rendered only).
+    emissive_meshes: list = field(default_factory=list)
 
     @property
     def emissive_surfaces(self):
-        return bool(self.needs.get("emissive_surfaces", False))
+        return bool(self.needs.get("emissive_surfaces", False)) or bool(self.emissive_meshes)
+
+    @property
+    def emitters(self):
+        """Every emitter of the scene: the lights' (those a closed form covers), the emissive meshes',
+        and the world when it emits."""
+        out = [light.spec for light in self.lights if light.spec is not None]
+        out += list(self.emissive_meshes)
+        if self.world_emits and self.world is not None:
+            out.append(self.world)
+        return out
 
 
 @dataclass

@@ -1,0 +1,88 @@
+"""The capture layer builds emitters once per capture (radiometry/emitters): kinds, stable identity,
+ray visibility, and emissive meshes whose radiance convention is checked against a Cycles render."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+
+from radiometer import api
+from radiometer.compat import ensure_node_tree
+from radiometer.measure import scene_capture
+from radiometer.radiometry import emitters
+
+
+def _emissive_plane(scene, size, z, colour, strength, principled=False):
+    h = size / 2
+    mesh = bpy.data.meshes.new("glow")
+    mesh.from_pydata([(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)], [], [(0, 1, 2, 3)])
+    mat = bpy.data.materials.new("glow")
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    if principled:
+        node = tree.nodes.new("ShaderNodeBsdfPrincipled")
+        node.inputs["Base Color"].default_value = (0, 0, 0, 1)
+        node.inputs["Emission Color"].default_value = colour + (1.0,)
+        node.inputs["Emission Strength"].default_value = strength
+        tree.links.new(node.outputs["BSDF"], out.inputs["Surface"])
+    else:
+        node = tree.nodes.new("ShaderNodeEmission")
+        node.inputs["Color"].default_value = colour + (1.0,)
+        node.inputs["Strength"].default_value = strength
+        tree.links.new(node.outputs["Emission"], out.inputs["Surface"])
+    mesh.materials.append(mat)
+    obj = bpy.data.objects.new("glow", mesh)
+    obj.location = (0.0, 0.0, z)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def test_capture_builds_emitters_with_identity_and_visibility(clean_blender, build):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    lamp = build.light(scene, "POINT", (0, 0, 2), energy=10.0, shadow_soft_size=0.0)
+    panel = build.light(scene, "AREA", (1, 0, 2), energy=5.0, size=0.5)
+    panel.data.use_shadow = False
+    panel.visible_glossy = False
+    glow = _emissive_plane(scene, 0.5, 1.5, (1.0, 0.5, 0.25), 2.0, principled=True)
+    model = scene_capture.capture(scene)
+    by_name = {light.name: light for light in model.lights}
+    point, area = by_name[lamp.name].emitter, by_name[panel.name].emitter
+    assert isinstance(point, emitters.PointLight) and isinstance(area, emitters.AreaLight)
+    assert point.source_id.object_uid == lamp.session_uid and point.source_id.instance == ()
+    assert by_name[lamp.name].source_id == point.source_id
+    V = emitters.RayVisibility
+    for attr, flag in (("visible_camera", V.CAMERA), ("visible_diffuse", V.DIFFUSE), ("visible_glossy", V.GLOSSY)):
+        assert bool(point.visibility & flag) == getattr(lamp, attr)      # Blender 5: lights not camera-visible
+    assert point.visibility & V.SHADOW
+    assert not area.visibility & emitters.RayVisibility.SHADOW and not area.visibility & emitters.RayVisibility.GLOSSY
+    assert area.power_w() == pytest.approx(np.full(3, 5.0))
+    # The emissive surface (a Principled BSDF's emission counts: issue 17) is an emitter of its own.
+    (mesh,) = model.emissive_meshes
+    assert mesh.source_id.object_uid == glow.session_uid and mesh.source_id.part == 0
+    assert mesh.flags & emitters.EmitterFlags.RENDERED_ONLY and model.emissive_surfaces
+    np.testing.assert_allclose(mesh.radiance[0], [2.0, 1.0, 0.5])
+    assert mesh.area_m2 == pytest.approx(0.25)
+    np.testing.assert_allclose(mesh.power_w(), 2 * math.pi * 0.25 * np.array([2.0, 1.0, 0.5]), rtol=1e-6)
+    assert len(model.emitters) == 3
+    # Identity survives a rename (names are labels, not identities).
+    lamp.name = "renamed"
+    again = scene_capture.capture(scene)
+    assert {l.source_id for l in again.lights} == {l.source_id for l in model.lights}
+
+
+def test_emissive_mesh_radiance_is_cycles_emission_strength(clean_blender, build):
+    """Cycles' Emission strength is radiance: a rendered meter under an emitting square reads the
+    emitter's unoccluded closed form (L x the square's projected solid angle) within its error."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    _emissive_plane(scene, 0.6, 0.5, (1.0, 1.0, 1.0), 3.0)
+    model = scene_capture.capture(scene)
+    (mesh,) = model.emissive_meshes
+    expected = float(mesh.irradiance_at([0.0, 0.1, 0.0], [0.0, 0.0, 1.0])[0][1])
+    reading = api.measure_illuminance((0.0, 0.1, 0.0), (0.0, 0.0, 1.0), method="render", target_rel_error=0.02)
+    assert not reading.exact
+    got = float(reading.irradiance_rgb[1])
+    assert got == pytest.approx(expected, rel=3 * reading.rel_std_error + 1e-3)
