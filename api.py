@@ -7,6 +7,7 @@ message and leaves the scene untouched; so does a failed or cancelled measuremen
 """
 
 from . import validation as _v
+from .measure import arguments as _b  # the Blender arguments' checks (host: bpy inside)
 from .errors import MeasurementCancelled, RadiometerError  # noqa: F401  (re-exported)
 
 
@@ -36,7 +37,8 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     location = _v.points(location, "location")
     normal = _v.directions(normal, "normal")
     _v.same_count(location, normal)
-    _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error, samples_=samples,
+    _b.scene(scene)
+    _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error, samples_=samples,
                    time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     from .measure import meter
 
@@ -50,7 +52,7 @@ def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     """Analytic per-light breakdown: list of dicts with light, irradiance, illuminance, model, exact."""
     location = _v.points(location, "location", allow_many=False)
     normal = _v.directions(normal, "normal", allow_many=False)
-    _v.scene(scene)
+    _b.scene(scene)
     from .measure import meter
 
     return meter.predict_illuminance(location, normal, scene=scene)
@@ -63,7 +65,8 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     location = _v.points(location, "location", allow_many=False)
     direction = _v.directions(direction, "direction", allow_many=False)
     acceptance_deg = _v.real(acceptance_deg, "acceptance_deg", low=0.0, high=120.0, low_open=True, high_open=True)
-    _v.measurement(scene_=scene, quality_=quality, target_rel_error=target_rel_error, progress=progress,
+    _b.scene(scene)
+    _v.measurement(quality_=quality, target_rel_error=target_rel_error, progress=progress,
                    cancelled=cancelled, method_="render")
     from .measure import camera
 
@@ -88,7 +91,7 @@ def capture_radiance_map(location, path, *, resolution=256, scene=None, quality=
     # The file written is the file reported: "map" becomes "map.exr" before anything is checked.
     path = _v.output_file(path if path.lower().endswith(".exr") else f"{path}.exr", "path")
     resolution = _v.integer(resolution, "resolution", low=4, high=_v.MAX_MAP_SIDE // 2)
-    _v.scene(scene)
+    _b.scene(scene)
     _v.quality(quality)
     from .measure import camera
 
@@ -98,14 +101,14 @@ def capture_radiance_map(location, path, *, resolution=256, scene=None, quality=
 @_v.boundary
 def measure_meters(objects=None, *, scene=None, quality=None, progress=None, cancelled=None):
     """Measure meter objects (default: every meter in the scene) and store the readings on them."""
-    _v.scene(scene)
+    _b.scene(scene)
     _v.quality(quality, allow_none=True)
     _v.callable_or_none(progress, "progress")
     _v.callable_or_none(cancelled, "cancelled")
     if objects is not None:
         if isinstance(objects, (str, bytes)) or not hasattr(objects, "__iter__"):
             raise RadiometerError(f"objects must be a list of meter objects or None, got {objects!r:.60}")
-        objects = [_v.blender_object(ob, "objects") for ob in objects]
+        objects = [_b.blender_object(ob, "objects") for ob in objects]
     from .measure import meters
 
     return meters.measure_meters(objects, scene=scene, quality=quality, progress=progress, cancelled=cancelled)
@@ -136,10 +139,10 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     scene W/m^2, direct_deviation, scene_share, shadowed, direct_rel_std_error, total_ok;
     deviations and shares as fractions). ``plot``: PNG path. A sun raises RadiometerError.
     """
-    _v.scene(scene)
-    light = _v.blender_object(light, "light", scene_=scene, types=("LIGHT",))
+    _b.scene(scene)
+    light = _b.blender_object(light, "light", scene_=scene, types=("LIGHT",))
     distances = _v.distances(distances)
-    _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error,
+    _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
                    samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     tolerance = _v.fraction(tolerance, "tolerance")
     plot = _v.optional_output(plot, "plot")
@@ -166,11 +169,11 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
     predicted cos, ratio, rel_deviation, ratio_rel_se, model_ratio, ok, direct W/m^2,
     direct_ratio, direct_deviation, scene W/m^2, scene_share, total_ok).
     """
-    _v.scene(scene)
-    light = _v.blender_object(light, "light", scene_=scene, types=("LIGHT",))
+    _b.scene(scene)
+    light = _b.blender_object(light, "light", scene_=scene, types=("LIGHT",))
     location = None if location is None else _v.points(location, "location", allow_many=False)
     angles_deg = _v.angles(angles_deg, "angles_deg", low=0.0, high=90.0)
-    _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error,
+    _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
                    samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     tolerance = _v.fraction(tolerance, "tolerance")
     plot = _v.optional_output(plot, "plot")
@@ -197,11 +200,11 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     ``csv``: point table. ``progress(done, total, seconds_left)`` and ``cancelled()`` as in
     :func:`measure_illuminance` (law checks too).
     """
-    _v.scene(scene)
-    target = _v.blender_object(target, "target", scene_=scene, types=("MESH",))
+    _b.scene(scene)
+    target = _b.blender_object(target, "target", scene_=scene, types=("MESH",))
     resolution = _v.resolution2(resolution, "resolution", high=1000, allow_none=True)
     spacing = _v.positive(spacing, "spacing", high=_v.MAX_COORDINATE, allow_none=True)
-    _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error,
+    _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
                    samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     png, csv = _v.optional_output(png, "png"), _v.optional_output(csv, "csv")
     from .measure import analysis
@@ -229,9 +232,9 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     ``seconds_for_target`` (s, t0 + c N), ``seconds_for_target_by_time_fit`` (s) and ``targeted``
     (samples, seconds, rel_std_error, rms_error).
     """
-    _v.scene(scene)
+    _b.scene(scene)
     if target is not None:
-        target = _v.blender_object(target, "target", scene_=scene)
+        target = _b.blender_object(target, "target", scene_=scene)
     location = None if location is None else _v.points(location, "location", allow_many=False)
     normal = _v.directions(normal, "normal", allow_many=False)
     if isinstance(samples, (str, bytes)) or not hasattr(samples, "__len__") or not 1 <= len(samples) <= 64:
@@ -240,7 +243,7 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     target_error = _v.fraction(target_error, "target_error")
     replicas = _v.integer(replicas, "replicas", low=2, high=1000)
     reference_samples = _v.samples(reference_samples, "reference_samples")
-    _v.measurement(scene_=scene, quality_=quality, target_rel_error=target_rel_error, time_budget_s=time_budget_s,
+    _v.measurement(quality_=quality, target_rel_error=target_rel_error, time_budget_s=time_budget_s,
                    seed_=seed, allow_none_quality=True)
     plot = _v.optional_output(plot, "plot")
     from .measure import analysis
@@ -265,7 +268,8 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
     see docs/deliverables.md).
     """
     out_dir = _v.path(out_dir, "out_dir")
-    _v.measurement(scene_=scene, quality_=quality, method_=method, target_rel_error=target_rel_error,
+    _b.scene(scene)
+    _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
                    time_budget_s=time_budget_s, allow_none_quality=True, allow_none_method=True)
     from .measure import report
 
@@ -319,7 +323,7 @@ def import_luminaire(path, *, scene=None, location=(0.0, 0.0, 0.0), rotation_eul
     scene's luminous efficacy (vertical 0 deg along the light's local -Z, C0 along local +X, C90 along
     local +Y). Returns the light object; bad input raises RadiometerError and creates nothing."""
     path = _v.check_input_file(path, "photometric file")
-    _v.scene(scene)
+    _b.scene(scene)
     location = _v.points(location, "location", allow_many=False)
     rotation_euler = _v.points(rotation_euler, "rotation_euler", allow_many=False)
     if name is not None and (not isinstance(name, str) or not name.strip() or len(name) > 63):
@@ -382,7 +386,7 @@ def irradiance_environment_map(source, path, *, method="exact", resolution=(64, 
     path = _v.output_file(path, "path")
     _v.choice(method, "method", ("exact", "sh9"))
     resolution = _v.resolution2(resolution, "resolution")
-    _v.scene(scene)
+    _b.scene(scene)
     from .measure import world
 
     return world.irradiance_environment_map(source, path, method=method, resolution=resolution, scene=scene)
@@ -394,7 +398,7 @@ def world_illuminance(scene=None, normal=(0.0, 0.0, 1.0)):
     direction and that direction's luminance: a dict (``illuminance``, ``irradiance_rgb``,
     ``method`` "analytic" when the world is modelled, else "render", ``exact``,
     ``brightest_direction``, ``brightest_luminance`` cd/m^2, ``notes``)."""
-    _v.scene(scene)
+    _b.scene(scene)
     normal = _v.directions(normal, "normal", allow_many=False)
     from .measure import world
 
@@ -405,7 +409,7 @@ def world_illuminance(scene=None, normal=(0.0, 0.0, 1.0)):
 def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
     """Set the world's Background strength so that the world alone gives ``illuminance_lux`` on a
     surface facing ``normal``; returns a dict with old/new strength and the illuminance after."""
-    _v.scene(scene)
+    _b.scene(scene)
     illuminance_lux = _v.positive(illuminance_lux, "illuminance_lux", high=1e7)
     normal = _v.directions(normal, "normal", allow_many=False)
     from .measure import world
@@ -416,7 +420,7 @@ def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
 @_v.boundary
 def world_model(scene=None):
     """The world as Radiometer models it (``radiometry.environment.WorldLight``: kind, reason, ...)."""
-    _v.scene(scene)
+    _b.scene(scene)
     import bpy
 
     from .measure import world_capture
@@ -430,7 +434,7 @@ def mirror_ball_probe(scene=None, *, size=256, shape=(128, 256), view=(0.0, -1.0
     and convert it to an equirect map of ``shape`` (h, w) in the Environment Texture orientation.
     Returns (probe (size, size, 3), equirect (h, w, 3)); see README "Environment lighting" for the
     resolution loss towards the direction behind the ball."""
-    _v.scene(scene)
+    _b.scene(scene)
     size = _v.integer(size, "size", low=8, high=_v.MAX_MAP_SIDE)
     shape = _v.resolution2(shape, "shape", low=2)
     view = _v.directions(view, "view", allow_many=False)

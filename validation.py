@@ -3,7 +3,8 @@
 
 Called at the top of every ``api`` function so that garbage (wrong types, shapes, NaN/inf, huge or
 empty values) never reaches numpy or bpy as a ValueError, TypeError, IndexError, OverflowError,
-MemoryError, ... deep inside. Pure Python + numpy; ``scene``/``obj`` checks import bpy lazily.
+MemoryError, ... deep inside. Pure Python + numpy; the checks of Blender arguments (a scene, an
+object) are host code in ``measure/arguments.py``.
 Bounds are stated here once (``MAX_*``), in the units of the argument.
 """
 
@@ -32,13 +33,15 @@ MAX_SAMPLES = 1 << 24
 MAX_SEED = 2**31 - 1
 
 
-def _shown(value, limit=60):
+def shown_value(value, limit=60):
+    """``value`` as one short line for a message (an array's repr spans several)."""
     text = " ".join(repr(value).split())  # one line: an array's repr spans several
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
-def _fail(name, expected, value):
-    raise RadiometerError(f"{name} must be {expected}, got {_shown(value)}")
+def fail(name, expected, value):
+    """Raise the one-line RadiometerError "<name> must be <expected>, got <value>"."""
+    raise RadiometerError(f"{name} must be {expected}, got {shown_value(value)}")
 
 
 def real(value, name, *, low=-math.inf, high=math.inf, low_open=False, high_open=False, allow_none=False):
@@ -49,13 +52,13 @@ def real(value, name, *, low=-math.inf, high=math.inf, low_open=False, high_open
     hi = ")" if high_open else "]"
     expected = "a finite number" + ("" if (low, high) == (-math.inf, math.inf) else f" in {lo}{low:g}, {high:g}{hi}")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
-        _fail(name, expected, value)
+        fail(name, expected, value)
     try:
         x = float(value)
     except (TypeError, ValueError, OverflowError):
-        _fail(name, expected, value)
+        fail(name, expected, value)
     if not math.isfinite(x) or x < low or x > high or (low_open and x == low) or (high_open and x == high):
-        _fail(name, expected, value)
+        fail(name, expected, value)
     return x
 
 
@@ -70,18 +73,18 @@ def integer(value, name, *, low=0, high=2**62, allow_none=False):
         return None
     expected = f"an integer in [{low}, {high}]"
     if isinstance(value, (bool, np.bool_)):
-        _fail(name, expected, value)
+        fail(name, expected, value)
     if isinstance(value, (numbers.Integral, np.integer)):
         n = int(value)
     elif isinstance(value, (numbers.Real, np.floating)):
         x = float(value)
         if not math.isfinite(x) or x != int(x):
-            _fail(name, expected, value)
+            fail(name, expected, value)
         n = int(x)
     else:
-        _fail(name, expected, value)
+        fail(name, expected, value)
     if not low <= n <= high:
-        _fail(name, expected, value)
+        fail(name, expected, value)
     return n
 
 
@@ -104,24 +107,24 @@ def samples(value, name="samples"):
 
 def callable_or_none(value, name):
     if value is not None and not callable(value):
-        _fail(name, "a callable or None", value)
+        fail(name, "a callable or None", value)
     return value
 
 
 def choice(value, name, options):
     if not isinstance(value, str) or value not in options:
-        raise RadiometerError(f"unknown {name} {_shown(value)}: must be one of "
+        raise RadiometerError(f"unknown {name} {shown_value(value)}: must be one of "
                               + ", ".join(repr(o) for o in options))
     return value
 
 
 def _array(value, name, expected):
     if isinstance(value, (str, bytes, dict, set)) or value is None:
-        _fail(name, expected, value)
+        fail(name, expected, value)
     try:
         a = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError, OverflowError):
-        _fail(name, expected, value)
+        fail(name, expected, value)
     return a
 
 
@@ -129,19 +132,19 @@ def points(value, name="location", *, allow_many=True):
     """(3,) or (N, 3) finite coordinates within ``MAX_COORDINATE``; returns a float64 array as given."""
     expected = "3 finite numbers" + (" or an (N, 3) array of them" if allow_many else "")
     if hasattr(value, "__len__") and not isinstance(value, np.ndarray) and len(value) > 3 * MAX_POINTS:
-        _fail(name, expected + f" (at most {MAX_POINTS} points)", value)
+        fail(name, expected + f" (at most {MAX_POINTS} points)", value)
     a = _array(value, name, expected)
     if a.shape == (3,):
         pass
     elif allow_many and a.ndim == 2 and a.shape[1] == 3 and 1 <= a.shape[0] <= MAX_POINTS:
         pass
     else:
-        _fail(name, expected + f" (at most {MAX_POINTS} points)" if allow_many else expected,
+        fail(name, expected + f" (at most {MAX_POINTS} points)" if allow_many else expected,
               f"an array of shape {a.shape}")
     if not np.all(np.isfinite(a)):
-        raise RadiometerError(f"{name} is not finite: it must be {expected}, got {_shown(value)}")
+        raise RadiometerError(f"{name} is not finite: it must be {expected}, got {shown_value(value)}")
     if np.any(np.abs(a) > MAX_COORDINATE):
-        _fail(name, f"coordinates within ±{MAX_COORDINATE:g}", value)
+        fail(name, f"coordinates within ±{MAX_COORDINATE:g}", value)
     return a
 
 
@@ -150,7 +153,7 @@ def directions(value, name="normal", *, allow_many=True):
     a = points(value, name, allow_many=allow_many)
     norms = np.linalg.norm(np.atleast_2d(a), axis=1)
     if not np.all(norms > 1e-12) or not np.all(np.isfinite(norms)):
-        raise RadiometerError(f"{name} has zero length: it must be a non-zero finite direction, got {_shown(value)}")
+        raise RadiometerError(f"{name} has zero length: it must be a non-zero finite direction, got {shown_value(value)}")
     return a
 
 
@@ -162,50 +165,13 @@ def same_count(locations, normals, a_name="location", b_name="normal"):
         raise RadiometerError(f"{b_name} must be one direction or one per {a_name} ({na}), got {nb}")
 
 
-def scene(value, name="scene"):
-    """None (the context scene) or a ``bpy.types.Scene`` that still exists."""
-    if value is None:
-        return None
-    import bpy
-
-    if not isinstance(value, bpy.types.Scene):
-        _fail(name, "a bpy.types.Scene or None", value)
-    try:
-        value.name  # noqa: B018 - a removed scene raises ReferenceError here
-    except ReferenceError:
-        raise RadiometerError(f"{name} was removed from the file") from None
-    return value
-
-
-def blender_object(value, name="object", *, scene_=None, types=None):
-    """A ``bpy.types.Object`` or the name of one (in ``scene_`` when given); returns the object."""
-    import bpy
-
-    if isinstance(value, str):
-        pool = scene_.objects if scene_ is not None else bpy.data.objects
-        obj = pool.get(value)
-        if obj is None:
-            raise RadiometerError(f"no object named {_shown(value)}" + (f" in scene {scene_.name!r}" if scene_ else ""))
-        value = obj
-    if not isinstance(value, bpy.types.Object):
-        _fail(name, "an object or an object's name", value)
-    try:
-        value.name  # noqa: B018
-    except ReferenceError:
-        raise RadiometerError(f"{name} was removed from the file") from None
-    if types is not None and value.type not in types:
-        raise RadiometerError(f"{name} {value.name!r} is not a " + " or ".join(t.lower() for t in types)
-                              + f" (it is a {value.type.lower()})")
-    return value
-
-
 def path(value, name="path"):
     """A non-empty path (str or os.PathLike, no NUL byte); returns it as an absolute str."""
     if isinstance(value, bytes) or not isinstance(value, (str, os.PathLike)):
-        _fail(name, "a file path", value)
+        fail(name, "a file path", value)
     text = os.fspath(value)
     if not isinstance(text, str) or not text.strip() or "\0" in text:
-        _fail(name, "a non-empty file path", value)
+        fail(name, "a non-empty file path", value)
     if len(text) > 4096:
         raise RadiometerError(f"{name} is too long ({len(text)} characters; at most 4096)")
     return os.path.abspath(text)
@@ -347,11 +313,11 @@ def method(value, name="method", *, allow_none=False, options=METHODS):
 _UNSET = object()
 
 
-def measurement(*, scene_=None, quality_=None, method_=_UNSET, target_rel_error=None, samples_=None,
+def measurement(*, quality_=None, method_=_UNSET, target_rel_error=None, samples_=None,
                 time_budget_s=None, progress=None, cancelled=None, seed_=0, allow_none_quality=False,
                 allow_none_method=False):
-    """The keywords most measurements share, checked together (returns nothing; raises one line)."""
-    scene(scene_)
+    """The keywords most measurements share, checked together (returns nothing; raises one line). The
+    scene is checked by ``measure.arguments.scene`` (host code: it needs bpy)."""
     quality(quality_, allow_none=allow_none_quality)
     if method_ is not _UNSET:  # functions without a method argument do not pass one
         method(method_, allow_none=allow_none_method)
@@ -369,11 +335,11 @@ def resolution2(value, name="resolution", *, low=1, high=MAX_MAP_SIDE, allow_non
         return None
     expected = f"two integers in [{low}, {high}] (at least {low} x {low})"
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
-        _fail(name, expected, value)
+        fail(name, expected, value)
     try:
         return tuple(integer(v, name, low=low, high=high) for v in value)
     except RadiometerError:
-        _fail(name, expected, value)
+        fail(name, expected, value)
 
 
 def angles(value, name, *, low, high, allow_none=True, max_count=10_000):
@@ -383,7 +349,7 @@ def angles(value, name, *, low, high, allow_none=True, max_count=10_000):
     a = _array(value, name, f"a list of angles in degrees within [{low:g}, {high:g}]")
     if a.ndim != 1 or not 1 <= a.size <= max_count or not np.all(np.isfinite(a)) or np.any(a < low) \
             or np.any(a > high):
-        _fail(name, f"a list of 1 to {max_count} angles in degrees within [{low:g}, {high:g}]", value)
+        fail(name, f"a list of 1 to {max_count} angles in degrees within [{low:g}, {high:g}]", value)
     return a
 
 
@@ -394,7 +360,7 @@ def distances(value, name="distances", *, max_count=10_000):
     a = _array(value, name, "a list of distances > 0 in m")
     if a.ndim != 1 or not 1 <= a.size <= max_count or not np.all(np.isfinite(a)) or np.any(a <= 0) \
             or np.any(a > MAX_COORDINATE):
-        _fail(name, f"a list of 1 to {max_count} finite distances > 0 in m", value)
+        fail(name, f"a list of 1 to {max_count} finite distances > 0 in m", value)
     return a
 
 

@@ -70,9 +70,6 @@ EXCEPTIONS = {
     ("blender", "outputs", "bpy"):
         "permanent: outputs.user_folder asks Blender for the extension's user folder inside a try, and falls "
         "back to a private temporary folder without bpy",
-    ("blender", "validation", "bpy"):
-        f"{_TODAY}: the scene/object argument checks import bpy lazily; they belong in a host module "
-        "(H1 is writing validation.py this session)",
 }
 
 
