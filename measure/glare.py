@@ -65,9 +65,8 @@ def _source_geometry(spec, eye, efficacy, weights, photometry_for):
         if getattr(spec, "is_sheared", False):
             return None, "a sheared area light (Cycles samples another shape): not modelled"
         eu, ev = (np.asarray(e, float) for e in spec.edges)
-        normal_area = float(np.linalg.norm(np.cross(eu, ev)))
         round_shape = spec.shape in ("DISK", "ELLIPSE")
-        area = normal_area * (math.pi / 4 if round_shape else 1.0)
+        area = float(spec.area_m2)  # the emitter's area (its one home); not sheared here, so |eu x ev| (x pi/4)
         cos_l = float(d @ spec.emission_direction)
         if cos_l <= 0:
             return None, "seen from behind: it emits nothing towards the eye"

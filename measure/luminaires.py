@@ -232,6 +232,35 @@ def light_summary(light_data, scene=None):
     return summary
 
 
+#: Summaries by source (file path, its mtime and size; or the IES text): the panel draws on every redraw
+#: and must not re-read and re-integrate the file each time (issue 17). A handful of luminaires at most.
+_SUMMARIES = {}
+_SUMMARY_CACHE_SIZE = 32
+
+
+def _summary_key(obj):
+    data = getattr(obj, "data", obj)
+    path = data.get(PROP_SOURCE) if hasattr(data, "get") else None
+    if path and os.path.exists(path):
+        st = os.stat(path)
+        return ("file", path, st.st_mtime_ns, st.st_size)
+    tree = data.node_tree if getattr(data, "use_nodes", False) else None
+    ies = next((n for n in tree.nodes if n.bl_idname == "ShaderNodeTexIES"), None) if tree is not None else None
+    return ("text", getattr(obj, "name", ""), _ies_text(ies) if ies is not None else None)
+
+
+def luminaire_summary(obj):
+    """``photometry_of_light(obj).summary()``, kept while the file (or IES text) behind it is unchanged."""
+    key = _summary_key(obj)
+    summary = _SUMMARIES.get(key)
+    if summary is None:
+        summary = photometry_of_light(obj).summary()
+        if len(_SUMMARIES) >= _SUMMARY_CACHE_SIZE:
+            _SUMMARIES.pop(next(iter(_SUMMARIES)))
+        _SUMMARIES[key] = summary
+    return dict(summary)
+
+
 def photometry_of_light(obj):
     """The ``Photometry`` behind a light object: its source file when Radiometer imported it and the
     file is still there, else its IES text read with Radiometer's own (LM-63) reader."""

@@ -27,7 +27,7 @@ class RADIOMETER_PT_luminaire(bpy.types.Panel):
             layout.operator("radiometer.import_luminaire", icon="IMPORT")
             return
         try:
-            s = luminaires.photometry_of_light(ob).summary()
+            s = luminaires.luminaire_summary(ob)  # cached: not re-read on every redraw
         except RadiometerError as exc:
             layout.label(text=str(exc), icon="ERROR")
             return

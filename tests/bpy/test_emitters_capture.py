@@ -86,3 +86,27 @@ def test_emissive_mesh_radiance_is_cycles_emission_strength(clean_blender, build
     assert not reading.exact
     got = float(reading.irradiance_rgb[1])
     assert got == pytest.approx(expected, rel=3 * reading.rel_std_error + 1e-3)
+
+
+def test_luminaire_summary_is_not_reread_on_every_redraw(clean_blender, tmp_path, monkeypatch):
+    """The luminaire panel's summary comes from a cache keyed by the file's mtime and size (issue 17:
+    the panel re-read and re-integrated the file on every redraw)."""
+    import os
+
+    from radiometer.measure import luminaires
+    from radiometer.radiometry import photometric_files as pf
+
+    path = tmp_path / "iso.ies"
+    path.write_text("IESNA:LM-63-2002\n[TEST] isotropic\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n"
+                    "0 90 180\n0\n100 100 100\n")
+    obj = api.import_luminaire(str(path))
+    reads = []
+    real = pf.read_photometry
+    monkeypatch.setattr(pf, "read_photometry", lambda p: reads.append(p) or real(p))
+    first = luminaires.luminaire_summary(obj)
+    assert luminaires.luminaire_summary(obj) == first and len(reads) == 1
+    assert first["lumens"] == pytest.approx(400 * math.pi, rel=1e-9)   # isotropic 100 cd: 4 pi x 100 lm
+    path.write_text(path.read_text().replace("100 100 100", "200 200 200"))
+    os.utime(path, ns=(os.stat(path).st_atime_ns, os.stat(path).st_mtime_ns + 10**9))
+    assert luminaires.luminaire_summary(obj)["lumens"] == pytest.approx(800 * math.pi, rel=1e-9)
+    assert len(reads) == 2
