@@ -51,7 +51,7 @@ def test_converged_meters_get_no_more_samples():
     mu = np.array([10.0, 10.0])
     sigma = np.array([0.01, 30.0])          # the first is converged after the pilot
     result = allocation.allocate(_synthetic_bake(mu, sigma, rng), 2, target=0.01)
-    pilot = allocation.PILOT_BLOCKS * allocation.PILOT_SPP * allocation.BLOCK_TEXELS ** 2
+    pilot = allocation.pilot_blocks(2) * allocation.PILOT_SPP * allocation.BLOCK_TEXELS ** 2
     assert result.samples[0] == pilot and result.samples[1] > 100 * pilot
 
 
