@@ -62,7 +62,8 @@ def default_map_path(name):
     return os.path.join(outputs.user_folder("radiance_maps"), f"{outputs.file_stem(name)}.exr")
 
 
-def _scratch_folder():
+def scratch_folder():
+    """A private temporary folder for render outputs (the caller removes it); one-line error if none."""
     try:
         return tempfile.mkdtemp(prefix="radiometer_")
     except OSError as exc:
@@ -86,12 +87,17 @@ def _temp_camera(scene, location_scene, rotation_quat=None, euler=None):
     return cam
 
 
-def _render_exr(scene, folder, name, width, height):
+def render_exr(scene, folder, name, width, height, *, compositing=False):
+    """Render ``scene`` from its camera at ``width`` x ``height`` px into ``folder``/``name``.exr (32-bit
+    float RGBA: never half floats, which overflow at 65504) and read it back as (H, W, 3), top row first.
+    ``compositing``: write the compositor's output (``luminance_image``'s light passes) instead of the
+    render layer. The one temporary render set-up of every camera reading; call it inside the caller's
+    ``scene_guard.preserved_scene``, which restores the render settings it changes."""
     r = scene.render
     r.resolution_x, r.resolution_y, r.resolution_percentage = int(width), int(height), 100
     r.pixel_aspect_x = r.pixel_aspect_y = 1.0
     r.use_border = False
-    r.use_compositing = False
+    r.use_compositing = bool(compositing)
     r.use_sequencer = False
     r.use_single_layer = True
     r.use_file_extension = True
@@ -160,7 +166,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     w = np.where(off_axis <= half, np.cos(off_axis) ** 3, 0.0)
     w /= w.sum()
     unit_area = scene.unit_settings.scale_length ** 2  # Cycles renders per scene-unit^2
-    folder = _scratch_folder()
+    folder = scratch_folder()
     started = time.perf_counter()
     target = float(target_rel_error) if target_rel_error is not None else float(preset["target"])
     # Rounds of RENDERS_PER_ROUND independent renders (new seeds) at one spp each; the spp grows
@@ -184,7 +190,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
                         raise MeasurementCancelled("measurement cancelled; the scene was restored")
                     scene.cycles.seed = k
                     scene.cycles.samples = spp
-                    img = _render_exr(scene, folder, f"lum{k}", resolution, resolution) / unit_area
+                    img = render_exr(scene, folder, f"lum{k}", resolution, resolution) / unit_area
                     batch.append(np.einsum("hw,hwc->c", w, img))
                     k += 1
                     if progress is not None:
@@ -230,7 +236,7 @@ def capture_radiance_map(location, path, *, resolution=128, scene=None, quality=
         raise RadiometerError(f"cannot write {path}: its folder does not exist")
     preset = quality_presets.preset(quality)
     space, weights, efficacy = meter.scene_photometry(scene)
-    folder = _scratch_folder()
+    folder = scratch_folder()
     started = time.perf_counter()
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
@@ -238,7 +244,7 @@ def capture_radiance_map(location, path, *, resolution=128, scene=None, quality=
             cam = _temp_camera(scene, points[0], euler=_PANO_EULER)
             cam.data.type = "PANO"
             cam.data.panorama_type = "EQUIRECTANGULAR"
-            img = _render_exr(scene, folder, "map", 2 * resolution, resolution)
+            img = render_exr(scene, folder, "map", 2 * resolution, resolution)
             img /= scene.unit_settings.scale_length ** 2  # the file keeps Cycles' own values
         path = path if path.endswith(".exr") else path + ".exr"
         if not np.all(np.isfinite(img)):

@@ -86,7 +86,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
     target = float(target_rel_error) if target_rel_error is not None else float(preset["target"])
     space, weights, efficacy = meter.scene_photometry(scene)
     unit_area = scene.unit_settings.scale_length ** 2
-    folder = camera_mod._scratch_folder()
+    folder = camera_mod.scratch_folder()
     started = time.perf_counter()
     cap = int(min(max(int(max_spp), 16), MAX_SPP))
     spp, k = 16, 0
@@ -101,7 +101,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
                         raise MeasurementCancelled("measurement cancelled; the scene was restored")
                     scene.cycles.seed = k
                     scene.cycles.samples = spp
-                    images.append(camera_mod._render_exr(scene, folder, f"img{k}", width, height) / unit_area)
+                    images.append(camera_mod.render_exr(scene, folder, f"img{k}", width, height) / unit_area)
                     k += 1
                     if progress is not None:
                         progress(k, k + RENDERS)
@@ -193,34 +193,6 @@ class IlluminanceImage:
     paths: dict = dataclasses.field(default_factory=dict)
 
 
-def _render_composited(scene, folder, name, width, height):
-    """Render and write the compositor's output as a 32-bit EXR (as ``camera._render_exr``, compositing on)."""
-    import os
-
-    from . import exr
-
-    r = scene.render
-    r.resolution_x, r.resolution_y, r.resolution_percentage = int(width), int(height), 100
-    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
-    r.use_border = False
-    r.use_compositing = True
-    r.use_sequencer = False
-    r.use_single_layer = True
-    r.use_file_extension = True
-    ims = r.image_settings
-    if hasattr(ims, "media_type"):
-        ims.media_type = "IMAGE"
-    ims.file_format = "OPEN_EXR"
-    ims.color_depth = "32"
-    ims.color_mode = "RGBA"
-    path = os.path.join(folder, name)
-    r.filepath = path
-    result = bpy.ops.render.render(write_still=True, scene=scene.name)
-    if result != {"FINISHED"}:
-        raise RadiometerError(f"Cycles render did not finish ({result})")
-    return exr.read_rgb(path + ".exr")
-
-
 def _light_pass_compositor(scene):
     """A compositor node group whose output is Diffuse Direct + Diffuse Indirect; returns it."""
     tree = bpy.data.node_groups.new("radiometer_diffuse_light", "CompositorNodeTree")
@@ -270,7 +242,7 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
     space, weights, efficacy = meter.scene_photometry(scene)
     unit_area = scene.unit_settings.scale_length ** 2
     cap = int(min(max(int(max_spp), 16), MAX_SPP))
-    folder = camera_mod._scratch_folder()
+    folder = camera_mod.scratch_folder()
     started = time.perf_counter()
     spp, k = 16, 0
     old_group = scene.compositing_node_group
@@ -291,7 +263,7 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
                         raise MeasurementCancelled("measurement cancelled; the scene was restored")
                     scene.cycles.seed = k
                     scene.cycles.samples = spp
-                    img = _render_composited(scene, folder, f"e{k}", width, height)
+                    img = camera_mod.render_exr(scene, folder, f"e{k}", width, height, compositing=True)
                     values.append(math.pi * img / unit_area @ weights)
                     k += 1
                 y = np.array(values)

@@ -79,7 +79,7 @@ def test_failed_reading_leaves_every_nested_setting(user_scene, monkeypatch):
     def fail(*args, **kwargs):
         raise RadiometerError("render failed (test)")
 
-    monkeypatch.setattr(camera, "_render_exr", fail)
+    monkeypatch.setattr(camera, "render_exr", fail)
     with pytest.raises(RadiometerError):
         api.measure_luminance((0, 0, 0.5), (0, 0, 1), quality="preview")
     assert scene_guard.scene_fingerprint(user_scene) == before
