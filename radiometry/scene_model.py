@@ -182,6 +182,10 @@ class DirectPlan:
         return np.flatnonzero(self.status[:, k] == RENDER)
 
 
+def _emitter_exactness(emitter):
+    return emitter.exactness()
+
+
 def length_tolerance(points):
     """Absolute tolerance (m) for the proofs: a few float32 steps of the coordinates, >= 1 nm."""
     return 4e-7 * max(1.0, float(np.max(np.abs(points)))) if len(points) else 1e-9
@@ -400,9 +404,11 @@ def indirect_possible(model, p, n, tol):
     return False, ""
 
 
-def plan_direct(model, points, normals, exact_model):
-    """Decide every contribution. ``points``/``normals`` (N, 3) in metres; ``exact_model(spec)`` ->
-    (is_exact, model name, note) (``lights.exactness``). Returns a :class:`DirectPlan`."""
+def plan_direct(model, points, normals, exact_model=None):
+    """Decide every contribution. ``points``/``normals`` (N, 3) in metres; ``exact_model(emitter)`` ->
+    (is_exact, model name, note); default: the emitter's own ``exactness()``. Returns a :class:`DirectPlan`."""
+    if exact_model is None:
+        exact_model = _emitter_exactness
     points = np.asarray(points, float)
     normals = np.asarray(normals, float)
     n_lights, n_pts = len(model.lights), len(points)
