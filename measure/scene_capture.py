@@ -245,18 +245,24 @@ def _emissive_meshes(meshes, inst, original, name, world_tris, slot, slots, trai
     from ..radiometry.emitters import EmissiveMesh
 
     visibility = _ray_visibility(inst.object, bool(inst.object.visible_shadow))
-    for j in np.unique(slot):
-        if not traits[j, 1]:
-            continue
-        material = slots[j]
-        key = ("emission", material.as_pointer() if material is not None else 0)
-        if key not in cache:
-            cache[key] = _emission_radiance(material)
-        radiance = cache[key]
+    for j, material, radiance in _used_slots(slot, slots, traits, 1, cache, "emission", _emission_radiance):
         # Cycles renders in scene units: radiance per scene unit^2 is radiance / scale^2 per m^2.
         si = None if radiance is None else radiance / _Capture.scale**2
         meshes.append(EmissiveMesh(world_tris[slot == j], si, name=f"{name} [{getattr(material, 'name', 'default')}]",
-                                   source_id=_source_id(inst, original, int(j)), visibility=visibility))
+                                   source_id=_source_id(inst, original, j), visibility=visibility))
+
+
+def _used_slots(slot, slots, traits, trait, cache, tag, read):
+    """(slot index, material, read(material)) for every material slot the triangles use whose
+    ``traits[:, trait]`` holds; ``read`` runs once per material (``cache`` by (tag, pointer))."""
+    for j in np.unique(slot):
+        if not traits[j, trait]:
+            continue
+        material = slots[j]
+        key = (tag, material.as_pointer() if material is not None else 0)
+        if key not in cache:
+            cache[key] = read(material)
+        yield int(j), material, cache[key]
 
 
 def _glass_object(panes, refractors, index, name, source, world_tris, slot, slots, traits, cache):
@@ -269,15 +275,9 @@ def _glass_object(panes, refractors, index, name, source, world_tris, slot, slot
     from . import glass
 
     optics, glass_slots = [], []
-    for j in np.unique(slot):
-        if not traits[j, 3]:
-            continue
-        material = slots[j]
-        key = ("pane", material.as_pointer() if material is not None else 0)
-        if key not in cache:
-            cache[key] = glass.pane_optics(material)
-        optics.append(cache[key])
-        glass_slots.append(int(j))
+    for j, _material, value in _used_slots(slot, slots, traits, 3, cache, "pane", glass.pane_optics):
+        optics.append(value)
+        glass_slots.append(j)
     if any(o is None for o, _why in optics) or any(o != optics[0][0] for o, _why in optics):
         why = next((w for o, w in optics if o is None and w), "not a recognised glass shader")
         refractors.append((name, why))
