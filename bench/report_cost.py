@@ -25,7 +25,7 @@ from radiometer import api  # noqa: E402
 IES = """IESNA:LM-63-2002
 [LUMINAIRE] cosine panel 0.6 m
 TILT=NONE
-1 -1 1 19 1 1 2 -0.6 -0.6 0
+1 -1 1 19 1 1 2 0.6 0.6 0
 1 1 30
 {v}
 0

@@ -58,7 +58,10 @@ def luminaire_schedule(scene):
                                "flux_lm": float(flux) if flux else math.nan,
                                "power_w": float(watts) if watts else math.nan}
         else:
-            shape = f" {data.shape.lower()} {data.size:.3g} m" if data.type == "AREA" else ""
+            shape = ""
+            if data.type == "AREA":
+                two = data.shape in ("RECTANGLE", "ELLIPSE")
+                shape = f" {data.shape.lower()} {data.size:.3g}" + (f" x {data.size_y:.3g}" if two else "") + " m"
             colour = tuple(data.temperature_color) if getattr(data, "use_temperature", False) else tuple(data.color)
             power = float(data.energy) * 2.0 ** float(getattr(data, "exposure", 0.0))
             key = ("blender", data.type, shape, round(power, 6), tuple(round(c, 4) for c in colour))
@@ -85,7 +88,8 @@ def _law_sentence(r, kind):
         return f"not checked: {r['error']}"
     if kind == "inverse_square":
         limit = r.get("near_field_limit")
-        fit = f"exponent {r['exponent']:.3f} ± {r['exponent_se']:.1g} (ideal -2)"
+        se = r["exponent_se"] if r["exponent_se"] >= 5e-7 else 0.0  # an exact fit's error is rounding noise
+        fit = f"exponent {r['exponent']:.3f} ± {se:.1g} (ideal -2)"
         if r.get("departure"):
             what = f"{r['departure']}: physics, not a fault"
         elif limit is None or not math.isfinite(limit):
@@ -103,7 +107,8 @@ def _law_sentence(r, kind):
     if r.get("departure"):
         what = f"{r['departure']}: physics, not a fault"
     else:
-        what = (f"largest deviation {dev:.2g} % at {r['max_at_deg']:g}° ({'within' if r.get('passed') else 'outside'} "
+        dev_text = "0 %" if abs(dev) < 5e-5 else f"{dev:.2g} %"  # rounding noise of a closed form: 0
+        what = (f"largest deviation {dev_text} at {r['max_at_deg']:g}° ({'within' if r.get('passed') else 'outside'} "
                 "the tolerance)")
     return f"{where}: {what}; the room adds up to {100 * r.get('max_scene_share', 0.0):.2g} %"
 
@@ -152,10 +157,19 @@ def _tables(report, client):
                 shown = f"{_num(achieved, c['std_error'] / achieved if achieved else 0)} lx"
             elif isinstance(achieved, float) and not math.isfinite(achieved):
                 shown = "n/a" if math.isnan(achieved) else "no glare source"
-            else:
-                shown = f"{achieved:.2f}" if c["quantity"] in ("U0",) else f"{achieved:.1f}"
+            elif c["quantity"] == "U0":
+                shown = f"{achieved:.2f}"
+            elif c["quantity"] == "Ra":
+                shown = f"{achieved:g}"
+            else:  # UGR: one decimal, with its standard error
+                shown = f"{achieved:.1f}" + (f" ± {c['std_error']:.1f}" if c.get("std_error") else "")
             margin = c["margin"]
-            mtext = "n/a" if not math.isfinite(margin) else (f"{margin:+.3g} {c['unit']}".strip())
+            if not math.isfinite(margin):
+                mtext = "n/a"
+            elif c["unit"] == "lx":
+                mtext = f"{'+' if margin >= 0 else '−'}{_plain(abs(margin), 3)} lx"
+            else:
+                mtext = f"{margin:+.2f}" if c["quantity"] == "U0" else f"{margin:+.1f}"
             rows.append([c["quantity"], c["required"], shown, c["status"], mtext, c["note"]])
         source = req["source"] + (", indicative values: check them against the standard or give your own"
                                   if req.get("indicative") else "")
@@ -169,9 +183,11 @@ def _tables(report, client):
     for g in client["glare"]:
         tables.append((f"Glare at {g['label']} (CIE 117 UGR {g['ugr_text']}, background {g['lb_text']})",
                        ["source", "luminance", "solid angle", "position index"],
-                       [[s["name"], f"{s['luminance']:.4g} cd/m²", f"{s['solid_angle']:.3g} sr",
-                         f"{s['position_index']:.3g}"] for s in g["sources"]]
-                       + [[d["name"], "left out", d["reason"], ""] for d in g["left_out"]]))
+                       [[s["name"], f"{_plain(s['luminance'], 4)} cd/m²", f"{s['solid_angle']:.3g} sr",
+                         f"{s['position_index']:.3g}"] for s in g["sources"]]))
+        if g["left_out"]:
+            tables.append((f"Lights not rated at {g['label']} (CIE 117 counts only sources in its field)",
+                           ["light", "why"], [[d["name"], d["reason"]] for d in g["left_out"]]))
     return tables
 
 
@@ -258,14 +274,32 @@ def write_pdf(path, out_dir, report, client):
         pdf.savefig(fig)
         plt.close(fig)
 
-    def image_page(pdf, caption, file_name):
-        fig = plt.figure(figsize=a4)
-        ax = fig.add_axes((0.06, 0.12, 0.88, 0.8))
-        ax.imshow(plt.imread(os.path.join(out_dir, file_name)))
-        ax.axis("off")
-        fig.text(0.5, 0.08, "\n".join(_wrap(caption, 100)), ha="center", fontsize=9)
-        pdf.savefig(fig)
-        plt.close(fig)
+    def image_pages(pdf, pictures, heading=None):
+        """Pictures from the top of the page down, each with its caption right below it, as many
+        per page as fit (a picture page used to float one small image in the middle of A4)."""
+        fig, y = None, 0.0
+        for caption, file_name in pictures:
+            img = plt.imread(os.path.join(out_dir, file_name))
+            lines = _wrap(caption, 110)
+            height = 0.88 * a4[0] * img.shape[0] / img.shape[1] / a4[1]  # page fraction at 88 % of the width
+            height = min(height, 0.4)  # two pictures to a page
+            need = height + 0.02 + 0.013 * len(lines)
+            if fig is None or y - need < 0.04:
+                if fig is not None:
+                    pdf.savefig(fig)
+                    plt.close(fig)
+                fig, y = plt.figure(figsize=a4), 0.95
+                if heading:
+                    fig.text(0.07, y, heading, fontsize=12, weight="bold", va="top")
+                    y -= 0.035
+            ax = fig.add_axes((0.06, y - height, 0.88, height))
+            ax.imshow(img)
+            ax.axis("off")
+            fig.text(0.5, y - height - 0.008, "\n".join(lines), ha="center", va="top", fontsize=8)
+            y -= need + 0.025
+        if fig is not None:
+            pdf.savefig(fig)
+            plt.close(fig)
 
     with outputs.atomic_output(path) as tmp, PdfPages(tmp) as pdf:
         tables = _tables(report, client)
@@ -280,11 +314,9 @@ def write_pdf(path, out_dir, report, client):
             rows_on_page += n
         if page:
             table_page(pdf, page, (client["title"], client["subtitle"]) if first else None)
-        for caption, name in client["images"]:
-            image_page(pdf, caption, name)
-        for title, sentence, plot in _appendix(report):
-            if plot and os.path.exists(plot):
-                image_page(pdf, f"Engineering appendix - {title}: {sentence}.", os.path.basename(plot))
+        image_pages(pdf, client["images"], "Pictures")
+        image_pages(pdf, [(f"{title}: {sentence}.", os.path.basename(plot)) for title, sentence, plot in _appendix(report)
+                          if plot and os.path.exists(plot)], "Engineering appendix: the physics checks")
     return path
 
 

@@ -406,8 +406,12 @@ def write_inverse_square_plot(result, path):
         field = f"near field to {limit:.2g} m, then I/d²"
     else:
         field = f"near field at every distance checked (to {r[-1].distance:.2g} m)"
-    exponent = (f"exponent {result.exponent:.3f} ± {result.exponent_se:.1g} (point: −2)"
-                if math.isfinite(result.exponent) else "no exponent fitted")
+    if not math.isfinite(result.exponent):
+        exponent = "no exponent fitted"
+    elif result.exponent_se < 5e-7:  # a fit through closed-form values: its error is rounding noise
+        exponent = f"exponent {result.exponent:.3f} (point: −2)"
+    else:
+        exponent = f"exponent {result.exponent:.3f} ± {result.exponent_se:.1g} (point: −2)"
     how = "closed form" if result.direct_method == "analytic" else result.direct_method
     inverse_square_plot(path, [x.distance for x in r], [k * x.direct for x in r], [k * x.predicted for x in r],
                         [x.direct_rel_std_error for x in r], near_field_limit=limit,

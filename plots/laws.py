@@ -28,13 +28,22 @@ def _save(fig, path):
         fig.clf()
 
 
+def _plain_number(v):
+    """0.05, 0.5, 2, 500, 10 000, 1 000 000: never 1e+06 or 10^0."""
+    return f"{v:,.0f}".replace(",", "\u2009") if abs(v) >= 1000 else f"{v:g}"
+
+
 def _plain_ticks(ax, axis="x"):
-    """Plain numbers on a log axis (0.5, 1, 2, 5: never 10^0 or 2x10^-1)."""
+    """Plain numbers on a log axis; the 2, 3, 5 between decades labelled only on a short axis (they
+    would crowd one spanning several decades)."""
     from matplotlib.ticker import FuncFormatter
 
     ax_ = ax.xaxis if axis == "x" else ax.yaxis
-    ax_.set_major_formatter(FuncFormatter(lambda v, _p: f"{v:g}"))
-    ax_.set_minor_formatter(FuncFormatter(lambda v, _p: f"{v:g}" if f"{v:.0e}"[0] in "235" else ""))
+    lo, hi = ax.get_xlim() if axis == "x" else ax.get_ylim()
+    decades = np.log10(max(hi, 1e-300) / max(lo, 1e-300))
+    ax_.set_major_formatter(FuncFormatter(lambda v, _p: _plain_number(v)))
+    ax_.set_minor_formatter(FuncFormatter(lambda v, _p: _plain_number(v) if decades < 2.2 and f"{v:.0e}"[0] in "235"
+                                          else ""))
 
 
 def _clipped_ylim(ax, values, floor, keep=None):

@@ -61,6 +61,8 @@ def test_client_report_html_pdf(clean_blender, build, tmp_path):
     assert "Desk" in text and " lx ±" in text and "EV100" in text
     assert str(tmp_path) not in text and "isolux_work_plane.png" in text  # file names only, no absolute paths
     assert "FLAG" not in text
+    assert "e+0" not in text and "e-1" not in text  # plain numbers for a client (was '+1.32e+03 lx' margins)
+    assert "indicative values" in text  # the EN 12464-1 rows could not be checked against the standard's text
     pdf = out / "report.pdf"
     assert pdf.read_bytes()[:5] == b"%PDF-"
     if shutil.which("pdftoppm"):
