@@ -559,16 +559,20 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
 @_v.boundary
 def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=None, m=1, quality="preview",
                     samples=None, target_rel_error=None, ground_reflectance=0.2, north_offset_deg=0.0,
-                    occupied_from=8.0, occupied_to=18.0, seed=0, progress=None, cancelled=None, client=None):
+                    occupied_from=8.0, occupied_to=18.0, seed=0, progress=None, cancelled=None, client=None,
+                    method="dome"):
     """Annual climate-based daylight at ``locations`` from an EPW weather file, the two-phase way.
 
-    Daylight coefficients: one render per sky patch (Reinhart MF:``m``; 146 patches with the ground
-    for m = 1) of a world that is that patch only, every light hidden (scene restored); per hour the
+    Daylight coefficients of every sky patch (Reinhart MF:``m``; 146 patches with the ground for
+    m = 1), with ``method="dome"`` from one render per round for all patches at once (a dome of
+    emitting patches, one Cycles light group each, seen by a custom camera whose pixel blocks are the
+    meters' hemispheres), or ``"per_patch"`` (one render per patch, the older way); per hour the
     Perez all-weather sky and the sun (spread over its 4 nearest patches) give the patch luminances;
-    hourly illuminance = sky x coefficients. Returns an ``AnnualResult``: ``illuminance`` (T, N) lux,
-    ``sda`` (sDA300/50 %), ``ase`` (ASE1000/250 h, with the sun's interreflections), ``udi``,
-    per-point fractions, ``to_dict()``, ``csv_text()``. See docs/daylight-sky.md. ``client``: a Dask
-    client: the patches run in chunks of 16 on its workers (the same tasks, the same numbers; docs/cluster.md).
+    hourly illuminance = sky x coefficients, with its standard error. Returns an ``AnnualResult``:
+    ``illuminance`` (T, N) lux, ``sda`` (sDA300/50 %) and ``sda_range`` (points whose verdict changes
+    within 2 standard errors counted failing / passing), ``ase`` (ASE1000/250 h from the direct sun
+    alone, LM-83), ``udi``, per-point fractions, ``to_dict()``, ``csv_text()``. See
+    docs/daylight-sky.md. ``client``: a Dask client (the same tasks, the same numbers; docs/cluster.md).
     """
     from .measure import annual
 
@@ -576,7 +580,7 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
                                   target_rel_error=target_rel_error, ground_reflectance=ground_reflectance,
                                   north_offset_deg=north_offset_deg, occupied_from=occupied_from,
                                   occupied_to=occupied_to, seed=seed, progress=progress, cancelled=cancelled,
-                                  client=client)
+                                  client=client, method=method)
 
 
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------

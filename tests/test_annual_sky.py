@@ -77,7 +77,8 @@ def test_sky_matrix_matches_gendaymtx(tmp_path):
 
     path = _write_epw(tmp_path / "t.epw")
     patches = sky_patches.reinhart_patches(1)
-    s_all, s_sun, _hours = annual.sky_matrix(epw.read_epw(path), patches)
+    m = annual.sky_matrix(epw.read_epw(path), patches)
+    s_all, s_sun = m.sky, m.sun_patches
     env = radiance_env()
     subprocess.run(["epw2wea", str(path), str(tmp_path / "t.wea")], env=env, check=True, capture_output=True)
     ref = {}

@@ -12,7 +12,8 @@ RHO = {"floor": 0.2, "ceiling": 0.7, "walls": 0.5}
 POINTS = [(2.0, 0.75, 0.85), (2.0, 1.5, 0.85), (2.0, 2.5, 0.85)]
 
 
-def quads():
+def quads(W=W, D=D, H=H, WINDOW=WINDOW):  # noqa: N803 - the module's names for the room's size
+    """The room as named quads: a W x D x H box, the window an opening (x0, x1, z0, z1) in the wall y = 0."""
     x0, x1, z0, z1 = WINDOW
     return [("floor", [(0, 0, 0), (W, 0, 0), (W, D, 0), (0, D, 0)]),
             ("ceiling", [(0, 0, H), (0, D, H), (W, D, H), (W, 0, H)]),
@@ -69,7 +70,8 @@ def add_pane_blender(scene):
     return ob
 
 
-def build_blender(scene):
+def build_blender(scene, room_quads=None):
+    """The room's quads (default ``quads()``) as one mesh with a Diffuse BSDF per name in RHO."""
     import bpy
 
     from radiometer.compat import ensure_node_tree
@@ -77,7 +79,7 @@ def build_blender(scene):
     order = list(RHO)
     me = bpy.data.meshes.new("room")
     verts, faces, index = [], [], []
-    for name, q in quads():
+    for name, q in (room_quads if room_quads is not None else quads()):
         faces.append(tuple(range(len(verts), len(verts) + 4)))
         verts += q
         index.append(order.index(name))
