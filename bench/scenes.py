@@ -10,7 +10,8 @@ import math
 import bpy
 import numpy as np
 
-from radiometer.compat import ensure_node_tree
+from radiometer.demo import builders
+from radiometer.demo.builders import diffuse_material
 
 
 def fresh():
@@ -21,31 +22,12 @@ def fresh():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     radiometer.register()
     scene = bpy.context.scene
-    world = bpy.data.worlds.new("bench black")
-    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
-    scene.world = world
+    builders.black_world(scene, "bench black")
     return scene
 
 
-def diffuse_material(name, albedo):
-    mat = bpy.data.materials.new(name)
-    tree = ensure_node_tree(mat)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
-    tree.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
-    return mat
-
-
 def light(scene, kind, location, rotation=(0.0, 0.0, 0.0), **props):
-    data = bpy.data.lights.new(f"bench {kind.lower()}", kind)
-    for key, value in props.items():
-        setattr(data, key, value)
-    obj = bpy.data.objects.new(data.name, data)
-    obj.location, obj.rotation_euler = location, rotation
-    scene.collection.objects.link(obj)
-    return obj
+    return builders.add_light(scene, kind, location, rotation, name=f"bench {kind.lower()}", **props)
 
 
 def quad_mesh(scene, name, quads, material):

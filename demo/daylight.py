@@ -20,7 +20,7 @@ import time
 import bpy
 
 from ..compat import ensure_node_tree
-from .scene import _closed_box, diffuse_material
+from .builders import black_world, closed_box, diffuse_material
 
 ROOM = (4.0, 4.0, 3.0)
 WALL = 0.1
@@ -60,17 +60,13 @@ def build(scene=None, *, glass=True, pane_renders=True):
     scene.render.engine = "CYCLES"
     scene.unit_settings.system = "METRIC"
     scene.unit_settings.scale_length = 1.0
-    world = bpy.data.worlds.new("Black")
-    background = ensure_node_tree(world).nodes["Background"]
-    background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-    background.inputs["Strength"].default_value = 0.0
-    scene.world = world
+    black_world(scene, "Black")
     room = bpy.data.collections.new("Daylit Room")
     scene.collection.children.link(room)
     hx, hy, h, t = ROOM[0] / 2, ROOM[1] / 2, ROOM[2], WALL
     walls = diffuse_material("Walls (albedo 0.6)", (0.6, 0.6, 0.6))
     floor = diffuse_material("Floor (albedo 0.3)", (0.3, 0.3, 0.3))
-    box = lambda name, lo, hi, mat: _closed_box(  # noqa: E731
+    box = lambda name, lo, hi, mat: closed_box(  # noqa: E731
         name, tuple((a + b) / 2 for a, b in zip(lo, hi)), tuple((b - a) / 2 for a, b in zip(lo, hi)), mat, room)
     box("Floor", (-hx - t, -hy - t, -t), (hx + t, hy + t, 0.0), floor)
     box("Roof", (-hx - t, -hy - t, h), (hx + t, hy + t, h + t), walls)

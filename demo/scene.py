@@ -9,38 +9,11 @@ import math
 
 import bpy
 
-from ..compat import ensure_node_tree
+from .builders import black_world, closed_box, diffuse_material
 
 ROOM = (4.0, 4.0, 3.0)
 DESK = {"centre": (0.4, -0.3), "size": (1.6, 0.8)}  # top at WORK_PLANE_HEIGHT
 WORK_PLANE_HEIGHT = 0.75
-
-
-def diffuse_material(name, albedo):
-    """A Diffuse BSDF material of RGB ``albedo`` (also used by tests and benchmarks)."""
-    mat = bpy.data.materials.new(name)
-    tree = ensure_node_tree(mat)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (*albedo, 1.0)
-    tree.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
-    mat.diffuse_color = (*albedo, 1.0)
-    return mat
-
-
-def _closed_box(name, centre, half, material, collection):
-    """A closed box mesh (6 quads, outward normals), as Add > Cube then scale would give."""
-    cx, cy, cz = centre
-    hx, hy, hz = half
-    verts = [(cx + sx * hx, cy + sy * hy, cz + sz * hz) for sz in (-1, 1) for sy in (-1, 1) for sx in (-1, 1)]
-    faces = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(verts, [], faces)
-    mesh.materials.append(material)
-    obj = bpy.data.objects.new(name, mesh)
-    collection.objects.link(obj)
-    return obj
 
 
 def build(scene=None, *, with_meters=True):
@@ -52,19 +25,15 @@ def build(scene=None, *, with_meters=True):
     scene.render.engine = "CYCLES"
     scene.unit_settings.system = "METRIC"
     scene.unit_settings.scale_length = 1.0
-    world = bpy.data.worlds.new("Radiometer Demo Sky")
-    background = ensure_node_tree(world).nodes["Background"]
-    background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-    background.inputs["Strength"].default_value = 0.0
-    scene.world = world
+    black_world(scene, "Radiometer Demo Sky")
 
     room = bpy.data.collections.new("Room")
     scene.collection.children.link(room)
     hx, hy, h = ROOM[0] / 2, ROOM[1] / 2, ROOM[2]
     wall, wood = diffuse_material("Wall (albedo 0.7)", (0.7, 0.7, 0.7)), diffuse_material("Desk (albedo 0.3)", (0.35, 0.25, 0.18))
-    _closed_box("Room", (0.0, 0.0, h / 2), (hx, hy, h / 2), wall, room)
+    closed_box("Room", (0.0, 0.0, h / 2), (hx, hy, h / 2), wall, room)
     (dx, dy), (sx, sy) = DESK["centre"], DESK["size"]
-    _closed_box("Desk", (dx, dy, WORK_PLANE_HEIGHT / 2), (sx / 2, sy / 2, WORK_PLANE_HEIGHT / 2), wood, room)
+    closed_box("Desk", (dx, dy, WORK_PLANE_HEIGHT / 2), (sx / 2, sy / 2, WORK_PLANE_HEIGHT / 2), wood, room)
 
     lights = bpy.data.collections.new("Lights")
     scene.collection.children.link(lights)

@@ -17,20 +17,8 @@ import pytest
 bpy = pytest.importorskip("bpy")
 pytest.importorskip("distributed")
 
-
-def _builders():
-    # The scene builders of conftest.py (importlib import mode: conftest is not importable by name).
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("_cluster_builders", os.path.join(os.path.dirname(__file__),
-                                                                                    "conftest.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.add_light, module.add_plane, module.make_black_world
-
-
-add_light, add_plane, make_black_world = _builders()
-
+from radiometer.demo.builders import add_light, add_plane  # noqa: E402
+from radiometer.demo.builders import black_world as make_black_world  # noqa: E402
 from radiometer.errors import MeasurementCancelled, RadiometerError  # noqa: E402
 
 VENV_BIN = os.path.dirname(sys.executable)

@@ -13,7 +13,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from radiometer import api  # noqa: E402
-from radiometer.demo.scene import diffuse_material  # noqa: E402
+from radiometer.demo.builders import diffuse_material  # noqa: E402
 from radiometer.measure.scene_guard import scene_fingerprint  # noqa: E402
 
 
