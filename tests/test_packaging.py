@@ -23,8 +23,11 @@ NOT_PACKAGES = {"tests", "bench", "tools", "docs", ".venv", ".venv-lts", "build"
 
 def test_package_list_covers_every_package_folder():
     declared = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    # Nested packages too (radiometry/emitters was missing from an install until this looked below the top).
     on_disk = {"radiometer"} | {
-        "radiometer." + p.parent.name for p in ROOT.glob("*/__init__.py") if p.parent.name not in NOT_PACKAGES}
+        "radiometer." + ".".join(p.parent.relative_to(ROOT).parts) for p in ROOT.glob("**/__init__.py")
+        if p.parent != ROOT and p.parent.relative_to(ROOT).parts[0] not in NOT_PACKAGES
+        and not any(part.startswith(".") for part in p.parent.relative_to(ROOT).parts)}
     assert on_disk <= declared, f"add these to pyproject.toml [tool.setuptools] packages: {sorted(on_disk - declared)}"
 
 
