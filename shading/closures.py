@@ -30,6 +30,8 @@ __all__ = [
     "microfacet",
     "ashikhmin_shirley",
     "phong_ramp",
+    "toon_glossy",
+    "tilted_normal",
     "oren_nayar",
     "lambert",
     "fresnel_schlick",
@@ -46,7 +48,7 @@ class Term:
     Attributes
     ----------
     closure : str
-        'diffuse' | 'oren_nayar' | 'microfacet' | 'ashikhmin_shirley' | 'phong_ramp' | 'mirror'.
+        'diffuse' | 'oren_nayar' | 'microfacet' | 'ashikhmin_shirley' | 'phong_ramp' | 'toon' | 'mirror'.
     color : tuple of 3 float
         Weight per RGB channel (dimensionless).
     distribution : str
@@ -61,6 +63,12 @@ class Term:
         Cycles Oren-Nayar roughness in [0, 1].
     exponent : float
         Phong exponent for 'phong_ramp'.
+    size, smooth : float
+        Toon BSDF (glossy) controls in [0, 1], fractions of pi/2 rad: full intensity within
+        ``size`` of the mirror direction, falling linearly to 0 over ``smooth`` beyond it.
+    tilt : float
+        Shading normal tilted towards the viewer (``tilted_normal``): N' = normalize(N + tilt (wo -
+        cos_o N) / max(cos_o, TILT_MIN_COS)); 0 leaves the normal as it is (dimensionless).
     """
 
     closure: str
@@ -74,6 +82,9 @@ class Term:
     k: tuple = (0.0, 0.0, 0.0)
     roughness: float = 0.0
     exponent: float = 1.0
+    size: float = 0.0
+    smooth: float = 0.0
+    tilt: float = 0.0
     view: tuple = ()  # view-dependent weight factors: ("pow", k) -> cos_o^k, ("as_diffuse",) -> 1-(1-cos_o/2)^5
     extra: dict = field(default_factory=dict)
 
@@ -91,6 +102,10 @@ class Term:
             d["roughness"] = float(self.roughness)
         if self.closure == "phong_ramp":
             d["exponent"] = float(self.exponent)
+        if self.closure == "toon":
+            d.update(size=float(self.size), smooth=float(self.smooth))
+        if self.tilt:
+            d["tilt"] = float(self.tilt)
         return d
 
 
@@ -278,6 +293,65 @@ def phong_ramp(wi, wo, exponent):
     return np.where(valid[..., None], f[..., None] * np.ones(3), 0.0)
 
 
+def toon_glossy(wi, wo, size, smooth):
+    """Cycles' Toon BSDF, component Glossy, 1/sr (``bsdf_glossy_toon_eval``, closure/bsdf_toon.h).
+
+    With the angle a between wi and the mirror direction of wo, max_angle = clamp(size, 1e-5, 1) pi/2,
+    s = clamp(smooth, 0, 1) pi/2 and the sample angle a_s = min(max_angle + s, pi/2), Cycles returns
+    eval = I(a) / (2 pi (1 - cos a_s)) with I = 1 below max_angle, 1 - (a - max_angle)/s up to
+    max_angle + s, 0 beyond. Its eval carries no cos_i, so f = eval / cos_i.
+    """
+    wi, wo, ci, co, _ = _frame(wi, wo)
+    return _toon_f(_toon_angle(wi, wo), ci, co, size, smooth)
+
+
+def _toon_angle(wi, wo):
+    """Angle (rad) between wi and the mirror direction of wo about +Z, clipped to [0, pi/2]."""
+    r = 2.0 * wo[..., 2:3] * np.array([0.0, 0.0, 1.0]) - wo
+    return np.arccos(np.clip(np.sum(r * wi, axis=-1), 0.0, 1.0))
+
+
+def _toon_f(angle, ci, co, size, smooth):
+    max_angle = float(np.clip(size, 1e-5, 1.0)) * np.pi / 2
+    s = float(np.clip(smooth, 0.0, 1.0)) * np.pi / 2
+    sample_angle = min(max_angle + s, np.pi / 2)
+    if s > 0:
+        intensity = np.where(angle < max_angle, 1.0, np.clip(1.0 - (angle - max_angle) / s, 0.0, 1.0))
+    else:
+        intensity = np.where(angle < max_angle, 1.0, 0.0)
+    intensity = np.where(angle < sample_angle, intensity, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = intensity / (2.0 * np.pi * (1.0 - np.cos(sample_angle))) / np.maximum(ci, _EPS)
+    valid = (ci > 0) & (co > 0)
+    return np.where(valid[..., None], f[..., None] * np.ones(3), 0.0)
+
+
+#: Smallest cos_o the normal tilt divides by (grazing views): ``tilted_normal``.
+TILT_MIN_COS = 0.5
+
+
+def tilted_normal(wo, tilt):
+    """(..., 3) unit shading normal N' = normalize(N + tilt t / max(cos_o, TILT_MIN_COS)), N = +Z, t the
+    view direction's part in the surface plane: the normal leans towards the viewer by about
+    tilt tan(theta_o), which moves a lobe around the mirror direction towards the normal (a stand-in
+    for the cos_i factor a Phong-type lobe has and a closure's eval lacks). The node group builds the
+    same from Geometry > Incoming and the normal."""
+    wo = np.asarray(wo, dtype=float)
+    co = wo[..., 2]
+    t = wo - co[..., None] * np.array([0.0, 0.0, 1.0])
+    n = np.array([0.0, 0.0, 1.0]) + (tilt / np.maximum(co, TILT_MIN_COS))[..., None] * t
+    return n / np.linalg.norm(n, axis=-1, keepdims=True)
+
+
+def _in_frame(v, n):
+    """Components of v in an orthonormal frame with z = n (x: any perpendicular; isotropic closures)."""
+    a = np.where(np.abs(n[..., :1]) < 0.9, np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
+    x = np.cross(a, n)
+    x = x / np.linalg.norm(x, axis=-1, keepdims=True)
+    y = np.cross(n, x)
+    return np.stack([np.sum(v * x, -1), np.sum(v * y, -1), np.sum(v * n, -1)], axis=-1)
+
+
 def oren_nayar(wi, wo, roughness, albedo=1.0):
     """Cycles' Oren-Nayar (Diffuse BSDF with roughness > 0) INCLUDING its albedo, 1/sr, RGB.
 
@@ -351,9 +425,19 @@ def view_weight(view, wo):
 
 
 def evaluate_terms(terms, wi, wo):
-    """Sum of the closures in ``terms`` (list of ``Term``), f in 1/sr, RGB (..., 3)."""
+    """Sum of the closures in ``terms`` (list of ``Term``), f in 1/sr, RGB (..., 3).
+
+    A term with a ``tilt`` is evaluated in the frame of its tilted normal N' (``tilted_normal``), as
+    Cycles does with a linked Normal: its eval is f' cos(wi, N'), so f = f' (wi.N') / (wi.N), and it
+    is 0 where wi lies on different sides of N and N' (``bump_shadowing_term``, closure/bsdf.h).
+    """
     total = None
+    frames = {}  # tilt -> (wi, wo in the tilted frame, cos ratio): terms of one law share their tilt
     for term in terms:
+        if float(term.tilt) != 0.0:
+            f = _tilted_term(term, wi, wo, frames)
+            total = f if total is None else total + f
+            continue
         c = term.closure
         if c == "diffuse":
             f = lambert(wi, wo)
@@ -367,6 +451,8 @@ def evaluate_terms(terms, wi, wo):
             f = ashikhmin_shirley(wi, wo, term.alpha_x, term.alpha_y)
         elif c == "phong_ramp":
             f = phong_ramp(wi, wo, term.exponent)
+        elif c == "toon":
+            f = toon_glossy(wi, wo, term.size, term.smooth)
         elif c == "mirror":
             # A delta lobe has no finite value off the mirror direction.
             f = np.zeros(np.broadcast_shapes(np.shape(wi), np.shape(wo)))
@@ -380,3 +466,31 @@ def evaluate_terms(terms, wi, wo):
     if total is None:
         total = np.zeros(np.broadcast_shapes(np.shape(wi), np.shape(wo)))
     return total
+
+
+def _tilted_term(term, wi, wo, frames):
+    """One isotropic term with a tilted normal (see ``evaluate_terms``), f in 1/sr, RGB (..., 3)."""
+    from dataclasses import replace
+
+    if term.closure not in ("microfacet", "toon") or abs(float(term.alpha_x) - float(term.alpha_y)) > 1e-12:
+        raise ValueError(f"a tilted normal is modelled for isotropic microfacet and toon terms, not {term.closure!r}")
+    key = float(term.tilt)
+    if key not in frames:
+        wi_, wo_ = np.broadcast_arrays(np.asarray(wi, dtype=float), np.asarray(wo, dtype=float))
+        n = tilted_normal(wo_, key)
+        wi_t, wo_t = _in_frame(wi_, n), _in_frame(wo_, n)
+        ci, ci_t = wi_[..., 2], wi_t[..., 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            scale = np.where((ci > 0) & (ci_t > 0) & (wo_[..., 2] > 0), ci_t / np.maximum(ci, _EPS), 0.0)
+        frames[key] = (wi_t, wo_t, scale)
+    wi_t, wo_t, scale = frames[key]
+    if term.closure == "toon":  # the angle is shared by every ramp of the law
+        if (key, "angle") not in frames:
+            frames[key, "angle"] = _toon_angle(wi_t, wo_t)
+        f = _toon_f(frames[key, "angle"], wi_t[..., 2], wo_t[..., 2], term.size, term.smooth) * _rgb(term.color)
+    else:
+        f = evaluate_terms([replace(term, tilt=0.0, view=())], wi_t, wo_t)
+    f = f * scale[..., None]
+    if term.view:
+        f = f * view_weight(term.view, wo)[..., None]
+    return f

@@ -88,7 +88,8 @@ class NodeOps:
             return float(getattr(NumpyOps, op)(*args))
         n = self._place(self.nodes.new("ShaderNodeMath"))
         n.operation = {"add": "ADD", "sub": "SUBTRACT", "mul": "MULTIPLY", "div": "DIVIDE", "sqrt": "SQRT",
-                       "minimum": "MINIMUM", "maximum": "MAXIMUM", "less": "LESS_THAN", "pow": "POWER"}[op]
+                       "minimum": "MINIMUM", "maximum": "MAXIMUM", "less": "LESS_THAN", "pow": "POWER",
+                       "cos": "COSINE"}[op]
         for k, a in enumerate(args):
             self.set(n.inputs[k], a)
         return n.outputs[0]
@@ -121,6 +122,9 @@ class NodeOps:
 
     def pow(self, a, b):
         return self._math("pow", a, b)
+
+    def cos(self, a):
+        return self._math("cos", a)
 
     def select(self, cond, a, b):
         if not _is_socket(cond):
@@ -247,6 +251,34 @@ def _ior_value(ops, v):
     return v
 
 
+def _vmath(ops, op, a, b=None, scale=None):
+    n = ops._place(ops.nodes.new("ShaderNodeVectorMath"))
+    n.operation = op
+    ops.set(n.inputs[0], a)
+    if b is not None:
+        ops.set(n.inputs[1], b)
+    if scale is not None:
+        ops.set(n.inputs["Scale"], scale)
+    return n.outputs["Value"] if op in ("DOT_PRODUCT", "LENGTH") else n.outputs["Vector"]
+
+
+def _tilted_normal(ops, normal, cos_o, tilt):
+    """The normal leaning towards the viewer, N' = normalize(N + tilt (I - cos_o N) / max(cos_o, m)), as
+    ``closures.tilted_normal`` models it (I: Geometry > Incoming); one per tilt value in a group."""
+    from .closures import TILT_MIN_COS
+
+    cache = ops.__dict__.setdefault("_tilted", {})
+    key = (tilt.node.name, tilt.identifier) if _is_socket(tilt) else float(tilt)
+    if key not in cache:
+        geo = ops._place(ops.nodes.new("ShaderNodeNewGeometry"))
+        geo.label = "Geometry (view for the tilted normal)"
+        incoming = geo.outputs["Incoming"]
+        along = _vmath(ops, "SUBTRACT", incoming, _vmath(ops, "SCALE", normal, scale=cos_o))
+        lean = _vmath(ops, "SCALE", along, scale=ops.div(tilt, ops.maximum(cos_o, TILT_MIN_COS)))
+        cache[key] = _vmath(ops, "NORMALIZE", _vmath(ops, "ADD", normal, lean))
+    return cache[key]
+
+
 def _closure_node(ops, term, normal, tangent, cos_o, x, y):
     """Shader nodes for one symbolic term (fields: numbers or sockets); returns its shader output."""
     from . import laws as L
@@ -254,7 +286,15 @@ def _closure_node(ops, term, normal, tangent, cos_o, x, y):
     nodes, links = ops.nodes, ops.links
     c = term.closure
     color = _weighted(ops, term.color, term.view, cos_o)
-    if c in ("diffuse", "oren_nayar"):
+    if _is_socket(term.tilt) or float(term.tilt) != 0.0:
+        normal = _tilted_normal(ops, normal, cos_o, term.tilt)
+    if c == "toon":
+        n = nodes.new("ShaderNodeBsdfToon")
+        n.component = "GLOSSY"
+        ops.set(n.inputs["Color"], color)
+        ops.set(n.inputs["Size"], term.size)
+        ops.set(n.inputs["Smooth"], term.smooth)
+    elif c in ("diffuse", "oren_nayar"):
         n = nodes.new("ShaderNodeBsdfDiffuse")
         ops.set(n.inputs["Color"], color)
         ops.set(n.inputs["Roughness"], term.roughness if c == "oren_nayar" else 0.0)
