@@ -12,6 +12,7 @@ import bpy
 import numpy as np
 
 from ..errors import RadiometerError
+from ..radiometry import emitters
 from . import meter, scene_lights
 
 # unit -> (light types it applies to, label)
@@ -26,8 +27,6 @@ UNITS = {
 def _per_unit_energy(obj, unit, scene):
     """Photometric value of ``obj`` per unit of ``energy`` (light data's own units), read from the
     light's emitter (``radiometry.emitters``): its flux, intensity and area have no other home."""
-    from ..radiometry import emitters
-
     light = obj.data
     types, _label = UNITS[unit]
     if light.type not in types:

@@ -13,7 +13,7 @@ lux = K x luminance of the irradiance gives the file's candela back.
 Recognition (:func:`photometric_table`): any light whose active output is
 Emission <- IES Texture (vector unlinked, or the chain above with any Mapping rotation/scale),
 with unlinked colour/strength inputs and a text/file Cycles can read, gets an
-:class:`~radiometer.radiometry.lights.IntensityTable` read the way Cycles reads that text
+:class:`~radiometer.radiometry.emitters.photometric.IntensityTable` read the way Cycles reads that text
 (:func:`~radiometer.radiometry.photometric_files.cycles_ies_table`); anything else is left to
 rendering.
 """
@@ -183,7 +183,7 @@ def _ies_text(ies):
 
 def photometric_table(light_data):
     """(IntensityTable, None) for a recognised IES light, (None, reason) otherwise."""
-    from ..radiometry.lights import IntensityTable
+    from ..radiometry.emitters import IntensityTable
 
     tree = getattr(light_data, "node_tree", None)
     if not getattr(light_data, "use_nodes", False) or tree is None:

@@ -1,5 +1,5 @@
-"""A Blender light as plain values for the analytic models (``radiometry.lights``), and why a closed
-form may not cover it. ``measure.scene_capture`` calls these on every light of the RENDER depsgraph
+"""A Blender light as plain values for its emitter (``radiometry.emitters.from_blender_values``), and why
+a closed form may not cover it. ``measure.scene_capture`` calls these on every light of the RENDER depsgraph
 (so instanced and evaluated lights count exactly as Cycles renders them).
 """
 
@@ -24,7 +24,7 @@ def light_values(light_data, matrix_world):
 
 
 def _photometric_table(light_data):
-    """IntensityTable of a recognised IES light (``measure/luminaires.py``), else None."""
+    """``emitters.IntensityTable`` of a recognised IES light (``measure/luminaires.py``), else None."""
     if not (getattr(light_data, "use_nodes", False) and getattr(light_data, "node_tree", None) is not None):
         return None
     from . import luminaires
