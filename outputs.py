@@ -48,6 +48,24 @@ def private_temp_root():
     return _private_root
 
 
+def made_private_root():
+    """This process's private temporary folder if :func:`private_temp_root` made one (and it has not
+    been removed since), else None; creates nothing."""
+    return _private_root
+
+
+def remove_private_roots():
+    """Remove every private temporary folder this process made, with everything in it, and forget them
+    (the CLI on every exit, forced ones included)."""
+    import shutil
+
+    global _private_root
+    root, _private_root = _private_root, None
+    for folder in {root, *created_roots} - {None}:
+        shutil.rmtree(folder, ignore_errors=True)
+    created_roots.clear()
+
+
 def user_folder(sub):
     """The extension's user folder ``sub`` (created), else ``sub`` inside :func:`private_temp_root`."""
     try:

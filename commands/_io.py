@@ -121,14 +121,9 @@ def exit_code(signum):
 def remove_scratch():
     """Remove this process's private temporary folder and everything in it (also the render scratch
     folders the CLI puts there), now: used on every exit, forced ones included."""
-    import shutil
-
     from .. import outputs
 
-    root, outputs._private_root = outputs._private_root, None
-    for folder in {root, *outputs.created_roots} - {None}:
-        shutil.rmtree(folder, ignore_errors=True)
-    outputs.created_roots.clear()
+    outputs.remove_private_roots()
 
 
 class Interrupt:
@@ -342,7 +337,7 @@ def without_scratch_paths(result):
     the CLI removes that folder when it exits, so a JSON file must not point into it."""
     from .. import outputs
 
-    root = outputs._private_root  # None until the CLI made one (remove_scratch resets it too)
+    root = outputs.made_private_root()
     if root is None:
         return result
     prefix = os.path.join(root, "")

@@ -57,7 +57,7 @@ def build_sky_tree(tree, sky_type, sun, zenith_radiance, ground_radiance):
         sky = _math(tree, "MULTIPLY_ADD", cos_z, 2.0 * zenith_radiance / 3.0, zenith_radiance / 3.0)
     else:
         a, b, c, d, e = params
-        zeta = float(cie_sky._zenith_shape(cie_sky.parse_sky_type(sky_type), sun))
+        zeta = float(cie_sky.zenith_shape(cie_sky.parse_sky_type(sky_type), sun))
         k = zenith_radiance / zeta
         cz = _math(tree, "MAXIMUM", cos_z, 1e-6)
         phi = _math(tree, "MULTIPLY_ADD", _math(tree, "EXPONENT", _math(tree, "DIVIDE", b, cz)), a, 1.0)
@@ -111,7 +111,7 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
     if not (math.isfinite(rho) and 0.0 <= rho <= 1.0):
         raise RadiometerError(f"ground_reflectance must be within 0..1, got {ground_reflectance!r}")
     try:
-        sun = cie_sky._sun(t, sun_direction)
+        sun = cie_sky.sun_for_sky(t, sun_direction)
         lz = float(cie_sky.zenith_luminance(e_h, t, sun))
     except ValueError as exc:
         raise RadiometerError(str(exc)) from None

@@ -119,8 +119,9 @@ def _unit(v, name):
     return v / np.linalg.norm(v)
 
 
-def _sun(sky_type, sun_direction):
-    """The unit sun direction, or +Z when the sky does not depend on it; raises when it is needed and missing."""
+def sun_for_sky(sky_type, sun_direction):
+    """The unit sun direction, or +Z when the sky does not depend on it; ValueError when it is needed and
+    missing or below the horizon."""
     if not needs_sun(sky_type):
         return np.array([0.0, 0.0, 1.0])
     if sun_direction is None:
@@ -153,7 +154,8 @@ def _shape(w, sky_type, sun):
     return _indicatrix(w @ sun, c, d, e) * _gradation(cos_z, a, b)
 
 
-def _zenith_shape(sky_type, sun):
+def zenith_shape(sky_type, sun):
+    """The unnormalised shape g at the zenith (the divisor that makes L / Lz = 1 there)."""
     return float(_shape(np.array([0.0, 0.0, 1.0]), sky_type, sun))
 
 
@@ -163,11 +165,11 @@ def relative_luminance(directions, sky_type, sun_direction=None):
     Non-finite or zero directions give NaN.
     """
     t = parse_sky_type(sky_type)
-    sun = _sun(t, sun_direction)
+    sun = sun_for_sky(t, sun_direction)
     w = np.asarray(directions, float)
     with np.errstate(invalid="ignore", divide="ignore"):
         w = w / np.linalg.norm(w, axis=-1, keepdims=True)
-    rel = _shape(w, t, sun) / _zenith_shape(t, sun)
+    rel = _shape(w, t, sun) / zenith_shape(t, sun)
     out = np.where(w[..., 2] > 0.0, rel, 0.0)
     return np.where(np.all(np.isfinite(w), axis=-1), out, np.nan)
 
@@ -251,13 +253,13 @@ def sky_integral(normals, sky_type, sun_direction=None, *, order=_ORDER):
     zero normals give NaN.
     """
     t = parse_sky_type(sky_type)
-    sun = _sun(t, sun_direction)
+    sun = sun_for_sky(t, sun_direction)
     n = np.asarray(normals, float)
     shape = n.shape[:-1]
     if n.shape[-1:] != (3,):
         raise ValueError(f"normals must have shape (..., 3), got {n.shape}")
     flat = n.reshape(-1, 3)
-    zeta = _zenith_shape(t, sun)
+    zeta = zenith_shape(t, sun)
     out = np.full(len(flat), np.nan)
     err = np.full(len(flat), np.nan)
     for i, nk in enumerate(flat):
@@ -325,7 +327,7 @@ class CIESkyWorld(EnvironmentEmitter):
 
     def __init__(self, sky_type, sun_direction, zenith_radiance, ground_radiance, *, strength=1.0, node="", notes=()):
         self.sky_type = parse_sky_type(sky_type)
-        self.sun_direction = _sun(self.sky_type, sun_direction)
+        self.sun_direction = sun_for_sky(self.sky_type, sun_direction)
         self.zenith_radiance = float(zenith_radiance)
         self.ground_radiance = float(ground_radiance)
         self.strength = float(strength)

@@ -1,8 +1,10 @@
 """The import contract (issue 17): layers, no circles, no private names across packages.
 
-Read statically with ``ast`` over every ``.py`` file of the package (tests, bench, tools and docs are
-not part of the extension), counting imports inside functions too: a function-level import is still a
-dependency, it only hides a circle until the function runs.
+A private name (``_x``) of another package is refused whether it is imported (``from m import _x``) or
+read from an imported module (``m._x``). Read statically with ``ast`` over every ``.py`` file of the
+package (tests, bench, tools and docs are not part of the extension), counting imports inside
+functions too: a function-level import is still a dependency, it only hides a circle until the
+function runs.
 
 Layers, lowest first; a module may import its own layer and the layers below it, never above:
 
@@ -105,7 +107,7 @@ class Import:
 
 def _imports_of(module, path, is_package, modules):
     tree = ast.parse(open(path, encoding="utf-8").read(), filename=path)
-    found = []
+    found, bound = [], {}  # bound: local name -> package module it names
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             for alias in node.names:
@@ -131,8 +133,13 @@ def _imports_of(module, path, is_package, modules):
                 candidate = f"{base}.{alias.name}" if base else alias.name
                 if candidate in modules:
                     found.append(Import(target=candidate, line=node.lineno))
+                    bound[alias.asname or alias.name] = candidate
                 else:
                     found.append(Import(target=_nearest(base, modules), name=alias.name, line=node.lineno))
+    # ``from . import mod`` then ``mod._private``: a private name used across packages all the same.
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in bound:
+            found.append(Import(target=bound[node.value.id], name=node.attr, line=node.lineno))
     return found
 
 
@@ -268,7 +275,8 @@ def test_checker_sees_function_level_circles_and_upward_imports(tmp_path):
         "radiometry/a.py": "def f():\n    from .b import g\n",
         "radiometry/b.py": "from radiometer.radiometry import a\nimport bpy\n",
         "measure/__init__.py": "",
-        "measure/m.py": "from ..operators import x\nfrom ..radiometry.a import _hidden\n",
+        "measure/m.py": "from ..operators import x\nfrom ..radiometry.a import _hidden\nfrom ..radiometry import b\n"
+                        "def f():\n    return b._inner, b.public\n",
         "operators/__init__.py": "",
         "operators/x.py": "import bpy\nfrom ..measure import m\n",
         "commands/__init__.py": "",
@@ -280,6 +288,8 @@ def test_checker_sees_function_level_circles_and_upward_imports(tmp_path):
     assert ("blender", "radiometry.b", "bpy") in found
     assert ("layer", "measure.m", "operators.x") in found
     assert ("private", "measure.m", "radiometry.a._hidden") in found
+    assert ("private", "measure.m", "radiometry.b._inner") in found  # attribute of an imported module
+    assert not any(key[2] == "radiometry.b.public" for key in found)
     assert ("layer", "commands.c", "cli") in found
     assert ("circle", "measure.m <-> operators.x", None) in found
     assert not any(kind == "blender" and a == "operators.x" for kind, a, _b in found)  # UI may use bpy
