@@ -313,3 +313,13 @@ def test_checker_places_plots_between_core_and_host(tmp_path):
     assert not any(a.startswith("measure.") and kind == "layer" for kind, a, _b in found)  # host may draw
     assert not any(a == "plots.p" and b == "radiometry.r" for _kind, a, b in found)
 
+
+
+def test_every_package_folder_says_what_it_holds():
+    """Each package folder has a README.md whose first line says what lives there (issue 17)."""
+    modules = package_modules()
+    folders = sorted({os.path.dirname(path) for m, (path, is_package) in modules.items() if m and is_package})
+    missing = [os.path.relpath(f, REPO) for f in folders
+               if not os.path.isfile(os.path.join(f, "README.md"))
+               or not open(os.path.join(f, "README.md"), encoding="utf-8").readline().strip()]
+    assert not missing, f"add a README.md (one line: what lives here) to {missing}"
