@@ -311,11 +311,12 @@ def enclosure_notes(model, points_m, values):
     return notes
 
 
-def hybrid_split(model, direct, count):
+def hybrid_split(model, direct, count, also=None):
     """Per meter: the light OBJECTS whose direct light is a proven closed form there (EXACT, or
     ZERO because an opaque surface blocks it) for every instance of that object, to be added
     analytically and excluded from the sensor (light linking acts on objects, so all instances of
-    an object must qualify). Returns a list of frozensets."""
+    an object must qualify). ``also`` (L, N) bool: more contributions known in closed form (a delta
+    light through a homogeneous medium, ``through_medium``). Returns a list of frozensets."""
     from ..radiometry import scene_model
 
     by_source = {}
@@ -328,11 +329,44 @@ def hybrid_split(model, direct, count):
             ok = all(model.lights[i].spec is not None and not model.lights[i].portal
                      and model.lights[i].reaches_diffuse
                      and (direct.status[i, k] in (scene_model.EXACT, scene_model.ZERO)
-                          or _glass_bounded(model.lights[i], direct, i, k))
+                          or _glass_bounded(model.lights[i], direct, i, k)
+                          or (also is not None and bool(also[i, k])))
                      for i in idx)
             if ok:
                 chosen.add(source)
         out.append(frozenset(chosen))
+    return out
+
+
+#: The planner's reason when a world volume alone stands between a meter and a light it proved clear.
+_WORLD_VOLUME_REASON = "the world's volume may lie between"
+
+
+def through_medium(model, direct, medium):
+    """(L, N) bool: contributions whose direct light is a closed form times the medium's exp(-sigma_t d)
+    (issue 18): a delta point or spot light (radius 0, exact closed form) that the planner proved
+    unoccluded but for a homogeneous world volume (``medium``, or None: nothing)."""
+    from ..radiometry import lights as light_models, scene_model
+
+    out = np.zeros(direct.status.shape, bool)
+    if medium is None:
+        return out
+    for i, light in enumerate(model.lights):
+        spec = light.spec
+        if (spec is None or light.portal or not light.reaches_diffuse or spec.kind not in ("POINT", "SPOT")
+                or spec.radius != 0.0 or not light_models.exactness(spec)[0]):
+            continue
+        out[i] = (direct.status[i] == scene_model.RENDER) & np.array(
+            [str(r).startswith(_WORLD_VOLUME_REASON) for r in direct.reason[i]], bool)
+    return out
+
+
+def medium_transmittance(model, points_m, medium, through):
+    """(L, N, 3): exp(-sigma_t d) where ``through`` (d: meter to light, m), 1 elsewhere."""
+    out = np.ones(through.shape + (3,))
+    for i in np.flatnonzero(through.any(axis=1)):
+        d = np.linalg.norm(points_m - np.asarray(model.lights[i].spec.position, float), axis=1)
+        out[i, through[i]] = medium.transmittance(d[through[i]])
     return out
 
 
@@ -414,6 +448,15 @@ def _budget_mode(preset, target_rel_error, samples, time_budget_s):
     return float(preset["target"]), None, None
 
 
+def _world_medium(scene, model):
+    """The homogeneous world volume (``measure.media.world_medium``) when it is the scene's only medium."""
+    if not model.world_volume or model.volumes:
+        return None
+    from . import media
+
+    return media.world_medium(scene)
+
+
 def _plan_at(direct, idx):
     """The DirectPlan restricted to the receivers ``idx`` (per-receiver arrays cut on their first
     axis, per-light-and-receiver arrays on their second)."""
@@ -465,7 +508,8 @@ def _closed_form_part(model, decision, sensors_m, normals, direct_only):
 
 
 def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sensors_m, normals, *, preset,
-                 method, direct_only, weights, target, budget, fixed, progress, cancelled, seed, scale, n_closed):
+                 method, direct_only, weights, target, budget, fixed, progress, cancelled, seed, scale, n_closed,
+                 medium=None):
     """Cycles (hybrid or render) at the meters that need it; ``direct`` is the plan cut to them
     (``_plan_at``), as are the sensors and normals. Returns a dict: mean_rgb, bound_rgb, se_rgb (M, 3),
     se, samples (M,), method, record, notes (common to these meters), parts (per meter)."""
@@ -481,11 +525,23 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
         notes.append("a single delta light and nothing to reflect light: 1 sample per texel is exact "
                      "(next-event estimation of one delta light has no variance)")
     hybrid = method in ("auto", "hybrid")
-    split = hybrid_split(model, direct, n) if hybrid else [frozenset()] * n
+    through = through_medium(model, direct, medium) if hybrid else np.zeros(direct.status.shape, bool)
+    split = hybrid_split(model, direct, n, also=through) if hybrid else [frozenset()] * n
     offset_rgb = np.zeros((n, 3))
     stacked = direct.interpane is not None and bool(np.any(direct.interpane > 0))
     if any(split) or stacked:
         per_light, light_bounds, _info = analytic_irradiance(model, direct, sensors_m, normals)
+        if through.any():
+            # Issue 18: the direct light through a homogeneous world volume is its closed form times
+            # exp(-sigma_t d) (no bound beyond thin glass's); the volume's in-scattered light is rendered.
+            per_light = per_light * medium_transmittance(model, sensors_m, medium, through)
+            glass = direct.glass_bound if direct.glass_bound is not None else np.zeros(through.shape)
+            light_bounds = np.where(through[..., None], np.abs(per_light) * glass[..., None], light_bounds)
+            names = sorted({lt.name for i, lt in enumerate(model.lights) if through[i].any()})
+            notes.append(f"{medium.name}: sigma_t = {', '.join(f'{v:.4g}' for v in medium.sigma_t)} 1/m (RGB); "
+                         f"the direct light of {', '.join(repr(x) for x in names)} is its closed form x "
+                         "exp(-sigma_t d), d the meter-light distance (homogeneous medium, Beer-Lambert); "
+                         "the light the medium scatters towards the meter is rendered")
         for i, light in enumerate(model.lights):
             take = np.array([(light.source or light.name) in split[k] for k in range(n)])
             offset_rgb[take] += per_light[i, take]
@@ -607,7 +663,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                            sensors_scene[rendered], sensors_m[rendered], normals[rendered], preset=preset,
                            method=method, direct_only=direct_only, weights=weights, target=target, budget=budget,
                            fixed=fixed, progress=progress, cancelled=cancelled, seed=seed, scale=scale,
-                           n_closed=int(closed.sum()))
+                           n_closed=int(closed.sum()), medium=_world_medium(scene, model))
         mean_rgb[rendered], bound_rgb[rendered] = run["mean_rgb"], run["bound_rgb"]
         se_rgb[rendered], scalar_se[rendered], spent[rendered] = run["se_rgb"], run["se"], run["samples"]
         methods[rendered], record = run["method"], run["record"]
