@@ -193,6 +193,14 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, scene=None, m=1
 
     scene = scene or bpy.context.scene
     count = sky_patches.reinhart_patches(m).count
+    fallback = []
+    if method == "dome":
+        from . import daylight_coefficients as dcm
+
+        if not dcm.supported(scene):
+            method = "per_patch"
+            fallback = ["this Blender has no custom camera / compositor node groups for the one-render dome "
+                        "(Blender 5.0): one render per patch instead"]
     if method == "dome":
         if target_rel_error is not None:
             raise RadiometerError("target_rel_error goes with method='per_patch'; the dome method takes quality "
@@ -225,7 +233,7 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, scene=None, m=1
         cov = np.zeros((dc.shape[1], count, count))
         idx = np.arange(count)
         cov[:, idx, idx] = (se ** 2).T
-        notes = [f"daylight coefficients over {count} patches (Reinhart MF:{m}), one render per patch"]
+        notes = fallback + [f"daylight coefficients over {count} patches (Reinhart MF:{m}), one render per patch"]
     return dc, se, cov, notes
 
 

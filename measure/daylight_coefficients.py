@@ -262,6 +262,15 @@ def _blocks(img, n, block, columns):
     return cells[:n]
 
 
+def supported(scene):
+    """Whether this Blender has what the dome needs: custom cameras and compositor node groups with a
+    File Output node that takes items (Blender 5.0; 4.5 has neither the group nor the items)."""
+    import bpy
+
+    return hasattr(scene, "compositing_node_group") and "CUSTOM" in \
+        bpy.types.Camera.bl_rna.properties["type"].enum_items.keys()
+
+
 def scene_extent(model, points_scene, scale):
     """(centre, half-diagonal) of the render-visible triangles and the points, scene units."""
     pts = [np.asarray(points_scene, float)]
