@@ -306,3 +306,14 @@ def test_emissive_mesh_power_and_irradiance():
             np.testing.assert_allclose(e, ref, rtol=1e-12)
     unknown = emitters.EmissiveMesh(sq, None)
     assert np.all(np.isnan(unknown.power_w()))
+
+
+def test_a_sheared_area_light_with_spread_is_rendered_only():
+    """Its bound is NaN in the model (Cycles' sampling of it is not modelled): no bound, RENDERED_ONLY."""
+    shear = np.array([[1.0, 0.6, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    light = lights.LightSpec(kind="AREA", rgb_power=np.ones(3), spread=1.0, matrix=shear, position=np.zeros(3))
+    assert light.is_sheared and light.flags & EmitterFlags.RENDERED_ONLY
+    e, bound = light.irradiance_at([0.0, 0.0, -1.0], [0.0, 0.0, 1.0])
+    assert bound is None and np.all(np.isfinite(e))
+    plain = lights.LightSpec(kind="AREA", rgb_power=np.ones(3), spread=1.0)
+    assert plain.flags == EmitterFlags.AREA and plain.irradiance_at([0.0, 0.0, -1.0], [0.0, 0.0, 1.0])[1] is not None

@@ -264,7 +264,9 @@ class AreaLight(CyclesLight, kind_key=("AREA", False)):
 
     @property
     def flags(self):
-        return EmitterFlags.AREA
+        # A sheared light with spread < 180 deg: Cycles' sampling of it is not modelled (bound None).
+        unmodelled = self.is_sheared and self.spread < np.pi
+        return EmitterFlags.AREA | (EmitterFlags.RENDERED_ONLY if unmodelled else EmitterFlags.NONE)
 
     def power_w(self):
         eu, ev = self.edges
