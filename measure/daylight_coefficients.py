@@ -364,7 +364,7 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
             ims.file_format = "OPEN_EXR"
             ims.color_depth = "32"
             weights = meter.scene_photometry(scene)[1]
-            pixel_rounds = []
+            total = cross = None  # per-pixel sums over rounds, and sum over rounds and pixels of x_p x_q
             for k in range(nrounds):
                 if cancelled is not None and cancelled():
                     raise MeasurementCancelled("daylight coefficients cancelled")
@@ -372,7 +372,9 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
                 result = bpy.ops.render.render(write_still=True, scene=scene.name)
                 if result != {"FINISHED"}:
                     raise RadiometerError(f"Cycles render did not finish ({result})")
-                pixel_rounds.append(_blocks(_read_passes(folder, names, weights), n, blk, columns))
+                x = np.pi * _blocks(_read_passes(folder, names, weights), n, blk, columns)  # (N, P, npix)
+                total = x if total is None else total + x
+                cross = np.einsum("npi,nqi->npq", x, x) + (0.0 if cross is None else cross)
                 if progress is not None:
                     progress(k + 1, nrounds, None)
     finally:
@@ -381,12 +383,12 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
             if lg is not None:
                 view_layer.lightgroups.remove(lg)
         shutil.rmtree(folder, ignore_errors=True)
-    x = np.pi * np.stack(pixel_rounds)  # (R, N, P, npix) irradiance per unit radiance
-    npix = x.shape[-1]
-    dc = x.mean(axis=(0, 3)).T  # (P, N)
-    dev = x - x.mean(axis=0, keepdims=True)  # per-pixel deviations between rounds
-    # Var(block mean) = sum over pixels of Var(pixel's round mean) / npix^2, each from R rounds.
-    cov = np.einsum("rnpi,rnqi->npq", dev, dev) / ((nrounds - 1) * nrounds * npix ** 2)
+    npix = total.shape[-1]
+    dc = (total.sum(axis=2) / (nrounds * npix)).T  # (P, N) irradiance per unit radiance
+    # Var(block mean) = sum over pixels of Var(pixel's round mean) / npix^2, each from R rounds:
+    # sum_i sum_r (x_ri - m_i)(x_ri - m_i)^T = sum_r sum_i x x^T - R sum_i m_i m_i^T (streamed: the
+    # rounds are never all in memory).
+    cov = (cross - np.einsum("npi,nqi->npq", total, total) / nrounds) / ((nrounds - 1) * nrounds * npix ** 2)
     se = np.sqrt(np.maximum(np.einsum("npp->pn", cov), 0.0))
     notes = [f"daylight coefficients of {patches.count} patches (Reinhart MF:{m}) from {nrounds} renders of a "
              f"patch dome with one light group per patch: {spp} samples x {blk}x{blk} pixels per meter per "
