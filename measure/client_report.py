@@ -22,6 +22,10 @@ from ..errors import MeasurementCancelled, RadiometerError
 from ..readings import format_error, format_quantity, format_value, photographic_text
 
 
+#: Samples per pixel per render (cap) of the report's false-colour picture, by the report's quality.
+PICTURE_SPP = {"preview": 16, "standard": 64, "reference": 256}
+
+
 def _num(value, rel_se=0.0, exact=False):
     try:
         return format_value(float(value), rel_se or 0.0, exact)
@@ -423,10 +427,12 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
         from . import luminance_image
 
         try:
-            # a picture, not a measurement: preview target, at most 64 samples per pixel per render
+            # A picture, not a measurement: preview target, at most PICTURE_SPP samples per pixel per render
+            # (measured: in an office of 6 IES luminaires a round of 8 renders at 64 spp took 246 s where one
+            # at 16 spp took 53 s and already had 97 % of the pixels within 5 %; bench/report_cost.md).
             img = luminance_image.luminance_image(os.path.join(out_dir, "luminance.exr"), scene=scene,
                                                   resolution=_picture_size(scene), quality="preview",
-                                                  cancelled=cancelled, max_spp=64)
+                                                  cancelled=cancelled, max_spp=PICTURE_SPP.get(quality, 64))
             client["images"].append((f"False-colour luminance seen by the camera {scene.camera.name} (cd/m², log "
                                      f"scale; {100 * img.share_on_target:.0f} % of the pixels within "
                                      f"{100 * img.target_rel_error:g} %)", "luminance.png"))
