@@ -18,6 +18,7 @@ with unlinked colour/strength inputs and a text/file Cycles can read, gets an
 rendering.
 """
 
+import functools
 import math
 import os
 
@@ -181,6 +182,13 @@ def _ies_text(ies):
         return None
 
 
+@functools.lru_cache(maxsize=32)
+def _cycles_table(text):
+    """``pf.cycles_ies_table(text)``, parsed once per distinct IES text (every capture reads every IES
+    light's text; a scene has a handful of distinct files)."""
+    return pf.cycles_ies_table(text)
+
+
 def photometric_table(light_data):
     """(IntensityTable, None) for a recognised IES light, (None, reason) otherwise."""
     from ..radiometry.emitters import IntensityTable
@@ -203,7 +211,7 @@ def photometric_table(light_data):
     if light_data.type != "POINT" or float(light_data.shadow_soft_size) != 0.0:
         return None, "uses an IES texture on a light other than a point of radius 0"
     text = _ies_text(ies)
-    table = pf.cycles_ies_table(text) if text else None
+    table = _cycles_table(text) if text else None
     if table is None:
         return None, "uses an IES texture whose file Cycles cannot read as type C"
     h, v, values = table

@@ -110,3 +110,28 @@ def test_luminaire_summary_is_not_reread_on_every_redraw(clean_blender, tmp_path
     os.utime(path, ns=(os.stat(path).st_atime_ns, os.stat(path).st_mtime_ns + 10**9))
     assert luminaires.luminaire_summary(obj)["lumens"] == pytest.approx(800 * math.pi, rel=1e-9)
     assert len(reads) == 2
+
+
+def test_an_ies_text_is_parsed_once_for_every_capture(clean_blender, tmp_path, monkeypatch):
+    """Issue 17: IES data went text -> table on every capture; the parsed table is kept per text."""
+    from radiometer.measure import luminaires
+    from radiometer.radiometry import photometric_files as pf
+
+    path = tmp_path / "iso.ies"
+    path.write_text("IESNA:LM-63-2002\n[TEST] parsed once\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n"
+                    "0 90 180\n0\n123 123 123\n")
+    obj = api.import_luminaire(str(path))
+    calls = []
+    real = pf.cycles_ies_table
+    monkeypatch.setattr(pf, "cycles_ies_table", lambda text: calls.append(1) or real(text))
+    luminaires._cycles_table.cache_clear()
+    scene = bpy.context.scene
+    for height in (2.0, 3.0):                                  # an edit between captures
+        obj.location.z = height
+        model = scene_capture.capture(scene)
+        (light,) = model.lights
+        assert isinstance(light.emitter, emitters.PhotometricLight)
+    assert len(calls) == 1
+    # The emitter's flux is the file's: 4 pi x 123 cd over K (the importer's energy gives I / K W/sr).
+    efficacy = luminaires.scene_efficacy(scene)
+    assert light.emitter.luminous_flux_lm(np.full(3, 1 / 3), efficacy) == pytest.approx(4 * math.pi * 123, rel=1e-6)
