@@ -60,22 +60,12 @@ def world_illuminance(scene=None, normal=(0.0, 0.0, 1.0)):
 
 def _render_world_alone(scene, n, quality="standard"):
     """Render the world's light on a sensor in a temporary empty scene that shares the world."""
-    import bpy
-
     from . import meter
+    from .temporary_scene import temporary_scene
 
-    temp = bpy.data.scenes.new("radiometer_world_alone")
-    try:
-        temp.world = scene.world
-        temp.render.engine = "CYCLES"
-        temp.unit_settings.scale_length = scene.unit_settings.scale_length
-        src, dst = getattr(scene, "radiometer", None), getattr(temp, "radiometer", None)
-        if src is not None and dst is not None:
-            dst.efficacy_convention = src.efficacy_convention
-            dst.efficacy = src.efficacy
-        return meter.measure_illuminance((0.0, 0.0, 0.0), tuple(n), scene=temp, method="render", quality=quality)
-    finally:
-        bpy.data.scenes.remove(temp)
+    with temporary_scene("radiometer_world_alone", like=scene) as rig:
+        return meter.measure_illuminance((0.0, 0.0, 0.0), tuple(n), scene=rig.scene, method="render",
+                                         quality=quality)
 
 
 def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
@@ -192,22 +182,18 @@ def render_mirror_ball(scene=None, *, size=128, samples=16, view=(0.0, -1.0, 0.0
     Fresnel) lit by the scene's world alone, seen by an orthographic camera looking along ``view``
     from outside, framed to the ball. Returns (probe (size, size, 3) radiance, camera rotation (3, 3)
     camera local -> world). Everything is built in a temporary scene that shares the world."""
-    import os
-    import shutil
-    import tempfile
-
+    import bmesh
     import bpy
     from mathutils import Vector
 
-    from . import exr
+    from ..compat import ensure_node_tree
+    from .camera import render_exr
+    from .temporary_scene import temporary_scene
 
     scene = _scene(scene)
-    temp = bpy.data.scenes.new("radiometer_probe")
-    created = []
-    folder = tempfile.mkdtemp(prefix="radiometer_probe_")
-    try:
+    with temporary_scene("radiometer_probe") as rig:
+        temp = rig.scene
         temp.world = scene.world
-        temp.render.engine = "CYCLES"
         temp.cycles.device = "CPU"
         temp.cycles.samples = int(samples)
         temp.cycles.use_denoising = False
@@ -218,20 +204,14 @@ def render_mirror_ball(scene=None, *, size=128, samples=16, view=(0.0, -1.0, 0.0
         temp.cycles.pixel_filter_type = "BOX"
         temp.cycles.filter_width = 0.01
         temp.view_settings.view_transform = "Standard"
-        mesh = bpy.data.meshes.new("radiometer_probe_ball")
-        created.append(mesh)
-        import bmesh
-
+        mesh = rig.keep(bpy.data.meshes.new("radiometer_probe_ball"))
         bm = bmesh.new()
         bmesh.ops.create_uvsphere(bm, u_segments=256, v_segments=128, radius=1.0)
         for f in bm.faces:
             f.smooth = True
         bm.to_mesh(mesh)
         bm.free()
-        mat = bpy.data.materials.new("radiometer_probe_chrome")
-        created.append(mat)
-        from ..compat import ensure_node_tree
-
+        mat = rig.keep(bpy.data.materials.new("radiometer_probe_chrome"))
         tree = ensure_node_tree(mat)
         tree.nodes.clear()
         out = tree.nodes.new("ShaderNodeOutputMaterial")
@@ -240,37 +220,17 @@ def render_mirror_ball(scene=None, *, size=128, samples=16, view=(0.0, -1.0, 0.0
         glossy.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
         tree.links.new(glossy.outputs["BSDF"], out.inputs["Surface"])
         mesh.materials.append(mat)
-        ball = bpy.data.objects.new("radiometer_probe_ball", mesh)
-        created.append(ball)
-        temp.collection.objects.link(ball)
-        cam_data = bpy.data.cameras.new("radiometer_probe_camera")
-        created.append(cam_data)
+        rig.link(bpy.data.objects.new("radiometer_probe_ball", mesh))
+        cam_data = rig.keep(bpy.data.cameras.new("radiometer_probe_camera"))
         cam_data.type = "ORTHO"
         cam_data.ortho_scale = 2.0
         cam_data.clip_start, cam_data.clip_end = 1e-3, 100.0
-        cam = bpy.data.objects.new("radiometer_probe_camera", cam_data)
-        created.append(cam)
-        temp.collection.objects.link(cam)
+        cam = rig.link(bpy.data.objects.new("radiometer_probe_camera", cam_data))
         v = Vector(view).normalized()
         cam.location = -10.0 * v
         cam.rotation_mode = "QUATERNION"
         cam.rotation_quaternion = v.to_track_quat("-Z", "Z" if abs(v.z) < 0.99 else "Y")
         temp.camera = cam
-        r = temp.render
-        r.resolution_x = r.resolution_y = int(size)
-        r.resolution_percentage = 100
-        r.image_settings.file_format = "OPEN_EXR"
-        r.image_settings.color_depth = "32"
-        r.filepath = os.path.join(folder, "probe")
-        r.use_file_extension = True
-        bpy.ops.render.render(write_still=True, scene=temp.name)
-        probe = exr.read_rgb(os.path.join(folder, "probe.exr"))
+        probe = render_exr(temp, rig.scratch(), "probe", int(size), int(size))
         rotation = np.array(cam.rotation_quaternion.to_matrix(), float)
         return probe, rotation
-    finally:
-        bpy.data.scenes.remove(temp)
-        for block in reversed(created):
-            collection = {bpy.types.Object: bpy.data.objects, bpy.types.Mesh: bpy.data.meshes,
-                          bpy.types.Material: bpy.data.materials, bpy.types.Camera: bpy.data.cameras}[type(block)]
-            collection.remove(block)
-        shutil.rmtree(folder, ignore_errors=True)

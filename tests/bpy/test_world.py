@@ -314,3 +314,4 @@ def test_mirror_ball_probe_render_and_its_resolution_loss(clean_blender):
     assert errors[256]["back"] > 2 * errors[256]["front"]  # the rim's resolution loss
     assert errors[256]["side"] <= errors[64]["side"]
     assert len(bpy.data.scenes) == 1 and not bpy.data.objects
+    assert not bpy.data.meshes and not bpy.data.cameras and not bpy.data.materials  # the rig is gone too
