@@ -88,6 +88,14 @@ def test_emissive_mesh_radiance_is_cycles_emission_strength(clean_blender, build
     assert got == pytest.approx(expected, rel=3 * reading.rel_std_error + 1e-3)
 
 
+def _isotropic_luminaire(folder, candela):
+    """An imported IES file of ``candela`` cd in every direction: (path, light object)."""
+    path = folder / "iso.ies"
+    path.write_text("IESNA:LM-63-2002\n[TEST] isotropic\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n"
+                    f"0 90 180\n0\n{candela} {candela} {candela}\n")
+    return path, api.import_luminaire(str(path))
+
+
 def test_luminaire_summary_is_not_reread_on_every_redraw(clean_blender, tmp_path, monkeypatch):
     """The luminaire panel's summary comes from a cache keyed by the file's mtime and size (issue 17:
     the panel re-read and re-integrated the file on every redraw)."""
@@ -96,10 +104,7 @@ def test_luminaire_summary_is_not_reread_on_every_redraw(clean_blender, tmp_path
     from radiometer.measure import luminaires
     from radiometer.radiometry import photometric_files as pf
 
-    path = tmp_path / "iso.ies"
-    path.write_text("IESNA:LM-63-2002\n[TEST] isotropic\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n"
-                    "0 90 180\n0\n100 100 100\n")
-    obj = api.import_luminaire(str(path))
+    path, obj = _isotropic_luminaire(tmp_path, 100)
     reads = []
     real = pf.read_photometry
     monkeypatch.setattr(pf, "read_photometry", lambda p: reads.append(p) or real(p))
@@ -117,10 +122,7 @@ def test_an_ies_text_is_parsed_once_for_every_capture(clean_blender, tmp_path, m
     from radiometer.measure import luminaires
     from radiometer.radiometry import photometric_files as pf
 
-    path = tmp_path / "iso.ies"
-    path.write_text("IESNA:LM-63-2002\n[TEST] parsed once\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n"
-                    "0 90 180\n0\n123 123 123\n")
-    obj = api.import_luminaire(str(path))
+    _path, obj = _isotropic_luminaire(tmp_path, 123)
     calls = []
     real = pf.cycles_ies_table
     monkeypatch.setattr(pf, "cycles_ies_table", lambda text: calls.append(1) or real(text))
