@@ -8,6 +8,14 @@ import bpy
 from ..compat import ensure_node_tree
 
 
+def metric_cycles_scene(scene):
+    """Set ``scene`` up as every built scene is: Cycles, metric units, unit scale 1 (1 unit = 1 m)."""
+    scene.render.engine = "CYCLES"
+    scene.unit_settings.system = "METRIC"
+    scene.unit_settings.scale_length = 1.0
+    return scene
+
+
 def black_world(scene, name="black"):
     """Give ``scene`` a new world whose Background emits nothing (strength 0, colour black)."""
     world = bpy.data.worlds.new(name)

@@ -20,7 +20,7 @@ import time
 import bpy
 
 from ..compat import ensure_node_tree
-from .builders import black_world, closed_box, diffuse_material
+from .builders import black_world, closed_box, diffuse_material, metric_cycles_scene
 
 ROOM = (4.0, 4.0, 3.0)
 WALL = 0.1
@@ -57,9 +57,7 @@ def build(scene=None, *, glass=True, pane_renders=True):
     ``glass``: put the pane in the window; ``pane_renders``: False hides it in renders (the window is
     then open for Cycles and the meter)."""
     scene = scene or bpy.context.scene
-    scene.render.engine = "CYCLES"
-    scene.unit_settings.system = "METRIC"
-    scene.unit_settings.scale_length = 1.0
+    metric_cycles_scene(scene)
     black_world(scene, "Black")
     room = bpy.data.collections.new("Daylit Room")
     scene.collection.children.link(room)

@@ -9,7 +9,7 @@ import math
 
 import bpy
 
-from .builders import black_world, closed_box, diffuse_material
+from .builders import black_world, closed_box, diffuse_material, metric_cycles_scene
 
 ROOM = (4.0, 4.0, 3.0)
 DESK = {"centre": (0.4, -0.3), "size": (1.6, 0.8)}  # top at WORK_PLANE_HEIGHT
@@ -22,9 +22,7 @@ def build(scene=None, *, with_meters=True):
         scene = bpy.data.scenes.new("Radiometer Demo")
     if bpy.context.window is not None:
         bpy.context.window.scene = scene
-    scene.render.engine = "CYCLES"
-    scene.unit_settings.system = "METRIC"
-    scene.unit_settings.scale_length = 1.0
+    metric_cycles_scene(scene)
     black_world(scene, "Radiometer Demo Sky")
 
     room = bpy.data.collections.new("Room")
