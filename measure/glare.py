@@ -5,7 +5,16 @@ exact solid angle of their rectangle / ellipse) and photometric (IES/EULUMDAT) p
 gives a flat luminous opening (luminance = I / projected area, solid angle = projected area / d², as
 CIE 117 defines them). Left out, and said so: delta lights without a luminous area (point, spot,
 sphere lights: their luminance is not defined by the file), suns (daylight glare is DGP's field, not
-UGR's), emissive meshes and the sky seen through windows, sources outside CIE 117's field.
+UGR's), the sky seen through windows, sources outside CIE 117's field.
+
+Emissive meshes (an Emission shader of plain strength and colour: ``radiometry.emitters.EmissiveMesh``)
+count: Cycles' emission is Lambertian, so each triangle's luminance towards the eye is K x Y of its
+radiance (strength x colour, SI), whatever the direction; its solid angle is exact (Van Oosterom &
+Strackee); only triangles whose centre the eye sees (nothing of the scene in between, the mesh's own
+far side included) count, each whole. The object is one source: omega the sum, L such that L^2 omega
+is the sum of the triangles' L^2 omega, p at the centre of the luminous area seen. Left out, and said
+so: emission the capture cannot read (a texture, a node chain), meshes invisible to camera rays, and
+meshes of more than :data:`MAX_SOURCE_TRIANGLES` triangles.
 
 Background: Lb = E_ind / pi, E_ind = the vertical illuminance at the eye minus its direct part (both
 measured by the meter: closed forms where proven, Cycles with lights transparent to rays otherwise).
@@ -19,6 +28,9 @@ import numpy as np
 from ..errors import RadiometerError
 from ..radiometry import glare as glare_math
 from ..radiometry import lights as light_models
+
+
+MAX_SOURCE_TRIANGLES = 20000  #: an emitting mesh with more triangles is left out (said so), not rated
 
 
 @dataclasses.dataclass
@@ -97,6 +109,49 @@ def _source_geometry(spec, eye, efficacy, weights, photometry_for):
     return None, f"a {spec.kind.lower()} light without a luminous area: its luminance is not defined"
 
 
+def _rate(sources, left_out, name, geometry, view, eye, up):
+    """Add one source seen from ``eye`` to ``sources`` when it is in CIE 117's field, else to ``left_out``."""
+    luminance, omega, centre = geometry
+    sigma, tau, elevation = glare_math.view_angles(view, centre - eye, up)
+    if not glare_math.in_field(sigma, elevation):
+        why = "below the line of sight" if elevation <= 0 else "behind the eye (90 deg or more off the view)"
+        left_out.append({"name": name, "reason": f"outside CIE 117's field: {why}"})
+        return
+    sources.append({"name": name, "luminance": float(luminance), "solid_angle": float(omega),
+                    "position_index": float(glare_math.position_index(sigma, tau)),
+                    "sigma_deg": float(sigma), "tau_deg": float(tau)})
+
+
+def _mesh_source(mesh, eye, efficacy, weights, model):
+    """(luminance cd/m², solid angle sr, centre) of an emitting mesh seen from ``eye``, or (None, reason)."""
+    from ..radiometry import visibility
+    from ..radiometry.emitters import RayVisibility
+
+    if mesh.radiance is None:
+        return None, "emissive surface whose emission the capture cannot read (a texture or node chain): not rated"
+    if not mesh.visibility & RayVisibility.CAMERA:
+        return None, "emissive surface invisible to camera rays: the eye does not see it"
+    tris = np.asarray(mesh.triangles, float)
+    if len(tris) > MAX_SOURCE_TRIANGLES:
+        return None, f"emissive mesh of {len(tris)} triangles (more than {MAX_SOURCE_TRIANGLES}): not rated"
+    luminance = efficacy * (np.asarray(mesh.radiance, float) @ weights)
+    lit = luminance > 0
+    centres = tris.mean(axis=1)
+    to = centres - eye
+    dist = np.linalg.norm(to, axis=1)
+    dirs = to / np.where(dist > 0, dist, 1.0)[:, None]
+    # Both sides emit: every lit triangle whose centre the eye sees (nothing nearer on the ray) counts.
+    hit, _index, _facing = visibility.first_hits(eye, dirs[lit], model.geometry.triangles)
+    seen = np.zeros(len(tris), bool)
+    seen[lit] = hit >= dist[lit] * (1.0 - 1e-6) - 1e-6
+    if not seen.any():
+        return None, "no emitting triangle in the eye's view (hidden or unlit)"
+    omega = glare_math.triangle_solid_angles(eye, tris[seen])
+    areas = 0.5 * np.linalg.norm(np.cross(tris[seen, 1] - tris[seen, 0], tris[seen, 2] - tris[seen, 0]), axis=1)
+    lum, total, centre = glare_math.patches_as_one_source(centres[seen], areas, luminance[seen], omega)
+    return (lum, total, centre), None
+
+
 def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0.0, 0.0, 1.0)):
     """CIE 117 UGR for an eye at ``observer`` (scene coordinates) looking along ``view_direction``.
 
@@ -127,7 +182,17 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0
     space, weights, efficacy = meter.scene_photometry(scene)
 
     sources, left_out = [], []
-    for light in model.lights:
+    candidates = [(light, None) for light in model.lights] + [(None, mesh) for mesh in
+                                                             getattr(model, "emissive_meshes", [])]
+    for light, mesh in candidates:
+        if mesh is not None:
+            name = mesh.name or "emissive surface"
+            geometry, reason = _mesh_source(mesh, eye, efficacy, weights, model)
+            if geometry is None:
+                left_out.append({"name": name, "reason": reason})
+                continue
+            _rate(sources, left_out, name, geometry, view, eye, up)
+            continue
         if light.spec is None:
             left_out.append({"name": light.name, "reason": f"not modelled ({light.uncovered})"})
             continue
@@ -147,18 +212,13 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0
         if geometry is None:
             left_out.append({"name": light.name, "reason": reason})
             continue
-        luminance, omega, centre = geometry
-        sigma, tau, elevation = glare_math.view_angles(view, centre - eye, up)
-        if not glare_math.in_field(sigma, elevation):
-            why = "below the line of sight" if elevation <= 0 else "behind the eye (90 deg or more off the view)"
-            left_out.append({"name": light.name, "reason": f"outside CIE 117's field: {why}"})
-            continue
-        sources.append({"name": light.name, "luminance": float(luminance), "solid_angle": float(omega),
-                        "position_index": float(glare_math.position_index(sigma, tau)),
-                        "sigma_deg": float(sigma), "tau_deg": float(tau)})
+        _rate(sources, left_out, light.name, geometry, view, eye, up)
     notes = []
-    if np.any(model.geometry.emissive):
+    if np.any(model.geometry.emissive) and not getattr(model, "emissive_meshes", None):
         notes.append("emissive surfaces are not rated as glare sources (their light counts in the background)")
+    elif getattr(model, "emissive_meshes", None):
+        notes.append("emissive meshes are rated from their triangles the eye sees, each triangle counted whole "
+                     "(partly hidden triangles are not cut)")
     if model.world_emits:
         notes.append("the world (sky through windows) is not rated as a glare source; its light counts in the "
                      "background")
@@ -169,6 +229,7 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0
                      "but CIE 147 treats such sources separately")
 
     total = meter.measure_illuminance(eye_scene, view, scene=scene, quality=quality)
+    # direct_only: light straight from every source, emitting surfaces included (rendered at 0 bounces)
     direct = meter.measure_illuminance(eye_scene, view, scene=scene, quality=quality, direct_only=True)
     e_total, e_direct = float(total.illuminance), float(direct.illuminance)
     e_ind = e_total - e_direct

@@ -101,6 +101,35 @@ def polygon_solid_angle(eye, vertices):
     return abs(total)
 
 
+def triangle_solid_angles(eye, triangles):
+    """Exact solid angles (sr) of triangles (T, 3, 3) seen from ``eye`` (Van Oosterom & Strackee, as
+    :func:`polygon_solid_angle`), vectorised; independent of the winding."""
+    p = np.asarray(triangles, float).reshape(-1, 3, 3) - np.asarray(eye, float)
+    a, b, c = p[:, 0], p[:, 1], p[:, 2]
+    la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
+    num = np.einsum("ij,ij->i", a, np.cross(b, c))
+    den = (la * lb * lc + np.einsum("ij,ij->i", a, b) * lc + np.einsum("ij,ij->i", a, c) * lb
+           + np.einsum("ij,ij->i", b, c) * la)
+    return np.abs(2.0 * np.arctan2(num, den))
+
+
+def patches_as_one_source(centres, areas, luminances, solid_angles):
+    """One CIE 117 source made of patches (an emitting mesh's triangles): (L cd/m², omega sr, centre m).
+
+    omega = the sum of the patches' solid angles; L = sqrt(sum L_i^2 omega_i / omega), so that
+    L^2 omega / p^2 is the sum of the patches' terms at one position index p (exact for a uniform
+    luminance, which is what CIE 117 assumes of a luminaire); the centre, where p is taken, is the
+    centre of the luminous area (area-weighted mean of the patch centres), as for a luminaire.
+    """
+    w = np.asarray(solid_angles, float)
+    a = np.asarray(areas, float)
+    omega = float(w.sum())
+    if not omega > 0 or not a.sum() > 0:
+        return 0.0, 0.0, np.zeros(3)
+    centre = (a[:, None] * np.asarray(centres, float)).sum(axis=0) / a.sum()
+    return float(np.sqrt(w @ np.asarray(luminances, float) ** 2 / omega)), omega, centre
+
+
 def disk_polygon(centre, edge_u, edge_v, sides=2048):
     """Vertices of an ellipse (full diameters ``edge_u``, ``edge_v``) as an inscribed ``sides``-gon.
 

@@ -61,3 +61,22 @@ def test_projected_opening_and_units():
     assert glare.luminous_opening_m({"luminous_width_mm": 0, "luminous_length_mm": 200}) == (-0.2, -0.2, 0.0)
     assert glare.luminous_opening_m({"units_type": 2, "luminous_width": 0, "luminous_length": 0,
                                      "luminous_height": 0}) is None
+
+
+def test_triangles_and_patches_make_one_source():
+    """A square split into two triangles: the triangles' solid angles add up to the square's (Van Oosterom &
+    Strackee both ways, and the closed form of a square on its axis, 4 asin(a² / (a² + 4 h²))); uniform
+    patches keep their luminance; the centre is the centre of the luminous area."""
+    from radiometer.radiometry import glare as g
+
+    eye = np.array([0.3, -0.2, 0.0])
+    square = np.array([[-0.5, -0.5, 2.0], [0.5, -0.5, 2.0], [0.5, 0.5, 2.0], [-0.5, 0.5, 2.0]])
+    tris = np.array([square[[0, 1, 2]], square[[0, 2, 3]]])
+    omega = g.triangle_solid_angles(eye, tris)
+    assert omega.sum() == pytest.approx(g.polygon_solid_angle(eye, square), rel=1e-12)
+    on_axis = g.triangle_solid_angles(np.zeros(3), tris).sum()
+    assert on_axis == pytest.approx(4 * np.arcsin(1.0 / (1.0 + 4 * 2.0**2)), rel=1e-12)
+    lum, total, centre = g.patches_as_one_source(tris.mean(axis=1), [0.5, 0.5], [800.0, 800.0], omega)
+    assert lum == pytest.approx(800.0) and total == pytest.approx(omega.sum()) and centre == pytest.approx([0, 0, 2])
+    lum, _total, _c = g.patches_as_one_source(tris.mean(axis=1), [0.5, 0.5], [600.0, 800.0], [1.0, 1.0])
+    assert lum == pytest.approx(np.sqrt((600.0**2 + 800.0**2) / 2))  # L² omega is the sum of the patches' terms

@@ -19,6 +19,7 @@ import office  # noqa: E402
 import reference  # noqa: E402
 
 from radiometer import api  # noqa: E402
+from radiometer.compat import ensure_node_tree  # noqa: E402
 
 
 def _panel_integrals(eye, view, centre, side, cells=400):
@@ -66,6 +67,56 @@ def test_ugr_office_area_lights_against_independent_cie117(clean_blender):
     assert g.background_luminance == pytest.approx(lb, rel=0.03)
     assert abs(g.ugr - expected) < 0.5, (g.ugr, expected, g.background_luminance, lb)
     assert g.ugr_std_error < 0.2
+
+
+def _emissive_square(scene, name, centre, side, strength):
+    """A down-facing square mesh with an Emission shader (white, ``strength``): radiance = strength W/(m² sr)
+    per channel (Blender manual: strength 1 shows the colour as it is)."""
+    h = side / 2
+    x, y, z = centre
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata([(x - h, y - h, z), (x - h, y + h, z), (x + h, y + h, z), (x + h, y - h, z)], [], [(0, 1, 2, 3)])
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    emission = tree.nodes.new("ShaderNodeEmission")
+    emission.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    emission.inputs["Strength"].default_value = strength
+    tree.links.new(emission.outputs["Emission"], tree.nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
+    mesh.materials.append(mat)
+    obj = bpy.data.objects.new(name, mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def test_ugr_emissive_meshes_against_independent_cie117(clean_blender):
+    """The office's panels as emitting squares (Emission shader, radiance = the area panels' P / (pi A)):
+    each is a source of luminance K x strength, its solid angle the 400 x 400-cell integral, p from Guth's
+    geometry at its centre; the background excludes their direct light (E_total - E_ind = the integrated
+    direct illuminance at the eye)."""
+    scene = bpy.context.scene
+    office.build(scene, panels=False)
+    strength = office.PANEL_POWER / (math.pi * office.PANEL ** 2)  # W/(m² sr)
+    for k, (x, y) in enumerate(office.PANELS):
+        _emissive_square(scene, f"Glow {k + 1}", (x, y, office.PANEL_Z), office.PANEL, strength)
+    eye, view = np.array(office.EYE), np.array(office.VIEW)
+    g = api.glare_ugr(office.EYE, office.VIEW, scene=scene, quality="standard")
+    assert len(g.sources) == 4, g.left_out
+    lum = 683.0 * strength
+    terms, e_direct = 0.0, 0.0
+    for k, (x, y) in enumerate(office.PANELS):
+        omega, projected = _panel_integrals(eye, view, (x, y, office.PANEL_Z), office.PANEL)
+        H, T, R = office.PANEL_Z - eye[2], abs(x - eye[0]), y - eye[1]
+        p = _levin(math.degrees(math.atan(math.hypot(H, T) / R)), math.degrees(math.atan2(T, H)))
+        terms += lum**2 * omega / p**2
+        e_direct += lum * projected
+        mine = next(s for s in g.sources if s["name"].startswith(f"Glow {k + 1}"))
+        assert mine["luminance"] == pytest.approx(lum, rel=1e-6)
+        assert mine["solid_angle"] == pytest.approx(omega, rel=1e-4)
+        assert mine["position_index"] == pytest.approx(p, rel=1e-6)
+    assert g.total_illuminance - g.indirect_illuminance == pytest.approx(e_direct, rel=0.03)
+    expected = 8 * math.log10(0.25 / g.background_luminance * terms)
+    assert abs(g.ugr - expected) < 0.05, (g.ugr, expected)
 
 
 def test_ugr_left_out_sources_are_named(clean_blender):
