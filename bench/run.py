@@ -962,6 +962,8 @@ def markdown(res):
         out += speed.batch_cost_markdown(res["batch_cost"])
     if "radiance" in res:
         out += speed.radiance_markdown(res["radiance"])
+    if "allocation_coverage" in res:
+        out += speed.allocation_coverage_markdown(res["allocation_coverage"])
     if "cluster" in res:
         c = res["cluster"]
         out += ["## Scale-out on Dask (issue 20)", "",
@@ -990,6 +992,7 @@ BENCHES = {"batching": bench_batching, "overhead": bench_overhead, "throughput":
 BENCHES["capture"] = lambda: speed.bench_capture(QUICK)
 BENCHES["batch_cost"] = lambda: speed.bench_batch_cost(QUICK)
 BENCHES["radiance"] = lambda: speed.bench_radiance(_RESULTS.get("throughput"), QUICK)
+BENCHES["allocation_coverage"] = lambda: speed.bench_allocation_coverage(QUICK)
 _RESULTS = {}
 
 
