@@ -152,13 +152,7 @@ def test_ugr_office_against_evalglare(clean_blender, tmp_path):
     g = api.glare_ugr(office.EYE, office.VIEW, scene=scene, quality="standard")
     for obj in panels:
         bpy.data.objects.remove(obj)
-    i0 = office.panel_luminance() * office.PANEL ** 2  # cd
-    v = [5.0 * k for k in range(19)]
-    path = tmp_path / "panel.ies"
-    path.write_text(IES_COSINE.format(v=" ".join(f"{a:g}" for a in v),
-                                      cd=" ".join(f"{i0 * math.cos(math.radians(a)):.6f}" for a in v)))
-    for k, (x, y) in enumerate(office.PANELS):
-        api.import_luminaire(str(path), scene=scene, location=(x, y, office.PANEL_Z), name=f"Luminaire {k + 1}")
+    _ies_luminaires(scene, tmp_path, office.panel_luminance() * office.PANEL ** 2)  # I0 = L A, cd
     g_ies = api.glare_ugr(office.EYE, office.VIEW, scene=scene, quality="standard")
     assert len(g_ies.sources) == 4, g_ies.left_out
     env = dict(os.environ, RAYPATH=f".:{os.path.join(RADIANCE, 'lib')}")
@@ -195,18 +189,23 @@ TILT=NONE
 """
 
 
+def _ies_luminaires(scene, folder, i0):
+    """The office's four panels as IES luminaires: a 0.6 m square opening, I = i0 cos(gamma) cd."""
+    v = [5.0 * k for k in range(19)]
+    path = folder / "panel.ies"
+    path.write_text(IES_COSINE.format(v=" ".join(f"{a:g}" for a in v),
+                                      cd=" ".join(f"{i0 * math.cos(math.radians(a)):.6f}" for a in v)))
+    for k, (x, y) in enumerate(office.PANELS):
+        api.import_luminaire(str(path), scene=scene, location=(x, y, office.PANEL_Z), name=f"Luminaire {k + 1}")
+
+
 def test_ugr_office_ies_luminaires_against_independent_cie117(clean_blender, tmp_path):
     """IES luminaires with a 0.6 x 0.6 m flat opening and I = I0 cos(gamma): L = I0 / A in every direction,
     omega = A cos(gamma) / d² (CIE 117's definitions), direct E at the eye = sum I cos(theta_eye) / d²."""
     scene = bpy.context.scene
     office.build(scene, panels=False)
     i0 = 2500.0  # cd
-    v = [5.0 * k for k in range(19)]
-    path = tmp_path / "panel.ies"
-    path.write_text(IES_COSINE.format(v=" ".join(f"{a:g}" for a in v),
-                                      cd=" ".join(f"{i0 * math.cos(math.radians(a)):.6f}" for a in v)))
-    for k, (x, y) in enumerate(office.PANELS):
-        api.import_luminaire(str(path), scene=scene, location=(x, y, office.PANEL_Z), name=f"Luminaire {k + 1}")
+    _ies_luminaires(scene, tmp_path, i0)
     g = api.glare_ugr(office.EYE, office.VIEW, scene=scene, quality="standard")
     assert len(g.sources) == 4, g.left_out
     eye, view = np.array(office.EYE), np.array(office.VIEW)
