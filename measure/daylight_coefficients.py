@@ -311,6 +311,7 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
     folder = tempfile.mkdtemp(prefix="radiometer_dc_")
     view_layer = view_layer_of(scene)
     added_groups = []
+    active_group = view_layer.active_lightgroup_index
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
             model = meter.capture_model(scene, view_layer)
@@ -382,6 +383,8 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
             lg = view_layer.lightgroups.get(g)
             if lg is not None:
                 view_layer.lightgroups.remove(lg)
+        if view_layer.active_lightgroup_index != active_group:  # adding and removing groups moved it
+            view_layer.active_lightgroup_index = active_group
         shutil.rmtree(folder, ignore_errors=True)
     npix = total.shape[-1]
     dc = (total.sum(axis=2) / (nrounds * npix)).T  # (P, N) irradiance per unit radiance

@@ -68,6 +68,7 @@ def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blend
     the errors over 100 skies x 3 meters must look like their stated standard errors (RMS z < 1.5,
     none beyond 5), and a uniform sky is exact (every ray ends on some patch: the dome has no cracks)."""
     from radiometer.measure import daylight_coefficients as dcm
+    from radiometer.measure import scene_guard
     from radiometer.radiometry import perez
 
     scene = bpy.context.scene
@@ -78,15 +79,21 @@ def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blend
     # diffuse ray's visibility (the floor must not hide the ground patch), and the user's flag comes back.
     floor = build.plane(scene, size=20.0, location=(0, 0, 0))
     floor.visible_diffuse = False
+    user_group = bpy.data.node_groups.new("user compositor", "CompositorNodeTree")
+    scene.compositing_node_group = user_group
+    scene.view_layers[0].lightgroups.add(name="user group")
     before = {name: len(getattr(bpy.data, name)) for name in ("objects", "meshes", "materials", "cameras", "texts",
                                                                 "node_groups", "worlds")}
-    group = scene.compositing_node_group
+    scene.view_layers[0].update()  # the fingerprint reads the evaluated view layer too
+    fingerprint = scene_guard.scene_fingerprint(scene)
     patches = sky_patches.reinhart_patches(1)
     normals = np.array([(0, 0, 1), (0, -1, 0), (1, 0, 0)], float)
     c = dcm.render_coefficients(np.array([(0, 0, 5), (3, 0, 5), (0, 3, 5)], float), normals, scene=scene,
                                 quality="preview", seed=3)
     assert scene.world == world and not light.hide_render and scene.camera is None
-    assert scene.compositing_node_group == group and len(scene.view_layers[0].lightgroups) == 0
+    assert scene.compositing_node_group == user_group
+    assert [g.name for g in scene.view_layers[0].lightgroups] == ["user group"]
+    assert scene_guard.scene_fingerprint(scene) == fingerprint
     assert {name: len(getattr(bpy.data, name)) for name in before} == before
     assert floor.visible_camera and not floor.visible_diffuse
     ref = np.array([[closed_form(p, patches, n) for n in normals] for p in range(patches.count)])
