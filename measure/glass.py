@@ -268,3 +268,58 @@ def swap_panes(snapshot, panes):
             slot.material = mat
         done[pane.source] = mat
     return sorted(done)
+
+
+# --- sharp mirrors (issue 18) ---------------------------------------------------------------------------
+
+#: Largest roughness read as a sharp mirror: Cycles' alpha = r^2 = 0.01 is a lobe of about half a
+#: degree, whose image of a small light a path tracer finds about as rarely as a refracted one.
+SHARP_ROUGHNESS = 0.1
+
+_REFLECTING_NODES = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic", "ShaderNodeBsdfMetallic",
+                     "ShaderNodeBsdfPrincipled", "ShaderNodeBsdfGlass")
+
+
+def _sharp(node, roughness="Roughness"):
+    socket = node.inputs.get(roughness)
+    return socket is not None and (socket.is_linked or float(socket.default_value) <= SHARP_ROUGHNESS)
+
+
+def sharp_mirror(material):
+    """True when ``material`` may reflect like a sharp mirror: a Glossy, Metallic, Glass or Principled
+    BSDF (its specular layer, or a coat) whose roughness is at most SHARP_ROUGHNESS or fed by a link
+    (a texture may be sharp somewhere). Every node of the tree counts (conservative)."""
+    from ..compat import active_node_tree
+
+    tree = active_node_tree(material) if material is not None else None
+    if tree is None:
+        return False
+    for node in tree.nodes:
+        if node.bl_idname not in _REFLECTING_NODES or node.mute:
+            continue
+        if _sharp(node):
+            return True
+        coat = node.inputs.get("Coat Weight")
+        if coat is not None and (coat.is_linked or float(coat.default_value) > 0.0) and _sharp(node, "Coat Roughness"):
+            return True
+    return False
+
+
+def mirror_triangles(model):
+    """((T, 3, 3) triangles in m, (T,) object names) of the render-visible objects that have a
+    sharp-mirror material (``sharp_mirror``) and are visible to glossy rays; panes count (their
+    thin-glass stand-in reflects sharply)."""
+    import numpy as np
+
+    g = model.geometry
+    keep = np.zeros(len(g.object_names), bool)
+    for k, name in enumerate(g.object_names):
+        obj = bpy.data.objects.get(name.split(" (instance ")[0])
+        if obj is None or not obj.visible_glossy:
+            continue
+        keep[k] = any(sharp_mirror(slot.material) for slot in obj.material_slots)
+    if not keep.any():
+        return np.zeros((0, 3, 3)), np.zeros(0, dtype=object)
+    index = np.asarray(g.object_index, int)
+    chosen = keep[index]
+    return np.asarray(g.triangles, float)[chosen], np.asarray(g.object_names, dtype=object)[index[chosen]]

@@ -370,6 +370,52 @@ def medium_transmittance(model, points_m, medium, through):
     return out
 
 
+def mirror_bounds(model, points_m, normals):
+    """Sharp mirror images of small lights (issue 18): ((N, 3) W/m^2 bound, ["'light' in 'mirror'"...]).
+
+    For a point, spot or sun light and every meter that sees its image in a triangle of a sharp
+    mirror (``glass.mirror_triangles``), the image's closed form with reflectance 1: I(towards the
+    mirror point) cos / r^2 from the mirrored position, or the sun's normal irradiance x cos of its
+    mirrored direction; one per distinct image (summed). Occlusion is ignored (a bound)."""
+    from ..radiometry import lights as light_models, visibility
+    from . import glass
+
+    n = len(points_m)
+    out = np.zeros((n, 3))
+    small = [(i, lt) for i, lt in enumerate(model.lights)
+             if lt.spec is not None and not lt.portal and lt.reaches_diffuse and lt.spec.kind in ("SUN", "POINT", "SPOT")]
+    if not small or not model.geometry.count:
+        return out, []
+    tris, owners = glass.mirror_triangles(model)
+    if not len(tris):
+        return out, []
+    names = set()
+    for i, light in small:
+        spec = light.spec
+        sun = spec.kind == "SUN"
+        to_sun = -np.asarray(spec.emission_direction, float) if sun else None
+        if sun:
+            e_normal = light_models.irradiance(spec, points_m[:1], to_sun[None, :])[0]
+        for k in range(n):
+            hit, image, at = visibility.mirror_images(points_m[k], tris, None if sun else spec.position, to_sun)
+            seen = set()
+            for j in np.flatnonzero(hit):
+                key = tuple(np.round(image[j], 9))
+                if key in seen:
+                    continue
+                seen.add(key)
+                if sun:
+                    out[k] += e_normal * max(0.0, float(normals[k] @ image[j]))
+                else:
+                    d = image[j] - points_m[k]
+                    r = float(np.linalg.norm(d))
+                    cos = max(0.0, float(normals[k] @ d) / r)
+                    out[k] += spec.intensity_towards(at[j] - np.asarray(spec.position, float)) * cos / r ** 2
+            if seen:
+                names.add(f"{light.name!r} in {owners[np.flatnonzero(hit)[0]]!r}")
+    return out, sorted(names)
+
+
 def may_be_lit(direct, direct_only=False):
     """(N,) bool: meters that rendered light may reach by a path a pilot can miss (issue 18): a
     reflecting surface above the horizon, a light that must be rendered there, or the world."""
@@ -558,6 +604,12 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
         notes.append("caustic light may be missing: a small light reaches some meter only through a refracting "
                      "object that is not a thin pane (Cycles rarely finds such paths); its unoccluded closed "
                      "form is counted as the error bound, not a small error")
+    mirrored, names = mirror_bounds(model, sensors_m, normals)
+    if names:
+        bound_rgb += mirrored
+        notes.append(f"a sharp mirror image of a small light may be missing ({'; '.join(names)}): a path tracer "
+                     "rarely finds a small light seen in a sharp mirror (a caustic); the image's closed form "
+                     "(reflectance 1, occlusion ignored) is counted as the error bound, not a small error")
     if stacked and bound_rgb.any():
         notes.append("light bouncing between panes of multiple glazing is not found by rendering: its "
                      "closed-form share is in the stated error bound")

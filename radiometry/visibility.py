@@ -304,3 +304,51 @@ def first_hits(origin, directions, triangles):
             k = np.flatnonzero(ok)[np.argmin(t[ok])]
             dist[r], index[r], facing[r] = t[k], k, float(normal[k] @ d)
     return dist, index, facing
+
+
+def mirror_images(point, triangles, light_position=None, to_light=None, tol=1e-9):
+    """Where a planar mirror triangle shows a small light to a receiver at ``point`` (issue 18).
+
+    Give ``light_position`` (m) for a point/spot light, or ``to_light`` (unit vector towards a light at
+    infinity, the sun). A triangle shows the light when the receiver and the light lie in front of its
+    plane and the segment (ray, for the sun) from the receiver to the light's mirror image crosses the
+    triangle. Occlusion is not tested (callers use this for a bound). Returns (mask (T,) bool, image
+    positions (T, 3) m (points: the mirrored light) or mirrored directions (T, 3) (sun), hit points
+    (T, 3) m on the triangles).
+    """
+    p = np.asarray(point, float)
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    n_t = len(tris)
+    if n_t == 0:
+        return np.zeros(0, bool), np.zeros((0, 3)), np.zeros((0, 3))
+    v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    normal, ok = _unit_rows(np.cross(e1, e2))
+    side_p = np.einsum("tk,tk->t", p - v0, normal)
+    normal = np.where((side_p < 0)[:, None], -normal, normal)  # the receiver's side is the front
+    side_p = np.abs(side_p)
+    if light_position is not None:
+        light = np.asarray(light_position, float)
+        side_l = np.einsum("tk,tk->t", light - v0, normal)
+        image = light - 2.0 * side_l[:, None] * normal
+        d = image - p
+        front = side_l > tol
+        t_max = 1.0
+    else:
+        s = np.asarray(to_light, float) / np.linalg.norm(to_light)
+        side_l = normal @ s
+        image = s - 2.0 * side_l[:, None] * normal  # the mirrored direction
+        d = image
+        front = side_l > tol
+        t_max = np.inf
+    pvec = np.cross(d, e2)
+    det = np.einsum("tk,tk->t", e1, pvec)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = 1.0 / det
+        tvec = p - v0
+        u = np.einsum("tk,tk->t", tvec, pvec) * inv
+        qvec = np.cross(tvec, e1)
+        v = np.einsum("tk,tk->t", qvec, d) * inv
+        t = np.einsum("tk,tk->t", qvec, e2) * inv
+        hit = ok & front & (side_p > tol) & np.isfinite(inv) & (u >= -tol) & (v >= -tol) & (u + v <= 1 + tol) \
+            & (t > 0) & (t < t_max)
+    return hit, image, p + np.nan_to_num(t)[:, None] * d

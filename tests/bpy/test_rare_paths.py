@@ -3,6 +3,7 @@ light could arrive by a path that the pilot may have missed."""
 
 import math
 
+import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
@@ -26,3 +27,43 @@ def test_dark_meter_facing_a_surface_states_no_zero_error(clean_blender, build):
     # The same meter facing the lamp reads the closed form exactly, with nothing to render.
     lit = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), quality="preview")
     assert lit.illuminance == pytest.approx(683 * 100 / (4 * math.pi) / 4, rel=1e-6)
+
+
+def _mirror_scene(build, roughness):
+    """A 100 W point lamp 1 m above a 2 x 2 m floor that is a Glossy BSDF of ``roughness``."""
+    from radiometer.compat import ensure_node_tree
+
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "POINT", location=(-0.5, 0.0, 1.0), energy=100.0, shadow_soft_size=0.0)
+    floor = build.plane(scene, size=2.0, name="mirror")
+    tree = ensure_node_tree(floor.data.materials[0])
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    glossy = tree.nodes.new("ShaderNodeBsdfGlossy")
+    glossy.inputs["Roughness"].default_value = roughness
+    tree.links.new(glossy.outputs[0], out.inputs["Surface"])
+    return scene
+
+
+def test_small_light_in_a_sharp_mirror_is_a_bound_not_a_small_error(clean_blender, build):
+    """Issue 18: the image of a point lamp in a sharp mirror is a caustic for a path tracer (the render
+    finds none of it). Reference: the image's closed form, I cos / r^2 from the lamp mirrored in the
+    floor, I = P / (4 pi) (FACTS.md)."""
+    from radiometer import api
+
+    _mirror_scene(build, roughness=0.0)
+    # facing down and sideways towards the lamp: the lamp directly (a closed form) and its image
+    n = (-1 / math.sqrt(2), 0.0, -1 / math.sqrt(2))
+    r = api.measure_illuminance((0.5, 0.0, 1.0), n, quality="preview")
+    direct = 683 * 100 / (4 * math.pi) * (1 / math.sqrt(2)) / 1.0  # lamp 1 m away along -X
+    d = np.array([-1.0, 0.0, -2.0])  # to the image at (-0.5, 0, -1)
+    image = 683 * 100 / (4 * math.pi) * float(np.dot(n, d) / np.linalg.norm(d)) / float(d @ d)
+    assert r.illuminance == pytest.approx(direct, rel=0.02)  # the render finds (almost) none of the image
+    assert any("sharp mirror image" in note and "'point' in 'mirror'" in note for note in r.notes), r.notes
+    assert r.rel_error_bound * r.illuminance == pytest.approx(image, rel=1e-6)
+    assert r.rel_std_error >= (1 - 1e-9) * image / r.illuminance  # the truth (direct + image) within 1 stated error
+    # A rough floor (roughness 0.5) is no mirror: rendered as usual, no such bound.
+    bpy.data.objects["mirror"].data.materials[0].node_tree.nodes["Glossy BSDF"].inputs["Roughness"].default_value = 0.5
+    r = api.measure_illuminance((0.5, 0.0, 1.0), n, quality="preview")
+    assert not any("sharp mirror image" in note for note in r.notes) and r.rel_error_bound == 0.0
