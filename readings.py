@@ -94,6 +94,7 @@ def photographic_text(quantity, value, rgb, colour_space):
         parts.append(f"EV100 {ev:.1f} ({kind})")
     cct, duv = _cct(rgb, colour_space)
     if math.isfinite(cct):
+        duv = 0.0 if abs(duv) < 0.0005 else duv  # never '-0.000'
         parts.append(f"{round(cct, -1):.0f} K, Duv {duv:+.3f}")
     return " · ".join(parts)
 

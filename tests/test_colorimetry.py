@@ -104,3 +104,8 @@ def test_photographic_text():
     r = _reading(tuple(photometry.blackbody_rgb(3000.0)), 250.0)
     assert photographic_summary(r) == "EV100 6.6 (incident, flat sensor) · 3000 K, Duv +0.000"
     assert photographic_summary(_reading((0.0, 0.0, 0.0), 0.0)) == ""
+    # a tiny negative Duv rounds to +0.000, never '-0.000' (seen in the client report's meter table)
+    from radiometer.readings import photographic_text
+
+    assert -0.0005 < colorimetry.cct_duv_of_rgb((1.0, 0.9375, 1.0), "Linear Rec.709")[1] < 0  # Duv -0.000496
+    assert photographic_text("illuminance", 250.0, (1.0, 0.9375, 1.0), "Linear Rec.709").endswith("Duv +0.000")
