@@ -149,7 +149,8 @@ def coefficient_tasks(locations, normals, *, m=1, quality="preview", samples=Non
             for start in range(0, count, chunk)]
 
 
-def dome_task(scene, *, locations, normals, m=1, quality="preview", samples=None, seed=0, cancelled=None):
+def dome_task(scene, *, locations, normals, m=1, quality="preview", samples=None, seed=0, cancelled=None,
+              progress=None):
     """One task of the dome method: (DC (P, n), standard error (P, n), covariance (n, P, P)) of these
     points (``measure.daylight_coefficients.render_coefficients``); the scene is restored."""
     from . import daylight_coefficients as dcm
@@ -158,7 +159,7 @@ def dome_task(scene, *, locations, normals, m=1, quality="preview", samples=None
     points, _single = meter.as_points(locations, "locations")
     dirs = meter.as_directions(normals, len(points), "normals")
     c = dcm.render_coefficients(points, dirs, scene=scene, m=m, quality=quality, samples=samples, seed=seed,
-                                cancelled=cancelled)
+                                cancelled=cancelled, progress=progress)
     return c.dc, c.std_error, c.covariance, c.notes
 
 
@@ -219,7 +220,10 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, scene=None, m=1
     else:
         parts = []
         for k, task in enumerate(tasks):
-            parts.append(func(scene, cancelled=cancelled, **task))
+            extra = {}
+            if method == "dome" and progress is not None:  # per round inside the task
+                extra["progress"] = lambda done, total, _eta, k=k: progress(k * total + done, len(tasks) * total, None)
+            parts.append(func(scene, cancelled=cancelled, **task, **extra))
             if progress is not None:
                 progress(k + 1, len(tasks), None)
     if method == "dome":
