@@ -417,6 +417,12 @@ def summary_table(report):
     return "\n".join(lines)
 
 
+def _who_broke(result):
+    """'light', 'scene', ...: with the light's near field named as such when its shape explains it."""
+    who = str(result.get("broken_by") or "")
+    return who.replace("light", "the light's near field") if result.get("expected_departure") else who
+
+
 def _same_type_text(names, most=4):
     """'Lamp 2, Lamp 3' or 'Lamp 2, Lamp 3, Lamp 4, Lamp 5 and 3 more'."""
     names = list(names)
@@ -505,24 +511,29 @@ def markdown(report):
             continue
         if r.get("departure"):
             md.append(f"**As expected:** {r['departure']}.\n")
-        md.append(f"{'Follows the law' if r['passed'] else 'Departs from I/d² (see causes)'}: exponent {_fmt(r['exponent'], '.4f')} ± "
+        heading = ("Follows the law" if r["passed"] else "Near field, as its shape predicts" if r.get("expected_departure")
+                   else "Departs from I/d² (see causes)")
+        md.append(f"{heading}: exponent {_fmt(r['exponent'], '.4f')} ± "
                   f"{_fmt(r['exponent_se'], '.2g')} (fit from {_fmt(r['fit_from'], '.3g')} m), near-field limit "
-                  f"{'not reached' if not _given(r['near_field_limit']) else _fmt(r['near_field_limit'], '.4g') + ' m'}, source size {r['source_size']:.3g} m (five-times rule "
+                  f"{_near_field_text(r).replace('>', 'beyond').replace('not reached', 'beyond the sweep')} m, source size {r['source_size']:.3g} m (five-times rule "
                   f"{r['five_times']['rule_distance']:.3g} m: {'holds' if r['five_times']['rule_holds'] else 'does not hold'}"
                   f"), measured by {r['method']}. Judged on the light's own direct light "
                   f"({r.get('direct_method') or r['method']}); the room adds up to {100 * r.get('max_scene_share', 0):.3g} % "
                   f"of a reading; the total {'also follows' if r.get('total_passed', True) else 'does not follow'} "
-                  f"the law{' (broken by: ' + r['broken_by'] + ')' if r.get('broken_by') else ''}.\n")
+                  f"the law{' (broken by: ' + _who_broke(r) + ')' if r.get('broken_by') else ''}.\n")
         for cause in r["causes"]:
             md.append(f"- cause: {cause}")
         for note in r["notes"]:
             md.append(f"- note: {note}")
-        md.append("\n| d (m) | E total (W/m²) | E direct (W/m²) | I/d² (W/m²) | direct dev. | total dev. | "
+        # lux where the scene gives an efficacy (the user's unit), else W/m² (CIE Y weighted)
+        k = r.get("efficacy") if _given(r.get("efficacy")) and r.get("efficacy", 0) > 0 else 1.0
+        unit = "lx" if k != 1.0 else "W/m²"
+        md.append(f"\n| d (m) | E total ({unit}) | E direct ({unit}) | I/d² ({unit}) | direct dev. | total dev. | "
                   "scene share | rel. s.e. | light's model dev. | ok |\n"
                   "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
         for row in r["rows"]:
-            md.append(f"| {row['distance']:.4g} | {row['measured']:.5g} | {row.get('direct', row['measured']):.5g} | "
-                      f"{row['predicted']:.5g} | {_pct(row.get('direct_deviation', row['rel_deviation']))} | "
+            md.append(f"| {row['distance']:.4g} | {k * row['measured']:.5g} | {k * row.get('direct', row['measured']):.5g} | "
+                      f"{k * row['predicted']:.5g} | {_pct(row.get('direct_deviation', row['rel_deviation']))} | "
                       f"{_pct(row['rel_deviation'])} | {100 * row.get('scene_share', 0):.3g} % | "
                       f"{100 * row['rel_std_error']:.2g} % | {_pct(row['model_deviation'])} | "
                       f"{_row_mark(row, r)} |")
@@ -536,7 +547,9 @@ def markdown(report):
             continue
         if c.get("departure"):
             md.append(f"**As expected:** {c['departure']}.\n")
-        md.append(f"{'Follows the law' if c['passed'] else 'Departs from cos θ (see causes)'} at {tuple(round(v, 3) for v in c['location'])}: max "
+        heading = ("Follows the law" if c["passed"] else "Extended source, as its shape predicts"
+                   if c.get("expected_departure") else "Departs from cos θ (see causes)")
+        md.append(f"{heading} at {tuple(round(v, 3) for v in c['location'])}: max "
                   f"deviation {100 * c['max_rel_deviation']:.3g} % at {c['max_at_deg']:g} deg; onset "
                   f"{_fmt(c['onset_deg'], 'g')} deg; source reaches the horizon at {c['horizon_onset_deg']:.3g} deg. "
                   f"Judged on the light's own direct light; with the room's light the total deviates up to "
