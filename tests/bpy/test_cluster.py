@@ -397,15 +397,18 @@ def test_annual_daylight_coefficient_tasks_on_the_cluster_give_the_same_numbers(
 
     scene = _sun_study_scene(tmp_path / "court.blend")
     points = np.array([[0.0, -0.5, 0.8], [1.0, 2.0, 0.8]])
-    # daylight_coefficients(client=) sends exactly these tasks (146 patches in chunks of 16); two chunks
-    # (32 patch renders at a small fixed sample count) keep the test short. Same tasks, same seeds:
-    # the coefficients are equal, not just close.
-    tasks = annual.coefficient_tasks(points, np.tile([0.0, 0.0, 1.0], (2, 1)), samples=16)
-    assert len(tasks) == 10 and tasks[-1]["patch_indices"][-1] == 145
-    here = [annual.patch_coefficients(scene, **t) for t in tasks[1:3]]
-    client = request.getfixturevalue("client")  # after the in-process bakes (see the fixture)
-    there = run_scene_tasks(scene, annual.patch_coefficients, tasks[1:3], client=client, label="annual daylight")
-    for (d0, s0), (d1, s1) in zip(here, there):
-        assert d0.shape == (16, 2) and d0.sum() > 0
+    # daylight_coefficients(client=) sends exactly these tasks (the default dome method: one render per
+    # round for every sky patch, chunks of 256 points); two one-point chunks at 1 sample per pixel keep
+    # the test short. Same tasks, same seeds: the coefficients are equal, not just close (the dome's
+    # OSL camera compiles on the worker too).
+    tasks = annual.dome_tasks(points, np.tile([0.0, 0.0, 1.0], (2, 1)), samples=1)
+    assert len(tasks) == 1 and len(tasks[0]["locations"]) == 2
+    tasks = [dict(tasks[0], locations=points[k:k + 1], normals=tasks[0]["normals"][k:k + 1], seed=k) for k in (0, 1)]
+    here = [annual.dome_task(scene, **t) for t in tasks]
+    client = request.getfixturevalue("client")  # after the in-process renders (see the fixture)
+    there = run_scene_tasks(scene, annual.dome_task, tasks, client=client, label="annual daylight")
+    for (d0, s0, c0, _n0), (d1, s1, c1, _n1) in zip(here, there):
+        assert d0.shape == (146, 1) and d0.sum() > 0
         np.testing.assert_allclose(d1, d0, rtol=1e-9, atol=0)
         np.testing.assert_allclose(s1, s0, rtol=1e-9, atol=0)
+        np.testing.assert_allclose(c1, c0, rtol=1e-9, atol=1e-300)
