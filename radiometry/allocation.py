@@ -57,8 +57,16 @@ BUDGET_GROWTH = 8
 #: doubled, so the last few meters do not take one round each.
 SMALL_ROUND = 0.1
 #: Standard deviations of a texel variance estimate's own noise added when planning a round (so one
-#: unlucky low estimate does not leave the meter for yet another round).
+#: unlucky low estimate does not leave the meter for yet another round, which costs a scene sync).
 PLAN_SPREAD_SDS = 1.5
+#: ...and half of it when at least ``MANY_METERS`` meters share the round: the margin then costs more
+#: samples than the sync of a short extra round for the meters that fall short (issue 17, throughput
+#: room, 1000 meters at 1 %: 1.27 M samples at 0.75 s.d., 1.56 M at 1.5; a sync is worth ~1k samples
+#: in a small room and ~19k in a 130k-triangle room, the margin ~0.4 x the round's samples). No margin
+#: at all (1.19 M) took more rounds and stopped more meters on lucky-low variance estimates (synthetic
+#: coverage 0.942 instead of 0.949).
+PLAN_SPREAD_SDS_MANY = 0.75
+MANY_METERS = 128
 #: Most samples one meter may take in a target-driven measurement (about 4 M): a meter that reads
 #: almost nothing (a dark corner lit only by faint reflections) can need unbounded samples for a
 #: RELATIVE target; it stops here and its reading says the target was not reached.
@@ -184,7 +192,7 @@ def dark_meters(tally, may_be_lit):
 
 
 def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_SAMPLES_PER_METER,
-               may_be_lit=None):
+               may_be_lit=None, spread_sds=PLAN_SPREAD_SDS):
     """Blocks per meter for a round at ``spp`` samples per texel so that, COMBINED with the rounds
     so far, each unconverged meter reaches ``target`` (1-sigma relative, on mean + offset), by the
     texel-variance model. Meters already at the target (with a margin for the noise of their own
@@ -207,7 +215,7 @@ def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         # 1.5 standard deviations of v_last's own noise (relative sd sqrt(2 / dof)) on top, so one
         # unlucky low estimate does not leave the meter for yet another round.
-        v = (1.0 + PLAN_SPREAD_SDS * np.sqrt(2.0 / np.maximum(tally.dof, 1.0))) * v_last * (s_last / spp) ** alpha
+        v = (1.0 + spread_sds * np.sqrt(2.0 / np.maximum(tally.dof, 1.0))) * v_last * (s_last / spp) ** alpha
         c = (target / margin * total) ** 2
         qa = c * spp ** 2
         qb = 2 * c * n_old * spp - spp ** 2 * v
@@ -233,7 +241,8 @@ def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_
     return blocks
 
 
-def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_METER, may_be_lit=None):
+def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_METER, may_be_lit=None,
+               spread_sds=PLAN_SPREAD_SDS):
     """Samples per texel for the next round: 4x the previous one while some meter's decay exponent
     is unmeasured (it needs two sample counts), then whichever of 1x, 2x, 4x the previous plans the
     fewest samples (small remaining needs are not rounded up to 32 texels x 1024; never fewer samples
@@ -250,7 +259,7 @@ def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_
         # Samples, plus each texel's own cost (reading it back, its share of the image) counted
         # as TEXEL_COST samples.
         blocks = plan_round(tally, target, spp, offset, max_blocks=1 << 40, max_samples=max_samples,
-                            may_be_lit=may_be_lit).sum()
+                            may_be_lit=may_be_lit, spread_sds=spread_sds).sum()
         cost = blocks * (spp + TEXEL_COST) * (1.0 if blocks <= MAX_BLOCKS else np.inf)
         if cost < best_cost * 0.95:  # prefer fewer, larger texels when it is a tie
             best, best_cost = spp, cost
@@ -260,7 +269,7 @@ def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_
 
 
 def known_spp_share(tally, target, known_spp, blocks, spp, offset=0.0,
-                    max_samples=MAX_SAMPLES_PER_METER, may_be_lit=None):
+                    max_samples=MAX_SAMPLES_PER_METER, may_be_lit=None, spread_sds=PLAN_SPREAD_SDS):
     """Blocks (N,) at ``known_spp`` for the meters that finish more cheaply there than in the planned
     step (``blocks`` at ``spp``), or None.
 
@@ -273,7 +282,8 @@ def known_spp_share(tally, target, known_spp, blocks, spp, offset=0.0,
     a sync) or, in any round, instead of the step when every meter fits. Which spp a meter's texels have does not change the estimator: rounds are combined by
     their samples, each with its own batch-means variance.
     """
-    same = plan_round(tally, target, known_spp, offset, max_samples=max_samples, may_be_lit=may_be_lit)
+    same = plan_round(tally, target, known_spp, offset, max_samples=max_samples, may_be_lit=may_be_lit,
+                      spread_sds=spread_sds)
     _v, s_last, _alpha, measured = tally.texel_variance_model()
     # Only meters whose step is the capped one (exponent unmeasured, variance known at known_spp):
     # the others' plan is precise at any spp and choose_spp already picked the best common one.
@@ -364,8 +374,11 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
             n_now = tally.n.sum()
             goal = float(np.max(finite)) * np.sqrt(n_now / (n_now + left))
         previous = spp
-        spp = choose_spp(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=may_be_lit)
-        blocks = plan_round(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=may_be_lit)
+        many = plan_round(tally, goal, previous, offset, max_samples=max_samples, may_be_lit=may_be_lit)
+        sds = PLAN_SPREAD_SDS_MANY if np.count_nonzero(many) >= MANY_METERS else PLAN_SPREAD_SDS
+        spp = choose_spp(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=may_be_lit, spread_sds=sds)
+        blocks = plan_round(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=may_be_lit,
+                            spread_sds=sds)
         if not blocks.any():
             reached, stopped = True, "target reached" if target is not None else "converged"
             break
@@ -377,7 +390,7 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
             known = int(values[np.argmax(counts)])  # the spp those meters' variance was measured at
             if known != spp:
                 side = known_spp_share(tally, goal, known, blocks, spp, offset, max_samples=max_samples,
-                                       may_be_lit=may_be_lit)
+                                       may_be_lit=may_be_lit, spread_sds=sds)
             if side is not None:
                 blocks = np.where(side > 0, 0, blocks)
         planned = float(blocks.sum()) * BLOCK_TEXELS ** 2 * spp
