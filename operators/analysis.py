@@ -193,10 +193,12 @@ class RADIOMETER_OT_check_inverse_square(TaskOperator, bpy.types.Operator):
             item.exponent_se = r.exponent_se if math.isfinite(r.exponent_se) else 0.0
             item.near_field_limit = r.near_field_limit if math.isfinite(r.near_field_limit) else -1.0
             item.inverse_passed = r.passed
+            item.inverse_expected = r.expected_departure
             item.inverse_causes = " | ".join(r.causes)
             item.inverse_plot = r.plot
             load_image(context, r.plot)
-            lines.append(f"{light.name}: {'ok' if r.passed else 'flagged'}, exponent {r.exponent:.4f}, near field "
+            verdict = "ok" if r.passed else "near field, as its shape predicts" if r.expected_departure else "departs"
+            lines.append(f"{light.name}: {verdict}, exponent {r.exponent:.4f}, near field "
                          f"{r.near_field_limit:.3g} m; the room adds up to {100 * r.max_scene_share:.3g} %")
         return "; ".join(lines) or "no point, spot or area light to check"
 
@@ -230,10 +232,12 @@ class RADIOMETER_OT_check_cosine_law(TaskOperator, bpy.types.Operator):
             item.cosine_max_dev = min(r.max_rel_deviation, 1e9)
             item.cosine_onset = r.onset_deg if math.isfinite(r.onset_deg) else -1.0
             item.cosine_passed = r.passed
+            item.cosine_expected = r.expected_departure
             item.cosine_causes = " | ".join(r.causes)
             item.cosine_plot = r.plot
             load_image(context, r.plot)
-            lines.append(f"{light.name}: {'ok' if r.passed else 'flagged'}, max deviation "
+            verdict = "ok" if r.passed else "near field, as its shape predicts" if r.expected_departure else "departs"
+            lines.append(f"{light.name}: {verdict}, max deviation "
                          f"{100 * r.max_rel_deviation:.3g} % at {r.max_at_deg:g} deg; the room adds up to "
                          f"{100 * r.max_scene_share:.3g} %")
         return "; ".join(lines)

@@ -3,8 +3,9 @@
 import bpy
 
 
-def _yes(ok):
-    return "ok" if ok else "FLAG"
+def _yes(ok, expected=False):
+    """'ok', 'near field' (the light departs exactly as its shape's closed form predicts: physics) or 'departs'."""
+    return "ok" if ok else "near field" if expected else "departs"
 
 
 class RADIOMETER_PT_analysis(bpy.types.Panel):
@@ -41,14 +42,14 @@ class RADIOMETER_PT_analysis(bpy.types.Panel):
                 if item.inverse_checked:
                     r.label(text=f"{item.exponent:.3f}")
                     r.label(text="never" if item.near_field_limit < 0 else f"{item.near_field_limit:.3g}")
-                    r.label(text=_yes(item.inverse_passed))
+                    r.label(text=_yes(item.inverse_passed, item.inverse_expected))
                 else:
                     r.label(text="n/a")
                     r.label(text="")
                     r.label(text="")
                 if item.cosine_checked:
                     r.label(text=f"{100 * item.cosine_max_dev:.3g} %")
-                    r.label(text=_yes(item.cosine_passed))
+                    r.label(text=_yes(item.cosine_passed, item.cosine_expected))
                 else:
                     r.label(text="")
                     r.label(text="")

@@ -27,6 +27,9 @@ class RadiometerLawResult(bpy.types.PropertyGroup):
                                     "from I/d² stays within tolerance, m (0: everywhere; -1: never)", unit="LENGTH")
     inverse_passed: BoolProperty(description="The far-field exponent is -2 within tolerance",
                                  name="Inverse Square Passed")
+    inverse_expected: BoolProperty(name="Inverse Square Near Field",
+                                   description="The light departs from I/d² exactly as the closed form of its own "
+                                   "shape predicts (an extended source's near field, soft falloff): physics, not a fault")
     cosine_checked: BoolProperty(name="Cosine Law Checked",
                                  description="The cosine law has been checked for this light", default=False)
     cosine_max_dev: FloatProperty(name="Cosine Max Deviation", description="max |E(θ)/(E(0) cos θ) - 1|",
@@ -34,6 +37,9 @@ class RadiometerLawResult(bpy.types.PropertyGroup):
     cosine_onset: FloatProperty(name="Onset (deg)", description="Smallest failing tilt (-1: none)")
     cosine_passed: BoolProperty(description="E(θ) = E(0) cos θ within tolerance at every tilt",
                                 name="Cosine Passed")
+    cosine_expected: BoolProperty(name="Cosine Near Field",
+                                  description="The light departs from cos θ exactly as the closed form of its own "
+                                  "shape predicts (part of an extended source below the meter's horizon): physics")
     inverse_causes: StringProperty(description="Why the inverse-square check deviates (near field, source size, ...)",
                                    name="Inverse-Square Causes")
     cosine_causes: StringProperty(description="Why the cosine check deviates (spot cone, area-light extent, ...)",

@@ -86,3 +86,18 @@ def test_report_checks_each_luminaire_type_once(clean_blender, build):
     text = report.summary_table({"meters": [], "inverse_square": checked, "cosine": [], "grids": [],
                                  "law_types": {panels[0].name: [p.name for p in panels[1:]]}})
     assert f"{panels[0].name}: also stands for" in text and "and 3 more" in text
+
+
+def test_sidebar_says_near_field_not_flag(clean_blender, build, tmp_path):
+    """The sidebar's law table and the operator's report say 'near field' for an area light's expected
+    departure (they said 'FLAG' / 'flagged')."""
+    from radiometer.panels.analysis import _yes
+
+    scene = bpy.context.scene
+    build.black_world(scene)
+    light = build.light(scene, "AREA", (0, 0, 0), energy=50.0, shape="SQUARE", size=0.5)
+    scene.radiometer_analysis.output_dir = str(tmp_path) + "/"
+    assert bpy.ops.radiometer.check_inverse_square(light="__ALL__") == {"FINISHED"}
+    item = scene.radiometer_analysis.laws[light.name]
+    assert item.inverse_checked and not item.inverse_passed and item.inverse_expected
+    assert _yes(item.inverse_passed, item.inverse_expected) == "near field" and _yes(False) == "departs"
