@@ -92,11 +92,13 @@ def camera_source(origins, normals, block, columns):
     n = len(origins)
     rows = -(-n // columns)
     table = []
+    def xyz(v):  # full-precision Python floats (numpy 2 writes np.float64(...) as repr)
+        return ", ".join(repr(float(c)) for c in v)
+
     for k, (o, d) in enumerate(zip(origins, normals)):
-        t, b = _frame(d)
-        table.append(f"    if (k == {k}) {{ O = point({o[0]!r}, {o[1]!r}, {o[2]!r}); "
-                     f"Nn = vector({d[0]!r}, {d[1]!r}, {d[2]!r}); T = vector({t[0]!r}, {t[1]!r}, {t[2]!r}); "
-                     f"Bt = vector({b[0]!r}, {b[1]!r}, {b[2]!r}); }}")
+        t, b = _frame(np.asarray(d, float))
+        table.append(f"    if (k == {k}) {{ O = point({xyz(o)}); Nn = vector({xyz(d)}); T = vector({xyz(t)}); "
+                     f"Bt = vector({xyz(b)}); }}")
     # A binary search over k keeps the per-ray cost logarithmic in the meter count.
     body = _dispatch(table, 0, n)
     return f"""// Radiometer meter camera (generated): one block of {block} x {block} pixels per meter.
