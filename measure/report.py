@@ -405,9 +405,13 @@ def summary_table(report):
     c = report.get("convergence")
     if c and "error" not in c:
         lines.append("")
-        lines.append(f"convergence ({c['target']}): error ~ N^{c['fit']['slope']:.2f}, ~ t^{c['fit']['time_slope']:.2f}; "
-                     f"{100 * c['target_error']:g} % needs ~{c['samples_for_target']:.3g} samples per reading, "
-                     f"~{_fmt(c['seconds_for_target'], '.3g')} s")
+        from ..plots.convergence import fit_in_words
+
+        slope = c["fit"]["slope"]
+        words = fit_in_words(slope) if _given(slope) else ""
+        lines.append(f"convergence ({c['target']}): {words or 'no convergence measured'} (error ∝ N^{_fmt(slope, '.2f')});"
+                     f" {100 * c['target_error']:g} % needs about {_fmt(c['samples_for_target'], '.2g')} samples per "
+                     f"reading, {_fmt(c['seconds_for_target'], '.2g')} s")
         t = c.get("targeted")
         if t:
             lines.append(f"  error-targeted reading: {_fmt(t['samples'], '.3g')} samples, {t['seconds']:.3g} s, "
