@@ -514,12 +514,15 @@ def markdown(report):
     if report["errors"]:
         md.append("**Errors:** " + "; ".join(report["errors"]) + "\n")
     if report["meters"]:
-        md.append("## Meters\n\n| meter | value | unit | rel. s.e. | method |\n|---|---:|---|---:|---|")
+        from ..readings import format_error, format_value
+
+        md.append("## Meters\n\n| meter | value | unit | ± 1 s.e. | method |\n|---|---:|---|---:|---|")
         for r in report["meters"]:
             lum = r.get("quantity") == "luminance"
-            err = "exact" if r["exact"] else f"{100 * r['rel_std_error']:.2f} %"
             value = r["luminance"] if lum else r["illuminance"]
-            md.append(f"| {r['name']} | {value:.5g} | {'cd/m²' if lum else 'lx'} | {err} | {r['method']} |")
+            se = r["rel_std_error"] if _given(r["rel_std_error"]) else None
+            md.append(f"| {r['name']} | {format_value(value, se, r['exact'])} | {'cd/m²' if lum else 'lx'} | "
+                      f"{format_error(se, r['exact'])} | {r['method']} |")
         md.append("")
     md.append("## Inverse-square law\n")
     for name, others in (report.get("law_types") or {}).items():
