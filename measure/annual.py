@@ -402,7 +402,7 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
     dirs = meter.as_directions(normals, len(points), "normals")
     patches = sky_patches.reinhart_patches(m)
     start = time.perf_counter()
-    dc, _dc_se, cov, dc_notes = daylight_coefficients(points, dirs, scene=scene, m=m, quality=quality, samples=samples,
+    dc, dc_se, cov, dc_notes = daylight_coefficients(points, dirs, scene=scene, m=m, quality=quality, samples=samples,
                                                       target_rel_error=target_rel_error, seed=seed, progress=progress,
                                                       cancelled=cancelled, client=client, method=method)
     seconds_dc = time.perf_counter() - start
@@ -430,6 +430,12 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
     notes = [f"{weather.city}, {weather.latitude_deg:.2f} N {weather.longitude_deg:.2f} E: {weather.count} hourly "
              f"records, {int(occupied.sum())} occupied (local standard time {occupied_from:g}-{occupied_to:g} h)"]
     notes += dc_notes
+    big = dc > 0.01 * dc.max(axis=0, keepdims=True)  # the coefficients that carry a point's light
+    if big.any():
+        rel_dc = dc_se[big] / dc[big]
+        notes.append(f"coefficients' relative standard error (those above 1 % of a point's largest): median "
+                     f"{100 * np.median(rel_dc):.2g} %, 95th percentile {100 * np.percentile(rel_dc, 95):.2g} %; "
+                     "propagated with their covariance to every hour")
     notes.append(f"Perez all-weather sky per hour over {patches.count} patches (Reinhart MF:{m}, patch 0 the ground); "
                  "the sun spread over its 4 nearest patches for sDA and UDI (two-phase approximation)")
     notes.append("ASE from the direct sun alone (LM-83: no interreflection): E_dn max(0, n.s) x thin-glass "
