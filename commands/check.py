@@ -72,6 +72,8 @@ def run(args):
         progress.clear()
     print(report.summary_table(out))
     for r in out["inverse_square"] + out["cosine"]:
+        if r.get("departure"):
+            print(f"  {r['light']}: as expected: {r['departure']}")
         for cause in r.get("causes", []):
             print(f"  {r['light']}: {cause}")
         if "error" in r:
