@@ -273,6 +273,23 @@ def _through_shared_edge(tris, u, v, w, t, t_tol, bary_tol, candidates):
     return -1
 
 
+def _ray_triangles(origin, direction, v0, e1, e2):
+    """Moller-Trumbore for a ray from ``origin`` along ``direction`` ((3,), or (T, 3): one per
+    triangle) against T triangles (v0, e1, e2): barycentric (u, v), ray parameter t and 1/det (inf
+    for a ray parallel to the triangle), each (T,)."""
+    d = np.broadcast_to(np.asarray(direction, float), e1.shape)
+    pvec = np.cross(d, e2)
+    det = np.einsum("tk,tk->t", e1, pvec)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = 1.0 / det
+        tvec = origin - v0
+        u = np.einsum("tk,tk->t", tvec, pvec) * inv
+        qvec = np.cross(tvec, e1)
+        v = np.einsum("tk,tk->t", qvec, d) * inv
+        t = np.einsum("tk,tk->t", qvec, e2) * inv
+    return u, v, t, inv
+
+
 def first_hits(origin, directions, triangles):
     """Nearest hit of rays from ``origin``: (distance m or inf (R,), triangle index or -1, facing (R,)).
 
@@ -290,15 +307,8 @@ def first_hits(origin, directions, triangles):
     v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
     normal, _ = _unit_rows(np.cross(e1, e2))
     for r, d in enumerate(dirs):
-        pvec = np.cross(d, e2)
-        det = np.einsum("tk,tk->t", e1, pvec)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            inv = 1.0 / det
-            tvec = o - v0
-            u = np.einsum("tk,tk->t", tvec, pvec) * inv
-            qvec = np.cross(tvec, e1)
-            v = np.einsum("tk,k->t", qvec, d) * inv
-            t = np.einsum("tk,tk->t", qvec, e2) * inv
+        u, v, t, inv = _ray_triangles(o, d, v0, e1, e2)
+        with np.errstate(invalid="ignore"):
             ok = np.isfinite(inv) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
         if ok.any():
             k = np.flatnonzero(ok)[np.argmin(t[ok])]
@@ -340,15 +350,8 @@ def mirror_images(point, triangles, light_position=None, to_light=None, tol=1e-9
         d = image
         front = side_l > tol
         t_max = np.inf
-    pvec = np.cross(d, e2)
-    det = np.einsum("tk,tk->t", e1, pvec)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv = 1.0 / det
-        tvec = p - v0
-        u = np.einsum("tk,tk->t", tvec, pvec) * inv
-        qvec = np.cross(tvec, e1)
-        v = np.einsum("tk,tk->t", qvec, d) * inv
-        t = np.einsum("tk,tk->t", qvec, e2) * inv
+    u, v, t, inv = _ray_triangles(p, d, v0, e1, e2)
+    with np.errstate(invalid="ignore"):
         hit = ok & front & (side_p > tol) & np.isfinite(inv) & (u >= -tol) & (v >= -tol) & (u + v <= 1 + tol) \
             & (t > 0) & (t < t_max)
     return hit, image, p + np.nan_to_num(t)[:, None] * d

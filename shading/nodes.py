@@ -184,14 +184,7 @@ def _frame_sockets(ops, group_in, aniso):
     geo.name = geo.label = "Geometry"
 
     def vmath(op, a, b=None, scale=None):
-        n = ops._place(nodes.new("ShaderNodeVectorMath"))
-        n.operation = op
-        ops.set(n.inputs[0], a)
-        if b is not None:
-            ops.set(n.inputs[1], b)
-        if scale is not None:
-            ops.set(n.inputs["Scale"], scale)
-        return n.outputs["Value"] if op in ("DOT_PRODUCT", "LENGTH") else n.outputs["Vector"]
+        return _vmath(ops, op, a, b, scale)
 
     def choose(use_a, a, b):  # vector a where use_a (0/1), else b
         mix = ops._place(nodes.new("ShaderNodeMix"))
