@@ -526,6 +526,8 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
     uniform ground ``ground_reflectance`` x E_h / pi below a sharp horizon); the user's world,
     lights and data-blocks are restored afterwards. Returns a ``DaylightFactorReading`` (or a list):
     ``daylight_factor`` (%), ``rel_std_error``, ``illuminance`` (lux), ``exact``, ``method``, ``notes``.
+    ``method``: the meter's ("auto", ...), or "camera": cosine-weighted rays from each point through a
+    custom camera, a fixed number per quality, the error stated (docs/daylight-sky.md).
     ``client``: a Dask client: the points run in chunks of 256 on its workers (docs/cluster.md).
     """
     from .measure import daylight_factor as df

@@ -18,6 +18,9 @@ def add_arguments(parser):
                         help="with --plane: the site's median external diffuse illuminance E_v,d (EN 17037 "
                              "Annex A) for the D_T / D_TM checks")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
+    parser.add_argument("--method", choices=("auto", "camera"), default="auto",
+                        help="auto: sensor bakes to the quality's target error; camera: cosine-weighted rays from "
+                        "each point through a custom camera, a fixed number per quality (cheaper per unit of error)")
     parser.add_argument("--csv", metavar="FILE", help="write one row per point")
     _cluster.add_arguments(parser)
 
@@ -42,7 +45,7 @@ def run(args):
         if progress is not None:
             progress.label = f"daylight factor, {len(locations)} points"
         with _cluster.client(args) as client:
-            rs = api.daylight_factor(locations, normals, scene=scene, quality=args.quality,
+            rs = api.daylight_factor(locations, normals, scene=scene, quality=args.quality, method=args.method,
                                      ground_reflectance=args.ground_reflectance, progress=progress,
                                      cancelled=cancelled, **({"client": client} if client is not None else {}))
         if progress is not None:
@@ -62,7 +65,7 @@ def run(args):
         with _cluster.client(args) as client:
             g = api.daylight_factor_grid(args.plane, resolution=args.resolution, spacing=args.spacing, scene=scene,
                                          quality=args.quality, ground_reflectance=args.ground_reflectance,
-                                         target_percent=args.target,
+                                         target_percent=args.target, method=args.method,
                                          median_external_illuminance_lux=args.median_external_lux,
                                          progress=progress, cancelled=cancelled,
                                          **({"client": client} if client is not None else {}))

@@ -283,6 +283,121 @@ def scene_extent(model, points_scene, scale):
     return (lo + hi) / 2, max(float(np.linalg.norm(hi - lo)) / 2, 1.0)
 
 
+def _meter_camera(scene, snapshot, model, points, normals, half, *, blk, spp, seed, quality, folder):
+    """Inside the caller's guard: every object's camera visibility = its diffuse visibility (the first
+    ray is the sensor's diffuse ray), the meter camera, measurement settings, thin panes as the meter
+    reads them, a one-pixel box filter, the block image written as a 32-bit EXR into ``folder``."""
+    import bpy
+
+    from .. import quality as quality_presets
+    from . import render_settings
+
+    for ob in scene.objects:
+        if ob.type != "LIGHT" and ob.visible_camera != ob.visible_diffuse:
+            snapshot.remember(ob, "visible_camera")
+            ob.visible_camera = ob.visible_diffuse
+    columns, rows = _block_layout(len(points), blk)
+    cam_data = _compile_camera(camera_source(points + EPS * half * normals, normals, blk, columns))
+    cam = bpy.data.objects.new("radiometer_meter_camera", cam_data)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    preset = quality_presets.preset(quality)
+    record = render_settings.apply(scene, samples=spp, bounces=preset["bounces"], needs=model.needs, seed=seed,
+                                   snapshot=snapshot)
+    if model.needs.get("thin_panes"):  # panes read as thin glass, as the meter reads them
+        from . import glass
+
+        glass.swap_panes(snapshot, model.needs["thin_panes"])
+    scene.cycles.filter_width = 1.0  # box of one pixel: samples stay inside their block
+    r = scene.render
+    r.resolution_x, r.resolution_y, r.resolution_percentage = columns * blk, rows * blk, 100
+    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
+    r.use_border = False
+    r.use_compositing = False
+    r.use_sequencer = False
+    r.use_single_layer = True
+    r.filepath = os.path.join(folder, "combined")
+    ims = r.image_settings
+    if hasattr(ims, "media_type"):
+        ims.media_type = "IMAGE"
+    ims.file_format = "OPEN_EXR"
+    ims.color_depth = "32"
+    ims.color_mode = "RGBA"
+    return record
+
+
+def _rounds(scene, nrounds, seed, cancelled, progress, label, read):
+    """Render ``nrounds`` times (seeds ``seed * 7919 + k``); ``read()`` -> (N, C, npix) after each.
+    Returns the per-pixel sums over rounds and the sum over rounds and pixels of x x^T (N, C, C)."""
+    import bpy
+
+    total = cross = None
+    for k in range(nrounds):
+        if cancelled is not None and cancelled():
+            raise MeasurementCancelled(f"{label} cancelled")
+        scene.cycles.seed = int(seed) * 7919 + k
+        result = bpy.ops.render.render(write_still=True, scene=scene.name)
+        if result != {"FINISHED"}:
+            raise RadiometerError(f"Cycles render did not finish ({result})")
+        x = read()
+        total = x if total is None else total + x
+        cross = np.einsum("npi,nqi->npq", x, x) + (0.0 if cross is None else cross)
+        if progress is not None:
+            progress(k + 1, nrounds, None)
+    return total, cross
+
+
+def _stratified(total, cross, nrounds):
+    """(mean (N, C), covariance (N, C, C)) of the block means: Var(block mean) = sum over pixels of
+    Var(pixel's round mean) / npix^2, each from R rounds; sum_i sum_r (x_ri - m_i)(x_ri - m_i)^T =
+    sum_r sum_i x x^T - R sum_i m_i m_i^T (streamed: the rounds are never all in memory)."""
+    npix = total.shape[-1]
+    mean = total.sum(axis=2) / (nrounds * npix)
+    cov = (cross - np.einsum("npi,nqi->npq", total, total) / nrounds) / ((nrounds - 1) * nrounds * npix ** 2)
+    return mean, cov
+
+
+def render_irradiance(points_scene, normals, *, scene, quality="standard", samples=None, block=None, rounds=None,
+                      seed=0, progress=None, cancelled=None):
+    """Irradiance at the meters from the scene AS IT IS (world and lights as the caller left them),
+    through the meter camera (module docstring; no dome, no light groups): (E_rgb (N, 3) W/m^2 per
+    scene unit^2 as Cycles renders, covariance (N, 3, 3), record). The scene is as before afterwards."""
+    from . import exr, meter, scene_guard
+    from .analysis_common import view_layer_of
+
+    spp, blk, nrounds = _settings(quality, samples, block, rounds)
+    points = np.asarray(points_scene, float).reshape(-1, 3)
+    normals = np.asarray(normals, float).reshape(-1, 3)
+    n = len(points)
+    columns, _rows = _block_layout(n, blk)
+    folder = tempfile.mkdtemp(prefix="radiometer_cam_")
+    try:
+        with scene_guard.preserved_scene(scene) as snapshot:
+            model = meter.capture_model(scene, view_layer_of(scene))
+            _centre, half = scene_extent(model, points, scene.unit_settings.scale_length)
+            record = _meter_camera(scene, snapshot, model, points, normals, half, blk=blk, spp=spp, seed=seed,
+                                   quality=quality, folder=folder)
+            path = os.path.join(folder, "combined.exr")
+            total, cross = _rounds(scene, nrounds, seed, cancelled, progress, "meter camera",
+                                   lambda: np.pi * _blocks(np.moveaxis(exr.read_rgb(path), -1, 0), n, blk, columns))
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    mean, cov = _stratified(total, cross, nrounds)
+    return mean, cov, dict(record, rays_per_meter=nrounds * spp * blk * blk)
+
+
+def _settings(quality, samples, block, rounds):
+    from .. import quality as quality_presets
+
+    if quality not in PRESETS:
+        quality_presets.preset(quality)  # the one-line error for an unknown name
+    spp, blk, nrounds = PRESETS[quality]
+    spp, blk, nrounds = int(samples or spp), int(block or blk), int(rounds or nrounds)
+    if spp < 1 or blk < 2 or nrounds < 2:
+        raise RadiometerError("the meter camera needs samples >= 1, block >= 2 and rounds >= 2")
+    return spp, blk, nrounds
+
+
 def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview", samples=None, block=None,
                         rounds=None, seed=0, progress=None, cancelled=None):
     """Daylight coefficients of every Reinhart MF:m patch (patch 0 the ground) at every meter, from
@@ -291,25 +406,17 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
 
     import bpy
 
-    from .. import quality as quality_presets
     from ..radiometry import sky_patches
-    from . import meter, render_settings, scene_guard
+    from . import meter, scene_guard
     from .analysis_common import view_layer_of
 
-    if quality not in PRESETS:
-        quality_presets.preset(quality)  # the one-line error for an unknown name
-    spp, blk, nrounds = PRESETS[quality]
-    spp = int(samples or spp)
-    blk = int(block or blk)
-    nrounds = int(rounds or nrounds)
-    if spp < 1 or blk < 2 or nrounds < 2:
-        raise RadiometerError("daylight coefficients need samples >= 1, block >= 2 and rounds >= 2")
+    spp, blk, nrounds = _settings(quality, samples, block, rounds)
     start = time.perf_counter()
     points = np.asarray(points_scene, float).reshape(-1, 3)
     normals = np.asarray(normals, float).reshape(-1, 3)
     n = len(points)
     patches = sky_patches.reinhart_patches(m)
-    columns, rows = _block_layout(n, blk)
+    columns, _rows = _block_layout(n, blk)
     folder = tempfile.mkdtemp(prefix="radiometer_dc_")
     view_layer = view_layer_of(scene)
     added_groups = []
@@ -318,15 +425,11 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
         with scene_guard.preserved_scene(scene) as snapshot:
             model = meter.capture_model(scene, view_layer)
             scale = scene.unit_settings.scale_length
-            from .daylight_factor import _light_objects
+            from .light_isolation import rendering_light_objects
 
-            for ob in _light_objects(scene, model):
+            for ob in rendering_light_objects(scene, model):
                 snapshot.remember(ob, "hide_render")
                 ob.hide_render = True
-            for ob in scene.objects:  # the first ray is the sensor's diffuse ray
-                if ob.type != "LIGHT" and ob.visible_camera != ob.visible_diffuse:
-                    snapshot.remember(ob, "visible_camera")
-                    ob.visible_camera = ob.visible_diffuse
             scene.world = bpy.data.worlds.new("radiometer black world")
             from ..compat import ensure_node_tree
 
@@ -335,51 +438,17 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
             if bg is not None:
                 bg.inputs["Strength"].default_value = 0.0
             centre, half = scene_extent(model, points, scale)
-            origins = points + EPS * half * normals
             before = {g.name for g in view_layer.lightgroups}
             names = _build_dome(scene, view_layer, patches, centre, DOME_SCALE * half)
             added_groups = [g for g in names if g not in before]
-            cam_data = _compile_camera(camera_source(origins, normals, blk, columns))
-            cam = bpy.data.objects.new("radiometer_meter_camera", cam_data)
-            scene.collection.objects.link(cam)
-            scene.camera = cam
-            preset = quality_presets.preset(quality)
-            record = render_settings.apply(scene, samples=spp, bounces=preset["bounces"], needs=model.needs,
-                                           seed=seed, snapshot=snapshot)
-            if model.needs.get("thin_panes"):  # panes read as thin glass, as the meter reads them
-                from . import glass
-
-                glass.swap_panes(snapshot, model.needs["thin_panes"])
-            scene.cycles.filter_width = 1.0  # box of one pixel: samples stay inside their block
-            r = scene.render
-            r.resolution_x, r.resolution_y, r.resolution_percentage = columns * blk, rows * blk, 100
-            r.pixel_aspect_x = r.pixel_aspect_y = 1.0
-            r.use_border = False
-            r.use_compositing = True
-            r.use_sequencer = False
-            r.use_single_layer = True
+            record = _meter_camera(scene, snapshot, model, points, normals, half, blk=blk, spp=spp, seed=seed,
+                                   quality=quality, folder=folder)
+            scene.render.use_compositing = True
             snapshot.remember(scene, "compositing_node_group")
             scene.compositing_node_group = _file_output(scene, folder, names)
-            r.filepath = os.path.join(folder, "combined")
-            ims = r.image_settings
-            if hasattr(ims, "media_type"):
-                ims.media_type = "IMAGE"
-            ims.file_format = "OPEN_EXR"
-            ims.color_depth = "32"
             weights = meter.scene_photometry(scene)[1]
-            total = cross = None  # per-pixel sums over rounds, and sum over rounds and pixels of x_p x_q
-            for k in range(nrounds):
-                if cancelled is not None and cancelled():
-                    raise MeasurementCancelled("daylight coefficients cancelled")
-                scene.cycles.seed = int(seed) * 7919 + k
-                result = bpy.ops.render.render(write_still=True, scene=scene.name)
-                if result != {"FINISHED"}:
-                    raise RadiometerError(f"Cycles render did not finish ({result})")
-                x = np.pi * _blocks(_read_passes(folder, names, weights), n, blk, columns)  # (N, P, npix)
-                total = x if total is None else total + x
-                cross = np.einsum("npi,nqi->npq", x, x) + (0.0 if cross is None else cross)
-                if progress is not None:
-                    progress(k + 1, nrounds, None)
+            total, cross = _rounds(scene, nrounds, seed, cancelled, progress, "daylight coefficients",
+                                   lambda: np.pi * _blocks(_read_passes(folder, names, weights), n, blk, columns))
     finally:
         for g in added_groups:
             lg = view_layer.lightgroups.get(g)
@@ -388,12 +457,8 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
         if view_layer.active_lightgroup_index != active_group:  # adding and removing groups moved it
             view_layer.active_lightgroup_index = active_group
         shutil.rmtree(folder, ignore_errors=True)
-    npix = total.shape[-1]
-    dc = (total.sum(axis=2) / (nrounds * npix)).T  # (P, N) irradiance per unit radiance
-    # Var(block mean) = sum over pixels of Var(pixel's round mean) / npix^2, each from R rounds:
-    # sum_i sum_r (x_ri - m_i)(x_ri - m_i)^T = sum_r sum_i x x^T - R sum_i m_i m_i^T (streamed: the
-    # rounds are never all in memory).
-    cov = (cross - np.einsum("npi,nqi->npq", total, total) / nrounds) / ((nrounds - 1) * nrounds * npix ** 2)
+    mean, cov = _stratified(total, cross, nrounds)
+    dc = mean.T  # (P, N) irradiance per unit radiance
     se = np.sqrt(np.maximum(np.einsum("npp->pn", cov), 0.0))
     notes = [f"daylight coefficients of {patches.count} patches (Reinhart MF:{m}) from {nrounds} renders of a "
              f"patch dome with one light group per patch: {spp} samples x {blk}x{blk} pixels per meter per "
