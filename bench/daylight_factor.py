@@ -59,7 +59,20 @@ def bench_daylight_factor(quick=False):
     t0 = time.perf_counter()
     daylight = api.daylight_factor_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target)
     t_daylight = time.perf_counter() - t0
-    return {"points": n * n, "target_rel_error": target, "electric_s": t_electric, "daylight_factor_s": t_daylight,
+    # The same grid through the meter camera (method="camera": a fixed number of rays per quality; the
+    # time it would need for the target is scaled from its worst stated error, time ~ error^2).
+    t0 = time.perf_counter()
+    camera = api.daylight_factor_grid(plane, resolution=(n, n), scene=scene, method="camera",
+                                      quality="preview" if quick else "standard")
+    t_camera = time.perf_counter() - t0
+    cam_err = float(np.max(camera.rel_std_error))
+    cam_diff = float(np.max(np.abs(camera.daylight_factor - daylight.daylight_factor)
+                            / np.hypot(camera.rel_std_error * camera.daylight_factor,
+                                       daylight.rel_std_error * daylight.daylight_factor)))
+    return {"camera_s": t_camera, "camera_max_rel_std_error": cam_err,
+            "camera_s_scaled_to_target": t_camera * (cam_err / target) ** 2,
+            "camera_max_difference_in_combined_se": cam_diff,
+            "points": n * n, "target_rel_error": target, "electric_s": t_electric, "daylight_factor_s": t_daylight,
             "ratio_daylight_over_electric": t_daylight / t_electric,
             "electric_max_rel_std_error": float(electric.max_rel_std_error),
             "daylight_max_rel_std_error": float(np.max(daylight.rel_std_error)),
@@ -73,4 +86,8 @@ def markdown(s):
             f"lights off) took {s['ratio_daylight_over_electric']:.2f} x the electric-light grid (one area light, "
             f"black world). This run: {s['daylight_factor_s']:.1f} s vs {s['electric_s']:.1f} s; average DF "
             f"{s['average_daylight_factor']:.2f} %, uniformity {s['uniformity']:.2f}; worst stated errors "
-            f"{100 * s['daylight_max_rel_std_error']:.2g} % / {100 * s['electric_max_rel_std_error']:.2g} %.", ""]
+            f"{100 * s['daylight_max_rel_std_error']:.2g} % / {100 * s['electric_max_rel_std_error']:.2g} %."
+            + (f" Through the meter camera (method='camera'): {s['camera_s']:.1f} s at a worst stated error of "
+               f"{100 * s['camera_max_rel_std_error']:.2g} % ({s['camera_s_scaled_to_target']:.1f} s scaled to the "
+               f"target), every point within {s['camera_max_difference_in_combined_se']:.1f} combined s.e. of the "
+               "meter's." if "camera_s" in s else ""), ""]
