@@ -38,9 +38,10 @@ BLOCK_TEXELS = 4
 #: Fewest samples of a pilot bake in all (issue 17): a bake's fixed cost (scene sync, kernel set-up)
 #: is worth a thousand samples or more in every scene measured (small room: 0.017 s for a 1-spp bake
 #: against 16 us a sample; 130k triangles: 0.19 s against ~10 us), so a smaller pilot saves little,
-#: while 512 samples end a typical single room meter at 1 % in one bake instead of two (measured,
-#: one meter at 1 %: 130k room 0.69 s vs 0.96 s, small room 0.10 s vs 0.14 s; 1024 was faster still
-#: but spent 3x the samples the meter needed).
+#: while 512 samples end a single meter that needs fewer (about 450 with the stopping margin) in one
+#: bake instead of two (bench/speed-results.md: 15 of its 18 single-meter readings; one meter at 1 %:
+#: 130k room 0.69 s vs 0.96 s, small room 0.10 s vs 0.14 s; 1024 was faster still but spent 3x the
+#: samples the meter needed).
 PILOT_MIN_SAMPLES = 512
 #: Growth of the common samples per texel from round to round.
 SPP_GROWTH = 4
@@ -184,6 +185,19 @@ def pilot_blocks(count):
     return max(PILOT_BLOCKS, int(np.ceil(PILOT_MIN_SAMPLES / (max(int(count), 1) * per_block))))
 
 
+def floor_round(tally, min_samples, max_samples=MAX_SAMPLES_PER_METER):
+    """(spp, blocks (N,)) of one round that brings every meter to ``min_samples`` (N,) samples (capped
+    at ``max_samples``); spp as high as keeps MIN_BLOCKS blocks per meter (independent texels for the
+    batch-means error), at most MAX_SPP."""
+    need = np.clip(np.minimum(np.asarray(min_samples, float), max_samples) - tally.n, 0.0, None)
+    if not np.any(need > 0):
+        return PILOT_SPP, np.zeros(len(need), int)
+    per_texel = float(np.max(need)) / (MIN_BLOCKS * BLOCK_TEXELS ** 2)
+    spp = int(min(MAX_SPP, max(PILOT_SPP, 2 ** int(np.floor(np.log2(max(per_texel, 1.0)))))))
+    blocks = np.where(need > 0, np.maximum(np.ceil(need / (spp * BLOCK_TEXELS ** 2)), MIN_BLOCKS), 0)
+    return spp, blocks.astype(int)
+
+
 def dark_meters(tally, may_be_lit):
     """(N,) bool: meters whose rendered texels are all exactly 0 so far although ``may_be_lit``."""
     if may_be_lit is None:
@@ -308,7 +322,7 @@ class AllocationResult:
 
 
 def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, offset=0.0, max_rounds=8,
-             max_samples=MAX_SAMPLES_PER_METER, progress=None, clock=None, may_be_lit=None):
+             max_samples=MAX_SAMPLES_PER_METER, progress=None, clock=None, may_be_lit=None, min_samples=None):
     """Run rounds of ``bake`` until every meter meets ``target`` (1-sigma relative standard error),
     or spend about ``time_budget`` seconds lowering the worst error, or spend ``fixed_samples`` per
     meter.
@@ -319,6 +333,9 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     seconds_left)`` is called before every round with the plan's estimate. Returns an
     :class:`AllocationResult`. ``may_be_lit`` (N,) bool: meters that light may reach by a path the
     pilot can miss; while all their texels read 0 they are not converged (``DARK_FLOOR``).
+    ``min_samples`` (N,) or None: a floor of samples per meter, taken in one round right after the
+    pilot (issue 18: light from a small bright region of a rendered world comes by rare paths that a
+    256-sample pilot misses while its variance looks tiny; see ``floor_round``).
     """
     import time
 
@@ -354,6 +371,10 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
 
     spp = PILOT_SPP
     run(spp, np.full(count, pilot_blocks(count)))
+    if min_samples is not None:
+        floor_spp, floor_blocks = floor_round(tally, min_samples, max_samples)
+        if floor_blocks.any():
+            run(floor_spp, floor_blocks)
     reached, stopped = False, "round limit"
     goal = target
     for _round in range(max_rounds):
