@@ -964,6 +964,8 @@ def markdown(res):
         out += speed.radiance_markdown(res["radiance"])
     if "allocation_coverage" in res:
         out += speed.allocation_coverage_markdown(res["allocation_coverage"])
+    if "pooled_study" in res:
+        out += speed.pooled_study_markdown(res["pooled_study"])
     if "cluster" in res:
         c = res["cluster"]
         out += ["## Scale-out on Dask (issue 20)", "",
@@ -993,6 +995,7 @@ BENCHES["capture"] = lambda: speed.bench_capture(QUICK)
 BENCHES["batch_cost"] = lambda: speed.bench_batch_cost(QUICK)
 BENCHES["radiance"] = lambda: speed.bench_radiance(_RESULTS.get("throughput"), QUICK)
 BENCHES["allocation_coverage"] = lambda: speed.bench_allocation_coverage(QUICK)
+BENCHES["pooled_study"] = lambda: speed.bench_pooled_study(QUICK)
 _RESULTS = {}
 
 

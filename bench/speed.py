@@ -354,6 +354,69 @@ def allocation_coverage_markdown(c):
             f"{c['overshoot_samples_over_needed']:.2f}.", ""]
 
 
+# --- study: pooling neighbouring meters (not in the product) ---------------------------------------------
+
+def bench_pooled_study(quick=False):
+    """How far below the per-meter sampling floor could pooling go? The throughput room's 1000 meters
+    measured with the pilot's samples only (256 per meter, hybrid: the direct light is exact), the
+    rendered (indirect) part fitted by weighted least squares with a polynomial in (x, y) of degree d,
+    the fitted field compared at 24 meters with the independent numpy tracer (room_reference). A study
+    for the next step (an estimator whose error is checked on held-out sampled meters), NOT a product
+    feature: Radiometer does not pool meters."""
+    import room_reference
+
+    n = 200 if quick else 1000
+    scenes.room()
+    pts, nrm = scenes.meter_points(n, half_width=1.8, z=0.75, seed=3)
+    t0 = time.perf_counter()
+    readings = api.measure_illuminance(pts, nrm, samples=256, seed=1)
+    seconds = time.perf_counter() - t0
+    e = np.array([r.irradiance for r in readings])
+    se = np.array([r.rel_std_error * abs(r.irradiance) for r in readings])
+    direct = room_reference.panel_irradiance(pts, nrm, 400.0 / math.pi, room_reference.panel())
+    indirect = e - direct
+    sub = np.random.default_rng(17).choice(n, 12 if quick else 24, replace=False)
+    truth = np.array([room_reference.irradiance(pts[k], paths=5_000 if quick else 20_000, seed=int(k))[1:]
+                      for k in sub])
+
+    def basis(p, deg):
+        x, y = p[:, 0] / 2.0, p[:, 1] / 2.0
+        return np.stack([x ** i * y ** j for i in range(deg + 1) for j in range(deg + 1 - i)], axis=1)
+
+    rows = []
+    for deg in (2, 3, 4, 6):
+        a, w = basis(pts, deg), 1.0 / se
+        beta = np.linalg.lstsq(a * w[:, None], indirect * w, rcond=None)[0]
+        cov = np.linalg.inv((a * w[:, None]).T @ (a * w[:, None]))
+        b = basis(pts[sub], deg)
+        fit, fit_se = b @ beta, np.sqrt(np.einsum("ij,jk,ik->i", b, cov, b))
+        total = direct[sub] + truth[:, 0]
+        err = (fit - truth[:, 0]) / total
+        z = (fit - truth[:, 0]) / np.hypot(fit_se, truth[:, 1])
+        rows.append({"degree": deg, "parameters": int(a.shape[1]), "rms_error": float(np.sqrt(np.mean(err ** 2))),
+                     "max_error": float(np.max(np.abs(err))), "fit_se_median": float(np.median(fit_se / total)),
+                     "z_rms": float(np.sqrt(np.mean(z ** 2))),
+                     "reduced_chi2": float(np.sum(((indirect - a @ beta) / se) ** 2) / (n - a.shape[1]))})
+    return {"meters": n, "samples_per_meter": 256, "seconds": seconds, "checked": int(len(sub)),
+            "per_meter_rel_se_median": float(np.median(se / e)), "rows": rows}
+
+
+def pooled_study_markdown(p):
+    out = ["## Study: pooling neighbouring meters (issue 17's way below the sampling floor; not in the product)", "",
+           f"The throughput room's {p['meters']} meters measured with the pilot's samples only ({p['samples_per_meter']} "
+           f"per meter, hybrid; {p['seconds']:.1f} s here, each meter's own error {100 * p['per_meter_rel_se_median']:.2f} % "
+           "median); the rendered (indirect) part fitted over all meters by weighted least squares, a polynomial in "
+           f"(x, y) of degree d; the field checked at {p['checked']} meters against the independent numpy tracer. "
+           "'z rms' = RMS of (fit - truth) / (fit's own s.e. (+) truth's s.e.): above 1 the fit's own error does not cover "
+           "its model misfit, which an estimator must measure (held-out meters sampled on their own) and add.", "",
+           "| degree | parameters | error vs truth, RMS | max | fit's own s.e. (median) | z rms | reduced chi2 |",
+           "|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in p["rows"]:
+        out.append(f"| {r['degree']} | {r['parameters']} | {100 * r['rms_error']:.2f} % | {100 * r['max_error']:.2f} % | "
+                   f"{100 * r['fit_se_median']:.2f} % | {r['z_rms']:.2f} | {r['reduced_chi2']:.3f} |")
+    return out + [""]
+
+
 # --- markdown -----------------------------------------------------------------------------------------
 
 def capture_markdown(c):
