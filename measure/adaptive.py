@@ -54,7 +54,7 @@ def _exclude_from(coll, obj):
 def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, weights, target=None,
                   time_budget=None, fixed_samples=None, exclusions=None, offset=None, progress=None,
                   cancelled=None, seed=0, max_samples=allocation.MAX_SAMPLES_PER_METER, panes=None,
-                  may_be_lit=None):
+                  may_be_lit=None, min_samples=None):
     """Rendered irradiance at the sensors, W/m^2 SI, each meter sampled to its own need.
 
     ``exclusions``: per meter, a frozenset of light OBJECT names whose direct light is added
@@ -168,7 +168,7 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
 
         result = allocation.allocate(bake, n, target=target, time_budget=time_budget, fixed_samples=fixed_samples,
                                      offset=offset, max_samples=max_samples, progress=report,
-                                     may_be_lit=may_be_lit)
+                                     may_be_lit=may_be_lit, min_samples=min_samples)
     tally = result.tally
     record = dict(record, samples=None, rounds=result.rounds, bakes=state["bakes"])
     return {

@@ -416,6 +416,19 @@ def mirror_bounds(model, points_m, normals):
     return out, sorted(names)
 
 
+def world_floor(model, direct):
+    """(N,) samples each meter takes at least, or None (issue 18): DARK_FLOOR where the world's light is
+    rendered there and the world has no closed form (``scene_model.world_modelled``: sky textures, node
+    worlds such as one-patch skies), whose small bright regions a pilot misses while its variance
+    looks tiny."""
+    from ..radiometry import scene_model
+
+    if direct.world_status is None or not model.world_emits or scene_model.world_modelled(model):
+        return None
+    rendered = np.asarray(direct.world_status == scene_model.RENDER, bool)
+    return np.where(rendered, allocation.DARK_FLOOR, 0) if rendered.any() else None
+
+
 def may_be_lit(direct, direct_only=False):
     """(N,) bool: meters that rendered light may reach by a path a pilot can miss (issue 18): a
     reflecting surface above the horizon, a light that must be rendered there, or the world."""
@@ -613,6 +626,12 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
     if stacked and bound_rgb.any():
         notes.append("light bouncing between panes of multiple glazing is not found by rendering: its "
                      "closed-form share is in the stated error bound")
+    floor = world_floor(model, direct)
+    if floor is not None and fixed is None:
+        notes.append(f"the world's light is rendered from a world with no closed form (small bright regions, a sun "
+                     f"disc or a sky patch come by rare paths): at least {allocation.DARK_FLOOR:,} samples per "
+                     "such meter before the error is trusted (issue 18: a 256-sample pilot read a one-patch "
+                     "world 0.8 % low while stating 0.04 %)")
     parts = [{"analytic": [lt.name for lt in model.lights if (lt.source or lt.name) in split[k]],
               "rendered": ["everything else (reflected light, other lights, world, emitting surfaces)"]}
              for k in range(n)]
@@ -620,7 +639,8 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                                  bounces=0 if direct_only else preset["bounces"], weights=weights, target=target,
                                  time_budget=budget, fixed_samples=fixed, exclusions=split,
                                  offset=offset_rgb @ weights, progress=progress, cancelled=cancelled, seed=seed,
-                                 panes=model.panes, may_be_lit=may_be_lit(direct, direct_only))
+                                 panes=model.panes, may_be_lit=may_be_lit(direct, direct_only),
+                                 min_samples=floor)
     mean_rgb = run["mean_rgb"] + offset_rgb
     se_rgb = np.nan_to_num(run["se_rgb"])
     scalar_se = np.nan_to_num(run["se"])
