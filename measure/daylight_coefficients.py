@@ -283,10 +283,10 @@ def scene_extent(model, points_scene, scale):
     return (lo + hi) / 2, max(float(np.linalg.norm(hi - lo)) / 2, 1.0)
 
 
-def _meter_camera(scene, snapshot, model, points, normals, half, *, blk, spp, seed, quality, folder):
+def _meter_camera(scene, snapshot, model, points, normals, half, *, blk, spp, seed, quality):
     """Inside the caller's guard: every object's camera visibility = its diffuse visibility (the first
     ray is the sensor's diffuse ray), the meter camera, measurement settings, thin panes as the meter
-    reads them, a one-pixel box filter, the block image written as a 32-bit EXR into ``folder``."""
+    reads them, a one-pixel box filter. Returns (the settings' record, (width, height) of the image)."""
     import bpy
 
     from .. import quality as quality_presets
@@ -309,37 +309,21 @@ def _meter_camera(scene, snapshot, model, points, normals, half, *, blk, spp, se
 
         glass.swap_panes(snapshot, model.needs["thin_panes"])
     scene.cycles.filter_width = 1.0  # box of one pixel: samples stay inside their block
-    r = scene.render
-    r.resolution_x, r.resolution_y, r.resolution_percentage = columns * blk, rows * blk, 100
-    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
-    r.use_border = False
-    r.use_compositing = False
-    r.use_sequencer = False
-    r.use_single_layer = True
-    r.filepath = os.path.join(folder, "combined")
-    ims = r.image_settings
-    if hasattr(ims, "media_type"):
-        ims.media_type = "IMAGE"
-    ims.file_format = "OPEN_EXR"
-    ims.color_depth = "32"
-    ims.color_mode = "RGBA"
-    return record
+    return record, (columns * blk, rows * blk)
 
 
-def _rounds(scene, nrounds, seed, cancelled, progress, label, read):
-    """Render ``nrounds`` times (seeds ``seed * 7919 + k``); ``read()`` -> (N, C, npix) after each.
-    Returns the per-pixel sums over rounds and the sum over rounds and pixels of x x^T (N, C, C)."""
-    import bpy
+def _rounds(scene, folder, size, nrounds, seed, cancelled, progress, label, read, compositing=False):
+    """Render ``nrounds`` times (seeds ``seed * 7919 + k``; ``measure.camera.render_exr``); ``read(image)``
+    -> (N, C, npix) after each. Returns the per-pixel sums over rounds and the sum over rounds and
+    pixels of x x^T (N, C, C)."""
+    from .camera import render_exr
 
     total = cross = None
     for k in range(nrounds):
         if cancelled is not None and cancelled():
             raise MeasurementCancelled(f"{label} cancelled")
         scene.cycles.seed = int(seed) * 7919 + k
-        result = bpy.ops.render.render(write_still=True, scene=scene.name)
-        if result != {"FINISHED"}:
-            raise RadiometerError(f"Cycles render did not finish ({result})")
-        x = read()
+        x = read(render_exr(scene, folder, "combined", size[0], size[1], compositing=compositing))
         total = x if total is None else total + x
         cross = np.einsum("npi,nqi->npq", x, x) + (0.0 if cross is None else cross)
         if progress is not None:
@@ -362,7 +346,7 @@ def render_irradiance(points_scene, normals, *, scene, quality="standard", sampl
     """Irradiance at the meters from the scene AS IT IS (world and lights as the caller left them),
     through the meter camera (module docstring; no dome, no light groups): (E_rgb (N, 3) W/m^2 per
     scene unit^2 as Cycles renders, covariance (N, 3, 3), record). The scene is as before afterwards."""
-    from . import exr, meter, scene_guard
+    from . import meter, scene_guard
     from .analysis_common import view_layer_of
 
     spp, blk, nrounds = _settings(quality, samples, block, rounds)
@@ -375,11 +359,10 @@ def render_irradiance(points_scene, normals, *, scene, quality="standard", sampl
         with scene_guard.preserved_scene(scene) as snapshot:
             model = meter.capture_model(scene, view_layer_of(scene))
             _centre, half = scene_extent(model, points, scene.unit_settings.scale_length)
-            record = _meter_camera(scene, snapshot, model, points, normals, half, blk=blk, spp=spp, seed=seed,
-                                   quality=quality, folder=folder)
-            path = os.path.join(folder, "combined.exr")
-            total, cross = _rounds(scene, nrounds, seed, cancelled, progress, "meter camera",
-                                   lambda: np.pi * _blocks(np.moveaxis(exr.read_rgb(path), -1, 0), n, blk, columns))
+            record, size = _meter_camera(scene, snapshot, model, points, normals, half, blk=blk, spp=spp, seed=seed,
+                                         quality=quality)
+            total, cross = _rounds(scene, folder, size, nrounds, seed, cancelled, progress, "meter camera",
+                                   lambda img: np.pi * _blocks(np.moveaxis(img, -1, 0), n, blk, columns))
     finally:
         shutil.rmtree(folder, ignore_errors=True)
     mean, cov = _stratified(total, cross, nrounds)
@@ -441,14 +424,14 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
             before = {g.name for g in view_layer.lightgroups}
             names = _build_dome(scene, view_layer, patches, centre, DOME_SCALE * half)
             added_groups = [g for g in names if g not in before]
-            record = _meter_camera(scene, snapshot, model, points, normals, half, blk=blk, spp=spp, seed=seed,
-                                   quality=quality, folder=folder)
-            scene.render.use_compositing = True
+            record, size = _meter_camera(scene, snapshot, model, points, normals, half, blk=blk, spp=spp, seed=seed,
+                                         quality=quality)
             snapshot.remember(scene, "compositing_node_group")
             scene.compositing_node_group = _file_output(scene, folder, names)
             weights = meter.scene_photometry(scene)[1]
-            total, cross = _rounds(scene, nrounds, seed, cancelled, progress, "daylight coefficients",
-                                   lambda: np.pi * _blocks(_read_passes(folder, names, weights), n, blk, columns))
+            total, cross = _rounds(scene, folder, size, nrounds, seed, cancelled, progress, "daylight coefficients",
+                                   lambda _img: np.pi * _blocks(_read_passes(folder, names, weights), n, blk, columns),
+                                   compositing=True)
     finally:
         for g in added_groups:
             lg = view_layer.lightgroups.get(g)
