@@ -55,26 +55,8 @@ def _material_traits(material):
                     if socket.is_linked or (socket.default_value != (0.0 if name != "Alpha" else 1.0)):
                         transmissive = True
     volume = render_settings._uses_volume(tree)
-    emissive = bool(types & render_settings._EMISSIVE_NODES) or _principled_emits(tree)
-    return (not transmissive and not volume, emissive,
+    return (not transmissive and not volume, bool(types & render_settings._EMISSIVE_NODES),
             bool(types & render_settings._GLOSSY_NODES), transmissive, volume)
-
-
-def _principled_emits(tree):
-    """True when a Principled BSDF of ``tree`` may emit (Emission Strength linked or > 0 with a colour)."""
-    if tree is None:
-        return False
-    for node in tree.nodes:
-        if node.bl_idname != "ShaderNodeBsdfPrincipled" or node.mute:
-            continue
-        strength, colour = node.inputs.get("Emission Strength"), node.inputs.get("Emission Color")
-        if strength is None or colour is None:
-            continue
-        if strength.is_linked or colour.is_linked:
-            return True
-        if strength.default_value != 0.0 and any(c != 0.0 for c in colour.default_value[:3]):
-            return True
-    return False
 
 
 def _emission_radiance(material):

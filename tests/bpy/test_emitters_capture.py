@@ -59,7 +59,7 @@ def test_capture_builds_emitters_with_identity_and_visibility(clean_blender, bui
     assert point.visibility & V.SHADOW
     assert not area.visibility & emitters.RayVisibility.SHADOW and not area.visibility & emitters.RayVisibility.GLOSSY
     assert area.power_w() == pytest.approx(np.full(3, 5.0))
-    # The emissive surface (a Principled BSDF's emission counts: issue 17) is an emitter of its own.
+    # The emissive surface (a Principled BSDF's emission, as render_settings._node_types reads it) is an emitter.
     (mesh,) = model.emissive_meshes
     assert mesh.source_id.object_uid == glow.session_uid and mesh.source_id.part == 0
     assert mesh.flags & emitters.EmitterFlags.RENDERED_ONLY and model.emissive_surfaces
