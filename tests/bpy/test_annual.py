@@ -72,6 +72,9 @@ def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blend
     from radiometer.radiometry import perez
 
     scene = bpy.context.scene
+    if not dcm.supported(scene):
+        pytest.skip("the one-render dome needs Blender 5.0's custom camera and compositor node groups; "
+                    "this Blender refuses it in one line (tested below)")
     light = build.light(scene, "POINT", (0, 0, 3), energy=100.0)
     world = bpy.data.worlds.new("user world")
     scene.world = world
@@ -158,6 +161,13 @@ def test_annual_against_radiance_in_a_room_that_does_not_saturate(clean_blender,
     scene = bpy.context.scene
     room.room.build_blender(scene, room.quads())
     epw_path = room.write_epw(tmp_path / "year.epw")
+    from radiometer.errors import RadiometerError
+    from radiometer.measure import daylight_coefficients as dcm
+
+    if not dcm.supported(scene):  # Blender 4.x: one clear line, no silent per-patch fallback
+        with pytest.raises(RadiometerError, match="needs Blender 5.0"):
+            annual.annual_daylight(room.POINTS, (0, 0, 1), epw_path, scene=scene, quality="preview", samples=2)
+        return
     r = annual.annual_daylight(room.POINTS, (0, 0, 1), epw_path, scene=scene, quality="preview", samples=2, seed=1)
     print("sDA", r.sda, r.sda_range, ref["sda"], "ASE", r.ase, ref["ase"])
     assert abs(r.sda - ref["sda"]) <= 0.03 and abs(r.ase - ref["ase"]) <= 0.03
