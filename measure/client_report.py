@@ -39,10 +39,8 @@ def luminaire_schedule(scene):
     """Rows per luminaire type: type, file (name only), count, flux per luminaire (lm), power (W),
     efficacy (lm/W). IES/EULUMDAT lights: the file's flux and input watts; Blender lights: the emitted
     flux K x Y x P (the light's power is radiant, so no electrical power and no efficacy)."""
-    from ..radiometry import photometry
-    from . import luminaires, meter
+    from . import light_power, luminaires
 
-    space, weights, efficacy = meter.scene_photometry(scene)
     groups = {}
     for obj in scene.objects:
         if obj.type != "LIGHT" or obj.hide_render:
@@ -66,15 +64,12 @@ def luminaire_schedule(scene):
             if data.type == "AREA":
                 two = data.shape in ("RECTANGLE", "ELLIPSE")
                 shape = f" {data.shape.lower()} {data.size:.3g}" + (f" x {data.size_y:.3g}" if two else "") + " m"
-            colour = tuple(data.temperature_color) if getattr(data, "use_temperature", False) else tuple(data.color)
             power = float(data.energy) * 2.0 ** float(getattr(data, "exposure", 0.0))
-            key = ("blender", data.type, shape, round(power, 6), tuple(round(c, 4) for c in colour))
+            # The light's one home for flux (its emitter: colour x temperature colour, exposure, normalize),
+            # as the photometric-power dialog reads it; a sun has an illuminance, not a flux.
+            flux = math.nan if data.type == "SUN" else light_power.photometric_power(obj, "LUMEN", scene)
+            key = ("blender", data.type, shape, round(power, 6), round(flux, 3) if math.isfinite(flux) else None)
             if key not in groups:
-                if data.type == "SUN":
-                    flux = math.nan  # a sun has an illuminance, not a flux
-                else:
-                    flux = efficacy * power * float(photometry.luminance_factor(colour, space)
-                                                    if space in photometry.COLOUR_SPACES else np.dot(colour, weights))
                 groups[key] = {"type": f"Blender {data.type.lower()} light{shape}, {power:.4g} W radiant",
                                "file": "", "count": 0, "flux_lm": flux, "power_w": math.nan}
         groups[key]["count"] += 1

@@ -80,3 +80,27 @@ def test_sun_cosine_check_point_is_in_the_room(clean_blender, build):
     bpy.context.view_layer.update()  # matrix_world of objects made through bpy.data (a report measures first)
     assert report._room_point(report.work_planes(scene), []) == pytest.approx((1.0, 2.0, 0.75))
     assert report._room_point([], []) is None
+
+
+def test_schedule_flux_of_blender_lights_honours_colour_temperature_and_exposure(clean_blender, build):
+    """Luminaire schedule, Blender lights: flux = K x Y(colour x temperature colour) x P x 2^exposure with
+    Rec.709 luminance weights and K = 683 lm/W (the scene's defaults); two lights that differ only in
+    colour temperature are two rows, not one."""
+    from radiometer.measure.client_report import luminaire_schedule
+
+    scene = bpy.context.scene
+    y709 = (0.2126, 0.7152, 0.0722)
+    fluxes = {}
+    for kelvin in (2700.0, 6500.0):
+        light = build.light(scene, "POINT", (0.0, 0.0, 2.0), energy=10.0, name=f"warm {kelvin:.0f}")
+        light.data.color = (1.0, 0.5, 0.25)
+        light.data.use_temperature = True
+        light.data.temperature = kelvin
+        light.data.exposure = 1.0
+        rgb = [c * t for c, t in zip(light.data.color, light.data.temperature_color)]
+        fluxes[round(683.0 * 10.0 * 2.0 * sum(w * c for w, c in zip(y709, rgb)), 3)] = kelvin
+    rows = luminaire_schedule(scene)
+    assert len(rows) == 2
+    got = sorted(r["flux_lm"] for r in rows)
+    want = sorted(fluxes)
+    assert got == pytest.approx(want, rel=1e-4)
