@@ -42,6 +42,17 @@ def format_quantity(value, unit, rel_std_error=0.0, exact=False):
     return f"{format_value(value, rel_std_error, exact)} {unit} {format_error(rel_std_error, exact)}"
 
 
+def batch_method(readings):
+    """The method of a batch of readings: one name when all agree, else each with its count, e.g.
+    "mixed: analytic 12, hybrid 4" (a batch reads each meter as cheaply as its own proof allows)."""
+    counts = {}
+    for r in readings:
+        counts[r.method] = counts.get(r.method, 0) + 1
+    if len(counts) == 1:
+        return next(iter(counts))
+    return "mixed: " + ", ".join(f"{m} {n}" for m, n in counts.items())
+
+
 def format_reading(reading):
     """One reading as a user reads it: '402 lx ±1.1 %' or '1230 cd/m² ±0.5 %'."""
     if getattr(reading, "quantity", "") == "luminance":

@@ -17,6 +17,7 @@ import numpy as np
 
 from .. import plots as _plots
 from ..errors import RadiometerError
+from ..readings import batch_method
 from ..radiometry import grid as grid_math
 from . import analysis_common as common
 
@@ -222,7 +223,7 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     result = GridResult(
         target=obj.name, nx=nx, ny=ny, spacing=(size_x / nx, size_y / ny), size=(size_x, size_y), lux=lux,
         irradiance=irr, rel_std_error=se, points=points, local_extent=(x0, x1, y0, y1),
-        normal=tuple(normal.tolist()), stats=grid_math.grid_stats(lux), method=readings[0].method,
+        normal=tuple(normal.tolist()), stats=grid_math.grid_stats(lux), method=batch_method(readings),
         exact=all(r.exact for r in readings), seconds=seconds, notes=notes, spacing_rule=rule,
         target_rel_error=readings[0].target_rel_error, max_rel_std_error=float(np.max(se)),
         matrix_world=mw.tolist(), local_z=float(zc), scale_length=float(scale))

@@ -31,6 +31,7 @@ import time
 import numpy as np
 
 from ..errors import MeasurementCancelled, RadiometerError
+from ..readings import batch_method
 
 SUN_RADIUS_DEG = 0.265
 _DISC_RINGS = (1, 6, 12, 18, 24)  # 61 rays: the centre and 4 rings (one ray per ~equal area)
@@ -199,7 +200,7 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
             out["illuminance"] = np.array([r.illuminance for r in readings])
             out["rel_std_error"] = np.array([r.rel_std_error for r in readings])
             out["exact"] = np.array([bool(r.exact) for r in readings])
-            out["method"] = readings[0].method
+            out["method"] = batch_method(readings)
         else:  # no sun, no sky: nothing to measure
             out["illuminance"], out["rel_std_error"] = np.zeros(n), np.zeros(n)
             out["exact"], out["method"] = np.ones(n, bool), "below horizon"
