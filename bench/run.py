@@ -35,7 +35,6 @@ from radiometer import api  # noqa: E402
 from radiometer import quality as quality_presets  # noqa: E402
 from radiometer.measure import adaptive, meter, render_settings, scene_capture, scene_guard, sensors  # noqa: E402
 from radiometer.radiometry import allocation  # noqa: E402
-from radiometer.radiometry import lights as light_models  # noqa: E402
 
 QUICK = False
 CORES = os.cpu_count() or 1
@@ -606,8 +605,8 @@ def bench_analytic():
     pts = rng.uniform(-5, 5, (m, 3))
     normals = rng.normal(size=(m, 3))
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-    light_models.irradiance(spec, pts[:1000], normals[:1000])
-    t_single = median([timed(lambda: light_models.irradiance(spec, pts, normals))[0] for _ in range(5)])
+    spec.irradiance_at(pts[:1000], normals[:1000])
+    t_single = median([timed(lambda: spec.irradiance_at(pts, normals))[0] for _ in range(5)])
     evals_per_s = m / t_single
     results = {"points": m, "seconds_per_call": t_single, "point_evals_per_s": evals_per_s,
                "goal_evals_per_s": 1e6, "met": evals_per_s >= 1e6}
@@ -621,7 +620,7 @@ def bench_analytic():
         api.predict_illuminance((0.1, 0.2, 0.75))
         t = median([timed(lambda: api.predict_illuminance((0.1, 0.2, 0.75)))[0] for _ in range(5)])
         specs = _specs(scene)
-        t_vec = median([timed(lambda: [light_models.irradiance(s, pts[:1], normals[:1]) for s in specs])[0]
+        t_vec = median([timed(lambda: [s.irradiance_at(pts[:1], normals[:1]) for s in specs])[0]
                         for _ in range(5)])
         results[label] = {"predict_illuminance_s": t, "model_evaluation_only_s": t_vec}
         log(f"  analytic {label}: predict {t * 1e3:.1f} ms")
@@ -914,7 +913,7 @@ def markdown(res):
     if "analytic" in res:
         a = res["analytic"]
         out += ["## 6. Analytic path", "",
-                f"Vectorised point-light model (`radiometry.lights.irradiance`) at {a['points']:,} receivers in one "
+                f"Vectorised point-light model (the emitter's `irradiance_at`) at {a['points']:,} receivers in one "
                 f"call: {a['seconds_per_call'] * 1e3:.1f} ms, **{a['point_evals_per_s']:.3g} evaluations/s** "
                 f"(goal >= 1e6/s: {yes(a['met'])}).", "",
                 "| predict_illuminance, one point | time (ms) | of which light models (ms) |", "|---|---:|---:|"]

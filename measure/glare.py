@@ -27,7 +27,6 @@ import numpy as np
 
 from ..errors import RadiometerError
 from ..radiometry import glare as glare_math
-from ..radiometry import lights as light_models
 
 
 MAX_SOURCE_TRIANGLES = 20000  #: an emitting mesh with more triangles is left out (said so), not rated
@@ -82,7 +81,7 @@ def _source_geometry(spec, eye, efficacy, weights, photometry_for):
         cos_l = float(d @ spec.emission_direction)
         if cos_l <= 0:
             return None, "seen from behind: it emits nothing towards the eye"
-        intensity = float(light_models.radiant_intensity(spec, d) @ weights) * efficacy  # cd
+        intensity = float(spec.intensity_towards(d) @ weights) * efficacy  # cd
         luminance = intensity / (area * cos_l)
         if round_shape:
             poly = glare_math.disk_polygon(centre, eu, ev)
@@ -102,7 +101,7 @@ def _source_geometry(spec, eye, efficacy, weights, photometry_for):
             return None, "a luminous opening with height or of another shape: not modelled (flat ones only)"
         if projected <= 0:
             return None, "seen from above its luminous opening"
-        intensity = float(light_models.radiant_intensity(spec, d) @ weights) * efficacy
+        intensity = float(spec.intensity_towards(d) @ weights) * efficacy
         return (intensity / projected, projected / dist**2, centre), None
     if spec.kind == "SUN":
         return None, "a sun: daylight glare is not rated by UGR (CIE 117 is for luminaires)"

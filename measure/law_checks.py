@@ -198,7 +198,7 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     weights, efficacy = common.luminance_weights(scene)
     scale = scene.unit_settings.scale_length
     axis = np.asarray(spec.emission_direction, float)
-    intensity = float(np.asarray(_radiant_intensity(spec, axis)) @ weights)
+    intensity = float(np.asarray(spec.intensity_towards(axis)) @ weights)
     if intensity <= 0:
         raise RadiometerError(f"light {obj.name!r} sends no light along its axis (intensity 0): nothing to check")
     notes, causes = [], []
@@ -338,12 +338,6 @@ def _expected_inverse_square(spec, d, direct, dse, model, model_dev, ok, judged,
              else f"at every distance checked (to {d[-1]:.2g} m: the far field lies farther)")
     return True, (f"near field {where}: {what}; its closed form predicts the departure measured "
                   f"({100 * model_dev[k]:+.3g} % at {d[k]:.2g} m)")
-
-
-def _radiant_intensity(spec, direction):
-    from ..radiometry import lights as light_models
-
-    return light_models.radiant_intensity(spec, direction)
 
 
 def _light_causes_inverse_square(spec, d, model_dev, direct_dev, dse, judged_ok, tolerance):

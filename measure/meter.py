@@ -77,14 +77,14 @@ def plan(scene, model, points_m, normals, method, direct_only=False):
     ``direct_only``: only light straight from the sources is wanted (reflections do not count;
     light from the world or emitting surfaces still needs a render).
     """
-    from ..radiometry import lights as light_models, scene_model
+    from ..radiometry import scene_model
 
     if method not in quality_presets.METHODS:
         raise RadiometerError(f"unknown method {method!r}; choose one of {', '.join(quality_presets.METHODS)}")
     emitting = [lt for lt in model.lights if not lt.portal]
     if not emitting and not model.world_emits and not model.emissive_surfaces:
         raise RadiometerError("the scene has no light sources (no lights, a black world, no emitting surfaces)")
-    direct = scene_model.plan_direct(model, points_m, normals, light_models.exactness)
+    direct = scene_model.plan_direct(model, points_m, normals)
     world_render = _world_rendered(direct)
     unmodelled = (world_render or bool(model.emissive_surfaces)) if direct_only else direct.indirect.any()
     analytic_ok = np.isin(direct.status, (scene_model.EXACT, scene_model.ZERO, scene_model.BOUNDED)).all() \
@@ -183,25 +183,19 @@ def analytic_irradiance(model, direct, points_m, normals):
     Contributions planned ZERO are exactly 0; RENDER ones (possible partial occlusion, forced
     analytic) keep the unoccluded value with a bound of 100 % (the truth lies between 0 and it).
     """
-    from ..radiometry import lights as light_models, scene_model
+    from ..radiometry import scene_model
 
     n_pts = len(points_m)
     per_light = np.zeros((len(model.lights), n_pts, 3))
     bounds = np.zeros_like(per_light)
     info = []
-    with_bound = getattr(light_models, "irradiance_with_bound", None)
     for i, light in enumerate(model.lights):
         status = direct.status[i]
         if light.spec is None:
             info.append((False, None, f"no closed form: {light.uncovered}"))
             continue
-        if with_bound is not None:
-            values, rel = with_bound(light.spec, points_m, normals)
-            rel = np.broadcast_to(np.asarray(rel, float), (n_pts,))
-        else:
-            values = light_models.irradiance(light.spec, points_m, normals)
-            exact, _m, _n = light_models.exactness(light.spec)
-            rel = np.full(n_pts, 0.0 if exact else 1e-3)
+        values, rel = light.spec.relative_irradiance(points_m, normals)  # the emitter's model and relative bound
+        rel = np.broadcast_to(np.asarray(rel, float), (n_pts,))
         values = np.where((status == scene_model.ZERO)[:, None], 0.0, values)
         glass = np.zeros(n_pts)
         if direct.transmittance is not None:  # thin panes on the way (issue 18): T, and its bound
@@ -210,7 +204,7 @@ def analytic_irradiance(model, direct, points_m, normals):
         partial = status == scene_model.RENDER
         bounds[i] = np.abs(values) * np.where(partial, 1.0, rel + glass)[:, None]
         per_light[i] = values
-        exact, model_name, note = light_models.exactness(light.spec)
+        exact, model_name, note = light.spec.exactness()
         states = sorted(set(str(r) for r in direct.reason[i]))
         info.append((bool(np.all(np.isin(status, (scene_model.EXACT, scene_model.ZERO)))), model_name,
                      f"{note}; " + " | ".join(states)))
@@ -346,7 +340,7 @@ def through_medium(model, direct, medium):
     """(L, N) bool: contributions whose direct light is a closed form times the medium's exp(-sigma_t d)
     (issue 18): a delta point or spot light (radius 0, exact closed form) that the planner proved
     unoccluded but for a homogeneous world volume (``medium``, or None: nothing)."""
-    from ..radiometry import lights as light_models, scene_model
+    from ..radiometry import scene_model
 
     out = np.zeros(direct.status.shape, bool)
     if medium is None:
@@ -354,7 +348,7 @@ def through_medium(model, direct, medium):
     for i, light in enumerate(model.lights):
         spec = light.spec
         if (spec is None or light.portal or not light.reaches_diffuse or spec.kind not in ("POINT", "SPOT")
-                or spec.radius != 0.0 or not light_models.exactness(spec)[0]):
+                or spec.radius != 0.0 or not spec.exactness()[0]):
             continue
         out[i] = (direct.status[i] == scene_model.RENDER) & np.array(
             [str(r).startswith(_WORLD_VOLUME_REASON) for r in direct.reason[i]], bool)
@@ -377,7 +371,7 @@ def mirror_bounds(model, points_m, normals):
     mirror (``glass.mirror_triangles``), the image's closed form with reflectance 1: I(towards the
     mirror point) cos / r^2 from the mirrored position, or the sun's normal irradiance x cos of its
     mirrored direction; one per distinct image (summed). Occlusion is ignored (a bound)."""
-    from ..radiometry import lights as light_models, visibility
+    from ..radiometry import visibility
     from . import glass
 
     n = len(points_m)
@@ -395,7 +389,7 @@ def mirror_bounds(model, points_m, normals):
         sun = spec.kind == "SUN"
         to_sun = -np.asarray(spec.emission_direction, float) if sun else None
         if sun:
-            e_normal = light_models.irradiance(spec, points_m[:1], to_sun[None, :])[0]
+            e_normal = spec.irradiance_at(points_m[:1], to_sun[None, :])[0][0]
         for k in range(n):
             hit, image, at = visibility.mirror_images(points_m[k], tris, None if sun else spec.position, to_sun)
             seen = set()
@@ -484,10 +478,10 @@ def _glass_bounded(light, direct, i, k):
     """True when light i at meter k is BOUNDED only by the spread of a thin pane's T over the light's
     extent (its own closed form is exact; issue 18): its closed form is added with that bound,
     stated in the reading."""
-    from ..radiometry import lights as light_models, scene_model
+    from ..radiometry import scene_model
 
     return (direct.status[i, k] == scene_model.BOUNDED and direct.glass_bound is not None
-            and direct.glass_bound[i, k] > 0.0 and bool(light_models.exactness(light.spec)[0]))
+            and direct.glass_bound[i, k] > 0.0 and bool(light.spec.exactness()[0]))
 
 
 def _budget_mode(preset, target_rel_error, samples, time_budget_s):
@@ -777,9 +771,7 @@ def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     model = capture_model(scene, view_layer)
     sensors_scene, _eps = sensor_points(points_scene, normals, scale, model)
     sensors_m = sensors_scene * scale
-    from ..radiometry import lights as light_models
-
-    direct = scene_model.plan_direct(model, sensors_m, normals, light_models.exactness)
+    direct = scene_model.plan_direct(model, sensors_m, normals)
     space, weights, efficacy = scene_photometry(scene)
     per_light, bounds, info = analytic_irradiance(model, direct, sensors_m, normals)
     rows = []
