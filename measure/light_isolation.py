@@ -2,7 +2,8 @@
 what it gives at points split into its OWN direct light and what the scene adds.
 
 Host side (bpy) of the law checks. ``isolated_light`` hides every light object that renders
-(including lights inside instanced collections, found through the scene model's light sources)
+(including lights inside instanced collections, found through the scene model's light sources by
+their ``source_id``, never by name)
 and removes the world, inside ``scene_guard.preserved_scene``: the user's scene comes back
 unchanged. ``measure_light_and_scene`` measures the total (the light plus everything the scene's
 surfaces reflect of it) and the light's direct light alone (closed forms where
@@ -41,12 +42,22 @@ def scene_model(scene):
     return meter.capture_model(scene, common.view_layer_of(scene))
 
 
+def _identity(obj):
+    """(session uid, library path) of an object: what the capture's ``SourceId`` records of it."""
+    library = obj.library.filepath if getattr(obj, "library", None) is not None else ""
+    return int(obj.session_uid), library
+
+
 def light_spec(obj, scene, model=None):
-    """The LightSpec (SI) of a light object as Cycles renders it, or a clear error when no closed
-    form describes it. ``model``: the scene's ``SceneModel`` when the caller has it."""
+    """The emitter (SI) of a light object as Cycles renders it, or a clear error when no closed
+    form describes it. ``model``: the scene's ``SceneModel`` when the caller has it. The object is
+    found by its identity (``ModelLight.source_id``: session uid and library, not an instance), never
+    by name: a renamed light, or one of several objects sharing one light data-block, is its own."""
     model = scene_model(scene) if model is None else model
+    own = _identity(obj)
     for light in model.lights:
-        if light.name == obj.name:
+        sid = light.source_id
+        if sid is not None and (sid.object_uid, sid.library) == own and not sid.instance:
             if light.spec is None:
                 raise RadiometerError(f"light {obj.name!r} {light.uncovered}: Radiometer has no far-field "
                                       "intensity to compare with")
@@ -71,9 +82,9 @@ def rendering_light_objects(scene, model=None):
     """Every light OBJECT that renders in ``scene``: the scene model's light sources (which include
     lights inside instanced collections) and the scene's own visible light objects."""
     model = scene_model(scene) if model is None else model
-    names = {lt.source or lt.name for lt in model.lights}
+    sources = {(lt.source_id.object_uid, lt.source_id.library) for lt in model.lights if lt.source_id is not None}
     objects = {ob for ob in scene.objects if ob.type == "LIGHT" and not ob.hide_render}
-    objects |= {bpy.data.objects[n] for n in names if n in bpy.data.objects}
+    objects |= {ob for ob in bpy.data.objects if ob.type == "LIGHT" and _identity(ob) in sources}
     return sorted((ob for ob in objects if ob.type == "LIGHT"), key=lambda ob: ob.name)
 
 
@@ -110,9 +121,7 @@ def free_distance(scene, origin_m, direction, model=None):
 
 def model_irradiance(spec, points_m, normals, weights):
     """The light's closed form alone (no scene surfaces: unoccluded), W/m^2 CIE Y weighted."""
-    from ..radiometry import lights as light_models
-
-    return light_models.irradiance(spec, points_m, normals) @ weights
+    return spec.irradiance_at(points_m, normals)[0] @ weights
 
 
 @dataclasses.dataclass
