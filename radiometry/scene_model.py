@@ -2,7 +2,7 @@
 
 A ``SceneModel`` is the scene exactly as Cycles renders it (filled by ``measure.scene_capture`` from
 the render depsgraph: render visibility, instances, modifiers, ray-visibility and shadow flags,
-transforms): its lights (``LightSpec`` where a closed form covers them) and its geometry as a
+transforms): its lights (an emitter where a closed form covers them) and its geometry as a
 triangle soup in metres. ``plan_direct`` decides, for every light and every receiver, how its
 direct light is obtained, with the reason, so that tests can inspect the decisions:
 

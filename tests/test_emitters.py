@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, given, settings, strategies as st
 
-from radiometer.radiometry import emitters, lights
+from radiometer.radiometry import emitters
 from radiometer.radiometry.cie_sky import CIESkyWorld
 from radiometer.radiometry.emitters import EmitterFlags
 from radiometer.radiometry.emitters.photometric import IntensityTable, table_flux
@@ -76,21 +76,21 @@ def positioned_emitters(draw):
         return emitters.EmissiveMesh(tris, rgb)
     if kind == "photometric":
         scale = np.array(draw(st.tuples(*(st.floats(0.5, 2.0) for _ in range(3)))))
-        return lights.LightSpec(kind="POINT", position=pos, axes=rot, scale=scale, rgb_power=rgb,
+        return emitters.CyclesLight(kind="POINT", position=pos, axes=rot, scale=scale, rgb_power=rgb,
                                 intensity_table=_smooth_table(draw(st.integers(0, 1000))))
     if kind in ("point", "sphere"):
-        return lights.LightSpec(kind="POINT", position=pos, axes=rot, rgb_power=rgb,
+        return emitters.CyclesLight(kind="POINT", position=pos, axes=rot, rgb_power=rgb,
                                 radius=0.0 if kind == "point" else draw(st.floats(0.01, 0.3)),
                                 soft_falloff=draw(st.booleans()))
     if kind.startswith("spot"):
         scale = np.array(draw(st.tuples(*(st.floats(0.5, 2.0) for _ in range(3)))))
         blend = draw(st.sampled_from([0.0, 0.15, 0.6, 1.0]))
-        return lights.LightSpec(kind="SPOT", position=pos, axes=rot, scale=scale, rgb_power=rgb,
+        return emitters.CyclesLight(kind="SPOT", position=pos, axes=rot, scale=scale, rgb_power=rgb,
                                 radius=0.0 if kind == "spot" else draw(st.floats(0.01, 0.2)),
                                 soft_falloff=draw(st.booleans()), spot_blend=blend,
                                 spot_size=draw(st.floats(0.2 if blend else 1.0, 3.0)))
     shape = draw(st.sampled_from(["SQUARE", "RECTANGLE", "DISK", "ELLIPSE"]))
-    return lights.LightSpec(kind="AREA", position=pos, axes=rot, rgb_power=rgb, shape=shape,
+    return emitters.CyclesLight(kind="AREA", position=pos, axes=rot, rgb_power=rgb, shape=shape,
                             size=draw(st.floats(0.05, 0.8)), size_y=draw(st.floats(0.05, 0.8)),
                             scale=np.array([draw(st.floats(0.5, 2.0)), draw(st.floats(0.5, 2.0)), 1.0]),
                             spread=draw(st.sampled_from([math.pi, 2.0, 1.0, 0.4])))
@@ -130,11 +130,11 @@ directions = st.tuples(*(st.floats(-1, 1) for _ in range(3))).filter(lambda v: n
 def test_inverse_square_law_far_away(em, draw_dir):
     """E d^2 -> I(d) on a receiver facing the source, 1000 source sizes away."""
     d = _out_direction(em, draw_dir)
-    if isinstance(em, lights.LightSpec) and em.kind == "SPOT" and em.spot_blend == 0.0:
+    if isinstance(em, emitters.CyclesLight) and em.kind == "SPOT" and em.spot_blend == 0.0:
         # A hard cone edge has no limit across it: stay clear of it by more than the source subtends.
         z = -(np.linalg.solve(em.matrix, d) / np.linalg.norm(np.linalg.solve(em.matrix, d)))[2]
         assume(abs(z - math.cos(em.spot_size / 2)) > 1e-2)
-    if isinstance(em, lights.LightSpec) and em.kind == "AREA" and em.spread < math.pi:
+    if isinstance(em, emitters.CyclesLight) and em.kind == "AREA" and em.spread < math.pi:
         # The spread's cut-off (tan a = tan(s/2)) is a kink: far away every point of the light sees it at once.
         cos_a = float(d @ em.emission_direction)
         assume(abs(math.acos(min(cos_a, 1.0)) - em.spread / 2) > 2e-2)
@@ -172,7 +172,7 @@ def test_cosine_law_irradiance_is_linear_in_the_normal(em, draw_dir, mix, spread
 @given(positioned_emitters())
 def test_power_is_the_integral_of_the_intensity(em):
     """power_w() = the intensity integrated over the sphere (a Fibonacci set: independent quadrature)."""
-    hard = isinstance(em, lights.LightSpec) and em.kind == "SPOT" and em.spot_blend == 0.0
+    hard = isinstance(em, emitters.CyclesLight) and em.kind == "SPOT" and em.spot_blend == 0.0
     integral = 4.0 * np.pi * em.intensity_towards(FIB_FINE if hard else FIB).mean(axis=0)
     np.testing.assert_allclose(em.power_w(), integral, rtol=1e-3)
     weights = np.array([0.2126, 0.7152, 0.0722])
@@ -199,7 +199,7 @@ def test_non_negative_and_finite(em, receivers):
 @SETTINGS
 @given(angles, st.floats(0.0, 0.5), colour, st.floats(0.0, 1.0), st.floats(0.05, 1.0))
 def test_sun_cosine_law_and_flags(rot, angle, rgb, mix, spread):
-    sun = lights.LightSpec(kind="SUN", axes=_rotation(*rot), rgb_power=np.array(rgb), angle=angle)
+    sun = emitters.CyclesLight(kind="SUN", axes=_rotation(*rot), rgb_power=np.array(rgb), angle=angle)
     assert isinstance(sun, emitters.SunLight) and sun.flags & EmitterFlags.INFINITE
     assert bool(sun.flags & EmitterFlags.DELTA_DIRECTION) == (angle == 0.0)
     to_sun = -sun.emission_direction
@@ -236,23 +236,23 @@ def test_environment_emitters_wrap_the_world_maths():
 
 
 def test_constructing_a_light_returns_the_emitter_of_its_kind():
-    assert type(lights.LightSpec(kind="POINT")) is emitters.PointLight
-    assert type(lights.LightSpec(kind="SPOT")) is emitters.SpotLight
-    assert type(lights.LightSpec(kind="AREA")) is emitters.AreaLight
-    assert type(lights.LightSpec(kind="SUN")) is emitters.SunLight
+    assert type(emitters.CyclesLight(kind="POINT")) is emitters.PointLight
+    assert type(emitters.CyclesLight(kind="SPOT")) is emitters.SpotLight
+    assert type(emitters.CyclesLight(kind="AREA")) is emitters.AreaLight
+    assert type(emitters.CyclesLight(kind="SUN")) is emitters.SunLight
     table = _smooth_table(1)
-    assert type(lights.LightSpec(kind="POINT", intensity_table=table)) is emitters.PhotometricLight
+    assert type(emitters.CyclesLight(kind="POINT", intensity_table=table)) is emitters.PhotometricLight
     import dataclasses
     import pickle
 
-    spot = dataclasses.replace(lights.LightSpec(kind="POINT"), kind="SPOT")
+    spot = dataclasses.replace(emitters.CyclesLight(kind="POINT"), kind="SPOT")
     assert type(spot) is emitters.SpotLight
-    sun = pickle.loads(pickle.dumps(lights.LightSpec(kind="SUN", angle=0.1)))
+    sun = pickle.loads(pickle.dumps(emitters.CyclesLight(kind="SUN", angle=0.1)))
     assert type(sun) is emitters.SunLight and sun.angle == 0.1
     with pytest.raises(ValueError, match="kind must be one of"):
-        lights.LightSpec(kind="LASER")
+        emitters.CyclesLight(kind="LASER")
     with pytest.raises(ValueError, match="radius 0 only"):
-        lights.LightSpec(kind="SPOT", intensity_table=table)
+        emitters.CyclesLight(kind="SPOT", intensity_table=table)
     ident = emitters.SourceId(123, "", (4, 0), -1)
     em = emitters.from_blender_values({"type": "AREA", "energy": 5.0}, source_id=ident,
                                       visibility=emitters.RayVisibility.ALL & ~emitters.RayVisibility.SHADOW)
@@ -273,7 +273,7 @@ def test_flux_of_an_isotropic_and_a_cosine_table():
     assert table_flux(h, v1, cosine) == pytest.approx(np.pi * 100.0, rel=1e-4)
     # The light: rgb_power x the table's flux (W per W); a non-uniform scale warps the directions but
     # an isotropic table stays isotropic (the Jacobian integrates to 4 pi over the sphere).
-    light = lights.LightSpec(kind="POINT", rgb_power=np.array([1.0, 2.0, 3.0]), scale=np.array([1.0, 3.0, 0.5]),
+    light = emitters.CyclesLight(kind="POINT", rgb_power=np.array([1.0, 2.0, 3.0]), scale=np.array([1.0, 3.0, 0.5]),
                              intensity_table=IntensityTable(h_deg=h, v_deg=v, values=iso / 100.0))
     np.testing.assert_allclose(light.power_w(), 4 * np.pi * np.array([1.0, 2.0, 3.0]), rtol=1e-6)
 
@@ -284,7 +284,7 @@ def test_spot_power_closed_form(size_deg, blend):
     P/2 [(1 - c)(1 - blend) + (1 - c) blend (1 - 1/2)] = P (1 - c)(1 - blend/2) / 2 (the smoothstep's
     mean is 1/2)."""
     c = math.cos(math.radians(size_deg) / 2)
-    spot = lights.LightSpec(kind="SPOT", rgb_power=np.array([2.0, 2.0, 2.0]), spot_size=math.radians(size_deg),
+    spot = emitters.CyclesLight(kind="SPOT", rgb_power=np.array([2.0, 2.0, 2.0]), spot_size=math.radians(size_deg),
                             spot_blend=blend, axes=_rotation(0.3, -1.0, 2.0))
     np.testing.assert_allclose(spot.power_w(), 2.0 * (1 - c) * (1 - blend / 2) / 2, rtol=1e-12)
 
@@ -296,7 +296,7 @@ def test_emissive_mesh_power_and_irradiance():
     mesh = emitters.EmissiveMesh(sq, [1.0, 2.0, 0.5])
     assert mesh.flags == EmitterFlags.AREA | EmitterFlags.RENDERED_ONLY and mesh.area_m2 == pytest.approx(1.0)
     np.testing.assert_allclose(mesh.power_w(), 2 * np.pi * np.array([1.0, 2.0, 0.5]), rtol=1e-12)
-    area = lights.LightSpec(kind="AREA", position=np.array([0, 0, 0.0]), axes=np.diag([1.0, -1.0, -1.0]),
+    area = emitters.CyclesLight(kind="AREA", position=np.array([0, 0, 0.0]), axes=np.diag([1.0, -1.0, -1.0]),
                             size=1.0, rgb_power=np.pi * np.array([1.0, 2.0, 0.5]))      # L = P / (pi A)
     for h in (0.3, 1.0, 4.0):
         for sign in (1.0, -1.0):                                                         # both sides emit
@@ -311,9 +311,9 @@ def test_emissive_mesh_power_and_irradiance():
 def test_a_sheared_area_light_with_spread_is_rendered_only():
     """Its bound is NaN in the model (Cycles' sampling of it is not modelled): no bound, RENDERED_ONLY."""
     shear = np.array([[1.0, 0.6, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-    light = lights.LightSpec(kind="AREA", rgb_power=np.ones(3), spread=1.0, matrix=shear, position=np.zeros(3))
+    light = emitters.CyclesLight(kind="AREA", rgb_power=np.ones(3), spread=1.0, matrix=shear, position=np.zeros(3))
     assert light.is_sheared and light.flags & EmitterFlags.RENDERED_ONLY
     e, bound = light.irradiance_at([0.0, 0.0, -1.0], [0.0, 0.0, 1.0])
     assert bound is None and np.all(np.isfinite(e))
-    plain = lights.LightSpec(kind="AREA", rgb_power=np.ones(3), spread=1.0)
+    plain = emitters.CyclesLight(kind="AREA", rgb_power=np.ones(3), spread=1.0)
     assert plain.flags == EmitterFlags.AREA and plain.irradiance_at([0.0, 0.0, -1.0], [0.0, 0.0, 1.0])[1] is not None

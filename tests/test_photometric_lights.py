@@ -1,4 +1,4 @@
-"""Photometric point lights in the pure model (radiometry.lights with an IntensityTable) and the
+"""Photometric point lights in the pure model (radiometry.emitters with an IntensityTable) and the
 ``luminaire`` CLI subcommand."""
 
 import json
@@ -9,14 +9,14 @@ import sys
 import numpy as np
 import pytest
 
-from radiometer.radiometry import lights
+from radiometer.radiometry import emitters
 from radiometer.radiometry import photometric_files as pf
 
 
 def _table(func, h=np.arange(0.0, 360.0 + 1e-9, 30.0), v=np.arange(0.0, 180.0 + 1e-9, 10.0), vector_map=None):
     values = np.array([[func(vv, hh) for vv in v] for hh in h])
     kwargs = {} if vector_map is None else {"vector_map": vector_map}
-    return lights.IntensityTable(h_deg=h, v_deg=v, values=values, **kwargs)
+    return emitters.IntensityTable(h_deg=h, v_deg=v, values=values, **kwargs)
 
 
 def _rot(ax, angle):
@@ -31,7 +31,7 @@ def test_table_light_gives_i_cos_over_r2_in_cycles_frame():
     # Cycles' frame: h = atan2(x, y) + 180 deg of the light-to-receiver vector, v = acos(-z).
     table = _table(lambda v, h: 1.0 + h / 100.0 + v / 1000.0)
     axes = _rot(2, 0.7) @ _rot(0, 0.3)
-    spec = lights.LightSpec(kind="POINT", radius=0.0, position=(1.0, 2.0, 3.0), axes=axes,
+    spec = emitters.CyclesLight(kind="POINT", radius=0.0, position=(1.0, 2.0, 3.0), axes=axes,
                             rgb_power=(2.0, 1.0, 0.5), intensity_table=table)
     for v, h in ((30.0, 90.0), (60.0, 240.0), (110.0, 330.0)):
         a = math.radians(h) - math.pi
@@ -41,14 +41,14 @@ def test_table_light_gives_i_cos_over_r2_in_cycles_frame():
         r = 2.5
         p = spec.position + r * d
         n = -d
-        e = lights.irradiance(spec, p, n)
+        e = spec.irradiance_at(p, n)[0]
         expected = (1.0 + h / 100.0 + v / 1000.0) / r**2 * np.array([2.0, 1.0, 0.5])
         np.testing.assert_allclose(e, expected, rtol=1e-12)
-        np.testing.assert_allclose(lights.radiant_intensity(spec, d), expected * r**2, rtol=1e-12)
+        np.testing.assert_allclose(spec.intensity_towards(d), expected * r**2, rtol=1e-12)
         tilted = n + 0.5 * np.cross(n, [0.0, 0.0, 1.0])
         cos = float(unit(tilted) @ n)
-        np.testing.assert_allclose(lights.irradiance(spec, p, tilted), expected * cos, rtol=1e-12)
-    exact, model, note = lights.exactness(spec)
+        np.testing.assert_allclose(spec.irradiance_at(p, tilted)[0], expected * cos, rtol=1e-12)
+    exact, model, note = spec.exactness()
     assert exact and model == "photometric point"
 
 
@@ -64,7 +64,7 @@ def test_mapping_of_the_importer_turns_radiometer_convention_into_cycles():
                                candela=np.array([[k] * 19 for k in (1.0, 2.0, 3.0, 4.0, 1.0)]), symmetry="none")
     h, v, values = pf.cycles_ies_table(pf.to_ies_text(photometry))
     vmap = _rot(2, -math.pi / 2) @ np.diag([1.0, -1.0, 1.0])
-    table = lights.IntensityTable(h_deg=h, v_deg=v, values=values / pf.CYCLES_CANDELA_TO_WATT, vector_map=vmap)
+    table = emitters.IntensityTable(h_deg=h, v_deg=v, values=values / pf.CYCLES_CANDELA_TO_WATT, vector_map=vmap)
     for direction, plane in (((1, 0, -1), 1.0), ((0, 1, -1), 2.0), ((-1, 0, -1), 3.0), ((0, -1, -1), 4.0)):
         assert table.lookup(unit(direction)) == pytest.approx(plane, rel=1e-6), direction
 
@@ -72,22 +72,22 @@ def test_mapping_of_the_importer_turns_radiometer_convention_into_cycles():
 def test_table_light_validation_and_zero_distance():
     table = _table(lambda v, h: 1.0)
     with pytest.raises(ValueError, match="radius 0"):
-        lights.LightSpec(kind="SPOT", intensity_table=table)
+        emitters.CyclesLight(kind="SPOT", intensity_table=table)
     with pytest.raises(ValueError, match="radius 0"):
-        lights.LightSpec(kind="POINT", radius=0.1, intensity_table=table)
+        emitters.CyclesLight(kind="POINT", radius=0.1, intensity_table=table)
     with pytest.raises(ValueError, match=">= 0"):
-        lights.IntensityTable(h_deg=[0, 360], v_deg=[0, 180], values=[[1, -1], [1, 1]])
-    spec = lights.LightSpec(kind="POINT", radius=0.0, intensity_table=table)
+        emitters.IntensityTable(h_deg=[0, 360], v_deg=[0, 180], values=[[1, -1], [1, 1]])
+    spec = emitters.CyclesLight(kind="POINT", radius=0.0, intensity_table=table)
     with pytest.raises(ValueError, match="zero distance"):
-        lights.irradiance(spec, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+        spec.irradiance_at((0.0, 0.0, 0.0), (0.0, 0.0, 1.0))[0]
     # shapes broadcast like every other light
-    e = lights.irradiance(spec, np.zeros((2, 4, 3)) + [0.0, 0.0, -1.0], (0.0, 0.0, 1.0))
+    e = spec.irradiance_at(np.zeros((2, 4, 3)) + [0.0, 0.0, -1.0], (0.0, 0.0, 1.0))[0]
     assert e.shape == (2, 4, 3) and np.allclose(e, 1.0)
 
 
 def test_light_spec_from_values_folds_the_emission_colour():
-    table = lights.IntensityTable(h_deg=[0, 360], v_deg=[0, 180], values=np.ones((2, 2)), rgb_scale=(1.0, 0.5, 0.25))
-    spec = lights.light_spec_from_values({"type": "POINT", "energy": 2.0, "shadow_soft_size": 0.0,
+    table = emitters.IntensityTable(h_deg=[0, 360], v_deg=[0, 180], values=np.ones((2, 2)), rgb_scale=(1.0, 0.5, 0.25))
+    spec = emitters.from_blender_values({"type": "POINT", "energy": 2.0, "shadow_soft_size": 0.0,
                                           "intensity_table": table})
     np.testing.assert_allclose(spec.rgb_power, [2.0, 1.0, 0.5])
 

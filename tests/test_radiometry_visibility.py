@@ -4,7 +4,7 @@ against brute-force point sampling, and the decisions on small synthetic scenes.
 import numpy as np
 import pytest
 
-from radiometer.radiometry import lights, scene_model, visibility
+from radiometer.radiometry import emitters, scene_model, visibility
 
 TOL = 1e-9
 
@@ -84,30 +84,30 @@ def _model(tris, *specs, opaque=True):
 
 
 def test_plan_direct_area_light_over_a_desk():
-    panel = lights.LightSpec(name="panel", kind="AREA", position=(0, 0, 2.0), size=0.6)
+    panel = emitters.CyclesLight(name="panel", kind="AREA", position=(0, 0, 2.0), size=0.6)
     desk = [[[-1, -1, 0.0], [1, -1, 0.0], [1, 1, 0.0]], [[-1, -1, 0.0], [1, 1, 0.0], [-1, 1, 0.0]]]
     model = _model(desk, panel)
     eps = scene_model.receiver_offset([[0, 0, 0.0]])[0]
-    plan = scene_model.plan_direct(model, [[0, 0, eps], [0.3, 0.2, eps]], [[0, 0, 1]] * 2, lights.exactness)
+    plan = scene_model.plan_direct(model, [[0, 0, eps], [0.3, 0.2, eps]], [[0, 0, 1]] * 2)
     assert list(plan.status[0]) == [scene_model.EXACT] * 2
     assert plan.exact_points().all()  # the desk lies below the meters' horizon: no indirect light
     # Exactly on the desk: the desk is in the horizon plane, so it cuts no light arriving from above.
-    plan0 = scene_model.plan_direct(model, [[0, 0, 0.0]], [[0, 0, 1]], lights.exactness)
+    plan0 = scene_model.plan_direct(model, [[0, 0, 0.0]], [[0, 0, 1]])
     assert plan0.exact_points().all()
     # A meter under the desk, facing up: the desk covers the whole panel (and reflects nothing down).
-    under = scene_model.plan_direct(model, [[0, 0, -0.1]], [[0, 0, 1]], lights.exactness)
+    under = scene_model.plan_direct(model, [[0, 0, -0.1]], [[0, 0, 1]])
     assert under.status[0, 0] == scene_model.RENDER and under.indirect[0]
 
 
 def test_plan_direct_partial_and_blocked():
-    panel = lights.LightSpec(name="panel", kind="AREA", position=(0, 0, 2.0), size=0.6)
-    lamp = lights.LightSpec(name="lamp", kind="POINT", position=(0, 0, 2.0), radius=0.0)
+    panel = emitters.CyclesLight(name="panel", kind="AREA", position=(0, 0, 2.0), size=0.6)
+    lamp = emitters.CyclesLight(name="lamp", kind="POINT", position=(0, 0, 2.0), radius=0.0)
     # A small card at 1 m that covers the panel's centre but not its corners.
     # (Its diagonal misses the lamp's segment: a segment through a shared edge is undecidable.)
     card = [[[-0.05, -0.05, 1.0], [0.05, -0.05, 1.0], [0.05, 0.07, 1.0]],
             [[-0.05, -0.05, 1.0], [0.05, 0.07, 1.0], [-0.05, 0.07, 1.0]]]
     model = _model(card, panel, lamp)
-    plan = scene_model.plan_direct(model, [[0, 0, 0.0], [3, 0, 0.0]], [[0, 0, 1]] * 2, lights.exactness)
+    plan = scene_model.plan_direct(model, [[0, 0, 0.0], [3, 0, 0.0]], [[0, 0, 1]] * 2)
     assert plan.status[0, 0] == scene_model.RENDER and "Box" in plan.reason[0, 0]
     assert plan.status[1, 0] == scene_model.ZERO and "blocked" in plan.reason[1, 0]
     assert plan.status[0, 1] == scene_model.EXACT and plan.status[1, 1] == scene_model.EXACT
@@ -115,25 +115,25 @@ def test_plan_direct_partial_and_blocked():
     assert plan.indirect.all() and not plan.exact_points().any()
     # A glass card blocks nothing for sure: the delta light is then undecidable, not zero.
     glass = _model(card, panel, lamp, opaque=False)
-    assert scene_model.plan_direct(glass, [[0, 0, 0.0]], [[0, 0, 1]], lights.exactness).status[1, 0] == scene_model.RENDER
+    assert scene_model.plan_direct(glass, [[0, 0, 0.0]], [[0, 0, 1]]).status[1, 0] == scene_model.RENDER
 
 
 def test_plan_direct_flags():
-    lamp = lights.LightSpec(name="lamp", kind="POINT", position=(0, 0, 2.0))
+    lamp = emitters.CyclesLight(name="lamp", kind="POINT", position=(0, 0, 2.0))
     wall = [[[-5, -5, 1.0], [5, -5, 1.0], [0, 5, 1.0]]]
     model = _model(wall, lamp, lamp, lamp)
     model.lights[0].casts_shadow = False
     model.lights[1].reaches_diffuse = False
     model.lights[2].portal = True
-    plan = scene_model.plan_direct(model, [[0, 0, 0.0]], [[0, 0, 1]], lights.exactness)
+    plan = scene_model.plan_direct(model, [[0, 0, 0.0]], [[0, 0, 1]])
     assert list(plan.status[:, 0]) == [scene_model.EXACT, scene_model.ZERO, scene_model.ZERO]
 
 
 @pytest.mark.parametrize("point", [[0, 0, 0.0], [0.2, -0.1, 0.5]])
 def test_receiver_inside_a_sphere_light_is_never_proved(point):
-    ball = lights.LightSpec(name="ball", kind="POINT", position=(0, 0, 0.3), radius=0.5, soft_falloff=False)
+    ball = emitters.CyclesLight(name="ball", kind="POINT", position=(0, 0, 0.3), radius=0.5, soft_falloff=False)
     tiny = [[[10, 10, 10.0], [10.1, 10, 10.0], [10, 10.1, 10.0]]]
-    plan = scene_model.plan_direct(_model(tiny, ball), [point], [[0, 0, 1]], lights.exactness)
+    plan = scene_model.plan_direct(_model(tiny, ball), [point], [[0, 0, 1]])
     assert plan.status[0, 0] == scene_model.RENDER
 
 

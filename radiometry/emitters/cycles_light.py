@@ -3,8 +3,8 @@
 :class:`CyclesLight` is the common base of the analytic kinds (:mod:`.point`, :mod:`.spot`,
 :mod:`.sun`, :mod:`.area`, :mod:`.photometric`): one frozen record of what Cycles reads from a
 ``bpy.types.Light`` and its object, plus the :class:`~.base.Emitter` interface. Constructing
-``CyclesLight(kind=...)`` (or its old name ``radiometry.lights.LightSpec``) returns the emitter of
-that kind, so ``dataclasses.replace`` and every caller that builds one from values get the right class.
+``CyclesLight(kind=...)`` returns the emitter of that kind, so ``dataclasses.replace`` and every
+caller that builds one from values get the right class.
 
 Units: positions in metres; ``rgb_power`` W per channel (sun: W/m^2 per channel on a surface facing
 it); angles in radians. What each field means to Cycles is in the module of the kind that uses it;

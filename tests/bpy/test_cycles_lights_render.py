@@ -1,4 +1,4 @@
-"""Cycles renders vs radiometer.radiometry.lights.irradiance, one light type at a time.
+"""Cycles renders vs the emitters' irradiance_at (radiometer.radiometry.emitters), one light type at a time.
 
 Measurement (docs/FACTS.md recipe): a 1 mm white Lambertian patch visible to camera rays only,
 seen head-on by an orthographic camera filling a 4x4 px frame, black world, Cycles CPU, no
@@ -18,7 +18,7 @@ bpy = pytest.importorskip("bpy")
 OpenEXR = pytest.importorskip("OpenEXR")
 
 from radiometer.compat import ensure_node_tree  # noqa: E402
-from radiometer.radiometry import lights, stats  # noqa: E402
+from radiometer.radiometry import emitters, stats  # noqa: E402
 
 PATCH_M = 1e-3
 
@@ -149,11 +149,11 @@ def measure(light_kwargs, point, normal, samples=1, seeds=(0,)):
         sensor = _add_sensor(point, normal)
         results.append(_render_irradiance())
         bpy.context.view_layer.update()
-        spec = lights.light_spec_from_values(_values_from_light(obj), 1.0)
+        spec = emitters.from_blender_values(_values_from_light(obj), 1.0)
         # The sensor pose as Blender stored it (float32 Euler), not as requested.
         mw = np.array(sensor.matrix_world, dtype=float)
         point, normal = mw[:3, 3], mw[:3, 2] / np.linalg.norm(mw[:3, 2])
-    analytic = lights.irradiance(spec, np.array([point], float), np.array([normal], float))[0]
+    analytic = spec.irradiance_at(np.array([point], float), np.array([normal], float))[0][0]
     return np.array(results), analytic, spec
 
 
@@ -210,7 +210,7 @@ DELTA_CASES = {
 def test_delta_light_matches_cycles_to_1e4(clean_blender, case):
     light, point, normal = DELTA_CASES[case]
     measured, analytic, spec = measure(light, point, normal)
-    assert lights.exactness(spec)[0]
+    assert spec.exactness()[0]
     print(case, measured[0], analytic)
     if np.all(analytic == 0.0):
         assert np.all(measured[0] == 0.0)
@@ -301,10 +301,10 @@ def _measure_parented(light, normal, parent_scale, child_rotation, samples, seed
         sensor = _add_sensor((0.0, 0.0, 0.0), normal)
         results.append(_render_irradiance())
         bpy.context.view_layer.update()
-        spec = lights.light_spec_from_values(_values_from_light(obj), 1.0)
+        spec = emitters.from_blender_values(_values_from_light(obj), 1.0)
         mw = np.array(sensor.matrix_world, dtype=float)
         point, n = mw[:3, 3], mw[:3, 2] / np.linalg.norm(mw[:3, 2])
-    e, bound = lights.irradiance_with_bound(spec, np.array([point]), np.array([n]))
+    e, bound = spec.relative_irradiance(np.array([point]), np.array([n]))
     return np.array(results)[:, 0], e[0, 0], bound[0], spec
 
 
