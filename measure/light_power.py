@@ -32,9 +32,7 @@ def _per_unit_energy(obj, unit, scene):
     if light.type not in types:
         allowed = ", ".join(u.lower() for u, (t, _l) in UNITS.items() if light.type in t)
         raise RadiometerError(f"{unit.lower()} does not apply to a {light.type.lower()} light; use {allowed}")
-    values = scene_lights.light_values(light, obj.matrix_world)
-    values["energy"] = 1.0
-    emitter = emitters.from_blender_values(values, scene.unit_settings.scale_length)
+    emitter = scene_lights.emitter_of(light, obj.matrix_world, scene.unit_settings.scale_length, energy=1.0)
     _space, weights, efficacy = meter.scene_photometry(scene)
     if isinstance(emitter, emitters.PhotometricLight):
         # A photometric (IES) light: its flux is its table integrated over the sphere (the emitter's

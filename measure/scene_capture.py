@@ -146,9 +146,10 @@ def _collect(depsgraph):
             parent = inst.parent.original.name if inst.parent is not None and inst.parent.original else "?"
             name = f"{name} (instance {k} of {parent!r})"
         if obj.type == "LIGHT":
-            lights.append(dict(_light_entry(obj, name, inst.matrix_world), source=original.name,
-                               source_id=_source_id(inst, original),
-                               visibility=_ray_visibility(obj, bool(getattr(obj.data, "use_shadow", True)))))
+            source_id = _source_id(inst, original)
+            visibility = _ray_visibility(obj, bool(getattr(obj.data, "use_shadow", True)))
+            lights.append(dict(_light_entry(obj, name, inst.matrix_world, source_id, visibility),
+                               source=original.name, source_id=source_id))
             continue
         if obj.type not in _GEOMETRY_TYPES or original.name in _Capture.exclude:
             continue
@@ -292,21 +293,32 @@ def _bound_box_m(obj, matrix_world):
     return world.min(axis=0), world.max(axis=0)
 
 
-def _light_entry(obj, name, matrix_world):
+def _light_entry(obj, name, matrix_world, source_id, visibility):
+    """One light instance as the capture keeps it: its emitter, built here from the evaluated light
+    (``scene_lights.emitter_of``, SI), or None with the reason no closed form covers it; and what the
+    planner needs beside it."""
     data = obj.data
-    values = scene_lights.light_values(data, matrix_world)
     for attr in ("energy", "exposure"):
-        if not math.isfinite(float(values.get(attr, 0.0))):
-            raise RadiometerError(f"light {name!r} has a non-finite {attr} ({values[attr]}): give it a real value")
+        if not math.isfinite(float(getattr(data, attr, 0.0))):
+            raise RadiometerError(f"light {name!r} has a non-finite {attr} ({getattr(data, attr)}): "
+                                  "give it a real value")
     for attr in ("color", "temperature_color"):
-        if attr in values and not all(math.isfinite(float(c)) for c in values[attr]):
-            raise RadiometerError(f"light {name!r} has a non-finite {attr} {tuple(values[attr])}: give it a real colour")
+        if hasattr(data, attr) and not all(math.isfinite(float(c)) for c in getattr(data, attr)):
+            raise RadiometerError(f"light {name!r} has a non-finite {attr} {tuple(getattr(data, attr))}: "
+                                  "give it a real colour")
     cycles = getattr(data, "cycles", None)
     portal = bool(getattr(cycles, "is_portal", False)) and data.type == "AREA"
     notes = []
-    if float(values.get("energy", 0.0)) < 0.0:
-        notes.append(f"light {name!r} has negative power ({values['energy']:g} W): Blender subtracts its light")
-    return {"name": name, "values": dict(values, name=name), "uncovered": scene_lights.uncovered_reason(data, obj),
+    if float(getattr(data, "energy", 0.0)) < 0.0:
+        notes.append(f"light {name!r} has negative power ({data.energy:g} W): Blender subtracts its light")
+    spec, uncovered = None, scene_lights.uncovered_reason(data, obj)
+    if uncovered is None:
+        try:
+            spec = scene_lights.emitter_of(data, matrix_world, _Capture.scale, name=name, source_id=source_id,
+                                           visibility=visibility)
+        except ValueError as exc:
+            uncovered = f"has no closed form here ({exc})"
+    return {"name": name, "spec": spec, "uncovered": uncovered,
             "casts_shadow": bool(getattr(data, "use_shadow", True)), "reaches_diffuse": bool(obj.visible_diffuse),
             "portal": portal, "notes": tuple(notes)}
 
@@ -352,8 +364,6 @@ def _render_probe(scene, view_layer):
 def capture(scene, view_layer=None, exclude=()):
     """The scene as Cycles renders it: a ``SceneModel`` in metres: emitters (``radiometry.emitters``,
     built here once per capture, with their source identity and ray visibility) and triangles."""
-    from ..radiometry import emitters
-
     view_layer = view_layer or scene.view_layers[0]
     _Capture.exclude, _Capture.result, _Capture.error = frozenset(exclude), None, None
     _Capture.scale = scene.unit_settings.scale_length
@@ -371,15 +381,8 @@ def capture(scene, view_layer=None, exclude=()):
     scale = _Capture.scale
     model_lights = []
     for item in raw_lights:
-        spec, uncovered = None, item["uncovered"]
-        if uncovered is None:
-            try:
-                spec = emitters.from_blender_values(item["values"], scale, source_id=item["source_id"],
-                                                    visibility=item["visibility"])
-            except ValueError as exc:
-                uncovered = f"has no closed form here ({exc})"
         model_lights.append(scene_model.ModelLight(
-            name=item["name"], spec=spec, uncovered=uncovered, casts_shadow=item["casts_shadow"],
+            name=item["name"], spec=item["spec"], uncovered=item["uncovered"], casts_shadow=item["casts_shadow"],
             reaches_diffuse=item["reaches_diffuse"], portal=item["portal"], notes=item["notes"],
             source=item["source"], source_id=item["source_id"]))
     needs["world_emits"] = render_settings.world_emits(scene.world)
