@@ -56,12 +56,10 @@ class DaylightFactorReading:
 
 
 def _light_objects(scene, model):
-    import bpy
+    """Every light object that renders, found by identity (``light_isolation.rendering_light_objects``)."""
+    from .light_isolation import rendering_light_objects
 
-    names = {lt.source or lt.name for lt in model.lights}
-    objects = {ob for ob in scene.objects if ob.type == "LIGHT" and not ob.hide_render}
-    objects |= {bpy.data.objects[n] for n in names if n in bpy.data.objects}
-    return sorted((ob for ob in objects if ob.type == "LIGHT"), key=lambda ob: ob.name)
+    return rendering_light_objects(scene, model)
 
 
 def overcast_only(scene, snapshot, ground_reflectance):

@@ -199,9 +199,10 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0
             continue
 
         def photometry_for(light=light):
-            from . import luminaires
+            from . import luminaires, scene_capture
 
-            obj = scene.objects.get(light.source or light.name) or bpy.data.objects.get(light.source or light.name)
+            # the light's own object by identity (SourceId), never by name
+            obj = next(iter(scene_capture.source_objects([light.source_id]).values()), None)
             try:
                 return luminaires.photometry_of_light(obj) if obj is not None else None
             except RadiometerError:

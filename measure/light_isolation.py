@@ -14,12 +14,11 @@ scene's part is their difference. Units: W/m^2 (CIE Y weighted irradiance), m.
 import contextlib
 import dataclasses
 
-import bpy
 import numpy as np
 
 from ..errors import RadiometerError
 from . import analysis_common as common
-from . import meter, scene_guard
+from . import meter, scene_capture, scene_guard
 
 
 def light_object(light, scene):
@@ -42,19 +41,13 @@ def scene_model(scene):
     return meter.capture_model(scene, common.view_layer_of(scene))
 
 
-def _identity(obj):
-    """(session uid, library path) of an object: what the capture's ``SourceId`` records of it."""
-    library = obj.library.filepath if getattr(obj, "library", None) is not None else ""
-    return int(obj.session_uid), library
-
-
 def light_spec(obj, scene, model=None):
     """The emitter (SI) of a light object as Cycles renders it, or a clear error when no closed
     form describes it. ``model``: the scene's ``SceneModel`` when the caller has it. The object is
     found by its identity (``ModelLight.source_id``: session uid and library, not an instance), never
     by name: a renamed light, or one of several objects sharing one light data-block, is its own."""
     model = scene_model(scene) if model is None else model
-    own = _identity(obj)
+    own = scene_capture.object_identity(obj)
     for light in model.lights:
         sid = light.source_id
         if sid is not None and (sid.object_uid, sid.library) == own and not sid.instance:
@@ -82,9 +75,8 @@ def rendering_light_objects(scene, model=None):
     """Every light OBJECT that renders in ``scene``: the scene model's light sources (which include
     lights inside instanced collections) and the scene's own visible light objects."""
     model = scene_model(scene) if model is None else model
-    sources = {(lt.source_id.object_uid, lt.source_id.library) for lt in model.lights if lt.source_id is not None}
     objects = {ob for ob in scene.objects if ob.type == "LIGHT" and not ob.hide_render}
-    objects |= {ob for ob in bpy.data.objects if ob.type == "LIGHT" and _identity(ob) in sources}
+    objects |= set(scene_capture.source_objects(lt.source_id for lt in model.lights).values())
     return sorted((ob for ob in objects if ob.type == "LIGHT"), key=lambda ob: ob.name)
 
 

@@ -87,14 +87,32 @@ def _emission_radiance(material):
     return np.array(colour.default_value[:3], float) * float(strength.default_value)
 
 
+def object_identity(obj):
+    """(session uid, library path or '') of an original object: the object part of a ``SourceId``."""
+    library = obj.library.filepath if getattr(obj, "library", None) is not None else ""
+    return int(getattr(obj, "session_uid", 0)), library
+
+
+def source_objects(source_ids):
+    """{(session uid, library): original object} for the objects behind ``SourceId``s (a capture's lights
+    or meshes), found by identity, never by name: a renamed object or a shared data-block is its own."""
+    wanted = {(sid.object_uid, sid.library) for sid in source_ids if sid is not None}
+    found = {}
+    for ob in bpy.data.objects:
+        key = object_identity(ob)
+        if key in wanted:
+            found[key] = ob
+    return found
+
+
 def _source_id(inst, original, part=-1):
     """The emitter's stable identity (``radiometry.emitters.SourceId``): object session uid, library,
     the instance's persistent id, and a part index (material slot)."""
     from ..radiometry.emitters import SourceId
 
-    library = original.library.filepath if getattr(original, "library", None) is not None else ""
+    uid, library = object_identity(original)
     instance = tuple(int(k) for k in inst.persistent_id) if inst.is_instance else ()
-    return SourceId(int(getattr(original, "session_uid", 0)), library, instance, int(part))
+    return SourceId(uid, library, instance, int(part))
 
 
 def _ray_visibility(obj, shadow):

@@ -109,15 +109,6 @@ def sample_hours(unix_s):
 
 # --- one time step (runs here or on a worker) ------------------------------------------------------
 
-def _light_objects(scene, model):
-    import bpy
-
-    names = {lt.source or lt.name for lt in model.lights}
-    objects = {ob for ob in scene.objects if ob.type == "LIGHT" and not ob.hide_render}
-    objects |= {bpy.data.objects[n] for n in names if n in bpy.data.objects}
-    return sorted((ob for ob in objects if ob.type == "LIGHT"), key=lambda ob: ob.name)
-
-
 def _set_sky(scene, sky, direction, horizontal_illuminance_lux=None):
     """Put a temporary world with the CIE sky ``sky`` on ``scene`` (inside the caller's guard)."""
     import bpy
@@ -149,6 +140,7 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
     from .. import quality as quality_presets
     from . import meter, scene_guard, sun
     from .analysis_common import view_layer_of
+    from .light_isolation import rendering_light_objects
 
     start = time.perf_counter()
     scene = scene or bpy.context.scene
@@ -157,7 +149,7 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
     n = len(points)
     with scene_guard.preserved_scene(scene) as snapshot:
         model = meter.capture_model(scene, view_layer_of(scene))
-        for ob in _light_objects(scene, model):
+        for ob in rendering_light_objects(scene, model):
             snapshot.remember(ob, "hide_render")
             ob.hide_render = True
         scene.world = None  # the guard puts the user's world back
