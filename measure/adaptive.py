@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import MeasurementCancelled, RadiometerError
 from ..radiometry import allocation
-from . import render_settings, scene_guard, sensors
+from . import render_settings, scene_capture, scene_guard, sensors
 
 
 #: With a ``cancelled`` callback (the UI's Esc, the CLI's Ctrl-C), a round is split into bakes of
@@ -57,9 +57,10 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
                   may_be_lit=None, min_samples=None):
     """Rendered irradiance at the sensors, W/m^2 SI, each meter sampled to its own need.
 
-    ``exclusions``: per meter, a frozenset of light OBJECT names whose direct light is added
-    analytically (excluded from that meter's sensor); ``offset`` (N,): that analytic part's scalar
-    (CIE-Y weighted) irradiance, W/m^2, so the target applies to the whole reading. Returns a dict:
+    ``exclusions``: per meter, a frozenset of light OBJECT identities (``meter.light_object_key``: session
+    uid, library) whose direct light is added analytically (excluded from that meter's sensor);
+    ``offset`` (N,): that analytic part's scalar (CIE-Y weighted) irradiance, W/m^2, so the target
+    applies to the whole reading. Returns a dict:
     mean_rgb (N, 3) and se_rgb (N, 3) of the rendered part, se (N,) scalar, samples (N,),
     rounds, stopped, reached, seconds, record (render settings).
     ``panes``: thin glass panes (``SceneModel.panes``), rendered as thin panes (``measure.glass``).
@@ -87,13 +88,15 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
 
             record = dict(record, thin_panes=glass.swap_panes(snapshot, panes))
         # One receiver collection per excluded light, filled each round with its groups' sensors.
-        light_objects = {name for key in group_keys for name in key}
+        # Keyed by the light object's identity (meter.light_object_key: session uid, library), never its name.
+        light_keys = {ident for key in group_keys for ident in key}
+        found = scene_capture.source_objects(light_keys)
         linking = {}
-        for name in sorted(light_objects):
-            obj = bpy.data.objects.get(name)
+        for ident in sorted(light_keys, key=str):
+            obj = found.get(tuple(ident))
             if obj is None or obj.type != "LIGHT":
-                raise RadiometerError(f"light {name!r} vanished during the measurement")
-            linking[name] = _linking_collection(snapshot, obj, f"radiometer_exclude {name}")
+                raise RadiometerError(f"a light of the scene (session uid {ident[0]}) vanished during the measurement")
+            linking[ident] = _linking_collection(snapshot, obj, f"radiometer_exclude {obj.name}")
         previous = []
 
         def bake(spp, blocks):
@@ -137,8 +140,8 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
                 meter_of_block = np.repeat(meters, blocks[meters])
                 obj, image, per_row = sensors.build_sensor(scene, points_scene[meter_of_block],
                                                            normals[meter_of_block], texels)
-                for name in key:
-                    _exclude_from(linking[name], obj)
+                for ident in key:
+                    _exclude_from(linking[ident], obj)
                 built.append((obj, image, per_row, meter_of_block))
                 previous.append((obj, image))
             scene.cycles.seed = state["seed"]

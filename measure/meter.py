@@ -305,8 +305,16 @@ def enclosure_notes(model, points_m, values):
     return notes
 
 
+def light_object_key(light):
+    """The light OBJECT a ``ModelLight`` comes from, as (session uid, library) of its ``source_id``:
+    all instances of one object share it (light linking acts on objects); never its name. A light
+    built outside a capture (no ``source_id``) is keyed (0, its name)."""
+    sid = light.source_id
+    return (sid.object_uid, sid.library) if sid is not None else (0, light.source or light.name)
+
+
 def hybrid_split(model, direct, count, also=None):
-    """Per meter: the light OBJECTS whose direct light is a proven closed form there (EXACT, or
+    """Per meter: the light OBJECTS (``light_object_key``) whose direct light is a proven closed form there (EXACT, or
     ZERO because an opaque surface blocks it) for every instance of that object, to be added
     analytically and excluded from the sensor (light linking acts on objects, so all instances of
     an object must qualify). ``also`` (L, N) bool: more contributions known in closed form (a delta
@@ -315,7 +323,7 @@ def hybrid_split(model, direct, count, also=None):
 
     by_source = {}
     for i, light in enumerate(model.lights):
-        by_source.setdefault(light.source or light.name, []).append(i)
+        by_source.setdefault(light_object_key(light), []).append(i)
     out = []
     for k in range(count):
         chosen = set()
@@ -467,7 +475,7 @@ def caustic_risk(model, direct, split):
         if spec is None or spec.kind not in ("SUN", "POINT", "SPOT"):  # area lights: not small
             continue
         for k in range(direct.status.shape[1]):
-            if split and (light.source or light.name) in split[k]:
+            if split and light_object_key(light) in split[k]:
                 continue
             if direct.status[i, k] == scene_model.RENDER and any(repr(nm) in str(direct.reason[i, k]) for nm in names):
                 out[i, k] = True
@@ -596,7 +604,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                          "exp(-sigma_t d), d the meter-light distance (homogeneous medium, Beer-Lambert); "
                          "the light the medium scatters towards the meter is rendered")
         for i, light in enumerate(model.lights):
-            take = np.array([(light.source or light.name) in split[k] for k in range(n)])
+            take = np.array([light_object_key(light) in split[k] for k in range(n)])
             offset_rgb[take] += per_light[i, take]
             bound_rgb[take] += light_bounds[i, take]  # thin glass over a light's extent (issue 18)
             if stacked:
@@ -626,7 +634,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                      f"disc or a sky patch come by rare paths): at least {allocation.DARK_FLOOR:,} samples per "
                      "such meter before the error is trusted (issue 18: a 256-sample pilot read a one-patch "
                      "world 0.8 % low while stating 0.04 %)")
-    parts = [{"analytic": [lt.name for lt in model.lights if (lt.source or lt.name) in split[k]],
+    parts = [{"analytic": [lt.name for lt in model.lights if light_object_key(lt) in split[k]],
               "rendered": ["everything else (reflected light, other lights, world, emitting surfaces)"]}
              for k in range(n)]
     run = adaptive.render_hybrid(scene, view_layer, sensors_scene, normals, needs=model.needs,

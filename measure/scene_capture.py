@@ -95,8 +95,9 @@ def object_identity(obj):
 
 def source_objects(source_ids):
     """{(session uid, library): original object} for the objects behind ``SourceId``s (a capture's lights
-    or meshes), found by identity, never by name: a renamed object or a shared data-block is its own."""
-    wanted = {(sid.object_uid, sid.library) for sid in source_ids if sid is not None}
+    or meshes; a (session uid, library) pair works too), found by identity, never by name: a renamed
+    object or a shared data-block is its own."""
+    wanted = {tuple(sid[:2]) for sid in source_ids if sid is not None}
     found = {}
     for ob in bpy.data.objects:
         key = object_identity(ob)

@@ -1,13 +1,14 @@
 """Light isolation finds a light by its identity (the capture's ``SourceId``), not its name (issue 17).
 
 Two objects share one light data-block, and one is renamed after the scene was captured: each must
-still get its own emitter (at its own position), and isolating one must switch the other off.
+still get its own emitter (at its own position), each must be found again from the capture's keys
+(as the hybrid meter's light linking does), and isolating one must switch the other off.
 """
 
 import bpy
 import numpy as np
 
-from radiometer.measure import light_isolation
+from radiometer.measure import light_isolation, meter, scene_capture
 
 
 def test_shared_light_data_and_a_rename_are_isolated_by_identity(clean_blender, build):
@@ -27,6 +28,9 @@ def test_shared_light_data_and_a_rename_are_isolated_by_identity(clean_blender, 
         spec = light_isolation.light_spec(obj, scene, model)
         np.testing.assert_allclose(spec.position, where, atol=1e-12)  # scale_length 1: metres
     assert light_isolation.rendering_light_objects(scene, model) == sorted([first, second], key=lambda o: o.name)
+    # The hybrid meter excludes lights from its sensors by these keys (light linking): one per object.
+    keys = {meter.light_object_key(lt) for lt in model.lights}
+    assert set(scene_capture.source_objects(keys).values()) == {first, second}
     with light_isolation.isolated_light(scene, second, model) as off:
         assert off == [first.name] and first.hide_render and not second.hide_render
     assert not first.hide_render and not second.hide_render
