@@ -127,12 +127,12 @@ def _prepare(scene, preset, snapshot):
     # or a radiance probe must see the light sources' surfaces, so they are shown for the render
     # and restored afterwards by the snapshot: every light OBJECT that renders, including those
     # only seen through collection instances or geometry nodes (their source objects).
-    from . import meter
+    from . import meter, scene_capture
 
     model = meter.capture_model(scene)
-    for name in sorted({light.source or light.name for light in model.lights}):
-        obj = bpy.data.objects.get(name)
-        if obj is not None and obj.type == "LIGHT" and not obj.visible_camera:
+    found = scene_capture.source_objects(light.source_id for light in model.lights)  # by identity, not name
+    for obj in sorted(found.values(), key=lambda ob: ob.name):
+        if obj.type == "LIGHT" and not obj.visible_camera:
             snapshot.remember(obj, "visible_camera")
             obj.visible_camera = True
     record = render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=model.needs,
