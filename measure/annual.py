@@ -107,7 +107,8 @@ def patch_coefficients(scene, *, locations, normals, patch_indices, m=1, quality
     import bpy
 
     from ..radiometry import sky_patches
-    from . import daylight_factor, meter, scene_guard
+    from . import meter, scene_guard
+    from .light_isolation import rendering_light_objects
 
     patches = sky_patches.reinhart_patches(m)
     points, _single = meter.as_points(locations, "locations")
@@ -118,7 +119,7 @@ def patch_coefficients(scene, *, locations, normals, patch_indices, m=1, quality
     se = np.zeros_like(dc)
     with scene_guard.preserved_scene(scene) as snapshot:
         model = meter.capture_model(scene)
-        for ob in daylight_factor._light_objects(scene, model):
+        for ob in rendering_light_objects(scene, model):
             snapshot.remember(ob, "hide_render")
             ob.hide_render = True
         world = bpy.data.worlds.new("Radiometer sky patch")

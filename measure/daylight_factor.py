@@ -55,21 +55,15 @@ class DaylightFactorReading:
         return dataclasses.asdict(self)
 
 
-def _light_objects(scene, model):
-    """Every light object that renders, found by identity (``light_isolation.rendering_light_objects``)."""
-    from .light_isolation import rendering_light_objects
-
-    return rendering_light_objects(scene, model)
-
-
 def overcast_only(scene, snapshot, ground_reflectance):
     """Inside the caller's guard: lights hidden in renders, the world a temporary overcast sky.
     Returns notes."""
     from . import meter, sky
     from .analysis_common import view_layer_of
+    from .light_isolation import rendering_light_objects
 
     model = meter.capture_model(scene, view_layer_of(scene))
-    hidden = _light_objects(scene, model)
+    hidden = rendering_light_objects(scene, model)
     for ob in hidden:
         snapshot.remember(ob, "hide_render")
         ob.hide_render = True
