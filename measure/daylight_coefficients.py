@@ -393,6 +393,9 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
     from . import meter, scene_guard
     from .analysis_common import view_layer_of
 
+    if not supported(scene):
+        raise RadiometerError("the one-render sky-patch dome needs Blender 5.0 (custom cameras and compositor "
+                              "node groups); this Blender can use method='per_patch'")
     spp, blk, nrounds = _settings(quality, samples, block, rounds)
     start = time.perf_counter()
     points = np.asarray(points_scene, float).reshape(-1, 3)

@@ -395,7 +395,11 @@ def test_annual_daylight_coefficient_tasks_on_the_cluster_give_the_same_numbers(
     from radiometer.cluster import run_scene_tasks
     from radiometer.measure import annual
 
+    from radiometer.measure import daylight_coefficients as dcm
+
     scene = _sun_study_scene(tmp_path / "court.blend")
+    if not dcm.supported(scene):
+        pytest.skip("the one-render dome needs Blender 5.0 (on 4.x annual_daylight refuses it in one line)")
     points = np.array([[0.0, -0.5, 0.8], [1.0, 2.0, 0.8]])
     # daylight_coefficients(client=) sends exactly these tasks (the default dome method: one render per
     # round for every sky patch, chunks of 256 points); two one-point chunks at 1 sample per pixel keep
