@@ -198,14 +198,7 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, scene=None, m=1
     if method == "dome":
         from . import daylight_coefficients as dcm
 
-        if not dcm.supported(scene):
-            # Measured on Blender 4.5 (the test room, 2 spp): falling back silently to one render per patch
-            # gave per-point sDA bounds that missed Radiance's by up to 57 points, so the dome is refused
-            # with one line and per_patch stays an explicit choice (with target_rel_error, its sample floor).
-            raise RadiometerError("annual daylight's one-render dome needs Blender 5.0 (custom cameras and "
-                                  "compositor node groups); on this Blender ask for method='per_patch' with "
-                                  "target_rel_error (one adaptive measurement per sky patch: far slower)")
-    if method == "dome":
+        dcm.require_dome(scene)  # before any task is planned or sent to a cluster
         if target_rel_error is not None:
             raise RadiometerError("target_rel_error goes with method='per_patch'; the dome method takes quality "
                                   "or samples (its errors are stated per coefficient and per hour)")
