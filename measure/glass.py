@@ -250,23 +250,49 @@ def thin_pane_material(pane, name):
     return mat
 
 
+def pane_objects(panes):
+    """{object: [panes]}: the Blender object behind every pane, found by the capture's identity
+    (``Pane.source_id``: session uid and library, ``measure.identity``), never by name, so a pane
+    renamed after its capture (a cached capture) is still found. A pane built without a capture
+    (no ``source_id``) is found by its name."""
+    from .identity import source_objects
+
+    panes = list((panes or {}).values())
+    found = source_objects(p.source_id for p in panes)
+    out = {}
+    for pane in panes:
+        if pane.source_id is not None:
+            obj = found.get(tuple(pane.source_id[:2]))
+        else:
+            obj = bpy.data.objects.get(pane.source)
+        if obj is not None:
+            out.setdefault(obj, []).append(pane)
+    return out
+
+
 def swap_panes(snapshot, panes):
-    """Give every thin pane's object the thin-pane material for the measurement (the old slot
-    materials are remembered by ``snapshot``, a ``scene_guard.SceneSnapshot``, and come back on
-    exit; the new materials are removed with every data-block the measurement created). Returns the
-    names of the objects swapped."""
-    done = {}
-    for pane in (panes or {}).values():
-        obj = bpy.data.objects.get(pane.source)
-        if obj is None or pane.source in done or not obj.material_slots:
+    """Give every thin pane's object the thin-pane material for the measurement (the old slot links
+    and materials are remembered by ``snapshot``, a ``scene_guard.SceneSnapshot``, and come back on
+    exit; the new materials are removed with every data-block the measurement created). The objects
+    are found by identity (``pane_objects``), and the material is linked to the OBJECT, not to its
+    mesh: two objects sharing one mesh (a linked duplicate) may be different panes (another scale,
+    another thickness), and the mesh, which other objects may use, is never changed. Every instance
+    of one object gets the material of its first pane. Returns the names of the objects swapped."""
+    done = []
+    for obj, own in pane_objects(panes).items():
+        pane = own[0]
+        if not obj.material_slots:
             continue
-        mat = thin_pane_material(pane, f"radiometer thin pane {pane.source}")
+        mat = thin_pane_material(pane, f"radiometer thin pane {obj.name}")
         for j, slot in enumerate(obj.material_slots):
             if pane.slots and j not in pane.slots:
                 continue  # a window frame in the same mesh keeps its material
-            snapshot.remember(slot, "material")
+            if slot.link != "OBJECT":
+                snapshot.remember(slot, "link")
+                slot.link = "OBJECT"
+            snapshot.remember(slot, "material")  # the object-level one: restored before the link
             slot.material = mat
-        done[pane.source] = mat
+        done.append(obj.name)
     return sorted(done)
 
 

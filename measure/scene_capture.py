@@ -19,6 +19,7 @@ import numpy as np
 from ..errors import RadiometerError
 from ..radiometry import scene_model
 from . import render_settings, scene_guard, scene_lights
+from .identity import object_identity, source_objects  # noqa: F401 (callers use scene_capture.source_objects)
 
 _GEOMETRY_TYPES = render_settings._GEOMETRY_TYPES
 _MESHABLE = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
@@ -85,25 +86,6 @@ def _emission_radiance(material):
     if colour is None or strength is None or colour.is_linked or strength.is_linked:
         return None
     return np.array(colour.default_value[:3], float) * float(strength.default_value)
-
-
-def object_identity(obj):
-    """(session uid, library path or '') of an original object: the object part of a ``SourceId``."""
-    library = obj.library.filepath if getattr(obj, "library", None) is not None else ""
-    return int(getattr(obj, "session_uid", 0)), library
-
-
-def source_objects(source_ids):
-    """{(session uid, library): original object} for the objects behind ``SourceId``s (a capture's lights
-    or meshes; a (session uid, library) pair works too), found by identity, never by name: a renamed
-    object or a shared data-block is its own."""
-    wanted = {tuple(sid[:2]) for sid in source_ids if sid is not None}
-    found = {}
-    for ob in bpy.data.objects:
-        key = object_identity(ob)
-        if key in wanted:
-            found[key] = ob
-    return found
 
 
 def _source_id(inst, original, part=-1):
@@ -214,7 +196,7 @@ def _collect(depsgraph):
         pane_mask = None
         if traits[np.unique(slot), 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
             pane_mask = _glass_object(panes, refractors, len(names), name, original.name, world, slot, slots,
-                                      traits, material_cache)
+                                      traits, material_cache, source_id=_source_id(inst, original))
         pane_chunks.append(np.where(pane_mask, len(names), -1) if pane_mask is not None else np.full(len(world), -1))
         if traits[np.unique(slot), 4].any() and len(names) not in panes:  # a medium fills this mesh (issue 18)
             flat = world.reshape(-1, 3)
@@ -267,7 +249,7 @@ def _used_slots(slot, slots, traits, trait, cache, tag, read):
         yield int(j), material, cache[key]
 
 
-def _glass_object(panes, refractors, index, name, source, world_tris, slot, slots, traits, cache):
+def _glass_object(panes, refractors, index, name, source, world_tris, slot, slots, traits, cache, source_id=None):
     """Record the transmissive part of an object as a thin pane (``radiometry.thin_glass.Pane`` in
     ``panes`` by object index) when every transmissive material it uses is a pane with the same
     optics and those triangles form a planar pane (other slots, e.g. an opaque window frame in the
@@ -300,7 +282,7 @@ def _glass_object(panes, refractors, index, name, source, world_tris, slot, slot
                                    absorption=absorption,
                                    tint_r=o["tint_r"], geometry=geom, trick=bool(o.get("trick")),
                                    model=f"{o['model']}, IOR {o['ior']:g}, {shape}", source=source,
-                                   slots=tuple(glass_slots))
+                                   source_id=source_id, slots=tuple(glass_slots))
     return mask
 
 

@@ -120,7 +120,8 @@ class Pane:
     geometry: object = None
     model: str = ""
     trick: bool = False             # the archviz "Is Shadow Ray -> Transparent" glass
-    source: str = ""                # the object (shared by its instances) whose material is swapped
+    source: str = ""                # the object's name at capture time (for the notes)
+    source_id: object = None        # its identity (``emitters.SourceId``): how its material is found to swap
     slots: tuple = ()               # its material slots that are the pane (others: a frame, ...)
 
     def optics(self, cos_i):

@@ -139,6 +139,18 @@ def window(name, light="SUN", elevation_deg=60.0):
     return scene, [(f"{name} {light.lower()}", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0))]
 
 
+#: Frosted (rough) panes of the corpus: the "plain" window with a rough Glass BSDF, by roughness.
+FROSTED_ROUGHNESS = (0.3, 0.1)
+
+
+def frosted_window(light="POINT", roughness=0.3):
+    """``window("plain", light)`` with its 6 mm pane frosted: a Glass BSDF (IOR 1.52) of the given
+    roughness, which Radiometer renders as it is (it is not a thin pane)."""
+    scene, [(label, point, normal)] = window("plain", light=light)
+    bpy.data.objects["Pane 1"].data.materials[0] = glass_material(f"frosted {roughness:g}", roughness=roughness)
+    return scene, [(f"frosted {roughness:g} {light.lower()}", point, normal)]
+
+
 def _diffuse(name, albedo):
     mat = bpy.data.materials.new(name)
     tree = ensure_node_tree(mat)
@@ -264,4 +276,6 @@ def absorbing_pane_sky(sun=False):
 SCENES = {f"fog_{k.lower()}": (lambda k=k: fog(k)) for k in FOG_LIGHTS}
 SCENES["absorbing_pane_sky"] = absorbing_pane_sky
 SCENES["glossy_floor"] = glossy_floor
+SCENES.update({f"frosted_{light.lower()}_{r:g}": (lambda light=light, r=r: frosted_window(light, r))
+               for light in ("POINT", "SUN") for r in FROSTED_ROUGHNESS})
 SCENES.update({"window_room_sun": lambda: window_room("sun"), "window_room_sky": lambda: window_room("sky")})

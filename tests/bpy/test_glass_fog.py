@@ -282,3 +282,39 @@ def test_fog_that_varies_in_space_stays_rendered(clean_blender):
     assert media.world_medium(scene) is None
     r = api.measure_illuminance(point, normal, scene=scene, quality="preview")
     assert r.method == "render" and not any("exp(-sigma_t d)" in note for note in r.notes)
+
+
+def test_panes_found_by_identity_renamed_and_linked_duplicate(clean_blender):
+    """The measurement finds every pane's object by the capture's identity (session uid), not by
+    name: a pane renamed after its capture (a cached capture) is still swapped. A linked duplicate
+    (another object sharing the mesh) scaled to twice the thickness is its own pane: each object gets
+    its own thin-pane material (linked to the object, the shared mesh is never changed) with its own
+    absorption path, and everything is put back."""
+    from radiometer.measure import glass, scene_capture, scene_guard
+
+    scene, _cases = scenes.absorbing_pane_sky()
+    first = bpy.data.objects["Pane 1"]
+    twin = first.copy()  # Alt+D: a new object, the same mesh
+    twin.scale = (1.0, 1.0, 2.0)  # the slab at z 2 m, 12 mm thick
+    scene.collection.objects.link(twin)
+    user_material = first.data.materials[0]
+    panes = scene_capture.capture(scene).needs["thin_panes"]
+    assert sorted(round(p.thickness, 6) for p in panes.values()) == [0.006, 0.012]
+    first.name = "Renamed after the capture"
+    with scene_guard.preserved_scene(scene) as snapshot:
+        swapped = glass.swap_panes(snapshot, panes)
+        assert swapped == sorted([first.name, twin.name])
+        mats = [ob.material_slots[0].material for ob in (first, twin)]
+        assert all(m.name.startswith("radiometer thin pane") for m in mats) and mats[0] != mats[1]
+        assert first.data.materials[0] == user_material  # the shared mesh keeps the user's material
+
+        def optical_depths(mat):  # -sigma_a d per channel, fed to exp(. / cos theta_t)
+            return sorted(-n.inputs[0].default_value for n in mat.node_tree.nodes
+                          if n.bl_idname == "ShaderNodeMath" and n.operation == "DIVIDE"
+                          and not n.inputs[0].is_linked and n.inputs[0].default_value < 0)
+
+        depth_first, depth_twin = optical_depths(mats[0]), optical_depths(mats[1])
+        assert len(depth_first) == 3 and np.allclose(depth_twin, 2.0 * np.asarray(depth_first))
+    for ob in (first, twin):
+        assert ob.material_slots[0].link == "DATA" and ob.material_slots[0].material == user_material
+    assert not any(m.name.startswith("radiometer thin pane") for m in bpy.data.materials)
