@@ -28,17 +28,24 @@ def _point_lux(power_w, distance_m):
 
 @pytest.fixture
 def captures(monkeypatch):
-    """Counts the real (probe-render) captures."""
-    calls = []
-    real = scene_capture.capture
+    """Counts the real (probe-render) full captures; ``captures.lights`` counts the lights-only ones."""
+    calls = _Calls()
+    for name, where in (("capture", calls), ("capture_lights", calls.lights)):
+        real = getattr(scene_capture, name)
 
-    def counting(*args, **kwargs):
-        calls.append(args)
-        return real(*args, **kwargs)
+        def counting(*args, _real=real, _where=where, **kwargs):
+            _where.append(args)
+            return _real(*args, **kwargs)
 
-    monkeypatch.setattr(scene_capture, "capture", counting)
+        monkeypatch.setattr(scene_capture, name, counting)
     capture_cache.clear()
     return calls
+
+
+class _Calls(list):
+    def __init__(self):
+        super().__init__()
+        self.lights = []
 
 
 def test_unchanged_scene_is_captured_once_and_an_edit_is_seen(clean_blender, build, captures):
@@ -52,7 +59,8 @@ def test_unchanged_scene_is_captured_once_and_an_edit_is_seen(clean_blender, bui
     assert _lux() == pytest.approx(_point_lux(250.0, 2.0), rel=1e-7)
     lamp.location.z = 4.0
     assert _lux() == pytest.approx(_point_lux(250.0, 4.0), rel=1e-7)
-    assert len(captures) == 3
+    # Lights-only edits: the lights were read again (twice), the geometry kept from the one full capture.
+    assert len(captures) == 1 and len(captures.lights) == 2
 
 
 def test_edits_blender_does_not_announce_are_still_seen(clean_blender, build, captures):
@@ -259,3 +267,62 @@ def test_a_failed_measurement_does_not_keep_its_capture(clean_blender, build, ca
     _render()
     assert len(captures) == 2
 
+
+
+def _shadow_only_plane(build, scene, size, z, name):
+    """A plane that only casts shadows (reflects nothing: no indirect light), so readings stay closed forms."""
+    plane = build.plane(scene, size=size, location=(0.0, 0.0, z), name=name)
+    plane.visible_diffuse = plane.visible_glossy = plane.visible_transmission = False
+    return plane
+
+
+def test_lights_only_edits_keep_the_geometry_and_geometry_edits_are_captured(clean_blender, build, captures):
+    scene, layer = bpy.context.scene, bpy.context.view_layer
+    world = build.black_world(scene)
+    lamp = build.light(scene, "POINT", location=(0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0)
+    floor = _shadow_only_plane(build, scene, 4.0, -1.0, "floor")  # below the meter: blocks nothing
+    empty = bpy.data.objects.new("an empty", None)
+    scene.collection.objects.link(empty)
+    assert _lux() == pytest.approx(_point_lux(100.0, 2.0), rel=1e-7)
+    geometry = meter.capture_model(scene, layer).geometry
+    lamp.data.energy = 250.0  # light data
+    assert _lux() == pytest.approx(_point_lux(250.0, 2.0), rel=1e-7)
+    lamp.location = (1.0, 0.0, 2.0)  # light moved: E = I cos / r^2
+    assert _lux() == pytest.approx(_point_lux(250.0, math.sqrt(5.0)) * 2.0 / math.sqrt(5.0), rel=1e-7)
+    lamp.location = (0.0, 0.0, 2.0)
+    empty.location.x = 3.0  # an object the capture does not read (a meter writing its reading is one)
+    background = world.node_tree.nodes["Background"]
+    background.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    background.inputs["Strength"].default_value = 0.5  # the world: uniform, nothing above the horizon
+    assert _lux() == pytest.approx(_point_lux(250.0, 2.0) + K * math.pi * 0.5, rel=1e-6)
+    model = meter.capture_model(scene, layer)
+    assert model.world_emits and model.geometry is geometry and model.geometry.count == 2
+    assert len(captures) == 1 and len(captures.lights) == 3
+    background.inputs["Strength"].default_value = 0.0
+
+    # Geometry edits: captured again, and the proofs see the new geometry.
+    floor.location.z = 1.0  # now between the lamp and the meter: the lamp is blocked, exactly 0
+    assert _lux() == pytest.approx(0.0, abs=1e-9)
+    assert len(captures) == 2
+    floor.location.z = -1.0
+    assert _lux() == pytest.approx(_point_lux(250.0, 2.0), rel=1e-7)
+    _shadow_only_plane(build, scene, 0.5, 1.5, "new occluder")  # an object added
+    assert _lux() == pytest.approx(0.0, abs=1e-9)
+    assert meter.capture_model(scene, layer).geometry.count == 4
+    assert len(captures) == 4
+    displace = floor.modifiers.new("lift", "DISPLACE")  # a modifier added, then changed
+    displace.strength, displace.mid_level = 0.0, 0.0
+    scene.objects["new occluder"].hide_render = True  # a visibility change: captured again too
+    assert _lux() == pytest.approx(_point_lux(250.0, 2.0), rel=1e-7)
+    displace.strength = 1.5  # the floor rises to z = 0.5: between the lamp and the meter
+    assert _lux() == pytest.approx(0.0, abs=1e-9)
+    assert len(captures) == 6 and len(captures.lights) == 3
+
+
+def test_a_light_edit_after_a_rendered_reading_keeps_the_geometry(clean_blender, build, captures):
+    lamp = _rendered_scene(build)
+    first = _render()
+    lamp.data.energy = 300.0
+    second = _render(seed=1)
+    assert len(captures) == 1 and len(captures.lights) == 1  # the bake's own changes were restamped
+    assert second.irradiance == pytest.approx(3.0 * first.irradiance, rel=0.2)
