@@ -1,0 +1,163 @@
+"""The pooled estimator of many meters' rendered light (radiometry/pooled_field.py, issue 17): pure numpy.
+
+Synthetic fields with a known truth, sampled by a fake bake whose texels are the truth plus Gaussian
+noise of a known spread (the batch-means statistics of ``allocation`` on top, as in a measurement)."""
+
+import numpy as np
+
+from radiometer.radiometry import allocation, pooled_field as pf
+
+
+def smooth(p):
+    x, y = p[:, 0], p[:, 1]
+    return 10.0 + 2.0 * np.cos(0.8 * x) + 1.5 * np.sin(0.6 * y) + 0.125 * x * y
+
+
+def bump(p):
+    """A peak 0.15 m wide: no polynomial of degree <= 6 over 3.6 m follows it."""
+    return smooth(p) + 4.0 * np.exp(-((p[:, 0] - 0.7) ** 2 + (p[:, 1] + 0.4) ** 2) / (2 * 0.15 ** 2))
+
+
+def room_meters(n, rng, z=0.75):
+    pts = np.c_[rng.uniform(-1.8, 1.8, (n, 2)), np.full(n, z)]
+    return pts, np.tile([0.0, 0.0, 1.0], (n, 1))
+
+
+def fake_bake(truth, rel_spread, rng):
+    """Texels of ``spp`` samples: truth + noise of relative spread ``rel_spread`` per sample."""
+    def bake(spp, blocks):
+        idx = np.repeat(np.arange(len(blocks)), np.asarray(blocks) * allocation.BLOCK_TEXELS ** 2)
+        values = truth[idx] * (1.0 + rel_spread / np.sqrt(spp) * rng.standard_normal(len(idx)))
+        return idx, values, np.stack([values, 0.5 * values, 0.25 * values], axis=1)
+    return bake
+
+
+def measure(field, seed, n=1000, target=0.01, offset=10.0):
+    rng = np.random.default_rng(seed)
+    pts, nrm = room_meters(n, rng)
+    truth = field(pts)
+    res = pf.allocate_pooled(fake_bake(truth, 0.3, rng), n, points_m=pts, normals=nrm, target=target,
+                             offset=np.full(n, offset), seed=seed)
+    return pts, truth, res
+
+
+def test_fit_recovers_a_polynomial_exactly():
+    rng = np.random.default_rng(0)
+    uv = rng.uniform(-1, 1, (200, 2))
+    truth = 3.0 + uv[:, 0] - 2.0 * uv[:, 1] ** 2 + 0.5 * uv[:, 0] * uv[:, 1]
+    fit = pf.fit_field(uv, truth[:, None], np.full((200, 1), 1e-6))
+    mean, se = fit.predict(uv)
+    assert fit.degree >= 2
+    np.testing.assert_allclose(mean[:, 0], truth, atol=1e-9)
+    assert np.all(se > 0)
+
+
+def test_fit_error_covers_noise_when_the_model_is_right():
+    """A field the basis holds exactly, values with known noise: (fit - truth) / fit s.e. has s.d. ~1."""
+    z = []
+    for seed in range(30):
+        rng = np.random.default_rng(seed)
+        uv = rng.uniform(-1, 1, (400, 2))
+        truth = 5.0 + uv[:, 0] ** 2 - uv[:, 1]
+        sd = 0.05 * (1.0 + 0.5 * uv[:, 0] ** 2)  # unequal noise: the sandwich covariance's case
+        fit = pf.fit_field(uv, (truth + sd * rng.standard_normal(400))[:, None], (sd ** 2)[:, None], max_degree=2)
+        probe = np.array([[0.3, -0.2], [-0.7, 0.6]])
+        mean, se = fit.predict(probe)
+        z += list((mean[:, 0] - (5.0 + probe[:, 0] ** 2 - probe[:, 1])) / se[:, 0])
+    assert 0.75 < np.std(z) < 1.3
+
+
+def test_misfit_upper_bound_covers_the_true_misfit():
+    """Held-out residuals with extra variance tau^2 = 0.09 beyond their known ones: the 95 % upper
+    bound is above 0.09 in about 95 % of draws, the estimate is near it on average."""
+    rng = np.random.default_rng(1)
+    above, estimates = 0, []
+    for _ in range(400):
+        v = rng.uniform(0.02, 0.1, 100)
+        r = rng.standard_normal(100) * np.sqrt(v + 0.09)
+        est, ub = pf.misfit_upper_bound(r, v)
+        above += ub >= 0.09
+        estimates.append(est)
+    assert 0.91 <= above / 400 <= 0.99
+    assert abs(np.mean(estimates) - 0.09) < 0.015
+    est, ub = pf.misfit_upper_bound(np.zeros(50), np.ones(50))
+    assert est == 0.0 and ub == 0.0
+
+
+def test_held_out_check_refuses_an_outlier_and_too_few_meters():
+    rng = np.random.default_rng(2)
+    r, v = rng.standard_normal(100), np.ones(100)
+    assert pf.check_held_out(r, v).passed
+    r[7] = 12.0  # one held-out meter far off the field: a feature the field cannot follow
+    bad = pf.check_held_out(r, v)
+    assert not bad.passed and "cannot follow" in bad.reason
+    few = pf.check_held_out(rng.standard_normal(10), np.ones(10))
+    assert not few.passed and "fewer than" in few.reason
+
+
+def test_plane_groups_split_by_normal_plane_and_key():
+    rng = np.random.default_rng(3)
+    a, na = room_meters(400, rng, z=0.75)
+    b, nb = room_meters(400, rng, z=0.85)                    # another plane
+    uv = rng.uniform(-1.0, 1.0, (400, 2))                    # a tilted plane: another normal
+    c = np.array([0.0, 0.0, 1.5]) + uv[:, :1] * [1.0, 0.0, 0.0] + uv[:, 1:] * [0.0, 0.8, -0.6]
+    nc = np.tile([0.0, 0.6, 0.8], (400, 1))
+    pts, nrm = np.vstack([a, b, c]), np.vstack([na, nb, nc])
+    keys = [frozenset()] * 1200
+    groups = pf.plane_groups(pts, nrm, keys)
+    assert sorted(len(g) for g in groups) == [400, 400, 400]
+    scattered = c + nc * rng.uniform(-0.5, 0.5, (400, 1))    # off the plane along its normal: no group
+    assert pf.plane_groups(scattered, nc) == []
+    keys = [frozenset({("lamp",)}) if k % 2 else frozenset() for k in range(1200)]  # two renders per plane
+    assert pf.plane_groups(pts, nrm, keys) == []            # 200 each: below POOL_MIN_METERS
+    eligible = np.arange(1200) >= 100
+    assert sorted(len(g) for g in pf.plane_groups(pts, nrm, None, eligible)) == [300, 400, 400]
+
+
+def test_smooth_field_is_pooled_with_errors_that_cover_the_truth():
+    covered, count, spent = 0, 0, []
+    for seed in range(4):
+        pts, truth, res = measure(smooth, seed)
+        t = res.tally
+        assert res.reached and res.pooled.mean() > 0.8       # the held-out 10 % read on their own
+        total = t.mean + 10.0
+        assert np.all(t.std_error / total <= 0.01 + 1e-12)
+        z = (t.mean - truth) / t.std_error
+        covered += int(np.sum(np.abs(z[res.pooled]) < 1.96))
+        count += int(res.pooled.sum())
+        spent.append(res.samples[res.pooled].max())
+        g = res.groups[0]
+        assert g.check.passed and g.check.held_out == 100 and 1 <= g.fit.degree <= pf.MAX_DEGREE
+        np.testing.assert_allclose(t.mean_rgb[res.pooled, 1], 0.5 * t.mean[res.pooled], rtol=0.05)
+    assert covered / count >= 0.95
+    assert max(spent) == pf.POOL_PILOT_SAMPLES
+
+
+def test_sharp_feature_falls_back_to_per_meter_sampling():
+    """The bump is caught (the local check on the fitted meters, or the held-out check) and its meters
+    are read on their own, to the target, covering the truth; none is pooled near it."""
+    for seed in range(4):
+        pts, truth, res = measure(bump, seed)
+        t = res.tally
+        near = np.hypot(pts[:, 0] - 0.7, pts[:, 1] + 0.4) < 0.35
+        assert not np.any(res.pooled & near)
+        assert res.groups[0].check.flagged > 0 or not res.groups[0].check.passed
+        rel = t.std_error / (t.mean + 10.0)
+        assert np.all(rel[near] <= 0.01 + 1e-12)  # read on their own samples (a pilot of their own, then more)
+        z = (t.mean - truth) / t.std_error
+        assert np.mean(np.abs(z) < 1.96) > 0.9
+
+
+def test_few_meters_are_not_pooled():
+    rng = np.random.default_rng(5)
+    pts, nrm = room_meters(100, rng)
+    truth = smooth(pts)
+    res = pf.allocate_pooled(fake_bake(truth, 0.3, rng), 100, points_m=pts, normals=nrm, target=0.01)
+    assert not res.pooled.any() and res.groups == [] and res.reached
+    assert np.all(res.tally.std_error / res.tally.mean <= 0.01)
+
+
+def test_rounds_are_logged_over_all_meters():
+    pts, truth, res = measure(smooth, 9, n=400)
+    assert all(len(r["texels"]) == 400 for r in res.tally.rounds)
+    assert sum((r["spp"] * r["texels"]).sum() for r in res.tally.rounds) >= res.samples.sum()
