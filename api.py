@@ -14,7 +14,7 @@ from .errors import MeasurementCancelled, RadiometerError  # noqa: F401  (re-exp
 @_v.boundary(finite=True)
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
-                        seed=0):
+                        seed=0, pooling=True):
     """Irradiance (W/m^2) and illuminance (lux) on the side ``normal`` faces.
 
     ``location``: 3 numbers, or (N, 3) to measure N meters in one batch; ``normal``: 3 numbers or
@@ -32,7 +32,10 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     Returns an ``IlluminanceReading`` (or a list of them for N locations) with ``irradiance_rgb``,
     ``irradiance``, ``illuminance``, ``rel_std_error`` (reached), ``target_rel_error`` (asked),
     ``exact``, ``method``, ``parts`` (which light came from closed forms), ``samples``, ``seconds``,
-    ``notes``.
+    ``notes``. ``pooling``: with a target (not ``samples`` or ``time_budget_s``), a group of at least
+    300 rendered meters on one plane (same normal, same lights in closed form) reads its rendered part
+    from a smooth field fitted over all of them, its error checked on held-out meters read on their own
+    (method "hybrid+pooled", said in the notes; docs/pooled-meters.md); False reads every meter alone.
     """
     location = _v.points(location, "location")
     normal = _v.directions(normal, "normal")
@@ -40,11 +43,14 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     _b.scene(scene)
     _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error, samples_=samples,
                    time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
+    if not isinstance(pooling, bool):
+        _v.fail("pooling", "True or False", pooling)
     from .measure import meter
 
     return meter.measure_illuminance(location, normal, scene=scene, method=method, quality=quality,
                                      target_rel_error=target_rel_error, samples=samples,
-                                     time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed=seed)
+                                     time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed=seed,
+                                     pooling=bool(pooling))
 
 
 @_v.boundary

@@ -54,7 +54,7 @@ def _exclude_from(coll, obj):
 def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, weights, target=None,
                   time_budget=None, fixed_samples=None, exclusions=None, offset=None, progress=None,
                   cancelled=None, seed=0, max_samples=allocation.MAX_SAMPLES_PER_METER, panes=None,
-                  may_be_lit=None, min_samples=None):
+                  may_be_lit=None, min_samples=None, pooled=False):
     """Rendered irradiance at the sensors, W/m^2 SI, each meter sampled to its own need.
 
     ``exclusions``: per meter, a frozenset of light OBJECT identities (``meter.light_object_key``: session
@@ -64,6 +64,8 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
     mean_rgb (N, 3) and se_rgb (N, 3) of the rendered part, se (N,) scalar, samples (N,),
     rounds, stopped, reached, seconds, record (render settings).
     ``panes``: thin glass panes (``SceneModel.panes``), rendered as thin panes (``measure.glass``).
+    ``pooled``: with a target, pool groups of many meters on one plane (``radiometry.pooled_field``);
+    then ``pooled`` (N,) bool says which readings are the fitted field's, ``pool_groups`` their checks.
     """
     n = len(points_scene)
     scale = scene.unit_settings.scale_length
@@ -169,9 +171,19 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
         def report(fraction, seconds_left):
             _call_progress(progress, fraction, seconds_left)
 
-        result = allocation.allocate(bake, n, target=target, time_budget=time_budget, fixed_samples=fixed_samples,
-                                     offset=offset, max_samples=max_samples, progress=report,
-                                     may_be_lit=may_be_lit, min_samples=min_samples)
+        if pooled and target is not None and time_budget is None and fixed_samples is None:
+            # Issue 17: groups of many meters on one plane pool their rendered light in a fitted field,
+            # its misfit checked on held-out meters (radiometry.pooled_field); the rest as below.
+            from ..radiometry import pooled_field
+
+            result = pooled_field.allocate_pooled(bake, n, points_m=points_scene * scale, normals=normals,
+                                                  target=target, keys=exclusions, offset=offset, seed=seed,
+                                                  progress=report, may_be_lit=may_be_lit, min_samples=min_samples,
+                                                  max_samples=max_samples)
+        else:
+            result = allocation.allocate(bake, n, target=target, time_budget=time_budget,
+                                         fixed_samples=fixed_samples, offset=offset, max_samples=max_samples,
+                                         progress=report, may_be_lit=may_be_lit, min_samples=min_samples)
     tally = result.tally
     record = dict(record, samples=None, rounds=result.rounds, bakes=state["bakes"])
     return {
@@ -180,4 +192,5 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
         "seconds": time.perf_counter() - started, "bake_seconds": state["bake_seconds"], "record": record,
         "round_log": tally.rounds, "groups": len(group_keys),
         "dark": allocation.dark_meters(tally, may_be_lit),
+        "pooled": getattr(result, "pooled", None), "pool_groups": getattr(result, "groups", []),
     }

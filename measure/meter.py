@@ -456,8 +456,11 @@ def glass_notes(model):
         notes.append(f"thin glass {pane.name!r}: {pane.model}{trick}; exact Fresnel at both interfaces with "
                      "internal reflections, light continuing undeflected (lateral shift not modelled); rendered "
                      "as a thin pane (transparent + specular shader swapped in for the measurement)")
+    rough = model.needs.get("rough_refractors", ())
     for name, why in model.refractors:
-        notes.append(f"{name!r} transmits light but is not a thin pane ({why}): rendered as it is")
+        notes.append(f"{name!r} transmits light but is not a thin pane ({why}): rendered as it is"
+                     + ("; its refraction is rough enough that light sampling finds small lights through it: "
+                        "a stochastic error like any glossy path, no caustic bound" if name in rough else ""))
     return notes
 
 
@@ -467,7 +470,9 @@ def caustic_risk(model, direct, split):
     from ..radiometry import scene_model
 
     out = np.zeros(direct.status.shape, bool)
-    names = [name for name, _why in model.refractors]
+    # Rough refraction is no caustic: light sampling at the refraction vertex finds the light (glass.ROUGH_REFRACTION).
+    rough = model.needs.get("rough_refractors", ())
+    names = [name for name, _why in model.refractors if name not in rough]
     if not names:
         return out
     for i, light in enumerate(model.lights):
@@ -570,7 +575,7 @@ def _closed_form_part(model, decision, sensors_m, normals, direct_only):
 
 def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sensors_m, normals, *, preset,
                  method, direct_only, weights, target, budget, fixed, progress, cancelled, seed, scale, n_closed,
-                 medium=None):
+                 medium=None, pooling=False):
     """Cycles (hybrid or render) at the meters that need it; ``direct`` is the plan cut to them
     (``_plan_at``), as are the sensors and normals. Returns a dict: mean_rgb, bound_rgb, se_rgb (M, 3),
     se, samples (M,), method, record, notes (common to these meters), parts (per meter)."""
@@ -642,7 +647,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                                  time_budget=budget, fixed_samples=fixed, exclusions=split,
                                  offset=offset_rgb @ weights, progress=progress, cancelled=cancelled, seed=seed,
                                  panes=model.panes, may_be_lit=may_be_lit(direct, direct_only),
-                                 min_samples=floor)
+                                 min_samples=floor, pooled=pooling)
     mean_rgb = run["mean_rgb"] + offset_rgb
     se_rgb = np.nan_to_num(run["se_rgb"])
     scalar_se = np.nan_to_num(run["se"])
@@ -679,19 +684,53 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
         notes.append("render settings this Blender lacks (skipped): " + "; ".join(record["settings_missing"]))
     if scale != 1.0:
         notes.append(f"unit scale {scale:g} m per unit: Cycles' scene-unit result divided by scale²")
+    methods, meter_notes = pooled_notes(run, "hybrid" if any(split) else "render", n)
     return {"mean_rgb": mean_rgb, "bound_rgb": bound_rgb, "se_rgb": se_rgb, "se": scalar_se, "samples": spent,
-            "method": "hybrid" if any(split) else "render", "record": record, "notes": notes, "parts": parts}
+            "method": methods, "record": record, "notes": notes, "parts": parts, "meter_notes": meter_notes}
+
+
+def pooled_notes(run, method, n):
+    """Per rendered meter: its method (``method``, or ``method + '+pooled'`` where the reading is a pooled
+    field's) and its own notes saying how it was pooled, held out or refused (issue 17)."""
+    from ..radiometry import pooled_field
+
+    methods = np.full(n, method, dtype=object)
+    notes = [[] for _ in range(n)]
+    for g in run.get("pool_groups") or []:
+        c = g.check
+        if c.passed and len(g.pooled):
+            methods[g.pooled] = method + "+pooled"
+            text = (f"pooled (issue 17): the rendered part is a smooth field (Legendre polynomial of degree "
+                    f"{g.fit.degree} in the meters' plane) fitted over {g.fit.meters} meters of this plane, "
+                    f"{pooled_field.POOL_PILOT_SAMPLES} samples each; its error is the fit's standard error (+) "
+                    f"the misfit measured on {c.held_out} held-out meters sampled on their own "
+                    f"({100 * pooled_field.CONFIDENCE:g} % upper bound {c.misfit_upper:.3g} W/m², estimate "
+                    f"{c.misfit:.3g} W/m²); a mean misfit over the plane, never exact")
+            for k in g.pooled:
+                notes[k].append(text)
+        for k in g.held_out:
+            notes[k].append(f"held out to check a pooled field over {len(g.fitted) + len(g.held_out)} meters: "
+                            "read on its own samples")
+        refused = np.setdiff1d(g.fitted, g.pooled if g.pooled is not None else [])
+        why = c.reason if not c.passed else (
+            f"the field does not follow the meters here (a sharp feature: {c.flagged} meters) or its error "
+            "misses the target")
+        for k in refused:
+            notes[k].append(f"not pooled ({why}): read on its own samples")
+    return methods, notes
 
 
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
-                        exclude=(), seed=0, direct_only=False, model=None):
+                        exclude=(), seed=0, direct_only=False, model=None, pooling=True):
     """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``.
 
     ``direct_only``: light straight from the sources only (closed forms where proven, else Cycles
     with 0 bounces): what the scene's surfaces reflect is left out, their shadows are kept.
     ``model``: this scene's ``SceneModel`` (with ``exclude`` applied) when an analysis already has it
     for the scene as it is now (issue 17: capture once); None captures it.
+    ``pooling``: with a target, groups of at least ``pooled_field.POOL_MIN_METERS`` rendered meters on
+    one plane read their rendered part from a fitted field checked on held-out meters (issue 17).
     """
     scene = scene or bpy.context.scene
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
@@ -737,12 +776,12 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                            sensors_scene[rendered], sensors_m[rendered], normals[rendered], preset=preset,
                            method=method, direct_only=direct_only, weights=weights, target=target, budget=budget,
                            fixed=fixed, progress=progress, cancelled=cancelled, seed=seed, scale=scale,
-                           n_closed=int(closed.sum()), medium=_world_medium(scene, model))
+                           n_closed=int(closed.sum()), medium=_world_medium(scene, model), pooling=pooling)
         mean_rgb[rendered], bound_rgb[rendered] = run["mean_rgb"], run["bound_rgb"]
         se_rgb[rendered], scalar_se[rendered], spent[rendered] = run["se_rgb"], run["se"], run["samples"]
         methods[rendered], record = run["method"], run["record"]
         for j, k in enumerate(rendered):
-            own_notes[k], parts[k] = list(run["notes"]), run["parts"][j]
+            own_notes[k], parts[k] = list(run["notes"]) + run["meter_notes"][j], run["parts"][j]
     exact_points = closed & np.asarray(decision["exact_points"], bool)
     seconds = time.perf_counter() - started
     scalar_mean = mean_rgb @ weights

@@ -388,10 +388,10 @@ def _pick(value, idx):
 
 
 def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset=0.0, seed=0,
-                    min_meters=POOL_MIN_METERS, progress=None, may_be_lit=None, min_samples=None,
+                    min_meters=None, progress=None, may_be_lit=None, min_samples=None,
                     max_samples=allocation.MAX_SAMPLES_PER_METER, clock=None):
     """``allocation.allocate`` in target mode for many meters, pooling the rendered part of groups
-    of at least ``min_meters`` meters on one plane (``plane_groups``; ``keys`` per meter: what is
+    of at least ``min_meters`` (None: ``POOL_MIN_METERS``) meters on one plane (``plane_groups``; ``keys`` per meter: what is
     rendered there, e.g. the lights excluded from its sensor; meters with ``min_samples`` > 0 are not
     pooled: their light comes by rare paths).
 
@@ -405,6 +405,7 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
 
     clock = clock or time.perf_counter
     started = clock()
+    min_meters = POOL_MIN_METERS if min_meters is None else min_meters
     points_m = np.asarray(points_m, float)
     normals = np.asarray(normals, float)
     offset = np.broadcast_to(np.asarray(offset, float), (count,)).copy()
