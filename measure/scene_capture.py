@@ -135,6 +135,7 @@ def _collect(depsgraph):
     """Walk the render depsgraph; returns a SceneModel (positions still in scene units)."""
     lights, names, shadow, reflects, unmodelled, volumes = [], [], [], [], [], []
     panes, refractors, pane_chunks, meshes = {}, [], [], []
+    rough = set()  # refractors rough enough that light sampling finds small lights through them (issue 18)
     tri_chunks, obj_chunks, opaque_chunks, emissive_chunks = [], [], [], []
     needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
     material_cache, local_cache, instance_count = {}, {}, {}
@@ -200,7 +201,7 @@ def _collect(depsgraph):
         pane_mask = None
         if traits[np.unique(slot), 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
             pane_mask = _glass_object(panes, refractors, len(names), name, original.name, world, slot, slots,
-                                      traits, material_cache, source_id=_source_id(inst, original))
+                                      traits, material_cache, source_id=_source_id(inst, original), rough=rough)
         pane_chunks.append(np.where(pane_mask, len(names), -1) if pane_mask is not None else np.full(len(world), -1))
         if traits[np.unique(slot), 4].any() and len(names) not in panes:  # a medium fills this mesh (issue 18)
             flat = world.reshape(-1, 3)
@@ -223,6 +224,7 @@ def _collect(depsgraph):
         pane_of=cat(pane_chunks, (0,)).astype(int))
     needs["volumes"] = volumes
     needs["panes"], needs["refractors"] = panes, refractors
+    needs["rough_refractors"] = rough  # names: no caustic bound for them (measure.glass.rough_refraction)
     needs["emissive_meshes"] = meshes
     return lights, geometry, needs
 
@@ -253,12 +255,14 @@ def _used_slots(slot, slots, traits, trait, cache, tag, read):
         yield int(j), material, cache[key]
 
 
-def _glass_object(panes, refractors, index, name, source, world_tris, slot, slots, traits, cache, source_id=None):
+def _glass_object(panes, refractors, index, name, source, world_tris, slot, slots, traits, cache, source_id=None,
+                  rough=None):
     """Record the transmissive part of an object as a thin pane (``radiometry.thin_glass.Pane`` in
     ``panes`` by object index) when every transmissive material it uses is a pane with the same
     optics and those triangles form a planar pane (other slots, e.g. an opaque window frame in the
     same mesh, stay ordinary geometry); returns the (T,) mask of the pane's triangles. Otherwise the
-    object is recorded as a refractor (name, reason) that Cycles renders as it is, and None returned."""
+    object is recorded as a refractor (name, reason) that Cycles renders as it is, and None returned;
+    its name goes to ``rough`` too when every transmissive material is ``glass.rough_refraction``."""
     from ..radiometry import thin_glass
     from . import glass
 
@@ -269,6 +273,7 @@ def _glass_object(panes, refractors, index, name, source, world_tris, slot, slot
     if any(o is None for o, _why in optics) or any(o != optics[0][0] for o, _why in optics):
         why = next((w for o, w in optics if o is None and w), "not a recognised glass shader")
         refractors.append((name, why))
+        _rough_refractor(rough, name, slot, slots, traits, cache)
         return None
     mask = np.isin(slot, glass_slots)
     pane_tris = world_tris[mask]
@@ -277,6 +282,7 @@ def _glass_object(panes, refractors, index, name, source, world_tris, slot, slot
     geom, why = thin_glass.pane_geometry(pane_tris, tol)
     if geom is None:
         refractors.append((name, f"curved or thick refractor ({why})"))
+        _rough_refractor(rough, name, slot, slots, traits, cache)
         return None
     o = optics[0][0]
     shape = f"a slab {1000 * geom.thickness:.3g} mm thick" if len(geom.heights) == 2 else "a single face"
@@ -288,6 +294,15 @@ def _glass_object(panes, refractors, index, name, source, world_tris, slot, slot
                                    model=f"{o['model']}, IOR {o['ior']:g}, {shape}", source=source,
                                    source_id=source_id, slots=tuple(glass_slots))
     return mask
+
+
+def _rough_refractor(rough, name, slot, slots, traits, cache):
+    """Add ``name`` to ``rough`` when every transmissive material it uses refracts roughly."""
+    from . import glass
+
+    if rough is not None and all(value for _j, _m, value in _used_slots(slot, slots, traits, 3, cache, "rough",
+                                                                         glass.rough_refraction)):
+        rough.add(name)
 
 
 def _bound_box_m(obj, matrix_world):

@@ -140,7 +140,7 @@ def window(name, light="SUN", elevation_deg=60.0):
 
 
 #: Frosted (rough) panes of the corpus: the "plain" window with a rough Glass BSDF, by roughness.
-FROSTED_ROUGHNESS = (0.3, 0.1)
+FROSTED_ROUGHNESS = (0.3, 0.2, 0.1)
 
 
 def frosted_window(light="POINT", roughness=0.3):

@@ -33,15 +33,34 @@ def _stored(key, point, normal):
     return 683.0 * float(np.dot(entry["E_rgb"], REC709_Y)), float(entry["rel_std_error"])
 
 
-def _check(reading, ref_lux, ref_se):
-    """Issue 18's acceptance: within max(3 x the stated standard error, 0.5 %) of the reference (the
-    reference's own standard error added in quadrature); a reading stating < 5 % is never off by
-    more than 5 x its statement."""
+#: Issue 18's window and fog corpus: every kind its list names, each checked by ``_check`` against an
+#: independent reference (test_the_corpus_covers_issue_18s_list: none may go missing).
+CORPUS = ("plain glass", "single-face glass", "Principled glass", "trick glass", "tinted glass", "double glazing",
+          "frosted pane", "absorbing pane", "sun and sky, sun patch", "sun and sky, shade", "fog point", "fog spot",
+          "fog area", "glossy floor")
+#: kind -> [(relative error, stated s.e., reference s.e., exact)] of every reading ``_check`` saw.
+CHECKED = {}
+
+
+def _check(reading, ref_lux, ref_se, kind):
+    """Issue 18's acceptance, each criterion asserted on its own (the reference's own standard error
+    ``ref_se`` added in quadrature; 0 for a closed form):
+
+    1. within max(3 x the stated standard error, 0.5 %) of the reference;
+    2. a reading marked exact within 1e-4 of its reference, which must then be a closed form (a
+       rendered reference cannot show 1e-4);
+    3. a reading stating less than 5 % is never off by more than 5 x what it states."""
+    assert kind in CORPUS, kind
     err = abs(reading.illuminance / ref_lux - 1.0)
-    allowed = max(3.0 * math.hypot(reading.rel_std_error, ref_se), 0.005)
-    assert err <= allowed, (reading.illuminance, ref_lux, err, allowed, reading.notes)
-    if reading.rel_std_error < 0.05:
-        assert err <= 5.0 * max(reading.rel_std_error, ref_se)
+    se = float(reading.rel_std_error)
+    CHECKED.setdefault(kind, []).append((err, se, ref_se, bool(reading.exact)))
+    combined = math.hypot(se, ref_se)
+    assert err <= max(3.0 * combined, 0.005), ("criterion 1", kind, reading.illuminance, ref_lux, err, se, reading.notes)
+    if reading.exact:
+        assert ref_se == 0.0 and err <= 1e-4, ("criterion 2", kind, reading.illuminance, ref_lux, err)
+    if se < 0.05:
+        # (1e-9: float rounding of a closed form that states 0)
+        assert err <= max(5.0 * combined, 1e-9) or (reading.exact and err <= 1e-4), ("criterion 3", kind, err, se)
 
 
 @pytest.mark.parametrize("kind", ["POINT", "SPOT", "AREA"])
@@ -63,7 +82,7 @@ def test_fog_removes_exact_and_the_render_matches_a_patch_render(clean_blender, 
         else:  # a delta light: closed form x exp(-sigma_t d), the in-scattered light rendered
             assert r.method == "hybrid" and r.parts["analytic"] == [kind.lower()]
             assert any("exp(-sigma_t d)" in note and "0.04, 0.04, 0.04 1/m" in note for note in r.notes)
-        _check(r, ref_lux, ref_se)
+        _check(r, ref_lux, ref_se, f"fog {kind.lower()}")
 
 
 # --- thin glass ---------------------------------------------------------------------------------------
@@ -82,75 +101,114 @@ def _slab_reference(name, cosine):
     return thin_glass.stack(layers)[0]
 
 
+WINDOW_KINDS = {"plain": "plain glass", "single_face": "single-face glass", "principled": "Principled glass",
+                "trick": "trick glass", "tinted": "tinted glass", "double_glazing": "double glazing"}
+
+
+def _window_closed_form(name, light):
+    """(lux, cosine) under ``scenes.window(name, light)``: the unobstructed light's closed form times
+    the slab's T (``_slab_reference``) at its incidence angle."""
+    from radiometer.radiometry import photometry  # the scene's Y weights (checked against colour-science)
+
+    if light == "SUN":
+        cosine = math.cos(math.radians(30.0))
+        e_open = 100.0 * cosine  # W/m^2; the 0.53 degree cap differs from cos by < 1e-5 here
+    else:
+        d = np.array([0.0, 0.5, 3.0])
+        cosine = 3.0 / np.linalg.norm(d)
+        e_open = 1000.0 / (4 * math.pi) * cosine / (d @ d)
+    weights = np.asarray(photometry.luminance_weights("Linear Rec.709"), float)
+    return 683.0 * e_open * float(_slab_reference(name, cosine) @ weights), 683.0 * e_open * float(np.sum(weights))
+
+
 @pytest.mark.parametrize("name", list(scenes.WINDOWS))
 def test_small_lights_through_thin_glass_are_closed_forms(clean_blender, name):
     from radiometer import api
 
     for light in ("SUN", "POINT"):
         scene, [(_label, point, normal)] = scenes.window(name, light=light)
-        if light == "SUN":
-            cosine = math.cos(math.radians(30.0))
-            e_open = 100.0 * cosine  # W/m^2; the 0.53 degree cap differs from cos by < 1e-5 here
-        else:
-            d = np.array([0.0, 0.5, 3.0])
-            cosine = 3.0 / np.linalg.norm(d)
-            e_open = 1000.0 / (4 * math.pi) * cosine / (d @ d)
-        from radiometer.radiometry import photometry  # the scene's Y weights (checked against colour-science)
-
-        weights = np.asarray(photometry.luminance_weights("Linear Rec.709"), float)
-        expected = 683.0 * e_open * float(_slab_reference(name, cosine) @ weights)
+        expected, open_lux = _window_closed_form(name, light)
         rows = api.predict_illuminance(point, normal, scene=scene)
         assert rows[0]["status"] in ("exact", "bounded") and "thin glass" in rows[0]["reason"], rows[0]
         assert "Pane 1" in rows[0]["reason"]
         if name == "trick":  # read as the real pane it depicts, not transmittance 1
-            assert rows[0]["illuminance"] < 0.93 * 683.0 * e_open
+            assert rows[0]["illuminance"] < 0.93 * open_lux
         r = api.measure_illuminance(point, normal, scene=scene, method="analytic")
         tol = 1e-4 if light == "SUN" else 1e-9  # the sun's 0.53 degree disc vs its centre's cosine
         assert r.illuminance == pytest.approx(expected, rel=tol)
         assert r.rel_error_bound <= (2e-4 if light == "SUN" else 1e-12)
+        _check(r, expected, 0.0, WINDOW_KINDS[name])
 
 
 @pytest.mark.parametrize("name", ["plain", "trick", "tinted", "double_glazing"])
 def test_rendering_thin_glass_converges_like_direct_light(clean_blender, name):
     """A Glass BSDF turns the sun into a caustic (docs/FACTS.md); the measurement renders the pane
-    as thin glass instead, so the rendered sun through it converges to the closed form."""
+    as thin glass instead, so the rendered sun through it converges to the slab's closed form."""
     from radiometer import api
 
     scene, [(_label, point, normal)] = scenes.window(name, light="SUN")
     materials = [slot.material.name for ob in scene.objects for slot in ob.material_slots]
-    closed = api.measure_illuminance(point, normal, scene=scene, method="analytic")
+    expected, _open = _window_closed_form(name, "SUN")
     for method in ("render", "auto"):
         r = api.measure_illuminance(point, normal, scene=scene, method=method, quality="standard")
         assert r.rel_std_error > 0.0 or r.method == "hybrid"
-        err = abs(r.illuminance / closed.illuminance - 1.0)
-        assert err <= max(3 * r.rel_std_error, 0.005), (method, r.illuminance, closed.illuminance, r.notes)
+        _check(r, expected, 0.0, WINDOW_KINDS[name])
     # The user's materials are back on the panes.
     assert [slot.material.name for ob in scene.objects for slot in ob.material_slots] == materials
     assert not any(m.name.startswith("radiometer thin pane") for m in bpy.data.materials)
 
 
 def test_frosted_and_curved_glass_stay_rendered(clean_blender):
+    """Refractors that are not thin panes are rendered as they are. A small light seen only through
+    a sharp refractor (a glass ball) or a barely frosted pane (roughness below
+    glass.ROUGH_REFRACTION) is a caustic: the reading says so and counts the light's unoccluded
+    closed form as its error bound. A pane frosted at ROUGH_REFRACTION or more is no caustic (light
+    sampling at the pane finds the lamp): no bound, a stochastic error (against a converged patch
+    render in test_frosted_pane_against_a_patch_render)."""
     from radiometer import api
+    from radiometer.measure import glass
 
-    scene, [(_label, point, normal)] = scenes.window("plain", light="POINT")
-    pane = bpy.data.objects["Pane 1"]
-    pane.data.materials[0] = scenes.glass_material("frosted", roughness=0.3)
+    caustic = "caustic light may be missing"
+    scene, [(_label, point, normal)] = scenes.frosted_window("POINT", roughness=0.1)
+    assert 0.1 < glass.ROUGH_REFRACTION <= 0.3
     rows = api.predict_illuminance(point, normal, scene=scene)
     assert rows[0]["status"] == "render"
     r = api.measure_illuminance(point, normal, scene=scene, method="analytic")
     assert any("frosted" in note for note in r.notes), r.notes
-    # Rendered, a point light behind a refractor is a caustic: the reading says so and does not
-    # claim a small error for it.
-    r = api.measure_illuminance(point, normal, scene=scene, method="auto", quality="preview")
-    assert any("caustic light may be missing" in note for note in r.notes), r.notes
-    assert r.rel_std_error >= 0.5
-    # A curved refractor (a glass ball) is not a pane either.
+    # 1024 samples: the bound's statement does not depend on how long the render ran.
+    r = api.measure_illuminance(point, normal, scene=scene, method="auto", samples=1024)
+    assert any(caustic in note for note in r.notes), r.notes
+    assert r.rel_std_error >= 0.5 and r.rel_error_bound >= 0.5
+    pane = bpy.data.objects["Pane 1"]
+    pane.data.materials[0] = scenes.glass_material("frosted enough", roughness=glass.ROUGH_REFRACTION)
+    r = api.measure_illuminance(point, normal, scene=scene, method="auto", samples=1024)
+    assert not any(caustic in note for note in r.notes), r.notes
+    assert any("no caustic bound" in note for note in r.notes) and r.rel_error_bound == 0.0
+    # A curved refractor (a glass ball) is not a pane either; a sharp one is a caustic for the lamp.
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.2, location=(0.0, 0.25, 1.5))
     ball = bpy.context.object
     ball.data.materials.append(scenes.glass_material("ball glass"))
     pane.data.materials[0] = scenes.glass_material("clear")
     r = api.measure_illuminance(point, normal, scene=scene, method="analytic")
     assert any("curved or thick refractor" in note for note in r.notes), r.notes
+    r = api.measure_illuminance(point, normal, scene=scene, method="auto", samples=1024)
+    assert any(caustic in note for note in r.notes), r.notes
+
+
+@pytest.mark.parametrize("light", ["POINT", "SUN"])
+def test_frosted_pane_against_a_patch_render(clean_blender, light):
+    """A pane frosted at roughness 0.3 is rendered as it is; Cycles' light sampling at the rough
+    refraction finds the point light and the 0.53 degree sun, so the reading states a stochastic
+    error that covers a converged patch render of the same scene (cached)."""
+    from radiometer import api
+
+    scene, [(label, point, normal)] = scenes.frosted_window(light, roughness=0.3)
+    ref_lux, ref_se = _stored(f"frosted_{light.lower()}_0.3/{label}", point, normal)
+    r = api.measure_illuminance(point, normal, scene=scene, quality="preview")
+    assert r.method == "render" and not r.exact and r.rel_error_bound == 0.0
+    assert not any("caustic light may be missing" in note for note in r.notes), r.notes
+    assert any("no caustic bound" in note for note in r.notes), r.notes
+    _check(r, ref_lux, ref_se, "frosted pane")
 
 
 @pytest.mark.parametrize("case", [0, 1])
@@ -169,7 +227,7 @@ def test_skylight_room_against_sun_and_sky_references(clean_blender, case):
     r = api.measure_illuminance(point, normal, scene=scene, quality="standard" if case == 0 else "preview")
     assert r.method == "hybrid" if case == 0 else r.method in ("render", "hybrid")
     assert any("thin glass 'Skylight'" in note for note in r.notes)
-    _check(r, ref_lux, ref_se)
+    _check(r, ref_lux, ref_se, f"sun and sky, {'sun patch' if case == 0 else 'shade'}")
 
 
 @pytest.mark.parametrize("case", [0, 1])
@@ -183,7 +241,7 @@ def test_glossy_floor_reflection_against_a_patch_render(clean_blender, case):
     ref_lux, ref_se = _stored(f"glossy_floor/{label}", point, normal)
     r = api.measure_illuminance(point, normal, scene=scene, quality="preview")
     assert r.render_settings["filter_glossy"] == 0.0 and scene.cycles.blur_glossy == 1.0  # the user's, restored
-    _check(r, ref_lux, ref_se)
+    _check(r, ref_lux, ref_se, "glossy floor")
 
 
 def test_volume_absorption_inside_a_pane(clean_blender):
@@ -210,7 +268,7 @@ def test_volume_absorption_inside_a_pane(clean_blender):
     r = api.measure_illuminance(point, normal, scene=scene, quality="standard")
     assert any("Volume Absorption inside" in note for note in r.notes), r.notes
     assert not r.exact  # the sky through the pane is rendered (through the thin-pane shader)
-    _check(r, ref_lux, ref_se)
+    _check(r, ref_lux, ref_se, "absorbing pane")
 
 
 def test_luminance_of_a_sun_patch_behind_glass(clean_blender):
@@ -264,7 +322,7 @@ def test_window_with_its_frame_in_one_mesh(clean_blender):
     blocked = api.predict_illuminance((0.0, -2.1, 0.0), normal, scene=scene)
     assert blocked[0]["status"] == "zero" and blocked[0]["illuminance"] == 0.0, blocked[0]
     r = api.measure_illuminance(point, normal, scene=scene, method="render", quality="preview")
-    assert abs(r.illuminance / expected - 1.0) <= max(3 * r.rel_std_error, 0.005), (r.illuminance, expected)
+    _check(r, expected, 0.0, "single-face glass")
     assert [m.name for m in pane.data.materials] == [mesh.materials[0].name, "frame"]
 
 
@@ -318,3 +376,14 @@ def test_panes_found_by_identity_renamed_and_linked_duplicate(clean_blender):
     for ob in (first, twin):
         assert ob.material_slots[0].link == "DATA" and ob.material_slots[0].material == user_material
     assert not any(m.name.startswith("radiometer thin pane") for m in bpy.data.materials)
+
+
+def test_the_corpus_covers_issue_18s_list(request):
+    """Every kind of issue 18's window and fog corpus was checked against its independent reference
+    by ``_check`` (the three acceptance criteria, asserted there for every reading) in this run. Runs
+    last in this file; a run of selected tests (-k, a node id) cannot tell, so it skips."""
+    opts = request.config.option
+    if getattr(opts, "keyword", "") or any("::" in str(a) for a in request.config.args):
+        pytest.skip("a selection of this file's tests ran: the corpus is judged on the whole file")
+    missing = [kind for kind in CORPUS if kind not in CHECKED]
+    assert not missing, f"corpus kinds with no reading checked: {missing}"
