@@ -33,7 +33,7 @@ import scenes  # noqa: E402
 import speed  # noqa: E402
 from radiometer import api  # noqa: E402
 from radiometer import quality as quality_presets  # noqa: E402
-from radiometer.measure import adaptive, meter, render_settings, scene_capture, scene_guard, sensors  # noqa: E402
+from radiometer.measure import adaptive, capture_cache, meter, render_settings, scene_capture, scene_guard, sensors  # noqa: E402
 from radiometer.radiometry import allocation  # noqa: E402
 
 QUICK = False
@@ -351,6 +351,7 @@ def bench_overhead():
         t_meter, t_bare, t_bare1, samples, bare_err = [], [], [], [], []
         t_same, samples_same = [], []  # issue 17: the same reading again, nothing changed in between
         profiles = []
+        edits = {"lights": [], "geometry": []}  # issue 17: right after a lights-only / a geometry edit
 
         bare.bake(first.samples)
         for k in range(reps):
@@ -364,6 +365,15 @@ def bench_overhead():
                         # reading above captured it again; this one keeps that capture.
                         dt_same, r_same = timed(lambda: api.measure_illuminance(
                             point, normal, target_rel_error=TARGET, seed=100 + len(t_meter)))
+                        for kind in ("lights", "geometry"):  # bench/speed.py edited_reading
+                            before = capture_cache.stats()
+                            with Profile() as prof_edit:
+                                dt_edit, r_edit = speed.edited_reading(kind, scene, point, normal, TARGET,
+                                                                       seed=200 + len(t_meter))
+                            after = capture_cache.stats()
+                            edits[kind].append((dt_edit, r_edit.samples, prof_edit, after["light_recaptures"]
+                                                - before["light_recaptures"], after["misses"] - before["misses"]
+                                                - after["light_recaptures"] + before["light_recaptures"]))
                     t_same.append(dt_same)
                     samples_same.append(r_same.samples)
                     t_meter.append(dt)
@@ -386,6 +396,12 @@ def bench_overhead():
                      "syncs_per_reading": 1 + prof.calls["run_bake"], "breakdown": prof.breakdown(dt),
                      "rounds": prof.rounds(), "median_reading_unchanged_s": median(t_same),
                      "samples_per_reading_unchanged": samples_same, "ratio_unchanged": median(t_same) / median(t_bare)})
+        for kind, runs in edits.items():
+            dt_e, prof_e = sorted([(x[0], x[2]) for x in runs], key=lambda x: x[0])[len(runs) // 2]
+            rows[-1].setdefault("edits", {})[kind] = {
+                "reps": len(runs), "median_s": median([x[0] for x in runs]), "samples": [x[1] for x in runs],
+                "ratio": median([x[0] for x in runs]) / median(t_bare), "breakdown": prof_e.breakdown(dt_e),
+                "light_recaptures": sum(x[3] for x in runs), "full_captures": sum(x[4] for x in runs)}
         bare.remove()
         log(f"  overhead {label}: {ratio:.2f} (reading {median(t_meter):.3f} s, bare {median(t_bare):.3f} s, "
             f"bare 1 spp {median(t_bare1):.3f} s)")
@@ -854,9 +870,13 @@ def markdown(res):
                            f"**{r['ratio_unchanged']:.2f}** to the bare bake ({yes(r['ratio_unchanged'] <= 1.5)} "
                            "for <= 1.5).")
         out.append("")
+        out += speed.edits_markdown(res["overhead"]["rows"])
         for r in res["overhead"]["rows"]:
             out += [f"Breakdown of one reading, {r['scene']} ({r['median_reading_s']:.3f} s median):", ""]
             out += _breakdown_table(r["breakdown"], sum(v["seconds"] for v in r["breakdown"].values())) + [""]
+            for kind, e in r.get("edits", {}).items():
+                out += [f"Breakdown of one reading right after a {kind} edit, {r['scene']} (median one):", ""]
+                out += _breakdown_table(e["breakdown"], sum(v["seconds"] for v in e["breakdown"].values())) + [""]
     if "throughput" in res:
         t = res["throughput"]
         o, a, bb = t["ours"], t["brute_one_bake_per_meter"], t["brute_fixed_samples"]
@@ -957,6 +977,8 @@ def markdown(res):
                 f"{100 * d['refined_worst_rel_error']:.2g} %); each tick blocks the UI for its batch.", ""]
     if "capture" in res:
         out += speed.capture_markdown(res["capture"])
+    if "live_edits" in res:
+        out += speed.live_edits_markdown(res["live_edits"])
     if "batch_cost" in res:
         out += speed.batch_cost_markdown(res["batch_cost"])
     if "radiance" in res:
@@ -991,6 +1013,7 @@ BENCHES = {"batching": bench_batching, "overhead": bench_overhead, "throughput":
            "memory": bench_memory, "live": bench_live}
 # Issue 17 (bench/speed.py): capture reuse; the throughput room against Radiance (after "throughput").
 BENCHES["capture"] = lambda: speed.bench_capture(QUICK)
+BENCHES["live_edits"] = lambda: speed.bench_live_edits(QUICK)  # issue 17: live meter after edits, 130k triangles
 BENCHES["batch_cost"] = lambda: speed.bench_batch_cost(QUICK)
 BENCHES["radiance"] = lambda: speed.bench_radiance(_RESULTS.get("throughput"), QUICK)
 BENCHES["allocation_coverage"] = lambda: speed.bench_allocation_coverage(QUICK)
@@ -1019,6 +1042,24 @@ BENCHES["daylight_factor"] = lambda: __import__("daylight_factor").bench_dayligh
 
 # Issue 19 (bench/annual.py): annual sDA/ASE vs Radiance on a room that does not saturate; dome vs per-patch cost.
 BENCHES["annual"] = lambda: __import__("annual").bench_annual(QUICK)
+
+
+# Issue 18 (bench/coverage_rare_paths_fin.py, its own process): coverage of stated errors in the fin scene
+# (50 seeds per meter; the Sobol-Burley rows are an experiment on the sampler); quick: 5 seeds at preview.
+def bench_coverage_fin():
+    import tempfile
+
+    out = tempfile.mkdtemp(prefix="radiometer-bench-") if QUICK else HERE  # quick runs never overwrite results
+    script = [sys.executable, os.path.join(HERE, "coverage_rare_paths_fin.py"), "--out", out]
+    runs = [["--seeds", "5"]] if QUICK else [["--pattern", "tabulated", "burley"], [
+        "--quality", "standard", "--pattern", "tabulated", "burley", "--meters", "half hidden", "97 % hidden"]]
+    for args in runs:
+        subprocess.run(script + args, check=True, timeout=4 * 3600)
+    with open(os.path.join(out, "coverage_rare_paths_fin.json"), encoding="utf-8") as f:
+        return json.load(f)
+
+
+BENCHES["coverage_fin"] = bench_coverage_fin
 
 
 def main(argv=None):

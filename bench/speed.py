@@ -92,6 +92,149 @@ def bench_capture(quick=False):
             "inverse_square_s": t_check, "inverse_square_captures_before": "5 (issue 17: 4-5)"}
 
 
+def _edited_object(scene, kind):
+    """The object an edit of ``kind`` changes: the room's area light ('lights'), else a furniture box of the
+    130k room or the small room's only mesh ('geometry')."""
+    if kind == "lights":
+        return next(ob for ob in scene.objects if ob.type == "LIGHT" and ob.data.type == "AREA")
+    meshes = sorted((ob for ob in scene.objects if ob.type == "MESH" and not ob.name.startswith("bench bare")),
+                    key=lambda ob: len(ob.data.polygons))
+    return meshes[0]
+
+
+def edited_reading(kind, scene, point, normal, target, seed):
+    """(seconds, reading) of one meter at ``target`` called right after an edit of ``kind`` (issue 17):
+    'lights' nudges the area light's power by +-1 mW (the capture keeps its geometry), 'geometry' moves the
+    smallest mesh by +-0.1 mm (a full capture). The sign alternates with ``seed`` so the scene stays put."""
+    obj = _edited_object(scene, kind)
+    sign = 1.0 if seed % 2 else -1.0
+    if kind == "lights":
+        obj.data.energy += sign * 1e-3
+    else:
+        obj.location.x += sign * 1e-4
+    t0 = time.perf_counter()
+    reading = api.measure_illuminance(point, normal, target_rel_error=target, seed=seed)
+    return time.perf_counter() - t0, reading
+
+
+def edits_markdown(rows):
+    """Lines for the overhead section: one meter after a lights-only edit and after a geometry edit."""
+    out = []
+    for r in rows:
+        for kind, label in (("lights", "a lights-only edit (area light power, the geometry kept)"),
+                            ("geometry", "a geometry edit (one mesh moved 0.1 mm: a full capture)")):
+            e = r.get("edits", {}).get(kind)
+            if e is None:
+                continue
+            out.append(f"- {r['scene']}, one meter right after {label}: {e['median_s']:.4f} s median, samples "
+                       f"{', '.join(str(x) for x in sorted(set(e['samples'])))}: ratio **{e['ratio']:.2f}** to the "
+                       f"bare bake ({'met' if e['ratio'] <= 1.5 else '**NOT met**'} for <= 1.5); light recaptures "
+                       f"{e['light_recaptures']}, full captures {e['full_captures']} in {e['reps']} readings.")
+    return out + [""]
+
+
+# --- the live meter after an edit, 130k triangles -------------------------------------------------------
+
+def _live_latency(scene, edit, repeats):
+    """Wall time from an edit (``edit(k)``) to the next live reading, ticking as Blender's timer would;
+    also the measuring part alone (the tick that measured). Returns a dict of medians (s)."""
+    from radiometer.measure import live as live_mod
+
+    st = live_mod.state(scene)
+    total, measuring, after_debounce = [], [], []
+    for k in range(repeats):
+        before = st.measurements
+        edit(k)
+        t0 = time.perf_counter()
+        bpy.context.view_layer.update()  # fires the depsgraph_update_post handlers (live, capture cache)
+        last_tick = t0
+        while st.measurements == before and time.perf_counter() - t0 < 60:
+            last_tick = time.perf_counter()
+            live_mod.tick()
+            if st.measurements == before:
+                time.sleep(live_mod.TICK_S)
+        done = time.perf_counter()
+        total.append(done - t0)
+        after_debounce.append(done - last_tick)  # the measuring tick: edit seen, debounce over, to the reading
+        measuring.append(st.preview_seconds)
+    return {"repeats": repeats, "change_to_reading_s_median": _median(total),
+            "measuring_tick_s_median": _median(after_debounce), "measurement_s_median": _median(measuring)}
+
+
+def bench_live_edits(quick=False):
+    """Live meter latency after a light move and after a geometry edit in 130k-triangle scenes (issue 17):
+    (a) three radius-0 point lights over a 130k-triangle floor 0.5 m below six meters (every reading a
+    closed form, the floor's triangles in every proof), (b) the 130k-triangle room (interreflection:
+    preview readings at 5 %)."""
+    from radiometer.measure import live as live_mod
+    from radiometer.measure.meters import add_meter
+
+    repeats = 2 if quick else 5
+    out = {"debounce_s": live_mod.DEBOUNCE_S, "tick_s": live_mod.TICK_S}
+    for label, build, points in (
+            ("3 point lights over a 130k-triangle floor (exact)", _floor_scene,
+             [(0.0, 0.0, 0.0), (0.6, -0.3, 0.0), (-0.9, 0.7, 0.0), (1.4, 1.1, 0.0), (-1.2, -1.3, 0.0), (0.2, 0.9, 0.0)]),
+            ("130k-triangle room (preview)", lambda: scenes.big_room()[0],
+             [(-0.8, 0.9, 0.0), (1.0, -0.5, 0.0), (0.3, 1.5, 0.0), (-1.5, -1.0, 0.0)])):
+        scene = build()
+        triangles = sum(len(ob.data.polygons) for ob in scene.objects if ob.type == "MESH")
+        for p in points:
+            add_meter(bpy.context, "ILLUMINANCE", tuple(p))
+        light = next(ob for ob in scene.objects if ob.type == "LIGHT")
+        mesh = max((ob for ob in scene.objects if ob.type == "MESH"), key=lambda ob: len(ob.data.polygons))
+        scene.radiometer.live = True
+        st = live_mod.state(scene)
+        live_mod.tick(now=time.perf_counter() + 10)  # first reading of every meter (a full capture)
+
+        def move_light(k):
+            light.location.x += 0.05 if k % 2 == 0 else -0.05
+
+        def move_mesh(k):
+            mesh.location.z += 1e-4 if k % 2 == 0 else -1e-4
+
+        row = {"scene": label, "triangles": triangles, "meters": len(points)}
+        for kind, edit in (("light moved", move_light), ("mesh moved 0.1 mm", move_mesh)):
+            before = capture_cache.stats()
+            row[kind] = _live_latency(scene, edit, repeats)
+            after = capture_cache.stats()
+            row[kind]["light_recaptures"] = after["light_recaptures"] - before["light_recaptures"]
+        meters = [ob for ob in scene.objects if ob.radiometer_meter.is_meter]
+        row["exact_readings"] = sum(ob.radiometer_meter.exact for ob in meters)
+        row["worst_rel_error"] = max(ob.radiometer_meter.rel_std_error for ob in meters)
+        scene.radiometer.live = False
+        live_mod.tick()
+        out.setdefault("rows", []).append(row)
+    return out
+
+
+def _floor_scene():
+    scene = scenes.fresh()
+    for k, loc in enumerate(((0.0, 0.0, 2.0), (1.5, -0.5, 1.5), (-1.0, 1.2, 2.5))):
+        scenes.light(scene, "POINT", loc, energy=100.0 - 20 * k, shadow_soft_size=0.0)
+    scenes.add_triangles(scene, 130_000, z=-0.5)
+    return scene
+
+
+def live_edits_markdown(b):
+    out = ["## Live meter after an edit, 130k triangles (issue 17)", "",
+           f"Live mode as in section 9 (timer every {b['tick_s'] * 1e3:.0f} ms, debounce {b['debounce_s'] * 1e3:.0f} ms: "
+           "the scene must be still that long); medians. 'Measuring tick' = from the tick that starts measuring "
+           "(edit seen, debounce over) to the reading written: the latency excluding the debounce. A light move "
+           "keeps the captured geometry (lights read again); a mesh move captures everything again.", "",
+           "| scene | triangles | meters | edit | change to reading (ms) | measuring tick (ms) | of which measuring "
+           "(ms) | light recaptures |", "|---|---:|---:|---|---:|---:|---:|---:|"]
+    for r in b["rows"]:
+        for kind in ("light moved", "mesh moved 0.1 mm"):
+            e = r[kind]
+            out.append(f"| {r['scene']} | {r['triangles']:,} | {r['meters']} | {kind} | "
+                       f"{e['change_to_reading_s_median'] * 1e3:.0f} | {e['measuring_tick_s_median'] * 1e3:.1f} | "
+                       f"{e['measurement_s_median'] * 1e3:.1f} | {e['light_recaptures']} of {e['repeats']} |")
+    out.append("")
+    out += [f"- {r['scene']}: {r['exact_readings']} of {r['meters']} readings exact, worst stated error "
+            f"{100 * r['worst_rel_error']:.2g} %." for r in b["rows"]]
+    return out + [""]
+
+
 # --- per-sample cost of a batch ------------------------------------------------------------------------
 
 def bench_batch_cost(quick=False):

@@ -24,16 +24,18 @@ can change the result has changed since it was taken:
   keyframes edited from Python need not be announced. Any data-block with animation data turns the
   cache off; the analyses still pass their one capture down explicitly.
 
-**Edits to lights only** (issue 17). The handler also reads what each update touched
-(``depsgraph.updates``). When every update since a capture was to a light (its object or data, incl.
-a move), the world, their node trees, or an object that adds nothing to the capture (an empty or a
-camera that instances nothing: a meter writing its reading; children they move are reported as their
-own updates), the cached geometry (and its
-spatial index) is kept and only the lights and the world are read again
-(``scene_capture.capture_lights``: one probe render that walks the lights, ~2.5 ms in the 130k-triangle
-room where a full capture takes ~0.1 s on a quiet machine). Any other update (a mesh, a material, a
-modifier, a collection, the scene, visibility, adding or removing an object), a file load, undo or redo
-captures everything again.
+**Edits to lights only** (issue 17). The handler also sorts what each update touched
+(``depsgraph.updates``, :func:`update_kind`): a light (its object or data, incl. a move), the world,
+their node trees, or an object that adds nothing to the capture (an empty or a camera that instances
+nothing: a meter writing its reading; children they move are reported as their own updates) KEEP the
+geometry; the scene, a collection, or an object's shading or visibility flags MAYBE change it (Blender
+reports a hidden object, and also a measurement's own restore, that way); anything else (a mesh, a
+material, a moved or reshaped object, a modifier), a file load, undo or redo CHANGES it. With no change
+since a capture, the cached geometry (the same object, with its spatial index) is kept and only the
+lights and the world are read again (``scene_capture.capture_lights``: one probe render that walks the
+lights, ~2.5 ms in the 130k-triangle room where a full capture takes ~0.1 s on a quiet machine); after a
+MAYBE, only if that probe finds the same render instances (identity, transform, ray visibility, data,
+materials, element counts: ``scene_capture._instance_signature``), else everything is captured again.
 
 A hit costs one depsgraph evaluation (nothing to evaluate when nothing changed) and one pass over the
 lights and modifiers; a miss is one capture. Our own measurements change the scene inside
@@ -57,7 +59,7 @@ from . import scene_capture
 #: Captures kept (one 130k-triangle model is ~10 MB).
 CAPACITY = 4
 
-_state = {"updates": 0, "geometry_updates": 0, "hits": 0, "misses": 0, "restamps": 0, "light_recaptures": 0}
+_state = {"updates": 0, "geometry_updates": 0, "maybe_updates": 0, "hits": 0, "misses": 0, "restamps": 0, "light_recaptures": 0}
 _entries = collections.OrderedDict()
 
 
@@ -68,46 +70,60 @@ def _count_update(*_args):
     _state["geometry_updates"] += 1
 
 
+def _stamp():
+    return _state["updates"], _state["geometry_updates"], _state["maybe_updates"]
+
+
 def _embedded_tree_pointers():
     """Pointers of the lights' and worlds' own node trees (their edits leave the geometry as it was)."""
     return {tree.as_pointer() for block in (*bpy.data.lights, *bpy.data.worlds)
             if (tree := getattr(block, "node_tree", None)) is not None}
 
 
-def _keeps_geometry(update, trees):
-    """True if a depsgraph update cannot change what a capture reads besides its lights and world."""
+KEEPS, MAYBE, CHANGES = "keeps", "maybe", "changes"
+
+
+def update_kind(update, trees=None):
+    """What a depsgraph update may do to a capture's geometry: KEEPS (a light, the world, their node
+    trees, an empty or camera that instances nothing), MAYBE (the scene, a collection, an object's
+    shading or visibility flags: the render's instances are compared before the geometry is kept) or
+    CHANGES (a mesh, a material, a moved or reshaped object, anything else)."""
     block = update.id
     original = getattr(block, "original", None) or block
     if isinstance(block, (bpy.types.Light, bpy.types.World)):
-        return True
+        return KEEPS
     if isinstance(block, bpy.types.Object):
         if original.type == "LIGHT":
-            return True  # a light moved or edited (children it moves are reported as their own updates)
+            return KEEPS  # a light moved or edited (children it moves are reported as their own updates)
         if original.type in {"EMPTY", "CAMERA"} and original.instance_type == "NONE":
-            return True  # a meter's reading written, the camera moved: nothing the capture reads itself
-        return False
+            return KEEPS  # a meter's reading written, the camera moved: nothing the capture reads itself
+        if not (update.is_updated_geometry or update.is_updated_transform):
+            return MAYBE  # visibility or shading flags: the instance signature tells
+        return CHANGES
+    if isinstance(block, (bpy.types.Scene, bpy.types.Collection)):
+        return MAYBE
     if isinstance(block, bpy.types.ShaderNodeTree):
-        if trees is None:
-            trees = _embedded_tree_pointers()
-        return original.as_pointer() in trees
-    return False
+        return KEEPS if original.as_pointer() in (_embedded_tree_pointers() if trees is None else trees) else CHANGES
+    return CHANGES
 
 
 @bpy.app.handlers.persistent
 def _count_edit(_scene=None, depsgraph=None, *_args):
-    """depsgraph_update_post: counts updates, and separately those that may change the geometry."""
+    """depsgraph_update_post: counts updates, those that may change the geometry and those that change it."""
     _state["updates"] += 1
-    updates = list(depsgraph.updates) if depsgraph is not None else None
-    trees = None
-    if updates is None:
+    if depsgraph is None:
         _state["geometry_updates"] += 1
         return
-    for update in updates:
+    trees, kinds = None, set()
+    for update in depsgraph.updates:
         if isinstance(update.id, bpy.types.ShaderNodeTree) and trees is None:
             trees = _embedded_tree_pointers()
-        if not _keeps_geometry(update, trees):
+        kinds.add(update_kind(update, trees))
+        if CHANGES in kinds:
             _state["geometry_updates"] += 1
             return
+    if MAYBE in kinds:
+        _state["maybe_updates"] += 1
 
 
 _HANDLERS = (("depsgraph_update_post", _count_edit), ("load_post", _count_update), ("undo_post", _count_update),
@@ -139,8 +155,8 @@ def clear():
 
 
 def stats():
-    """{'hits', 'misses', 'updates', 'geometry_updates', 'restamps', 'light_recaptures'} since the module was
-    loaded (the tests and the bench read it); a light recapture is also counted as a miss."""
+    """{'hits', 'misses', 'updates', 'geometry_updates', 'maybe_updates', 'restamps', 'light_recaptures'} since
+    the module was loaded (the tests and the bench read it); a light recapture is also counted as a miss."""
     return dict(_state)
 
 
@@ -268,16 +284,23 @@ def capture(scene, view_layer=None, exclude=()):
     if entry is not None and entry[0] == _state["updates"]:
         _entries.move_to_end(key)
         _state["hits"] += 1
-        return _copy(entry[2], scene)
+        return _copy(entry[3], scene)
     _state["misses"] += 1
+    model = None
     if entry is not None and entry[1] == _state["geometry_updates"]:
-        # Only lights, the world or objects the capture ignores changed since: keep the geometry.
-        _state["light_recaptures"] += 1
-        model = scene_capture.capture_lights(scene, entry[2], view_layer)
-    else:
+        # No mesh, material or object shape changed since: read the lights and the world again, and keep
+        # the geometry when the render holds the same instances (checked if visibility may have changed).
+        cached, maybe_changed = entry[3], entry[2] != _state["maybe_updates"]  # before the probe's own updates
+        model = scene_capture.capture_lights(scene, cached, view_layer)
+        if maybe_changed and (model.needs.get("render_instances") is None
+                              or model.needs["render_instances"] != cached.needs.get("render_instances")):
+            model = None  # an object was hidden, shown, added or removed: capture everything
+        else:
+            _state["light_recaptures"] += 1
+    if model is None:
         model = scene_capture.capture(scene, view_layer, exclude=exclude)
     view_layer.update()  # absorb the probe render's own restore, so the next look-up can hit
-    _entries[key] = (_state["updates"], _state["geometry_updates"], model)
+    _entries[key] = (*_stamp(), model)
     _entries.move_to_end(key)
     while len(_entries) > CAPACITY:
         _entries.popitem(last=False)
@@ -335,6 +358,6 @@ class Watch:
         entry = _entries.get(self.key)
         if entry is None or _animated() or _key(self.scene, self.view_layer, self.key[6]) != self.key:
             return
-        _entries[self.key] = (_state["updates"], _state["geometry_updates"], entry[2])
+        _entries[self.key] = (*_stamp(), entry[3])
         _state["restamps"] += 1
 

@@ -12,6 +12,7 @@ it never shows in the Render Engine menu.
 """
 
 import dataclasses
+import hashlib
 import math
 
 import bpy
@@ -140,6 +141,7 @@ def _collect(depsgraph):
     needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
     material_cache, local_cache, instance_count = {}, {}, {}
     total = 0
+    digest = hashlib.blake2b(digest_size=16)  # what geometry the render holds, where (capture_lights compares it)
     for inst in depsgraph.object_instances:
         obj = inst.object
         original = obj.original if obj.original is not None else obj
@@ -155,6 +157,9 @@ def _collect(depsgraph):
             lights.append(dict(_light_entry(obj, name, inst.matrix_world, source_id, visibility),
                                source=original.name, source_id=source_id))
             continue
+        if obj.type in _GEOMETRY_TYPES and (obj.visible_diffuse or obj.visible_glossy or obj.visible_transmission
+                                            or obj.visible_shadow):  # no rays: the capture skips it too
+            digest.update(repr(_instance_signature(inst, obj, original)).encode("utf-8", "replace"))
         if _Capture.lights_only:
             continue
         if obj.type not in _GEOMETRY_TYPES or original.name in _Capture.exclude:
@@ -226,7 +231,24 @@ def _collect(depsgraph):
     needs["panes"], needs["refractors"] = panes, refractors
     needs["rough_refractors"] = rough  # names: no caustic bound for them (measure.glass.rough_refraction)
     needs["emissive_meshes"] = meshes
+    needs["render_instances"] = digest.hexdigest()
     return lights, geometry, needs
+
+
+def _instance_signature(inst, obj, original):
+    """What a capture's geometry depends on for one render instance, short of its triangles: identity,
+    transform, ray visibility, data-block, materials and (meshes) element counts. Two captures whose
+    signatures all agree and between which no mesh, material or modifier was edited (``capture_cache``
+    watches those) hold the same triangles."""
+    data = obj.data
+    counts = (len(data.vertices), len(data.polygons)) if obj.type == "MESH" and data is not None else ()
+    return (obj.type, object_identity(original), tuple(inst.persistent_id) if inst.is_instance else (),
+            tuple(v for row in inst.matrix_world for v in row),
+            tuple(bool(getattr(obj, a, True)) for a in ("visible_diffuse", "visible_glossy", "visible_transmission",
+                                                        "visible_shadow", "visible_volume_scatter", "is_holdout")),
+            getattr(getattr(data, "original", data), "name", ""), counts,
+            tuple((slot.link, slot.material.original.name if slot.material is not None else "")
+                  for slot in obj.material_slots))
 
 
 def _emissive_meshes(meshes, inst, original, name, world_tris, slot, slots, traits, cache):
@@ -435,11 +457,13 @@ def capture_lights(scene, model, view_layer=None):
     """``model`` (a capture of this scene) with its lights and world read again and everything else kept
     (the geometry object itself, with its spatial index): for edits that changed only lights or the
     world (``capture_cache`` decides which). One probe render that walks the render depsgraph's lights
-    only: a few ms where a full capture turns 130k triangles into arrays (issue 17)."""
+    only: a few ms where a full capture turns 130k triangles into arrays (issue 17). The returned model's
+    ``needs["render_instances"]`` is the render's geometry signature now: the caller compares it with the
+    model's when an update may have changed visibility (see ``_instance_signature``)."""
     view_layer = view_layer or scene.view_layers[0]
-    raw_lights, _geometry, _needs = _probe(scene, view_layer, (), lights_only=True)
+    raw_lights, _geometry, probe_needs = _probe(scene, view_layer, (), lights_only=True)
     world_emits, world_volume = _world_state(scene)
-    needs = dict(model.needs, world_emits=world_emits,
+    needs = dict(model.needs, world_emits=world_emits, render_instances=probe_needs["render_instances"],
                  volume=bool(model.needs.get("surface_volume", model.needs["volume"])) or world_volume)
     return dataclasses.replace(model, lights=_model_lights(raw_lights), world_emits=world_emits, needs=needs,
                                world=_world(scene, world_emits), world_volume=world_volume,
