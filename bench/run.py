@@ -420,7 +420,8 @@ def bench_throughput():
     st = reading_stats(rs, TARGET)
     ours = {"seconds": t_ours, "meters_per_s_per_core": n / t_ours / CORES, **st,
             "breakdown": prof.breakdown(t_ours), "rounds": prof.rounds(),
-            "irradiance_W_m2": [r.irradiance for r in rs]}  # for the Radiance section's cross-check
+            "irradiance_W_m2": [r.irradiance for r in rs],  # for the Radiance section's cross-check
+            "pooled": sum(r.method.endswith("+pooled") for r in rs)}  # issue 17: the default pools (bench/pooled.py)
     log(f"  throughput ours: {t_ours:.1f} s, {ours['meters_per_s_per_core']:.1f} meters/s/core")
 
     # Brute force A: one bare bake per meter at the total samples the allocator chose for it
@@ -884,7 +885,7 @@ def markdown(res):
                 f"Scene: {t['scene']}; {t['cores']} cores.", "",
                 "| way | seconds | meters / s / core | worst reached error | samples per meter |",
                 "|---|---:|---:|---:|---|",
-                f"| Radiometer (`auto`: hybrid, per-meter allocation, one call) | {o['seconds']:.1f} | "
+                f"| Radiometer (`auto`: hybrid, one call; {o.get('pooled', 0)} meters pooled) | {o['seconds']:.1f} | "
                 f"**{o['meters_per_s_per_core']:.1f}** | {pct(o['worst_rel_error'])} | {o['samples_min']:.0f} / "
                 f"{o['samples_median']:.0f} / {o['samples_max']:.0f} (min / median / max) |",
                 f"| brute force A: one bare bake per meter at the samples the allocator chose for it "
@@ -987,6 +988,8 @@ def markdown(res):
         out += speed.allocation_coverage_markdown(res["allocation_coverage"])
     if "pooled_study" in res:
         out += speed.pooled_study_markdown(res["pooled_study"])
+    if "pooled" in res:
+        out += __import__("pooled").markdown(res["pooled"])
     if "cluster" in res:
         c = res["cluster"]
         out += ["## Scale-out on Dask (issue 20)", "",
@@ -1018,6 +1021,7 @@ BENCHES["batch_cost"] = lambda: speed.bench_batch_cost(QUICK)
 BENCHES["radiance"] = lambda: speed.bench_radiance(_RESULTS.get("throughput"), QUICK)
 BENCHES["allocation_coverage"] = lambda: speed.bench_allocation_coverage(QUICK)
 BENCHES["pooled_study"] = lambda: speed.bench_pooled_study(QUICK)
+BENCHES["pooled"] = lambda: __import__("pooled").bench_pooled(QUICK)  # issue 17: the pooled estimator vs per meter
 _RESULTS = {}
 
 

@@ -45,7 +45,9 @@ __all__ = ["POOL_MIN_METERS", "POOL_PILOT_SAMPLES", "plane_groups", "plane_coord
 POOL_MIN_METERS = 300
 #: Samples each fitted meter takes (one bake: 2 blocks of 16 texels at 8 spp). The throughput room's
 #: study (bench/speed-results.md): 256 per meter over 1000 meters gave the degree-4 field 0.35 % RMS
-#: from the independent tracer where each meter alone had 1.67 %.
+#: from the independent tracer where each meter alone had 1.67 %. 128 each spent 18 % fewer samples on
+#: the 1000 meters (the same share pooled) but pooled 48 of 160 fitted meters instead of 111 in the
+#: 200-meter test room (tests/bpy/test_pooled_meters.py): the fit's error grows as groups shrink.
 POOL_PILOT_SAMPLES = 256
 #: Share of a group held out, and the bounds on their number.
 HOLDOUT_FRACTION = 0.1
@@ -391,9 +393,9 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
                     min_meters=None, progress=None, may_be_lit=None, min_samples=None,
                     max_samples=allocation.MAX_SAMPLES_PER_METER, clock=None):
     """``allocation.allocate`` in target mode for many meters, pooling the rendered part of groups
-    of at least ``min_meters`` (None: ``POOL_MIN_METERS``) meters on one plane (``plane_groups``; ``keys`` per meter: what is
-    rendered there, e.g. the lights excluded from its sensor; meters with ``min_samples`` > 0 are not
-    pooled: their light comes by rare paths).
+    of at least ``min_meters`` (None: ``POOL_MIN_METERS``) meters on one plane (``plane_groups``;
+    ``keys`` per meter: what is rendered there, e.g. the lights excluded from its sensor; meters with
+    ``min_samples`` > 0 are not pooled: their light comes by rare paths).
 
     Stages, each its own call of ``allocation.allocate`` through ``bake`` restricted to its meters:
     (1) the fitted meters, ``POOL_PILOT_SAMPLES`` each, one bake; (2) the held-out meters and every
