@@ -13,7 +13,7 @@ lux = K x luminance of the irradiance gives the file's candela back.
 Recognition (:func:`photometric_table`): any light whose active output is
 Emission <- IES Texture (vector unlinked, or the chain above with any Mapping rotation/scale),
 with unlinked colour/strength inputs and a text/file Cycles can read, gets an
-:class:`~radiometer.radiometry.emitters.photometric.IntensityTable` read the way Cycles reads that text
+:class:`~radiometer.radiometry.emitters.photometric.Photometry` (``light_table``) read the way Cycles reads that text
 (:func:`~radiometer.radiometry.photometric_files.cycles_ies_table`); anything else is left to
 rendering.
 """
@@ -190,8 +190,8 @@ def _cycles_table(text):
 
 
 def photometric_table(light_data):
-    """(IntensityTable, None) for a recognised IES light, (None, reason) otherwise."""
-    from ..radiometry.emitters import IntensityTable
+    """(the light's ``Photometry`` table, None) for a recognised IES light, (None, reason) otherwise."""
+    from ..radiometry.emitters import Photometry
 
     tree = getattr(light_data, "node_tree", None)
     if not getattr(light_data, "use_nodes", False) or tree is None:
@@ -219,8 +219,8 @@ def photometric_table(light_data):
     scale = colour * float(ies.inputs["Strength"].default_value)   # Emission.Strength is the IES Fac
     source = ies.ies.name if ies.mode == "INTERNAL" and ies.ies is not None else os.path.basename(ies.filepath)
     try:
-        return IntensityTable(h_deg=h, v_deg=v, values=values / (4.0 * np.pi), vector_map=vector_map,
-                              rgb_scale=scale, label=f"IES table {source!r}"), None
+        return Photometry.light_table(h, v, values / (4.0 * np.pi), vector_map=vector_map, rgb_scale=scale,
+                                      label=f"IES table {source!r}"), None
     except ValueError as exc:
         return None, f"uses an IES texture Radiometer cannot model ({exc})"
 

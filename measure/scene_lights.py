@@ -63,7 +63,7 @@ def light_values(light_data, matrix_world):
 
 
 def _photometric_table(light_data):
-    """``emitters.IntensityTable`` of a recognised IES light (``measure/luminaires.py``), else None."""
+    """The ``emitters.Photometry`` table (``light_table``) of a recognised IES light (``measure/luminaires.py``), else None."""
     if not (getattr(light_data, "use_nodes", False) and getattr(light_data, "node_tree", None) is not None):
         return None
     from . import luminaires

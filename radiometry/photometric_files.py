@@ -1,5 +1,8 @@
 """Photometric files (IES LM-63, EULUMDAT) read into a :class:`Photometry`; pure numpy, no bpy.
 
+:class:`Photometry` is the one intensity-table class (``radiometry.emitters.photometric``): a file's
+table here, a Blender IES light's table there (issue 17: it was two classes).
+
 Formats
 -------
 * IES LM-63-1986 (no format line), LM-63-1991 (``IESNA91``), LM-63-1995 (``IESNA:LM-63-1995``),
@@ -42,12 +45,11 @@ what was expected.
 
 import math
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from .emitters.photometric import catmull_rom_table, integrate_cells, table_flux
-from .units import frozen_array as _frozen
+from .emitters.photometric import ANGLE_TOL as _ANGLE_TOL, Photometry, catmull_rom_table
 
 __all__ = ["Photometry", "PhotometricFileError", "Tilt", "read_photometry", "parse_ies", "parse_ldt",
            "catmull_rom_table", "cycles_ies_table", "to_ies_text", "CYCLES_CANDELA_TO_WATT"]
@@ -68,7 +70,6 @@ IES_FORMATS = {
     "IESNA:LM-63-2019": "LM-63-2019",
 }
 _PHOTOMETRIC_TYPES = {1: "C", 2: "B", 3: "A"}
-_ANGLE_TOL = 1e-4  # deg; Cycles' angle_close
 #: No luminaire comes near this (searchlights reach ~1e9 cd); above it a table is a broken file, and
 #: its flux would overflow (1e308 cd gives lumens = inf).
 MAX_CANDELA = 1e12
@@ -95,196 +96,6 @@ class Tilt:
     def factor(self, tilt_deg):
         """Multiplying factor at a luminaire tilt (deg), linear between tabulated angles."""
         return float(np.interp(float(tilt_deg), self.angles_deg, self.factors))
-
-
-@dataclass(frozen=True)
-class Photometry:
-    """A luminaire's luminous intensity distribution read from a photometric file.
-
-    Attributes
-    ----------
-    vertical_angles_deg : (n_v,) ascending, deg (type C: 0 = nadir)
-    horizontal_angles_deg : (n_h,) ascending, deg, as stored in the file (C-planes)
-    candela : (n_h, n_v) luminous intensity, cd (multiplier and ballast factor applied; EULUMDAT:
-        cd/klm times lamp flux / 1000)
-    symmetry : {'axial', 'quadrilateral', 'bilateral', 'bilateral-90-270', 'none'}
-    photometric_type : {'C', 'B', 'A'}
-    rated_lumens : float or None
-        Rated lamp flux from the header (number of lamps x lumens per lamp), None for absolute
-        photometry.
-    file_format : str, e.g. 'LM-63-2002', 'EULUMDAT'
-    metadata : dict of str (manufacturer, catalogue number, luminaire, lamp, ... as in the file)
-    tilt : Tilt or None
-    input_watts : float or None
-    source : str, the file path (or '<text>')
-    """
-
-    vertical_angles_deg: np.ndarray
-    horizontal_angles_deg: np.ndarray
-    candela: np.ndarray
-    symmetry: str
-    photometric_type: str = "C"
-    rated_lumens: float = None
-    file_format: str = ""
-    metadata: dict = field(default_factory=dict)
-    tilt: Tilt = None
-    input_watts: float = None
-    source: str = "<text>"
-
-    def __post_init__(self):
-        object.__setattr__(self, "vertical_angles_deg", _frozen(self.vertical_angles_deg))
-        object.__setattr__(self, "horizontal_angles_deg", _frozen(self.horizontal_angles_deg))
-        cd = _frozen(self.candela)
-        if cd.shape != (self.horizontal_angles_deg.size, self.vertical_angles_deg.size):
-            raise ValueError(f"candela must have shape (n_h, n_v) = ({self.horizontal_angles_deg.size}, "
-                             f"{self.vertical_angles_deg.size}), got {cd.shape}")
-        object.__setattr__(self, "candela", cd)
-        object.__setattr__(self, "metadata", dict(self.metadata))
-
-    # --- the full type-C table ----------------------------------------------------------------
-    def full_table(self):
-        """(h_deg, v_deg, cd) with h from 0 to 360 deg inclusive, expanded by the file's symmetry."""
-        if self.photometric_type != "C":
-            raise ValueError(f"type {self.photometric_type} photometry has no type-C table "
-                             "(its polar axis is horizontal); only type C can be expanded")
-        h, cd = self.horizontal_angles_deg, self.candela
-        if self.symmetry == "axial":
-            return np.array([0.0, 360.0]), self.vertical_angles_deg.copy(), np.vstack([cd[0], cd[0]])
-        if self.symmetry == "quadrilateral":
-            h = np.concatenate([h, 180.0 - h[-2::-1]])
-            cd = np.vstack([cd, cd[-2::-1]])
-        if self.symmetry in ("quadrilateral", "bilateral"):
-            h = np.concatenate([h, 360.0 - h[-2::-1]])
-            cd = np.vstack([cd, cd[-2::-1]])
-        elif self.symmetry == "bilateral-90-270":
-            # stored 90..270; I(C) = I(180 - C): 0..90 from 180..90, 270..360 from 270..180.
-            low = h <= 180.0 + _ANGLE_TOL
-            high = h >= 180.0 - _ANGLE_TOL
-            h0 = 180.0 - h[low][::-1]
-            cd0 = cd[low][::-1]
-            h2 = 540.0 - h[high][::-1]
-            cd2 = cd[high][::-1]
-            h = np.concatenate([h0[:-1], h, h2[1:]])
-            cd = np.vstack([cd0[:-1], cd, cd2[1:]])
-        if abs(h[-1] - 360.0) > _ANGLE_TOL:  # 'none' without the closing plane
-            h = np.concatenate([h, [360.0]])
-            cd = np.vstack([cd, cd[:1]])
-        return h, self.vertical_angles_deg.copy(), cd
-
-    def candela_at(self, vertical_deg, horizontal_deg):
-        """Luminous intensity (cd) in a direction, vectorised (broadcasting) over both angles.
-
-        ``vertical_deg`` 0 = nadir, 180 = zenith; ``horizontal_deg`` is the C angle (any value,
-        wrapped to [0, 360)). Interpolation: Cycles' (see the module docstring). NaN gives NaN.
-        """
-        h_full, v_full, table = self.full_table()
-        v = np.asarray(vertical_deg, dtype=np.float64)
-        h = np.mod(np.asarray(horizontal_deg, dtype=np.float64), 360.0)
-        out = catmull_rom_table(h_full, v_full, table, h, v)
-        # At the table's last vertical angle (usually 180 deg) Cycles' lookup gives 0 (its cells are
-        # half-open: the meter's light model keeps that, it is what renders); the READER answers
-        # the table's own value there, interpolated along C only (a column repeated past the end).
-        at_end = np.broadcast_to(v == v_full[-1], np.broadcast_shapes(v.shape, h.shape))
-        if np.any(at_end):
-            v_ext = np.append(v_full, v_full[-1] + 1.0)
-            t_ext = np.hstack([table, table[:, -1:]])
-            end = catmull_rom_table(h_full, v_ext, t_ext, h, np.full(np.shape(v), v_full[-1]))
-            out = np.where(at_end, end, out)
-        return out[()] if np.ndim(out) == 0 else out
-
-    # --- derived quantities ----------------------------------------------------------------------
-    @property
-    def max_candela(self):
-        return float(np.max(self.candela))
-
-    @property
-    def lumens(self):
-        """Luminous flux (lm) of the interpolated distribution over the whole sphere."""
-        if self.photometric_type == "C":
-            h_full, v_full, table = self.full_table()
-            return table_flux(h_full, v_full, table)
-        return _lumens_type_ab(self)
-
-    @property
-    def candela_per_klm(self):
-        """(n_h, n_v) cd per 1000 lm of rated lamp flux; None for absolute photometry."""
-        if not self.rated_lumens:
-            return None
-        return self.candela * (1000.0 / self.rated_lumens)
-
-    def _spread_angle(self, fraction):
-        """Full angle (deg) of the cone about the nadir in which the intensity stays above
-        ``fraction`` of the maximum, per C-plane pair C0-C180 and C90-C270, averaged (type C);
-        found on the interpolated distribution at 0.01 deg."""
-        if self.photometric_type != "C":
-            return None
-        peak = self.max_candela
-        if peak <= 0.0:
-            return 0.0
-        v = np.arange(0.0, 180.0 + 1e-9, 0.01)
-        widths = []
-        for c in (0.0, 90.0):
-            halves = []
-            for side in (c, c + 180.0):
-                values = self.candela_at(v, side)
-                # first angle where it drops below, going out from the nadir (linear in between)
-                below = np.nonzero(values < fraction * peak)[0]
-                if not below.size:
-                    halves.append(180.0)
-                elif below[0] == 0:
-                    halves.append(0.0)
-                else:
-                    k = below[0]
-                    f0, f1 = values[k - 1], values[k]
-                    halves.append(v[k - 1] + 0.01 * (f0 - fraction * peak) / (f0 - f1))
-            widths.append(sum(halves))
-        return float(np.mean(widths))
-
-    @property
-    def beam_angle_deg(self):
-        """Full angle where the intensity is >= 50 % of the maximum (IES beam angle), deg;
-        mean of the C0-C180 and C90-C270 planes, each measured outward from the nadir."""
-        return self._spread_angle(0.5)
-
-    @property
-    def field_angle_deg(self):
-        """As :attr:`beam_angle_deg` at 10 % of the maximum (field angle), deg."""
-        return self._spread_angle(0.1)
-
-    def summary(self):
-        """JSON-serialisable dict of the numbers a catalogue prints."""
-        md = self.metadata
-        return {
-            "source": self.source, "format": self.file_format, "photometric_type": self.photometric_type,
-            "symmetry": self.symmetry,
-            "manufacturer": md.get("MANUFAC") or md.get("company"),
-            "luminaire": md.get("LUMINAIRE") or md.get("luminaire_name"),
-            "catalogue_number": md.get("LUMCAT") or md.get("luminaire_number"),
-            "lumens": self.lumens, "rated_lumens": self.rated_lumens,
-            "light_output_ratio": (self.lumens / self.rated_lumens) if self.rated_lumens else None,
-            "max_candela": self.max_candela, "beam_angle_deg": self.beam_angle_deg,
-            "field_angle_deg": self.field_angle_deg,
-            "n_vertical": int(self.vertical_angles_deg.size), "n_horizontal": int(self.horizontal_angles_deg.size),
-            "input_watts": self.input_watts,
-            "tilt": None if self.tilt is None else self.tilt.source,
-        }
-
-
-# --- flux of type A/B tables (Cycles' IES kernel and the cell integration live in emitters.photometric) ---
-
-def _lumens_type_ab(p):
-    """Flux of a type A/B table: angles (H lateral, V elevation) about a horizontal polar axis,
-    d omega = cos V dV dH; a 0-90 range stands for its mirror image too."""
-    H, V, T = p.horizontal_angles_deg, p.vertical_angles_deg, p.candela
-    factor = 1.0
-    if abs(H[0]) < _ANGLE_TOL and H.size > 1:
-        factor *= 2.0
-    if abs(V[0]) < _ANGLE_TOL and V.size > 1:
-        factor *= 2.0
-    if H.size == 1:
-        raise ValueError("a type A/B table needs at least two horizontal angles")
-    return factor * integrate_cells(lambda hh, vv: catmull_rom_table(H, V, T, hh, vv),
-                                     H, V, lambda v: np.cos(np.radians(v)))
 
 
 # --- tokenising with line numbers -------------------------------------------------------------

@@ -17,7 +17,7 @@ from hypothesis import HealthCheck, assume, given, settings, strategies as st
 from radiometer.radiometry import emitters
 from radiometer.radiometry.cie_sky import CIESkyWorld
 from radiometer.radiometry.emitters import EmitterFlags
-from radiometer.radiometry.emitters.photometric import IntensityTable, table_flux
+from radiometer.radiometry.emitters.photometric import Photometry, table_flux
 from radiometer.radiometry.environment import WorldLight
 
 SETTINGS = settings(max_examples=12, deadline=None, derandomize=True,
@@ -58,7 +58,7 @@ def _smooth_table(seed, n_h=9, n_v=13):
     a = rng.uniform(0.2, 1.0, 3)
     values = (a[0] + a[1] * np.cos(np.radians(v))[None, :] ** 2
               + a[2] * (1 + np.cos(np.radians(h)))[:, None] * np.sin(np.radians(v))[None, :] ** 2)
-    return IntensityTable(h_deg=h, v_deg=v, values=values / (4 * np.pi))
+    return Photometry.light_table(h_deg=h, v_deg=v, values=values / (4 * np.pi))
 
 
 @st.composite
@@ -274,7 +274,7 @@ def test_flux_of_an_isotropic_and_a_cosine_table():
     # The light: rgb_power x the table's flux (W per W); a non-uniform scale warps the directions but
     # an isotropic table stays isotropic (the Jacobian integrates to 4 pi over the sphere).
     light = emitters.CyclesLight(kind="POINT", rgb_power=np.array([1.0, 2.0, 3.0]), scale=np.array([1.0, 3.0, 0.5]),
-                             intensity_table=IntensityTable(h_deg=h, v_deg=v, values=iso / 100.0))
+                             intensity_table=Photometry.light_table(h_deg=h, v_deg=v, values=iso / 100.0))
     np.testing.assert_allclose(light.power_w(), 4 * np.pi * np.array([1.0, 2.0, 3.0]), rtol=1e-6)
 
 

@@ -1,4 +1,4 @@
-"""Photometric point lights in the pure model (radiometry.emitters with an IntensityTable) and the
+"""Photometric point lights in the pure model (radiometry.emitters with a light's Photometry table) and the
 ``luminaire`` CLI subcommand."""
 
 import json
@@ -16,7 +16,7 @@ from radiometer.radiometry import photometric_files as pf
 def _table(func, h=np.arange(0.0, 360.0 + 1e-9, 30.0), v=np.arange(0.0, 180.0 + 1e-9, 10.0), vector_map=None):
     values = np.array([[func(vv, hh) for vv in v] for hh in h])
     kwargs = {} if vector_map is None else {"vector_map": vector_map}
-    return emitters.IntensityTable(h_deg=h, v_deg=v, values=values, **kwargs)
+    return emitters.Photometry.light_table(h_deg=h, v_deg=v, values=values, **kwargs)
 
 
 def _rot(ax, angle):
@@ -64,7 +64,7 @@ def test_mapping_of_the_importer_turns_radiometer_convention_into_cycles():
                                candela=np.array([[k] * 19 for k in (1.0, 2.0, 3.0, 4.0, 1.0)]), symmetry="none")
     h, v, values = pf.cycles_ies_table(pf.to_ies_text(photometry))
     vmap = _rot(2, -math.pi / 2) @ np.diag([1.0, -1.0, 1.0])
-    table = emitters.IntensityTable(h_deg=h, v_deg=v, values=values / pf.CYCLES_CANDELA_TO_WATT, vector_map=vmap)
+    table = emitters.Photometry.light_table(h_deg=h, v_deg=v, values=values / pf.CYCLES_CANDELA_TO_WATT, vector_map=vmap)
     for direction, plane in (((1, 0, -1), 1.0), ((0, 1, -1), 2.0), ((-1, 0, -1), 3.0), ((0, -1, -1), 4.0)):
         assert table.lookup(unit(direction)) == pytest.approx(plane, rel=1e-6), direction
 
@@ -76,7 +76,7 @@ def test_table_light_validation_and_zero_distance():
     with pytest.raises(ValueError, match="radius 0"):
         emitters.CyclesLight(kind="POINT", radius=0.1, intensity_table=table)
     with pytest.raises(ValueError, match=">= 0"):
-        emitters.IntensityTable(h_deg=[0, 360], v_deg=[0, 180], values=[[1, -1], [1, 1]])
+        emitters.Photometry.light_table(h_deg=[0, 360], v_deg=[0, 180], values=[[1, -1], [1, 1]])
     spec = emitters.CyclesLight(kind="POINT", radius=0.0, intensity_table=table)
     with pytest.raises(ValueError, match="zero distance"):
         spec.irradiance_at((0.0, 0.0, 0.0), (0.0, 0.0, 1.0))[0]
@@ -86,7 +86,7 @@ def test_table_light_validation_and_zero_distance():
 
 
 def test_light_spec_from_values_folds_the_emission_colour():
-    table = emitters.IntensityTable(h_deg=[0, 360], v_deg=[0, 180], values=np.ones((2, 2)), rgb_scale=(1.0, 0.5, 0.25))
+    table = emitters.Photometry.light_table(h_deg=[0, 360], v_deg=[0, 180], values=np.ones((2, 2)), rgb_scale=(1.0, 0.5, 0.25))
     spec = emitters.from_blender_values({"type": "POINT", "energy": 2.0, "shadow_soft_size": 0.0,
                                           "intensity_table": table})
     np.testing.assert_allclose(spec.rgb_power, [2.0, 1.0, 0.5])

@@ -12,10 +12,10 @@ from .point import PointLight
 from .spot import SpotLight
 from .sun import SunLight
 from .area import AreaLight
-from .photometric import IntensityTable, PhotometricLight
+from .photometric import Photometry, PhotometricLight
 from .environment import EnvironmentEmitter
 from .emissive_mesh import EmissiveMesh
 
 __all__ = ["Emitter", "EmitterFlags", "RayVisibility", "SourceId", "CyclesLight", "from_blender_values",
-           "PointLight", "SpotLight", "SunLight", "AreaLight", "IntensityTable", "PhotometricLight",
+           "PointLight", "SpotLight", "SunLight", "AreaLight", "Photometry", "PhotometricLight",
            "EnvironmentEmitter", "EmissiveMesh"]

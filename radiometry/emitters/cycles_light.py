@@ -61,7 +61,7 @@ class CyclesLight(Emitter):
         mirrored). None means ``axes @ diag(scale)``. Cycles takes every light direction from it:
         emission/sun direction -normalize(column 2), spot cone via its inverse, area edges
         column 0 * size and column 1 * size_y.
-    intensity_table : :class:`.photometric.IntensityTable` or None
+    intensity_table : a light's :class:`.photometric.Photometry` (``Photometry.light_table``) or None
         A photometric point light (POINT, radius 0): its intensity table replaces P/(4 pi).
     source_id : :class:`.base.SourceId` or None (built outside a capture)
     visibility : :class:`.base.RayVisibility`
