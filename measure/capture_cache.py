@@ -253,9 +253,11 @@ def _render_only_state():
 
 
 def _key(scene, view_layer, exclude):
+    # The view layer's material override changes every surface's traits without changing the instances.
+    override = getattr(view_layer, "material_override", None)
     return (scene.as_pointer(), scene.name, view_layer.name, scene.frame_current, float(scene.frame_subframe),
             float(scene.unit_settings.scale_length), frozenset(exclude), _untracked_state(scene),
-            _render_only_state())
+            _render_only_state(), override.name if override is not None else "")
 
 
 def _copy(model, scene):
