@@ -114,11 +114,12 @@ def _ray_visibility(obj, shadow):
 
 
 def _mesh_triangles(obj):
-    """Local-space triangles (T, 3, 3) float64 and per-triangle material slot index of an evaluated object."""
+    """Local-space vertices (V, 3) float64, triangles as vertex indices (T, 3) and per-triangle material slot
+    index of an evaluated object (the vertices are transformed before the triangles gather them: V < 3T)."""
     mesh = obj.to_mesh()
     try:
         if mesh is None:
-            return np.zeros((0, 3, 3)), np.zeros(0, int)
+            return np.zeros((0, 3)), np.zeros((0, 3), int), np.zeros(0, int)
         mesh.calc_loop_triangles()
         n_tri, n_vert = len(mesh.loop_triangles), len(mesh.vertices)
         co = np.empty(3 * n_vert, np.float32)
@@ -127,7 +128,7 @@ def _mesh_triangles(obj):
         mesh.loop_triangles.foreach_get("vertices", tri)
         mat = np.empty(n_tri, np.int32)
         mesh.loop_triangles.foreach_get("material_index", mat)
-        return co.reshape(-1, 3).astype(np.float64)[tri.reshape(-1, 3)], mat.astype(int)
+        return co.reshape(-1, 3).astype(np.float64), tri.reshape(-1, 3), mat.astype(int)
     finally:
         obj.to_mesh_clear()
 
@@ -180,10 +181,10 @@ def _collect(depsgraph):
             local = _mesh_triangles(obj)
             if key[0] is not None:
                 local_cache[key] = local
-        tris_local, mat_index = local
-        if not len(tris_local):
+        verts_local, tri_index, mat_index = local
+        if not len(tri_index):
             continue
-        total += len(tris_local)
+        total += len(tri_index)
         if total > MAX_TRIANGLES:
             unmodelled.append(f"{name} (more than {MAX_TRIANGLES} triangles in the scene)")
             continue
@@ -202,7 +203,7 @@ def _collect(depsgraph):
         traits = np.array(traits, dtype=bool)
         slot = np.clip(mat_index, 0, len(traits) - 1)
         m = np.array(inst.matrix_world, dtype=np.float64)
-        world = (tris_local @ m[:3, :3].T + m[:3, 3]) * _Capture.scale  # metres
+        world = ((verts_local @ m[:3, :3].T + m[:3, 3]) * _Capture.scale)[tri_index]  # metres
         pane_mask = None
         if traits[np.unique(slot), 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
             pane_mask = _glass_object(panes, refractors, len(names), name, original.name, world, slot, slots,
