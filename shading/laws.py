@@ -268,9 +268,10 @@ def law(X, model, method, structure, x, c):
         return [T("diffuse", color=x["kd"])] + _phong_toon_terms(X, x, c)
     if model == "blinn_phong":
         alpha = X.minimum(X.mul(c["alpha_scale"], _exp_alpha(X, x["n"])), 1.0)
-        # nodes: the normal tilted towards the viewer by ~ tilt tan(theta_o) / (n + 2) stands in for the
-        # lobe's cos_i factor (issue 18: 21 % -> ~6 % RMS on the uniform set at n = 50)
-        tilt = X.div(c["tilt"], X.add(x["n"], 2.0)) if "tilt" in c and method == "nodes" else 0.0
+        # the normal tilted towards the viewer by ~ tilt tan(theta_o) / (n + 2) stands in for the lobe's
+        # cos_i factor (issue 18: 21 % -> ~6 % RMS on the uniform set at n = 50); the Script node takes
+        # it as its SpecularNormal (the diffuse lobe keeps the surface's normal)
+        tilt = X.div(c["tilt"], X.add(x["n"], 2.0)) if "tilt" in c else 0.0
         return [T("diffuse", color=x["kd"]),
                 T("microfacet", distribution=c.get("distribution", "beckmann"), alpha_x=alpha, alpha_y=alpha,
                   color=X.cscale(x["ks"], c["weight"]), view=(("pow", c["view_exponent"]),), tilt=tilt)]
@@ -337,9 +338,9 @@ DISTRIBUTIONS = {"blinn_phong": ("beckmann", "ggx"), "ward": ("beckmann", "ggx")
 
 
 def coefficient_specs(model, method):
-    """The coefficients fitted for ``model`` realised by ``method``: the Script node (osl) has one normal
-    for all its closures, so no normal tilt there."""
-    return [spec for spec in COEFFICIENTS[model] if not (method == "osl" and spec[0] == "tilt")]
+    """The coefficients fitted for ``model`` realised by ``method`` (every one: the Script node has a
+    SpecularNormal of its own for a tilted lobe)."""
+    return list(COEFFICIENTS[model])
 
 
 def needs_fit(model, method, structure):

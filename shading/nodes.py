@@ -366,6 +366,8 @@ def _osl_node(ops, terms, normal, tangent, cos_o, script):
             ops.set(inp["DiffuseRoughness"], t.roughness if c == "oren_nayar" else 0.0)
             continue
         ops.set(inp["SpecularColor"], color)
+        if _is_socket(t.tilt) or float(t.tilt) != 0.0:  # the lobe's own normal, leaning towards the view
+            ops.links.new(_tilted_normal(ops, normal, cos_o, t.tilt), inp["SpecularNormal"])
         ops.set(inp["AlphaX"], t.alpha_x)
         ops.set(inp["AlphaY"], t.alpha_y)
         ops.set(inp["Beckmann"], int(t.distribution == "beckmann"))

@@ -78,6 +78,9 @@ def set_inputs(node, terms):
             inp["DiffuseColor"].default_value = rgba(t.color)
             inp["DiffuseRoughness"].default_value = float(t.roughness) if c == "oren_nayar" else 0.0
             continue
+        if float(getattr(t, "tilt", 0.0)) != 0.0:
+            raise ValueError("a tilted specular normal varies with the view: build the term with "
+                             "shading.nodes (it feeds SpecularNormal), not as constant inputs")
         inp["SpecularColor"].default_value = rgba(t.color)
         inp["AlphaX"].default_value = float(t.alpha_x)
         inp["AlphaY"].default_value = float(t.alpha_y)

@@ -18,9 +18,9 @@ phong              Diffuse + 6 Toon (glossy) ramps drawing diffuse + phong_ramp 
                    cos^n of the angle to the mirror
                    direction, normal tilted to the view
                    (~6 % RMS uniform set at n = 20)
-blinn_phong        Glossy Beckmann/GGX, cos_o^p weight,    diffuse + microfacet, fitted
-                   normal tilted to the view, fitted       (~22 % RMS uniform set, n = 50:
-                   (~9 % RMS uniform set at n = 50)        no tilt with one Script normal)
+blinn_phong        Glossy Beckmann/GGX, cos_o^p weight,    diffuse + microfacet, the same fit:
+                   normal tilted to the view, fitted       the tilted normal is the Script's
+                   (~5 % RMS uniform set at n = 50)        SpecularNormal (~5 % at n = 50)
 torrance_sparrow   Glossy/Metallic Beckmann, Smith G,      microfacet / generalized_schlick /
                    alpha fitted (~3 % RMS)                 conductor_bsdf (same fit)
 ggx                Metallic (F82 white tint = Schlick, or  generalized_schlick_bsdf /

@@ -27,17 +27,19 @@ def uniform_pairs(f_model, count=16):
     return wi[pick], wo[pick]
 
 
-@pytest.mark.parametrize("model", ["phong", "blinn_phong"])
-def test_phong_family_nodes_render_within_15_percent(clean_blender, model):
+@pytest.mark.parametrize("model, method", [("phong", "nodes"), ("blinn_phong", "nodes"), ("blinn_phong", "osl")])
+def test_phong_family_nodes_render_within_15_percent(clean_blender, model, method):
+    """Also Blinn-Phong through the OSL Script node, whose specular lobe takes the same tilted normal as
+    the nodes' (its SpecularNormal input; 15.3 % stated, 21.5 % uniform RMS before)."""
     mat = bpy.data.materials.new(model)
-    fid = assign_brdf(mat, model, "nodes")
+    fid = assign_brdf(mat, model, method)
     f_model = lambda a, b: np.asarray(brdf.evaluate(model, a, b), float) * np.ones(3)  # noqa: E731
     # the statement: both the lobe-weighted RMS and the uniform-set RMS under 15 %
     assert fid.kind == "approximate" and fid.rms_rel_diff < 0.15 and fid.pointwise.rms < 0.15, fid.summary()
     wi_u, wo_u = uniform_pairs(f_model)
     wi_c, wo_c = V.config_directions()
     wi, wo = np.concatenate([wi_u, wi_c]), np.concatenate([wo_u, wo_c])
-    rendered = V.render_f(mat, wi, wo)
+    rendered = V.render_f(mat, wi, wo, osl=method == "osl")
     closure = C.evaluate_terms(fid.terms, wi, wo)
     # 1) Cycles renders the network the fidelity is computed on (Toon ramps, tilted normals included)
     mask = closure > 1e-6 * closure.max()
