@@ -281,19 +281,30 @@ def local_misfit(uv, z2, neighbours=LOCAL_NEIGHBOURS, level=OUTLIER_LEVEL):
     farthest neighbour (the flagged region is the union of those discs)."""
     n = len(uv)
     k = min(neighbours, n)
-    d = np.linalg.norm(uv[:, None, :] - uv[None, :, :], axis=2)
-    near = np.argpartition(d, k - 1, axis=1)[:, :k]
-    q = np.sum(np.asarray(z2, float)[near], axis=1)
-    radius = np.take_along_axis(d, near, axis=1).max(axis=1)
+    z2 = np.asarray(z2, float)
+    q, radius = np.empty(n), np.empty(n)
+    for lo in range(0, n, _CHUNK):  # rows of the distance matrix a chunk at a time (memory ~ _CHUNK x N)
+        d = np.linalg.norm(uv[lo:lo + _CHUNK, None, :] - uv[None, :, :], axis=2)
+        near = np.argpartition(d, k - 1, axis=1)[:, :k]
+        q[lo:lo + _CHUNK] = np.sum(z2[near], axis=1)
+        radius[lo:lo + _CHUNK] = np.take_along_axis(d, near, axis=1).max(axis=1)
     return q > _chi2_quantile(1.0 - level / n, k), radius
+
+
+#: Rows of a distance matrix computed at once (512 x 10,000 meters: 40 MB).
+_CHUNK = 512
 
 
 def _in_region(uv_query, uv, flagged, radius):
     """(M,) bool: query points inside a flagged meter's disc."""
+    out = np.zeros(len(uv_query), bool)
     if not np.any(flagged):
-        return np.zeros(len(uv_query), bool)
-    d = np.linalg.norm(uv_query[:, None, :] - uv[flagged][None, :, :], axis=2)
-    return np.any(d <= radius[flagged][None, :], axis=1)
+        return out
+    centres, radii = uv[flagged], radius[flagged]
+    for lo in range(0, len(uv_query), _CHUNK):
+        d = np.linalg.norm(uv_query[lo:lo + _CHUNK, None, :] - centres[None, :, :], axis=2)
+        out[lo:lo + _CHUNK] = np.any(d <= radii[None, :], axis=1)
+    return out
 
 
 def _standardised_loo(fit, uv, values, variances):

@@ -161,3 +161,17 @@ def test_rounds_are_logged_over_all_meters():
     pts, truth, res = measure(smooth, 9, n=400)
     assert all(len(r["texels"]) == 400 for r in res.tally.rounds)
     assert sum((r["spp"] * r["texels"]).sum() for r in res.tally.rounds) >= res.samples.sum()
+
+
+def test_local_check_is_the_same_in_chunks(monkeypatch):
+    """The neighbour search runs a chunk of rows at a time (a 10,000-point grid would need 800 MB at once)."""
+    rng = np.random.default_rng(11)
+    uv = rng.uniform(-1, 1, (700, 2))
+    z2 = rng.chisquare(1, 700)
+    z2[:30] += 40.0 * (uv[:30, 0] > 0)  # some large residuals: flagged discs
+    whole = pf.local_misfit(uv, z2)
+    monkeypatch.setattr(pf, "_CHUNK", 64)
+    chunked = pf.local_misfit(uv, z2)
+    np.testing.assert_array_equal(whole[0], chunked[0])
+    np.testing.assert_allclose(whole[1], chunked[1])
+    assert whole[0].any()
