@@ -56,6 +56,10 @@ MAX_HOLDOUT = 150
 #: Highest polynomial degree tried, and at least this many fitted meters per coefficient.
 MAX_DEGREE = 6
 METERS_PER_PARAMETER = 8
+#: Per-sample relative variance of a fitted meter's pilot (texel variance x spp / mean^2) from which its
+#: light counts as coming by rare paths (a path found in fewer than about 1 sample in 10: Bernoulli
+#: (1 - p) / p >= 10): such a meter is not pooled (the throughput room's meters: ~0.08).
+RARE_PATH_SPREAD = 10.0
 #: Fitted meters in the neighbourhood of the local check (``local_misfit``).
 LOCAL_NEIGHBOURS = 16
 #: One-sided confidence of the misfit's upper bound.
@@ -468,9 +472,14 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
         dark = allocation.dark_meters(PooledTally(len(g.fitted), values[:, 0], np.sqrt(variances[:, 0]),
                                                   values[:, 1:], np.sqrt(variances[:, 1:])),
                                       _pick(may_be_lit, g.fitted))
-        use = g.fitted[~dark]  # a pilot that found no light says nothing of the field there
+        # Per-sample relative variance of the pilot: light by rare paths is neither smooth from meter to
+        # meter nor safely averaged over one bake's texels (Cycles' sampler table: allocation.py).
+        with np.errstate(divide="ignore", invalid="ignore"):
+            spread = variances[:, 0] * POOL_PILOT_SAMPLES / values[:, 0] ** 2
+        keep = ~dark & ~(spread >= RARE_PATH_SPREAD)  # a pilot that found no light says nothing of the field
+        use = g.fitted[keep]
         g.fit, g.check, usable, mean, se = pooled_estimate(
-            points_m[use], normals[g.fitted[0]], values[~dark], variances[~dark], points_m[g.held_out],
+            points_m[use], normals[g.fitted[0]], values[keep], variances[keep], points_m[g.held_out],
             mean4[g.held_out], se4[g.held_out] ** 2)
         total = np.abs(mean[:, 0] + offset[use])
         ok = g.check.passed & usable & np.isfinite(se[:, 0]) & (se[:, 0] <= target * total)
