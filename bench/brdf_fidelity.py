@@ -1,6 +1,8 @@
 """Measure how faithfully Cycles renders each Radiometer BRDF; writes bench/brdf_fidelity.md.
 
-Run: ``.venv/bin/python bench/brdf_fidelity.py`` (bpy as a module, Cycles CPU; about a minute).
+Run: ``.venv/bin/python bench/brdf_fidelity.py`` (bpy as a module, Cycles CPU; about 20 minutes on a
+loaded 2-core machine); ``bench/brdf_fidelity.py blinn_phong [...]`` re-runs only those models' rows and
+keeps every other row of the existing table (the header says which rows were re-run, and when).
 For every library model and method (node group, OSL): the stated fidelity from the numpy fit
 (shading.fit: weighted RMS relative difference and directional-albedo difference), then renders of the
 realised material at many (theta_i, phi_i, theta_o, phi_o) with one point light (shading.validate),
@@ -34,7 +36,7 @@ def configs():
     return out
 
 
-def main(path=os.path.join(HERE, "brdf_fidelity.md")):
+def main(path=os.path.join(HERE, "brdf_fidelity.md"), only=()):
     import bpy
 
     import radiometer
@@ -51,6 +53,8 @@ def main(path=os.path.join(HERE, "brdf_fidelity.md")):
     rows = []
     t0 = time.time()
     for model in brdf.names():
+        if only and model not in only:
+            continue
         for params in EXTRA.get(model, [{}]):
             for method in ("nodes", "osl"):
                 mat = bpy.data.materials.new(f"bench {model}")
@@ -78,11 +82,23 @@ def main(path=os.path.join(HERE, "brdf_fidelity.md")):
                              f"{100 * vs_closure:.3f} %", fid.closure))
                 bpy.data.materials.remove(mat)
     radiometer.unregister()
+    produced = (f"Produced by `bench/brdf_fidelity.py` (bpy {bpy.app.version_string}, Cycles CPU, "
+                f"{len(wi)} direction pairs per row, {time.time() - t0:.0f} s).")
+    old_rows = {}
+    if only:
+        # keep the other models' rows (and the header line of their run) from the existing table
+        with open(path, encoding="utf-8") as f:
+            old_lines = f.read().splitlines()
+        produced = next(x for x in old_lines if x.startswith("Produced by")) + (
+            f" Rows of {', '.join(only)} re-run on {time.strftime('%Y-%m-%d')} ({time.time() - t0:.0f} s).")
+        for x in old_lines:
+            cells = [c.strip() for c in x.strip("|").split("|")]
+            if x.startswith("| ") and len(cells) == 14 and cells[0] not in ("model",) + tuple(only):
+                old_rows.setdefault(cells[0], []).append(x)
     lines = [
         "# BRDF fidelity: Radiometer numpy models vs their Cycles realisations",
         "",
-        f"Produced by `bench/brdf_fidelity.py` (bpy {bpy.app.version_string}, Cycles CPU, "
-        f"{len(wi)} direction pairs per row, {time.time() - t0:.0f} s).",
+        produced,
         "",
         "* stated RMS / albedo Δ: the fidelity `assign_brdf` reports (numpy fit, shading/fit.py: "
         "cos-weighted RMS relative difference of f over ~4500 direction pairs up to 80°; max |Δ directional albedo| "
@@ -101,13 +117,17 @@ def main(path=os.path.join(HERE, "brdf_fidelity.md")):
         "| render vs model (RMS) | render vs model (max) | render vs closure (max) | Cycles closures |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
+    new_rows = {}
     for r in rows:
         p = ", ".join(f"{k}={v}" for k, v in r[1].items()) or "defaults"
-        lines.append("| " + " | ".join([r[0], p] + [str(x) for x in r[2:]]) + " |")
-    with open(path, "w", encoding="utf-8") as f:
-        f.write("\n".join(lines) + "\n")
+        new_rows.setdefault(r[0], []).append("| " + " | ".join([r[0], p] + [str(x) for x in r[2:]]) + " |")
+    for model in brdf.names():  # the library's order
+        lines.extend(new_rows.get(model) or old_rows.get(model, []))
+    from radiometer.outputs import write_text
+
+    write_text(path, "\n".join(lines) + "\n")
     print("\n".join(lines))
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(only=tuple(sys.argv[1:])))
