@@ -384,16 +384,35 @@ class PooledResult:
     groups: list = field(default_factory=list)
 
 
-def _subset_bake(bake, count, idx):
-    """``bake`` restricted to the meters ``idx``: blocks and the returned meter indices in their numbering."""
+def _subset_bake(bake, count, idx, rider=None, ready=None):
+    """``bake`` restricted to the meters ``idx``: blocks and the returned meter indices in their numbering.
+
+    ``rider``: (other meters, their blocks, spp, a dict): a bake at that spp bakes those blocks too, in
+    the same Cycles bake (one scene sync fewer), and leaves their texels in the dict. ``ready``: such a
+    dict; the first call asking for exactly its spp and blocks gets its texels instead of a bake."""
     local = np.full(count, -1)
     local[idx] = np.arange(len(idx))
 
     def sub(spp, blocks):
+        if ready and ready["spp"] == spp and np.array_equal(ready["blocks"], blocks):
+            texels = ready.pop("texels")
+            ready.clear()
+            return texels
         full = np.zeros(count, int)
         full[idx] = blocks
+        riding = rider is not None and rider[2] == spp and "texels" not in rider[3]
+        if riding:
+            full[rider[0]] = rider[1]
         meter, scalar, rgb = bake(spp, full)
-        return local[np.asarray(meter, int)], scalar, rgb
+        meter = np.asarray(meter, int)
+        if riding:
+            theirs = np.full(count, -1)
+            theirs[rider[0]] = np.arange(len(rider[0]))
+            out = theirs[meter] >= 0
+            rider[3].update(spp=spp, blocks=np.asarray(rider[1]).copy(),
+                            texels=(theirs[meter[out]], np.asarray(scalar)[out], np.asarray(rgb)[out]))
+            meter, scalar, rgb = meter[~out], np.asarray(scalar)[~out], np.asarray(rgb)[~out]
+        return local[meter], scalar, rgb
 
     return sub
 
@@ -439,12 +458,12 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
     rounds = []
     stopped = []
 
-    def stage(idx, lo, hi, **kwargs):
+    def stage(idx, lo, hi, rider=None, ready=None, **kwargs):
         def report(fraction, seconds_left):
             if progress is not None:
                 progress(lo + (hi - lo) * fraction, seconds_left)
 
-        result = allocation.allocate(_subset_bake(bake, count, idx), len(idx), progress=report,
+        result = allocation.allocate(_subset_bake(bake, count, idx, rider, ready), len(idx), progress=report,
                                      max_samples=max_samples, **kwargs)
         t = result.tally
         mean4[idx, 0], mean4[idx, 1:] = t.mean, t.mean_rgb
@@ -457,15 +476,19 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
         stopped.append(result.stopped)
         return result
 
-    def per_meter(idx, lo, hi):
-        return stage(idx, lo, hi, target=target, offset=offset[idx], may_be_lit=_pick(may_be_lit, idx),
-                     min_samples=None if min_samples is None else floors[idx])
+    def per_meter(idx, lo, hi, ready=None):
+        return stage(idx, lo, hi, ready=ready, target=target, offset=offset[idx],
+                     may_be_lit=_pick(may_be_lit, idx), min_samples=None if min_samples is None else floors[idx])
 
+    # The pilot of the meters read on their own (held out, or in no group) rides in the fitted meters' bake
+    # when it is that bake's spp (allocate's first round: PILOT_SPP, pilot_blocks each); else it is baked apart.
+    pilot = {}
+    rider = (own, np.full(len(own), allocation.pilot_blocks(len(own))), allocation.PILOT_SPP, pilot)
     if fitted.size:
-        stage(fitted, 0.0, 0.25, fixed_samples=POOL_PILOT_SAMPLES)
+        stage(fitted, 0.0, 0.25, rider=rider if own.size else None, fixed_samples=POOL_PILOT_SAMPLES)
     reached = True
     if own.size:
-        reached = per_meter(own, 0.25, 0.75).reached
+        reached = per_meter(own, 0.25, 0.75, ready=pilot).reached
     fallback = []
     for g in groups:
         values, variances = mean4[g.fitted], se4[g.fitted] ** 2
@@ -478,9 +501,13 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
             spread = variances[:, 0] * POOL_PILOT_SAMPLES / values[:, 0] ** 2
         keep = ~dark & ~(spread >= RARE_PATH_SPREAD)  # a pilot that found no light says nothing of the field
         use = g.fitted[keep]
+        # Held-out meters lit by rare paths (their own reading's spread) check nothing the field is used for.
+        with np.errstate(divide="ignore", invalid="ignore"):
+            held_spread = se4[g.held_out, 0] ** 2 * samples[g.held_out] / mean4[g.held_out, 0] ** 2
+        held = g.held_out[~(held_spread >= RARE_PATH_SPREAD) & (mean4[g.held_out, 0] != 0)]
         g.fit, g.check, usable, mean, se = pooled_estimate(
-            points_m[use], normals[g.fitted[0]], values[keep], variances[keep], points_m[g.held_out],
-            mean4[g.held_out], se4[g.held_out] ** 2)
+            points_m[use], normals[g.fitted[0]], values[keep], variances[keep], points_m[held],
+            mean4[held], se4[held] ** 2)
         total = np.abs(mean[:, 0] + offset[use])
         ok = g.check.passed & usable & np.isfinite(se[:, 0]) & (se[:, 0] <= target * total)
         g.pooled = use[ok]

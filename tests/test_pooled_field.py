@@ -196,3 +196,25 @@ def test_meters_lit_by_rare_paths_are_not_pooled():
     res = pf.allocate_pooled(bake, n, points_m=pts, normals=nrm, target=0.01, offset=np.full(n, 10.0))
     assert res.pooled.any() and not np.any(res.pooled & rare)
     assert np.all(res.tally.std_error / (res.tally.mean + 10.0) <= 0.01 + 1e-12)
+
+
+def test_the_held_out_pilot_rides_in_the_fitted_meters_bake():
+    """One bake fewer: the held-out meters' pilot is baked with the fitted meters' samples, and what the
+    bake returns for them is their own texels (the readings are the same as baking them apart)."""
+    rng = np.random.default_rng(13)
+    pts, nrm = room_meters(600, rng)
+    truth = smooth(pts)
+    calls = []
+    base = fake_bake(truth, 0.3, rng)
+
+    def bake(spp, blocks):
+        calls.append((spp, np.flatnonzero(blocks)))
+        return base(spp, blocks)
+
+    res = pf.allocate_pooled(bake, 600, points_m=pts, normals=nrm, target=0.01, offset=np.full(600, 10.0))
+    g = res.groups[0]
+    first_spp, first_meters = calls[0]
+    assert set(first_meters) == set(g.fitted) | set(g.held_out)       # one bake for both pilots
+    assert all(set(m) <= set(g.held_out) | set(np.flatnonzero(~res.pooled)) for _s, m in calls[1:])
+    held = res.tally.std_error[g.held_out] / (res.tally.mean[g.held_out] + 10.0)
+    assert np.all(held <= 0.01 + 1e-12) and np.all(res.samples[g.held_out] >= pf.POOL_PILOT_SAMPLES)
