@@ -375,13 +375,21 @@ def sharp_mirror(material):
 def mirror_triangles(model):
     """((T, 3, 3) triangles in m, (T,) object names) of the render-visible objects that have a
     sharp-mirror material (``sharp_mirror``) and are visible to glossy rays; panes count (their
-    thin-glass stand-in reflects sharply)."""
+    thin-glass stand-in reflects sharply). Objects are found by the capture's identity
+    (``SceneGeometry.object_ids``)."""
     import numpy as np
+
+    from .identity import source_objects
 
     g = model.geometry
     keep = np.zeros(len(g.object_names), bool)
+    found = source_objects(g.object_ids) if len(g.object_ids) == len(g.object_names) else None
     for k, name in enumerate(g.object_names):
-        obj = bpy.data.objects.get(name.split(" (instance ")[0])
+        # by the capture's identity (a renamed object is still found); by name for hand-built geometry
+        if found is not None:
+            obj = found.get(tuple(g.object_ids[k]))
+        else:
+            obj = bpy.data.objects.get(name.split(" (instance ")[0])
         if obj is None or not obj.visible_glossy:
             continue
         keep[k] = any(sharp_mirror(slot.material) for slot in obj.material_slots)

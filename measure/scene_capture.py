@@ -136,6 +136,7 @@ def _mesh_triangles(obj):
 def _collect(depsgraph):
     """Walk the render depsgraph; returns a SceneModel (positions still in scene units)."""
     lights, names, shadow, reflects, unmodelled, volumes = [], [], [], [], [], []
+    ids = []  # per geometry object: its original's identity (measure.identity.object_identity)
     panes, refractors, pane_chunks, meshes = {}, [], [], []
     rough = set()  # refractors rough enough that light sampling finds small lights through them (issue 18)
     tri_chunks, obj_chunks, opaque_chunks, emissive_chunks = [], [], [], []
@@ -216,6 +217,7 @@ def _collect(depsgraph):
             _emissive_meshes(meshes, inst, original, name, world, slot, slots, traits, material_cache)
         index = len(names)
         names.append(name)
+        ids.append(object_identity(original))
         shadow.append(bool(obj.visible_shadow))
         reflects.append(bool(obj.visible_diffuse or obj.visible_glossy or obj.visible_transmission))
         tri_chunks.append(world)
@@ -225,6 +227,7 @@ def _collect(depsgraph):
     cat = (lambda chunks, shape: np.concatenate(chunks) if chunks else np.zeros(shape))
     geometry = scene_model.SceneGeometry(
         triangles=cat(tri_chunks, (0, 3, 3)), object_index=cat(obj_chunks, (0,)).astype(int), object_names=names,
+        object_ids=ids,
         casts_shadow=np.array(shadow, bool), opaque=cat(opaque_chunks, (0,)).astype(bool),
         reflects=np.array(reflects, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled,
         pane_of=cat(pane_chunks, (0,)).astype(int))

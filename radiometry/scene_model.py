@@ -61,6 +61,9 @@ class SceneGeometry:
     triangles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
     object_index: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     object_names: list = field(default_factory=list)
+    #: per object: (session uid, library) of the Blender object behind it (the object part of a
+    #: ``emitters.SourceId``; the host finds objects by it, never by name); empty for hand-built geometry
+    object_ids: list = field(default_factory=list)
     casts_shadow: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))  # per object
     opaque: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))        # per triangle
     reflects: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))      # per object

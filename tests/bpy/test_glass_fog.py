@@ -387,3 +387,18 @@ def test_the_corpus_covers_issue_18s_list(request):
         pytest.skip("a selection of this file's tests ran: the corpus is judged on the whole file")
     missing = [kind for kind in CORPUS if kind not in CHECKED]
     assert not missing, f"corpus kinds with no reading checked: {missing}"
+
+
+def test_sharp_mirrors_found_by_identity(clean_blender):
+    """The sharp-mirror bound finds its mirrors by the capture's identity: a mirror renamed after its
+    capture (a cached capture) still counts, and the name it had then finds nothing."""
+    from radiometer.measure import glass, scene_capture
+
+    scene, _cases = scenes.glossy_floor(roughness=0.0)
+    model = scene_capture.capture(scene)
+    floor = bpy.data.objects["Floor"]
+    floor.name = "Renamed mirror"
+    tris, owners = glass.mirror_triangles(model)
+    assert len(tris) == 2 and set(owners) == {"Floor"}  # the capture's names, found by identity
+    floor.data.materials[0].node_tree.nodes["Glossy BSDF"].inputs["Roughness"].default_value = 0.5
+    assert len(glass.mirror_triangles(model)[0]) == 0  # the same object, now rough: no mirror
