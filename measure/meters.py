@@ -134,7 +134,9 @@ def write_reading(obj, reading):
         m["map_path"] = reading.path
     m["value_rgb"] = [float(v) for v in rgb]
     m["value"], m["photometric"] = float(value), float(photometric)
-    m["rel_std_error"] = float(reading.rel_std_error) if np.isfinite(reading.rel_std_error) else 0.0
+    # inf is kept: a rendered reading that found no light yet has no error bound, and 0 would
+    # show "0 lx ±0 %" (issue 18); the sidebar says "n/a" for it.
+    m["rel_std_error"] = float(reading.rel_std_error)
     m["exact"], m["method"], m["samples"] = bool(reading.exact), str(reading.method), int(reading.samples)
     m["seconds"], m["efficacy"] = float(reading.seconds), float(reading.efficacy)
     m["notes"] = " | ".join(reading.notes)

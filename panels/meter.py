@@ -1,8 +1,10 @@
 """Sidebar panel (tab "Radiometer") and viewport text showing each meter's reading."""
 
+import math
+
 import bpy
 
-from ..readings import format_value  # the one digits rule, shared with the CLI and the reports
+from ..readings import format_error, format_value  # the one digits rule, shared with the CLI and the reports
 
 _draw_handle = None
 
@@ -12,8 +14,8 @@ def format_reading(meter):
     if not meter.has_reading:
         return "not measured"
     unit = "cd/m²" if meter.kind == "LUMINANCE" else "lx"
-    err = "exact" if meter.exact else f"±{100 * meter.rel_std_error:.2g} %"
-    return f"{format_value(meter.photometric, meter.rel_std_error, meter.exact)} {unit} {err}"
+    return f"{format_value(meter.photometric, meter.rel_std_error, meter.exact)} {unit} " \
+           f"{format_error(meter.rel_std_error, meter.exact)}"
 
 
 # Every Radiometer operator, so F3 (menu search) finds each one; operators registered by other
@@ -131,7 +133,9 @@ class RADIOMETER_PT_active_meter(bpy.types.Panel):
         col.label(text=f"{format_value(m.photometric, m.rel_std_error, m.exact)} {photometric}")
         col.label(text=f"{m.value:.6g} {radiometric}  (RGB {m.value_rgb[0]:.4g}, {m.value_rgb[1]:.4g}, "
                        f"{m.value_rgb[2]:.4g})")
-        col.label(text="exact" if m.exact else f"relative standard error {100 * m.rel_std_error:.3g} %")
+        col.label(text="exact" if m.exact else
+                  f"relative standard error {100 * m.rel_std_error:.3g} %" if math.isfinite(m.rel_std_error) else
+                  "relative standard error unknown: no light found yet (see the notes)")
         col.label(text=f"{m.method}, {m.samples} samples, {m.seconds:.3g} s, K = {m.efficacy:g} lm/W")
         from ..compat import working_colour_space
         from ..readings import photographic_text
