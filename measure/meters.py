@@ -103,7 +103,8 @@ def run_step(scene, step, settings, *, progress=None, cancelled=None):
         readings = meter.measure_illuminance(
             np.array([p for p, _ in poses]), np.array([z for _, z in poses]), scene=scene,
             method=settings["method"], quality=quality, target_rel_error=settings["target_rel_error"],
-            progress=progress, cancelled=cancelled, exclude={ob.name for ob in objs})
+            time_budget_s=settings.get("time_budget_s"), progress=progress, cancelled=cancelled,
+            exclude={ob.name for ob in objs})
         return list(zip(objs, readings))
     ob = objs[0]
     location, z = _pose(ob)

@@ -170,3 +170,28 @@ def test_live_waits_while_a_radiometer_operation_runs(clean_blender, build):
     scene.radiometer.progress_text = ""
     settle(time.perf_counter() + 10)
     assert meter.radiometer_meter.has_reading
+
+
+def test_a_preview_cut_short_by_its_budget_is_refined(clean_blender, build, monkeypatch):
+    """The preview blocks the UI for at most about ``PREVIEW_BUDGET_S`` (plus its first bake); a reading
+    it leaves above the target is refined while idle, even when the scene's quality is preview."""
+    mod = live()
+    monkeypatch.setattr(mod, "PREVIEW_BUDGET_S", 1e-6)  # only the first (pilot) bake fits
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.plane(scene, size=4.0, albedo=0.8, name="floor")
+    build.light(scene, "POINT", (0, 0, 2), energy=100.0, shadow_soft_size=0.0)
+    bpy.ops.radiometer.add_meter(kind="ILLUMINANCE", location=(0, 0, 1), rotation=(math.pi, 0, 0))
+    meter = bpy.context.active_object
+    scene.radiometer.quality = "preview"
+    scene.radiometer.target_rel_error = 0.004  # more than one pilot bake can reach
+    scene.radiometer.live = True
+    st = mod.state(scene)
+    t = time.perf_counter() + 10
+    settle(t)
+    m = meter.radiometer_meter
+    assert m.has_reading and not m.exact and m.rel_std_error > 0.004
+    assert st.refine == [meter.name]
+    settle(t + 2 * mod.REFINE_IDLE_S)
+    assert st.measurements == 2 and not st.refine
+    assert m.rel_std_error <= 0.004 * 1.5
