@@ -114,7 +114,7 @@ def markdown(p):
         return float(np.median([r[key] for r in rows]))
 
     pr, mr = p["pooled_runs"], p["per_meter_runs"]
-    out = ["## Pooled estimator: 1,000 meters at 1 % (issue 17)", "",
+    out = [f"## Pooled estimator: {p['meters']:,} meters at 1 % (issue 17)", "",
            f"One run of bench/pooled.py, load average {p['load_start']} at the start and {p['load_end']} at the end "
            f"(2 cores shared). The throughput room's {p['meters']} meters at a 1 % target, {p['reps']} reps "
            "interleaved, each with its own seed: `pooling=True` (the default: groups of >= 300 meters on one plane "
