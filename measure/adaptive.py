@@ -179,11 +179,12 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
             result = pooled_field.allocate_pooled(bake, n, points_m=points_scene * scale, normals=normals,
                                                   target=target, keys=exclusions, offset=offset, seed=seed,
                                                   progress=report, may_be_lit=may_be_lit, min_samples=min_samples,
-                                                  max_samples=max_samples)
+                                                  max_samples=max_samples, table_patterns=allocation.TABLE_PATTERNS)
         else:
             result = allocation.allocate(bake, n, target=target, time_budget=time_budget,
                                          fixed_samples=fixed_samples, offset=offset, max_samples=max_samples,
-                                         progress=report, may_be_lit=may_be_lit, min_samples=min_samples)
+                                         progress=report, may_be_lit=may_be_lit, min_samples=min_samples,
+                                         table_patterns=allocation.TABLE_PATTERNS)  # Cycles' tabulated Sobol
     tally = result.tally
     record = dict(record, samples=None, rounds=result.rounds, bakes=state["bakes"])
     return {

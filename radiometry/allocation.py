@@ -77,6 +77,36 @@ MAX_SAMPLES_PER_METER = 1 << 22
 #: bright region seen past an obstruction is a rare path, and a pilot that missed it reads 0 +- 0
 #: (issue 18: 58.5 lx read as 0 lx with a stated error of 0).
 DARK_FLOOR = 1 << 16
+#: Cycles' Tabulated Sobol sampler (the one ``measure/render_settings.py`` sets): every texel draws its
+#: samples of a dimension from ONE of 256 fixed patterns of S points (S = the round's spp rounded up to
+#: a power of two, 256..8192; blender/cycles scene/integrator.cpp, kernel/sample/tabulated_sobol.h),
+#: so a mean over any number of texels converges to the table's mean, not to the integral. Over the
+#: random scrambles the table was generated with, that mean deviates by sd sqrt(v_S / 256), v_S the
+#: texel variance at S samples. For smooth integrands that is far below the batch-means error; where the
+#: light comes by rare paths it is not (issue 18, the fin scene: a meter 97 % hidden read 2.3 % low at
+#: 4 M samples stating 0.41 %, the same -2.3 % for two seeds; bench/coverage_rare_paths_fin.md).
+TABLE_PATTERNS = 256
+TABLE_SIZES = (256, 8192)
+#: Per-sample relative variance (texel variance x spp / mean^2 of the rendered part) from which a
+#: meter's light counts as coming by rare paths (found in fewer than about 1 sample in 100: Bernoulli
+#: (1 - p) / p >= 100) and the table's floor is added to its stated error. The floor as computed takes
+#: all of a texel's variance to come from one dimension pair; light that needs several bounces to find
+#: its rare region mixes independently chosen patterns and has a far smaller floor, which is why the
+#: threshold is not lower: measured per-sample values 20-47 for the skylight room's shade and the glossy
+#: floor, whose 50-seed coverage without any floor was 94-96 % (bench/coverage_rare_paths*.md), 139 and
+#: 420 for the fin scene's 97 % and 99 % hidden meters. Below it, a single-bounce rare path can still
+#: carry an unstated table error of up to sqrt(100 / (1024 x 256)) = 2 % (at 1024 spp; docs/errors.md).
+HEAVY_TAIL = 100.0
+#: Samples per texel for meters whose table floor matters: the largest table (8192 points a pattern).
+#: Above MAX_SPP, Cycles' float32 accumulation drifts (5e-6 at 16384 samples, README "Quality
+#: presets"), negligible against the floors it lowers (a few %).
+RARE_PATH_SPP = TABLE_SIZES[1]
+
+
+def table_size(spp):
+    """Points per pattern of Cycles' tabulated Sobol table at ``spp`` samples per pixel."""
+    size = 1 << max(int(spp) - 1, 1).bit_length()  # next power of two above spp - 1
+    return int(min(max(size, TABLE_SIZES[0]), TABLE_SIZES[1]))
 
 
 @dataclass
@@ -85,6 +115,10 @@ class MeterTally:
 
     count: int
     rounds: list = field(default_factory=list)
+    #: Patterns of the sampler's fixed table (``TABLE_PATTERNS`` for Cycles' tabulated Sobol), or 0: no
+    #: table (independent samples). With a table, meters whose light comes by rare paths (``HEAVY_TAIL``)
+    #: state the table's floor too (``table_floor``).
+    table_patterns: int = 0
 
     def add(self, meter_index, spp, scalar, rgb):
         """Add one round: ``meter_index`` (M,) the meter of each of M texels, ``scalar`` (M,) and
@@ -108,7 +142,7 @@ class MeterTally:
         # Every property below reads the combination; it changes only when a round is added.
         cached = self.__dict__.get("_cache")
         if cached is not None and cached[0] == len(self.rounds):
-            return cached[1]
+            return cached[1][:2]
         n = self.n
         mean = np.zeros((self.count, 4))
         var = np.zeros((self.count, 4))
@@ -119,8 +153,51 @@ class MeterTally:
             v = np.where(has[:, None], r["var"], 0.0)  # nan (one texel) stays nan: no statement
             var += (w ** 2)[:, None] * np.divide(v, r["texels"][:, None], out=np.zeros_like(v),
                                                  where=has[:, None])
-        self.__dict__["_cache"] = (len(self.rounds), (mean, var))
-        return mean, var
+        floor = self._table_floor(n, mean)
+        self.__dict__["_cache"] = (len(self.rounds), (mean, var + floor ** 2, var, floor))
+        return mean, var + floor ** 2
+
+    def _table_floor(self, n, mean):
+        """(N, 4) floor of each meter's error from the sampler's fixed table, 0 where none is stated.
+
+        Each round's table mean deviates by sqrt(v_S / patterns), v_S the texel variance at the table's
+        S samples, taken as v_r spp_r / S (the Monte Carlo rate; QMC decays faster, so this is the larger
+        value). Tables of different S share their patterns' first points, so the rounds' floors are added
+        as fully correlated (sample-weighted sum, not in quadrature)."""
+        floor = np.zeros((self.count, 4))
+        if not self.table_patterns:
+            return floor
+        heavy = np.zeros(self.count, bool)
+        for r in self.rounds:
+            w = np.divide(r["spp"] * r["texels"], n, out=np.zeros(self.count), where=n > 0)
+            has = (r["texels"] > 1)[:, None]
+            per_sample = np.where(has, np.nan_to_num(r["var"], nan=0.0), 0.0) * r["spp"]  # (N, 4)
+            floor += w[:, None] * np.sqrt(per_sample / (table_size(r["spp"]) * self.table_patterns))
+            heavy |= (mean[:, 0] != 0) & (per_sample[:, 0] >= HEAVY_TAIL * mean[:, 0] ** 2)
+        return np.where(heavy[:, None], floor, 0.0)
+
+    def table_floor_at(self, spp):
+        """(N,) the scalar floor a meter would state with all its samples at ``spp`` (its latest round's
+        per-sample variance over that table), 0 where none is stated: what planning a round there uses."""
+        if not self.table_patterns or not self.rounds:
+            return np.zeros(self.count)
+        per_sample = np.zeros(self.count)
+        for r in self.rounds:
+            per_sample = np.where(r["texels"] > 1, np.nan_to_num(r["var"][:, 0], nan=0.0) * r["spp"], per_sample)
+        at = np.sqrt(per_sample / (table_size(spp) * self.table_patterns))
+        return np.where(self.table_floor > 0, at, 0.0)
+
+    @property
+    def table_floor(self):
+        """(N,) the scalar error floor of the sampler's table stated in ``std_error`` (0 where none)."""
+        self._combined()
+        return self.__dict__["_cache"][1][3][:, 0]
+
+    @property
+    def sampling_std_error(self):
+        """(N,) the scalar batch-means standard error alone (what more samples reduce)."""
+        self._combined()
+        return np.sqrt(self.__dict__["_cache"][1][2][:, 0])
 
     @property
     def mean(self):
@@ -225,12 +302,17 @@ def plan_round(tally, target, spp, offset=0.0, max_blocks=None, max_samples=MAX_
     todo = (rel * margin > target) & (tally.n < max_samples)
     v_last, s_last, alpha, measured = tally.texel_variance_model()
     n_old = tally.n
-    a_old = (tally.std_error * n_old) ** 2                   # sum_r n_r^2 v_r / J_r
+    a_old = (tally.sampling_std_error * n_old) ** 2          # sum_r n_r^2 v_r / J_r
+    # The table's floor (rare paths, ``table_floor``) is not reduced by more texels: the sampling part
+    # must reach what the target leaves of it, at the floor of this round's table (a larger spp, a
+    # larger table, a lower floor: choose_spp weighs it). Where the floor leaves less than half the
+    # target, the round aims the sampling part at half the target and the next spp step lowers the floor.
+    floor = np.minimum(tally.table_floor, tally.table_floor_at(spp))
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         # 1.5 standard deviations of v_last's own noise (relative sd sqrt(2 / dof)) on top, so one
         # unlucky low estimate does not leave the meter for yet another round.
         v = (1.0 + spread_sds * np.sqrt(2.0 / np.maximum(tally.dof, 1.0))) * v_last * (s_last / spp) ** alpha
-        c = (target / margin * total) ** 2
+        c = np.maximum((target / margin * total) ** 2 - floor ** 2, 0.25 * (target / margin * total) ** 2)
         qa = c * spp ** 2
         qb = 2 * c * n_old * spp - spp ** 2 * v
         qc = c * n_old ** 2 - a_old
@@ -264,6 +346,18 @@ def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_
     _v, _s, _alpha, measured = tally.texel_variance_model()
     grown = min(MAX_SPP, previous * SPP_GROWTH)
     rel = tally.rel_std_error(offset)
+    total = np.abs(tally.mean + offset)
+    floor_rel = np.divide(tally.table_floor, total, out=np.zeros(tally.count), where=total > 0)
+    rare = (floor_rel > 0.5 * target) & (rel > target)
+    if np.any(rare):
+        # A meter lit by rare paths whose table floor matters: a larger table has a lower floor
+        # (1 / sqrt(S)); the smallest that leaves the sampling part at least half the target, at most
+        # the largest (fin scene, 99 % hidden: 8 % at 128 spp, 4 % at 1024, 1.4 % at 8192).
+        for size in (MAX_SPP, 2 * MAX_SPP, 4 * MAX_SPP):
+            at = np.divide(tally.table_floor_at(size), total, out=np.zeros(tally.count), where=total > 0)
+            if np.all(at[rare] <= 0.5 * target):
+                return max(size, previous)
+        return RARE_PATH_SPP
     if not np.all(measured | (rel <= target)):
         # The step that measures the decay exponent (4x: a 2x step measured it too noisily,
         # 6x the oracle's samples on a QMC-like integrand at 0.2 % against 4x).
@@ -322,7 +416,8 @@ class AllocationResult:
 
 
 def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, offset=0.0, max_rounds=8,
-             max_samples=MAX_SAMPLES_PER_METER, progress=None, clock=None, may_be_lit=None, min_samples=None):
+             max_samples=MAX_SAMPLES_PER_METER, progress=None, clock=None, may_be_lit=None, min_samples=None,
+             table_patterns=0):
     """Run rounds of ``bake`` until every meter meets ``target`` (1-sigma relative standard error),
     or spend about ``time_budget`` seconds lowering the worst error, or spend ``fixed_samples`` per
     meter.
@@ -336,12 +431,14 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     ``min_samples`` (N,) or None: a floor of samples per meter, taken in one round right after the
     pilot (issue 18: light from a small bright region of a rendered world comes by rare paths that a
     256-sample pilot misses while its variance looks tiny; see ``floor_round``).
+    ``table_patterns``: the sampler's fixed table (``TABLE_PATTERNS`` for Cycles' tabulated Sobol) whose
+    floor meters lit by rare paths state (``MeterTally.table_patterns``); 0: independent samples.
     """
     import time
 
     clock = clock or time.perf_counter
     started = clock()
-    tally = MeterTally(count)
+    tally = MeterTally(count, table_patterns=table_patterns)
     costs = []  # (samples, seconds) per round: time model seconds = a + b * samples
 
     def run(spp, blocks):

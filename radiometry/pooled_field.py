@@ -56,6 +56,8 @@ MAX_HOLDOUT = 150
 #: Highest polynomial degree tried, and at least this many fitted meters per coefficient.
 MAX_DEGREE = 6
 METERS_PER_PARAMETER = 8
+#: Fewest fitted meters with smooth light (not dark, not lit by rare paths) for a field: a degree-4 one.
+MIN_FITTED = 15 * METERS_PER_PARAMETER
 #: Per-sample relative variance of a fitted meter's pilot (texel variance x spp / mean^2) from which its
 #: light counts as coming by rare paths (a path found in fewer than about 1 sample in 10: Bernoulli
 #: (1 - p) / p >= 10): such a meter is not pooled (the throughput room's meters: ~0.08).
@@ -425,7 +427,7 @@ def _pick(value, idx):
 
 def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset=0.0, seed=0,
                     min_meters=None, progress=None, may_be_lit=None, min_samples=None,
-                    max_samples=allocation.MAX_SAMPLES_PER_METER, clock=None):
+                    max_samples=allocation.MAX_SAMPLES_PER_METER, clock=None, table_patterns=0):
     """``allocation.allocate`` in target mode for many meters, pooling the rendered part of groups
     of at least ``min_meters`` (None: ``POOL_MIN_METERS``) meters on one plane (``plane_groups``;
     ``keys`` per meter: what is rendered there, e.g. the lights excluded from its sensor; meters with
@@ -478,7 +480,8 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
 
     def per_meter(idx, lo, hi, ready=None):
         return stage(idx, lo, hi, ready=ready, target=target, offset=offset[idx],
-                     may_be_lit=_pick(may_be_lit, idx), min_samples=None if min_samples is None else floors[idx])
+                     may_be_lit=_pick(may_be_lit, idx), min_samples=None if min_samples is None else floors[idx],
+                     table_patterns=table_patterns)  # meters read on their own: allocation.TABLE_PATTERNS
 
     # The pilot of the meters read on their own (held out, or in no group) rides in the fitted meters' bake
     # when it is that bake's spp (allocate's first round: PILOT_SPP, pilot_blocks each); else it is baked apart.
@@ -505,6 +508,13 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
         with np.errstate(divide="ignore", invalid="ignore"):
             held_spread = se4[g.held_out, 0] ** 2 * samples[g.held_out] / mean4[g.held_out, 0] ** 2
         held = g.held_out[~(held_spread >= RARE_PATH_SPREAD) & (mean4[g.held_out, 0] != 0)]
+        if len(use) < MIN_FITTED:
+            g.check = HoldoutCheck(len(held), np.nan, np.nan, np.nan, np.nan, False,
+                                   f"{len(use)} fitted meters with smooth light, fewer than the {MIN_FITTED} a "
+                                   "field needs")
+            g.pooled = np.zeros(0, int)
+            fallback.append(g.fitted)
+            continue
         g.fit, g.check, usable, mean, se = pooled_estimate(
             points_m[use], normals[g.fitted[0]], values[keep], variances[keep], points_m[held],
             mean4[held], se4[held] ** 2)
