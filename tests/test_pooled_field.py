@@ -218,3 +218,22 @@ def test_the_held_out_pilot_rides_in_the_fitted_meters_bake():
     assert all(set(m) <= set(g.held_out) | set(np.flatnonzero(~res.pooled)) for _s, m in calls[1:])
     held = res.tally.std_error[g.held_out] / (res.tally.mean[g.held_out] + 10.0)
     assert np.all(held <= 0.01 + 1e-12) and np.all(res.samples[g.held_out] >= pf.POOL_PILOT_SAMPLES)
+
+
+def test_a_group_lit_only_by_rare_paths_falls_back_whole():
+    """Every meter's light found in ~1 of 20 samples: no field is fitted, every meter is read on its own
+    (a 10 % target keeps the per-meter samples small)."""
+    rng = np.random.default_rng(14)
+    n = 300
+    pts, nrm = room_meters(n, rng)
+    truth = smooth(pts)
+
+    def bake(spp, blocks):
+        idx = np.repeat(np.arange(n), np.asarray(blocks) * allocation.BLOCK_TEXELS ** 2)
+        values = truth[idx] * (rng.random((len(idx), spp)) < 0.05).mean(axis=1) / 0.05
+        return idx, values, np.stack([values] * 3, axis=1)
+
+    res = pf.allocate_pooled(bake, n, points_m=pts, normals=nrm, target=0.1)
+    g = res.groups[0]
+    assert not res.pooled.any() and not g.check.passed and "smooth light" in g.check.reason
+    assert np.all(res.tally.std_error / res.tally.mean <= 0.1 + 1e-12)
