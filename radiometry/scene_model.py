@@ -77,31 +77,45 @@ class SceneGeometry:
         self.object_index = np.asarray(self.object_index, int)
         if self.pane_of is None or len(self.pane_of) != len(self.triangles):
             self.pane_of = np.full(len(self.triangles), -1, int)
-        t = self.triangles  # per-vertex minimum/maximum (3x faster than .min(axis=1) at 130k triangles)
-        self.tri_min = np.minimum(np.minimum(t[:, 0], t[:, 1]), t[:, 2]) if len(t) else np.zeros((0, 3))
-        self.tri_max = np.maximum(np.maximum(t[:, 0], t[:, 1]), t[:, 2]) if len(t) else np.zeros((0, 3))
+        self.tri_min, self.tri_max = triangle_bounds(self.triangles)
         self._grid = None
         self._objects = None
 
     @property
     def grid(self):
-        """Uniform-grid index of the triangles (built on first use)."""
+        """Uniform-grid index of the triangles (built on first use, once per geometry: the sensor
+        placement and the proofs share it, and a capture that keeps the geometry keeps it too)."""
         if self._grid is None:
             self._grid = visibility.TriangleGrid(self.tri_min, self.tri_max)
         return self._grid
 
+    def object_ranges(self):
+        """Per object k: (first, end) of its triangles when each object's triangles are contiguous and in
+        object order (as every capture stores them), else None."""
+        index = self.object_index
+        if len(index) > 1 and np.any(index[1:] < index[:-1]):
+            return None
+        ks = np.arange(len(self.object_names))
+        return np.c_[np.searchsorted(index, ks, "left"), np.searchsorted(index, ks, "right")]
+
     def object_vertices(self):
-        """Per object: (vertices (V, 3), bounding-box corners (8, 3)), largest object first."""
+        """Per object: (vertices (V, 3), bounding-box corners (8, 3)), largest object first (built once per
+        geometry; a capture's contiguous objects are views, not copies)."""
         if self._objects is None:
+            ranges = self.object_ranges()
             out = []
             for k in range(len(self.object_names)):
-                mask = self.object_index == k
-                verts = self.triangles[mask].reshape(-1, 3)
-                if not len(verts):
+                if ranges is not None:
+                    part = slice(*ranges[k])
+                else:
+                    part = np.flatnonzero(self.object_index == k)
+                tris = self.triangles[part]
+                if not len(tris):
                     continue
-                lo, hi = verts.min(axis=0), verts.max(axis=0)
+                verts = tris.reshape(-1, 3)
+                lo, hi = visibility.column_min(self.tri_min[part]), visibility.column_max(self.tri_max[part])
                 corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-                emitting = self.triangles[mask & self.emissive] if len(self.emissive) else np.zeros((0, 3, 3))
+                emitting = tris[self.emissive[part]] if len(self.emissive) else np.zeros((0, 3, 3))
                 out.append((k, verts, corners, emitting))
             self._objects = sorted(out, key=lambda item: -len(item[1]))
         return self._objects
@@ -120,7 +134,18 @@ class SceneGeometry:
     def bounds(self):
         if not self.count:
             return np.zeros(3), np.zeros(3)
-        return self.tri_min.min(axis=0), self.tri_max.max(axis=0)
+        return visibility.column_min(self.tri_min), visibility.column_max(self.tri_max)
+
+
+def triangle_bounds(triangles):
+    """(T, 3) per-triangle minimum and maximum corners of ``triangles`` (T, 3, 3), elementwise over the
+    three vertices (coordinate by coordinate: 2x faster than over whole vertex rows at 130k triangles)."""
+    flat = triangles.reshape(len(triangles), 9)
+    lo, hi = np.empty((len(triangles), 3)), np.empty((len(triangles), 3))
+    for k in range(3):
+        np.minimum(np.minimum(flat[:, k], flat[:, 3 + k]), flat[:, 6 + k], out=lo[:, k])
+        np.maximum(np.maximum(flat[:, k], flat[:, 3 + k]), flat[:, 6 + k], out=hi[:, k])
+    return lo, hi
 
 
 @dataclass

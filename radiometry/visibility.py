@@ -19,8 +19,8 @@ the coordinates' magnitude (float32 geometry in Cycles resolves ~1.2e-7 relative
 
 import numpy as np
 
-__all__ = ["CLEAR", "BLOCKED", "PARTIAL", "aabb_overlap", "triangles_meet_polytope", "pyramid",
-           "segment_status", "circumscribed_polygon", "first_hits", "below_plane"]
+__all__ = ["CLEAR", "BLOCKED", "PARTIAL", "aabb_overlap", "column_min", "column_max", "triangles_meet_polytope",
+           "pyramid", "segment_status", "circumscribed_polygon", "first_hits", "below_plane"]
 
 CLEAR, BLOCKED, PARTIAL = "clear", "blocked", "partial"
 
@@ -30,37 +30,68 @@ def aabb_overlap(tri_min, tri_max, box_min, box_max, pad):
     return np.all(tri_max >= np.asarray(box_min) - pad, axis=1) & np.all(tri_min <= np.asarray(box_max) + pad, axis=1)
 
 
+def column_min(x):
+    """(K,) minimum of every column of ``x`` (N, K), N >= 1: one column at a time (numpy's ``min(axis=0)``
+    of a narrow C-ordered array walks it ~15x slower: 19 ms against 1 ms for 390k x 3); exact."""
+    return np.array([x[:, k].min() for k in range(x.shape[1])])
+
+
+def column_max(x):
+    """(K,) maximum of every column of ``x`` (N, K), N >= 1 (see :func:`column_min`)."""
+    return np.array([x[:, k].max() for k in range(x.shape[1])])
+
+
 class TriangleGrid:
     """Uniform grid over triangle bounding boxes, for culling by box: ``query(box_min, box_max, pad)``
     returns the indices of every triangle whose box may meet the query box (a superset of
-    ``aabb_overlap``'s answer, which the caller then applies exactly)."""
+    ``aabb_overlap``'s answer, which the caller then applies exactly).
+
+    Built in O(T): cell indices fit 16 bits (at most 33^3 cells), so numpy's stable sort of them is a
+    radix sort, and the cells' starts are a cumulative count (issue 17: the build was 50 ms of a reading
+    after a geometry edit at 130k triangles)."""
 
     def __init__(self, tri_min, tri_max, cells_per_axis=32):
         self.tri_min, self.tri_max = np.asarray(tri_min, float), np.asarray(tri_max, float)
         t = len(self.tri_min)
-        self.lo = self.tri_min.min(axis=0) if t else np.zeros(3)
-        hi = self.tri_max.max(axis=0) if t else np.ones(3)
+        self.lo = column_min(self.tri_min) if t else np.zeros(3)
+        hi = column_max(self.tri_max) if t else np.ones(3)
         extent = np.maximum(hi - self.lo, 1e-12)
         side = max(extent.max() / cells_per_axis, 1e-12)
         self.dims = np.maximum(np.ceil(extent / side).astype(int), 1)
         self.side = side
+        n_cells = int(np.prod(self.dims))
         if not t:
-            self.start, self.items = np.zeros(int(np.prod(self.dims)) + 1, int), np.zeros(0, int)
+            self.start, self.items = np.zeros(n_cells + 1, int), np.zeros(0, int)
             return
-        i0, i1 = self._cell(self.tri_min), self._cell(self.tri_max)
+        # Cell ranges per axis as (3, T) rows (numpy is slow on (T, 3) columns with a broadcast (3,)).
+        i0 = np.array([self._axis_cell(self.tri_min[:, k], k) for k in range(3)])
+        i1 = np.array([self._axis_cell(self.tri_max[:, k], k) for k in range(3)])
         span = i1 - i0 + 1
-        count = np.prod(span, axis=1)
-        owner = np.repeat(np.arange(t), count)
-        # Offsets of each entry inside its triangle's cell box, unravelled per axis.
-        local = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-        sx, sy = span[owner, 0], span[owner, 1]
-        cx = i0[owner, 0] + local % sx
-        cy = i0[owner, 1] + (local // sx) % sy
-        cz = i0[owner, 2] + local // (sx * sy)
-        cell = (cz * self.dims[1] + cy) * self.dims[0] + cx
-        order = np.argsort(cell, kind="stable")
+        count = span[0] * span[1] * span[2]
+        # Boxes inside one cell (most triangles) give one entry each; only the others are expanded.
+        one = count == 1
+        owner = np.flatnonzero(one)
+        cell = (i0[2][one] * self.dims[1] + i0[1][one]) * self.dims[0] + i0[0][one]
+        multi = np.flatnonzero(~one)
+        if len(multi):
+            c = count[multi]
+            rep = np.repeat(multi, c)
+            # Offsets of each entry inside its triangle's cell box, unravelled per axis.
+            local = np.arange(len(rep)) - np.repeat(np.cumsum(c) - c, c)
+            sx, sy = span[0][rep], span[1][rep]
+            cx = i0[0][rep] + local % sx
+            cy = i0[1][rep] + (local // sx) % sy
+            cz = i0[2][rep] + local // (sx * sy)
+            owner = np.concatenate([owner, rep])
+            cell = np.concatenate([cell, (cz * self.dims[1] + cy) * self.dims[0] + cx])
+        keys = cell.astype(np.uint16) if n_cells <= 1 << 16 else cell
+        order = np.argsort(keys, kind="stable")  # a radix sort (16-bit keys); query sorts what it returns
         self.items = owner[order]
-        self.start = np.searchsorted(cell[order], np.arange(int(np.prod(self.dims)) + 1))
+        self.start = np.concatenate([[0], np.cumsum(np.bincount(cell, minlength=n_cells))])
+
+    def _axis_cell(self, x, k):
+        c = np.floor((x - self.lo[k]) / self.side)
+        return np.minimum(np.maximum(c, 0), self.dims[k] - 1).astype(int)
 
     def _cell(self, x):
         return np.clip(np.floor((x - self.lo) / self.side).astype(int), 0, self.dims - 1)
