@@ -60,7 +60,9 @@ METERS_PER_PARAMETER = 8
 MIN_FITTED = 15 * METERS_PER_PARAMETER
 #: Per-sample relative variance of a fitted meter's pilot (texel variance x spp / mean^2) from which its
 #: light counts as coming by rare paths (a path found in fewer than about 1 sample in 10: Bernoulli
-#: (1 - p) / p >= 10): such a meter is not pooled (the throughput room's meters: ~0.08).
+#: (1 - p) / p >= 10): such a meter is not pooled (the throughput room's meters: ~0.08). Stricter than
+#: ``allocation.HEAVY_TAIL`` (where a meter read on its own starts stating the sampler table's floor):
+#: a field averages one bake's texels, and only 256 samples per meter judge the spread.
 RARE_PATH_SPREAD = 10.0
 #: Fitted meters in the neighbourhood of the local check (``local_misfit``).
 LOCAL_NEIGHBOURS = 16
@@ -487,8 +489,10 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
     # when it is that bake's spp (allocate's first round: PILOT_SPP, pilot_blocks each); else it is baked apart.
     pilot = {}
     rider = (own, np.full(len(own), allocation.pilot_blocks(len(own))), allocation.PILOT_SPP, pilot)
+    pilot_spp = 0
     if fitted.size:
-        stage(fitted, 0.0, 0.25, rider=rider if own.size else None, fixed_samples=POOL_PILOT_SAMPLES)
+        pilot_spp = stage(fitted, 0.0, 0.25, rider=rider if own.size else None,
+                          fixed_samples=POOL_PILOT_SAMPLES).tally.rounds[0]["spp"]
     reached = True
     if own.size:
         reached = per_meter(own, 0.25, 0.75, ready=pilot).reached
@@ -518,6 +522,13 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
         g.fit, g.check, usable, mean, se = pooled_estimate(
             points_m[use], normals[g.fitted[0]], values[keep], variances[keep], points_m[held],
             mean4[held], se4[held] ** 2)
+        if table_patterns:
+            # The field averages texels of one bake, so it converges to the mean of Cycles' sampler table,
+            # not below that table's floor (allocation.MeterTally.table_floor): sqrt(per-sample variance /
+            # (table size x patterns)), each meter's own pilot, at the Monte Carlo rate (QMC: less).
+            floor = np.sqrt(variances[keep] * POOL_PILOT_SAMPLES
+                            / (allocation.table_size(pilot_spp) * table_patterns))
+            se = np.sqrt(se ** 2 + floor ** 2)
         total = np.abs(mean[:, 0] + offset[use])
         ok = g.check.passed & usable & np.isfinite(se[:, 0]) & (se[:, 0] <= target * total)
         g.pooled = use[ok]

@@ -237,3 +237,22 @@ def test_a_group_lit_only_by_rare_paths_falls_back_whole():
     g = res.groups[0]
     assert not res.pooled.any() and not g.check.passed and "smooth light" in g.check.reason
     assert np.all(res.tally.std_error / res.tally.mean <= 0.1 + 1e-12)
+
+
+def test_pooled_error_includes_the_sampler_tables_floor():
+    """With Cycles' table (``table_patterns``), a pooled error is never below the table's floor for its
+    pilot, sqrt(per-sample variance / (table size x patterns)) (allocation.MeterTally.table_floor)."""
+    def run(patterns):
+        rng = np.random.default_rng(15)
+        pts, nrm = room_meters(1000, rng)
+        return pf.allocate_pooled(fake_bake(smooth(pts), 0.3, rng), 1000, points_m=pts, normals=nrm, target=0.01,
+                                  offset=np.full(1000, 10.0), table_patterns=patterns)
+
+    plain, table = run(0), run(allocation.TABLE_PATTERNS)
+    both = plain.pooled & table.pooled
+    assert both.sum() > 800
+    floor = 0.3 * table.tally.mean[both] / np.sqrt(allocation.table_size(8) * allocation.TABLE_PATTERNS)
+    added = table.tally.std_error[both] ** 2 - plain.tally.std_error[both] ** 2
+    assert np.all(added > 0)
+    # Each meter's floor comes from its own pilot's spread estimate (31 degrees of freedom): right on average.
+    assert 0.9 < np.median(added / floor ** 2) < 1.1
