@@ -37,6 +37,18 @@ lights, ~2.5 ms in the 130k-triangle room where a full capture takes ~0.1 s on a
 MAYBE, only if that probe finds the same render instances (identity, transform, ray visibility, data,
 materials, element counts: ``scene_capture._instance_signature``), else everything is captured again.
 
+**Edits to geometry** (issue 17). The handler also notes what each geometry update touched (``_touched``:
+the objects Blender reports with new geometry, their data-blocks; a material, its node tree or a camera
+touches no triangle; anything else, e.g. a geometry node tree, whose edit Blender reports alone, counts
+as everything), and a modifier's render-only setting marks its object through the per-object hashes of
+``_render_only_state``. After such edits the capture is partial (``scene_capture.capture_partial``): the
+same walk of the render depsgraph as a full capture, reading the triangles again only for instances
+whose object, data or instancer was touched, that are new, whose data-block or element counts differ,
+or whose object or instancer is not in the viewport's depsgraph (disabled in viewports: Blender reports
+no edit of it, measured); a moved instance is transformed again from its kept local arrays. The model
+equals a full capture's (``tests/bpy/test_capture_partial.py`` compares every array). Undo, redo, a file
+load, or more than 256 geometry updates since the capture mean a full capture.
+
 A hit costs one depsgraph evaluation (nothing to evaluate when nothing changed) and one pass over the
 lights and modifiers; a miss is one capture. Our own measurements change the scene inside
 ``scene_guard.preserved_scene`` and restore it, which fires the handler; :class:`Watch` keeps the
@@ -59,15 +71,26 @@ from . import scene_capture
 #: Captures kept (one 130k-triangle model is ~10 MB).
 CAPACITY = 4
 
-_state = {"updates": 0, "geometry_updates": 0, "maybe_updates": 0, "hits": 0, "misses": 0, "restamps": 0, "light_recaptures": 0}
+_state = {"updates": 0, "geometry_updates": 0, "maybe_updates": 0, "hits": 0, "misses": 0, "restamps": 0,
+          "light_recaptures": 0, "partial_captures": 0}
 _entries = collections.OrderedDict()
+#: (geometry update count, what it touched: frozenset of ('object', session uid) / ('data', pointer), or
+#: None for "anything"), one per geometry update, the latest last: what a partial capture must read again.
+_edits = collections.deque(maxlen=256)
+#: (cache key, scene_capture instances) of the latest capture: what a partial capture builds on.
+_instances = [None, None]
+
+
+def _geometry_edit(touched):
+    _state["geometry_updates"] += 1
+    _edits.append((_state["geometry_updates"], touched))
 
 
 @bpy.app.handlers.persistent
 def _count_update(*_args):
     """load_post, undo_post, redo_post: anything may have changed."""
     _state["updates"] += 1
-    _state["geometry_updates"] += 1
+    _geometry_edit(None)
 
 
 def _stamp():
@@ -107,23 +130,81 @@ def update_kind(update, trees=None):
     return CHANGES
 
 
+#: Data-blocks whose edits reach the triangles only through the objects that use them, which Blender
+#: reports as updated too (measured, bpy 5.0.1: a mesh's vertices, a modifier, a boolean's cutter moved,
+#: an instanced collection's object): ('data', pointer) is recorded besides. Materials, their node trees
+#: and cameras change no triangle (traits are read on every capture). Anything else, e.g. a geometry
+#: node tree (measured: its edit reports the tree alone, not the objects it deforms), counts as anything.
+_GEOMETRY_DATA = ("Mesh", "Curve", "SurfaceCurve", "TextCurve", "MetaBall", "Curves", "PointCloud", "Volume")
+
+
+def _touched(update, trees):
+    """What a CHANGES update may have changed in the triangles: a set of markers, or None for anything."""
+    block = update.id
+    original = getattr(block, "original", None) or block
+    if isinstance(block, bpy.types.Object):
+        return {("object", int(original.session_uid))} if update.is_updated_geometry else set()
+    if isinstance(block, (bpy.types.Material, bpy.types.ShaderNodeTree, bpy.types.Camera)):
+        return set()  # shading (read on every capture), or a camera (the probe adds one when none is set)
+    if type(block).__name__ in _GEOMETRY_DATA:
+        return {("data", original.as_pointer())}
+    return None
+
+
 @bpy.app.handlers.persistent
 def _count_edit(_scene=None, depsgraph=None, *_args):
-    """depsgraph_update_post: counts updates, those that may change the geometry and those that change it."""
+    """depsgraph_update_post: counts updates, those that may change the geometry and those that change it,
+    and notes what the latter touched (``_touched``)."""
     _state["updates"] += 1
     if depsgraph is None:
-        _state["geometry_updates"] += 1
+        _geometry_edit(None)
         return
-    trees, kinds = None, set()
+    trees, kinds, touched = None, set(), set()
     for update in depsgraph.updates:
         if isinstance(update.id, bpy.types.ShaderNodeTree) and trees is None:
             trees = _embedded_tree_pointers()
-        kinds.add(update_kind(update, trees))
-        if CHANGES in kinds:
-            _state["geometry_updates"] += 1
-            return
-    if MAYBE in kinds:
+        kind = update_kind(update, trees)
+        kinds.add(kind)
+        if kind == CHANGES and touched is not None:
+            more = _touched(update, trees)
+            touched = None if more is None else touched | more
+    if CHANGES in kinds:
+        _geometry_edit(None if touched is None else frozenset(touched))
+    elif MAYBE in kinds:
         _state["maybe_updates"] += 1
+
+
+def _touched_since(geometry_updates):
+    """Union of what every geometry edit after count ``geometry_updates`` touched, or None (anything, or
+    edits no longer on record)."""
+    newer = [touched for count, touched in _edits if count > geometry_updates]
+    if len(newer) != _state["geometry_updates"] - geometry_updates or any(t is None for t in newer):
+        return None
+    return frozenset().union(*newer)
+
+
+def _rereader(touched, view_layer):
+    """``scene_capture.capture_partial``'s ``reread``: an instance is read again when its object, its
+    data or its instancer was touched, or when its object or instancer is not in the viewport's depsgraph
+    (disabled in viewports but rendered: Blender reports no edit of such an object, measured)."""
+    depsgraph, seen = view_layer.depsgraph, {}
+    objects = {uid for kind, uid in touched if kind == "object"}
+    data = {ptr for kind, ptr in touched if kind == "data"}
+
+    def unseen(ob):
+        key = ob.as_pointer()
+        if key not in seen:
+            seen[key] = not depsgraph.id_eval_get(ob).is_evaluated
+        return seen[key]
+
+    def reread(original, data_block, parent):
+        if int(original.session_uid) in objects or unseen(original):
+            return True
+        if data_block is not None and data_block.as_pointer() in data:
+            return True
+        return parent is not None and (int(parent.session_uid) in objects or unseen(parent))
+
+    return reread
 
 
 _HANDLERS = (("depsgraph_update_post", _count_edit), ("load_post", _count_update), ("undo_post", _count_update),
@@ -152,11 +233,13 @@ def remove_handlers():
 
 def clear():
     _entries.clear()
+    _instances[:] = [None, None]
 
 
 def stats():
-    """{'hits', 'misses', 'updates', 'geometry_updates', 'maybe_updates', 'restamps', 'light_recaptures'} since
-    the module was loaded (the tests and the bench read it); a light recapture is also counted as a miss."""
+    """{'hits', 'misses', 'updates', 'geometry_updates', 'maybe_updates', 'restamps', 'light_recaptures',
+    'partial_captures'} since the module was loaded (the tests and the bench read it); a light recapture and
+    a partial capture are also counted as misses."""
     return dict(_state)
 
 
@@ -238,26 +321,40 @@ def _settings(struct):
 
 def _render_only_state():
     """Settings that change what a render sees but not the viewport, whose edits fire no update (measured:
-    a Subdivision modifier's render levels, a particle system's rendered children): every modifier's
-    settings, particle settings, curve and metaball data (render resolution), hashed."""
+    a Subdivision modifier's render levels, a particle system's rendered children): ({session uid: hash of
+    that object's modifiers' settings}, hash of the particle settings, curve and metaball data (render
+    resolution)). Per object, so that such an edit reads only that object again (``_render_changes``)."""
     import bpy
 
-    digest = hashlib.blake2b(digest_size=16)
+    objects = {}
     for obj in bpy.data.objects:
-        for modifier in obj.modifiers:
-            digest.update(repr((obj.name, modifier.name, _settings(modifier))).encode("utf-8", "replace"))
+        if len(obj.modifiers):
+            digest = hashlib.blake2b(digest_size=16)
+            for modifier in obj.modifiers:
+                digest.update(repr((modifier.name, _settings(modifier))).encode("utf-8", "replace"))
+            objects[int(obj.session_uid)] = digest.digest()
+    digest = hashlib.blake2b(digest_size=16)
     for name in ("particles", "curves", "metaballs"):
         for block in getattr(bpy.data, name, ()):
             digest.update(repr((name, block.name, _settings(block))).encode("utf-8", "replace"))
-    return digest.digest()
+    return objects, digest.digest()
+
+
+def _render_changes(old, new):
+    """The objects whose modifiers differ between two ``_render_only_state()``s, as ('object', uid)
+    markers, or None when particle, curve or metaball data differ (anything may have changed)."""
+    if old[1] != new[1]:
+        return None
+    return frozenset(("object", uid) for uid in set(old[0]) | set(new[0]) if old[0].get(uid) != new[0].get(uid))
 
 
 def _key(scene, view_layer, exclude):
     # The view layer's material override changes every surface's traits without changing the instances.
+    # The render-only settings are kept beside the key (entries' last item), compared on every look-up.
     override = getattr(view_layer, "material_override", None)
     return (scene.as_pointer(), scene.name, view_layer.name, scene.frame_current, float(scene.frame_subframe),
             float(scene.unit_settings.scale_length), frozenset(exclude), _untracked_state(scene),
-            _render_only_state(), override.name if override is not None else "")
+            override.name if override is not None else "")
 
 
 def _copy(model, scene):
@@ -281,15 +378,16 @@ def capture(scene, view_layer=None, exclude=()):
         _state["misses"] += 1
         return scene_capture.capture(scene, view_layer, exclude=exclude)
     view_layer.update()  # a pending edit fires the handler now, before the look-up
-    key = _key(scene, view_layer, exclude)
+    key, render_state = _key(scene, view_layer, exclude), _render_only_state()
     entry = _entries.get(key)
-    if entry is not None and entry[0] == _state["updates"]:
+    same_render = entry is not None and entry[4] == render_state
+    if entry is not None and entry[0] == _state["updates"] and same_render:
         _entries.move_to_end(key)
         _state["hits"] += 1
         return _copy(entry[3], scene)
     _state["misses"] += 1
     model = None
-    if entry is not None and entry[1] == _state["geometry_updates"]:
+    if entry is not None and entry[1] == _state["geometry_updates"] and same_render:
         # No mesh, material or object shape changed since: read the lights and the world again, and keep
         # the geometry when the render holds the same instances (checked if visibility may have changed).
         cached, maybe_changed = entry[3], entry[2] != _state["maybe_updates"]  # before the probe's own updates
@@ -299,10 +397,22 @@ def capture(scene, view_layer=None, exclude=()):
             model = None  # an object was hidden, shown, added or removed: capture everything
         else:
             _state["light_recaptures"] += 1
+    if model is None and entry is not None and _instances[0] == key:
+        # A geometry edit: read again only the instances it may have reached (issue 17).
+        touched, render = _touched_since(entry[1]), _render_changes(entry[4], render_state)
+        if touched is not None and render is not None:
+            touched |= render  # a render-only modifier setting: that object is read again
+            fresh = {}
+            model = scene_capture.capture_partial(scene, _instances[1], _rereader(touched, view_layer), view_layer,
+                                                  exclude=exclude, instances=fresh)
+            _instances[:] = [key, fresh]
+            _state["partial_captures"] += 1
     if model is None:
-        model = scene_capture.capture(scene, view_layer, exclude=exclude)
+        fresh = {}
+        model = scene_capture.capture(scene, view_layer, exclude=exclude, instances=fresh)
+        _instances[:] = [key, fresh]
     view_layer.update()  # absorb the probe render's own restore, so the next look-up can hit
-    _entries[key] = (*_stamp(), model)
+    _entries[key] = (*_stamp(), model, render_state)
     _entries.move_to_end(key)
     while len(_entries) > CAPACITY:
         _entries.popitem(last=False)
@@ -331,7 +441,7 @@ class Watch:
         self.view_layer.update()
         key = _key(scene, self.view_layer, exclude)
         entry = _entries.get(key)
-        if entry is not None and entry[0] == _state["updates"]:
+        if entry is not None and entry[0] == _state["updates"] and entry[4] == _render_only_state():
             self.key = key  # the measurement uses this entry's model, and nothing changed since
 
     def wrap(self, callback):
@@ -358,8 +468,9 @@ class Watch:
             return
         self.view_layer.update()
         entry = _entries.get(self.key)
-        if entry is None or _animated() or _key(self.scene, self.view_layer, self.key[6]) != self.key:
+        if (entry is None or _animated() or _key(self.scene, self.view_layer, self.key[6]) != self.key
+                or _render_only_state() != entry[4]):
             return
-        _entries[self.key] = (*_stamp(), entry[3])
+        _entries[self.key] = (*_stamp(), *entry[3:])
         _state["restamps"] += 1
 

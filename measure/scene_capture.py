@@ -38,6 +38,9 @@ class _Capture:
     result = None
     error = None
     lights_only = False  # capture_lights: walk the lights only, the geometry is kept from a capture
+    previous = None  # capture_partial: the instances of an earlier capture whose triangles may be kept
+    reread = None  # capture_partial: reread(original, data, parent) -> True when they must be read again
+    instances = None  # a dict to fill with this capture's instances (capture_cache keeps it for the next)
 
 
 def _material_traits(material):
@@ -176,8 +179,11 @@ def _collect(depsgraph):
         if obj.type not in _MESHABLE:
             unmodelled.append(name)
             continue
+        ident, data_state, m = _instance_key(inst, obj, original), _data_state(obj, original), _matrix(inst)
+        local, world = _kept_triangles(ident, data_state, m, obj, inst, original)
         key = (obj.data.as_pointer() if inst.is_instance and obj.data is not None else None, original.name)
-        local = local_cache.get(key) if key[0] is not None else None
+        if local is None:
+            local = local_cache.get(key) if key[0] is not None else None
         if local is None:
             local = _mesh_triangles(obj)
             if key[0] is not None:
@@ -203,8 +209,10 @@ def _collect(depsgraph):
             needs["emissive_surfaces"] |= emits
         traits = np.array(traits, dtype=bool)
         slot = np.clip(mat_index, 0, len(traits) - 1)
-        m = np.array(inst.matrix_world, dtype=np.float64)
-        world = ((verts_local @ m[:3, :3].T + m[:3, 3]) * _Capture.scale)[tri_index]  # metres
+        if world is None:
+            world = ((verts_local @ m[:3, :3].T + m[:3, 3]) * _Capture.scale)[tri_index]  # metres
+        if _Capture.instances is not None:
+            _Capture.instances[ident] = (data_state, local, m, _Capture.scale, world)
         pane_mask = None
         if traits[np.unique(slot), 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
             pane_mask = _glass_object(panes, refractors, len(names), name, original.name, world, slot, slots,
@@ -237,6 +245,43 @@ def _collect(depsgraph):
     needs["emissive_meshes"] = meshes
     needs["render_instances"] = digest.hexdigest()
     return lights, geometry, needs
+
+
+def _instance_key(inst, obj, original):
+    """A render instance's identity across captures: its object's identity and its persistent id."""
+    return object_identity(original), tuple(inst.persistent_id) if inst.is_instance else ()
+
+
+def _data_state(obj, original):
+    """What an evaluated object's triangles are read from, short of their coordinates: its original's
+    data-block and (meshes) the evaluated element counts (a render-only subdivision level or simplify
+    setting changes these)."""
+    data = obj.data
+    counts = ((len(data.vertices), len(data.edges), len(data.polygons), len(data.loops))
+              if obj.type == "MESH" and data is not None else ())
+    source = getattr(original, "data", None)
+    return obj.type, source.as_pointer() if source is not None else 0, counts
+
+
+def _matrix(inst):
+    return np.array(inst.matrix_world, dtype=np.float64)
+
+
+def _kept_triangles(ident, data_state, m, obj, inst, original):
+    """(local arrays, world triangles or None) kept from the capture ``capture_partial`` builds on, or
+    (None, None) when this instance's triangles must be read: it is new, its data or counts differ, or
+    ``_Capture.reread`` says an edit may have reached it. A moved instance keeps its local arrays and is
+    transformed again, as a full capture would."""
+    if _Capture.previous is None:
+        return None, None
+    old = _Capture.previous.get(ident)
+    if old is None or old[0] != data_state or old[3] != _Capture.scale:
+        return None, None
+    parent = inst.parent.original if inst.is_instance and inst.parent is not None else None
+    if _Capture.reread(original, getattr(original, "data", None), parent):
+        return None, None
+    _state, local, old_m, _scale, world = old
+    return local, (world if np.array_equal(old_m, m) else None)
 
 
 def _instance_signature(inst, obj, original):
@@ -407,10 +452,12 @@ def _render_probe(scene, view_layer):
             bpy.utils.unregister_class(_ProbeEngine)
 
 
-def _probe(scene, view_layer, exclude, lights_only):
-    """(raw lights, geometry, needs) of the render depsgraph, read by one probe render."""
+def _probe(scene, view_layer, exclude, lights_only, instances=None, previous=None, reread=None):
+    """(raw lights, geometry, needs) of the render depsgraph, read by one probe render (``instances``,
+    ``previous``, ``reread``: see ``capture_partial``)."""
     _Capture.exclude, _Capture.result, _Capture.error = frozenset(exclude), None, None
     _Capture.scale, _Capture.lights_only = scene.unit_settings.scale_length, lights_only
+    _Capture.instances, _Capture.previous, _Capture.reread = instances, previous, reread
     try:
         _render_probe(scene, view_layer)
         if _Capture.error is not None:
@@ -423,6 +470,7 @@ def _probe(scene, view_layer, exclude, lights_only):
     finally:
         _Capture.result = _Capture.error = None
         _Capture.lights_only = False
+        _Capture.instances = _Capture.previous = _Capture.reread = None
 
 
 def _model_lights(raw_lights):
@@ -438,11 +486,27 @@ def _world_state(scene):
     return render_settings.world_emits(scene.world), bool(world_volume)
 
 
-def capture(scene, view_layer=None, exclude=()):
+def capture(scene, view_layer=None, exclude=(), instances=None):
     """The scene as Cycles renders it: a ``SceneModel`` in metres: emitters (``radiometry.emitters``,
-    built here once per capture, with their source identity and ray visibility) and triangles."""
+    built here once per capture, with their source identity and ray visibility) and triangles.
+    ``instances``: a dict to fill with what ``capture_partial`` needs to build on this capture."""
+    return _capture(scene, view_layer, exclude, instances)
+
+
+def capture_partial(scene, previous, reread, view_layer=None, exclude=(), instances=None):
+    """``capture(scene, view_layer, exclude)`` after a geometry edit, reading again only the triangles
+    an edit may have reached (issue 17). ``previous``: the ``instances`` a capture of this scene filled;
+    ``reread(original object, original data-block, original instancer or None)``: True when an edit
+    since may have changed that instance's triangles (``capture_cache`` decides from the depsgraph's
+    updates). Every other instance keeps its local arrays (transformed again if it moved) and, if it did
+    not move, its triangles; everything else (lights, materials, flags, panes, emitters) is read as in a
+    full capture, by the same walk, so the model equals a full capture's."""
+    return _capture(scene, view_layer, exclude, instances, previous, reread)
+
+
+def _capture(scene, view_layer, exclude, instances, previous=None, reread=None):
     view_layer = view_layer or scene.view_layers[0]
-    raw_lights, geometry, needs = _probe(scene, view_layer, exclude, lights_only=False)
+    raw_lights, geometry, needs = _probe(scene, view_layer, exclude, False, instances, previous, reread)
     needs["world_emits"], world_volume = _world_state(scene)
     needs["surface_volume"] = needs["volume"]  # without the world's: capture_lights reads the world again
     needs["volume"] |= world_volume

@@ -28,13 +28,16 @@ def _point_lux(power_w, distance_m):
 
 @pytest.fixture
 def captures(monkeypatch):
-    """Counts the real (probe-render) full captures; ``captures.lights`` counts the lights-only ones."""
+    """Counts the real (probe-render) captures of the geometry, full or partial (``captures.partial``: the
+    partial ones alone); ``captures.lights`` counts the lights-only ones."""
     calls = _Calls()
-    for name, where in (("capture", calls), ("capture_lights", calls.lights)):
+    for name, where in (("capture", (calls,)), ("capture_partial", (calls, calls.partial)),
+                        ("capture_lights", (calls.lights,))):
         real = getattr(scene_capture, name)
 
         def counting(*args, _real=real, _where=where, **kwargs):
-            _where.append(args)
+            for target in _where:
+                target.append(args)
             return _real(*args, **kwargs)
 
         monkeypatch.setattr(scene_capture, name, counting)
@@ -46,6 +49,7 @@ class _Calls(list):
     def __init__(self):
         super().__init__()
         self.lights = []
+        self.partial = []
 
 
 def test_unchanged_scene_is_captured_once_and_an_edit_is_seen(clean_blender, build, captures):
