@@ -143,6 +143,7 @@ def _collect(depsgraph):
     panes, refractors, pane_chunks, meshes = {}, [], [], []
     rough = set()  # refractors rough enough that light sampling finds small lights through them (issue 18)
     tri_chunks, obj_chunks, opaque_chunks, emissive_chunks = [], [], [], []
+    bound_chunks = []  # per geometry object: its triangles' (min, max) corners (scene_model.triangle_bounds)
     needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
     material_cache, local_cache, instance_count = {}, {}, {}
     total = 0
@@ -180,15 +181,16 @@ def _collect(depsgraph):
             unmodelled.append(name)
             continue
         ident, data_state, m = _instance_key(inst, obj, original), _data_state(obj, original), _matrix(inst)
-        local, world = _kept_triangles(ident, data_state, m, obj, inst, original)
+        local, world, bounds = _kept_triangles(ident, data_state, m, obj, inst, original)
         key = (obj.data.as_pointer() if inst.is_instance and obj.data is not None else None, original.name)
         if local is None:
             local = local_cache.get(key) if key[0] is not None else None
         if local is None:
             local = _mesh_triangles(obj)
+            local = (*local, np.unique(local[2]))  # the material indices used, once per mesh
             if key[0] is not None:
                 local_cache[key] = local
-        verts_local, tri_index, mat_index = local
+        verts_local, tri_index, mat_index, mat_used = local
         if not len(tri_index):
             continue
         total += len(tri_index)
@@ -209,19 +211,22 @@ def _collect(depsgraph):
             needs["emissive_surfaces"] |= emits
         traits = np.array(traits, dtype=bool)
         slot = np.clip(mat_index, 0, len(traits) - 1)
+        used = np.unique(np.clip(mat_used, 0, len(traits) - 1))
         if world is None:
             world = ((verts_local @ m[:3, :3].T + m[:3, 3]) * _Capture.scale)[tri_index]  # metres
+            bounds = scene_model.triangle_bounds(world)
         if _Capture.instances is not None:
-            _Capture.instances[ident] = (data_state, local, m, _Capture.scale, world)
+            _Capture.instances[ident] = (data_state, local, m, _Capture.scale, world, bounds)
+        bound_chunks.append(bounds)
         pane_mask = None
-        if traits[np.unique(slot), 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
+        if traits[used, 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
             pane_mask = _glass_object(panes, refractors, len(names), name, original.name, world, slot, slots,
                                       traits, material_cache, source_id=_source_id(inst, original), rough=rough)
         pane_chunks.append(np.where(pane_mask, len(names), -1) if pane_mask is not None else np.full(len(world), -1))
-        if traits[np.unique(slot), 4].any() and len(names) not in panes:  # a medium fills this mesh (issue 18)
+        if traits[used, 4].any() and len(names) not in panes:  # a medium fills this mesh (issue 18)
             flat = world.reshape(-1, 3)
             volumes.append((name, flat.min(axis=0), flat.max(axis=0)))
-        if traits[np.unique(slot), 1].any():  # emits: one EmissiveMesh emitter per emitting slot
+        if traits[used, 1].any():  # emits: one EmissiveMesh emitter per emitting slot
             _emissive_meshes(meshes, inst, original, name, world, slot, slots, traits, material_cache)
         index = len(names)
         names.append(name)
@@ -238,7 +243,8 @@ def _collect(depsgraph):
         object_ids=ids,
         casts_shadow=np.array(shadow, bool), opaque=cat(opaque_chunks, (0,)).astype(bool),
         reflects=np.array(reflects, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled,
-        pane_of=cat(pane_chunks, (0,)).astype(int))
+        pane_of=cat(pane_chunks, (0,)).astype(int),
+        tri_bounds=(cat([b[0] for b in bound_chunks], (0, 3)), cat([b[1] for b in bound_chunks], (0, 3))))
     needs["volumes"] = volumes
     needs["panes"], needs["refractors"] = panes, refractors
     needs["rough_refractors"] = rough  # names: no caustic bound for them (measure.glass.rough_refraction)
@@ -268,20 +274,20 @@ def _matrix(inst):
 
 
 def _kept_triangles(ident, data_state, m, obj, inst, original):
-    """(local arrays, world triangles or None) kept from the capture ``capture_partial`` builds on, or
+    """(local arrays, world triangles and their bounds or None, None) kept from the capture ``capture_partial`` builds on, or
     (None, None) when this instance's triangles must be read: it is new, its data or counts differ, or
-    ``_Capture.reread`` says an edit may have reached it. A moved instance keeps its local arrays and is
+    ``_Capture.reread`` says an edit may have reached it (then (None, None, None)). A moved instance keeps its local arrays and is
     transformed again, as a full capture would."""
     if _Capture.previous is None:
-        return None, None
+        return None, None, None
     old = _Capture.previous.get(ident)
     if old is None or old[0] != data_state or old[3] != _Capture.scale:
-        return None, None
+        return None, None, None
     parent = inst.parent.original if inst.is_instance and inst.parent is not None else None
     if _Capture.reread(original, getattr(original, "data", None), parent):
-        return None, None
-    _state, local, old_m, _scale, world = old
-    return local, (world if np.array_equal(old_m, m) else None)
+        return None, None, None
+    _state, local, old_m, _scale, world, bounds = old
+    return (local, world, bounds) if np.array_equal(old_m, m) else (local, None, None)
 
 
 def _instance_signature(inst, obj, original):
