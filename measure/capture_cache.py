@@ -65,6 +65,7 @@ import hashlib
 import os
 
 import bpy
+import numpy as np
 
 from . import scene_capture
 
@@ -319,11 +320,17 @@ def _settings(struct):
     return tuple(values)
 
 
-def _render_only_state():
-    """Settings that change what a render sees but not the viewport, whose edits fire no update (measured:
-    a Subdivision modifier's render levels, a particle system's rendered children): ({session uid: hash of
-    that object's modifiers' settings}, hash of the particle settings, curve and metaball data (render
-    resolution)). Per object, so that such an edit reads only that object again (``_render_changes``)."""
+def _render_only_state(scene, view_layer):
+    """What changes the render but fires no update: ({session uid: hash}, hash of the rest).
+
+    * Settings only the render sees (measured: a Subdivision modifier's render levels, a particle system's
+      rendered children): per object, its modifiers' settings; the rest: particle settings, curve and
+      metaball data (render resolution).
+    * Objects disabled in viewports (not in the viewport's depsgraph) but rendered: Blender reports no edit
+      of them at all (measured: a move, a vertex edit): per object, its own transform, parent and
+      constraints, data-block and (meshes) its vertices and faces.
+
+    Per object, so that such an edit reads only that object again (``_render_changes``)."""
     import bpy
 
     objects = {}
@@ -333,6 +340,27 @@ def _render_only_state():
             for modifier in obj.modifiers:
                 digest.update(repr((modifier.name, _settings(modifier))).encode("utf-8", "replace"))
             objects[int(obj.session_uid)] = digest.digest()
+    depsgraph = view_layer.depsgraph
+    for obj in scene.objects:
+        if obj.type == "LIGHT" or depsgraph.id_eval_get(obj).is_evaluated:
+            continue
+        digest = hashlib.blake2b(objects.get(int(obj.session_uid), b""), digest_size=16)
+        # Its own transform (matrix_world is only brought up to date by an evaluation, which it has not).
+        for matrix in (obj.matrix_basis, obj.matrix_parent_inverse):
+            digest.update(np.array(matrix, np.float64).tobytes())
+        digest.update(repr((obj.type, obj.data.as_pointer() if obj.data is not None else 0,
+                            obj.parent.as_pointer() if obj.parent is not None else 0, obj.parent_type,
+                            obj.parent_bone, [_settings(c) for c in obj.constraints])).encode("utf-8", "replace"))
+        if obj.type == "MESH" and obj.data is not None:
+            mesh = obj.data
+            co = np.empty(3 * len(mesh.vertices), np.float32)
+            mesh.vertices.foreach_get("co", co)
+            loops = np.empty(len(mesh.loops), np.int32)
+            mesh.loops.foreach_get("vertex_index", loops)
+            digest.update(co.tobytes())
+            digest.update(loops.tobytes())
+            digest.update(repr(len(mesh.polygons)).encode())
+        objects[int(obj.session_uid)] = digest.digest()
     digest = hashlib.blake2b(digest_size=16)
     for name in ("particles", "curves", "metaballs"):
         for block in getattr(bpy.data, name, ()):
@@ -378,7 +406,7 @@ def capture(scene, view_layer=None, exclude=()):
         _state["misses"] += 1
         return scene_capture.capture(scene, view_layer, exclude=exclude)
     view_layer.update()  # a pending edit fires the handler now, before the look-up
-    key, render_state = _key(scene, view_layer, exclude), _render_only_state()
+    key, render_state = _key(scene, view_layer, exclude), _render_only_state(scene, view_layer)
     entry = _entries.get(key)
     same_render = entry is not None and entry[4] == render_state
     if entry is not None and entry[0] == _state["updates"] and same_render:
@@ -441,7 +469,8 @@ class Watch:
         self.view_layer.update()
         key = _key(scene, self.view_layer, exclude)
         entry = _entries.get(key)
-        if entry is not None and entry[0] == _state["updates"] and entry[4] == _render_only_state():
+        if (entry is not None and entry[0] == _state["updates"]
+                and entry[4] == _render_only_state(scene, self.view_layer)):
             self.key = key  # the measurement uses this entry's model, and nothing changed since
 
     def wrap(self, callback):
@@ -469,7 +498,7 @@ class Watch:
         self.view_layer.update()
         entry = _entries.get(self.key)
         if (entry is None or _animated() or _key(self.scene, self.view_layer, self.key[6]) != self.key
-                or _render_only_state() != entry[4]):
+                or _render_only_state(self.scene, self.view_layer) != entry[4]):
             return
         _entries[self.key] = (*_stamp(), *entry[3:])
         _state["restamps"] += 1

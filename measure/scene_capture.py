@@ -181,7 +181,7 @@ def _collect(depsgraph):
             unmodelled.append(name)
             continue
         ident, data_state, m = _instance_key(inst, obj, original), _data_state(obj, original), _matrix(inst)
-        local, world, bounds = _kept_triangles(ident, data_state, m, obj, inst, original)
+        local, world, bounds = _kept_triangles(ident, data_state, m, inst, original)
         key = (obj.data.as_pointer() if inst.is_instance and obj.data is not None else None, original.name)
         if local is None:
             local = local_cache.get(key) if key[0] is not None else None
@@ -273,11 +273,11 @@ def _matrix(inst):
     return np.array(inst.matrix_world, dtype=np.float64)
 
 
-def _kept_triangles(ident, data_state, m, obj, inst, original):
-    """(local arrays, world triangles and their bounds or None, None) kept from the capture ``capture_partial`` builds on, or
-    (None, None) when this instance's triangles must be read: it is new, its data or counts differ, or
-    ``_Capture.reread`` says an edit may have reached it (then (None, None, None)). A moved instance keeps its local arrays and is
-    transformed again, as a full capture would."""
+def _kept_triangles(ident, data_state, m, inst, original):
+    """(local arrays, world triangles, their bounds) kept from the capture ``capture_partial`` builds on;
+    (local arrays, None, None) for an instance that moved (transformed again, as a full capture would);
+    (None, None, None) when its triangles must be read: it is new, its data-block or element counts
+    differ, or ``_Capture.reread`` says an edit may have reached it."""
     if _Capture.previous is None:
         return None, None, None
     old = _Capture.previous.get(ident)

@@ -91,10 +91,11 @@ class SceneGeometry:
 
     @property
     def grid(self):
-        """Uniform-grid index of the triangles (built on first use, once per geometry: the sensor
-        placement and the proofs share it, and a capture that keeps the geometry keeps it too)."""
+        """Index of the triangles' boxes (``visibility.LazyTriangleGrid``: a scan for the first few
+        queries, then a uniform grid built once per geometry; the sensor placement and the proofs share
+        it, and a capture that keeps the geometry keeps it too)."""
         if self._grid is None:
-            self._grid = visibility.TriangleGrid(self.tri_min, self.tri_max)
+            self._grid = visibility.LazyTriangleGrid(self.tri_min, self.tri_max)
         return self._grid
 
     def object_ranges(self):

@@ -19,8 +19,9 @@ the coordinates' magnitude (float32 geometry in Cycles resolves ~1.2e-7 relative
 
 import numpy as np
 
-__all__ = ["CLEAR", "BLOCKED", "PARTIAL", "aabb_overlap", "column_min", "column_max", "triangles_meet_polytope",
-           "pyramid", "segment_status", "circumscribed_polygon", "first_hits", "below_plane"]
+__all__ = ["CLEAR", "BLOCKED", "PARTIAL", "aabb_overlap", "column_min", "column_max", "TriangleGrid",
+           "LazyTriangleGrid", "triangles_meet_polytope", "pyramid", "segment_status", "circumscribed_polygon",
+           "first_hits", "below_plane"]
 
 CLEAR, BLOCKED, PARTIAL = "clear", "blocked", "partial"
 
@@ -114,6 +115,40 @@ class TriangleGrid:
         cand = np.unique(self.items[runs])
         keep = aabb_overlap(self.tri_min[cand], self.tri_max[cand], box_min, box_max, 0.0)
         return cand[keep]
+
+
+class LazyTriangleGrid:
+    """:class:`TriangleGrid`'s ``query``, answered by a scan of every triangle's box (~0.6 ms at 130k
+    triangles) for the first ``BUILD_AFTER`` queries, then by a grid built once (~15 ms at 130k, 0.2 ms a
+    query): a reading after a geometry edit asks a few (one meter: its placement and one per light), a
+    grid of meters many. The answers are the same either way: the indices of every box meeting the query
+    box, sorted."""
+
+    BUILD_AFTER = 24
+
+    def __init__(self, tri_min, tri_max):
+        self.tri_min, self.tri_max = np.asarray(tri_min, float), np.asarray(tri_max, float)
+        self.asked = 0
+        self._grid = None
+
+    @property
+    def built(self):
+        return self._grid is not None
+
+    def query(self, box_min, box_max, pad):
+        """Indices (sorted, unique) of triangles whose boxes meet [box_min, box_max] grown by ``pad``."""
+        if self._grid is None and self.asked < self.BUILD_AFTER:
+            self.asked += 1
+            box_min, box_max = np.asarray(box_min, float) - pad, np.asarray(box_max, float) + pad
+            if not len(self.tri_min):
+                return np.zeros(0, int)
+            hit = self.tri_max[:, 0] >= box_min[0]  # column by column (see column_min)
+            for k in range(3):
+                hit &= (self.tri_max[:, k] >= box_min[k]) & (self.tri_min[:, k] <= box_max[k])
+            return np.flatnonzero(hit)
+        if self._grid is None:
+            self._grid = TriangleGrid(self.tri_min, self.tri_max)
+        return self._grid.query(box_min, box_max, pad)
 
 
 def below_plane(triangles, point, normal, tol):

@@ -81,3 +81,20 @@ def test_object_vertices_contiguous_and_shuffled():
             assert np.array_equal(verts, r_verts) and np.array_equal(emitting, r_emit)
             assert np.array_equal(corners.min(axis=0), r_lo) and np.array_equal(corners.max(axis=0), r_hi)
             assert len(corners) == 8
+
+
+def test_lazy_grid_scans_then_builds_with_the_same_answers():
+    rng = np.random.default_rng(11)
+    tris = _soup(rng, 3000)
+    lo, hi = tris.min(axis=1), tris.max(axis=1)
+    lazy = visibility.LazyTriangleGrid(lo, hi)
+    for k in range(2 * lazy.BUILD_AFTER):
+        assert lazy.built == (k > lazy.BUILD_AFTER)  # scans first, the grid once it pays
+        a, b = np.sort(rng.uniform([-4, -3.5, -1], [4, 3.5, 4], (2, 3)), axis=0)
+        pad = float(rng.choice([0.0, 1e-6, 0.2]))
+        assert np.array_equal(lazy.query(a, b, pad), np.flatnonzero(visibility.aabb_overlap(lo, hi, a, b, pad)))
+    far = lazy.query([50, 50, 50], [51, 51, 51], 0.1)
+    assert far.size == 0 and visibility.LazyTriangleGrid(np.zeros((0, 3)), np.zeros((0, 3))).query(
+        [0, 0, 0], [1, 1, 1], 0.1).size == 0
+    g = scene_model.SceneGeometry(triangles=tris, object_index=np.zeros(3000, int), object_names=["soup"])
+    assert isinstance(g.grid, visibility.LazyTriangleGrid) and g.grid is g.grid  # one per geometry

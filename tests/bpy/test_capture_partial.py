@@ -159,3 +159,26 @@ def test_the_proofs_see_the_moved_occluder(clean_blender, build, reads):
     occluder.location.x = 3.0
     assert _lux() == pytest.approx(clear, rel=1e-7)
     assert capture_cache.stats()["partial_captures"] == partial + 2
+
+
+def test_edits_of_an_object_disabled_in_viewports_are_seen(clean_blender, build, reads):
+    """Blender reports no edit of an object disabled in viewports (measured: not even a call of the
+    handler); its transform and mesh are part of the cache's render-only state, so the reading changes."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "POINT", location=(0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0)
+    hidden = _box(scene, "viewport-disabled", (3.0, 0.0, 1.0))
+    hidden.hide_viewport = True
+    _box(scene, "still", (-3.0, 0.0, 1.0))
+    clear = K * 100.0 / (4.0 * math.pi * 2.0**2)
+    assert _lux() == pytest.approx(clear, rel=1e-7)
+    partial = capture_cache.stats()["partial_captures"]
+    hidden.location.x = 0.0  # moved between the lamp and the meter
+    reads.clear()
+    assert _lux() == pytest.approx(0.0, abs=1e-9)
+    assert reads == ["viewport-disabled"]
+    for vertex in hidden.data.vertices:  # its mesh moved out of the way again, by its vertices
+        vertex.co.x += 2.0
+    hidden.data.update()
+    assert _lux() == pytest.approx(clear, rel=1e-7)
+    assert capture_cache.stats()["partial_captures"] == partial + 2
