@@ -371,9 +371,11 @@ def bench_overhead():
                                 dt_edit, r_edit = speed.edited_reading(kind, scene, point, normal, TARGET,
                                                                        seed=200 + len(t_meter))
                             after = capture_cache.stats()
-                            edits[kind].append((dt_edit, r_edit.samples, prof_edit, after["light_recaptures"]
-                                                - before["light_recaptures"], after["misses"] - before["misses"]
-                                                - after["light_recaptures"] + before["light_recaptures"]))
+                            delta = {k: after[k] - before[k] for k in ("light_recaptures", "misses",
+                                                                        "partial_captures")}
+                            edits[kind].append((dt_edit, r_edit.samples, prof_edit, delta["light_recaptures"],
+                                                delta["misses"] - delta["light_recaptures"]
+                                                - delta["partial_captures"], delta["partial_captures"]))
                     t_same.append(dt_same)
                     samples_same.append(r_same.samples)
                     t_meter.append(dt)
@@ -401,7 +403,8 @@ def bench_overhead():
             rows[-1].setdefault("edits", {})[kind] = {
                 "reps": len(runs), "median_s": median([x[0] for x in runs]), "samples": [x[1] for x in runs],
                 "ratio": median([x[0] for x in runs]) / median(t_bare), "breakdown": prof_e.breakdown(dt_e),
-                "light_recaptures": sum(x[3] for x in runs), "full_captures": sum(x[4] for x in runs)}
+                "light_recaptures": sum(x[3] for x in runs), "full_captures": sum(x[4] for x in runs),
+                "partial_captures": sum(x[5] for x in runs)}
         bare.remove()
         log(f"  overhead {label}: {ratio:.2f} (reading {median(t_meter):.3f} s, bare {median(t_bare):.3f} s, "
             f"bare 1 spp {median(t_bare1):.3f} s)")

@@ -133,8 +133,9 @@ def update_kind(update, trees=None):
 
 #: Data-blocks whose edits reach the triangles only through the objects that use them, which Blender
 #: reports as updated too (measured, bpy 5.0.1: a mesh's vertices, a modifier, a boolean's cutter moved,
-#: an instanced collection's object): ('data', pointer) is recorded besides. Materials, their node trees
-#: and cameras change no triangle (traits are read on every capture). Anything else, e.g. a geometry
+#: an instanced collection's object): ('data', pointer) is recorded besides. Materials, their node trees,
+#: cameras and images that no texture or geometry node reads (a bake's target) change no triangle (traits
+#: are read on every capture). Anything else, e.g. a geometry
 #: node tree (measured: its edit reports the tree alone, not the objects it deforms), counts as anything.
 _GEOMETRY_DATA = ("Mesh", "Curve", "SurfaceCurve", "TextCurve", "MetaBall", "Curves", "PointCloud", "Volume")
 
@@ -149,7 +150,29 @@ def _touched(update, trees):
         return set()  # shading (read on every capture), or a camera (the probe adds one when none is set)
     if type(block).__name__ in _GEOMETRY_DATA:
         return {("data", original.as_pointer())}
+    if isinstance(block, bpy.types.Image) and not _image_feeds_geometry(original):
+        return set()  # a bake's own image (ours, or the user's), shown or shaded only
     return None
+
+
+def _image_feeds_geometry(image):
+    """True if ``image`` may move vertices: a texture (Displace and other modifiers) or a geometry node
+    tree or geometry-nodes modifier input uses it."""
+    if any(getattr(texture, "image", None) == image for texture in bpy.data.textures):
+        return True
+    for tree in bpy.data.node_groups:
+        if tree.bl_idname != "GeometryNodeTree":
+            continue
+        for node in tree.nodes:
+            if getattr(node, "image", None) == image:
+                return True
+            if any(sock.type == "IMAGE" and getattr(sock, "default_value", None) == image for sock in node.inputs):
+                return True
+    for obj in bpy.data.objects:
+        for modifier in obj.modifiers:
+            if modifier.type == "NODES" and any(value == image for value in modifier.values()):
+                return True
+    return False
 
 
 @bpy.app.handlers.persistent

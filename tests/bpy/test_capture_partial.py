@@ -182,3 +182,19 @@ def test_edits_of_an_object_disabled_in_viewports_are_seen(clean_blender, build,
     hidden.data.update()
     assert _lux() == pytest.approx(clear, rel=1e-7)
     assert capture_cache.stats()["partial_captures"] == partial + 2
+
+
+def test_only_images_that_can_move_vertices_count_as_geometry_edits(clean_blender):
+    """A bake writes an image (Blender reports it); such an edit keeps the triangles unless a texture or a
+    geometry node reads the image."""
+    plain = bpy.data.images.new("baked", 4, 4, float_buffer=True)
+    assert not capture_cache._image_feeds_geometry(plain)
+    texture = bpy.data.textures.new("height", "IMAGE")
+    texture.image = plain  # a Displace modifier could read it
+    assert capture_cache._image_feeds_geometry(plain)
+    other = bpy.data.images.new("nodes", 4, 4)
+    tree = bpy.data.node_groups.new("sample", "GeometryNodeTree")
+    node = tree.nodes.new("GeometryNodeImageTexture")
+    assert not capture_cache._image_feeds_geometry(other)
+    node.inputs["Image"].default_value = other
+    assert capture_cache._image_feeds_geometry(other)
