@@ -138,8 +138,8 @@ def edits_markdown(rows):
     out = []
     for r in rows:
         for kind, label in (("lights", "a lights-only edit (area light power, the geometry kept)"),
-                            ("geometry", "a geometry edit (one furniture mesh moved 0.1 mm: a partial capture "
-                                         "reads it again, keeps the rest)")):
+                            ("geometry", "a geometry edit (one mesh moved 0.1 mm: a partial capture transforms "
+                                         "it again, keeps the rest)")):
             e = r.get("edits", {}).get(kind)
             if e is None:
                 continue
