@@ -1059,7 +1059,7 @@ def bench_coverage_fin():
     out = tempfile.mkdtemp(prefix="radiometer-bench-") if QUICK else HERE  # quick runs never overwrite results
     script = [sys.executable, os.path.join(HERE, "coverage_rare_paths_fin.py"), "--out", out]
     runs = [["--seeds", "5"]] if QUICK else [["--pattern", "tabulated", "burley"], [
-        "--quality", "standard", "--pattern", "tabulated", "burley", "--meters", "half hidden", "97 % hidden"]]
+        "--quality", "standard", "--pattern", "tabulated", "burley"]]
     for args in runs:
         subprocess.run(script + args, check=True, timeout=4 * 3600)
     with open(os.path.join(out, "coverage_rare_paths_fin.json"), encoding="utf-8") as f:
