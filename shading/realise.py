@@ -20,7 +20,11 @@ phong              Diffuse + 6 Toon (glossy) ramps drawing diffuse + phong_ramp 
                    (~6 % RMS uniform set at n = 20)
 blinn_phong        Glossy Beckmann/GGX, cos_o^p weight,    diffuse + microfacet, the same fit:
                    normal tilted to the view, fitted       the tilted normal is the Script's
-                   (~5 % RMS uniform set at n = 50)        SpecularNormal (~5 % at n = 50)
+                   (~5 % RMS uniform set at n = 50;        SpecularNormal (~5 % at n = 50)
+                   ~23 % at n = 10: the lobe is wide and
+                   a closure's 1/cos_i, which no weight
+                   can undo (weights see the view, not
+                   the light), dominates)
 torrance_sparrow   Glossy/Metallic Beckmann, Smith G,      microfacet / generalized_schlick /
                    alpha fitted (~3 % RMS)                 conductor_bsdf (same fit)
 ggx                Metallic (F82 white tint = Schlick, or  generalized_schlick_bsdf /
