@@ -184,6 +184,15 @@ def test_frosted_and_curved_glass_stay_rendered(clean_blender):
     r = api.measure_illuminance(point, normal, scene=scene, method="auto", samples=1024)
     assert not any(caustic in note for note in r.notes), r.notes
     assert any("no caustic bound" in note for note in r.notes) and r.rel_error_bound == 0.0
+    # So is a frosted Principled BSDF pane (transmission 1); its roughness fed by a texture is not.
+    pane.data.materials[0] = scenes.glass_material("frosted principled", "principled", 1.45, roughness=0.4)
+    r = api.measure_illuminance(point, normal, scene=scene, method="auto", samples=1024)
+    assert not any(caustic in note for note in r.notes) and r.rel_error_bound == 0.0, r.notes
+    tree = pane.data.materials[0].node_tree
+    noise = tree.nodes.new("ShaderNodeTexNoise")
+    tree.links.new(noise.outputs["Fac"], tree.nodes["Principled BSDF"].inputs["Roughness"])
+    r = api.measure_illuminance(point, normal, scene=scene, method="auto", samples=1024)
+    assert any(caustic in note for note in r.notes), r.notes
     # A curved refractor (a glass ball) is not a pane either; a sharp one is a caustic for the lamp.
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.2, location=(0.0, 0.25, 1.5))
     ball = bpy.context.object
