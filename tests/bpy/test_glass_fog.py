@@ -55,7 +55,8 @@ def _check(reading, ref_lux, ref_se, kind):
     se = float(reading.rel_std_error)
     CHECKED.setdefault(kind, []).append((err, se, ref_se, bool(reading.exact)))
     combined = math.hypot(se, ref_se)
-    assert err <= max(3.0 * combined, 0.005), ("criterion 1", kind, reading.illuminance, ref_lux, err, se, reading.notes)
+    assert err <= max(3.0 * combined, 0.005), ("criterion 1", kind, reading.illuminance, ref_lux, err, se,
+                                               reading.notes)
     if reading.exact:
         assert ref_se == 0.0 and err <= 1e-4, ("criterion 2", kind, reading.illuminance, ref_lux, err)
     if se < 0.05:
