@@ -198,3 +198,57 @@ def test_only_images_that_can_move_vertices_count_as_geometry_edits(clean_blende
     assert not capture_cache._image_feeds_geometry(other)
     node.inputs["Image"].default_value = other
     assert capture_cache._image_feeds_geometry(other)
+
+
+def _material(name, node, **inputs):
+    from radiometer.compat import ensure_node_tree
+
+    material = bpy.data.materials.new(name)
+    tree = ensure_node_tree(material)
+    tree.nodes.clear()
+    shader = tree.nodes.new(node)
+    for key, value in inputs.items():
+        shader.inputs[key].default_value = value
+    tree.links.new(shader.outputs[0], tree.nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
+    return material
+
+
+def test_panes_and_emitting_surfaces_equal_a_full_capture_after_an_edit(clean_blender, build, reads):
+    """Thin panes (by object index) and emissive meshes are read by the same walk: after an unrelated
+    object moved, and after the pane itself moved, they equal a full capture's."""
+    scene, layer = bpy.context.scene, bpy.context.view_layer
+    build.black_world(scene)
+    build.light(scene, "POINT", location=(0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0)
+    mover = _box(scene, "mover", (3.0, 0.0, 1.0))
+    pane = build.plane(scene, size=1.0, location=(0.0, 0.0, 1.0), name="pane")
+    pane.data.materials[0] = _material("glass", "ShaderNodeBsdfGlass", IOR=1.5)
+    glow = build.plane(scene, size=0.5, location=(2.0, 2.0, 2.5), name="glow")
+    glow.data.materials[0] = _material("glow", "ShaderNodeEmission", Strength=3.0)
+
+    def same(partial, full):
+        assert set(partial.panes) == set(full.panes) == {partial.geometry.object_names.index("pane")}
+        for k, p in partial.panes.items():
+            q = full.panes[k]
+            assert (p.name, p.ior, p.thickness, p.source_id, p.slots) == (q.name, q.ior, q.thickness, q.source_id,
+                                                                          q.slots)
+            assert np.array_equal(p.geometry.heights, q.geometry.heights)
+            assert np.array_equal(p.geometry.normal, q.geometry.normal)
+        assert [m.name for m in partial.emissive_meshes] == [m.name for m in full.emissive_meshes]
+        assert len(partial.emissive_meshes) == 1
+        for m, n in zip(partial.emissive_meshes, full.emissive_meshes):
+            assert np.array_equal(m.triangles, n.triangles) and np.array_equal(m.radiance, n.radiance)
+            assert m.source_id == n.source_id
+        for name in ("triangles", "object_index", "opaque", "emissive", "pane_of", "tri_min", "tri_max"):
+            assert np.array_equal(getattr(partial.geometry, name), getattr(full.geometry, name)), name
+
+    capture_cache.capture(scene, layer)
+    for edit, expected in ((lambda: setattr(mover.location, "x", 2.5), []),
+                           (lambda: setattr(pane.location, "z", 1.2), []),  # transformed again, not read
+                           (lambda: setattr(glow.location, "x", 1.5), [])):
+        edit()
+        before = capture_cache.stats()["partial_captures"]
+        reads.clear()
+        partial = capture_cache.capture(scene, layer)
+        assert capture_cache.stats()["partial_captures"] == before + 1 and reads == expected
+        same(partial, scene_capture.capture(scene, layer))
+    assert partial.panes[partial.geometry.object_names.index("pane")].geometry.heights[0] == pytest.approx(1.2)
