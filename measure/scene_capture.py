@@ -9,6 +9,10 @@ for the duration of the call and renders one 4 x 4 frame with it inside
 Cycles would receive (instances, render visibility, ray-visibility and shadow flags, evaluated
 transforms incl. shear), then the scene is restored. The engine is unregistered again at once, so
 it never shows in the Render Engine menu.
+
+Three walks share that probe: ``capture`` reads everything; ``capture_lights`` reads the lights only
+(the geometry kept); ``capture_partial`` reads everything but the triangles of instances no edit
+reached, which it keeps from an earlier capture (``capture_cache`` decides which; issue 17).
 """
 
 import dataclasses
