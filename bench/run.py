@@ -1058,12 +1058,16 @@ def bench_coverage_fin():
 
     out = tempfile.mkdtemp(prefix="radiometer-bench-") if QUICK else HERE  # quick runs never overwrite results
     script = [sys.executable, os.path.join(HERE, "coverage_rare_paths_fin.py"), "--out", out]
-    runs = [["--seeds", "5"]] if QUICK else [["--pattern", "tabulated", "burley"], [
-        "--quality", "standard", "--pattern", "tabulated", "burley"]]
+    runs = [["--seeds", "5"], ["--seeds", "5", "--scene", "hdri"]] if QUICK else [
+        ["--pattern", "tabulated", "burley"], ["--quality", "standard", "--pattern", "tabulated", "burley"],
+        ["--scene", "hdri", "--quality", "preview", "standard"]]  # the HDRI world with a sun disc
     for args in runs:
         subprocess.run(script + args, check=True, timeout=4 * 3600)
-    with open(os.path.join(out, "coverage_rare_paths_fin.json"), encoding="utf-8") as f:
-        return json.load(f)
+    found = {}
+    for scene in ("fin", "hdri"):
+        with open(os.path.join(out, f"coverage_rare_paths_{scene}.json"), encoding="utf-8") as f:
+            found[scene] = json.load(f)
+    return found
 
 
 BENCHES["coverage_fin"] = bench_coverage_fin
