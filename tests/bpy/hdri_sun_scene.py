@@ -51,15 +51,15 @@ def _row_factor(i):
 
 def _opening_psa():
     """Projected solid angle (sr) of the 2 OPENING square 1 m above the room meter, by Lambert's
-    contour formula."""
+    contour formula (fin_scene.projected_solid_angle)."""
+    import importlib.util
+    import pathlib
+
+    spec = importlib.util.spec_from_file_location("fin_scene", pathlib.Path(__file__).with_name("fin_scene.py"))
+    fin = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(fin)
     a = OPENING
-    r = np.array([(-a, -a, 1.0), (a, -a, 1.0), (a, a, 1.0), (-a, a, 1.0)])
-    n = np.asarray(NORMAL)
-    total = 0.0
-    for p, q in zip(r, np.roll(r, -1, axis=0)):
-        c = np.cross(p, q)
-        total += math.atan2(np.linalg.norm(c), p @ q) * (n @ c) / np.linalg.norm(c)
-    return abs(total) / 2.0
+    return fin.projected_solid_angle((0.0, 0.0, 0.0), NORMAL, [(-a, -a, 1.0), (a, -a, 1.0), (a, a, 1.0), (-a, a, 1.0)])
 
 
 def reference_lux(label):
