@@ -654,11 +654,13 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
     dark = np.asarray(run.get("dark", np.zeros(n, bool)), bool)
     if dark.any():
         # Issue 18: no rendered light found although some may arrive (a small bright region past
-        # an obstruction): the error is unknown, never 0.
-        scalar_se = np.where(dark & (np.abs(mean_rgb @ weights) == 0.0), np.inf, scalar_se)
+        # an obstruction): the error is unknown, never 0, also where closed forms add light (hybrid),
+        # unless a deterministic bound (a caustic's closed form) already states what may be missing.
+        scalar_se = np.where(dark & ~(np.abs(bound_rgb) @ np.abs(weights) > 0.0), np.inf, scalar_se)
         notes.append(f"{int(dark.sum())} meter(s) found no rendered light in {int(run['samples'][dark].min()):,}+ samples "
                      "although lit surfaces or partly hidden lights lie above their horizon: light from a small "
-                     "bright region may be missing; a reading of 0 then states an unknown (infinite) error")
+                     "bright region may be missing, so their error is unknown (stated as infinite unless a caustic's bound "
+                     "states it)")
     spent = run["samples"]
     why = "; ".join(decision["reasons"]) or "requested"
     rule = (f"{fixed} samples per meter" if fixed is not None else
@@ -671,7 +673,8 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
         notes.append(f"{n} of {n + n_closed} meters rendered; the other {n_closed} need no render (closed forms "
                      "of every contribution, nothing to reflect light there) and were read from them")
     if any(split):
-        names = sorted(set().union(*split))
+        keys = set().union(*split)  # light objects by identity: name them for the note
+        names = sorted({lt.source or lt.name for lt in model.lights if light_object_key(lt) in keys})
         notes.append(f"hybrid: direct light of {', '.join(repr(x) for x in names)} added from closed forms "
                      "where proven (excluded from the sensor by light linking); Cycles rendered the rest")
     if target is not None and not run["reached"]:

@@ -258,7 +258,10 @@ def _apply(scene, *, samples, bounces, needs, seed, snapshot, writes):
     # makes neighbouring pixels share samples (distance 0: all texels identical, stated error 0);
     # (0.1: mean -6.6 % off, stated error 0.03 %); blue noise (also what AUTOMATIC picked) anti-
     # correlates neighbours (rho ~ -0.1); path guiding learns from other pixels (measured: error 7x
-    # larger; -1.3 % combined with opaque lights). Tabulated Sobol, full per-pixel scrambling.
+    # larger; -1.3 % combined with opaque lights). Tabulated Sobol with scrambling distance 1: each
+    # pixel draws from one of 256 fixed patterns (NUM_TAB_SOBOL_PATTERNS), only shuffled per pixel,
+    # so texels are independent draws of a finite table: rare paths get the table's floor
+    # (radiometry/allocation.py, docs/errors.md).
     _set(cy, "sampling_pattern", "TABULATED_SOBOL")
     cy.scrambling_distance = 1.0
     cy.auto_scrambling_distance = False

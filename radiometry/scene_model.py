@@ -413,6 +413,55 @@ def interpane_fraction(model, crossings):
     return float(np.max(1.0 - single / np.maximum(T, 1e-300)))
 
 
+def _light_beyond(spec, normal, height, side, tol):
+    """True when the light ``spec`` lies wholly on the side of the plane ``normal . x = height``
+    opposite to ``side`` (+1 / -1): its mirror image in that plane then faces away from the meter."""
+    if spec.kind == "SUN":
+        towards = -spec.emission_direction
+        return bool(side * (normal @ towards) < -np.sin(0.5 * spec.angle) - 1e-12)
+    points = [spec.position]
+    if spec.kind == "AREA":
+        e1, e2 = spec.edges
+        points = [spec.position + a * e1 + b * e2 for a in (-0.5, 0.5) for b in (-0.5, 0.5)]
+    reach = spec.radius if spec.kind in ("POINT", "SPOT") else 0.0
+    return all(side * (normal @ x - height) + reach < -tol for x in points)
+
+
+def quiet_panes(model, p, tol):
+    """Object indices of thin panes that can send ``p`` no light beyond what crosses them straight (the
+    closed forms' T, inter-pane reflections included). A pane reflects only light from ``p``'s side of
+    it, so it is quiet when nothing on that side shines or reflects: no object other than panes
+    reflects or emits, and every light lies wholly beyond every pane (an emitting world was handled
+    before). A pane with a frame in the same object is never quiet (the frame reflects)."""
+    g = model.geometry
+    if not model.panes or g.pane_of is None:
+        return set()
+    panes = set(model.panes)
+    emits = np.zeros(len(g.object_names), bool)
+    if len(g.emissive):
+        emits[np.unique(g.object_index[np.asarray(g.emissive, bool)])] = True
+    others = (np.asarray(g.reflects, bool) | emits) & ~np.isin(np.arange(len(g.object_names)), list(panes))
+    if others.any():
+        return set()
+    lights = [lt for lt in model.lights if not lt.portal]
+    if any(lt.spec is None or not hasattr(lt.spec, "kind") for lt in lights):
+        return set()
+    quiet = set()
+    for k, pane in model.panes.items():
+        mine = g.object_index == k
+        if pane.geometry is None or np.any(g.pane_of[mine] != k) or emits[k]:
+            continue
+        normal = np.asarray(pane.geometry.normal, float)
+        offsets = normal @ p - np.asarray(pane.geometry.heights, float)
+        if not (np.all(offsets > tol) or np.all(offsets < -tol)):
+            continue  # p inside the slab or on a face
+        side = 1.0 if offsets[0] > 0 else -1.0
+        height = min(pane.geometry.heights) if side > 0 else max(pane.geometry.heights)
+        if all(_light_beyond(lt.spec, normal, height, side, tol) for lt in lights):
+            quiet.add(k)
+    return quiet
+
+
 def indirect_possible(model, p, n, tol):
     """(bool, reason): can light reach p (normal n) other than straight from a light?
 
@@ -432,8 +481,9 @@ def indirect_possible(model, p, n, tol):
     if not g.count:
         return False, ""
     reflects = np.asarray(g.reflects, bool)
+    quiet = quiet_panes(model, p, tol)
     for k, verts, corners, emitting in g.object_vertices():
-        if not reflects[k] or np.all((corners - p) @ n <= tol):
+        if not reflects[k] or k in quiet or np.all((corners - p) @ n <= tol):
             continue
         if np.any(verts @ n > p @ n + tol):
             if len(emitting) and np.any(~visibility.below_plane(emitting, p, n, tol)):

@@ -412,3 +412,23 @@ def test_sharp_mirrors_found_by_identity(clean_blender):
     assert len(tris) == 2 and set(owners) == {"Floor"}  # the capture's names, found by identity
     floor.data.materials[0].node_tree.nodes["Glossy BSDF"].inputs["Roughness"].default_value = 0.5
     assert len(glass.mirror_triangles(model)[0]) == 0  # the same object, now rough: no mirror
+
+
+def test_a_pane_that_mirrors_nothing_leaves_the_closed_form_exact(clean_blender):
+    """A pane reflects only light from the meter's side of it. With the lamp beyond every pane and
+    nothing else that reflects, nothing is left to render: ``auto`` reads the slab's closed form,
+    exact (it stated ±0 as a hybrid before, a rendered reading with a zero error). A lamp on the
+    meter's side is mirrored by the pane, and the reading is not exact."""
+    from radiometer import api
+
+    for name in ("plain", "double_glazing"):
+        scene, [(_label, point, normal)] = scenes.window(name, light="POINT")
+        expected, _open = _window_closed_form(name, "POINT")
+        r = api.measure_illuminance(point, normal, scene=scene, quality="preview")
+        assert r.exact and r.method == "analytic", (name, r.method, r.notes)
+        assert r.illuminance == pytest.approx(expected, rel=1e-9)
+    scene, [(_label, point, normal)] = scenes.window("plain", light="POINT")
+    lamp = next(ob for ob in scene.objects if ob.type == "LIGHT")
+    lamp.location.z = 0.5  # between the meter (z = 0) and the pane (z = 1)
+    r = api.measure_illuminance(point, normal, scene=scene, quality="preview")
+    assert not r.exact and r.rel_std_error > 0.0
