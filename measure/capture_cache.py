@@ -73,7 +73,7 @@ from . import scene_capture
 CAPACITY = 4
 
 _state = {"updates": 0, "geometry_updates": 0, "maybe_updates": 0, "hits": 0, "misses": 0, "restamps": 0,
-          "light_recaptures": 0, "partial_captures": 0}
+          "light_recaptures": 0, "partial_captures": 0, "other_updates": 0, "light_rereads": 0}
 _entries = collections.OrderedDict()
 #: (geometry update count, what it touched: frozenset of ('object', session uid) / ('data', pointer), or
 #: None for "anything"), one per geometry update, the latest last: what a partial capture must read again.
@@ -91,6 +91,7 @@ def _geometry_edit(touched):
 def _count_update(*_args):
     """load_post, undo_post, redo_post: anything may have changed."""
     _state["updates"] += 1
+    _state["other_updates"] += 1
     _geometry_edit(None)
 
 
@@ -181,8 +182,11 @@ def _count_edit(_scene=None, depsgraph=None, *_args):
     and notes what the latter touched (``_touched``)."""
     _state["updates"] += 1
     if depsgraph is None:
+        _state["other_updates"] += 1
         _geometry_edit(None)
         return
+    if not _light_data_only(depsgraph.updates):
+        _state["other_updates"] += 1
     trees, kinds, touched = None, set(), set()
     for update in depsgraph.updates:
         if isinstance(update.id, bpy.types.ShaderNodeTree) and trees is None:
@@ -196,6 +200,31 @@ def _count_edit(_scene=None, depsgraph=None, *_args):
         _geometry_edit(None if touched is None else frozenset(touched))
     elif MAYBE in kinds:
         _state["maybe_updates"] += 1
+
+
+def _light_data_only(updates):
+    """True when a batch of updates edited light data-blocks and nothing else: each is a light's data, its
+    node tree, or a light object that did not move and whose data-block is in the batch (measured, bpy
+    5.0.1: a light's power, colour or shadow flag reports its object, geometry and shading, beside its data;
+    a ray-visibility flag reports the object alone, a move the object with its transform). The lights can
+    then be read again without a probe render (``scene_capture.relight``, which still compares every value
+    it reads of the objects with the probe's, so an object edit in the same batch is seen there)."""
+    lights, objects, trees = set(), [], None
+    for update in updates:
+        block = update.id
+        original = getattr(block, "original", None) or block
+        if isinstance(block, bpy.types.Light):
+            lights.add(original.as_pointer())
+        elif isinstance(block, bpy.types.Object) and original.type == "LIGHT" and not update.is_updated_transform:
+            objects.append(original)
+        elif isinstance(block, bpy.types.ShaderNodeTree):
+            if trees is None:
+                trees = {light.node_tree.as_pointer() for light in bpy.data.lights if light.node_tree is not None}
+            if original.as_pointer() not in trees:
+                return False
+        else:
+            return False
+    return bool(lights) and all(ob.data is not None and ob.data.as_pointer() in lights for ob in objects)
 
 
 def _touched_since(geometry_updates):
@@ -437,12 +466,21 @@ def capture(scene, view_layer=None, exclude=()):
         _state["hits"] += 1
         return _copy(entry[3], scene)
     _state["misses"] += 1
-    model = None
-    if entry is not None and entry[1] == _state["geometry_updates"] and same_render:
+    model, records = None, []
+    if (entry is not None and entry[1] == _state["geometry_updates"] and entry[2] == _state["maybe_updates"]
+            and entry[5] == _state["other_updates"] and entry[6] is not None and same_render):
+        # Only light data-blocks were edited since: the same light instances, read again from their data
+        # without a probe render (None when an object changed too: then the probe below).
+        model, records = scene_capture.relight(scene, entry[3], entry[6]), entry[6]
+        if model is not None:
+            _state["light_recaptures"] += 1
+            _state["light_rereads"] += 1
+    if model is None and entry is not None and entry[1] == _state["geometry_updates"] and same_render:
         # No mesh, material or object shape changed since: read the lights and the world again, and keep
         # the geometry when the render holds the same instances (checked if visibility may have changed).
         cached, maybe_changed = entry[3], entry[2] != _state["maybe_updates"]  # before the probe's own updates
-        model = scene_capture.capture_lights(scene, cached, view_layer)
+        records = []
+        model = scene_capture.capture_lights(scene, cached, view_layer, light_records=records)
         if maybe_changed and (model.needs.get("render_instances") is None
                               or model.needs["render_instances"] != cached.needs.get("render_instances")):
             model = None  # an object was hidden, shown, added or removed: capture everything
@@ -453,17 +491,18 @@ def capture(scene, view_layer=None, exclude=()):
         touched, render = _touched_since(entry[1]), _render_changes(entry[4], render_state)
         if touched is not None and render is not None:
             touched |= render  # a render-only modifier setting: that object is read again
-            fresh = {}
+            fresh, records = {}, []
             model = scene_capture.capture_partial(scene, _instances[1], _rereader(touched, view_layer), view_layer,
-                                                  exclude=exclude, instances=fresh)
+                                                  exclude=exclude, instances=fresh, light_records=records)
             _instances[:] = [key, fresh]
             _state["partial_captures"] += 1
     if model is None:
-        fresh = {}
-        model = scene_capture.capture(scene, view_layer, exclude=exclude, instances=fresh)
+        fresh, records = {}, []
+        model = scene_capture.capture(scene, view_layer, exclude=exclude, instances=fresh, light_records=records)
         _instances[:] = [key, fresh]
     view_layer.update()  # absorb the probe render's own restore, so the next look-up can hit
-    _entries[key] = (*_stamp(), model, render_state)
+    # (update counts, model, render-only state, other-than-light-data updates, the probe's light records)
+    _entries[key] = (*_stamp(), model, render_state, _state["other_updates"], tuple(records))
     _entries.move_to_end(key)
     while len(_entries) > CAPACITY:
         _entries.popitem(last=False)
@@ -523,6 +562,6 @@ class Watch:
         if (entry is None or _animated() or _key(self.scene, self.view_layer, self.key[6]) != self.key
                 or _render_only_state(self.scene, self.view_layer) != entry[4]):
             return
-        _entries[self.key] = (*_stamp(), *entry[3:])
+        _entries[self.key] = (*_stamp(), entry[3], entry[4], _state["other_updates"], entry[6])
         _state["restamps"] += 1
 

@@ -12,7 +12,9 @@ it never shows in the Render Engine menu.
 
 Three walks share that probe: ``capture`` reads everything; ``capture_lights`` reads the lights only
 (the geometry kept); ``capture_partial`` reads everything but the triangles of instances no edit
-reached, which it keeps from an earlier capture (``capture_cache`` decides which; issue 17).
+reached, which it keeps from an earlier capture (``capture_cache`` decides which; issue 17). After
+edits of light data-blocks only, ``relight`` replays the light instances a probe recorded
+(``LightRecord``) with their data-blocks read again, and renders nothing.
 """
 
 import dataclasses
@@ -45,6 +47,7 @@ class _Capture:
     previous = None  # capture_partial: the instances of an earlier capture whose triangles may be kept
     reread = None  # capture_partial: reread(original, data, parent) -> True when they must be read again
     instances = None  # a dict to fill with this capture's instances (capture_cache keeps it for the next)
+    light_records = None  # a list to fill with one LightRecord per light instance (``relight`` replays them)
 
 
 def _material_traits(material):
@@ -166,6 +169,8 @@ def _collect(depsgraph):
             visibility = _ray_visibility(obj, bool(getattr(obj.data, "use_shadow", True)))
             lights.append(dict(_light_entry(obj, name, inst.matrix_world, source_id, visibility),
                                source=original.name, source_id=source_id))
+            if _Capture.light_records is not None:
+                _Capture.light_records.append(_light_record(obj, original, name, inst.matrix_world, source_id))
             continue
         if obj.type in _GEOMETRY_TYPES and (obj.visible_diffuse or obj.visible_glossy or obj.visible_transmission
                                             or obj.visible_shadow):  # no rays: the capture skips it too
@@ -424,6 +429,60 @@ def _light_entry(obj, name, matrix_world, source_id, visibility):
             "portal": portal, "notes": tuple(notes)}
 
 
+#: What ``_light_entry`` and ``uncovered_reason`` read from a light's OBJECT (the rest is its data-block).
+_LIGHT_OBJECT_FLAGS = ("visible_camera", "visible_diffuse", "visible_glossy", "visible_transmission",
+                       "visible_volume_scatter", "hide_render")
+
+
+@dataclasses.dataclass(frozen=True)
+class LightRecord:
+    """One light instance of a probe render, as ``relight`` replays it: the instance's name, identity and
+    world matrix (scene units, rows), and its object's state (``_object_state``) and data-block then."""
+
+    name: str
+    source: str
+    session_uid: int
+    data_pointer: int
+    matrix_world: tuple
+    source_id: object
+    object_state: tuple
+
+
+def _object_state(obj):
+    """The light object's values that the capture reads (ray flags, light linking) or that decide whether
+    it renders (``hide_render``), and its own world matrix: equal values, equal light entries."""
+    linking = getattr(obj, "light_linking", None)
+    links = (None, None) if linking is None else (
+        linking.receiver_collection is not None, linking.blocker_collection is not None)
+    return (tuple(bool(getattr(obj, attr, True)) for attr in _LIGHT_OBJECT_FLAGS), links,
+            tuple(tuple(row) for row in obj.matrix_world))
+
+
+def _light_record(obj, original, name, matrix_world, source_id):
+    return LightRecord(name=name, source=original.name, session_uid=int(original.session_uid),
+                       data_pointer=original.data.as_pointer(), matrix_world=tuple(tuple(row) for row in matrix_world),
+                       source_id=source_id, object_state=_object_state(original))
+
+
+class _LightInstance:
+    """What ``_light_entry`` reads of an evaluated light instance, rebuilt from a record and the light's
+    data-block (``relight``)."""
+
+    def __init__(self, data, state):
+        self.data = data
+        for attr, value in zip(_LIGHT_OBJECT_FLAGS, state[0]):
+            setattr(self, attr, value)
+        receiver, blocker = state[1]
+        self.light_linking = None if receiver is None else type("LightLinking", (), {
+            "receiver_collection": True if receiver else None, "blocker_collection": True if blocker else None})()
+
+
+def _unanimated(light):
+    """True when nothing evaluates a light's values differently from its data-block's stored ones."""
+    tree = getattr(light, "node_tree", None)
+    return light.animation_data is None and (tree is None or tree.animation_data is None)
+
+
 class _ProbeEngine(bpy.types.RenderEngine):
     bl_idname = "RADIOMETER_SCENE_PROBE"
     bl_label = "Radiometer scene probe"
@@ -462,12 +521,13 @@ def _render_probe(scene, view_layer):
             bpy.utils.unregister_class(_ProbeEngine)
 
 
-def _probe(scene, view_layer, exclude, lights_only, instances=None, previous=None, reread=None):
+def _probe(scene, view_layer, exclude, lights_only, instances=None, previous=None, reread=None, light_records=None):
     """(raw lights, geometry, needs) of the render depsgraph, read by one probe render (``instances``,
-    ``previous``, ``reread``: see ``capture_partial``)."""
+    ``previous``, ``reread``: see ``capture_partial``; ``light_records``: a list to fill, see ``relight``)."""
     _Capture.exclude, _Capture.result, _Capture.error = frozenset(exclude), None, None
     _Capture.scale, _Capture.lights_only = scene.unit_settings.scale_length, lights_only
     _Capture.instances, _Capture.previous, _Capture.reread = instances, previous, reread
+    _Capture.light_records = light_records
     try:
         _render_probe(scene, view_layer)
         if _Capture.error is not None:
@@ -480,7 +540,7 @@ def _probe(scene, view_layer, exclude, lights_only, instances=None, previous=Non
     finally:
         _Capture.result = _Capture.error = None
         _Capture.lights_only = False
-        _Capture.instances = _Capture.previous = _Capture.reread = None
+        _Capture.instances = _Capture.previous = _Capture.reread = _Capture.light_records = None
 
 
 def _model_lights(raw_lights):
@@ -496,14 +556,15 @@ def _world_state(scene):
     return render_settings.world_emits(scene.world), bool(world_volume)
 
 
-def capture(scene, view_layer=None, exclude=(), instances=None):
+def capture(scene, view_layer=None, exclude=(), instances=None, light_records=None):
     """The scene as Cycles renders it: a ``SceneModel`` in metres: emitters (``radiometry.emitters``,
     built here once per capture, with their source identity and ray visibility) and triangles.
-    ``instances``: a dict to fill with what ``capture_partial`` needs to build on this capture."""
-    return _capture(scene, view_layer, exclude, instances)
+    ``instances``: a dict to fill with what ``capture_partial`` needs to build on this capture;
+    ``light_records``: a list to fill with what ``relight`` needs to read its lights again without a render."""
+    return _capture(scene, view_layer, exclude, instances, light_records=light_records)
 
 
-def capture_partial(scene, previous, reread, view_layer=None, exclude=(), instances=None):
+def capture_partial(scene, previous, reread, view_layer=None, exclude=(), instances=None, light_records=None):
     """``capture(scene, view_layer, exclude)`` after a geometry edit, reading again only the triangles
     an edit may have reached (issue 17). ``previous``: the ``instances`` a capture of this scene filled;
     ``reread(original object, original data-block, original instancer or None)``: True when an edit
@@ -511,12 +572,13 @@ def capture_partial(scene, previous, reread, view_layer=None, exclude=(), instan
     updates). Every other instance keeps its local arrays (transformed again if it moved) and, if it did
     not move, its triangles; everything else (lights, materials, flags, panes, emitters) is read as in a
     full capture, by the same walk, so the model equals a full capture's."""
-    return _capture(scene, view_layer, exclude, instances, previous, reread)
+    return _capture(scene, view_layer, exclude, instances, previous, reread, light_records)
 
 
-def _capture(scene, view_layer, exclude, instances, previous=None, reread=None):
+def _capture(scene, view_layer, exclude, instances, previous=None, reread=None, light_records=None):
     view_layer = view_layer or scene.view_layers[0]
-    raw_lights, geometry, needs = _probe(scene, view_layer, exclude, False, instances, previous, reread)
+    raw_lights, geometry, needs = _probe(scene, view_layer, exclude, False, instances, previous, reread,
+                                         light_records)
     needs["world_emits"], world_volume = _world_state(scene)
     needs["surface_volume"] = needs["volume"]  # without the world's: capture_lights reads the world again
     needs["volume"] |= world_volume
@@ -531,7 +593,7 @@ def _capture(scene, view_layer, exclude, instances, previous=None, reread=None):
                                   emissive_meshes=emissive_meshes)
 
 
-def capture_lights(scene, model, view_layer=None):
+def capture_lights(scene, model, view_layer=None, light_records=None):
     """``model`` (a capture of this scene) with its lights and world read again and everything else kept
     (the geometry object itself, with its spatial index): for edits that changed only lights or the
     world (``capture_cache`` decides which). One probe render that walks the render depsgraph's lights
@@ -539,15 +601,43 @@ def capture_lights(scene, model, view_layer=None):
     ``needs["render_instances"]`` is the render's geometry signature now: the caller compares it with the
     model's when an update may have changed visibility (see ``_instance_signature``)."""
     view_layer = view_layer or scene.view_layers[0]
-    raw_lights, _geometry, probe_needs = _probe(scene, view_layer, (), lights_only=True)
+    raw_lights, _geometry, probe_needs = _probe(scene, view_layer, (), lights_only=True, light_records=light_records)
+    return _relit(scene, model, raw_lights, probe_needs["render_instances"])
+
+
+def _relit(scene, model, raw_lights, render_instances):
+    """``model`` with ``raw_lights`` for its lights and the world read again (``capture_lights``, ``relight``)."""
     world_emits, world_volume = _world_state(scene)
-    needs = dict(model.needs, world_emits=world_emits, render_instances=probe_needs["render_instances"],
+    needs = dict(model.needs, world_emits=world_emits, render_instances=render_instances,
                  volume=bool(model.needs.get("surface_volume", model.needs["volume"])) or world_volume)
     return dataclasses.replace(model, lights=_model_lights(raw_lights), world_emits=world_emits, needs=needs,
                                world=_world(scene, world_emits), world_volume=world_volume,
                                volumes=list(model.volumes), panes=dict(model.panes),
                                refractors=list(model.refractors), emissive_meshes=list(model.emissive_meshes),
                                notes=list(model.notes))
+
+
+def relight(scene, model, records):
+    """``capture_lights(scene, model)`` without a probe render, after edits that changed light DATA-BLOCKS
+    only (``capture_cache`` decides, from the depsgraph's updates): every light instance of ``records``
+    (the list the probe of ``model`` filled) is read again from its object's data-block, with the
+    instance's kept name, identity and world matrix, by the probe's own ``_light_entry``. Returns None
+    (the caller renders the probe) when a record's object is gone, renamed or holds another data-block,
+    when its object's flags, linking or matrix differ from the probe's (an object edit made together
+    with a data edit), or when a light or its node tree is animated (the render would evaluate it)."""
+    raw_lights = []
+    _Capture.scale = scene.unit_settings.scale_length
+    for record in records:
+        original = bpy.data.objects.get(record.source)
+        if (original is None or int(original.session_uid) != record.session_uid or original.type != "LIGHT"
+                or original.data is None or original.data.as_pointer() != record.data_pointer
+                or not _unanimated(original.data) or _object_state(original) != record.object_state):
+            return None
+        instance = _LightInstance(original.data, record.object_state)
+        visibility = _ray_visibility(instance, bool(getattr(original.data, "use_shadow", True)))
+        raw_lights.append(dict(_light_entry(instance, record.name, record.matrix_world, record.source_id, visibility),
+                               source=record.source, source_id=record.source_id))
+    return _relit(scene, model, raw_lights, model.needs.get("render_instances"))
 
 
 def _world(scene, emits):

@@ -5,6 +5,7 @@ meter), so the expected numbers are P / (4 pi r^2) (Blender's point light, FACTS
 model would show as the old number.
 """
 
+import dataclasses
 import math
 
 import bpy
@@ -29,16 +30,21 @@ def _point_lux(power_w, distance_m):
 @pytest.fixture
 def captures(monkeypatch):
     """Counts the real (probe-render) captures of the geometry, full or partial (``captures.partial``: the
-    partial ones alone); ``captures.lights`` counts the lights-only ones."""
+    partial ones alone); ``captures.lights`` counts the lights-only ones, with a probe render or without
+    (``captures.rereads``: those without, ``scene_capture.relight``, None when it declined)."""
     calls = _Calls()
     for name, where in (("capture", (calls,)), ("capture_partial", (calls, calls.partial)),
-                        ("capture_lights", (calls.lights,))):
+                        ("capture_lights", (calls.lights,)), ("relight", (calls.rereads,))):
         real = getattr(scene_capture, name)
 
-        def counting(*args, _real=real, _where=where, **kwargs):
+        def counting(*args, _real=real, _where=where, _name=name, **kwargs):
+            result = _real(*args, **kwargs)
             for target in _where:
-                target.append(args)
-            return _real(*args, **kwargs)
+                if result is not None:  # relight declined: the probe follows (counted there)
+                    target.append(args)
+            if _name == "relight" and result is not None:
+                calls.lights.append(args)
+            return result
 
         monkeypatch.setattr(scene_capture, name, counting)
     capture_cache.clear()
@@ -50,6 +56,7 @@ class _Calls(list):
         super().__init__()
         self.lights = []
         self.partial = []
+        self.rereads = []
 
 
 def test_unchanged_scene_is_captured_once_and_an_edit_is_seen(clean_blender, build, captures):
@@ -63,8 +70,9 @@ def test_unchanged_scene_is_captured_once_and_an_edit_is_seen(clean_blender, bui
     assert _lux() == pytest.approx(_point_lux(250.0, 2.0), rel=1e-7)
     lamp.location.z = 4.0
     assert _lux() == pytest.approx(_point_lux(250.0, 4.0), rel=1e-7)
-    # Lights-only edits: the lights were read again (twice), the geometry kept from the one full capture.
-    assert len(captures) == 1 and len(captures.lights) == 2
+    # Lights-only edits: the lights were read again (twice), the geometry kept from the one full capture;
+    # the power edit (the light's data alone) without a probe render, the move with one.
+    assert len(captures) == 1 and len(captures.lights) == 2 and len(captures.rereads) == 1
 
 
 def test_edits_blender_does_not_announce_are_still_seen(clean_blender, build, captures):
@@ -347,3 +355,105 @@ def test_a_light_edit_after_a_rendered_reading_keeps_the_geometry(clean_blender,
     second = _render(seed=1)
     assert len(captures) == 1 and len(captures.lights) == 1  # the bake's own changes were restamped
     assert second.irradiance == pytest.approx(3.0 * first.irradiance, rel=0.2)
+
+
+def _same(a, b):
+    """Exact equality of two capture values (dataclasses, enums, arrays, containers) field by field."""
+    if dataclasses.is_dataclass(a) and not isinstance(a, type):
+        return type(a) is type(b) and all(_same(getattr(a, f.name), getattr(b, f.name))
+                                          for f in dataclasses.fields(a))
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        return np.array_equal(np.asarray(a), np.asarray(b))
+    if isinstance(a, dict):
+        return isinstance(b, dict) and a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, (list, tuple)):
+        return type(a) is type(b) and len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
+    return a == b
+
+
+def _light_scene(build):
+    """Point, spot (two objects share its data), area, sun, a point light instanced twice by a collection
+    instance, and a shadow-only floor."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    lamps = {"point": build.light(scene, "POINT", location=(0.3, 0.0, 2.0), energy=100.0),
+             "spot": build.light(scene, "SPOT", location=(0.0, 1.0, 2.5), rotation=(0.3, 0.0, 0.0), energy=80.0,
+                                 spot_size=1.0),
+             "area": build.light(scene, "AREA", location=(-1.0, 0.0, 2.0), energy=60.0, size=0.5),
+             "sun": build.light(scene, "SUN", rotation=(0.2, 0.1, 0.0), energy=2.0)}
+    twin = bpy.data.objects.new("spot twin", lamps["spot"].data)
+    twin.location = (1.0, -1.0, 2.5)
+    scene.collection.objects.link(twin)
+    group = bpy.data.collections.new("lamp group")  # not in the scene: rendered only through its instances
+    build.light(scene, "POINT", location=(0.0, 0.0, 3.0), energy=40.0, name="grouped", collection=group)
+    for x in (-2.0, 2.0):
+        holder = bpy.data.objects.new(f"holder {x}", None)
+        holder.instance_type, holder.instance_collection, holder.location = "COLLECTION", group, (x, 0.0, 0.0)
+        scene.collection.objects.link(holder)
+    _shadow_only_plane(build, scene, 4.0, -1.0, "floor")
+    lamps["grouped"] = bpy.data.objects["grouped"]
+    return scene, lamps
+
+
+def test_light_data_edits_are_read_without_a_probe_and_equal_a_full_capture(clean_blender, build, captures):
+    """Issue 17: after edits of light data-blocks only, ``scene_capture.relight`` replays the probe's light
+    instances with their data read again: the model's lights, world and needs equal a full capture's
+    (value for value), and no probe render ran; an object edit in the same batch falls back to the probe."""
+    scene, lamps = _light_scene(build)
+    layer = bpy.context.view_layer
+
+    def read_and_compare(fast):
+        rereads = capture_cache.stats()["light_rereads"]
+        model = capture_cache.capture(scene, layer)
+        assert capture_cache.stats()["light_rereads"] == rereads + int(fast)
+        full = scene_capture.capture(scene, layer)
+        assert len(model.lights) == 7
+        assert _same(model.lights, full.lights)
+        assert model.world_emits == full.world_emits and model.world_volume == full.world_volume
+        assert _same(model.needs, full.needs)
+        capture_cache.capture(scene, layer)  # the reference capture's own restore: a probe, stamped again
+        return model
+
+    read_and_compare(False)
+    edits = [lambda: setattr(lamps["point"].data, "energy", 150.0),
+             lambda: setattr(lamps["spot"].data, "color", (1.0, 0.5, 0.25)),  # two objects share it
+             lambda: setattr(lamps["spot"].data, "spot_size", 0.7),
+             lambda: setattr(lamps["area"].data, "shape", "ELLIPSE"),
+             lambda: setattr(lamps["area"].data, "size", 0.8),
+             lambda: setattr(lamps["sun"].data, "angle", 0.1),
+             lambda: setattr(lamps["grouped"].data, "energy", 10.0),  # instanced twice
+             lambda: setattr(lamps["point"].data, "use_shadow", False),  # the shadow flag of its visibility
+             lambda: (setattr(lamps["point"].data, "use_temperature", True),
+                      setattr(lamps["point"].data, "temperature", 3000.0)),
+             lambda: setattr(lamps["point"].data, "type", "SPOT")]
+    for edit in edits:
+        edit()
+        read_and_compare(True)
+    assert len(captures.rereads) == len(edits)
+    # An object's flag edited together with its data (one batch): relight sees it and declines.
+    lamps["area"].data.energy = 30.0
+    lamps["area"].visible_glossy = False
+    read_and_compare(False)
+    lamps["area"].data.energy = 20.0
+    lamps["area"].hide_render = True  # gone from the render: not replayed
+    rereads = capture_cache.stats()["light_rereads"]
+    assert len(capture_cache.capture(scene, layer).lights) == 6
+    assert capture_cache.stats()["light_rereads"] == rereads
+    assert len(captures.rereads) == len(edits)
+
+
+def test_a_reading_after_a_light_data_edit_is_the_same_bit_for_bit(clean_blender, build, captures):
+    """The same seed after a light-data edit: the reading through ``relight`` equals, field for field, the
+    one through a full capture of the same scene (a Cycles-rendered part and closed forms)."""
+    lamp = _rendered_scene(build)
+    _render()
+    lamp.data.energy = 300.0
+    fast = _render(seed=5)
+    assert len(captures.rereads) == 1 and len(captures) == 1
+    capture_cache.clear()
+    bpy.context.view_layer.update()
+    full = _render(seed=5)
+    assert len(captures) == 2
+    a, b = dataclasses.asdict(fast), dataclasses.asdict(full)
+    a.pop("seconds"), b.pop("seconds")
+    assert a == b
