@@ -5,6 +5,7 @@ Host code: gathers the scene, calls the pure models in ``radiometry`` or renders
 converted with ``scene.unit_settings.scale_length``.
 """
 
+import dataclasses
 import math
 import time
 
@@ -84,7 +85,7 @@ def plan(scene, model, points_m, normals, method, direct_only=False):
     emitting = [lt for lt in model.lights if not lt.portal]
     if not emitting and not model.world_emits and not model.emissive_surfaces:
         raise RadiometerError("the scene has no light sources (no lights, a black world, no emitting surfaces)")
-    direct = scene_model.plan_direct(model, points_m, normals)
+    direct = _plan_direct(model, points_m, normals)
     world_render = _world_rendered(direct)
     unmodelled = (world_render or bool(model.emissive_surfaces)) if direct_only else direct.indirect.any()
     analytic_ok = np.isin(direct.status, (scene_model.EXACT, scene_model.ZERO, scene_model.BOUNDED)).all() \
@@ -121,6 +122,44 @@ def plan(scene, model, points_m, normals, method, direct_only=False):
     return {"method": chosen, "needs": model.needs, "model": model, "direct": direct, "uncovered": uncovered,
             "reasons": reasons, "analytic_exact": bool(analytic_ok and exact.all()), "exact_points": exact,
             "closed_points": closed & (exact if method == "hybrid" and chosen != "analytic" else True)}
+
+
+#: The latest proofs (``_plan_direct``): (key, the model parts the key names by identity, DirectPlan).
+_LAST_PLAN = [None, None, None]
+
+
+def _model_parts(model):
+    """Every value a ``SceneModel`` holds, its lists' and dicts' items one by one: a capture served again
+    from ``capture_cache`` (nothing changed) shares them all, a light read again gives new ones."""
+    parts = []
+    for field in dataclasses.fields(model):
+        value = getattr(model, field.name)
+        if isinstance(value, dict):
+            parts += [(field.name, key, item) for key, item in value.items()]
+        elif isinstance(value, list):
+            parts += [(field.name, k, item) for k, item in enumerate(value)]
+        else:
+            parts.append((field.name, None, value))
+    return parts
+
+
+def _plan_direct(model, points_m, normals):
+    """``scene_model.plan_direct(model, points_m, normals)``, kept for the next call when that call has the
+    same points and normals and a model made of the same objects (issue 17: a reading repeated on an
+    unchanged scene proves the same visibility again otherwise). The model's parts are pure data, never
+    changed in place, and the entry holds them, so equal identities mean equal values; the plan handed
+    out is a copy (its arrays are the caller's)."""
+    from ..radiometry import scene_model
+
+    parts = _model_parts(model)
+    points_m, normals = np.asarray(points_m, float), np.asarray(normals, float)
+    key = (tuple((name, k, id(value)) for name, k, value in parts), points_m.shape, points_m.tobytes(),
+           normals.tobytes())
+    if _LAST_PLAN[0] != key:
+        _LAST_PLAN[:] = [key, parts, scene_model.plan_direct(model, points_m, normals)]
+    kept = _LAST_PLAN[2]
+    return dataclasses.replace(kept, **{f.name: value.copy() for f in dataclasses.fields(kept)
+                                        if isinstance(value := getattr(kept, f.name), np.ndarray)})
 
 
 def closed_form_points(model, direct, method, chosen, direct_only=False):
@@ -266,18 +305,45 @@ def sensor_points(points_scene, normals, scale, model=None):
     eps = scene_model.receiver_offset(points_scene, unit_length=1.0 / scale)
     if model is not None:
         g = model.geometry
-        near = np.zeros(len(points_scene), bool)
-        if g.count:
-            for k, p in enumerate(points_scene):
-                near[k] = g.grid.query(p * scale, p * scale, 8 * eps[k] * scale).size > 0
+        key = ("near", id(g), float(scale), np.asarray(points_scene, float).tobytes(), eps.tobytes())
+        near = _placement_memo(g, key)
+        if near is None:
+            near = np.zeros(len(points_scene), bool)
+            if g.count:
+                for k, p in enumerate(points_scene):
+                    near[k] = g.grid.query(p * scale, p * scale, 8 * eps[k] * scale).size > 0
+            _placement_memo(g, key, near)
         eps = np.where(near, eps, 0.0)
     return points_scene + normals * eps[:, None], eps
+
+
+#: (geometry, {key: value}) of the latest geometry: what ``sensor_points`` and ``placement_notes`` found
+#: there (they read the triangles alone, which a kept capture shares: issue 17).
+_PLACEMENT = [None, {}]
+
+
+def _placement_memo(geometry, key, value=None):
+    """The value kept for ``key`` on ``geometry`` (None if none), or keep ``value`` there. The geometry
+    is held, so its ``id`` in the key names it alone; a new geometry starts afresh."""
+    if _PLACEMENT[0] is not geometry:
+        _PLACEMENT[:] = [geometry, {}]
+    if value is None:
+        return _PLACEMENT[1].get(key)
+    if len(_PLACEMENT[1]) >= 64:
+        _PLACEMENT[1].clear()
+    _PLACEMENT[1][key] = value
+    return value
 
 
 def placement_notes(model, points_m, normals, eps_m):
     """Notes for meters that lie on a surface (the usual desk case)."""
     from ..radiometry import scene_model
 
+    key = ("notes", id(model.geometry), np.asarray(points_m, float).tobytes(), np.asarray(normals, float).tobytes(),
+           np.asarray(eps_m, float).tobytes())
+    kept = _placement_memo(model.geometry, key)
+    if kept is not None:
+        return list(kept)
     notes = []
     on = {}
     for k, (p, n) in enumerate(zip(points_m, normals)):
@@ -290,6 +356,7 @@ def placement_notes(model, points_m, normals, eps_m):
         where = f"meter #{ks[0]}" if len(ks) == 1 else f"{len(ks)} meters"
         notes.append(f"{where} on the surface of {name!r}: the sensor sits {eps_m[ks[0]] * 1e6:.2g} um above it "
                      "along its normal and reads the light arriving at that surface")
+    _placement_memo(model.geometry, key, tuple(notes))
     return notes
 
 
