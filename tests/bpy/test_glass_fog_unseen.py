@@ -1,0 +1,160 @@
+"""Issue 18 acceptance on scenes the window and fog corpus does not hold (T8's QA; every case and
+seed in bench/qa_glass_fog.md, made by bench/qa_glass_fog.py). The cheap, decisive cases: clear panes
+under delta lights and a 0.53 degree sun against this suite's own Fresnel slab
+(``glass_fog_unseen_scenes.fresnel_slab``, not ``radiometry/thin_glass.py``), a volume cube and a
+glossy floor against converged patch renders cached in glass_fog_unseen_references.json
+(make_glass_fog_unseen_references.py)."""
+
+import importlib.util
+import json
+import math
+import pathlib
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+HERE = pathlib.Path(__file__).resolve().parent
+
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(f"_tgfu_{name}", HERE / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+u = _load("glass_fog_unseen_scenes")
+STORED = json.loads((HERE / "glass_fog_unseen_references.json").read_text())["values"]
+
+
+def _stored(key, point, normal):
+    entry = STORED[key]
+    assert np.allclose(entry["point"], point) and np.allclose(entry["normal"], normal), \
+        "stale reference: re-run make_glass_fog_unseen_references.py"
+    return u.lux(entry["E_rgb"]), float(entry["rel_std_error"])
+
+
+def _check(reading, ref_lux, ref_se):
+    """Issue 18's three criteria, each on its own (the reference's s.e. in quadrature; 0 for a closed
+    form): (1) within max(3 x s.e., 0.5 %); (2) marked exact: within 1e-4 of a closed form; (3) stating
+    < 5 %: off by at most 5 x the statement."""
+    err = abs(reading.illuminance / ref_lux - 1.0)
+    se = float(reading.rel_std_error)
+    combined = math.hypot(se, ref_se)
+    assert err <= max(3.0 * combined, 0.005), ("criterion 1", reading.illuminance, ref_lux, err, se, reading.notes)
+    if reading.exact:
+        assert ref_se == 0.0 and err <= 1e-4, ("criterion 2", reading.illuminance, ref_lux, err)
+    if se < 0.05:
+        assert err <= max(5.0 * combined, 1e-9), ("criterion 3", reading.illuminance, ref_lux, err, se)
+
+
+def _crosses(scene, point, towards, name):
+    """The ray from ``point`` towards ``towards`` (a unit direction) first hits object ``name``: the
+    closed form's condition (the light is seen through that pane) checked by Blender's own ray cast."""
+    dg = bpy.context.evaluated_depsgraph_get()
+    hit, _loc, _n, _i, obj, _m = scene.ray_cast(dg, tuple(np.asarray(point) + 1e-4 * np.asarray(towards)), tuple(towards))
+    return hit and obj.name == name
+
+
+def test_fresnel_slab_of_this_suite():
+    """The suite's own slab: normal incidence 2n/(n^2 + 1) for a clear pane, and a 45 degree value
+    from Hecht's r_s, r_p (n = 1.5: R_s = 0.09201, R_p = 0.008466 per interface, Hecht 4.42, 4.43)."""
+    assert u.fresnel_slab(1.0, 1.5)[0] == pytest.approx(2 * 1.5 / (1.5 ** 2 + 1), rel=1e-12)
+    rs, rp = 0.092013, 0.0084663
+    hecht = 0.5 * sum((1 - r) / (1 + r) for r in (rs, rp))
+    assert u.fresnel_slab(math.cos(math.radians(45.0)), 1.5)[0] == pytest.approx(hecht, rel=2e-5)
+    assert np.allclose(u.REC709_Y, [0.2126390, 0.7151687, 0.0721923], atol=1e-7)
+
+
+def test_tilted_tinted_skylight(clean_blender):
+    from radiometer import api
+
+    scene, [(_label, point, normal)] = u.skylight_tilted("POINT")
+    v = np.asarray(u.SKYLIGHT["point"], float)
+    assert _crosses(scene, point, v / np.linalg.norm(v), "Skylight")
+    expected = u.skylight_tilted_expected("POINT")
+    r = api.measure_illuminance(point, normal, scene=scene, method="auto")
+    assert r.exact and r.method == "analytic"
+    assert r.illuminance == pytest.approx(expected, rel=1e-9)
+    _check(r, expected, 0.0)
+    scene, [(_label, point, normal)] = u.skylight_tilted("SUN")
+    assert _crosses(scene, point, u.sun_direction(u.SKYLIGHT["sun_rotation"]), "Skylight")
+    expected = u.skylight_tilted_expected("SUN")
+    for method in ("auto", "render"):
+        _check(api.measure_illuminance(point, normal, scene=scene, method=method, quality="preview"), expected, 0.0)
+
+
+def test_trick_glass_on_a_solidify_modifier(clean_blender):
+    from radiometer import api
+
+    scene, [(_label, point, normal)] = u.trick_solidified()
+    assert _crosses(scene, point, u.sun_direction(u.TRICK["sun_rotation"]), "Solid pane")
+    expected = u.trick_solidified_expected()
+    for method in ("auto", "render"):
+        r = api.measure_illuminance(point, normal, scene=scene, method=method, quality="preview")
+        assert any("trick" in note for note in r.notes)
+        _check(r, expected, 0.0)
+
+
+def test_vertical_principled_pane_and_a_tilted_meter(clean_blender):
+    from radiometer import api
+
+    scene, [(_label, point, normal)] = u.principled_vertical()
+    v = np.asarray(u.PRINCIPLED["point"]) - np.asarray(point)
+    assert _crosses(scene, point, v / np.linalg.norm(v), "Principled pane")
+    expected = u.principled_vertical_expected()
+    r = api.measure_illuminance(point, normal, scene=scene, method="auto")
+    assert r.exact and r.illuminance == pytest.approx(expected, rel=1e-9)
+    _check(r, expected, 0.0)
+
+
+def test_double_glazing_in_a_wall_low_sun(clean_blender):
+    """A black room behind double glazing, sun at 25 degrees: the floor's sun patch and the desk read
+    the two panes' closed form (adding formula). (The shaded floor, which reads 0 stating an infinite
+    error after the dark-pilot floor's 65 536 samples, is in bench/qa_glass_fog.md only: seconds.)"""
+    from radiometer import api
+
+    scene, cases = u.wall_double_glazing()
+    to_sun = u.sun_direction(scene.objects["sun"].rotation_euler)
+    for label, point, _n in cases:
+        assert _crosses(scene, point, to_sun, "Room" if "shade" in label else "Pane 2"), label
+    for label, point, normal in cases:
+        if "shade" in label:
+            continue
+        # the desk by auto (a hybrid: the rendered rest of a black room is dark), the floor by closed form
+        method = "auto" if "desk" in label else "analytic"
+        r = api.measure_illuminance(point, normal, scene=scene, method=method, quality="preview")
+        assert any("Pane 1" in note for note in r.notes) and any("Pane 2" in note for note in r.notes)
+        _check(r, u.wall_double_glazing_expected(label), 0.0)
+
+
+def test_volume_cube_against_a_patch_render(clean_blender):
+    from radiometer import api
+
+    scene, cases = u.fog_cube()
+    readings = api.measure_illuminance([c[1] for c in cases], [c[2] for c in cases], scene=scene, method="auto",
+                                       quality="standard")
+    for (label, point, normal), r in zip(cases, readings):
+        assert not r.exact and r.method == "render", (label, r.method)
+        _check(r, *_stored(f"fog_cube/{label}", point, normal))
+
+
+def test_glossy_floor_onto_a_wall_meter_against_a_patch_render(clean_blender):
+    from radiometer import api
+
+    scene, [(label, point, normal)] = u.glossy_wall()
+    r = api.measure_illuminance(point, normal, scene=scene, method="auto", quality="standard")
+    _check(r, *_stored(f"glossy_wall/{label}", point, normal))
+
+
+@pytest.mark.xfail(strict=True, reason="issue 18 (T8 QA): at preview, 3 seeds of 20 stop after a 512-768 "
+                   "sample pilot that missed the floor's highlight and read 25-29 % low stating 2-3.5 % "
+                   "(bench/qa_glass_fog.md); fails until the stopping rule covers it")
+def test_glossy_floor_onto_a_wall_meter_at_preview_seed_4(clean_blender):
+    from radiometer import api
+
+    scene, [(label, point, normal)] = u.glossy_wall()
+    r = api.measure_illuminance(point, normal, scene=scene, method="auto", quality="preview", seed=4)
+    _check(r, *_stored(f"glossy_wall/{label}", point, normal))
