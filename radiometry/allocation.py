@@ -133,10 +133,21 @@ class MeterTally:
         var = np.divide(ss, (counts - 1)[:, None], out=np.full_like(ss, np.nan), where=counts[:, None] > 1)
         self.rounds.append({"spp": int(spp), "texels": counts, "mean": means, "var": var})
 
+    def _per_rounds(self, name, compute):
+        """``compute()``, kept until a round is added (as ``_combined``): the planner asks for the same
+        per-round summaries several times a round (issue 17: a reading's fixed Python cost). A copy is
+        handed out, so a caller's in-place change stays its own."""
+        kept = self.__dict__.setdefault("_kept", {}).get(name)
+        if kept is None or kept[0] != len(self.rounds):
+            kept = self.__dict__["_kept"][name] = (len(self.rounds), compute())
+        value = kept[1]
+        return tuple(v.copy() for v in value) if isinstance(value, tuple) else value.copy()
+
     @property
     def n(self):
         """Samples per meter so far."""
-        return sum((r["spp"] * r["texels"] for r in self.rounds), np.zeros(self.count))
+        return self._per_rounds("n", lambda: sum((r["spp"] * r["texels"] for r in self.rounds),
+                                                 np.zeros(self.count)))
 
     def _combined(self):
         # Every property below reads the combination; it changes only when a round is added.
@@ -218,6 +229,9 @@ class MeterTally:
     @property
     def dof(self):
         """Degrees of freedom of each meter's latest round (texels - 1)."""
+        return self._per_rounds("dof", self._dof)
+
+    def _dof(self):
         out = np.zeros(self.count)
         for r in self.rounds:
             out = np.where(r["texels"] > 0, r["texels"] - 1, out)
@@ -235,6 +249,9 @@ class MeterTally:
         """(v_last, spp_last, alpha, measured), each (N,): every meter's latest round's texel variance
         (scalar), its spp, the decay exponent of texel variance with spp (1 until two spp were
         tried) and whether it was measured."""
+        return self._per_rounds("texel_variance_model", self._texel_variance_model)
+
+    def _texel_variance_model(self):
         v_last = np.full(self.count, np.nan)
         s_last = np.zeros(self.count)
         v_prev = np.full(self.count, np.nan)

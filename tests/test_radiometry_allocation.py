@@ -126,3 +126,35 @@ def test_known_spp_share_takes_only_meters_it_serves_better():
     side = allocation.known_spp_share(tally, 0.01, allocation.PILOT_SPP, blocks, grown)
     assert side is not None and side[0] > 0 and side[1] == 0
     assert side[0] * allocation.PILOT_SPP <= blocks[0] * grown
+
+
+def test_kept_round_summaries_equal_fresh_ones_and_allocation_is_unchanged(monkeypatch):
+    """Issue 17: the tally keeps ``n``, ``dof`` and ``texel_variance_model`` until a round is added. Each
+    equals a fresh computation after every round, a caller's in-place change does not leak into the next
+    call, and a whole allocation spends the same samples and states the same errors, bit for bit, as one
+    that computes every summary afresh."""
+    mu, sigma = np.array([1.0, 2.0, 0.5, 3.0]), np.array([0.4, 3.0, 0.1, 1.0])
+
+    def run():
+        return allocation.allocate(_synthetic_bake(mu, sigma, np.random.default_rng(7), rate=0.6), len(mu),
+                                   target=0.01, table_patterns=allocation.TABLE_PATTERNS)
+
+    kept = run()
+    tally = kept.tally
+    fresh = allocation.MeterTally(tally.count, table_patterns=tally.table_patterns)
+    for r in tally.rounds:
+        fresh.rounds.append(r)
+        assert np.array_equal(fresh.n, sum((x["spp"] * x["texels"] for x in fresh.rounds), np.zeros(fresh.count)))
+        assert np.array_equal(fresh.dof, fresh._dof())
+        for a, b in zip(fresh.texel_variance_model(), fresh._texel_variance_model()):
+            assert np.array_equal(a, b, equal_nan=True)
+    assert len(tally.rounds) >= 2  # several rounds: the summaries were kept and renewed
+    fresh.n[:] = -1.0  # the caller's copy
+    fresh.texel_variance_model()[0][:] = -1.0
+    assert np.array_equal(fresh.n, tally.n) and np.all(fresh.texel_variance_model()[0] >= 0)
+
+    monkeypatch.setattr(allocation.MeterTally, "_per_rounds", lambda self, name, compute: compute())
+    again = run()
+    assert np.array_equal(again.samples, kept.samples) and again.rounds == kept.rounds
+    assert np.array_equal(again.tally.mean, kept.tally.mean)
+    assert np.array_equal(again.tally.std_error, kept.tally.std_error)
