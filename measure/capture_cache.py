@@ -185,10 +185,9 @@ def _count_edit(_scene=None, depsgraph=None, *_args):
         _state["other_updates"] += 1
         _geometry_edit(None)
         return
-    if not _light_data_only(depsgraph.updates):
-        _state["other_updates"] += 1
+    updates = list(depsgraph.updates)  # each pass over the RNA collection builds its items again
     trees, kinds, touched = None, set(), set()
-    for update in depsgraph.updates:
+    for update in updates:
         if isinstance(update.id, bpy.types.ShaderNodeTree) and trees is None:
             trees = _embedded_tree_pointers()
         kind = update_kind(update, trees)
@@ -196,6 +195,8 @@ def _count_edit(_scene=None, depsgraph=None, *_args):
         if kind == CHANGES and touched is not None:
             more = _touched(update, trees)
             touched = None if more is None else touched | more
+    if kinds != {KEEPS} or not _light_data_only(updates):  # only light data-blocks edited: see relight
+        _state["other_updates"] += 1
     if CHANGES in kinds:
         _geometry_edit(None if touched is None else frozenset(touched))
     elif MAYBE in kinds:
