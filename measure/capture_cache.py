@@ -36,6 +36,11 @@ lights and the world are read again (``scene_capture.capture_lights``: one probe
 lights, ~2.5 ms in the 130k-triangle room where a full capture takes ~0.1 s on a quiet machine); after a
 MAYBE, only if that probe finds the same render instances (identity, transform, ray visibility, data,
 materials, element counts: ``scene_capture._instance_signature``), else everything is captured again.
+When every update since the capture edited light DATA alone (a light's data-block, its node tree, its
+unmoved object: ``_light_data_only``; the handler counts the other batches in ``other_updates``), not
+even that probe runs: ``scene_capture.relight`` replays the light instances the last probe recorded
+with their data read again (0.6-0.9 ms instead of 8-9 ms in the small bench room, loaded), and declines
+(the probe runs) when any object value it reads has changed.
 
 **Edits to geometry** (issue 17). The handler also notes what each geometry update touched (``_touched``:
 the objects Blender reports with new geometry, their data-blocks; a material, its node tree or a camera
