@@ -15,6 +15,7 @@ prints the markdown section; ``bench/run.py --only pooled`` runs it in `make ben
 import json
 import math
 import os
+import re
 import sys
 import time
 
@@ -75,10 +76,15 @@ def bench_pooled(quick=False, reps=None, truth_from=None):
                 e = np.array([r.irradiance for r in rs])
                 rel = np.array([r.rel_std_error for r in rs])
                 pooled = np.array([r.method.endswith("+pooled") for r in rs])
+                first = next((r for r in rs if r.method.endswith("+pooled")), None)  # its note states the misfit bound
+                bound = [float(m.group(1)) for m in (re.search(r"upper bound ([0-9.e+-]+) W/m", t)
+                                                     for t in (first.notes if first else [])) if m]
                 rows[pooling].append({"seconds": seconds, "samples": float(sum(r.samples for r in rs)),
                                       "bakes": bakes[0], "worst_rel_error": float(rel.max()),
                                       "median_rel_error": float(np.median(rel)), "pooled": int(pooled.sum()),
-                                      "pooled_rel_error_median": float(np.median(rel[pooled])) if pooled.any() else None})
+                                      "pooled_rel_error_median": (float(np.median(rel[pooled])) if pooled.any()
+                                                                  else None),
+                                      "misfit_upper_w_m2": bound[0] if bound else None})
                 zz = (e[sub] - total) / np.hypot(rel[sub] * np.abs(e[sub]), total_se)
                 if pooling:
                     z[True]["pooled"] += zz[pooled[sub]].tolist()

@@ -17,7 +17,9 @@ errors, never on the field's form being right:
    Q(tau^2) = sum r_h^2 / (v_h + tau^2) falls to the chi-square(H) lower quantile; Viechtbauer 2007,
    Stat. Med. 26:37), so few held-out meters state a larger misfit, not a smaller one.
 
-A pooled reading's 1-sigma error = sqrt(fit s.e.^2 + tau_ub^2). The group falls back to per-meter
+The fitted meters take samples in proportion to the field's leverage at them (``fit_blocks``: more at
+the plane's edges and corners, where a polynomial leans on few meters), a design fixed by the meters'
+places alone. A pooled reading's 1-sigma error = sqrt(fit s.e.^2 + tau_ub^2). The group falls back to per-meter
 sampling when there are too few held-out meters, or one of them departs from the field beyond its
 own noise and the bounded misfit (a Bonferroni test at ``OUTLIER_LEVEL``: a sharp feature the field
 cannot follow); a meter whose pooled error misses the target falls back on its own. tau^2 is a mean
@@ -37,18 +39,35 @@ import numpy as np
 from . import allocation
 
 __all__ = ["POOL_MIN_METERS", "POOL_PILOT_SAMPLES", "plane_groups", "plane_coordinates", "polynomial_basis",
-           "FieldFit", "fit_field", "misfit_upper_bound", "HoldoutCheck", "check_held_out", "choose_held_out",
-           "local_misfit", "pooled_estimate", "allocate_pooled"]
+           "fit_blocks", "FieldFit", "fit_field", "misfit_upper_bound", "HoldoutCheck", "check_held_out",
+           "choose_held_out", "local_misfit", "pooled_estimate", "allocate_pooled"]
 
 #: Fewest meters on one plane (same normal, same exclusions) for pooling: 10 % of them are held out
 #: (at least ``MIN_HOLDOUT``) and the rest must carry a polynomial of up to ``MAX_DEGREE``.
 POOL_MIN_METERS = 300
-#: Samples each fitted meter takes (one bake: 2 blocks of 16 texels at 8 spp). The throughput room's
-#: study (bench/speed-results.md): 256 per meter over 1000 meters gave the degree-4 field 0.35 % RMS
-#: from the independent tracer where each meter alone had 1.67 %. 128 each spent 18 % fewer samples on
-#: the 1000 meters (the same share pooled) but pooled 48 of 160 fitted meters instead of 111 in the
-#: 200-meter test room (tests/bpy/test_pooled_meters.py): the fit's error grows as groups shrink.
-POOL_PILOT_SAMPLES = 256
+#: The fitted meters' samples: ``FIT_SPP`` per texel, ``FIT_MIN_BLOCKS`` to ``FIT_MAX_BLOCKS`` blocks
+#: of 16 texels each (128 to 1024 samples), in proportion to the field's leverage at the meter
+#: (``fit_blocks``). Measured in the throughput room (bench/speed-results.md, 'Pooled estimator', 4
+#: seeds): 256 each (8 spp, 2 blocks) spent 0.37-0.39 M samples on 1000 meters; by leverage at 4 spp,
+#: 0.30-0.32 M with as many meters pooled and held-out misfits as small (0-0.07 W/m^2). One block a
+#: meter is too few: by leverage at 8 spp (1 block in the middle) the held-out misfit estimate rose
+#: to 0.04-0.14 W/m^2 and one seed of 4 was refused (a meter's variance from 16 texels understates
+#: what its mean varies by: the check saw it, the cost followed), so at least 2 blocks (32 texels).
+#: At 4 spp the pilot of the meters read on their own (8 spp) no longer rides in this bake: one bake
+#: more (~10 ms in that room).
+FIT_SPP = 4
+FIT_MIN_BLOCKS = allocation.MIN_BLOCKS
+FIT_MAX_BLOCKS = 16
+#: A group's fitted meters take at least about this many blocks in all at the median leverage (the
+#: fit's error grows as sqrt(1 / (meters x samples))): a group of 900 fitted meters takes 2 blocks (128
+#: samples) at its median meter, one of 160 (tests/bpy/test_pooled_meters.py) 6.
+FIT_GROUP_BLOCKS = 960
+#: Degree of the polynomial whose leverages set the fitted meters' blocks (the throughput room's fits
+#: choose 4-5).
+LEVERAGE_DEGREE = 4
+#: The fitted meters' samples as a reading's note states them (a range: ``fit_blocks``).
+POOL_PILOT_SAMPLES = (f"{FIT_MIN_BLOCKS * FIT_SPP * allocation.BLOCK_TEXELS ** 2}-"
+                      f"{FIT_MAX_BLOCKS * FIT_SPP * allocation.BLOCK_TEXELS ** 2}")
 #: Share of a group held out, and the bounds on their number.
 HOLDOUT_FRACTION = 0.1
 MIN_HOLDOUT = 40
@@ -155,25 +174,29 @@ class FieldFit:
         return mean, np.sqrt(np.maximum(var, 0.0))
 
 
-def fit_field(uv, values, variances, max_degree=MAX_DEGREE):
+def fit_field(uv, values, variances, max_degree=MAX_DEGREE, weights=None):
     """Least-squares polynomial field of ``values`` (N, C) at plane coordinates ``uv`` (N, 2).
 
     ``variances`` (N, C): each meter's own variance of each value (its s.e.^2). The degree is the one
     of 0..``max_degree`` (at most N / ``METERS_PER_PARAMETER`` coefficients) with the smallest
     leave-one-out error of column 0 (the hat-matrix shortcut e_i / (1 - h_ii)); coefficients by
     ordinary least squares, their covariance (A'A)^-1 A' diag(v) A (A'A)^-1 per column.
+    ``weights`` (N,): known constants fixed before sampling (a meter's samples: ``fit_blocks``), never
+    estimates; then weighted least squares, (A'WA)^-1 A'W y, with covariance
+    (A'WA)^-1 A'W diag(v) W A (A'WA)^-1 (still each meter's own variance: right whatever the weights).
     """
     uv = np.asarray(uv, float)
     values = np.asarray(values, float).reshape(len(uv), -1)
     variances = np.asarray(variances, float).reshape(values.shape)
+    root_w = np.ones(len(uv)) if weights is None else np.sqrt(np.asarray(weights, float))
     best = None
     for degree in range(max_degree + 1):
         p = (degree + 1) * (degree + 2) // 2
         if p * METERS_PER_PARAMETER > len(uv) and degree > 0:
             break
         a = polynomial_basis(uv, degree)
-        q, r = np.linalg.qr(a)
-        coef = np.linalg.solve(r, q.T @ values)
+        q, r = np.linalg.qr(a * root_w[:, None])
+        coef = np.linalg.solve(r, q.T @ (values * root_w[:, None]))
         h = np.einsum("np,np->n", q, q)
         resid = values[:, 0] - a @ coef[:, 0]
         loo = float(np.sqrt(np.mean((resid / np.maximum(1.0 - h, 1e-9)) ** 2)))
@@ -181,8 +204,9 @@ def fit_field(uv, values, variances, max_degree=MAX_DEGREE):
             best = (loo, degree, a, r, coef)
     loo, degree, a, r, coef = best
     r_inv = np.linalg.inv(r)
-    bread = r_inv @ r_inv.T                                  # (A'A)^-1
-    meat = np.einsum("np,nc,nq->cpq", a, variances, a)       # A' diag(v_c) A
+    bread = r_inv @ r_inv.T                                  # (A'WA)^-1
+    aw = a * root_w[:, None] ** 2
+    meat = np.einsum("np,nc,nq->cpq", aw, variances, aw)     # A'W diag(v_c) W A
     cov = np.einsum("pq,cqr,rs->cps", bread, meat, bread)
     return FieldFit(degree=degree, coef=coef, cov=cov, loo_rms=loo, meters=len(uv))
 
@@ -269,6 +293,32 @@ def choose_held_out(count, seed=0):
     return np.sort(np.random.default_rng(1_000_003 + int(seed)).choice(count, h, replace=False))
 
 
+def fit_blocks(points_m, normals, groups, count):
+    """(count,) blocks (at ``FIT_SPP``) each group's fitted meters take: proportional to their leverage
+    h_i in a degree-``LEVERAGE_DEGREE`` fit over the group's fitted meters (the diagonal of the hat
+    matrix; max(``FIT_MIN_BLOCKS``, ``FIT_GROUP_BLOCKS`` / fitted meters) blocks at the median h),
+    rounded, within [``FIT_MIN_BLOCKS``, ``FIT_MAX_BLOCKS``].
+
+    Why: a fitted value's variance is about h_i x its meter's own variance, and h_i is 5-7x the median
+    near a group's edges and corners (a polynomial leans on few meters there); samples in proportion
+    to h_i even the field's error out, so edge meters are not the ones that miss the target and are
+    read again. Small groups take more at every meter (``FIT_GROUP_BLOCKS``). The design depends on
+    the meters' places only, never on their values: the fit weighs each meter by its samples, known
+    before sampling (``fit_field``'s weights), and its covariance uses each meter's own variance."""
+    blocks = np.zeros(count, int)
+    for g in groups:
+        uv, _frame = plane_coordinates(points_m[g.fitted], normals[g.fitted[0]])
+        degree = LEVERAGE_DEGREE
+        while degree > 0 and (degree + 1) * (degree + 2) // 2 * METERS_PER_PARAMETER > len(uv):
+            degree -= 1
+        q, _r = np.linalg.qr(polynomial_basis(uv, degree))
+        h = np.einsum("np,np->n", q, q)
+        ratio = h / np.median(h) if degree > 0 else np.ones(len(h))
+        base = max(float(FIT_MIN_BLOCKS), FIT_GROUP_BLOCKS / len(uv))
+        blocks[g.fitted] = np.clip(np.round(base * ratio), FIT_MIN_BLOCKS, FIT_MAX_BLOCKS)
+    return blocks
+
+
 @dataclass
 class PooledGroup:
     """One pooled plane: which meters were fitted and held out, the fit and the check."""
@@ -315,10 +365,11 @@ def _in_region(uv_query, uv, flagged, radius):
     return out
 
 
-def _standardised_loo(fit, uv, values, variances):
-    """Squared leave-one-out residuals of column 0 over their variance (v / (1 - h), OLS)."""
+def _standardised_loo(fit, uv, values, variances, weights=None):
+    """Squared leave-one-out residuals of column 0 over their variance (v / (1 - h); h of the weighted
+    fit ``fit_field`` made)."""
     a = polynomial_basis(uv, fit.degree)
-    q, _r = np.linalg.qr(a)
+    q, _r = np.linalg.qr(a if weights is None else a * np.sqrt(np.asarray(weights, float))[:, None])
     h = np.minimum(np.einsum("np,np->n", q, q), 1.0 - 1e-9)
     e = (values[:, 0] - a @ fit.coef[:, 0]) / (1.0 - h)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -326,7 +377,7 @@ def _standardised_loo(fit, uv, values, variances):
 
 
 def pooled_estimate(points_m, normal, fit_values, fit_variances, held_points_m, held_values, held_variances,
-                    max_degree=MAX_DEGREE):
+                    max_degree=MAX_DEGREE, fit_weights=None):
     """The field over the fitted meters, its local check on them and its misfit on the held-out ones.
 
     ``fit_values`` / ``fit_variances`` (N, C) at ``points_m``; ``held_values`` / ``held_variances``
@@ -341,11 +392,13 @@ def pooled_estimate(points_m, normal, fit_values, fit_variances, held_points_m, 
     fit_values = np.asarray(fit_values, float).reshape(len(points_m), -1)
     fit_variances = np.asarray(fit_variances, float).reshape(fit_values.shape)
     uv, frame = plane_coordinates(points_m, normal)
-    fit = fit_field(uv, fit_values, fit_variances, max_degree)
-    flagged, radius = local_misfit(uv, _standardised_loo(fit, uv, fit_values, fit_variances))
+    w = None if fit_weights is None else np.asarray(fit_weights, float)
+    fit = fit_field(uv, fit_values, fit_variances, max_degree, w)
+    flagged, radius = local_misfit(uv, _standardised_loo(fit, uv, fit_values, fit_variances, w))
     usable = ~_in_region(uv, uv, flagged, radius)
     if not usable.all() and usable.sum() >= METERS_PER_PARAMETER:
-        fit = fit_field(uv[usable], fit_values[usable], fit_variances[usable], max_degree)
+        fit = fit_field(uv[usable], fit_values[usable], fit_variances[usable], max_degree,
+                        None if w is None else w[usable])
     mean, se = fit.predict(uv)
     held_uv = to_plane(held_points_m, frame)
     held_mean, held_se = fit.predict(held_uv)
@@ -435,8 +488,8 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
     ``keys`` per meter: what is rendered there, e.g. the lights excluded from its sensor; meters with
     ``min_samples`` > 0 are not pooled: their light comes by rare paths).
 
-    Stages, each its own call of ``allocation.allocate`` through ``bake`` restricted to its meters:
-    (1) the fitted meters, ``POOL_PILOT_SAMPLES`` each, one bake; (2) the held-out meters and every
+    Stages, each through ``bake`` restricted to its meters: (1) the fitted meters, ``fit_blocks`` each at
+    ``FIT_SPP`` (128-1024 samples), one bake; (2) the held-out meters and every
     meter not pooled, each to ``target`` on its own; (3) per group the field and its held-out check
     (``pooled_estimate``); (4) the fitted meters whose pooled error misses the target (or the whole
     group, when its check fails) sampled on their own to ``target``. Returns a :class:`PooledResult`.
@@ -480,6 +533,25 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
         stopped.append(result.stopped)
         return result
 
+    def fitted_stage(idx, blocks, lo, hi, rider=None):
+        """The fitted meters' samples: ``blocks`` (len(idx),) each at ``FIT_SPP``, one bake (allocation's
+        fixed budget, but a number of blocks per meter: ``fit_blocks``)."""
+        if progress is not None:
+            progress(lo, 0.0)
+        meter, scalar, rgb = _subset_bake(bake, count, idx, rider)(FIT_SPP, np.asarray(blocks, int))
+        t = allocation.MeterTally(len(idx))
+        t.add(meter, FIT_SPP, scalar, rgb)
+        mean4[idx, 0], mean4[idx, 1:] = t.mean, t.mean_rgb
+        se4[idx, 0], se4[idx, 1:] = t.std_error, t.std_error_rgb
+        samples[idx] = t.n
+        texels = np.zeros(count, int)
+        texels[idx] = t.rounds[0]["texels"]
+        rounds.append({"spp": FIT_SPP, "texels": texels})
+        stopped.append("fixed budget")
+        if progress is not None:
+            progress(hi, 0.0)
+        return FIT_SPP
+
     def per_meter(idx, lo, hi, ready=None):
         return stage(idx, lo, hi, ready=ready, target=target, offset=offset[idx],
                      may_be_lit=_pick(may_be_lit, idx), min_samples=None if min_samples is None else floors[idx],
@@ -491,8 +563,8 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
     rider = (own, np.full(len(own), allocation.pilot_blocks(len(own))), allocation.PILOT_SPP, pilot)
     pilot_spp = 0
     if fitted.size:
-        pilot_spp = stage(fitted, 0.0, 0.25, rider=rider if own.size else None,
-                          fixed_samples=POOL_PILOT_SAMPLES).tally.rounds[0]["spp"]
+        pilot_spp = fitted_stage(fitted, fit_blocks(points_m, normals, groups, count)[fitted], 0.0, 0.25,
+                                 rider=rider if own.size else None)
     reached = True
     if own.size:
         reached = per_meter(own, 0.25, 0.75, ready=pilot).reached
@@ -505,7 +577,7 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
         # Per-sample relative variance of the pilot: light by rare paths is neither smooth from meter to
         # meter nor safely averaged over one bake's texels (Cycles' sampler table: allocation.py).
         with np.errstate(divide="ignore", invalid="ignore"):
-            spread = variances[:, 0] * POOL_PILOT_SAMPLES / values[:, 0] ** 2
+            spread = variances[:, 0] * samples[g.fitted] / values[:, 0] ** 2
         keep = ~dark & ~(spread >= RARE_PATH_SPREAD)  # a pilot that found no light says nothing of the field
         use = g.fitted[keep]
         # Held-out meters lit by rare paths (their own reading's spread) check nothing the field is used for.
@@ -521,12 +593,12 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
             continue
         g.fit, g.check, usable, mean, se = pooled_estimate(
             points_m[use], normals[g.fitted[0]], values[keep], variances[keep], points_m[held],
-            mean4[held], se4[held] ** 2)
+            mean4[held], se4[held] ** 2, fit_weights=samples[use])  # weights: the design's samples
         if table_patterns:
             # The field averages texels of one bake, so it converges to the mean of Cycles' sampler table,
             # not below that table's floor (allocation.MeterTally.table_floor): sqrt(per-sample variance /
             # (table size x patterns)), each meter's own pilot, at the Monte Carlo rate (QMC: less).
-            floor = np.sqrt(variances[keep] * POOL_PILOT_SAMPLES
+            floor = np.sqrt(variances[keep] * samples[use][:, None]
                             / (allocation.table_size(pilot_spp) * table_patterns))
             se = np.sqrt(se ** 2 + floor ** 2)
         total = np.abs(mean[:, 0] + offset[use])

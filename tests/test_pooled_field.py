@@ -125,12 +125,15 @@ def test_smooth_field_is_pooled_with_errors_that_cover_the_truth():
         z = (t.mean - truth) / t.std_error
         covered += int(np.sum(np.abs(z[res.pooled]) < 1.96))
         count += int(res.pooled.sum())
-        spent.append(res.samples[res.pooled].max())
+        spent.append(res.samples[res.pooled])
         g = res.groups[0]
         assert g.check.passed and g.check.held_out == 100 and 1 <= g.fit.degree <= pf.MAX_DEGREE
         np.testing.assert_allclose(t.mean_rgb[res.pooled, 1], 0.5 * t.mean[res.pooled], rtol=0.05)
     assert covered / count >= 0.95
-    assert max(spent) == pf.POOL_PILOT_SAMPLES
+    # A pooled reading's own samples are its fitted ones: 1-4 blocks at the pilot's spp (fit_blocks).
+    per_block = pf.FIT_SPP * allocation.BLOCK_TEXELS ** 2
+    spent = np.concatenate(spent)
+    assert set(np.unique(spent)) <= {per_block * b for b in range(pf.FIT_MIN_BLOCKS, pf.FIT_MAX_BLOCKS + 1)}
 
 
 def test_sharp_feature_falls_back_to_per_meter_sampling():
@@ -198,9 +201,11 @@ def test_meters_lit_by_rare_paths_are_not_pooled():
     assert np.all(res.tally.std_error / (res.tally.mean + 10.0) <= 0.01 + 1e-12)
 
 
-def test_the_held_out_pilot_rides_in_the_fitted_meters_bake():
-    """One bake fewer: the held-out meters' pilot is baked with the fitted meters' samples, and what the
-    bake returns for them is their own texels (the readings are the same as baking them apart)."""
+def test_the_held_out_pilot_rides_in_the_fitted_meters_bake(monkeypatch):
+    """One bake fewer when the fitted meters' spp is the pilot's: the held-out meters' pilot is baked with
+    the fitted meters' samples, and what the bake returns for them is their own texels (the readings are
+    the same as baking them apart)."""
+    monkeypatch.setattr(pf, "FIT_SPP", allocation.PILOT_SPP)
     rng = np.random.default_rng(13)
     pts, nrm = room_meters(600, rng)
     truth = smooth(pts)
@@ -217,7 +222,8 @@ def test_the_held_out_pilot_rides_in_the_fitted_meters_bake():
     assert set(first_meters) == set(g.fitted) | set(g.held_out)       # one bake for both pilots
     assert all(set(m) <= set(g.held_out) | set(np.flatnonzero(~res.pooled)) for _s, m in calls[1:])
     held = res.tally.std_error[g.held_out] / (res.tally.mean[g.held_out] + 10.0)
-    assert np.all(held <= 0.01 + 1e-12) and np.all(res.samples[g.held_out] >= pf.POOL_PILOT_SAMPLES)
+    pilot = allocation.PILOT_SPP * allocation.BLOCK_TEXELS ** 2 * allocation.pilot_blocks(len(g.held_out))
+    assert np.all(held <= 0.01 + 1e-12) and np.all(res.samples[g.held_out] >= pilot)
 
 
 def test_a_group_lit_only_by_rare_paths_falls_back_whole():
@@ -256,3 +262,46 @@ def test_pooled_error_includes_the_sampler_tables_floor():
     assert np.all(added > 0)
     # Each meter's floor comes from its own pilot's spread estimate (31 degrees of freedom): right on average.
     assert 0.9 < np.median(added / floor ** 2) < 1.1
+
+
+def test_fitted_samples_follow_the_fields_leverage():
+    """``fit_blocks``: more samples where a polynomial leans on few meters (edges, corners), fewer in the
+    middle; with fewer samples in all than 256 each, the field's largest standard error over the fitted
+    meters is smaller than with 256 each (the same noise per sample; the fit's sandwich covariance)."""
+    rng = np.random.default_rng(21)
+    n = 900
+    pts, nrm = room_meters(n, rng)
+    group = pf.PooledGroup(fitted=np.arange(n), held_out=np.zeros(0, int))
+    blocks = pf.fit_blocks(pts, nrm, [group], n)
+    per_block = pf.FIT_SPP * allocation.BLOCK_TEXELS ** 2
+    assert blocks.min() == pf.FIT_MIN_BLOCKS and blocks.max() > 2 * np.median(blocks)
+    edge = np.max(np.abs(pts[:, :2]), axis=1) > 1.6
+    assert np.mean(blocks[edge]) > 1.5 * np.mean(blocks[~edge])
+    assert blocks.sum() * per_block < 256 * n
+    uv, _frame = pf.plane_coordinates(pts, nrm[0])
+    values = 10.0 + uv[:, 0] ** 4 - uv[:, 0] * uv[:, 1] ** 2  # degree 4: the fit is exact, only its noise left
+
+    def worst_se(samples, weights=None):
+        fit = pf.fit_field(uv, values, 0.3 ** 2 * 100.0 / samples, max_degree=4, weights=weights)
+        return fit.predict(uv)[1][:, 0].max()
+
+    design = blocks * per_block  # weighted by its samples, as allocate_pooled fits
+    assert worst_se(design, design) < 0.75 * worst_se(np.full(n, 256.0))  # 0.66 here, at 0.76 of the samples
+
+
+def narrow_bump(p):
+    """A peak 0.1 m wide in the middle, where fitted meters take the fewest samples (128 each)."""
+    return smooth(p) + 3.0 * np.exp(-((p[:, 0] + 0.3) ** 2 + (p[:, 1] - 0.2) ** 2) / (2 * 0.1 ** 2))
+
+
+def test_a_sharp_feature_among_meters_of_few_samples_is_refused_or_read_on_its_own():
+    """The fewest-sample design (128 samples at the middle's fitted meters) still sees a feature a
+    few meters wide there: the local check (or the held-out check) catches it, and no meter near it
+    is pooled; those meters are read on their own, to the target."""
+    for seed in range(3):
+        pts, truth, res = measure(narrow_bump, seed)
+        near = np.hypot(pts[:, 0] + 0.3, pts[:, 1] - 0.2) < 0.25
+        g = res.groups[0]
+        assert g.check.flagged > 0 or not g.check.passed
+        assert not np.any(res.pooled & near)
+        assert np.all(res.tally.std_error[near] / (res.tally.mean[near] + 10.0) <= 0.01 + 1e-12)
