@@ -36,11 +36,11 @@ lights and the world are read again (``scene_capture.capture_lights``: one probe
 lights, ~2.5 ms in the 130k-triangle room where a full capture takes ~0.1 s on a quiet machine); after a
 MAYBE, only if that probe finds the same render instances (identity, transform, ray visibility, data,
 materials, element counts: ``scene_capture._instance_signature``), else everything is captured again.
-When every update since the capture edited light DATA alone (a light's data-block, its node tree, its
-unmoved object: ``_light_data_only``; the handler counts the other batches in ``other_updates``), not
-even that probe runs: ``scene_capture.relight`` replays the light instances the last probe recorded
-with their data read again (0.6-0.9 ms instead of 8-9 ms in the small bench room, loaded), and declines
-(the probe runs) when any object value it reads has changed.
+When every update since the capture edited lights alone (a light's data-block, its node tree, its
+object: ``_lights_only``; the handler counts the other batches in ``other_updates``), not even that
+probe runs: ``scene_capture.relight`` replays the light instances the last probe recorded with their
+data and (for lights of their own that moved) matrices read again (0.6-0.9 ms instead of 8-9 ms in the
+small bench room, loaded), and declines (the probe runs) where it cannot vouch for the render's values.
 
 **Edits to geometry** (issue 17). The handler also notes what each geometry update touched (``_touched``:
 the objects Blender reports with new geometry, their data-blocks; a material, its node tree or a camera
@@ -200,7 +200,7 @@ def _count_edit(_scene=None, depsgraph=None, *_args):
         if kind == CHANGES and touched is not None:
             more = _touched(update, trees)
             touched = None if more is None else touched | more
-    if kinds != {KEEPS} or not _light_data_only(updates):  # only light data-blocks edited: see relight
+    if kinds != {KEEPS} or not _lights_only(updates):  # only lights edited: see scene_capture.relight
         _state["other_updates"] += 1
     if CHANGES in kinds:
         _geometry_edit(None if touched is None else frozenset(touched))
@@ -208,29 +208,29 @@ def _count_edit(_scene=None, depsgraph=None, *_args):
         _state["maybe_updates"] += 1
 
 
-def _light_data_only(updates):
-    """True when a batch of updates edited light data-blocks and nothing else: each is a light's data, its
-    node tree, or a light object that did not move and whose data-block is in the batch (measured, bpy
-    5.0.1: a light's power, colour or shadow flag reports its object, geometry and shading, beside its data;
-    a ray-visibility flag reports the object alone, a move the object with its transform). The lights can
-    then be read again without a probe render (``scene_capture.relight``, which still compares every value
-    it reads of the objects with the probe's, so an object edit in the same batch is seen there)."""
-    lights, objects, trees = set(), [], None
+def _lights_only(updates):
+    """True when a batch of updates edited lights and nothing else: each is a light's data-block, its node
+    tree or a light object (measured, bpy 5.0.1: a light's power, colour or shadow flag reports its object,
+    geometry and shading, beside its data; a ray-visibility flag or ``hide_render`` the object alone, a move
+    the object with its transform; children a light moves are reported as their own updates). The lights
+    can then be read again without a probe render: ``scene_capture.relight`` compares every value it reads
+    of the objects with the probe's and declines where it cannot vouch for the render's (an object's flags
+    changed, an instanced light moved)."""
+    trees = None
     for update in updates:
         block = update.id
         original = getattr(block, "original", None) or block
         if isinstance(block, bpy.types.Light):
-            lights.add(original.as_pointer())
-        elif isinstance(block, bpy.types.Object) and original.type == "LIGHT" and not update.is_updated_transform:
-            objects.append(original)
-        elif isinstance(block, bpy.types.ShaderNodeTree):
-            if trees is None:
-                trees = {light.node_tree.as_pointer() for light in bpy.data.lights if light.node_tree is not None}
-            if original.as_pointer() not in trees:
-                return False
-        else:
+            continue
+        if isinstance(block, bpy.types.Object) and original.type == "LIGHT":
+            continue
+        if not isinstance(block, bpy.types.ShaderNodeTree):
             return False
-    return bool(lights) and all(ob.data is not None and ob.data.as_pointer() in lights for ob in objects)
+        if trees is None:
+            trees = {light.node_tree.as_pointer() for light in bpy.data.lights if light.node_tree is not None}
+        if original.as_pointer() not in trees:
+            return False
+    return bool(updates)
 
 
 def _touched_since(geometry_updates):
@@ -475,10 +475,11 @@ def capture(scene, view_layer=None, exclude=()):
     model, records = None, []
     if (entry is not None and entry[1] == _state["geometry_updates"] and entry[2] == _state["maybe_updates"]
             and entry[5] == _state["other_updates"] and entry[6] is not None and same_render):
-        # Only light data-blocks were edited since: the same light instances, read again from their data
-        # without a probe render (None when an object changed too: then the probe below).
-        model, records = scene_capture.relight(scene, entry[3], entry[6]), entry[6]
-        if model is not None:
+        # Only lights were edited since: the same light instances, read again from their data and objects
+        # without a probe render (None when relight cannot vouch for them: then the probe below).
+        relit = scene_capture.relight(scene, entry[3], entry[6], view_layer)
+        if relit is not None:
+            model, records = relit
             _state["light_recaptures"] += 1
             _state["light_rereads"] += 1
     if model is None and entry is not None and entry[1] == _state["geometry_updates"] and same_render:

@@ -13,8 +13,8 @@ it never shows in the Render Engine menu.
 Three walks share that probe: ``capture`` reads everything; ``capture_lights`` reads the lights only
 (the geometry kept); ``capture_partial`` reads everything but the triangles of instances no edit
 reached, which it keeps from an earlier capture (``capture_cache`` decides which; issue 17). After
-edits of light data-blocks only, ``relight`` replays the light instances a probe recorded
-(``LightRecord``) with their data-blocks read again, and renders nothing.
+edits of lights alone (data, node trees, a light object moved), ``relight`` replays the light instances
+a probe recorded (``LightRecord``) with their data-blocks and matrices read again, and renders nothing.
 """
 
 import dataclasses
@@ -617,27 +617,39 @@ def _relit(scene, model, raw_lights, render_instances):
                                notes=list(model.notes))
 
 
-def relight(scene, model, records):
-    """``capture_lights(scene, model)`` without a probe render, after edits that changed light DATA-BLOCKS
-    only (``capture_cache`` decides, from the depsgraph's updates): every light instance of ``records``
-    (the list the probe of ``model`` filled) is read again from its object's data-block, with the
-    instance's kept name, identity and world matrix, by the probe's own ``_light_entry``. Returns None
-    (the caller renders the probe) when a record's object is gone, renamed or holds another data-block,
-    when its object's flags, linking or matrix differ from the probe's (an object edit made together
-    with a data edit), or when a light or its node tree is animated (the render would evaluate it)."""
-    raw_lights = []
+def relight(scene, model, records, view_layer=None):
+    """``capture_lights(scene, model)`` without a probe render, after edits of lights alone (their data,
+    their node trees, their objects moved: ``capture_cache`` decides, from the depsgraph's updates).
+    Every light instance of ``records`` (the list the probe of ``model`` filled) is read again from its
+    object's data-block by the probe's own ``_light_entry``, with the instance's kept name and identity,
+    and its kept world matrix, or, for a light object of its own (not an instance) that moved, the
+    object's evaluated matrix, which is the render's instance matrix. Returns ``(model, records)``, or
+    None (the caller renders the probe) when a record's object is gone, renamed or holds another
+    data-block, when its ray flags, light linking or ``hide_render`` differ from the probe's, when an
+    instanced light moved or a moved light is not evaluated in the viewport (its matrix is not brought
+    up to date there), or when a light or its node tree is animated (the render would evaluate it)."""
+    view_layer = view_layer or scene.view_layers[0]
+    raw_lights, fresh = [], []
     _Capture.scale = scene.unit_settings.scale_length
     for record in records:
         original = bpy.data.objects.get(record.source)
         if (original is None or int(original.session_uid) != record.session_uid or original.type != "LIGHT"
                 or original.data is None or original.data.as_pointer() != record.data_pointer
-                or not _unanimated(original.data) or _object_state(original) != record.object_state):
+                or not _unanimated(original.data)):
             return None
+        state = _object_state(original)
+        if state[:2] != record.object_state[:2]:
+            return None
+        if state[2] != record.object_state[2]:  # the light moved
+            if record.source_id.instance or not view_layer.depsgraph.id_eval_get(original).is_evaluated:
+                return None
+            record = dataclasses.replace(record, matrix_world=state[2], object_state=state)
         instance = _LightInstance(original.data, record.object_state)
         visibility = _ray_visibility(instance, bool(getattr(original.data, "use_shadow", True)))
         raw_lights.append(dict(_light_entry(instance, record.name, record.matrix_world, record.source_id, visibility),
                                source=record.source, source_id=record.source_id))
-    return _relit(scene, model, raw_lights, model.needs.get("render_instances"))
+        fresh.append(record)
+    return _relit(scene, model, raw_lights, model.needs.get("render_instances")), tuple(fresh)
 
 
 def _world(scene, emits):

@@ -71,8 +71,8 @@ def test_unchanged_scene_is_captured_once_and_an_edit_is_seen(clean_blender, bui
     lamp.location.z = 4.0
     assert _lux() == pytest.approx(_point_lux(250.0, 4.0), rel=1e-7)
     # Lights-only edits: the lights were read again (twice), the geometry kept from the one full capture;
-    # the power edit (the light's data alone) without a probe render, the move with one.
-    assert len(captures) == 1 and len(captures.lights) == 2 and len(captures.rereads) == 1
+    # both (a light's data, a light moved) without a probe render.
+    assert len(captures) == 1 and len(captures.lights) == 2 and len(captures.rereads) == 2
 
 
 def test_edits_blender_does_not_announce_are_still_seen(clean_blender, build, captures):
@@ -395,19 +395,20 @@ def _light_scene(build):
     return scene, lamps
 
 
-def test_light_data_edits_are_read_without_a_probe_and_equal_a_full_capture(clean_blender, build, captures):
-    """Issue 17: after edits of light data-blocks only, ``scene_capture.relight`` replays the probe's light
-    instances with their data read again: the model's lights, world and needs equal a full capture's
-    (value for value), and no probe render ran; an object edit in the same batch falls back to the probe."""
+def test_light_edits_are_read_without_a_probe_and_equal_a_full_capture(clean_blender, build, captures):
+    """Issue 17: after edits of lights alone (data, moves), ``scene_capture.relight`` replays the probe's
+    light instances with their data and matrices read again: the model's lights, world and needs equal a
+    full capture's (value for value), and no probe render ran; where relight cannot vouch for the render
+    (an object's flags edited, an instanced light or one disabled in viewports moved) the probe runs."""
     scene, lamps = _light_scene(build)
     layer = bpy.context.view_layer
 
-    def read_and_compare(fast):
+    def read_and_compare(fast, count=7):
         rereads = capture_cache.stats()["light_rereads"]
         model = capture_cache.capture(scene, layer)
         assert capture_cache.stats()["light_rereads"] == rereads + int(fast)
         full = scene_capture.capture(scene, layer)
-        assert len(model.lights) == 7
+        assert len(model.lights) == count
         assert _same(model.lights, full.lights)
         assert model.world_emits == full.world_emits and model.world_volume == full.world_volume
         assert _same(model.needs, full.needs)
@@ -425,11 +426,25 @@ def test_light_data_edits_are_read_without_a_probe_and_equal_a_full_capture(clea
              lambda: setattr(lamps["point"].data, "use_shadow", False),  # the shadow flag of its visibility
              lambda: (setattr(lamps["point"].data, "use_temperature", True),
                       setattr(lamps["point"].data, "temperature", 3000.0)),
-             lambda: setattr(lamps["point"].data, "type", "SPOT")]
+             lambda: setattr(lamps["point"].data, "type", "SPOT"),
+             lambda: setattr(lamps["point"], "location", (0.5, -0.2, 1.8)),  # moved
+             lambda: setattr(lamps["area"], "rotation_euler", (0.4, 0.1, 0.2)),  # turned
+             lambda: (setattr(lamps["spot"], "location", (0.2, 0.8, 2.4)),  # moved and edited in one batch
+                      setattr(lamps["spot"].data, "energy", 90.0))]
     for edit in edits:
         edit()
         read_and_compare(True)
     assert len(captures.rereads) == len(edits)
+    lamps["grouped"].location.z = 2.5  # an instanced light moved: its instances' matrices are the render's
+    read_and_compare(False)
+    hidden = bpy.data.collections.new("off in viewports")
+    bpy.context.scene.collection.children.link(hidden)
+    hidden.hide_viewport = True  # a light there is rendered but its matrix is not evaluated in the viewport
+    bpy.context.scene.collection.objects.unlink(lamps["sun"])
+    hidden.objects.link(lamps["sun"])
+    read_and_compare(False)
+    lamps["sun"].rotation_euler.x = 0.5
+    read_and_compare(False)
     # An object's flag edited together with its data (one batch): relight sees it and declines.
     lamps["area"].data.energy = 30.0
     lamps["area"].visible_glossy = False
@@ -440,6 +455,8 @@ def test_light_data_edits_are_read_without_a_probe_and_equal_a_full_capture(clea
     assert len(capture_cache.capture(scene, layer).lights) == 6
     assert capture_cache.stats()["light_rereads"] == rereads
     assert len(captures.rereads) == len(edits)
+    lamps["point"].location.x = 0.1  # relight again after the declines (their probes recorded afresh)
+    read_and_compare(True, count=6)
 
 
 def test_a_reading_after_a_light_data_edit_is_the_same_bit_for_bit(clean_blender, build, captures):
