@@ -522,16 +522,19 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
 
         result = allocation.allocate(_subset_bake(bake, count, idx, rider, ready), len(idx), progress=report,
                                      max_samples=max_samples, **kwargs)
-        t = result.tally
+        keep(idx, result.tally, result.stopped)
+        return result
+
+    def keep(idx, t, stop):
+        """A stage's tally ``t`` over the meters ``idx``, into the whole measurement's arrays and round log."""
         mean4[idx, 0], mean4[idx, 1:] = t.mean, t.mean_rgb
         se4[idx, 0], se4[idx, 1:] = t.std_error, t.std_error_rgb
-        samples[idx] = result.samples
+        samples[idx] = t.n
         for r in t.rounds:
             texels = np.zeros(count, int)
             texels[idx] = r["texels"]
             rounds.append({"spp": r["spp"], "texels": texels})
-        stopped.append(result.stopped)
-        return result
+        stopped.append(stop)
 
     def fitted_stage(idx, blocks, lo, hi, rider=None):
         """The fitted meters' samples: ``blocks`` (len(idx),) each at ``FIT_SPP``, one bake (allocation's
@@ -541,13 +544,7 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
         meter, scalar, rgb = _subset_bake(bake, count, idx, rider)(FIT_SPP, np.asarray(blocks, int))
         t = allocation.MeterTally(len(idx))
         t.add(meter, FIT_SPP, scalar, rgb)
-        mean4[idx, 0], mean4[idx, 1:] = t.mean, t.mean_rgb
-        se4[idx, 0], se4[idx, 1:] = t.std_error, t.std_error_rgb
-        samples[idx] = t.n
-        texels = np.zeros(count, int)
-        texels[idx] = t.rounds[0]["texels"]
-        rounds.append({"spp": FIT_SPP, "texels": texels})
-        stopped.append("fixed budget")
+        keep(idx, t, "fixed budget")
         if progress is not None:
             progress(hi, 0.0)
         return FIT_SPP
