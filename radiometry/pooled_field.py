@@ -522,10 +522,10 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
 
         result = allocation.allocate(_subset_bake(bake, count, idx, rider, ready), len(idx), progress=report,
                                      max_samples=max_samples, **kwargs)
-        keep(idx, result.tally, result.stopped)
+        tally_into(idx, result.tally, result.stopped)
         return result
 
-    def keep(idx, t, stop):
+    def tally_into(idx, t, stop):
         """A stage's tally ``t`` over the meters ``idx``, into the whole measurement's arrays and round log."""
         mean4[idx, 0], mean4[idx, 1:] = t.mean, t.mean_rgb
         se4[idx, 0], se4[idx, 1:] = t.std_error, t.std_error_rgb
@@ -544,7 +544,7 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
         meter, scalar, rgb = _subset_bake(bake, count, idx, rider)(FIT_SPP, np.asarray(blocks, int))
         t = allocation.MeterTally(len(idx))
         t.add(meter, FIT_SPP, scalar, rgb)
-        keep(idx, t, "fixed budget")
+        tally_into(idx, t, "fixed budget")
         if progress is not None:
             progress(hi, 0.0)
         return FIT_SPP
