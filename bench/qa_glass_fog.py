@@ -6,6 +6,7 @@ patch renders (tests/bpy/glass_fog_unseen_references.json, made by make_glass_fo
 elsewhere. Writes bench/qa_glass_fog.json and prints the rows of bench/qa_glass_fog.md.
 
     .venv/bin/python bench/qa_glass_fog.py [--seeds N] [case ...]
+    .venv/bin/python bench/qa_glass_fog.py --summary      # the table of qa_glass_fog.md
 
 ``--seeds N``: seeds 0..N-1 for every rendered reading (default 3).
 
@@ -94,8 +95,38 @@ def main(only, seeds=3):
             radiometer.unregister()
 
 
+def summary():
+    """Markdown rows of bench/qa_glass_fog.md from bench/qa_glass_fog.json: one per case, meter, method
+    and quality (seeds pooled)."""
+    rows = json.loads(OUT.read_text())
+    groups = {}
+    for r in rows:
+        groups.setdefault((r["case"], r["meter"], r["method"], r["quality"]), []).append(r)
+    print("| case | meter | method (ran) | quality | seeds | reading lx (mean; range) | stated (mean) | reference lx +- s.e. "
+          "| z (mean; worst) | exact | (1) | (2) | (3) | samples (median) |")
+    print("|---|---|---|---|---:|---|---:|---|---|---|---|---|---|---:|")
+    for (case, meter, method, quality), g in groups.items():
+        lux = [r["lux"] for r in g]
+        zs = [r["z"] for r in g if r["z"] is not None]
+        ran = "/".join(sorted({r["got_method"] for r in g}))
+        z = "—" if not zs else f"{sum(zs) / len(zs):+.2f}; {max(zs, key=abs):+.2f}"
+        if all(r["stated"] == 0 and r["ref_se"] == 0 for r in g):
+            z = f"— (err {max(abs(r['err']) for r in g):.1e})"
+        ref = f"{g[0]['ref_lux']:.6g} +- {100 * g[0]['ref_se']:.2g} %" if g[0]["ref_se"] else f"{g[0]['ref_lux']:.6g} (closed form)"
+        stated = sum(r["stated"] for r in g) / len(g)
+        exact = sum(r["exact"] for r in g)
+        samples = sorted(r["samples"] for r in g)[len(g) // 2]
+        print(f"| {case} | {meter} | {method} ({ran}) | {quality} | {len(g)} | {sum(lux) / len(lux):.6g}; "
+              f"{min(lux):.6g}–{max(lux):.6g} | {100 * stated:.3g} % | {ref} | {z} | {exact}/{len(g)} | "
+              f"{sum(r['c1'] for r in g)}/{len(g)} | {sum(r['c2'] for r in g)}/{len(g)} | {sum(r['c3'] for r in g)}/{len(g)} "
+              f"| {samples:,} |")
+
+
 if __name__ == "__main__":
     args = sys.argv[1:]
+    if args == ["--summary"]:
+        summary()
+        sys.exit(0)
     n_seeds = 3
     if "--seeds" in args:
         k = args.index("--seeds")

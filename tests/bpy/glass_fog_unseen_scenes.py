@@ -280,21 +280,30 @@ def fog_floor():
                    ("desk height between them", (1.2, 0.0, 0.8), (0.0, 0.0, 1.0))]
 
 
+def _one_node_material(name, node_type, output, inputs, **props):
+    """A material of one shader node (its ``inputs`` and ``props`` set) into the Material Output's
+    ``output`` socket ("Surface" or "Volume")."""
+    mat = bpy.data.materials.new(name)
+    tree = base.ensure_node_tree(mat)
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    node = tree.nodes.new(node_type)
+    for key, value in props.items():
+        setattr(node, key, value)
+    for key, value in inputs.items():
+        node.inputs[key].default_value = value
+    tree.links.new(node.outputs[0], out.inputs[output])
+    return mat
+
+
 def fog_cube():
     """No world volume: a 1.2 m cube of Volume Scatter (density 0.8/m, white, anisotropy 0.3; no
     surface shader) centred 1.5 m above the meter, a 150 W point light 3.2 m up: every segment from the
     meter under the cube to the lamp crosses 1.2 m of it; a second meter 1.5 m aside sees past it."""
     scene = base.reset()
     base._world(scene, strength=0.0)
-    mat = bpy.data.materials.new("fog cube")
-    tree = base.ensure_node_tree(mat)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    scatter = tree.nodes.new("ShaderNodeVolumeScatter")
-    scatter.inputs["Density"].default_value = 0.8
-    scatter.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    scatter.inputs["Anisotropy"].default_value = 0.3
-    tree.links.new(scatter.outputs[0], out.inputs["Volume"])
+    mat = _one_node_material("fog cube", "ShaderNodeVolumeScatter", "Volume",
+                             {"Density": 0.8, "Color": (1.0, 1.0, 1.0, 1.0), "Anisotropy": 0.3})
     _box(scene, "Fog cube", (-0.6, -0.6, 0.9), (0.6, 0.6, 2.1), mat)
     base._light(scene, "POINT", (0.0, 0.0, 3.2), energy=150.0, shadow_soft_size=0.0)
     return scene, [("under a fog cube", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
@@ -307,15 +316,8 @@ def glossy_wall():
     light (direct light plus the floor's glossy reflection of the light)."""
     scene = base.reset()
     base._world(scene, strength=0.0)
-    mat = bpy.data.materials.new("metal floor 0.15")
-    tree = base.ensure_node_tree(mat)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    bsdf = tree.nodes.new("ShaderNodeBsdfGlossy")
-    bsdf.distribution = "GGX"
-    bsdf.inputs["Roughness"].default_value = 0.15
-    bsdf.inputs["Color"].default_value = (0.9, 0.9, 0.9, 1.0)
-    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    mat = _one_node_material("metal floor 0.15", "ShaderNodeBsdfGlossy", "Surface",
+                             {"Roughness": 0.15, "Color": (0.9, 0.9, 0.9, 1.0)}, distribution="GGX")
     base._quads(scene, "Floor", [[(-3, -3, 0), (3, -3, 0), (3, 3, 0), (-3, 3, 0)]], mat)
     base._quads(scene, "Wall", [[(2, -3, 0), (2, -3, 3), (2, 3, 3), (2, 3, 0)]], base._diffuse("wall", 0.5))
     base._light(scene, "AREA", (0.0, 0.0, 2.2), energy=200.0, size=0.5)
