@@ -151,6 +151,8 @@ def _plan_direct(model, points_m, normals):
     out is a copy (its arrays are the caller's)."""
     from ..radiometry import scene_model
 
+    if model.world is not None:  # read again on every capture served (image pixels): never the same object
+        return scene_model.plan_direct(model, points_m, normals)
     parts = _model_parts(model)
     points_m, normals = np.asarray(points_m, float), np.asarray(normals, float)
     key = (tuple((name, k, id(value)) for name, k, value in parts), points_m.shape, points_m.tobytes(),
