@@ -182,23 +182,25 @@ def test_local_check_is_the_same_in_chunks(monkeypatch):
 
 def test_meters_lit_by_rare_paths_are_not_pooled():
     """Meters whose pilot samples find their light in ~1 of 20 samples (Bernoulli, per-sample relative
-    variance 19) are read on their own, however smooth their mean is."""
-    rng = np.random.default_rng(12)
-    n = 1000
-    pts, nrm = room_meters(n, rng)
-    truth = smooth(pts)
-    rare = pts[:, 0] > 1.2
-    base = fake_bake(truth, 0.3, rng)
+    variance 19) are read on their own, however smooth their mean is (3 seeds: from 128 samples, the
+    fitted meters' fewest, a meter's spread is a noisy judge)."""
+    for seed in (12, 16, 17):
+        rng = np.random.default_rng(seed)
+        n = 1000
+        pts, nrm = room_meters(n, rng)
+        truth = smooth(pts)
+        rare = pts[:, 0] > 1.2
+        base = fake_bake(truth, 0.3, rng)
 
-    def bake(spp, blocks):
-        idx, values, rgb = base(spp, blocks)
-        hit = rng.random((len(idx), spp)) < 0.05  # each of a texel's spp samples finds the light or not
-        lucky = np.where(rare[idx], truth[idx] * hit.mean(axis=1) / 0.05, values)
-        return idx, lucky, np.stack([lucky, 0.5 * lucky, 0.25 * lucky], axis=1)
+        def bake(spp, blocks):
+            idx, values, rgb = base(spp, blocks)
+            hit = rng.random((len(idx), spp)) < 0.05  # each of a texel's spp samples finds the light or not
+            lucky = np.where(rare[idx], truth[idx] * hit.mean(axis=1) / 0.05, values)
+            return idx, lucky, np.stack([lucky, 0.5 * lucky, 0.25 * lucky], axis=1)
 
-    res = pf.allocate_pooled(bake, n, points_m=pts, normals=nrm, target=0.01, offset=np.full(n, 10.0))
-    assert res.pooled.any() and not np.any(res.pooled & rare)
-    assert np.all(res.tally.std_error / (res.tally.mean + 10.0) <= 0.01 + 1e-12)
+        res = pf.allocate_pooled(bake, n, points_m=pts, normals=nrm, target=0.01, offset=np.full(n, 10.0))
+        assert res.pooled.any() and not np.any(res.pooled & rare), seed
+        assert np.all(res.tally.std_error / (res.tally.mean + 10.0) <= 0.01 + 1e-12)
 
 
 def test_the_held_out_pilot_rides_in_the_fitted_meters_bake(monkeypatch):
