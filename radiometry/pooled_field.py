@@ -5,7 +5,8 @@ closed form gives) is smooth across neighbouring meters, so a field fitted over 
 samples each is more precise than any one meter's own samples. Its honesty rests on two measured
 errors, never on the field's form being right:
 
-1. **the fit's own standard error**: ordinary least squares of a polynomial in the plane's
+1. **the fit's own standard error**: least squares (weighted by each meter's samples, fixed before
+   sampling: ``fit_blocks``) of a polynomial in the plane's
    coordinates (Legendre products of total degree d; d chosen by leave-one-out cross-validation on
    the fitted meters alone), its covariance by the sandwich formula from every meter's own batch-means
    variance (so no weight is a noisy estimate correlated with the value it weighs);
