@@ -48,6 +48,7 @@ class _Capture:
     reread = None  # capture_partial: reread(original, data, parent) -> True when they must be read again
     instances = None  # a dict to fill with this capture's instances (capture_cache keeps it for the next)
     light_records = None  # a list to fill with one LightRecord per light instance (``relight`` replays them)
+    view_layer = None  # the name of the view layer to read (the probe renders no other)
 
 
 def _material_traits(material):
@@ -446,22 +447,31 @@ class LightRecord:
     matrix_world: tuple
     source_id: object
     object_state: tuple
+    basis: tuple  # the object's own transform, for an instance (``_basis``)
 
 
 def _object_state(obj):
     """The light object's values that the capture reads (ray flags, light linking) or that decide whether
-    it renders (``hide_render``), and its own world matrix: equal values, equal light entries."""
+    it renders (``hide_render``): equal values, equal light entries."""
     linking = getattr(obj, "light_linking", None)
     links = (None, None) if linking is None else (
         linking.receiver_collection is not None, linking.blocker_collection is not None)
-    return (tuple(bool(getattr(obj, attr, True)) for attr in _LIGHT_OBJECT_FLAGS), links,
-            tuple(tuple(row) for row in obj.matrix_world))
+    return tuple(bool(getattr(obj, attr, True)) for attr in _LIGHT_OBJECT_FLAGS), links
+
+
+def _basis(original):
+    """An instanced light's own transform where it alone places the light in its collection (no parent, no
+    constraint: then its instances move only with their instancer, whose edits are not lights-only), else
+    None (``relight`` then leaves such an instance to the probe)."""
+    if original.parent is not None or len(original.constraints):
+        return None
+    return tuple(tuple(row) for row in original.matrix_basis)
 
 
 def _light_record(obj, original, name, matrix_world, source_id):
     return LightRecord(name=name, source=original.name, session_uid=int(original.session_uid),
                        data_pointer=original.data.as_pointer(), matrix_world=tuple(tuple(row) for row in matrix_world),
-                       source_id=source_id, object_state=_object_state(original))
+                       source_id=source_id, object_state=_object_state(original), basis=_basis(original))
 
 
 class _LightInstance:
@@ -488,6 +498,8 @@ class _ProbeEngine(bpy.types.RenderEngine):
     bl_label = "Radiometer scene probe"
 
     def render(self, depsgraph):
+        if _Capture.view_layer is not None and depsgraph.view_layer.name != _Capture.view_layer:
+            return  # another view layer of the frame (``_render_probe`` turns them off; never read them)
         try:
             _Capture.result = _collect(depsgraph)
         except BaseException as exc:  # noqa: BLE001 - handed back to the caller, never swallowed
@@ -508,6 +520,11 @@ def _render_probe(scene, view_layer):
             render.use_compositing = False
             render.use_sequencer = False
             render.use_border = False
+            # Only the view layer asked for: Blender renders every enabled view layer of the frame, one
+            # render(depsgraph) call each (measured, bpy 5.0.1, also with ``layer=``), and the last one's
+            # capture was kept: a capture for the first of two layers read the second's lights.
+            for layer in scene.view_layers:
+                layer.use = layer.name == view_layer.name
             if scene.camera is None:  # Blender refuses to render without one; removed on exit
                 cam = bpy.data.objects.new("radiometer_probe_camera", bpy.data.cameras.new("radiometer_probe_camera"))
                 scene.collection.objects.link(cam)
@@ -527,7 +544,7 @@ def _probe(scene, view_layer, exclude, lights_only, instances=None, previous=Non
     _Capture.exclude, _Capture.result, _Capture.error = frozenset(exclude), None, None
     _Capture.scale, _Capture.lights_only = scene.unit_settings.scale_length, lights_only
     _Capture.instances, _Capture.previous, _Capture.reread = instances, previous, reread
-    _Capture.light_records = light_records
+    _Capture.light_records, _Capture.view_layer = light_records, view_layer.name
     try:
         _render_probe(scene, view_layer)
         if _Capture.error is not None:
@@ -541,6 +558,7 @@ def _probe(scene, view_layer, exclude, lights_only, instances=None, previous=Non
         _Capture.result = _Capture.error = None
         _Capture.lights_only = False
         _Capture.instances = _Capture.previous = _Capture.reread = _Capture.light_records = None
+        _Capture.view_layer = None
 
 
 def _model_lights(raw_lights):
@@ -623,11 +641,11 @@ def relight(scene, model, records, view_layer=None):
     Every light instance of ``records`` (the list the probe of ``model`` filled) is read again from its
     object's data-block by the probe's own ``_light_entry``, with the instance's kept name and identity,
     and its kept world matrix, or, for a light object of its own (not an instance) that moved, the
-    object's evaluated matrix, which is the render's instance matrix. Returns ``(model, records)``, or
-    None (the caller renders the probe) when a record's object is gone, renamed or holds another
-    data-block, when its ray flags, light linking or ``hide_render`` differ from the probe's, when an
-    instanced light moved or a moved light is not evaluated in the viewport (its matrix is not brought
-    up to date there), or when a light or its node tree is animated (the render would evaluate it)."""
+    object's matrix as ``view_layer``'s depsgraph evaluated it, which is the render's instance matrix.
+    Returns ``(model, records)``, or None (the caller renders the probe) when a record's object is gone,
+    renamed or holds another data-block, when it is not evaluated in ``view_layer``'s depsgraph (disabled
+    in viewports), when its ray flags, light linking or ``hide_render`` differ from the probe's, when an
+    instanced light moved, or when a light or its node tree is animated (the render would evaluate it)."""
     view_layer = view_layer or scene.view_layers[0]
     raw_lights, fresh = [], []
     _Capture.scale = scene.unit_settings.scale_length
@@ -637,13 +655,22 @@ def relight(scene, model, records, view_layer=None):
                 or original.data is None or original.data.as_pointer() != record.data_pointer
                 or not _unanimated(original.data)):
             return None
-        state = _object_state(original)
-        if state[:2] != record.object_state[:2]:
+        if _object_state(original) != record.object_state:
             return None
-        if state[2] != record.object_state[2]:  # the light moved
-            if record.source_id.instance or not view_layer.depsgraph.id_eval_get(original).is_evaluated:
+        if record.source_id.instance:  # kept only while its own transform is (its instancer did not move)
+            if record.basis is None or _basis(original) != record.basis:
                 return None
-            record = dataclasses.replace(record, matrix_world=state[2], object_state=state)
+        else:
+            # The object as the view layer's depsgraph evaluated it (capture_cache evaluated it just before):
+            # its matrix is the render's instance matrix, up to date also for a view layer that is not the
+            # active one (whose evaluation is not copied back to the original). Not evaluated there
+            # (disabled in viewports): the probe reads it.
+            evaluated = view_layer.depsgraph.id_eval_get(original)
+            if not evaluated.is_evaluated:
+                return None
+            matrix = tuple(tuple(row) for row in evaluated.matrix_world)
+            if matrix != record.matrix_world:  # the light moved
+                record = dataclasses.replace(record, matrix_world=matrix)
         instance = _LightInstance(original.data, record.object_state)
         visibility = _ray_visibility(instance, bool(getattr(original.data, "use_shadow", True)))
         raw_lights.append(dict(_light_entry(instance, record.name, record.matrix_world, record.source_id, visibility),

@@ -455,7 +455,12 @@ def test_light_edits_are_read_without_a_probe_and_equal_a_full_capture(clean_ble
     assert len(capture_cache.capture(scene, layer).lights) == 6
     assert capture_cache.stats()["light_rereads"] == rereads
     assert len(captures.rereads) == len(edits)
-    lamps["point"].location.x = 0.1  # relight again after the declines (their probes recorded afresh)
+    lamps["point"].location.x = 0.1  # the sun, disabled in viewports, still sends every light to the probe
+    read_and_compare(False, count=6)
+    hidden.objects.unlink(lamps["sun"])
+    bpy.context.scene.collection.objects.link(lamps["sun"])
+    read_and_compare(False, count=6)
+    lamps["point"].location.x = 0.2  # relight again after the declines (their probes recorded afresh)
     read_and_compare(True, count=6)
 
 
@@ -474,3 +479,39 @@ def test_a_reading_after_a_light_data_edit_is_the_same_bit_for_bit(clean_blender
     a, b = dataclasses.asdict(fast), dataclasses.asdict(full)
     a.pop("seconds"), b.pop("seconds")
     assert a == b
+
+
+def test_a_light_moved_is_read_right_for_a_view_layer_that_is_not_the_active_one(clean_blender, build, captures):
+    """``relight`` takes a moved light's matrix from the capture's own view layer's depsgraph (Blender copies
+    only the active depsgraph's evaluation back to the objects)."""
+    scene, lamps = _light_scene(build)
+    other = scene.view_layers.new("other layer")
+    assert bpy.context.view_layer != other
+    capture_cache.capture(scene, other)
+    for k, location in enumerate([(0.7, 0.1, 1.5), (-0.4, 0.3, 2.2)]):
+        lamps["point"].location = location
+        rereads = capture_cache.stats()["light_rereads"]
+        model = capture_cache.capture(scene, other)
+        assert capture_cache.stats()["light_rereads"] == rereads + 1
+        point = next(lt for lt in model.lights if lt.name == "point")
+        assert np.allclose(point.spec.position, location, atol=1e-6)
+        assert len(model.lights) == 7 and _same(model.lights, scene_capture.capture(scene, other).lights)
+        capture_cache.capture(scene, other)  # the reference capture's restore: stamped again
+
+
+def test_each_view_layer_is_captured_alone(clean_blender, build, captures):
+    """The probe renders only the view layer asked for (Blender renders every enabled one, and the last
+    one's capture used to be kept: the first layer read the second's lights), and the layers' render
+    switches are given back."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "POINT", location=(0.0, 0.0, 2.0), energy=10.0, name="everywhere")
+    only_first = bpy.data.collections.new("only in the first layer")
+    scene.collection.children.link(only_first)
+    build.light(scene, "POINT", location=(0.0, 0.0, 3.0), energy=10.0, name="first only", collection=only_first)
+    first, other = scene.view_layers[0], scene.view_layers.new("other layer")
+    other.layer_collection.children["only in the first layer"].exclude = True
+    other.use = False  # a layer the user does not render: still captured when asked for
+    for layer, names in ((first, {"everywhere", "first only"}), (other, {"everywhere"})):
+        assert {lt.name for lt in scene_capture.capture(scene, layer).lights} == names
+    assert [layer.use for layer in scene.view_layers] == [True, False]
