@@ -524,7 +524,8 @@ def _render_probe(scene, view_layer):
             # render(depsgraph) call each (measured, bpy 5.0.1, also with ``layer=``), and the last one's
             # capture was kept: a capture for the first of two layers read the second's lights.
             for layer in scene.view_layers:
-                layer.use = layer.name == view_layer.name
+                if layer.use != (layer.name == view_layer.name):  # no write (and no update) when it is so
+                    layer.use = layer.name == view_layer.name
             if scene.camera is None:  # Blender refuses to render without one; removed on exit
                 cam = bpy.data.objects.new("radiometer_probe_camera", bpy.data.cameras.new("radiometer_probe_camera"))
                 scene.collection.objects.link(cam)
