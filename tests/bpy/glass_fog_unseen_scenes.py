@@ -144,15 +144,21 @@ def skylight_tilted_expected(light):
 WALL = {"ior": 1.52, "elevation_deg": 25.0, "sun_w": 100.0, "panes_y": (0.0, 0.02), "thickness": 0.004}
 
 
-def wall_double_glazing():
+def wall_double_glazing(albedo=0.0, part=None):
     """A black room (floor, walls, ceiling and a desk of albedo 0) behind double glazing (two 4 mm
     Glass BSDF panes, IOR 1.52, 16 mm apart) filling a 2 x 1.2 m opening in the wall y = 0; the sun at
     25 degrees elevation shining straight in (+y). Meters: floor in the sun patch, floor in the shade,
-    on the desk in the sun."""
+    on the desk in the sun.
+
+    ``albedo``: the room's (0.5: a grey room, rendered references). ``part="sun"``: the reference scene
+    of a grey room: the two panes replaced by ONE face of constant thin glass at the sun's angle (T and R
+    of the two panes by the adding formula from ``fresnel_slab``): exact for every sun ray; light from
+    inside meets it with R(25 deg) instead of its own angle's R (a small part of a small part: the window
+    is 1.7 % of the room's surface)."""
     w = WALL
     scene = base.reset()
     base._world(scene, strength=0.0)
-    black = _black("black room")
+    black = base._diffuse("grey room", albedo) if albedo else _black("black room")
     X, Y, H = 3.0, 6.0, 3.0
     x0, x1, z0, z1 = -1.0, 1.0, 0.8, 2.0
     wall = [[(-X, 0, 0), (-X, 0, H), (x0, 0, H), (x0, 0, 0)], [(x1, 0, 0), (x1, 0, H), (X, 0, H), (X, 0, 0)],
@@ -163,7 +169,13 @@ def wall_double_glazing():
     base._quads(scene, "Room", wall + room, black)
     _box(scene, "Desk", (-0.9, 0.8, 0.0), (-0.1, 1.6, 0.75), black)
     mat = base.glass_material("double glazing", "glass", w["ior"])
-    for k, y in enumerate(w["panes_y"]):
+    if part == "sun":
+        T, R = double_glazing_optics()
+        pane = base.add_pane(scene, "Constant pane", base.constant_pane_material("double glazing at 25 deg", T, R),
+                             centre=(0.0, 0.0, 0.0), size=(x1 - x0, z1 - z0), thickness=0.0)
+        pane.location = (0.0, 0.0, 0.5 * (z0 + z1))
+        pane.rotation_euler = (math.radians(90.0), 0.0, 0.0)
+    for k, y in enumerate(w["panes_y"] if part != "sun" else ()):
         pane = base.add_pane(scene, f"Pane {k + 1}", mat, centre=(0.0, 0.0, 0.0), size=(x1 - x0, z1 - z0),
                              thickness=w["thickness"])
         pane.location = (0.0, y, 0.5 * (z0 + z1))
@@ -175,17 +187,21 @@ def wall_double_glazing():
                    ("desk in the sun", (-0.5, 1.2, 0.75), (0.0, 0.0, 1.0))]
 
 
+def double_glazing_optics():
+    """(T, R) RGB of the two panes at the sun's angle: the incoherent adding formula."""
+    w = WALL
+    cos_pane = math.cos(math.radians(w["elevation_deg"]))  # the panes' normal is horizontal, along the sun's azimuth
+    ior = f32(w["ior"])
+    T = fresnel_slab(cos_pane, ior, w["thickness"])
+    R = fresnel_slab_r(cos_pane, ior)
+    return T * T / (1 - R * R), R + T * T * R / (1 - R * R)
+
+
 def wall_double_glazing_expected(label):
     if "shade" in label:
         return 0.0
     w = WALL
-    e = math.radians(w["elevation_deg"])
-    ior = f32(w["ior"])
-    cos_pane = math.cos(e)  # the panes' normal is horizontal, along the sun's azimuth
-    T = fresnel_slab(cos_pane, ior, w["thickness"])
-    R = fresnel_slab_r(cos_pane, ior)
-    T2 = T * T / (1 - R * R)  # two panes in a row, the incoherent adding formula
-    return lux(w["sun_w"] * math.sin(e) * T2)
+    return lux(w["sun_w"] * math.sin(math.radians(w["elevation_deg"])) * double_glazing_optics()[0])
 
 
 TRICK = {"ior": 1.5, "thickness": 0.006, "sun_rotation": (math.radians(50.0), 0.0, math.radians(-30.0)), "sun_w": 80.0}
@@ -325,8 +341,11 @@ def glossy_wall():
 
 
 RENDERED = {
+    "grey_room_glazing": (lambda: wall_double_glazing(0.5), "double glazing"),
     "frosted_principled_area": (frosted_principled_area, "frosted pane"),
     "fog_cube": (fog_cube, "fog point"),
     "glossy_wall": (glossy_wall, "glossy floor"),
     "fog_floor": (fog_floor, "fog spot"),
 }
+#: Rendered references made on another scene than the meter's (make_glass_fog_unseen_references.py).
+REFERENCE_SCENES = {"grey_room_glazing": lambda: wall_double_glazing(0.5, part="sun")}

@@ -8,7 +8,9 @@ Numbers from ``reference.reference_irradiance`` (a tiny white Lambertian patch s
 Cycles camera, E = pi x pixel, standard error over pixels) on the scenes of
 ``glass_fog_unseen_scenes.RENDERED``, each patch lifted off its surface by ``reference.lift_off_surface``
 (1e-6 m: a bias below 2e-5); nothing of Radiometer's measurement code runs. Each value keeps its own
-relative standard error and sample count. The closed-form cases need no cache.
+relative standard error and sample count. The closed-form cases need no cache. The grey room behind
+double glazing is rendered on ``REFERENCE_SCENES`` (the panes as one face of constant thin glass at the
+sun's angle: the sun through real glass is a caustic no render finds).
 """
 
 import datetime
@@ -43,7 +45,7 @@ def main(names):
         "seed": SEED, "target_rel_error": TARGET, "max_seconds": MAX_SECONDS,
         "blender": bpy.app.version_string, "device": "CPU", "date": datetime.date.today().isoformat()}
     for name in names or list(scenes.RENDERED):
-        build, _kind = scenes.RENDERED[name]
+        build = scenes.REFERENCE_SCENES.get(name, scenes.RENDERED[name][0])
         scene, cases = build()
         for label, point, normal in cases:
             at = reference.lift_off_surface(scene, point, normal)

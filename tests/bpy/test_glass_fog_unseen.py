@@ -130,6 +130,19 @@ def test_double_glazing_in_a_wall_low_sun(clean_blender):
         _check(r, u.wall_double_glazing_expected(label), 0.0)
 
 
+def test_grey_room_behind_double_glazing_against_a_patch_render(clean_blender):
+    """The same room, grey (albedo 0.5): the sun patch and the shade (light only by interreflection of
+    the sun patch) against patch renders with the panes as constant thin glass at the sun's angle."""
+    from radiometer import api
+
+    scene, cases = u.wall_double_glazing(0.5)
+    for label, point, normal in cases[:2]:
+        quality = "standard" if "shade" in label else "preview"
+        r = api.measure_illuminance(point, normal, scene=scene, method="auto", quality=quality)
+        assert r.method == ("render" if "shade" in label else "hybrid") and not r.exact, (label, r.method)
+        _check(r, *_stored(f"grey_room_glazing/{label}", point, normal))
+
+
 def test_volume_cube_against_a_patch_render(clean_blender):
     from radiometer import api
 
