@@ -342,10 +342,23 @@ def glossy_wall():
 
 RENDERED = {
     "grey_room_glazing": (lambda: wall_double_glazing(0.5), "double glazing"),
+    "foggy_room": (lambda: foggy_room(), "fog area"),
     "frosted_principled_area": (frosted_principled_area, "frosted pane"),
     "fog_cube": (fog_cube, "fog point"),
     "glossy_wall": (glossy_wall, "glossy floor"),
     "fog_floor": (fog_floor, "fog spot"),
 }
+def foggy_room(part=None):
+    """The grey room behind the wall's double glazing (``wall_double_glazing(0.5)``) filled with fog: a
+    volume object (Volume Scatter, density 0.05/m, colour 0.8: sigma_s = 0.04/m) just inside the room
+    (a world volume would swallow the sun: its rays would cross unbounded fog). Meters: the floor in the
+    sun patch and in the shade. ``part="sun"``: the reference scene (panes as constant thin glass)."""
+    scene, cases = wall_double_glazing(0.5, part=part)
+    mat = _one_node_material("room fog", "ShaderNodeVolumeScatter", "Volume", {"Density": 0.05})
+    _box(scene, "Room fog", (-2.99, 0.03, 0.001), (2.99, 5.99, 2.99), mat)
+    return scene, cases[:2]
+
+
 #: Rendered references made on another scene than the meter's (make_glass_fog_unseen_references.py).
-REFERENCE_SCENES = {"grey_room_glazing": lambda: wall_double_glazing(0.5, part="sun")}
+REFERENCE_SCENES = {"grey_room_glazing": lambda: wall_double_glazing(0.5, part="sun"),
+                    "foggy_room": lambda: foggy_room(part="sun")}

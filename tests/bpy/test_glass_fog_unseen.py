@@ -183,3 +183,17 @@ def test_rendered_point_light_through_a_tilted_pane_states_float32_rounding(clea
     r = api.measure_illuminance(point, normal, scene=scene, method="render", quality="preview")
     assert r.illuminance == pytest.approx(u.skylight_tilted_expected("POINT"), rel=1e-6)  # right to float32
     _check(r, u.skylight_tilted_expected("POINT"), 0.0)
+
+
+@pytest.mark.xfail(strict=True, reason="issue 18 (T8 QA): in a fog-filled room the sun through double glazing "
+                   "is rendered (the fog box's faces stop the crossing proof), so the light bouncing between the "
+                   "panes (0.69 % at 25 deg), which a render cannot find, is neither added nor stated: 10 seeds "
+                   "read -0.73 % +- 0.19 % on average at 0.53 % stated; seed 0 -2.05 % at 0.45 % (z -4.5)")
+def test_sun_through_double_glazing_into_a_foggy_room_seed_0(clean_blender):
+    from radiometer import api
+
+    scene, cases = u.foggy_room()
+    label, point, normal = cases[0]
+    r = api.measure_illuminance(point, normal, scene=scene, method="auto", quality="preview", seed=0)
+    assert not r.exact
+    _check(r, *_stored(f"foggy_room/{label}", point, normal))
