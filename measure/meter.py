@@ -20,6 +20,12 @@ from ..readings import IlluminanceReading
 from . import render_settings, scene_guard, sensors
 
 DEFAULT_EFFICACY = K_M_LM_PER_W  # 683 lm/W, Blender's glTF convention; see README "Conventions"
+#: Relative float32 floor of every rendered part's 1-sigma error (issue 18, F3): Cycles shades, films and
+#: accumulates in float32 (unit roundoff 2^-24); a rendered value passes some tens of operations (light
+#: evaluation, BSDF and the thin-pane stand-in's math nodes, film sum and division), whose independent
+#: roundings add to about sqrt(64) x 2^-24 = 4 x 2^-23 = 4.8e-7. Measured: a point light through a
+#: tilted pane, rendered, read 1.19e-7 low (one ulp) while its batch-means s.e. was 1e-8.
+FLOAT32_FLOOR = 4.0 * 2.0 ** -23
 
 
 # --- inputs ---------------------------------------------------------------------------------------
@@ -720,6 +726,9 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
     mean_rgb = run["mean_rgb"] + offset_rgb
     se_rgb = np.nan_to_num(run["se_rgb"])
     scalar_se = np.nan_to_num(run["se"])
+    # Issue 18 (F3): Cycles computes and accumulates in float32, so no rendered part is known better
+    # than its float32 rounding, even where every sample agrees (one delta light: batch-means s.e. ~0).
+    scalar_se = np.hypot(scalar_se, FLOAT32_FLOOR * np.abs(run["mean_rgb"] @ weights))
     dark = np.asarray(run.get("dark", np.zeros(n, bool)), bool)
     if dark.any():
         # Issue 18: no rendered light found although some may arrive (a small bright region past
