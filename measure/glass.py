@@ -397,5 +397,49 @@ def mirror_triangles(model):
     if not keep.any():
         return np.zeros((0, 3, 3)), np.zeros(0, dtype=object)
     index = np.asarray(g.object_index, int)
-    chosen = keep[index]
+    chosen = keep[index] & ~_pane_edges(model)
     return np.asarray(g.triangles, float)[chosen], np.asarray(g.object_names, dtype=object)[index[chosen]]
+
+
+def _pane_edges(model):
+    """(T,) True for a thin pane's triangles that lie in neither of its face planes (a slab's edge faces;
+    issue 18, F4): the thin-glass model has none, and light reaches their outside only through the slab,
+    so they give no mirror image of a light. A frame in the pane's object is not a pane triangle: kept."""
+    import numpy as np
+
+    g = model.geometry
+    edges = np.zeros(g.count, bool)
+    pane_of = np.asarray(g.pane_of, int) if g.pane_of is not None else np.full(g.count, -1)
+    for k, pane in model.panes.items():
+        geom = getattr(pane, "geometry", None)
+        mine = np.flatnonzero(pane_of == k)
+        if geom is None or not mine.size:
+            continue
+        tris = np.asarray(g.triangles, float)[mine]
+        tol = 1e-6 * max(1.0, float(np.abs(tris).max()))  # float32 vertices, as the capture's pane test
+        h = tris @ np.asarray(geom.normal, float)  # (M, 3) vertex offsets along the pane's normal
+        in_plane = np.zeros(mine.size, bool)
+        for height in geom.heights:
+            in_plane |= np.all(np.abs(h - height) <= tol, axis=1)
+        edges[mine[~in_plane]] = True
+    return edges
+
+
+def stack_notes(model):
+    """Notes on multiple glazing (issue 18, F5): each pane is rendered as its own thin pane, so light
+    bouncing between parallel panes is missing from everything rendered through them (reflected light,
+    the world, lights not read in closed form); the note gives its size at normal and 60 deg incidence
+    (``thin_glass.interpane_share``). A meter's own closed-form direct light adds or bounds it."""
+    from ..radiometry import thin_glass
+
+    notes = []
+    for group in thin_glass.parallel_stacks(model.panes):
+        panes = [model.panes[k] for k in group]
+        at_0, at_60 = (thin_glass.interpane_share(panes, c) for c in (1.0, 0.5))
+        names = ", ".join(repr(p.name) for p in panes)
+        notes.append(f"multiple glazing ({names}): rendered as separate thin panes, so the light bouncing between "
+                     f"them is missing from rendered light that crossed them: {100 * at_0:.2g} % of it at normal "
+                     f"incidence, {100 * at_60:.2g} % at 60 deg; rendered readings may be that much low (not in "
+                     "their stated error; a meter's closed-form direct light includes or bounds it)")
+    return notes
+

@@ -52,9 +52,11 @@ class _Capture:
 
 
 def _material_traits(material):
-    """(opaque, emissive, glossy, transmission, volume) of a material as Cycles shades it."""
+    """(opaque, emissive, glossy, transmission, volume, null surface) of a material as Cycles shades it.
+    A null surface: the active output has a Volume and no Surface (a fog box): Cycles renders the
+    boundary as a null interface that neither blocks nor reflects light; the medium is in ``volumes``."""
     if material is None:  # Cycles' default surface: grey diffuse
-        return True, False, False, False, False
+        return True, False, False, False, False, False
     from ..compat import active_node_tree
 
     tree = active_node_tree(material)
@@ -71,7 +73,18 @@ def _material_traits(material):
                         transmissive = True
     volume = render_settings._uses_volume(tree)
     return (not transmissive and not volume, bool(types & render_settings._EMISSIVE_NODES),
-            bool(types & render_settings._GLOSSY_NODES), transmissive, volume)
+            bool(types & render_settings._GLOSSY_NODES), transmissive, volume, volume and _volume_only(tree))
+
+
+def _volume_only(tree):
+    """True when the material's active output takes a Volume and no Surface (issue 18, F5)."""
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial" and not n.mute]
+    active = [n for n in outputs if n.is_active_output] or outputs
+    if len(active) != 1:
+        return False
+    surface, volume = active[0].inputs.get("Surface"), active[0].inputs.get("Volume")
+    live = (lambda socket: socket is not None and any(link.is_valid and not link.is_muted for link in socket.links))
+    return live(volume) and not live(surface)
 
 
 def _emission_radiance(material):
@@ -214,7 +227,7 @@ def _collect(depsgraph):
             if k not in material_cache:
                 material_cache[k] = _material_traits(material)
             traits.append(material_cache[k])
-            _o, emits, glossy, transmission, volume = material_cache[k]
+            _o, emits, glossy, transmission, volume, _null = material_cache[k]
             needs["glossy"] |= glossy
             needs["transmission"] |= transmission
             needs["volume"] |= volume
@@ -241,8 +254,11 @@ def _collect(depsgraph):
         index = len(names)
         names.append(name)
         ids.append(object_identity(original))
-        shadow.append(bool(obj.visible_shadow))
-        reflects.append(bool(obj.visible_diffuse or obj.visible_glossy or obj.visible_transmission))
+        # Faces of a volume-only object are null interfaces (issue 18, F5): no shadow, no reflection;
+        # its medium (in ``volumes``) is what attenuates and scatters, and the planner renders it.
+        null = bool(traits[used, 5].all())
+        shadow.append(bool(obj.visible_shadow) and not null)
+        reflects.append(bool(obj.visible_diffuse or obj.visible_glossy or obj.visible_transmission) and not null)
         tri_chunks.append(world)
         obj_chunks.append(np.full(len(world), index))
         opaque_chunks.append(traits[slot, 0])

@@ -287,3 +287,41 @@ def pyramid_crossing(geom, apex, base, tol):
     if edges_ok:
         cos_max = 1.0
     return True, min(cosines), cos_max
+
+
+# --- multiple glazing (issue 18, F5) ------------------------------------------------------------------
+
+def parallel_stacks(panes, tol=1e-6):
+    """Groups (lists of keys, two or more) of ``panes`` ({key: Pane}) that are parallel and whose
+    outlines overlap seen along their normal (bounding boxes of the hulls in the first pane's frame:
+    conservative): multiple glazing, where light bounces between the panes."""
+    keys = [k for k, p in panes.items() if getattr(p, "geometry", None) is not None]
+    groups, placed = [], set()
+    for i, a in enumerate(keys):
+        if a in placed:
+            continue
+        ga = panes[a].geometry
+        lo_a, hi_a = ga.hull.min(axis=0), ga.hull.max(axis=0)
+        group = [a]
+        for b in keys[i + 1:]:
+            gb = panes[b].geometry
+            if b in placed or abs(float(np.dot(ga.normal, gb.normal))) < 1.0 - tol:
+                continue
+            corners = gb.origin + gb.hull[:, :1] * gb.u + gb.hull[:, 1:] * gb.v
+            flat = np.stack([(corners - ga.origin) @ ga.u, (corners - ga.origin) @ ga.v], axis=1)
+            if np.all(flat.max(axis=0) > lo_a + tol) and np.all(flat.min(axis=0) < hi_a - tol):
+                group.append(b)
+        if len(group) > 1:
+            placed.update(group)
+            groups.append(group)
+    return groups
+
+
+def interpane_share(panes, cos_i):
+    """Largest relative share (over RGB) of the light crossing ``panes`` (Pane, in order) at incidence
+    cosine ``cos_i`` that bounces between them: 1 - prod T_i / T_stack (the adding formula). A render
+    of the panes as separate thin panes misses it (a specular chain)."""
+    layers = [p.optics(cos_i)[:2] for p in panes]
+    T = stack(layers)[0]
+    single = np.prod([t for t, _r in layers], axis=0)
+    return float(np.max(1.0 - single / np.maximum(T, 1e-300)))

@@ -98,3 +98,27 @@ def test_pane_geometry_and_crossings():
     bent = face.copy()
     bent[1, 2, 2] += 0.1
     assert thin_glass.pane_geometry(bent, tol)[0] is None
+
+
+def test_parallel_panes_are_a_stack_and_their_interpane_share_is_r_squared():
+    """Issue 18, F5: two identical clear panes pass T^2 / (1 - R^2), of which the light bounced between
+    them is the share R^2 (R the single pane's reflectance, the slab's own closed form 2 r0 / (1 + r0)
+    at normal incidence); panes side by side or crossed are no stack."""
+    tol = 1e-9
+
+    def pane(name, lo, hi, ior=1.52):
+        geom, why = thin_glass.pane_geometry(_box(lo, hi), tol)
+        assert geom is not None, why
+        return thin_glass.Pane(name=name, ior=ior, thickness=geom.thickness, geometry=geom)
+
+    a = pane("a", (-1, 0.000, 0), (1, 0.004, 2))
+    b = pane("b", (-0.5, 0.020, 0.5), (0.5, 0.024, 1.5))   # behind a, overlapping it
+    beside = pane("beside", (3, 0.020, 0), (4, 0.024, 2))  # parallel but outside a's outline
+    crossed = pane("crossed", (2, -1, 0), (2.004, 1, 2))   # normal along x
+    assert thin_glass.parallel_stacks({1: a, 2: b, 3: beside, 4: crossed}) == [[1, 2]]
+    assert thin_glass.parallel_stacks({1: a, 3: beside, 4: crossed}) == []
+    r0 = ((1.52 - 1) / 2.52) ** 2
+    R = 2 * r0 / (1 + r0)
+    assert thin_glass.interpane_share([a, b], 1.0) == pytest.approx(R * R, rel=1e-12)
+    assert thin_glass.interpane_share([a], 1.0) == 0.0
+    assert thin_glass.interpane_share([a, b], 0.5) > R * R  # Fresnel R grows with the angle
