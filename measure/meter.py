@@ -17,7 +17,7 @@ from ..radiometry import allocation
 from ..errors import RadiometerError
 from ..radiometry.constants import K_M_LM_PER_W
 from ..readings import IlluminanceReading
-from . import render_settings, scene_guard, sensors
+from . import render_settings, sample_floors, scene_guard, sensors
 
 DEFAULT_EFFICACY = K_M_LM_PER_W  # 683 lm/W, Blender's glTF convention; see README "Conventions"
 #: Relative float32 floor of every rendered part's 1-sigma error (issue 18, F3): Cycles shades, films and
@@ -714,6 +714,13 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                      f"disc or a sky patch come by rare paths): at least {allocation.DARK_FLOOR:,} samples per "
                      "such meter before the error is trusted (issue 18: a 256-sample pilot read a one-patch "
                      "world 0.8 % low while stating 0.04 %)")
+    highlight, lit_by = sample_floors.highlight_floor(model, sensors_m, normals)
+    if highlight is not None and fixed is None:
+        floor = highlight if floor is None else np.maximum(floor, highlight)
+        notes.append(f"a light's glossy highlight may reach some meter(s) ({'; '.join(lit_by)}): a small bright "
+                     f"region a pilot can miss, so up to {int(highlight.max()):,} samples per such meter (about "
+                     f"{sample_floors.HIGHLIGHT_HITS} paths expected to find it) before the error is trusted "
+                     "(issue 18: 512-sample pilots read a roughness-0.15 floor's highlight 25-29 % low)")
     parts = [{"analytic": [lt.name for lt in model.lights if light_object_key(lt) in split[k]],
               "rendered": ["everything else (reflected light, other lights, world, emitting surfaces)"]}
              for k in range(n)]

@@ -1,0 +1,144 @@
+"""Sample floors for meters whose rendered light comes by paths a pilot can miss (issue 18).
+
+A pilot of 512-768 samples that finds *some* light is trusted by the stopping rule unless it is dark
+(``allocation.DARK_FLOOR``) or heavy-tailed (``allocation.HEAVY_TAIL``). A glossy highlight escapes both
+and read low with a confident error (bench/qa_glass_fog.md F1); it gets a floor of samples that every
+such meter takes before its error is trusted (``meter.world_floor`` is the world's):
+
+* ``highlight_floor``: a glossy metal reflector (roughness at least ``glass.SHARP_ROUGHNESS``, at most
+  ``GLOSSY_ROUGHNESS_MAX``) above the meter's horizon in which a light's specular image falls. Its
+  highlight is a small bright region: a cosine-sampled path from the meter hits it with probability
+  p = (Omega_image + Omega_lobe) cos / pi, Omega_image the light's solid angle seen in the mirror,
+  Omega_lobe = pi (LOBE_WIDTH alpha)^2 the GGX reflected lobe (alpha = roughness^2). The floor is
+  ``HIGHLIGHT_HITS`` / p samples (at most ``DARK_FLOOR``): about that many paths find the highlight.
+
+A sample floor for meters under fog (F2) was measured and not kept: bench/volume_floor.py.
+
+Host code (reads materials through bpy); the maths is numpy.
+"""
+
+import math
+
+import bpy
+import numpy as np
+
+from ..radiometry import allocation, visibility
+from . import glass
+
+#: Largest Cycles roughness r whose highlight gets a floor. Above it the lobe (alpha = r^2 >= 0.25,
+#: about 19 degrees wide) is broad and the formula's floor falls below the pilot itself; measured on the
+#: glossy wall scene (bench/glossy_highlight_floor.py): see bench/qa_glass_fog.md.
+GLOSSY_ROUGHNESS_MAX = 0.5
+
+#: Expected number of pilot paths that find the highlight (Poisson: fewer than half of them with
+#: probability below 1e-6, and a batch-means variance that sees the highlight's spread).
+HIGHLIGHT_HITS = 100
+
+#: Half width of the GGX reflected lobe in units of alpha: D falls to half at tan(theta_h) =
+#: alpha sqrt(sqrt(2) - 1) = 0.64 alpha, doubled by reflection.
+LOBE_WIDTH = 1.3
+
+_METAL_NODES = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic", "ShaderNodeBsdfMetallic")
+
+
+def glossy_roughness(material):
+    """Smallest roughness in (SHARP_ROUGHNESS, GLOSSY_ROUGHNESS_MAX] of a metal-like closure of
+    ``material`` (Glossy, Anisotropic, Metallic BSDF, or a Principled BSDF with Metallic > 0 or linked),
+    or None. A linked roughness counts as SHARP_ROUGHNESS (a texture may be that smooth somewhere)."""
+    from ..compat import active_node_tree
+
+    tree = active_node_tree(material) if material is not None else None
+    if tree is None:
+        return None
+    found = None
+    for node in tree.nodes:
+        if node.mute:
+            continue
+        if node.bl_idname == "ShaderNodeBsdfPrincipled":
+            metal = node.inputs.get("Metallic")
+            if metal is None or not (metal.is_linked or float(metal.default_value) > 0.0):
+                continue
+        elif node.bl_idname not in _METAL_NODES:
+            continue
+        socket = node.inputs.get("Roughness")
+        if socket is None:
+            continue
+        r = glass.SHARP_ROUGHNESS if socket.is_linked else float(socket.default_value)
+        if glass.SHARP_ROUGHNESS <= r <= GLOSSY_ROUGHNESS_MAX:
+            found = r if found is None else min(found, r)
+    return found
+
+
+def glossy_triangles(model):
+    """((T, 3, 3) triangles in m, (T,) object names, (T,) roughness) of the render-visible objects,
+    visible to glossy rays, whose material is a glossy metal (``glossy_roughness``)."""
+    from .identity import source_objects
+
+    g = model.geometry
+    rough = np.full(len(g.object_names), np.nan)
+    found = source_objects(g.object_ids) if len(g.object_ids) == len(g.object_names) else None
+    for k, name in enumerate(g.object_names):
+        obj = found.get(tuple(g.object_ids[k])) if found is not None else bpy.data.objects.get(name.split(" (instance ")[0])
+        if obj is None or not obj.visible_glossy:
+            continue
+        values = [r for r in (glossy_roughness(slot.material) for slot in obj.material_slots) if r is not None]
+        if values:
+            rough[k] = min(values)
+    keep = ~np.isnan(rough)
+    if not keep.any():
+        return np.zeros((0, 3, 3)), np.zeros(0, dtype=object), np.zeros(0)
+    index = np.asarray(g.object_index, int)
+    chosen = keep[index]
+    return (np.asarray(g.triangles, float)[chosen], np.asarray(g.object_names, dtype=object)[index[chosen]],
+            rough[index[chosen]])
+
+
+def _image_solid_angle(spec, at, path_length):
+    """Solid angle (sr) of a light's mirror image seen over a path of ``path_length`` m that meets the
+    light from the mirror point ``at``: area light A |cos| / L^2, sphere light pi R^2 / L^2, the sun's
+    disc pi (angle / 2)^2; a delta light 0 (its highlight is the lobe alone)."""
+    if spec.kind == "SUN":
+        return math.pi * (0.5 * float(spec.angle)) ** 2
+    if spec.kind == "AREA":
+        towards = np.asarray(at, float) - np.asarray(spec.position, float)
+        cos = abs(float(np.asarray(spec.emission_direction, float) @ towards)) / max(float(np.linalg.norm(towards)), 1e-300)
+        return float(spec.area_m2) * cos / path_length ** 2
+    if spec.radius > 0.0:
+        return math.pi * float(spec.radius) ** 2 / path_length ** 2
+    return 0.0
+
+
+def highlight_floor(model, points_m, normals):
+    """((N,) samples each meter takes at least, or None; names "'light' in 'reflector'") for meters
+    that see a light's specular image in a glossy metal reflector above their horizon (module doc)."""
+    n = len(points_m)
+    lights = [lt for lt in model.lights
+              if lt.spec is not None and not lt.portal and lt.reaches_diffuse and lt.spec.kind in ("SUN", "POINT", "SPOT", "AREA")]
+    if not lights or not model.geometry.count:
+        return None, []
+    tris, owners, rough = glossy_triangles(model)
+    if not len(tris):
+        return None, []
+    lobe = math.pi * (LOBE_WIDTH * rough ** 2) ** 2
+    floor = np.zeros(n, int)
+    names = set()
+    for light in lights:
+        spec = light.spec
+        sun = spec.kind == "SUN"
+        to_sun = -np.asarray(spec.emission_direction, float) if sun else None
+        for k in range(n):
+            hit, image, at = visibility.mirror_images(points_m[k], tris, None if sun else spec.position, to_sun)
+            for j in np.flatnonzero(hit):
+                d = at[j] - points_m[k]
+                r = float(np.linalg.norm(d))
+                cos = float(normals[k] @ d) / r if r > 0 else 0.0
+                if cos <= 0.0:  # the mirror point is below the meter's horizon
+                    continue
+                path = r + (0.0 if sun else float(np.linalg.norm(np.asarray(spec.position, float) - at[j])))
+                p = (_image_solid_angle(spec, at[j], path) + lobe[j]) * cos / math.pi
+                need = allocation.DARK_FLOOR if p <= 0 else min(allocation.DARK_FLOOR, math.ceil(HIGHLIGHT_HITS / p))
+                if need > allocation.PILOT_MIN_SAMPLES:
+                    floor[k] = max(floor[k], need)
+                    names.add(f"{light.name!r} in {owners[j]!r}")
+    return (floor if floor.any() else None), sorted(names)
+
