@@ -23,8 +23,10 @@ nodes, both polarisations), and the whole pane's T goes to a Transparent BSDF an
 Glossy BSDF (no Fresnel in Cycles 4+), on the faces hit from the front; back faces of a slab are
 fully transparent (the front face already stands for the pane), so a ray through the slab keeps
 T(theta) of the closed form and a shadow ray through it converges like direct light. Reflection is
-seen only by rays that were not already reflected by a glossy surface (Light Path > Is Glossy Ray):
-light bouncing between the panes of double glazing is in the closed form's adding formula instead.
+seen only by rays that were not already reflected by a glossy surface (Light Path > Is Glossy Ray).
+Multiple glazing (parallel panes of one outline, a shallow gap: ``stand_in_stacks``) is rendered as ONE
+stand-in pane carrying the whole unit's T and R by the adding formula, the other panes clear, so the
+light bouncing between the panes is rendered too (issue 18, F5).
 """
 
 import bpy
@@ -173,20 +175,9 @@ class _Math:
     def max(self, a, b): return self.op("MAXIMUM", a, b)  # noqa: E704
 
 
-def thin_pane_material(pane, name):
-    """A new material (removed by the scene guard with every data-block a measurement creates) that
-    renders ``pane`` (``radiometry.thin_glass.Pane``) as thin glass with the closed form's T and R."""
-    mat = bpy.data.materials.new(name)
-    tree = ensure_node_tree(mat)
-    tree.nodes.clear()
-    m = _Math(tree)
-    geo = tree.nodes.new("ShaderNodeNewGeometry")
-    dot = tree.nodes.new("ShaderNodeVectorMath")
-    dot.operation = "DOT_PRODUCT"
-    tree.links.new(geo.outputs["True Normal"], dot.inputs[0])
-    tree.links.new(geo.outputs["Incoming"], dot.inputs[1])
-    cos_i = m.op("ABSOLUTE", dot.outputs["Value"])
-    cos_i = m.op("MINIMUM", m.max(cos_i, 1e-6), 1.0)
+def _pane_channels(m, pane, cos_i):
+    """Per channel (T sockets (3,), R sockets (3,)) of ``pane``'s closed form at the incidence cosine
+    socket ``cos_i``: exact Fresnel, both polarisations averaged, internal reflections, absorption."""
     n = float(pane.ior)
     sin_t2 = m.div(m.sub(1.0, m.mul(cos_i, cos_i)), n * n)
     cos_t = m.sqrt(m.max(m.sub(1.0, sin_t2), 0.0))
@@ -213,6 +204,50 @@ def thin_pane_material(pane, name):
             R_sum = R_pol if R_sum is None else m.add(R_sum, R_pol)
         channels_t.append(m.mul(T_sum, 0.5))
         channels_r.append(m.mul(R_sum, 0.5))
+    return channels_t, channels_r
+
+
+def _stack_channels(m, layers):
+    """(T, R) sockets per channel of parallel panes met in order (``layers``: their ``_pane_channels``),
+    by the adding formula of ``thin_glass.stack``."""
+    T, R = list(layers[0][0]), list(layers[0][1])
+    for t, r in layers[1:]:
+        for ch in range(3):
+            denom = m.sub(1.0, m.mul(R[ch], r[ch]))
+            T[ch], R[ch] = (m.div(m.mul(T[ch], t[ch]), denom),
+                            m.add(R[ch], m.div(m.mul(m.mul(T[ch], T[ch]), r[ch]), denom)))
+    return T, R
+
+
+def thin_pane_material(pane, name, stack=None):
+    """A new material (removed by the scene guard with every data-block a measurement creates) that
+    renders ``pane`` (``radiometry.thin_glass.Pane``) as thin glass with the closed form's T and R.
+    ``stack``: all the panes of a multiple glazing unit ``pane`` stands in for (issue 18, F5), in order
+    along ``pane.geometry.normal``: T and R of the whole stack by the adding formula (R from the side the
+    ray comes from), so the light bouncing between the panes is rendered; the others are clear."""
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    m = _Math(tree)
+    geo = tree.nodes.new("ShaderNodeNewGeometry")
+    dot = tree.nodes.new("ShaderNodeVectorMath")
+    dot.operation = "DOT_PRODUCT"
+    tree.links.new(geo.outputs["True Normal"], dot.inputs[0])
+    tree.links.new(geo.outputs["Incoming"], dot.inputs[1])
+    cos_i = m.op("ABSOLUTE", dot.outputs["Value"])
+    cos_i = m.op("MINIMUM", m.max(cos_i, 1e-6), 1.0)
+    if not stack or len(stack) < 2:
+        channels_t, channels_r = _pane_channels(m, pane, cos_i)
+    else:
+        layers = [_pane_channels(m, p, cos_i) for p in stack]
+        channels_t, r_up = _stack_channels(m, layers)          # met from the lowest offset up
+        _t, r_down = _stack_channels(m, layers[::-1])         # met from the highest offset down
+        side = tree.nodes.new("ShaderNodeVectorMath")
+        side.operation = "DOT_PRODUCT"
+        tree.links.new(geo.outputs["Incoming"], side.inputs[0])  # Incoming points back along the ray
+        side.inputs[1].default_value = tuple(float(x) for x in pane.geometry.normal)
+        from_above = m.op("GREATER_THAN", side.outputs["Value"], 0.0)
+        channels_r = [m.add(r_up[ch], m.mul(from_above, m.sub(r_down[ch], r_up[ch]))) for ch in range(3)]
 
     def combine(channels):
         node = tree.nodes.new("ShaderNodeCombineColor")
@@ -250,6 +285,71 @@ def thin_pane_material(pane, name):
     return mat
 
 
+def _clear_material(name):
+    """A new material that lets every ray through unchanged (a pane of a stack whose stand-in carries it)."""
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    clear = tree.nodes.new("ShaderNodeBsdfTransparent")
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    tree.links.new(clear.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+#: Largest depth of a stack of panes (outermost face planes), as a fraction of its outline's smallest width,
+#: rendered as one stand-in: a ray entering the gap from the side meets one pane only, a share of the
+#: light crossing the unit of at most about depth / width x tan(theta) (2 % for double glazing 24 mm deep
+#: and 1.2 m wide at 45 deg); deeper stacks keep a thin pane each.
+STACK_DEPTH = 0.05
+
+
+def stand_in_stacks(panes, objects=None):
+    """Stacks of parallel panes (``thin_glass.parallel_stacks``) rendered as ONE stand-in pane (issue 18,
+    F5): (the stand-in, the Panes in order along its normal), for stacks whose panes
+    have the same outline (a ray crossing one crosses all) and each its own object (one material per
+    object); other stacks keep a thin pane each (their inter-pane light is not rendered)."""
+    import numpy as np
+
+    from ..radiometry import thin_glass
+
+    panes = panes or {}
+    objects = pane_objects(panes) if objects is None else objects
+    alone = {id(own[0]) for own in objects.values() if len(own) == 1}
+    out = []
+    for keys in thin_glass.parallel_stacks(panes):
+        group = [panes[k] for k in keys]
+        first = group[0].geometry
+        if not all(id(p) in alone for p in group) or not all(_same_outline(first, p.geometry) for p in group[1:]):
+            continue
+        if _stack_depth(group) > STACK_DEPTH * float(np.min(np.ptp(first.hull, axis=0))):
+            continue  # rays entering the gap from the side would meet one pane only
+        order = np.argsort([float(np.mean(p.geometry.heights)) * float(np.sign(p.geometry.normal @ first.normal))
+                            for p in group])
+        out.append((group[0], [group[k] for k in order]))
+    return out
+
+
+def _stack_depth(group):
+    """Distance in m between the outermost face planes of parallel panes (their normals may point either way)."""
+    import numpy as np
+
+    n = group[0].geometry.normal
+    offsets = [h * float(np.sign(p.geometry.normal @ n)) for p in group for h in p.geometry.heights]
+    return float(max(offsets) - min(offsets))
+
+
+def _same_outline(a, b):
+    """True when pane geometry ``b``'s outline, seen along ``a``'s normal, has ``a``'s corners."""
+    import numpy as np
+
+    corners = b.origin + b.hull[:, :1] * b.u + b.hull[:, 1:] * b.v
+    flat = np.stack([(corners - a.origin) @ a.u, (corners - a.origin) @ a.v], axis=1)
+    tol = 1e-6 * max(1.0, float(np.abs(a.hull).max()), float(np.abs(a.origin).max()))
+    if len(flat) != len(a.hull):
+        return False
+    return all(np.min(np.linalg.norm(a.hull - x, axis=1)) <= tol for x in flat)
+
+
 def pane_objects(panes):
     """{object: [panes]}: the Blender object behind every pane, found by the capture's identity
     (``Pane.source_id``: session uid and library, ``measure.identity``), never by name, so a pane
@@ -279,11 +379,20 @@ def swap_panes(snapshot, panes):
     another thickness), and the mesh, which other objects may use, is never changed. Every instance
     of one object gets the material of its first pane. Returns the names of the objects swapped."""
     done = []
-    for obj, own in pane_objects(panes).items():
+    objects = pane_objects(panes)
+    role = {}  # id(pane): the stack it stands in for, or () for a clear pane of a stack (issue 18, F5)
+    for lead, group in stand_in_stacks(panes, objects):
+        role.update((id(p), ()) for p in group)
+        role[id(lead)] = group
+    for obj, own in objects.items():
         pane = own[0]
         if not obj.material_slots:
             continue
-        mat = thin_pane_material(pane, f"radiometer thin pane {obj.name}")
+        stack = role.get(id(pane))
+        if stack is not None and not len(stack):
+            mat = _clear_material(f"radiometer clear pane {obj.name}")
+        else:
+            mat = thin_pane_material(pane, f"radiometer thin pane {obj.name}", stack=stack)
         for j, slot in enumerate(obj.material_slots):
             if pane.slots and j not in pane.slots:
                 continue  # a window frame in the same mesh keeps its material
@@ -426,20 +535,32 @@ def _pane_edges(model):
 
 
 def stack_notes(model):
-    """Notes on multiple glazing (issue 18, F5): each pane is rendered as its own thin pane, so light
-    bouncing between parallel panes is missing from everything rendered through them (reflected light,
-    the world, lights not read in closed form); the note gives its size at normal and 60 deg incidence
-    (``thin_glass.interpane_share``). A meter's own closed-form direct light adds or bounds it."""
+    """Notes on multiple glazing (issue 18, F5). A stack rendered as one stand-in (``stand_in_stacks``)
+    renders the light bouncing between its panes; any other stack of parallel panes is rendered a thin
+    pane each, so that light is missing from everything rendered through it (reflected light, the world,
+    lights not read in closed form): the note gives its size at normal and 60 deg incidence
+    (``thin_glass.interpane_share``). A meter's own closed-form direct light includes it."""
+    import numpy as np
+
     from ..radiometry import thin_glass
 
     notes = []
-    for group in thin_glass.parallel_stacks(model.panes):
-        panes = [model.panes[k] for k in group]
-        at_0, at_60 = (thin_glass.interpane_share(panes, c) for c in (1.0, 0.5))
+    modelled = {frozenset(id(p) for p in group) for _lead, group in stand_in_stacks(model.panes)}
+    for keys in thin_glass.parallel_stacks(model.panes):
+        panes = [model.panes[k] for k in keys]
         names = ", ".join(repr(p.name) for p in panes)
+        if frozenset(id(p) for p in panes) in modelled:
+            depth = _stack_depth(panes)
+            width = float(min(np.ptp(panes[0].geometry.hull, axis=0)))
+            notes.append(f"multiple glazing ({names}): rendered as one stand-in pane with the whole unit's T and R "
+                         "(adding formula; the other panes clear), so the light bouncing between the panes is "
+                         f"rendered; the unit is {1000 * depth:.3g} mm deep on a {width:.3g} m outline: rays that "
+                         f"enter the gap from the side (about {100 * depth / width:.2g} % of the light crossing at "
+                         "45 deg) are not modelled")
+            continue
+        at_0, at_60 = (thin_glass.interpane_share(panes, c) for c in (1.0, 0.5))
         notes.append(f"multiple glazing ({names}): rendered as separate thin panes, so the light bouncing between "
                      f"them is missing from rendered light that crossed them: {100 * at_0:.2g} % of it at normal "
                      f"incidence, {100 * at_60:.2g} % at 60 deg; rendered readings may be that much low (not in "
                      "their stated error; a meter's closed-form direct light includes or bounds it)")
     return notes
-
