@@ -42,7 +42,7 @@ _METAL_NODES = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic", "ShaderNode
 
 
 def glossy_roughness(material):
-    """Smallest roughness in (SHARP_ROUGHNESS, GLOSSY_ROUGHNESS_MAX] of a metal-like closure of
+    """Smallest roughness in [SHARP_ROUGHNESS, GLOSSY_ROUGHNESS_MAX] of a metal-like closure of
     ``material`` (Glossy, Anisotropic, Metallic BSDF, or a Principled BSDF with Metallic > 0 or linked),
     or None. A linked roughness counts as SHARP_ROUGHNESS (a texture may be that smooth somewhere)."""
     from ..compat import active_node_tree
