@@ -15,7 +15,6 @@ bench/glossy_highlight_floor.json with the readings (mean z, coverage within 1.9
 Roughness 0.15 uses the QA's stored reference (tests/bpy/glass_fog_unseen_references.json).
 """
 
-import importlib.util
 import json
 import math
 import pathlib
@@ -29,11 +28,8 @@ TESTS = ROOT / "tests" / "bpy"
 OUT = ROOT / "bench" / "glossy_highlight_floor.json"
 
 
-def _load(name):
-    spec = importlib.util.spec_from_file_location(f"_ghf_{name}", TESTS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+sys.path.insert(0, str(ROOT / "bench"))
+from scenes import load_test_module as _load  # noqa: E402
 
 
 u = _load("glass_fog_unseen_scenes")

@@ -15,7 +15,6 @@ The three criteria of issue 18, each on its own (the reference's s.e. in quadrat
 (3) a reading stating < 5 % is off by no more than 5 x what it states.
 """
 
-import importlib.util
 import json
 import math
 import pathlib
@@ -29,11 +28,8 @@ TESTS = ROOT / "tests" / "bpy"
 OUT = ROOT / "bench" / "qa_glass_fog.json"
 
 
-def _load(name):
-    spec = importlib.util.spec_from_file_location(f"_qa_{name}", TESTS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+sys.path.insert(0, str(ROOT / "bench"))
+from scenes import load_test_module as _load  # noqa: E402
 
 
 def criteria(reading_lux, stated, exact, ref_lux, ref_se):

@@ -5,7 +5,9 @@ Reference values: point light E = P cos / (4 pi r^2) (FACTS.md, measured to 1e-6
 by the radiometer's closed form (Lambert's polygon formula, checked against Cycles in tests/bpy).
 """
 
+import importlib.util
 import math
+import pathlib
 
 import bpy
 import numpy as np
@@ -234,3 +236,12 @@ def multi_light_meters():
     pts = np.array([[0.0, -0.6, 0.0], [0.75, 0.0, 0.0], [-0.8, 0.2, 0.0], [0.3, 0.6, 0.0],
                     [-1.8, -1.8, 0.0], [1.9, 1.5, 0.0]])
     return pts, np.tile([0.0, 0.0, 1.0], (len(pts), 1))
+
+
+def load_test_module(name):
+    """tests/bpy/<name>.py as a module (the test corpus's scene builders and reference helpers)."""
+    path = pathlib.Path(__file__).resolve().parents[1] / "tests" / "bpy" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(f"_bench_{name}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

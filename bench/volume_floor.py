@@ -9,7 +9,6 @@ measured and not kept: bench/qa_glass_fog.md F2).
 FLOOR 0 is the code without the floor. Appends a row per meter to bench/volume_floor.json.
 """
 
-import importlib.util
 import json
 import math
 import pathlib
@@ -23,11 +22,8 @@ TESTS = ROOT / "tests" / "bpy"
 OUT = ROOT / "bench" / "volume_floor.json"
 
 
-def _load(name):
-    spec = importlib.util.spec_from_file_location(f"_vf_{name}", TESTS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+sys.path.insert(0, str(ROOT / "bench"))
+from scenes import load_test_module as _load  # noqa: E402
 
 
 def main(floor, seeds, quality):

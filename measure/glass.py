@@ -419,32 +419,42 @@ ROUGH_REFRACTION = 0.3
 _REFRACTING_NODES = ("ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction")
 
 
-def rough_refraction(material):
-    """True when every node of ``material`` that refracts (a Glass or Refraction BSDF, a Principled BSDF
-    with transmission) has an unlinked roughness of at least ROUGH_REFRACTION, and nothing else in it
-    (a node group, a script) could refract sharply: such a material is no caustic for small lights."""
+def closure_nodes(material, node_types, principled_input):
+    """(nodes, hidden) of ``material``'s active node tree: its unmuted nodes of ``node_types``, and its
+    Principled BSDFs whose ``principled_input`` (e.g. "Transmission Weight", "Metallic") is linked or
+    not 0; ``hidden`` is True when a node group or script could hold more. ((), False) without a tree."""
     from ..compat import active_node_tree
 
     tree = active_node_tree(material) if material is not None else None
     if tree is None:
-        return False
-    refracts = False
+        return (), False
+    nodes, hidden = [], False
     for node in tree.nodes:
         if node.mute:
             continue
         if node.bl_idname in ("ShaderNodeGroup", "ShaderNodeScript"):
-            return False
-        if node.bl_idname == "ShaderNodeBsdfPrincipled":
-            weight = node.inputs.get("Transmission Weight")
-            if weight is None or (not weight.is_linked and float(weight.default_value) == 0.0):
-                continue
-        elif node.bl_idname not in _REFRACTING_NODES:
-            continue
-        refracts = True
+            hidden = True
+        elif node.bl_idname == "ShaderNodeBsdfPrincipled":
+            gate = node.inputs.get(principled_input)
+            if gate is not None and (gate.is_linked or float(gate.default_value) != 0.0):
+                nodes.append(node)
+        elif node.bl_idname in node_types:
+            nodes.append(node)
+    return nodes, hidden
+
+
+def rough_refraction(material):
+    """True when every node of ``material`` that refracts (a Glass or Refraction BSDF, a Principled BSDF
+    with transmission) has an unlinked roughness of at least ROUGH_REFRACTION, and nothing else in it
+    (a node group, a script) could refract sharply: such a material is no caustic for small lights."""
+    nodes, hidden = closure_nodes(material, _REFRACTING_NODES, "Transmission Weight")
+    if hidden or not nodes:
+        return False
+    for node in nodes:
         rough = node.inputs.get("Roughness")
         if rough is None or rough.is_linked or float(rough.default_value) < ROUGH_REFRACTION:
             return False
-    return refracts
+    return True
 
 
 # --- sharp mirrors (issue 18) ---------------------------------------------------------------------------

@@ -45,21 +45,8 @@ def glossy_roughness(material):
     """Smallest roughness in [SHARP_ROUGHNESS, GLOSSY_ROUGHNESS_MAX] of a metal-like closure of
     ``material`` (Glossy, Anisotropic, Metallic BSDF, or a Principled BSDF with Metallic > 0 or linked),
     or None. A linked roughness counts as SHARP_ROUGHNESS (a texture may be that smooth somewhere)."""
-    from ..compat import active_node_tree
-
-    tree = active_node_tree(material) if material is not None else None
-    if tree is None:
-        return None
     found = None
-    for node in tree.nodes:
-        if node.mute:
-            continue
-        if node.bl_idname == "ShaderNodeBsdfPrincipled":
-            metal = node.inputs.get("Metallic")
-            if metal is None or not (metal.is_linked or float(metal.default_value) > 0.0):
-                continue
-        elif node.bl_idname not in _METAL_NODES:
-            continue
+    for node in glass.closure_nodes(material, _METAL_NODES, "Metallic")[0]:
         socket = node.inputs.get("Roughness")
         if socket is None:
             continue
