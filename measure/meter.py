@@ -795,9 +795,10 @@ def pooled_notes(run, method, n):
         c = g.check
         if c.passed and len(g.pooled):
             methods[g.pooled] = method + "+pooled"
+            took = np.asarray(run["samples"])[g.pooled]  # what the fit used (refused meters sample on)
             text = (f"pooled (issue 17): the rendered part is a smooth field (Legendre polynomial of degree "
                     f"{g.fit.degree} in the meters' plane) fitted over {g.fit.meters} meters of this plane, "
-                    f"{pooled_field.POOL_PILOT_SAMPLES} samples each; its error is the fit's standard error (+) "
+                    f"{int(took.min()):,}-{int(took.max()):,} samples each (by the field's leverage); its error is the fit's standard error (+) "
                     f"the misfit measured on {c.held_out} held-out meters sampled on their own "
                     f"({100 * pooled_field.CONFIDENCE:g} % upper bound {c.misfit_upper:.3g} W/m², estimate "
                     f"{c.misfit:.3g} W/m²); a mean misfit over the plane, never exact")

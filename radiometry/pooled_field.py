@@ -39,7 +39,7 @@ import numpy as np
 
 from . import allocation
 
-__all__ = ["POOL_MIN_METERS", "POOL_PILOT_SAMPLES", "plane_groups", "plane_coordinates", "polynomial_basis",
+__all__ = ["POOL_MIN_METERS", "plane_groups", "plane_coordinates", "polynomial_basis",
            "fit_blocks", "FieldFit", "fit_field", "misfit_upper_bound", "HoldoutCheck", "check_held_out",
            "choose_held_out", "local_misfit", "pooled_estimate", "allocate_pooled"]
 
@@ -66,9 +66,6 @@ FIT_GROUP_BLOCKS = 960
 #: Degree of the polynomial whose leverages set the fitted meters' blocks (the throughput room's fits
 #: choose 4-5).
 LEVERAGE_DEGREE = 4
-#: The fitted meters' samples as a reading's note states them (a range: ``fit_blocks``).
-POOL_PILOT_SAMPLES = (f"{FIT_MIN_BLOCKS * FIT_SPP * allocation.BLOCK_TEXELS ** 2}-"
-                      f"{FIT_MAX_BLOCKS * FIT_SPP * allocation.BLOCK_TEXELS ** 2}")
 #: Share of a group held out, and the bounds on their number.
 HOLDOUT_FRACTION = 0.1
 MIN_HOLDOUT = 40

@@ -4,6 +4,8 @@ The interreflecting room of test_allocation_coverage (truth there from bench/roo
 independent numpy path tracer), 200 meters at 0.75 m including its 5 reference points; the group
 size that switches pooling on is lowered to 200 so the test stays small (the product's is 300)."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -34,6 +36,10 @@ def test_pooled_readings_state_their_method_and_cover_the_truth(clean_blender, b
         per_block = pooled_field.FIT_SPP * 16  # its fitted samples: blocks of 4 x 4 texels (fit_blocks)
         assert r.samples in {per_block * b for b in range(pooled_field.FIT_MIN_BLOCKS, pooled_field.FIT_MAX_BLOCKS + 1)}
         assert any(n.startswith("pooled (issue 17)") and "held-out" in n for n in r.notes), r.notes
+        # The note states the samples the fitted meters took, this one's among them.
+        [note] = [n for n in r.notes if n.startswith("pooled (issue 17)")]
+        lo, hi = (int(x.replace(",", "")) for x in re.search(r"([\d,]+)-([\d,]+) samples each", note).groups())
+        assert lo <= r.samples <= hi
         assert r.parts["analytic"]  # the panel's direct light stays a per-meter closed form
     # Against the independent tracer at the reference points (pooled or not): within 3.5 combined sigma.
     for (p, e, s), r in zip(REFERENCE, readings[:5]):
