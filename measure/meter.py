@@ -17,7 +17,7 @@ from ..radiometry import allocation
 from ..errors import RadiometerError
 from ..radiometry.constants import K_M_LM_PER_W
 from ..readings import IlluminanceReading
-from . import render_settings, sample_floors, scene_guard, sensors
+from . import glass, render_settings, sample_floors, scene_guard, sensors
 
 DEFAULT_EFFICACY = K_M_LM_PER_W  # 683 lm/W, Blender's glTF convention; see README "Conventions"
 #: Relative float32 floor of every rendered part's 1-sigma error (issue 18, F3): Cycles shades, films and
@@ -244,12 +244,12 @@ def analytic_irradiance(model, direct, points_m, normals):
         values, rel = light.spec.relative_irradiance(points_m, normals)  # the emitter's model and relative bound
         rel = np.broadcast_to(np.asarray(rel, float), (n_pts,))
         values = np.where((status == scene_model.ZERO)[:, None], 0.0, values)
-        glass = np.zeros(n_pts)
+        pane_bound = np.zeros(n_pts)
         if direct.transmittance is not None:  # thin panes on the way (issue 18): T, and its bound
             values = values * direct.transmittance[i]
-            glass = direct.glass_bound[i]
+            pane_bound = direct.glass_bound[i]
         partial = status == scene_model.RENDER
-        bounds[i] = np.abs(values) * np.where(partial, 1.0, rel + glass)[:, None]
+        bounds[i] = np.abs(values) * np.where(partial, 1.0, rel + pane_bound)[:, None]
         per_light[i] = values
         exact, model_name, note = light.spec.exactness()
         states = sorted(set(str(r) for r in direct.reason[i]))
@@ -273,8 +273,6 @@ def render_irradiance(scene, view_layer, points_scene, normals, preset, *, needs
     with scene_guard.preserved_scene(scene) as snapshot:
         record = render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs)
         if needs.get("thin_panes"):  # issue 18: planar panes render as thin glass
-            from . import glass
-
             record = dict(record, thin_panes=glass.swap_panes(snapshot, needs["thin_panes"]))
         estimates, info = sensors.bake_irradiance(
             scene, view_layer, points_scene, normals, samples=preset["samples"], texels=preset["texels"],
@@ -455,7 +453,6 @@ def mirror_bounds(model, points_m, normals):
     mirror point) cos / r^2 from the mirrored position, or the sun's normal irradiance x cos of its
     mirrored direction; one per distinct image (summed). Occlusion is ignored (a bound)."""
     from ..radiometry import visibility
-    from . import glass
 
     n = len(points_m)
     out = np.zeros((n, 3))
@@ -536,8 +533,6 @@ def glass_notes(model):
         notes.append(f"{name!r} transmits light but is not a thin pane ({why}): rendered as it is"
                      + ("; its refraction is rough enough that light sampling finds small lights through it: "
                         "a stochastic error like any glossy path, no caustic bound" if name in rough else ""))
-    from . import glass
-
     notes += glass.stack_notes(model)  # multiple glazing: rendered whole as a stand-in, or what it misses
     return notes
 
@@ -679,8 +674,8 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
             # Issue 18: the direct light through a homogeneous world volume is its closed form times
             # exp(-sigma_t d) (no bound beyond thin glass's); the volume's in-scattered light is rendered.
             per_light = per_light * medium_transmittance(model, sensors_m, medium, through)
-            glass = direct.glass_bound if direct.glass_bound is not None else np.zeros(through.shape)
-            light_bounds = np.where(through[..., None], np.abs(per_light) * glass[..., None], light_bounds)
+            pane_bound = direct.glass_bound if direct.glass_bound is not None else np.zeros(through.shape)
+            light_bounds = np.where(through[..., None], np.abs(per_light) * pane_bound[..., None], light_bounds)
             names = sorted({lt.name for i, lt in enumerate(model.lights) if through[i].any()})
             notes.append(f"{medium.name}: sigma_t = {', '.join(f'{v:.4g}' for v in medium.sigma_t)} 1/m (RGB); "
                          f"the direct light of {', '.join(repr(x) for x in names)} is its closed form x "
