@@ -427,30 +427,35 @@ def _light_beyond(spec, normal, height, side, tol):
     return all(side * (normal @ x - height) + reach < -tol for x in points)
 
 
-def quiet_panes(model, p, tol):
+def lone_panes(model):
+    """The thin panes (key, Pane) that may be quiet at some point (``quiet_panes``), with the scene's
+    emitting lights: none unless no object other than panes reflects or emits and every light has a
+    closed-form emitter; a pane with a frame in the same object, or that emits, is never one. It does
+    not depend on the point: ``plan_direct`` computes it once for all of them."""
+    g = model.geometry
+    if not model.panes or g.pane_of is None:
+        return [], []
+    emits = np.zeros(len(g.object_names), bool)
+    if len(g.emissive):
+        emits[np.unique(g.object_index[np.asarray(g.emissive, bool)])] = True
+    others = (np.asarray(g.reflects, bool) | emits) & ~np.isin(np.arange(len(g.object_names)), list(model.panes))
+    lights = [lt for lt in model.lights if not lt.portal]
+    if others.any() or any(lt.spec is None or not hasattr(lt.spec, "kind") for lt in lights):
+        return [], []
+    panes = [(k, pane) for k, pane in model.panes.items() if pane.geometry is not None and not emits[k]
+             and np.all(g.pane_of[g.object_index == k] == k)]
+    return panes, lights
+
+
+def quiet_panes(model, p, tol, lone=None):
     """Object indices of thin panes that can send ``p`` no light beyond what crosses them straight (the
     closed forms' T, inter-pane reflections included). A pane reflects only light from ``p``'s side of
     it, so it is quiet when nothing on that side shines or reflects: no object other than panes
     reflects or emits, and every light lies wholly beyond every pane (an emitting world was handled
-    before). A pane with a frame in the same object is never quiet (the frame reflects)."""
-    g = model.geometry
-    if not model.panes or g.pane_of is None:
-        return set()
-    panes = set(model.panes)
-    emits = np.zeros(len(g.object_names), bool)
-    if len(g.emissive):
-        emits[np.unique(g.object_index[np.asarray(g.emissive, bool)])] = True
-    others = (np.asarray(g.reflects, bool) | emits) & ~np.isin(np.arange(len(g.object_names)), list(panes))
-    if others.any():
-        return set()
-    lights = [lt for lt in model.lights if not lt.portal]
-    if any(lt.spec is None or not hasattr(lt.spec, "kind") for lt in lights):
-        return set()
+    before). ``lone``: ``lone_panes(model)`` when the caller has it."""
+    panes, lights = lone_panes(model) if lone is None else lone
     quiet = set()
-    for k, pane in model.panes.items():
-        mine = g.object_index == k
-        if pane.geometry is None or np.any(g.pane_of[mine] != k) or emits[k]:
-            continue
+    for k, pane in panes:
         normal = np.asarray(pane.geometry.normal, float)
         offsets = normal @ p - np.asarray(pane.geometry.heights, float)
         if not (np.all(offsets > tol) or np.all(offsets < -tol)):
@@ -462,13 +467,15 @@ def quiet_panes(model, p, tol):
     return quiet
 
 
-def indirect_possible(model, p, n, tol):
+def indirect_possible(model, p, n, tol, lone=None):
     """(bool, reason): can light reach p (normal n) other than straight from a light?
 
     Exactly when some render-visible surface that reflects or emits lies (partly) above the
-    receiver's horizon plane, the world emits, or geometry could not be triangulated. Objects are
+    receiver's horizon plane (a thin pane that can mirror nothing there does not count:
+    ``quiet_panes``), the world emits, or geometry could not be triangulated. Objects are
     tested largest first, by their bounding boxes and then their vertices, and the first one
     above ends the search.
+    ``lone``: ``lone_panes(model)``, computed once by a caller that asks for many points.
     """
     if model.world_emits and not world_modelled(model):
         return True, "the world emits light"
@@ -481,7 +488,7 @@ def indirect_possible(model, p, n, tol):
     if not g.count:
         return False, ""
     reflects = np.asarray(g.reflects, bool)
-    quiet = quiet_panes(model, p, tol)
+    quiet = quiet_panes(model, p, tol, lone)
     for k, verts, corners, emitting in g.object_vertices():
         if not reflects[k] or k in quiet or np.all((corners - p) @ n <= tol):
             continue
@@ -510,8 +517,9 @@ def plan_direct(model, points, normals, exact_model=None):
     transmittance = np.ones((n_lights, n_pts, 3))   # thin glass on the way (issue 18)
     glass_bound = np.zeros((n_lights, n_pts))
     interpane = np.zeros((n_lights, n_pts))
+    lone = lone_panes(model)  # the same for every point
     for k in range(n_pts):
-        indirect[k], indirect_reason[k] = indirect_possible(model, points[k], normals[k], tol)
+        indirect[k], indirect_reason[k] = indirect_possible(model, points[k], normals[k], tol, lone)
     for i, light in enumerate(model.lights):
         if light.portal:
             status[i], reason[i] = ZERO, "portal light: guides world sampling, emits nothing"
