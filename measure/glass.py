@@ -499,20 +499,12 @@ def mirror_triangles(model):
     (``SceneGeometry.object_ids``)."""
     import numpy as np
 
-    from .identity import source_objects
+    from .identity import geometry_objects
 
     g = model.geometry
-    keep = np.zeros(len(g.object_names), bool)
-    found = source_objects(g.object_ids) if len(g.object_ids) == len(g.object_names) else None
-    for k, name in enumerate(g.object_names):
-        # by the capture's identity (a renamed object is still found); by name for hand-built geometry
-        if found is not None:
-            obj = found.get(tuple(g.object_ids[k]))
-        else:
-            obj = bpy.data.objects.get(name.split(" (instance ")[0])
-        if obj is None or not obj.visible_glossy:
-            continue
-        keep[k] = any(sharp_mirror(slot.material) for slot in obj.material_slots)
+    keep = np.array([obj is not None and obj.visible_glossy
+                     and any(sharp_mirror(slot.material) for slot in obj.material_slots)
+                     for obj in geometry_objects(g)], bool)
     if not keep.any():
         return np.zeros((0, 3, 3)), np.zeros(0, dtype=object)
     index = np.asarray(g.object_index, int)

@@ -23,3 +23,13 @@ def source_objects(source_ids):
         if key in wanted:
             found[key] = ob
     return found
+
+
+def geometry_objects(geometry):
+    """Per object of a captured ``SceneGeometry`` (its index k): the original Blender object, or None.
+    By the capture's identity (``object_ids``: a renamed object is still found); by name only for
+    hand-built geometry without ids (an instance's label "name (instance ...)" names its object)."""
+    if len(geometry.object_ids) == len(geometry.object_names):
+        found = source_objects(geometry.object_ids)
+        return [found.get(tuple(sid)) for sid in geometry.object_ids]
+    return [bpy.data.objects.get(name.split(" (instance ")[0]) for name in geometry.object_names]

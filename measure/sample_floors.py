@@ -59,13 +59,11 @@ def glossy_roughness(material):
 def glossy_triangles(model):
     """((T, 3, 3) triangles in m, (T,) object names, (T,) roughness) of the render-visible objects,
     visible to glossy rays, whose material is a glossy metal (``glossy_roughness``)."""
-    from .identity import source_objects
+    from .identity import geometry_objects
 
     g = model.geometry
     rough = np.full(len(g.object_names), np.nan)
-    found = source_objects(g.object_ids) if len(g.object_ids) == len(g.object_names) else None
-    for k, name in enumerate(g.object_names):
-        obj = found.get(tuple(g.object_ids[k])) if found is not None else bpy.data.objects.get(name.split(" (instance ")[0])
+    for k, obj in enumerate(geometry_objects(g)):
         if obj is None or not obj.visible_glossy:
             continue
         values = [r for r in (glossy_roughness(slot.material) for slot in obj.material_slots) if r is not None]
