@@ -26,6 +26,16 @@ def point_scene(build, height=2.0):
     return scene, light, bpy.context.active_object
 
 
+def meter_over_a_lit_floor(build):
+    """A meter 1 m above a lit 0.8-albedo floor, facing it: its light is reflected, so it needs Cycles."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.plane(scene, size=4.0, albedo=0.8, name="floor")
+    build.light(scene, "POINT", (0, 0, 2), energy=100.0, shadow_soft_size=0.0)
+    bpy.ops.radiometer.add_meter(kind="ILLUMINANCE", location=(0, 0, 1), rotation=(math.pi, 0, 0))
+    return scene, bpy.context.active_object
+
+
 def settle(t):
     """Let the (stepped) clock run past the debounce and tick."""
     bpy.context.view_layer.update()
@@ -109,12 +119,7 @@ def test_live_off_does_nothing(clean_blender, build):
 def test_preview_then_refinement_while_idle(clean_blender, build):
     """A meter facing a lit floor needs Cycles: a preview reading first, refined to the scene's quality."""
     mod = live()
-    scene = bpy.context.scene
-    build.black_world(scene)
-    build.plane(scene, size=4.0, albedo=0.8, name="floor")
-    build.light(scene, "POINT", (0, 0, 2), energy=100.0, shadow_soft_size=0.0)
-    bpy.ops.radiometer.add_meter(kind="ILLUMINANCE", location=(0, 0, 1), rotation=(math.pi, 0, 0))
-    meter = bpy.context.active_object
+    scene, meter = meter_over_a_lit_floor(build)
     scene.radiometer.quality = "standard"
     scene.radiometer.live = True
     st = mod.state(scene)
@@ -177,12 +182,7 @@ def test_a_preview_cut_short_by_its_budget_is_refined(clean_blender, build, monk
     it leaves above the target is refined while idle, even when the scene's quality is preview."""
     mod = live()
     monkeypatch.setattr(mod, "PREVIEW_BUDGET_S", 1e-6)  # only the first (pilot) bake fits
-    scene = bpy.context.scene
-    build.black_world(scene)
-    build.plane(scene, size=4.0, albedo=0.8, name="floor")
-    build.light(scene, "POINT", (0, 0, 2), energy=100.0, shadow_soft_size=0.0)
-    bpy.ops.radiometer.add_meter(kind="ILLUMINANCE", location=(0, 0, 1), rotation=(math.pi, 0, 0))
-    meter = bpy.context.active_object
+    scene, meter = meter_over_a_lit_floor(build)
     scene.radiometer.quality = "preview"
     scene.radiometer.target_rel_error = 0.004  # more than one pilot bake can reach
     scene.radiometer.live = True
