@@ -12,6 +12,7 @@ import logging
 import os
 import time
 import uuid
+from concurrent.futures import CancelledError as FutureCancelledError  # Dask's FutureCancelledError derives from it
 
 from ..errors import MeasurementCancelled, RadiometerError
 from . import source as sources
@@ -21,6 +22,8 @@ INSTALL_HINT = ("Dask is not installed: pip install dask==2026.8.0 distributed==
                 "requirements.txt) into the Python that runs Radiometer")
 CONNECT_TIMEOUT_S = 5.0
 _POLL_S = 0.02  # how often the client looks for finished tasks and polls cancelled() (s)
+#: Times a finished task whose result was lost with its worker is run again before the run fails.
+_MAX_RESUBMITS = 3
 
 
 def available():
@@ -310,9 +313,15 @@ def _run_on_cluster(scenes, fn_name, kwargs_list, client, progress, cancelled, l
         scattered.update(zip(single, client.scatter([distinct[k] for k in single], hash=False)))
     stats["scatter_s"] = time.perf_counter() - t0
     run = uuid.uuid4().hex[:8]
-    futures = [client.submit(worker.run_task, scattered[(item.key, item.scene_name, item.path)], fn_name, kwargs,
-                             index, label, threads_by_host, key=f"radiometer-{run}-{index}", pure=False)
-               for index, (item, kwargs) in enumerate(zip(items, kwargs_list))]
+    resubmits = [0] * total
+
+    def submit(index):
+        item, kwargs = items[index], kwargs_list[index]
+        return client.submit(worker.run_task, scattered[(item.key, item.scene_name, item.path)], fn_name, kwargs,
+                             index, label, threads_by_host, key=f"radiometer-{run}-{index}-{resubmits[index]}",
+                             pure=False)
+
+    futures = [submit(index) for index in range(total)]
     index_of = {f.key: i for i, f in enumerate(futures)}
     results = [None] * total
     pending, done_count, started = set(futures), 0, time.monotonic()
@@ -330,7 +339,19 @@ def _run_on_cluster(scenes, fn_name, kwargs_list, client, progress, cancelled, l
                 index = index_of[future.key]
                 if future.status != "finished":
                     raise _task_error(future, index, label, items[index].name)
-                results[index], task_stats = future.result()
+                try:
+                    results[index], task_stats = future.result()
+                except FutureCancelledError:
+                    # Finished, but its result lived on a worker that died before we fetched it
+                    # (measured: a SIGKILLed worker, "already forgotten"): run the task again.
+                    if resubmits[index] >= _MAX_RESUBMITS:
+                        raise _task_error(future, index, label, items[index].name) from None
+                    resubmits[index] += 1
+                    again = submit(index)
+                    index_of[again.key] = index
+                    pending.add(again)
+                    arrivals.add(again)
+                    continue
                 stats["tasks"][index] = task_stats
                 stats["workers"].add(task_stats["worker"])
                 done_count += 1
