@@ -337,13 +337,15 @@ def _run_on_cluster(scenes, fn_name, kwargs_list, client, progress, cancelled, l
             for future in finished:
                 pending.discard(future)
                 index = index_of[future.key]
-                if future.status != "finished":
-                    raise _task_error(future, index, label, items[index].name)
                 try:
+                    if future.status == "cancelled":  # this loop cancels nothing: lost with its worker
+                        raise FutureCancelledError(future.key)
+                    if future.status != "finished":
+                        raise _task_error(future, index, label, items[index].name)
                     results[index], task_stats = future.result()
                 except FutureCancelledError:
-                    # Finished, but its result lived on a worker that died before we fetched it
-                    # (measured: a SIGKILLed worker, "already forgotten"): run the task again.
+                    # Lost with a worker that died (measured, a SIGKILLed worker: the future came back
+                    # cancelled, or finished with its result "already forgotten"): run the task again.
                     if resubmits[index] >= _MAX_RESUBMITS:
                         raise _task_error(future, index, label, items[index].name) from None
                     resubmits[index] += 1
