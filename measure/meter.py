@@ -770,6 +770,10 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
         notes.append(f"target {100 * target:g} % NOT reached at {missed} of {n} rendered meter(s) ({run['stopped']}; "
                      f"at most {allocation.MAX_SAMPLES_PER_METER:,} samples per meter)")
     record = run["record"]
+    if record and record.get("volume_bounces"):
+        notes.append(f"a participating medium: up to {record['volume_bounces']} volume scatterings per path "
+                     "(light in a medium that does not absorb fades slowly with its order of scattering: in an "
+                     "open fog 16 read 0.24 % low, 128 0.05 %, bench/volume_bounces.md)")
     if record and record.get("settings_missing"):
         notes.append("render settings this Blender lacks (skipped): " + "; ".join(record["settings_missing"]))
     if scale != 1.0:
