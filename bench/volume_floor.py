@@ -63,7 +63,8 @@ def main(floor, seeds, quality):
                 errs.append(err)
                 zs.append(err / math.hypot(r.rel_std_error, ref_se))
                 samples.append(int(r.samples))
-            row = {"floor": floor, "quality": quality, "meter": label, "seeds": seeds, "ref_lux": ref_lux,
+            row = {"floor": floor, "quality": quality, "volume_bounces": (r.render_settings or {}).get("volume_bounces"),
+                   "sampling": (r.render_settings or {}).get("sampling"), "meter": label, "seeds": seeds, "ref_lux": ref_lux,
                    "ref_se": ref_se, "within_1.96": sum(abs(z) <= 1.96 for z in zs),
                    "within_3": sum(abs(z) <= 3 for z in zs), "mean_z": sum(zs) / seeds,
                    "worst_z": max(zs, key=abs), "mean_err": sum(errs) / seeds,
