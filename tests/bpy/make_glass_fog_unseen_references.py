@@ -13,49 +13,27 @@ double glazing is rendered on ``REFERENCE_SCENES`` (the panes as one face of con
 sun's angle: the sun through real glass is a caustic no render finds).
 """
 
-import datetime
-import importlib.util
-import json
 import pathlib
 import sys
 
-import bpy
-
 HERE = pathlib.Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import reference_cache  # noqa: E402
+
 JSON_PATH = HERE / "glass_fog_unseen_references.json"
 TARGET = 1e-3
 SEED = 7
 MAX_SECONDS = 300.0
 
 
-def _load(name):
-    spec = importlib.util.spec_from_file_location(f"_gfur_{name}", HERE / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def main(names):
-    reference, scenes = _load("reference"), _load("glass_fog_unseen_scenes")
-    data = json.loads(JSON_PATH.read_text()) if JSON_PATH.exists() else {"values": {}}
-    data["provenance"] = {
-        "harness": "tests/bpy/reference.py reference_irradiance (white Lambertian patch, orthographic Cycles "
-                   "camera, E = pi x pixel, standard error over pixels)",
-        "generator": "tests/bpy/make_glass_fog_unseen_references.py", "scenes": "tests/bpy/glass_fog_unseen_scenes.py",
-        "seed": SEED, "target_rel_error": TARGET, "max_seconds": MAX_SECONDS,
-        "blender": bpy.app.version_string, "device": "CPU", "date": datetime.date.today().isoformat()}
-    for name in names or list(scenes.RENDERED):
-        build = scenes.REFERENCE_SCENES.get(name, scenes.RENDERED[name][0])
-        scene, cases = build()
-        for label, point, normal in cases:
-            at = reference.lift_off_surface(scene, point, normal)
-            e_rgb, se, info = reference.reference_irradiance(scene, at, normal, target_rel_error=TARGET,
-                                                             max_seconds=MAX_SECONDS, seed=SEED)
-            data["values"][f"{name}/{label}"] = {"point": list(point), "normal": list(normal), "E_rgb": list(e_rgb),
-                                                 "rel_std_error": se, "samples": info.get("samples"),
-                                                 "seconds": round(info["seconds"], 1)}
-            print(name, label, e_rgb, se, info["samples"], round(info["seconds"], 1), flush=True)
-            JSON_PATH.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+    scenes = reference_cache.load("glass_fog_unseen_scenes")
+    reference_cache.render_into(
+        JSON_PATH, {name: scenes.REFERENCE_SCENES.get(name, scenes.RENDERED[name][0])
+                    for name in names or list(scenes.RENDERED)},
+        generator="tests/bpy/make_glass_fog_unseen_references.py",
+        scenes_file="tests/bpy/glass_fog_unseen_scenes.py", target=TARGET, seed=SEED, max_seconds=MAX_SECONDS,
+        error_kind="standard error over pixels")
 
 
 if __name__ == "__main__":
