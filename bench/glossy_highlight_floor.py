@@ -5,6 +5,10 @@ and measures it.
 
     .venv/bin/python bench/glossy_highlight_floor.py refs 0.3 0.5      # patch-render references (cached)
     .venv/bin/python bench/glossy_highlight_floor.py run 0.15 0.3 0.5 [--seeds 50] [--tag after]
+    .venv/bin/python bench/glossy_highlight_floor.py refs 0.15 --floor principled   # a dielectric floor
+
+``--floor principled`` replaces the metal floor by a Principled BSDF (base colour 0.5, Metallic 0, IOR 1.5,
+the given roughness): a polished stone or lacquered floor, whose highlight is the Fresnel reflection.
 
 ``--tag before`` runs with the highlight floor switched off (``sample_floors.highlight_floor`` patched
 to find nothing): the code as F1 measured it.
@@ -35,9 +39,25 @@ from scenes import load_test_module as _load  # noqa: E402
 u = _load("glass_fog_unseen_scenes")
 
 
+FLOOR = ["metal"]
+
+
+def _key(rough):
+    return f"{rough:g}" if FLOOR[0] == "metal" else f"{FLOOR[0]} {rough:g}"
+
+
 def build(roughness):
     scene, [(label, point, normal)] = u.glossy_wall()
     mat = bpy.data.materials["metal floor 0.15"]
+    if FLOOR[0] == "principled":
+        tree = mat.node_tree
+        tree.nodes.clear()
+        out = tree.nodes.new("ShaderNodeOutputMaterial")
+        node = tree.nodes.new("ShaderNodeBsdfPrincipled")
+        node.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+        node.inputs["Metallic"].default_value = 0.0
+        node.inputs["IOR"].default_value = 1.5
+        tree.links.new(node.outputs[0], out.inputs["Surface"])
     [node] = [nd for nd in mat.node_tree.nodes if "Roughness" in nd.inputs]
     node.inputs["Roughness"].default_value = roughness
     return scene, label, point, normal
@@ -55,9 +75,9 @@ def refs(roughnesses):
         at = reference.lift_off_surface(scene, point, normal)
         e_rgb, se, info = reference.reference_irradiance(scene, at, normal, target_rel_error=2e-3, max_seconds=240.0,
                                                          seed=7)
-        data["references"][f"{rough:g}"] = {"lux": u.lux(e_rgb), "rel_std_error": se, "samples": info.get("samples"),
+        data["references"][_key(rough)] = {"lux": u.lux(e_rgb), "rel_std_error": se, "samples": info.get("samples"),
                                             "seconds": round(info["seconds"], 1)}
-        print(rough, data["references"][f"{rough:g}"], flush=True)
+        print(rough, data["references"][_key(rough)], flush=True)
         OUT.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
 
 
@@ -72,11 +92,11 @@ def run(roughnesses, seeds, tag, quality="preview"):
     data = _data()
     stored = json.loads((TESTS / "glass_fog_unseen_references.json").read_text())["values"]
     for rough in roughnesses:
-        if f"{rough:g}" in data["references"]:
-            ref = data["references"][f"{rough:g}"]
+        if _key(rough) in data["references"]:
+            ref = data["references"][_key(rough)]
             ref_lux, ref_se = ref["lux"], ref["rel_std_error"]
         else:
-            assert rough == 0.15, "make its reference first (refs)"
+            assert rough == 0.15 and FLOOR[0] == "metal", "make its reference first (refs)"
             e = stored["glossy_wall/wall meter lit via a glossy floor"]
             ref_lux, ref_se = u.lux(e["E_rgb"]), e["rel_std_error"]
         scene, label, point, normal = build(rough)
@@ -91,12 +111,12 @@ def run(roughnesses, seeds, tag, quality="preview"):
                 errs.append(err)
         finally:
             radiometer.unregister()
-        row = {"roughness": rough, "quality": quality, "seeds": seeds, "ref_lux": ref_lux, "ref_se": ref_se,
+        row = {"floor": FLOOR[0], "roughness": rough, "quality": quality, "seeds": seeds, "ref_lux": ref_lux, "ref_se": ref_se,
                "within_1.96": sum(abs(z) <= 1.96 for z in zs), "within_3": sum(abs(z) <= 3 for z in zs),
                "mean_z": sum(zs) / seeds, "worst_z": max(zs, key=abs), "mean_err": sum(errs) / seeds,
                "worst_err": max(errs, key=abs), "samples_median": sorted(samples)[seeds // 2],
                "samples_min": min(samples), "seconds": round(time.perf_counter() - t0, 1)}
-        data["runs"][f"{tag}/{quality}/{rough:g}"] = row
+        data["runs"][f"{tag}/{quality}/{_key(rough)}"] = row
         print(json.dumps(row), flush=True)
         OUT.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
 
@@ -104,7 +124,7 @@ def run(roughnesses, seeds, tag, quality="preview"):
 if __name__ == "__main__":
     args = sys.argv[1:]
     seeds, tag, quality = 50, "before", "preview"
-    for flag in ("--seeds", "--tag", "--quality"):
+    for flag in ("--seeds", "--tag", "--quality", "--floor"):
         if flag in args:
             k = args.index(flag)
             value = args[k + 1]
@@ -112,6 +132,7 @@ if __name__ == "__main__":
             seeds = int(value) if flag == "--seeds" else seeds
             tag = value if flag == "--tag" else tag
             quality = value if flag == "--quality" else quality
+            FLOOR[0] = value if flag == "--floor" else FLOOR[0]
     if args[0] == "refs":
         refs([float(a) for a in args[1:]])
     else:

@@ -5,8 +5,9 @@ A pilot of 512-768 samples that finds *some* light is trusted by the stopping ru
 and read low with a confident error (bench/qa_glass_fog.md F1); it gets a floor of samples that every
 such meter takes before its error is trusted (``meter.world_floor`` is the world's):
 
-* ``highlight_floor``: a glossy metal reflector (roughness at least ``glass.SHARP_ROUGHNESS``, at most
-  ``GLOSSY_ROUGHNESS_MAX``) above the meter's horizon in which a light's specular image falls. Its
+* ``highlight_floor``: a glossy reflector above the meter's horizon in which a light's specular image
+  falls: a metal (roughness at least ``glass.SHARP_ROUGHNESS``, at most ``GLOSSY_ROUGHNESS_MAX``) or a
+  dielectric's specular or coat layer (at most ``DIELECTRIC_ROUGHNESS_MAX``). Its
   highlight is a small bright region: a cosine-sampled path from the meter hits it with probability
   p = (Omega_image + Omega_lobe) cos / pi, Omega_image the light's solid angle seen in the mirror,
   Omega_lobe = pi (LOBE_WIDTH alpha)^2 the GGX reflected lobe (alpha = roughness^2). The floor is
@@ -41,24 +42,49 @@ LOBE_WIDTH = 1.3
 _METAL_NODES = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic", "ShaderNodeBsdfMetallic")
 
 
+#: Largest roughness of a dielectric highlight (a Principled BSDF's specular or coat layer) that gets a
+#: floor: its Fresnel reflection is a few % at normal incidence, so a wider lobe's highlight is too weak
+#: to hide from a pilot. Measured on the glossy wall scene with a Principled floor (base colour 0.5,
+#: IOR 1.5; bench/glossy_highlight_floor.md): roughness 0.15 covered 70 % of 50 seeds without a floor.
+DIELECTRIC_ROUGHNESS_MAX = 0.3
+
+
+def _roughness_of(node, name):
+    """The node's ``name`` roughness (SHARP_ROUGHNESS when linked: a texture may be that smooth somewhere)."""
+    socket = node.inputs.get(name)
+    if socket is None:
+        return None
+    return glass.SHARP_ROUGHNESS if socket.is_linked else float(socket.default_value)
+
+
+def _specular_principled(material, gate):
+    """Principled BSDFs of ``material`` whose ``gate`` input is linked or not 0 and that reflect (an IOR
+    other than 1, or linked)."""
+    nodes = glass.closure_nodes(material, (), gate)[0]
+    ior = {"Specular IOR Level": "IOR", "Coat Weight": "Coat IOR"}[gate]
+    return [nd for nd in nodes if nd.inputs.get(ior) is None or nd.inputs[ior].is_linked
+            or float(nd.inputs[ior].default_value) != 1.0]
+
+
 def glossy_roughness(material):
-    """Smallest roughness in [SHARP_ROUGHNESS, GLOSSY_ROUGHNESS_MAX] of a metal-like closure of
-    ``material`` (Glossy, Anisotropic, Metallic BSDF, or a Principled BSDF with Metallic > 0 or linked),
-    or None. A linked roughness counts as SHARP_ROUGHNESS (a texture may be that smooth somewhere)."""
-    found = None
-    for node in glass.closure_nodes(material, _METAL_NODES, "Metallic")[0]:
-        socket = node.inputs.get("Roughness")
-        if socket is None:
-            continue
-        r = glass.SHARP_ROUGHNESS if socket.is_linked else float(socket.default_value)
-        if glass.SHARP_ROUGHNESS <= r <= GLOSSY_ROUGHNESS_MAX:
-            found = r if found is None else min(found, r)
-    return found
+    """Smallest roughness of a glossy reflector in ``material`` whose highlight gets a floor, or None:
+    a metal-like closure (Glossy, Anisotropic, Metallic BSDF, a Principled BSDF with Metallic > 0 or
+    linked) of roughness in [SHARP_ROUGHNESS, GLOSSY_ROUGHNESS_MAX], or a dielectric one (a Principled
+    BSDF's specular layer, or its coat) in [SHARP_ROUGHNESS, DIELECTRIC_ROUGHNESS_MAX]."""
+    candidates = [(_roughness_of(nd, "Roughness"), GLOSSY_ROUGHNESS_MAX)
+                  for nd in glass.closure_nodes(material, _METAL_NODES, "Metallic")[0]]
+    candidates += [(_roughness_of(nd, "Roughness"), DIELECTRIC_ROUGHNESS_MAX)
+                   for nd in _specular_principled(material, "Specular IOR Level")]
+    candidates += [(_roughness_of(nd, "Coat Roughness"), DIELECTRIC_ROUGHNESS_MAX)
+                   for nd in _specular_principled(material, "Coat Weight")]
+    # (1e-6: Blender stores roughness in float32, 0.3 reads 0.30000001)
+    rough = [r for r, top in candidates if r is not None and glass.SHARP_ROUGHNESS - 1e-6 <= r <= top + 1e-6]
+    return min(rough) if rough else None
 
 
 def glossy_triangles(model):
     """((T, 3, 3) triangles in m, (T,) object names, (T,) roughness) of the render-visible objects,
-    visible to glossy rays, whose material is a glossy metal (``glossy_roughness``)."""
+    visible to glossy rays, whose material is a glossy reflector (``glossy_roughness``)."""
     from .identity import geometry_objects
 
     g = model.geometry
@@ -95,7 +121,7 @@ def _image_solid_angle(spec, at, path_length):
 
 def highlight_floor(model, points_m, normals):
     """((N,) samples each meter takes at least, or None; names "'light' in 'reflector'") for meters
-    that see a light's specular image in a glossy metal reflector above their horizon (module doc)."""
+    that see a light's specular image in a glossy reflector above their horizon (module doc)."""
     n = len(points_m)
     lights = [lt for lt in model.lights
               if lt.spec is not None and not lt.portal and lt.reaches_diffuse and lt.spec.kind in ("SUN", "POINT", "SPOT", "AREA")]
