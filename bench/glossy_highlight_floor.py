@@ -7,6 +7,7 @@ and measures it.
     .venv/bin/python bench/glossy_highlight_floor.py run 0.15 0.3 0.5 [--seeds 50] [--tag after]
     .venv/bin/python bench/glossy_highlight_floor.py refs 0.15 --floor principled   # a dielectric floor
 
+``--light emissive`` replaces the area light by an emitting 0.5 m square mesh (Emission strength 250).
 ``--floor principled`` replaces the metal floor by a Principled BSDF (base colour 0.5, Metallic 0, IOR 1.5,
 the given roughness): a polished stone or lacquered floor, whose highlight is the Fresnel reflection.
 
@@ -40,10 +41,12 @@ u = _load("glass_fog_unseen_scenes")
 
 
 FLOOR = ["metal"]
+LIGHT = ["area"]
 
 
 def _key(rough):
-    return f"{rough:g}" if FLOOR[0] == "metal" else f"{FLOOR[0]} {rough:g}"
+    key = f"{rough:g}" if FLOOR[0] == "metal" else f"{FLOOR[0]} {rough:g}"
+    return key if LIGHT[0] == "area" else f"{LIGHT[0]} {key}"
 
 
 def build(roughness):
@@ -60,6 +63,8 @@ def build(roughness):
         tree.links.new(node.outputs[0], out.inputs["Surface"])
     [node] = [nd for nd in mat.node_tree.nodes if "Roughness" in nd.inputs]
     node.inputs["Roughness"].default_value = roughness
+    if LIGHT[0] == "emissive":
+        u.emitting_panel(scene)
     return scene, label, point, normal
 
 
@@ -96,7 +101,7 @@ def run(roughnesses, seeds, tag, quality="preview"):
             ref = data["references"][_key(rough)]
             ref_lux, ref_se = ref["lux"], ref["rel_std_error"]
         else:
-            assert rough == 0.15 and FLOOR[0] == "metal", "make its reference first (refs)"
+            assert rough == 0.15 and FLOOR[0] == "metal" and LIGHT[0] == "area", "make its reference first (refs)"
             e = stored["glossy_wall/wall meter lit via a glossy floor"]
             ref_lux, ref_se = u.lux(e["E_rgb"]), e["rel_std_error"]
         scene, label, point, normal = build(rough)
@@ -111,7 +116,7 @@ def run(roughnesses, seeds, tag, quality="preview"):
                 errs.append(err)
         finally:
             radiometer.unregister()
-        row = {"floor": FLOOR[0], "roughness": rough, "quality": quality, "seeds": seeds, "ref_lux": ref_lux, "ref_se": ref_se,
+        row = {"floor": FLOOR[0], "light": LIGHT[0], "roughness": rough, "quality": quality, "seeds": seeds, "ref_lux": ref_lux, "ref_se": ref_se,
                "within_1.96": sum(abs(z) <= 1.96 for z in zs), "within_3": sum(abs(z) <= 3 for z in zs),
                "mean_z": sum(zs) / seeds, "worst_z": max(zs, key=abs), "mean_err": sum(errs) / seeds,
                "worst_err": max(errs, key=abs), "samples_median": sorted(samples)[seeds // 2],
@@ -124,7 +129,7 @@ def run(roughnesses, seeds, tag, quality="preview"):
 if __name__ == "__main__":
     args = sys.argv[1:]
     seeds, tag, quality = 50, "before", "preview"
-    for flag in ("--seeds", "--tag", "--quality", "--floor"):
+    for flag in ("--seeds", "--tag", "--quality", "--floor", "--light"):
         if flag in args:
             k = args.index(flag)
             value = args[k + 1]
@@ -133,6 +138,7 @@ if __name__ == "__main__":
             tag = value if flag == "--tag" else tag
             quality = value if flag == "--quality" else quality
             FLOOR[0] = value if flag == "--floor" else FLOOR[0]
+            LIGHT[0] = value if flag == "--light" else LIGHT[0]
     if args[0] == "refs":
         refs([float(a) for a in args[1:]])
     else:

@@ -7,7 +7,8 @@ such meter takes before its error is trusted (``meter.world_floor`` is the world
 
 * ``highlight_floor``: a glossy reflector above the meter's horizon in which a light's specular image
   falls: a metal (roughness at least ``glass.SHARP_ROUGHNESS``, at most ``GLOSSY_ROUGHNESS_MAX``) or a
-  dielectric's specular or coat layer (at most ``DIELECTRIC_ROUGHNESS_MAX``). Its
+  dielectric's specular or coat layer (at most ``DIELECTRIC_ROUGHNESS_MAX``); the light is a light
+  object or an emitting mesh (its image taken from its area-weighted centre). Its
   highlight is a small bright region: a cosine-sampled path from the meter hits it with probability
   p = (Omega_image + Omega_lobe) cos / pi, Omega_image the light's solid angle seen in the mirror,
   Omega_lobe = pi (LOBE_WIDTH alpha)^2 the GGX reflected lobe (alpha = roughness^2). The floor is
@@ -24,6 +25,7 @@ import bpy
 import numpy as np
 
 from ..radiometry import allocation, visibility
+from ..radiometry.emitters.base import RayVisibility
 from . import glass
 
 #: Largest Cycles roughness r whose highlight gets a floor. Above it the lobe (alpha = r^2 >= 0.25,
@@ -125,7 +127,9 @@ def highlight_floor(model, points_m, normals):
     n = len(points_m)
     lights = [lt for lt in model.lights
               if lt.spec is not None and not lt.portal and lt.reaches_diffuse and lt.spec.kind in ("SUN", "POINT", "SPOT", "AREA")]
-    if not lights or not model.geometry.count:
+    meshes = [em for em in getattr(model, "emissive_meshes", None) or ()
+              if em.visibility & RayVisibility.GLOSSY and float(np.sum(em.areas_m2)) > 0.0]
+    if not (lights or meshes) or not model.geometry.count:
         return None, []
     tris, owners, rough = glossy_triangles(model)
     if not len(tris):
@@ -133,6 +137,26 @@ def highlight_floor(model, points_m, normals):
     lobe = math.pi * (LOBE_WIDTH * rough ** 2) ** 2
     floor = np.zeros(n, int)
     names = set()
+    for em in meshes:
+        # An emitting mesh's image: seen from its area-weighted centre (a compact emitter's image is
+        # where the floor matters; a long strip's other parts only add to it), solid angle from its
+        # triangles' projected area towards the mirror point.
+        centre = np.einsum("t,tk->k", em.areas_m2, em.triangles.mean(axis=1)) / float(np.sum(em.areas_m2))
+        for k in range(n):
+            hit, _image, at = visibility.mirror_images(points_m[k], tris, centre, None)
+            for j in np.flatnonzero(hit):
+                d = at[j] - points_m[k]
+                r = float(np.linalg.norm(d))
+                cos = float(normals[k] @ d) / r if r > 0 else 0.0
+                if cos <= 0.0:
+                    continue
+                towards = at[j] - centre
+                length = float(np.linalg.norm(towards))
+                if length <= 0.0:
+                    continue
+                path = r + length
+                omega = float(np.sum(em.areas_m2 * np.abs(em.normals @ (towards / length)))) / path ** 2
+                _need(floor, names, k, (omega + lobe[j]) * cos / math.pi, f"{em.name!r} in {owners[j]!r}")
     for light in lights:
         spec = light.spec
         sun = spec.kind == "SUN"
@@ -147,9 +171,15 @@ def highlight_floor(model, points_m, normals):
                     continue
                 path = r + (0.0 if sun else float(np.linalg.norm(np.asarray(spec.position, float) - at[j])))
                 p = (_image_solid_angle(spec, at[j], path) + lobe[j]) * cos / math.pi
-                need = allocation.DARK_FLOOR if p <= 0 else min(allocation.DARK_FLOOR, math.ceil(HIGHLIGHT_HITS / p))
-                if need > allocation.PILOT_MIN_SAMPLES:
-                    floor[k] = max(floor[k], need)
-                    names.add(f"{light.name!r} in {owners[j]!r}")
+                _need(floor, names, k, p, f"{light.name!r} in {owners[j]!r}")
     return (floor if floor.any() else None), sorted(names)
+
+
+def _need(floor, names, k, p, name):
+    """Raise meter ``k``'s floor to HIGHLIGHT_HITS / p samples (p: the chance that one of its paths
+    lands in the highlight; at most DARK_FLOOR) where that exceeds the pilot, and name the highlight."""
+    need = allocation.DARK_FLOOR if p <= 0 else min(allocation.DARK_FLOOR, math.ceil(HIGHLIGHT_HITS / p))
+    if need > allocation.PILOT_MIN_SAMPLES:
+        floor[k] = max(floor[k], need)
+        names.add(name)
 

@@ -340,6 +340,23 @@ def glossy_wall():
     return scene, [("wall meter lit via a glossy floor", (2.0, 0.0, 0.6), (-1.0, 0.0, 0.0))]
 
 
+
+def emitting_panel(scene, strength=250.0):
+    """Replace the scene's one light by an emitting 0.5 m square mesh ("Panel", Emission ``strength``)
+    at its place, facing down (the glossy wall's area light as an emissive mesh)."""
+    light = next(ob for ob in scene.objects if ob.type == "LIGHT")
+    z = light.location.z
+    bpy.data.objects.remove(light)
+    mesh = bpy.data.meshes.new("Panel")
+    h = 0.25
+    mesh.from_pydata([(-h, -h, z), (-h, h, z), (h, h, z), (h, -h, z)], [], [(0, 1, 2, 3)])  # normal -z
+    mesh.materials.append(_one_node_material("panel emission", "ShaderNodeEmission", "Surface",
+                                             {"Strength": strength}))
+    obj = bpy.data.objects.new("Panel", mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
 RENDERED = {
     "grey_room_glazing": (lambda: wall_double_glazing(0.5), "double glazing"),
     "foggy_room": (lambda: foggy_room(), "fog area"),
