@@ -51,18 +51,12 @@ def _key(rough):
 
 def build(roughness):
     scene, [(label, point, normal)] = u.glossy_wall()
-    mat = bpy.data.materials["metal floor 0.15"]
     if FLOOR[0] == "principled":
-        tree = mat.node_tree
-        tree.nodes.clear()
-        out = tree.nodes.new("ShaderNodeOutputMaterial")
-        node = tree.nodes.new("ShaderNodeBsdfPrincipled")
-        node.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1.0)
-        node.inputs["Metallic"].default_value = 0.0
-        node.inputs["IOR"].default_value = 1.5
-        tree.links.new(node.outputs[0], out.inputs["Surface"])
-    [node] = [nd for nd in mat.node_tree.nodes if "Roughness" in nd.inputs]
-    node.inputs["Roughness"].default_value = roughness
+        u.principled_floor(roughness)
+    else:
+        mat = bpy.data.materials["metal floor 0.15"]
+        [node] = [nd for nd in mat.node_tree.nodes if "Roughness" in nd.inputs]
+        node.inputs["Roughness"].default_value = roughness
     if LIGHT[0] == "emissive":
         u.emitting_panel(scene)
     return scene, label, point, normal

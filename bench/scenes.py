@@ -245,3 +245,13 @@ def load_test_module(name):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def pop_option(args, flag, default, kind=str):
+    """The value after ``flag`` in the list ``args`` (both removed from it) as ``kind``, else ``default``."""
+    if flag not in args:
+        return default
+    k = args.index(flag)
+    value = kind(args[k + 1])
+    del args[k:k + 2]
+    return value

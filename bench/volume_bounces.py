@@ -78,14 +78,8 @@ def main(limits, seeds, samples):
 
 
 if __name__ == "__main__":
+    from scenes import pop_option
+
     args = sys.argv[1:]
-    seeds, samples = 10, 16384
-    if "--seeds" in args:
-        k = args.index("--seeds")
-        seeds = int(args[k + 1])
-        del args[k:k + 2]
-    if "--samples" in args:
-        k = args.index("--samples")
-        samples = int(args[k + 1])
-        del args[k:k + 2]
+    seeds, samples = pop_option(args, "--seeds", 10, int), pop_option(args, "--samples", 16384, int)
     main([int(a) for a in args] or [16, 32, 64, 128, 256, 512, 1024], seeds, samples)

@@ -78,14 +78,8 @@ def main(floor, seeds, quality):
 
 
 if __name__ == "__main__":
+    from scenes import pop_option
+
     args = sys.argv[1:]
-    seeds, quality = 40, "preview"
-    if "--seeds" in args:
-        k = args.index("--seeds")
-        seeds = int(args[k + 1])
-        del args[k:k + 2]
-    if "--quality" in args:
-        k = args.index("--quality")
-        quality = args[k + 1]
-        del args[k:k + 2]
+    seeds, quality = pop_option(args, "--seeds", 40, int), pop_option(args, "--quality", "preview")
     main(int(args[0]), seeds, quality)

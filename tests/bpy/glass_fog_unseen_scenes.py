@@ -341,6 +341,25 @@ def glossy_wall():
 
 
 
+def principled_floor(roughness, **inputs):
+    """The glossy wall's floor ("metal floor 0.15") made a Principled BSDF (base colour 0.5, Metallic 0,
+    IOR 1.5: a polished stone or lacquered floor) of ``roughness``, with other ``inputs`` set; returns
+    the node."""
+    mat = bpy.data.materials["metal floor 0.15"]
+    tree = mat.node_tree
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    node = tree.nodes.new("ShaderNodeBsdfPrincipled")
+    node.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+    node.inputs["Metallic"].default_value = 0.0
+    node.inputs["IOR"].default_value = 1.5
+    node.inputs["Roughness"].default_value = roughness
+    for key, value in inputs.items():
+        node.inputs[key].default_value = value
+    tree.links.new(node.outputs[0], out.inputs["Surface"])
+    return node
+
+
 def emitting_panel(scene, strength=250.0):
     """Replace the scene's one light by an emitting 0.5 m square mesh ("Panel", Emission ``strength``)
     at its place, facing down (the glossy wall's area light as an emissive mesh)."""

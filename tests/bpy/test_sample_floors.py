@@ -59,22 +59,6 @@ def test_highlight_floor_of_a_glossy_floor_by_hand(clean_blender):
 
 
 
-def _principled_floor(roughness, **inputs):
-    """The glossy wall's floor as a Principled BSDF (base colour 0.5, Metallic 0) of ``roughness``."""
-    mat = bpy.data.materials["metal floor 0.15"]
-    tree = mat.node_tree
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    node = tree.nodes.new("ShaderNodeBsdfPrincipled")
-    node.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1.0)
-    node.inputs["Metallic"].default_value = 0.0
-    node.inputs["Roughness"].default_value = roughness
-    for key, value in inputs.items():
-        node.inputs[key].default_value = value
-    tree.links.new(node.outputs[0], out.inputs["Surface"])
-    return node
-
-
 def test_a_dielectric_highlight_gets_a_floor_too(clean_blender):
     """Issue 18: a polished Principled floor (Metallic 0, roughness 0.15) read the wall meter's highlight
     low at preview (35 of 50 seeds within 1.96 s.e., worst z -4.35; bench/glossy_highlight_floor.json):
@@ -85,7 +69,7 @@ def test_a_dielectric_highlight_gets_a_floor_too(clean_blender):
 
     u = _scenes()
     scene, [(_label, point, normal)] = u.glossy_wall()
-    node = _principled_floor(0.15)
+    node = u.principled_floor(0.15)
     floor, names = _floor(scene, point, normal)
     assert floor is not None and floor[0] > 20000 and names == ["'area' in 'Floor'"]
     node.inputs["Roughness"].default_value = 0.3
