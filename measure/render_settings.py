@@ -8,6 +8,8 @@ back afterwards. The returned dict records what was enabled and why (it goes int
 
 import contextlib
 
+import numpy as np
+
 from ..compat import active_node_tree
 
 _GLOSSY_NODES = {
@@ -196,6 +198,10 @@ class _Recorder:
 
 def _same(got, want):
     if isinstance(want, float) or isinstance(got, float):
+        if float(np.float32(want)) == float(want):
+            # exactly a float32 (1 - 2^-20, 0.0, 1.0): it must read back exactly, since the tolerance
+            # below could not tell ROTATED_TABLE from 1.0
+            return float(got) == float(want)
         return abs(float(got) - float(want)) <= 1e-6 * max(1.0, abs(float(want)))  # float32 storage
     return got == want
 

@@ -75,3 +75,17 @@ def test_the_reading_says_which_settings_this_blender_lacks(clean_blender, build
     monkeypatch.setattr(render_settings, "_set", older_blender)
     r = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), method="render", quality="preview")
     assert any("volume_biased" in note for note in r.notes), r.notes
+
+
+def test_the_rotated_table_is_told_from_a_scrambling_distance_of_1(clean_blender):
+    """1 - 2^-20 is 9.5e-7 below 1: within the float tolerance of other settings, so a value that is
+    exactly a float32 must read back exactly (a Blender that kept 1.0 would silently use the fixed table)."""
+    from radiometer.errors import RadiometerError
+    from radiometer.measure import render_settings
+
+    scene = bpy.context.scene
+    scene.cycles.scrambling_distance = render_settings.ROTATED_TABLE
+    assert render_settings.read_back([(scene.cycles, "scrambling_distance", render_settings.ROTATED_TABLE)]) == 1
+    scene.cycles.scrambling_distance = 1.0
+    with pytest.raises(RadiometerError, match="scrambling_distance"):
+        render_settings.read_back([(scene.cycles, "scrambling_distance", render_settings.ROTATED_TABLE)])
