@@ -24,6 +24,8 @@ CONNECT_TIMEOUT_S = 5.0
 _POLL_S = 0.02  # how often the client looks for finished tasks and polls cancelled() (s)
 #: Times a finished task whose result was lost with its worker is run again before the run fails.
 _MAX_RESUBMITS = 3
+#: How long a resubmission waits for a worker when every worker was lost (the nannies restart them).
+_WORKER_WAIT_S = 120.0
 
 
 def available():
@@ -321,6 +323,18 @@ def _run_on_cluster(scenes, fn_name, kwargs_list, client, progress, cancelled, l
                              index, label, threads_by_host, key=f"radiometer-{run}-{index}-{resubmits[index]}",
                              pure=False)
 
+    def rescatter_if_lost(index):
+        # A scene whose workers all died (a SIGKILL, or Blender crashing in a worker) is gone from the
+        # cluster: a task resubmitted on it would come back cancelled again. Send it anew (measured: two
+        # workers lost to signal 11 left a run failing "batch task 4 ... failed: NoneType: None").
+        item = items[index]
+        key = (item.key, item.scene_name, item.path)
+        if scattered[key].status == "finished":
+            return
+        with contextlib.suppress(Exception):
+            client.wait_for_workers(1, timeout=_WORKER_WAIT_S)
+        scattered[key] = client.scatter(distinct[key], broadcast=uses[key] > 1, hash=False)
+
     futures = [submit(index) for index in range(total)]
     index_of = {f.key: i for i, f in enumerate(futures)}
     results = [None] * total
@@ -347,8 +361,12 @@ def _run_on_cluster(scenes, fn_name, kwargs_list, client, progress, cancelled, l
                     # Lost with a worker that died (measured, a SIGKILLed worker: the future came back
                     # cancelled, or finished with its result "already forgotten"): run the task again.
                     if resubmits[index] >= _MAX_RESUBMITS:
-                        raise _task_error(future, index, label, items[index].name) from None
+                        raise RadiometerError(
+                            f"{label} task {index + 1} ({items[index].name}) was lost with its worker "
+                            f"{resubmits[index] + 1} times (a crash in Blender or out of memory); see the "
+                            "worker logs") from None
                     resubmits[index] += 1
+                    rescatter_if_lost(index)
                     again = submit(index)
                     index_of[again.key] = index
                     pending.add(again)

@@ -145,6 +145,32 @@ def test_worker_killed_with_sigkill_mid_run_loses_nothing(clean_blender, variant
     assert any(t["pid"] != victim for t in stats["tasks"])
 
 
+def test_every_worker_killed_mid_run_loses_nothing(clean_blender, variants, request):
+    """With every worker gone (SIGKILL here; Blender crashing in a worker, signal 11, did the same in a
+    full suite run) the scene scattered to them is lost too: the engine sends it again to the restarted
+    workers and reruns the lost tasks, instead of resubmitting tasks whose input no longer exists."""
+    from radiometer.cluster import batch, run_scene_tasks
+
+    kwargs = [dict(meters=POINTS, quality="preview", method="render", seed=k) for k in range(6)]
+    expected = run_scene_tasks(variants[0], batch.measure_file, kwargs, label="kill all")
+    client = request.getfixturevalue("client")  # after the in-process bakes (see the fixture)
+    pids = sorted(client.run(os.getpid).values())
+    killed = []
+
+    def kill_all(done, total, left):
+        if not killed:
+            for pid in pids:
+                os.kill(pid, signal.SIGKILL)
+            killed.append(done)
+
+    results = run_scene_tasks(variants[0], batch.measure_file, kwargs, client=client, progress=kill_all,
+                              label="kill all")
+    assert killed and killed[0] < len(kwargs)
+    got = np.array([[r.illuminance for r in f.readings] for f in results])
+    want = np.array([[r.illuminance for r in f.readings] for f in expected])
+    np.testing.assert_allclose(got, want, rtol=1e-9)  # deterministic seeds: equal, not just close
+
+
 def test_bad_file_on_the_cluster_is_one_line_naming_file_and_task(clean_blender, variants, client, tmp_path):
     from radiometer.cluster import batch
 
