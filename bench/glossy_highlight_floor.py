@@ -121,18 +121,12 @@ def run(roughnesses, seeds, tag, quality="preview"):
 
 
 if __name__ == "__main__":
+    from scenes import pop_option
+
     args = sys.argv[1:]
-    seeds, tag, quality = 50, "before", "preview"
-    for flag in ("--seeds", "--tag", "--quality", "--floor", "--light"):
-        if flag in args:
-            k = args.index(flag)
-            value = args[k + 1]
-            del args[k:k + 2]
-            seeds = int(value) if flag == "--seeds" else seeds
-            tag = value if flag == "--tag" else tag
-            quality = value if flag == "--quality" else quality
-            FLOOR[0] = value if flag == "--floor" else FLOOR[0]
-            LIGHT[0] = value if flag == "--light" else LIGHT[0]
+    seeds, tag, quality = pop_option(args, "--seeds", 50, int), pop_option(args, "--tag", "before"), \
+        pop_option(args, "--quality", "preview")
+    FLOOR[0], LIGHT[0] = pop_option(args, "--floor", FLOOR[0]), pop_option(args, "--light", LIGHT[0])
     if args[0] == "refs":
         refs([float(a) for a in args[1:]])
     else:

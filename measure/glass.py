@@ -329,13 +329,21 @@ def stand_in_stacks(panes, objects=None):
     return out
 
 
+def _stacks(panes):
+    """(stack, rendered as one stand-in) for every stack of parallel panes in ``panes`` (each stack the
+    Panes in ``thin_glass.parallel_stacks`` order)."""
+    from ..radiometry import thin_glass
+
+    panes = panes or {}
+    modelled = {frozenset(id(p) for p in group) for _lead, group in stand_in_stacks(panes)}
+    return [([panes[k] for k in keys], frozenset(id(panes[k]) for k in keys) in modelled)
+            for keys in thin_glass.parallel_stacks(panes)]
+
+
 def stacks_rendered_whole(panes):
     """True when every stack of parallel panes in ``panes`` is rendered as one stand-in
     (``stand_in_stacks``), so every render holds the light bouncing between their panes."""
-    from ..radiometry import thin_glass
-
-    modelled = {frozenset(id(p) for p in group) for _lead, group in stand_in_stacks(panes)}
-    return all(frozenset(id(panes[k]) for k in keys) in modelled for keys in thin_glass.parallel_stacks(panes or {}))
+    return all(whole for _stack, whole in _stacks(panes))
 
 
 def _stack_depth(group):
@@ -556,11 +564,9 @@ def stack_notes(model):
     from ..radiometry import thin_glass
 
     notes = []
-    modelled = {frozenset(id(p) for p in group) for _lead, group in stand_in_stacks(model.panes)}
-    for keys in thin_glass.parallel_stacks(model.panes):
-        panes = [model.panes[k] for k in keys]
+    for panes, whole in _stacks(model.panes):
         names = ", ".join(repr(p.name) for p in panes)
-        if frozenset(id(p) for p in panes) in modelled:
+        if whole:
             depth = _stack_depth(panes)
             width = float(min(np.ptp(panes[0].geometry.hull, axis=0)))
             notes.append(f"multiple glazing ({names}): rendered as one stand-in pane with the whole unit's T and R "

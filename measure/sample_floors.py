@@ -47,7 +47,8 @@ _METAL_NODES = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic", "ShaderNode
 #: Largest roughness of a dielectric highlight (a Principled BSDF's specular or coat layer) that gets a
 #: floor: its Fresnel reflection is a few % at normal incidence, so a wider lobe's highlight is too weak
 #: to hide from a pilot. Measured on the glossy wall scene with a Principled floor (base colour 0.5,
-#: IOR 1.5; bench/glossy_highlight_floor.md): roughness 0.15 covered 70 % of 50 seeds without a floor.
+#: IOR 1.5; bench/glossy_highlight_floor.json, docs/errors.md): roughness 0.15 covered 70 % of 50 seeds
+#: without a floor.
 DIELECTRIC_ROUGHNESS_MAX = 0.3
 
 
@@ -121,15 +122,45 @@ def _image_solid_angle(spec, at, path_length):
     return 0.0
 
 
+def _mesh_image_solid_angle(mesh, centre, at, path_length):
+    """Solid angle (sr) of an emitting mesh's mirror image seen over a path of ``path_length`` m from the
+    mirror point ``at``: its triangles' area projected towards ``at`` from its centre, over path^2."""
+    towards = np.asarray(at, float) - centre
+    towards = towards / max(float(np.linalg.norm(towards)), 1e-300)
+    return float(np.sum(mesh.areas_m2 * np.abs(mesh.normals @ towards))) / path_length ** 2
+
+
+def _highlight_sources(model):
+    """(name, position m or None, unit vector to a light at infinity or None, solid_angle(at, path)) of
+    every light and emitting mesh that a glossy reflector can show as a highlight. An emitting mesh is
+    seen from its area-weighted centre (a compact emitter's image is where the floor matters; a long
+    strip's other parts only add to it)."""
+    out = []
+    for light in model.lights:
+        spec = light.spec
+        if spec is None or light.portal or not light.reaches_diffuse or spec.kind not in ("SUN", "POINT", "SPOT", "AREA"):
+            continue
+        sun = spec.kind == "SUN"
+        out.append((light.name, None if sun else np.asarray(spec.position, float),
+                    -np.asarray(spec.emission_direction, float) if sun else None,
+                    lambda at, path, spec=spec: _image_solid_angle(spec, at, path)))
+    for mesh in getattr(model, "emissive_meshes", None) or ():
+        area = float(np.sum(mesh.areas_m2))
+        if not mesh.visibility & RayVisibility.GLOSSY or area <= 0.0:
+            continue
+        centre = np.einsum("t,tk->k", mesh.areas_m2, mesh.triangles.mean(axis=1)) / area
+        out.append((mesh.name, centre, None,
+                    lambda at, path, mesh=mesh, centre=centre: _mesh_image_solid_angle(mesh, centre, at, path)))
+    return out
+
+
 def highlight_floor(model, points_m, normals):
     """((N,) samples each meter takes at least, or None; names "'light' in 'reflector'") for meters
-    that see a light's specular image in a glossy reflector above their horizon (module doc)."""
+    that see a light's or an emitting mesh's specular image in a glossy reflector above their horizon
+    (module doc)."""
     n = len(points_m)
-    lights = [lt for lt in model.lights
-              if lt.spec is not None and not lt.portal and lt.reaches_diffuse and lt.spec.kind in ("SUN", "POINT", "SPOT", "AREA")]
-    meshes = [em for em in getattr(model, "emissive_meshes", None) or ()
-              if em.visibility & RayVisibility.GLOSSY and float(np.sum(em.areas_m2)) > 0.0]
-    if not (lights or meshes) or not model.geometry.count:
+    sources = _highlight_sources(model)
+    if not sources or not model.geometry.count:
         return None, []
     tris, owners, rough = glossy_triangles(model)
     if not len(tris):
@@ -137,49 +168,19 @@ def highlight_floor(model, points_m, normals):
     lobe = math.pi * (LOBE_WIDTH * rough ** 2) ** 2
     floor = np.zeros(n, int)
     names = set()
-    for em in meshes:
-        # An emitting mesh's image: seen from its area-weighted centre (a compact emitter's image is
-        # where the floor matters; a long strip's other parts only add to it), solid angle from its
-        # triangles' projected area towards the mirror point.
-        centre = np.einsum("t,tk->k", em.areas_m2, em.triangles.mean(axis=1)) / float(np.sum(em.areas_m2))
+    for name, position, to_sun, solid_angle in sources:
         for k in range(n):
-            hit, _image, at = visibility.mirror_images(points_m[k], tris, centre, None)
-            for j in np.flatnonzero(hit):
-                d = at[j] - points_m[k]
-                r = float(np.linalg.norm(d))
-                cos = float(normals[k] @ d) / r if r > 0 else 0.0
-                if cos <= 0.0:
-                    continue
-                towards = at[j] - centre
-                length = float(np.linalg.norm(towards))
-                if length <= 0.0:
-                    continue
-                path = r + length
-                omega = float(np.sum(em.areas_m2 * np.abs(em.normals @ (towards / length)))) / path ** 2
-                _need(floor, names, k, (omega + lobe[j]) * cos / math.pi, f"{em.name!r} in {owners[j]!r}")
-    for light in lights:
-        spec = light.spec
-        sun = spec.kind == "SUN"
-        to_sun = -np.asarray(spec.emission_direction, float) if sun else None
-        for k in range(n):
-            hit, image, at = visibility.mirror_images(points_m[k], tris, None if sun else spec.position, to_sun)
+            hit, _image, at = visibility.mirror_images(points_m[k], tris, position, to_sun)
             for j in np.flatnonzero(hit):
                 d = at[j] - points_m[k]
                 r = float(np.linalg.norm(d))
                 cos = float(normals[k] @ d) / r if r > 0 else 0.0
                 if cos <= 0.0:  # the mirror point is below the meter's horizon
                     continue
-                path = r + (0.0 if sun else float(np.linalg.norm(np.asarray(spec.position, float) - at[j])))
-                p = (_image_solid_angle(spec, at[j], path) + lobe[j]) * cos / math.pi
-                _need(floor, names, k, p, f"{light.name!r} in {owners[j]!r}")
+                path = r + (0.0 if position is None else float(np.linalg.norm(position - at[j])))
+                p = (solid_angle(at[j], path) + lobe[j]) * cos / math.pi
+                need = allocation.DARK_FLOOR if p <= 0 else min(allocation.DARK_FLOOR, math.ceil(HIGHLIGHT_HITS / p))
+                if need > allocation.PILOT_MIN_SAMPLES:
+                    floor[k] = max(floor[k], need)
+                    names.add(f"{name!r} in {owners[j]!r}")
     return (floor if floor.any() else None), sorted(names)
-
-
-def _need(floor, names, k, p, name):
-    """Raise meter ``k``'s floor to HIGHLIGHT_HITS / p samples (p: the chance that one of its paths
-    lands in the highlight; at most DARK_FLOOR) where that exceeds the pilot, and name the highlight."""
-    need = allocation.DARK_FLOOR if p <= 0 else min(allocation.DARK_FLOOR, math.ceil(HIGHLIGHT_HITS / p))
-    if need > allocation.PILOT_MIN_SAMPLES:
-        floor[k] = max(floor[k], need)
-        names.add(name)
-

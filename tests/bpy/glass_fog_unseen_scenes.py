@@ -340,7 +340,6 @@ def glossy_wall():
     return scene, [("wall meter lit via a glossy floor", (2.0, 0.0, 0.6), (-1.0, 0.0, 0.0))]
 
 
-
 def principled_floor(roughness, **inputs):
     """The glossy wall's floor ("metal floor 0.15") made a Principled BSDF (base colour 0.5, Metallic 0,
     IOR 1.5: a polished stone or lacquered floor) of ``roughness``, with other ``inputs`` set; returns
