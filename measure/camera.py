@@ -10,7 +10,6 @@ import dataclasses
 import math
 import os
 import shutil
-import tempfile
 import time
 
 import bpy
@@ -22,6 +21,7 @@ from ..errors import MeasurementCancelled, RadiometerError
 from ..radiometry import allocation
 from ..readings import LuminanceReading
 from . import exr, meter, render_settings, scene_guard
+from .temporary_scene import scratch_folder
 
 # Panorama orientation: local +Y (image up) -> world +Z, local +Z (image centre) -> world -Y.
 _PANO_EULER = (math.pi / 2, 0.0, 0.0)
@@ -60,15 +60,6 @@ def default_map_path(name):
     from .. import outputs
 
     return os.path.join(outputs.user_folder("radiance_maps"), f"{outputs.file_stem(name)}.exr")
-
-
-def scratch_folder():
-    """A private temporary folder for render outputs (the caller removes it); one-line error if none."""
-    try:
-        return tempfile.mkdtemp(prefix="radiometer_")
-    except OSError as exc:
-        raise RadiometerError(f"cannot create a temporary folder for the render ({exc.strerror}: "
-                              f"{tempfile.gettempdir()}); set TMPDIR to a writable folder") from None
 
 
 def _temp_camera(scene, location_scene, rotation_quat=None, euler=None):
@@ -122,7 +113,8 @@ MAX_MAP_HEIGHT = 4096
 RENDERS_PER_ROUND = 4
 
 
-def _prepare(scene, preset, snapshot):
+def prepare_render(scene, preset, snapshot):
+    """Settings and visibility for a camera reading of ``scene`` (restored by ``snapshot``); the record."""
     # Blender hides lights from camera rays by default (visible_camera False). A luminance meter
     # or a radiance probe must see the light sources' surfaces, so they are shown for the render
     # and restored afterwards by the snapshot: every light OBJECT that renders, including those
@@ -178,7 +170,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     spp, k, record = 64, 0, None
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
-            record = _prepare(scene, dict(preset, samples=spp), snapshot)
+            record = prepare_render(scene, dict(preset, samples=spp), snapshot)
             cam = _temp_camera(scene, points[0], rotation_quat=Vector(d).to_track_quat("-Z", "Y"))
             cam.data.type = "PERSP"
             cam.data.sensor_fit = "HORIZONTAL"
@@ -240,7 +232,7 @@ def capture_radiance_map(location, path, *, resolution=128, scene=None, quality=
     started = time.perf_counter()
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
-            record = _prepare(scene, preset, snapshot)
+            record = prepare_render(scene, preset, snapshot)
             cam = _temp_camera(scene, points[0], euler=_PANO_EULER)
             cam.data.type = "PANO"
             cam.data.panorama_type = "EQUIRECTANGULAR"

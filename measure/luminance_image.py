@@ -92,7 +92,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
     spp, k = 16, 0
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
-            camera_mod._prepare(scene, dict(preset, samples=spp), snapshot)
+            camera_mod.prepare_render(scene, dict(preset, samples=spp), snapshot)
             scene.camera = cam
             while True:
                 images = []
@@ -249,7 +249,7 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
     layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
-            camera_mod._prepare(scene, dict(preset, samples=spp), snapshot)
+            camera_mod.prepare_render(scene, dict(preset, samples=spp), snapshot)
             scene.camera = cam
             for attr in ("use_pass_diffuse_direct", "use_pass_diffuse_indirect"):
                 snapshot.remember(layer, attr)

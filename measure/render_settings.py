@@ -2,81 +2,13 @@
 
 What the scene needs (``SceneModel.needs``: geometry, glossy, transmission, volumes, emitting
 surfaces, an emitting world) is read by ``measure.scene_capture`` from the render depsgraph, with
-the node-type sets and ``world_emits`` below; ``apply(scene, ...)`` writes the settings; callers run inside ``scene_guard.preserved_scene`` so the user's settings come
+the node-type sets of ``measure.shader_kinds``; ``apply(scene, ...)`` writes the settings; callers run inside ``scene_guard.preserved_scene`` so the user's settings come
 back afterwards. The returned dict records what was enabled and why (it goes into readings' notes).
 """
 
 import contextlib
 
 import numpy as np
-
-from ..compat import active_node_tree
-
-_GLOSSY_NODES = {
-    "ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic", "ShaderNodeBsdfMetallic", "ShaderNodeBsdfGlass",
-    "ShaderNodeBsdfRefraction", "ShaderNodeBsdfPrincipled", "ShaderNodeBsdfHairPrincipled",
-    "ShaderNodeBsdfToon", "ShaderNodeBsdfSheen", "ShaderNodeScript", "ShaderNodeBsdfHair",
-}
-_TRANSMISSIVE_NODES = {
-    "ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction", "ShaderNodeBsdfTranslucent",
-    "ShaderNodeBsdfTransparent", "ShaderNodeScript",
-}
-_EMISSIVE_NODES = {"ShaderNodeEmission", "ShaderNodeScript"}
-_GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME", "GREASEPENCIL"}
-
-
-def _node_types(tree, seen=None):
-    """All node type identifiers in a node tree, looking inside node groups."""
-    seen = set() if seen is None else seen
-    if tree is None or tree.as_pointer() in seen:
-        return set()
-    seen.add(tree.as_pointer())
-    types = set()
-    for node in tree.nodes:
-        types.add(node.bl_idname)
-        if node.bl_idname == "ShaderNodeGroup":
-            types |= _node_types(node.node_tree, seen)
-        if node.bl_idname == "ShaderNodeBsdfPrincipled":
-            inp = node.inputs.get("Emission Strength")
-            if inp is not None and not inp.is_linked and inp.default_value > 0:
-                types.add("ShaderNodeEmission")
-            elif inp is not None and inp.is_linked:
-                types.add("ShaderNodeEmission")
-    return types
-
-
-def _uses_volume(tree):
-    if tree is None:
-        return False
-    for node in tree.nodes:
-        if node.bl_idname in {"ShaderNodeOutputMaterial", "ShaderNodeOutputWorld"}:
-            vol = node.inputs.get("Volume")
-            if vol is not None and vol.is_linked:
-                return True
-    return False
-
-
-def world_emits(world):
-    """True unless the world is provably black (no world, or a Background of zero strength/colour)."""
-    if world is None:
-        return False
-    tree = active_node_tree(world)
-    if tree is None:  # Blender 4.x without world nodes renders the plain World.color
-        return max(world.color[:3]) > 0.0
-    output = next((n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputWorld" and n.is_active_output), None)
-    if output is None:
-        output = next((n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputWorld"), None)
-    if output is None or not output.inputs["Surface"].is_linked:
-        return False
-    src = output.inputs["Surface"].links[0].from_node
-    if src.bl_idname == "ShaderNodeBackground":
-        colour, strength = src.inputs["Color"], src.inputs["Strength"]
-        if not strength.is_linked and strength.default_value == 0.0:
-            return False
-        if not colour.is_linked and max(colour.default_value[:3]) == 0.0:
-            return False
-    return True
-
 
 def _layer_override_targets(scene):
     """(struct, attribute, neutral value) for the view-layer overrides that are pointers or live on

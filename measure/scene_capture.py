@@ -26,10 +26,11 @@ import numpy as np
 
 from ..errors import RadiometerError
 from ..radiometry import scene_model
-from . import render_settings, scene_guard, scene_lights
+from ..compat import active_node_tree
+from . import scene_guard, scene_lights, shader_kinds
 from .identity import object_identity, source_objects  # noqa: F401 (callers use scene_capture.source_objects)
 
-_GEOMETRY_TYPES = render_settings._GEOMETRY_TYPES
+_GEOMETRY_TYPES = shader_kinds.GEOMETRY_TYPES
 _MESHABLE = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
 
 #: Beyond this many triangles the proofs are skipped (memory, time): the scene is rendered.
@@ -60,8 +61,8 @@ def _material_traits(material):
     from ..compat import active_node_tree
 
     tree = active_node_tree(material)
-    types = render_settings._node_types(tree)
-    transmissive = bool(types & render_settings._TRANSMISSIVE_NODES)
+    types = shader_kinds.node_types(tree)
+    transmissive = bool(types & shader_kinds.TRANSMISSIVE_NODES)
     if tree is not None:
         for node in tree.nodes:
             if node.bl_idname == "ShaderNodeBsdfPrincipled":
@@ -71,9 +72,9 @@ def _material_traits(material):
                         continue
                     if socket.is_linked or (socket.default_value != (0.0 if name != "Alpha" else 1.0)):
                         transmissive = True
-    volume = render_settings._uses_volume(tree)
-    return (not transmissive and not volume, bool(types & render_settings._EMISSIVE_NODES),
-            bool(types & render_settings._GLOSSY_NODES), transmissive, volume, volume and _volume_only(tree))
+    volume = shader_kinds.uses_volume(tree)
+    return (not transmissive and not volume, bool(types & shader_kinds.EMISSIVE_NODES),
+            bool(types & shader_kinds.GLOSSY_NODES), transmissive, volume, volume and _volume_only(tree))
 
 
 def _volume_only(tree):
@@ -587,8 +588,8 @@ def _model_lights(raw_lights):
 
 def _world_state(scene):
     """(world emits, world has a volume) of the scene's world."""
-    world_volume = render_settings._uses_volume(render_settings.active_node_tree(scene.world) if scene.world else None)
-    return render_settings.world_emits(scene.world), bool(world_volume)
+    world_volume = shader_kinds.uses_volume(active_node_tree(scene.world) if scene.world else None)
+    return shader_kinds.world_emits(scene.world), bool(world_volume)
 
 
 def capture(scene, view_layer=None, exclude=(), instances=None, light_records=None):

@@ -5,6 +5,18 @@ never rebuilt this way: measurements in it borrow and restore it (``scene_guard.
 
 import contextlib
 import shutil
+import tempfile
+
+from ..errors import RadiometerError
+
+
+def scratch_folder():
+    """A private temporary folder for render outputs (the caller removes it); one-line error if none."""
+    try:
+        return tempfile.mkdtemp(prefix="radiometer_")
+    except OSError as exc:
+        raise RadiometerError(f"cannot create a temporary folder for the render ({exc.strerror}: "
+                              f"{tempfile.gettempdir()}); set TMPDIR to a writable folder") from None
 
 
 class TemporaryScene:
@@ -29,8 +41,6 @@ class TemporaryScene:
     def scratch(self):
         """A private temporary folder for this scene's render outputs (made once)."""
         if self.folder is None:
-            from .camera import scratch_folder
-
             self.folder = scratch_folder()
         return self.folder
 
