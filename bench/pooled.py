@@ -37,7 +37,7 @@ def _load():
 def bench_pooled(quick=False, reps=None, truth_from=None):
     import room_reference
     from radiometer import api
-    from radiometer.measure import sensors
+    from radiometer.measure.render import sensors
 
     n = 400 if quick else 1000
     reps = reps or (2 if quick else 3)

@@ -31,7 +31,7 @@ def main(floor, seeds, quality):
 
     import radiometer
     from radiometer import api
-    from radiometer.measure import sample_floors
+    from radiometer.measure.meter.point_meter import sample_floors
     from radiometer.radiometry import scene_model
 
     highlight_floor = sample_floors.highlight_floor

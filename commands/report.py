@@ -28,7 +28,7 @@ def add_arguments(parser):
 def run(args):
     import bpy
 
-    from ..measure import report
+    from ..measure.reports import report
     from . import _io
 
     _io.check_output_dir(args.out, "--out folder")

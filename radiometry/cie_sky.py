@@ -310,7 +310,7 @@ def plane_illuminance(normals, sky_type, sun_direction=None, *, horizontal_illum
 # --- the world as pure data (the meter's interface, like environment.WorldLight) ------------------------
 
 class CIESkyWorld(EnvironmentEmitter):
-    """A Radiometer CIE sky world, as the meter integrates it (``measure.world`` recognises the tag).
+    """A Radiometer CIE sky world, as the meter integrates it (``measure.authoring.world`` recognises the tag).
 
     Radiance (W/(m^2 sr), per scene unit^2 like every world) is ``zenith_radiance`` x L/Lz above the
     horizon and ``ground_radiance`` below, the same in R, G and B (white). ``irradiance(normals)``

@@ -6,7 +6,7 @@ Pixel (i, j) covers latitudes [pi/2 - pi (i+1)/H, pi/2 - pi i/H] and longitudes
 direction of (lat, lon) is ``(cos lat sin lon, sin lat, -cos lat cos lon)`` and a 3 x 3
 ``rotation`` takes local directions to world directions:
 
-* ``RADIANCE_MAP_ROTATION``: maps written by ``measure.camera.capture_radiance_map`` (image up =
+* ``RADIANCE_MAP_ROTATION``: maps written by ``measure.meter.camera.capture_radiance_map`` (image up =
   world +Z, image centre = world -Y);
 * ``BLENDER_WORLD_ROTATION``: Blender's Environment Texture (equirectangular) with no mapping.
   MEASURED by rendering (tests/bpy/test_world.py): the image's centre column faces world +X, the
@@ -476,7 +476,7 @@ def equirect_to_probe(radiance, size, rotation=np.eye(3), camera_rotation=np.eye
 # --- the world as pure data -------------------------------------------------------------------------
 
 class WorldLight(EnvironmentEmitter):
-    """The scene's world as Cycles renders it, when a closed form covers it (``measure.world`` fills it).
+    """The scene's world as Cycles renders it, when a closed form covers it (``measure.authoring.world`` fills it).
     An emitter (:class:`.emitters.environment.EnvironmentEmitter`: ``irradiance_at``, flags INFINITE).
 
     ``kind``: "constant" (radiance (3,) in every direction), "equirect" (``radiance`` (H, W, 3) map

@@ -417,7 +417,7 @@ def pooled_estimate(points_m, normal, fit_values, fit_variances, held_points_m, 
 
 @dataclass
 class PooledTally:
-    """What ``measure.adaptive`` reads of an allocation's tally, for a pooled measurement."""
+    """What ``measure.render.adaptive`` reads of an allocation's tally, for a pooled measurement."""
     count: int
     mean: np.ndarray
     std_error: np.ndarray

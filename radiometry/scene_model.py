@@ -1,6 +1,6 @@
 """What the meter sees, as plain data, and which part of each reading a closed form gives exactly.
 
-A ``SceneModel`` is the scene exactly as Cycles renders it (filled by ``measure.scene_capture`` from
+A ``SceneModel`` is the scene exactly as Cycles renders it (filled by ``measure.capture.scene_capture`` from
 the render depsgraph: render visibility, instances, modifiers, ray-visibility and shadow flags,
 transforms): its lights (an emitter where a closed form covers them) and its geometry as a
 triangle soup in metres. ``plan_direct`` decides, for every light and every receiver, how its

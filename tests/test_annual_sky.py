@@ -72,8 +72,8 @@ def _write_epw(path):
 
 
 def test_sky_matrix_matches_gendaymtx(tmp_path):
-    pytest.importorskip("bpy")  # measure.annual lives with the bpy code (imports it lazily)
-    from radiometer.measure import annual
+    pytest.importorskip("bpy")  # measure.analyses.annual lives with the bpy code (imports it lazily)
+    from radiometer.measure.analyses import annual
 
     path = _write_epw(tmp_path / "t.epw")
     patches = sky_patches.reinhart_patches(1)

@@ -29,7 +29,7 @@ def write_exr(path, rgb):
 
 
 def roundtrip(tmp_path, rgb, name="map.exr"):
-    from radiometer.measure import exr
+    from radiometer.measure.blender import exr
 
     write_exr(tmp_path / name, rgb)
     return exr.read_rgb(str(tmp_path / name))

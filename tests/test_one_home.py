@@ -76,7 +76,7 @@ def test_json_policy_nan_and_inf_are_null_everywhere():
 def test_cli_and_analyses_use_the_one_policy():
     pytest.importorskip("bpy")
     from radiometer.commands._io import json_text
-    from radiometer.measure.analysis_common import plain
+    from radiometer.measure.analyses.analysis_common import plain
 
     value = {"E": np.array([1.0, math.nan]), "rows": [(math.inf, 2)]}
     assert json.loads(json_text(value)) == json_safe(value) == plain(value) == {"E": [1.0, None], "rows": [[None, 2]]}

@@ -4,7 +4,7 @@ An :class:`Emitter` is a light source as Cycles renders it, in SI: flux in W, in
 irradiance in W/m^2, all per RGB channel of the scene's working colour space (a "watt" of Blender's
 is radiometric per channel; photometric values are K x the Y of that triple, see
 :mod:`radiometer.radiometry.photometry`). Every kind lives in its own module of this package and is
-built only by the capture layer (``measure.scene_capture``) or from plain values in tests.
+built only by the capture layer (``measure.capture.scene_capture``) or from plain values in tests.
 
 Conventions
 -----------

@@ -167,7 +167,7 @@ def test_frosted_and_curved_glass_stay_rendered(clean_blender):
     sampling at the pane finds the lamp): no bound, a stochastic error (against a converged patch
     render in test_frosted_pane_against_a_patch_render)."""
     from radiometer import api
-    from radiometer.measure import glass
+    from radiometer.measure.capture import glass
 
     caustic = "caustic light may be missing"
     scene, [(_label, point, normal)] = scenes.frosted_window("POINT", roughness=0.1)
@@ -340,7 +340,7 @@ def test_fog_that_varies_in_space_stays_rendered(clean_blender):
     """Only a provably homogeneous world volume gets exp(-sigma_t d): a density fed by a texture is
     rendered whole."""
     from radiometer import api
-    from radiometer.measure import media
+    from radiometer.measure.capture import media
 
     scene, [(_label, point, normal)] = scenes.fog("POINT")
     assert media.world_medium(scene).sigma_t == pytest.approx((0.04,) * 3)
@@ -358,7 +358,8 @@ def test_panes_found_by_identity_renamed_and_linked_duplicate(clean_blender):
     (another object sharing the mesh) scaled to twice the thickness is its own pane: each object gets
     its own thin-pane material (linked to the object, the shared mesh is never changed) with its own
     absorption path, and everything is put back."""
-    from radiometer.measure import glass, scene_capture, scene_guard
+    from radiometer.measure.capture import glass, scene_capture
+    from radiometer.measure.blender import scene_guard
 
     scene, _cases = scenes.absorbing_pane_sky()
     first = bpy.data.objects["Pane 1"]
@@ -402,7 +403,7 @@ def test_the_corpus_covers_issue_18s_list(request):
 def test_sharp_mirrors_found_by_identity(clean_blender):
     """The sharp-mirror bound finds its mirrors by the capture's identity: a mirror renamed after its
     capture (a cached capture) still counts, and the name it had then finds nothing."""
-    from radiometer.measure import glass, scene_capture
+    from radiometer.measure.capture import glass, scene_capture
 
     scene, _cases = scenes.glossy_floor(roughness=0.0)
     model = scene_capture.capture(scene)

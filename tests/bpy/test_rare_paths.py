@@ -73,7 +73,7 @@ def test_one_patch_world_takes_the_sample_floor(clean_blender):
     """Issue 18: a world that is one small bright sky patch (the annual method's Reinhart zenith cap)
     came out 0.7-0.9 % low stating 0.04 % at a 3 % target (9 seeds in 10). Reference: the patch's
     closed form, the integral of cos(theta) over the cap (midpoint rule, as in test_annual.py)."""
-    from radiometer.measure import annual
+    from radiometer.measure.analyses import annual
     from radiometer.radiometry import sky_patches
 
     patches = sky_patches.reinhart_patches(1)

@@ -9,7 +9,8 @@ import bpy
 import pytest
 
 from radiometer import api
-from radiometer.measure import capture_cache, meter
+from radiometer.measure.capture import capture_cache
+from radiometer.measure.meter.point_meter import point_meter as meter
 from radiometer.radiometry import scene_model
 
 
