@@ -609,7 +609,7 @@ def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0
     ``readings``, ``to_dict()``) per file. A bad or unreadable file, or a missing texture, raises
     RadiometerError naming the file and the task.
     """
-    from .cluster import batch
+    from .measure.analyses import batch
 
     return batch.measure_batch(files, meters, quality=quality, method=method, seed=seed, client=client,
                                progress=progress, cancelled=cancelled)

@@ -40,13 +40,13 @@ def _short(path):
 
 
 def run(args):
-    from ..cluster import batch
+    from .. import api
 
     meters = [((p[0], p[1], p[2]), (p[3], p[4], p[5])) for p in args.point] if args.point else None
     with _cluster.client(args) as client:
-        results = batch.measure_batch(args.files, meters, quality=args.quality, method=args.method, seed=args.seed,
-                                      client=client, progress=_cluster.task_progress(args, "batch"),
-                                      cancelled=getattr(args, "cancelled", None))
+        results = api.measure_batch(args.files, meters, quality=args.quality, method=args.method, seed=args.seed,
+                                    client=client, progress=_cluster.task_progress(args, "batch"),
+                                    cancelled=getattr(args, "cancelled", None))
     if getattr(args, "progress", None) is not None:
         args.progress.clear()
     print(format_table(results))

@@ -28,7 +28,7 @@ def test_cluster_modules_import_without_bpy():
     # Workers unpickle these before the first task cleans sys.path: they must not import bpy.
     code = ("import sys\n"
             "import radiometer.cluster, radiometer.cluster.worker, radiometer.cluster.source\n"
-            "import radiometer.cluster.batch, radiometer.cluster.plugin, radiometer.commands.batch\n"
+            "import radiometer.measure.analyses.batch, radiometer.cluster.plugin, radiometer.commands.batch\n"
             "assert 'bpy' not in sys.modules, 'bpy imported'\n")
     subprocess.run([sys.executable, "-c", code], check=True, cwd="/")
 
@@ -67,10 +67,10 @@ def test_task_functions_must_be_importable_by_name():
 
     with pytest.raises(RadiometerError, match="importable module-level function"):
         worker.function_name(local)
-    from radiometer.cluster import batch
+    from radiometer.measure.analyses import batch
 
-    assert worker.function_name(batch.measure_file) == "radiometer.cluster.batch:measure_file"
-    assert worker.resolve("radiometer.cluster.batch:measure_file") is batch.measure_file
+    assert worker.function_name(batch.measure_file) == "radiometer.measure.analyses.batch:measure_file"
+    assert worker.resolve("radiometer.measure.analyses.batch:measure_file") is batch.measure_file
 
 
 def test_workers_and_scheduler_together_are_refused():

@@ -61,6 +61,9 @@ LAYER_OF_TOP = {
     "cli": "cli", "commands": "cli", "__main__": "cli",
 }
 RANK = {"core": 0, "plots": 1, "host": 2, "api": 3, "ui": 4, "cli": 4}
+# measure/'s rooms, left to right (issue 30): a room imports its own room and the rooms to its left, never
+# one to its right; no module sits in measure/ outside a room.
+MEASURE_ROOMS = ("blender", "capture", "render", "meter", "authoring", "analyses", "reports")
 # Inside the UI layer: properties are data that operators and panels read, never the other way round.
 FORBIDDEN_WITHIN = {("props", "operators"), ("props", "panels"), ("operators", "panels")}
 PURE_LAYERS = {"core", "plots"}
@@ -72,6 +75,9 @@ EXCEPTIONS = {
     ("blender", "outputs", "bpy"):
         "permanent: outputs.user_folder asks Blender for the extension's user folder inside a try, and falls "
         "back to a private temporary folder without bpy",
+    ("root", "commands._io", "register"):
+        "permanent: with bpy as a module nothing enables the add-on, so the CLI registers it through the "
+        "extension's own entry point (the function Blender calls); the root imports the CLI only inside it",
 }
 
 
@@ -185,12 +191,24 @@ def violations(modules, graph):
                     found.add(("layer", module, target))
                 if (module.split(".")[0], target.split(".")[0]) in FORBIDDEN_WITHIN:
                     found.add(("layer", module, target))
+            if target and module.startswith("measure.") and target.startswith("measure."):
+                if _room_rank(target) > _room_rank(module):
+                    found.add(("room", module, target))
+            if target == "" and imp.name:  # a name of the root package: only its entry point may be used there
+                found.add(("root", module, imp.name))
             if imp.name and imp.name.startswith("_") and not imp.name.startswith("__") \
                     and target and _package(target, modules) != _package(module, modules):
                 found.add(("private", module, f"{target}.{imp.name}"))
     for members in circles(graph):
         found.add(("circle", " <-> ".join(sorted(members)), None))
     return found
+
+
+def _room_rank(module):
+    parts = module.split(".")
+    if len(parts) < 3 and not (len(parts) == 2 and parts[1] in MEASURE_ROOMS):
+        return -1 if module == "measure" else len(MEASURE_ROOMS)  # a loose module: flagged by its own test
+    return MEASURE_ROOMS.index(parts[1]) if parts[1] in MEASURE_ROOMS else len(MEASURE_ROOMS)
 
 
 def circles(graph):
@@ -313,6 +331,42 @@ def test_checker_places_plots_between_core_and_host(tmp_path):
     assert not any(a.startswith("measure.") and kind == "layer" for kind, a, _b in found)  # host may draw
     assert not any(a == "plots.p" and b == "radiometry.r" for _kind, a, b in found)
 
+
+
+def test_measure_is_named_rooms(contract):
+    """measure/ holds only its rooms (issue 30): every module sits in one of ``MEASURE_ROOMS``."""
+    modules, _graph, _found = contract
+    loose = sorted(m for m in modules if m.startswith("measure.") and m.split(".")[1] not in MEASURE_ROOMS)
+    assert not loose, f"put these in one of measure/'s rooms {MEASURE_ROOMS}: {loose}"
+    rooms = sorted({m.split(".")[1] for m in modules if m.startswith("measure.")})
+    assert len(rooms) <= 8, rooms
+
+
+def test_no_folder_is_a_hall():
+    """No package folder holds more than 16 Python files directly (issue 30)."""
+    halls = {}
+    for module, (path, _is_package) in package_modules().items():
+        folder = os.path.relpath(os.path.dirname(path), REPO)
+        halls[folder] = halls.get(folder, 0) + 1
+    big = {folder: n for folder, n in halls.items() if n > 16 and folder != "."}
+    assert not big, f"split these folders into named rooms: {big}"
+
+
+def test_checker_sees_rooms_in_the_wrong_order(tmp_path):
+    modules, graph = _write(tmp_path, {
+        "__init__.py": "def register():\n    pass\n",
+        "measure/__init__.py": "",
+        "measure/capture/__init__.py": "",
+        "measure/capture/c.py": "from ..meter import m\n",
+        "measure/meter/__init__.py": "",
+        "measure/meter/m.py": "from ..capture import c\n",
+        "commands/__init__.py": "",
+        "commands/k.py": "def run():\n    from .. import register\n",
+    })
+    found = violations(modules, graph)
+    assert ("room", "measure.capture.c", "measure.meter.m") in found
+    assert not any(kind == "room" and a == "measure.meter.m" for kind, a, _b in found)
+    assert ("root", "commands.k", "register") in found
 
 
 def test_every_package_folder_says_what_it_holds():

@@ -1,0 +1,1 @@
+"""Analyses built on the meter: law checks, light isolation, work-plane grids, convergence studies, daylight factor, daylight coefficients, annual metrics, sun studies, glare, luminance images and the many-files batch task."""

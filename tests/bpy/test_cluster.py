@@ -82,7 +82,7 @@ def _values(results):
 
 def test_in_process_and_cluster_agree_and_every_worker_gets_tasks(clean_blender, variants, request):
     from radiometer import api
-    from radiometer.cluster import batch
+    from radiometer.measure.analyses import batch
 
     files = variants * 2  # 4 tasks on 2 workers
     here = api.measure_batch(files, quality="preview")
@@ -108,7 +108,8 @@ def test_in_process_and_cluster_agree_and_every_worker_gets_tasks(clean_blender,
 
 
 def test_worker_killed_with_sigkill_mid_run_loses_nothing(clean_blender, variants, request):
-    from radiometer.cluster import batch, run_scene_tasks
+    from radiometer.cluster import run_scene_tasks
+    from radiometer.measure.analyses import batch
 
     # A study of 8 tasks (a seed each, like 8 times of day) on one scene; a worker is killed as soon
     # as the first task is back, while the others are running or queued.
@@ -149,7 +150,8 @@ def test_every_worker_killed_mid_run_loses_nothing(clean_blender, variants, requ
     """With every worker gone (SIGKILL here; Blender crashing in a worker, signal 11, did the same in a
     full suite run) the scene scattered to them is lost too: the engine sends it again to the restarted
     workers and reruns the lost tasks, instead of resubmitting tasks whose input no longer exists."""
-    from radiometer.cluster import batch, run_scene_tasks
+    from radiometer.cluster import run_scene_tasks
+    from radiometer.measure.analyses import batch
 
     kwargs = [dict(meters=POINTS, quality="preview", method="render", seed=k) for k in range(6)]
     expected = run_scene_tasks(variants[0], batch.measure_file, kwargs, label="kill all")
@@ -172,7 +174,7 @@ def test_every_worker_killed_mid_run_loses_nothing(clean_blender, variants, requ
 
 
 def test_bad_file_on_the_cluster_is_one_line_naming_file_and_task(clean_blender, variants, client, tmp_path):
-    from radiometer.cluster import batch
+    from radiometer.measure.analyses import batch
 
     broken = tmp_path / "broken.blend"
     broken.write_bytes(b"BLENDER-v500" + os.urandom(300))  # a .blend header, then garbage
@@ -184,7 +186,7 @@ def test_bad_file_on_the_cluster_is_one_line_naming_file_and_task(clean_blender,
 
 @pytest.mark.parametrize("where", ["in process", "cluster"])
 def test_missing_texture_fails_the_run_naming_it(clean_blender, request, tmp_path, where):
-    from radiometer.cluster import batch
+    from radiometer.measure.analyses import batch
 
     missing = str(tmp_path / "textures" / "brick.png")
     path = _variant(tmp_path / "textured.blend", 100.0, texture=missing)
@@ -198,7 +200,8 @@ def test_missing_texture_fails_the_run_naming_it(clean_blender, request, tmp_pat
 
 
 def test_in_process_live_scene_progress_order_and_cancel(clean_blender, build):
-    from radiometer.cluster import batch, run_scene_tasks
+    from radiometer.cluster import run_scene_tasks
+    from radiometer.measure.analyses import batch
 
     scene = bpy.context.scene
     build.black_world(scene)
@@ -400,7 +403,8 @@ def _scheduler_task_keys(dask_scheduler):
 
 
 def test_cancel_on_the_cluster_leaves_no_task_of_the_run(clean_blender, variants, client):
-    from radiometer.cluster import batch, run_scene_tasks
+    from radiometer.cluster import run_scene_tasks
+    from radiometer.measure.analyses import batch
 
     kwargs = [dict(meters=POINTS, quality="standard", method="render", seed=k) for k in range(12)]
     done = []

@@ -7,8 +7,8 @@ client the files are opened one after the other in this process.
 import dataclasses
 import os
 
-from ..errors import RadiometerError
-from . import engine, source
+from ...cluster import engine, source
+from ...errors import RadiometerError
 
 
 @dataclasses.dataclass
@@ -56,7 +56,7 @@ def measure_file(scene, *, file="", meters=None, quality="standard", method=None
     meter object names, or illuminance meters as locations (scene coordinates) with optional
     normals (default +Z). ``seed``: first Cycles seed of located meters (deterministic readings).
     """
-    from ..measure.meter import point_meter as meter, meter_objects as meter_objects
+    from ..meter import meter_objects, point_meter as meter
 
     if meters is None or (meters and all(isinstance(m, str) for m in meters)):
         objects = None
@@ -85,7 +85,7 @@ def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0
         raise RadiometerError("measure_batch: no files given")
     for path in files:
         source.check_blend_file(path)
-    from .. import quality as quality_presets
+    from ... import quality as quality_presets
 
     quality_presets.preset(quality)  # an unknown preset is one line now, not one per task
     meters = None if meters is None else list(meters)
