@@ -315,7 +315,7 @@ def read_photometry(path):
     ``lumens``, ``rated_lumens``, ``max_candela``, ``beam_angle_deg``, ``field_angle_deg``,
     ``symmetry``, ``metadata``, ``summary()``. Bad files raise RadiometerError naming the line."""
     path = _v.check_input_file(path, "photometric file")
-    from .radiometry import photometric_files
+    from .radiometry.photometry import photometric_files
 
     try:
         return photometric_files.read_photometry(path)
@@ -353,7 +353,7 @@ def goniometric_diagram(source, path, *, title=None):
     import numpy as np
 
     from .plots import goniometric
-    from .radiometry import photometric_files
+    from .radiometry.photometry import photometric_files
 
     if isinstance(source, photometric_files.Photometry):
         photometry = source
@@ -425,7 +425,7 @@ def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
 
 @_v.boundary
 def world_model(scene=None):
-    """The world as Radiometer models it (``radiometry.environment.WorldLight``: kind, reason, ...)."""
+    """The world as Radiometer models it (``radiometry.skies.environment.WorldLight``: kind, reason, ...)."""
     _b.scene(scene)
     import bpy
 
@@ -445,7 +445,7 @@ def mirror_ball_probe(scene=None, *, size=256, shape=(128, 256), view=(0.0, -1.0
     shape = _v.resolution2(shape, "shape", low=2)
     view = _v.directions(view, "view", allow_many=False)
     from .measure.authoring import world
-    from .radiometry import environment
+    from .radiometry.skies import environment
 
     from .measure.blender import scene_guard
 
@@ -470,7 +470,7 @@ def sun_position(latitude_deg, longitude_deg, when, *, elevation_m=0.0, pressure
     from scene +Y to true north, counter-clockwise seen from above), ``earth_sun_distance_au``,
     ``equation_of_time_min``, ``delta_t_s``; arrays for a sequence of times. See docs/daylight-sun.md.
     """
-    from .radiometry import solar_position
+    from .radiometry.sun import solar_position
 
     try:
         unix = solar_position.unix_seconds(when)
@@ -690,7 +690,7 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
 def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None, ugr_limit=None, ra_required=None,
                        maintenance_factor=0.8, observers=(), ra=None, scene=None, quality="standard", grid=None):
     """EN 12464-1 compliance of a work plane (issue 23): ``task`` a key of
-    ``radiometry.compliance.TASKS`` (values cited there) or the user's own ``maintained_lx`` (lx),
+    ``radiometry.metrics.compliance.TASKS`` (values cited there) or the user's own ``maintained_lx`` (lx),
     ``uniformity``, ``ugr_limit``, ``ra_required``; ``maintenance_factor`` (Ēm = MF x Ē); ``observers``:
     ((x, y, z), (dx, dy, dz)) eye positions and view directions rated for UGR; ``ra``: the luminaires'
     rated Ra; ``grid``: a ``GridResult`` already measured on ``plane`` (else one is measured at the
@@ -700,7 +700,7 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
 
     import numpy as np
 
-    from .radiometry import compliance
+    from .radiometry.metrics import compliance
 
     try:
         req = compliance.requirement(task, maintained_lx=maintained_lx, uniformity=uniformity,

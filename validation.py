@@ -220,7 +220,8 @@ _USER_ERRORS = ()
 def _user_errors():
     global _USER_ERRORS
     if not _USER_ERRORS:
-        from .radiometry import environment, photometric_files
+        from .radiometry.skies import environment
+        from .radiometry.photometry import photometric_files
 
         _USER_ERRORS = (photometric_files.PhotometricFileError, environment.EnvironmentInputError)
     return _USER_ERRORS

@@ -85,7 +85,7 @@ def run(roughnesses, seeds, tag, quality="preview"):
     from radiometer import api
 
     if tag == "before":  # the code without the highlight floor (as bench/qa_glass_fog.md F1 measured it)
-        from radiometer.measure.meter.point_meter import sample_floors
+        from radiometer.measure.meter import sample_floors
 
         sample_floors.highlight_floor = lambda model, points_m, normals: (None, [])
     data = _data()

@@ -86,7 +86,7 @@ def build(scene=None, *, glass=True, pane_renders=True):
 
 
 def local_time(when=WHEN, time_zone=SITE["time_zone"]):
-    from ..radiometry import solar_position
+    from ..radiometry.sun import solar_position
 
     return solar_position.local_datetime(*when, time_zone)
 

@@ -11,7 +11,9 @@ import sys
 import numpy as np
 import pytest
 
-from radiometer.radiometry import daylight_metrics, epw, perez, sky_patches
+from radiometer.radiometry.metrics import daylight_metrics
+from radiometer.radiometry.sun import epw
+from radiometer.radiometry.skies import perez, sky_patches
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
 from test_epw import HEADER  # noqa: E402

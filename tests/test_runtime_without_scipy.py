@@ -18,7 +18,7 @@ SCRIPT = textwrap.dedent("""
         sys.modules[name] = None
     import numpy as np
     import radiometer.brdf as brdf
-    from radiometer.radiometry import stats
+    from radiometer.radiometry.sampling import stats
     from radiometer.shading.realise import realise
     from radiometer.errors import RadiometerError
 

@@ -1,7 +1,7 @@
 """Analyses of a Blender scene: law checks, illuminance grids and convergence studies (facade).
 
 One module per capability; this one re-exports their public names so that
-``from radiometer.measure import analysis; analysis.check_inverse_square(...)`` keeps working:
+``from radiometer.measure.analyses import analysis; analysis.check_inverse_square(...)`` keeps working:
 
 * ``law_checks``: inverse-square and cosine-law checks of one light, judged on the light's own
   direct light, with the scene's share (interreflection, shadows) beside it;

@@ -1,13 +1,13 @@
 """Annual climate-based daylight by daylight coefficients (issue 19 item 6), the two-phase way.
 
-1. Daylight coefficients DC[p, i] (lux per cd/m^2) for every sky patch p (``radiometry.sky_patches``:
+1. Daylight coefficients DC[p, i] (lux per cd/m^2) for every sky patch p (``radiometry.skies.sky_patches``:
    Reinhart MF:m, patch 0 the ground) at every point i, with their covariance.
    ``method="dome"`` (default): ONE render for all patches (``measure.analyses.daylight_coefficients``: a
    dome of emitting patch objects, one Cycles light group each, seen by a custom camera whose pixel
    blocks are the meters' cosine-weighted hemispheres), repeated in a few rounds for the error.
    ``method="per_patch"``: the older way, one meter measurement per patch with a one-patch world
    (``patch_coefficients``; 146 renders for Tregenza: kept for comparison).
-2. Sky vectors: per hour of the EPW file the Perez all-weather sky (``radiometry.perez``) gives each
+2. Sky vectors: per hour of the EPW file the Perez all-weather sky (``radiometry.skies.perez``) gives each
    patch's luminance, the sun's direct normal illuminance spread over its 4 nearest patches (as
    Radiance's gendaymtx does for the two-phase method), and the ground rho_g E_gh / pi.
 3. Hourly illuminance E = S DC (T x N) with its standard error sqrt(S_t C_i S_t) from the coefficients'
@@ -18,7 +18,7 @@
    E_sun = E_dn max(0, n . s) T(s) per hour, a closed form: E_dn the hour's direct normal illuminance
    (Perez efficacy), s the sun's true direction (SPA), the ray from the point to the sun's centre
    tested against every opaque shadow-casting triangle (0 when blocked), T the luminance-weighted
-   transmittance of the thin panes it crosses (``radiometry.thin_glass``, at their incidence angle).
+   transmittance of the thin panes it crosses (``radiometry.scene.thin_glass``, at their incidence angle).
    Metrics over the occupied hours (8 am to 6 pm local standard time, record midpoints).
 
 Not LM-83 to the letter: the sky and the sun of step 2 are the two-phase approximation (the sun
@@ -106,7 +106,7 @@ def patch_coefficients(scene, *, locations, normals, patch_indices, m=1, quality
     errors, for these patches; every light hidden, the world a one-patch world (scene restored)."""
     import bpy
 
-    from ...radiometry import sky_patches
+    from ...radiometry.skies import sky_patches
     from ..meter import point_meter as meter
     from ..blender import scene_guard
     from .light_isolation import rendering_light_objects
@@ -143,7 +143,7 @@ def patch_coefficients(scene, *, locations, normals, patch_indices, m=1, quality
 def coefficient_tasks(locations, normals, *, m=1, quality="preview", samples=None, target_rel_error=None, seed=0):
     """The :func:`patch_coefficients` kwargs of every chunk of 16 patches (chunk from patch s seeded
     ``seed + 7919 s``): the same list in this process and on a cluster."""
-    from ...radiometry import sky_patches
+    from ...radiometry.skies import sky_patches
 
     count, chunk = sky_patches.reinhart_patches(m).count, 16
     return [dict(locations=locations, normals=normals, patch_indices=list(range(start, min(count, start + chunk))),
@@ -192,7 +192,7 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, scene=None, m=1
     """
     import bpy
 
-    from ...radiometry import sky_patches
+    from ...radiometry.skies import sky_patches
 
     scene = scene or bpy.context.scene
     count = sky_patches.reinhart_patches(m).count
@@ -241,7 +241,8 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, scene=None, m=1
 def sky_matrix(weather, patches, *, ground_reflectance=0.2, north_offset_deg=0.0, year=2026):
     """``SkyMatrix`` of the EPW records: patch luminances (cd/m^2, sky + sun, two-phase), the sun's
     direct normal illuminance and direction, the records' local midpoint hours."""
-    from ...radiometry import perez, solar_position
+    from ...radiometry.skies import perez
+    from ...radiometry.sun import solar_position
 
     times = weather.midpoint_datetimes(year)
     unix = solar_position.unix_seconds(times)
@@ -280,7 +281,7 @@ def direct_sun(model, points_m, normals, sun_direction, direct_normal_lux, weigh
     """(T, N) lux of the direct sun alone (module docstring, step 4): E_dn max(0, n . s) T, the
     centre ray to the sun tested against opaque shadow-casting triangles; thin panes crossed give
     their luminance-weighted transmittance at the incidence angle. Pure numpy on the scene model."""
-    from ...radiometry.scene_model import length_tolerance
+    from ...radiometry.scene.scene_model import length_tolerance
     from .sun_study import rays_blocked
 
     points_m = np.asarray(points_m, float)
@@ -378,7 +379,9 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
 
     import bpy
 
-    from ...radiometry import daylight_metrics, epw, sky_patches
+    from ...radiometry.metrics import daylight_metrics
+    from ...radiometry.sun import epw
+    from ...radiometry.skies import sky_patches
     from ..meter import point_meter as meter
     from .analysis_common import view_layer_of
 

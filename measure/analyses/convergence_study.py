@@ -1,5 +1,5 @@
 """Convergence study (host side): error and wall time of rendered readings at increasing fixed
-sample counts, the fits of log error vs log samples and vs log seconds (``radiometry.convergence``),
+sample counts, the fits of log error vs log samples and vs log seconds (``radiometry.sampling.convergence``),
 their inversion for a target error, and one error-targeted reading through the meter's per-meter
 allocation to compare with the inversion.
 
@@ -16,9 +16,9 @@ import numpy as np
 
 from ... import quality as quality_presets
 from ...errors import RadiometerError
-from ...radiometry import convergence as conv_math
-from ...radiometry import grid as grid_math
-from ...radiometry import stats
+from ...radiometry.sampling import convergence as conv_math
+from ...radiometry.metrics import grid as grid_math
+from ...radiometry.sampling import stats
 from . import analysis_common as common
 from ..meter import point_meter as meter
 from .grid import plane_frame

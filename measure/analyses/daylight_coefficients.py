@@ -4,7 +4,7 @@ Radiance's ``rcontrib`` traces paths from each sensor and adds each path's contr
 the sky patch where it escapes. Cycles does the same with three of its own features:
 
 * **a patch dome**: the world is replaced by a sphere of emitting triangles around the scene, one
-  object per sky patch (``radiometry.sky_patches.dome_mesh``: the radial projections of its
+  object per sky patch (``radiometry.skies.sky_patches.dome_mesh``: the radial projections of its
   triangles are the patches, crack-free; patch 0 the ground), each emitting white radiance 1, each
   in its own **light group**. A light group's pass holds exactly the light that left that group's
   emitters, after any number of bounces: one render gives every patch's contribution at once.
@@ -192,7 +192,7 @@ def _build_dome(scene, view_layer, patches, centre, radius):
     """One emitting object per patch, each in its own light group; returns the group names."""
     import bpy
 
-    from ...radiometry import sky_patches
+    from ...radiometry.skies import sky_patches
 
     mat = _emission_material()
     names = []
@@ -401,7 +401,7 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
 
     import bpy
 
-    from ...radiometry import sky_patches
+    from ...radiometry.skies import sky_patches
     from ..meter import point_meter as meter
     from ..blender import scene_guard
     from .analysis_common import view_layer_of

@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from ...errors import RadiometerError
-from ...radiometry import glare as glare_math
+from ...radiometry.metrics import glare as glare_math
 
 
 MAX_SOURCE_TRIANGLES = 20000  #: an emitting mesh with more triangles is left out (said so), not rated
@@ -123,7 +123,7 @@ def _rate(sources, left_out, name, geometry, view, eye, up):
 
 def _mesh_source(mesh, eye, efficacy, weights, model):
     """(luminance cd/m², solid angle sr, centre) of an emitting mesh seen from ``eye``, or (None, reason)."""
-    from ...radiometry import visibility
+    from ...radiometry.scene import visibility
     from ...radiometry.emitters import RayVisibility
 
     if mesh.radiance is None:

@@ -1,6 +1,6 @@
 """Illuminance on a work-plane grid (host side): cell centres on a plane object's local XY, one
 batch through ``meter.measure_illuminance`` (one scene sync; each point gets the samples its own
-target error needs), statistics from ``radiometry.grid``, CSV and an isolux PNG, and a
+target error needs), statistics from ``radiometry.metrics.grid``, CSV and an isolux PNG, and a
 viewport-only coloured copy of the plane.
 
 Units: lux, W/m^2, m; points in scene coordinates (Blender units).
@@ -18,7 +18,7 @@ import numpy as np
 from ... import plots as _plots
 from ...errors import RadiometerError
 from ...readings import batch_method
-from ...radiometry import grid as grid_math
+from ...radiometry.metrics import grid as grid_math
 from . import analysis_common as common
 
 #: Lift of the viewport-only isolux copy above its plane (scene units), so it is not hidden in it.

@@ -7,7 +7,7 @@ judged on the light's own direct light, where it is physics (a point light beyon
 zone, a sun's cosine law, an area light in its far field); the scene's share (interreflection:
 total minus direct) and its shadows (direct below the light's closed form) are reported beside it
 at every distance or tilt, and every cause says whether the light or the scene broke the law.
-The maths is ``radiometry.laws``.
+The maths is ``radiometry.metrics.laws``.
 
 Units: distances in m, irradiance in W/m^2 (CIE Y weighted), illuminance in lux, angles in deg;
 locations returned in scene coordinates (Blender units). Shares and deviations are fractions.
@@ -21,7 +21,7 @@ import typing
 import numpy as np
 
 from ...errors import RadiometerError
-from ...radiometry import laws
+from ...radiometry.metrics import laws
 from . import analysis_common as common
 from .light_isolation import free_distance, light_object, light_spec, measure_light_and_scene, model_irradiance, scene_model, source_size
 

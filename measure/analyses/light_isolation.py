@@ -104,7 +104,7 @@ def free_distance(scene, origin_m, direction, model=None):
     if none. Cast against the scene model's triangles (what Cycles renders, instances included),
     so a surface hidden in renders that coincides with a real one (a work plane on a desk) does not
     hide it."""
-    from ...radiometry import visibility
+    from ...radiometry.scene import visibility
 
     model = scene_model(scene) if model is None else model
     d = np.asarray(direction, float)

@@ -174,7 +174,7 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
             if geometry.count:
                 mask = geometry.shadow_triangles() & np.asarray(geometry.opaque, bool)
                 tris = geometry.triangles[mask]
-                from ...radiometry.scene_model import length_tolerance
+                from ...radiometry.scene.scene_model import length_tolerance
 
                 points_m = points * scale
                 blocked = rays_blocked(points_m, disc_directions(direction), tris, 4.0 * length_tolerance(points_m))

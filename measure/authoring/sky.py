@@ -1,5 +1,5 @@
 """CIE sky worlds: build a World whose shader evaluates the ISO 15469 / CIE overcast luminance formula
-on the ray direction (``radiometry.cie_sky``), and mark it so that the meter recognises it.
+on the ray direction (``radiometry.skies.cie_sky``), and mark it so that the meter recognises it.
 
 The world's node tree: Texture Coordinate > Generated (the ray direction in world shaders) >
 Normalize > math nodes computing the sky luminance (as radiance, W/(m^2 sr) per scene unit^2:
@@ -15,7 +15,7 @@ import json
 import math
 
 from ...errors import RadiometerError
-from ...radiometry import cie_sky
+from ...radiometry.skies import cie_sky
 from ..capture.world_capture import CIE_SKY_SCHEMA, CIE_SKY_TAG, sky_fingerprint
 
 
@@ -131,5 +131,5 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
     world[CIE_SKY_TAG] = json.dumps(info)
     scene.world = world
     return dict(info, world=world.name, notes=[
-        f"{name}: Lz = {lz:.6g} cd/m^2 for E_h = {e_h:g} lx (exact integration, radiometry/cie_sky.py), "
+        f"{name}: Lz = {lz:.6g} cd/m^2 for E_h = {e_h:g} lx (exact integration, radiometry/skies/cie_sky.py), "
         f"ground {lg:.6g} cd/m^2 (rho_g = {rho:g}) below a sharp horizon; luminous efficacy {efficacy:g} lm/W"])

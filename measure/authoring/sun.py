@@ -1,10 +1,10 @@
 """The sun where it stands at a place and time: a Sun light pointed and scaled for the meter.
 
 Host side (bpy) of ``api.sun_position`` / ``api.set_sun``. The position is
-``radiometry.solar_position`` (NREL SPA, pure numpy); this module turns it into a Blender Sun light:
+``radiometry.sun.solar_position`` (NREL SPA, pure numpy); this module turns it into a Blender Sun light:
 
 * **Direction**: the light's local -Z (the way a Blender sun shines) points away from the sun, so
-  its local +Z is :func:`radiometry.solar_position.sun_direction` (+X east, +Y north, +Z up,
+  its local +Z is :func:`radiometry.sun.solar_position.sun_direction` (+X east, +Y north, +Z up,
   rotated by the north offset: the angle from scene +Y to true north, counter-clockwise seen from
   above). Angular diameter 0.53 deg (the sun's mean apparent diameter).
 * **Strength** (W/m^2 per scene unit^2, what Blender's *Strength* means for a sun): chosen so that
@@ -29,7 +29,7 @@ import bpy
 import numpy as np
 
 from ...errors import RadiometerError
-from ...radiometry import solar_position as sp
+from ...radiometry.sun import solar_position as sp
 
 SUN_ANGLE_DEG = 0.53
 PROP_SUN = "radiometer_sun"
@@ -56,7 +56,7 @@ def sun_strength_w_m2(illuminance_lux, scene, colour=(1.0, 1.0, 1.0)):
 
 
 def sun_position(latitude_deg, longitude_deg, when, **kwargs):
-    """``radiometry.solar_position.solar_position`` at the timezone-aware ``when`` (a datetime or a
+    """``radiometry.sun.solar_position.solar_position`` at the timezone-aware ``when`` (a datetime or a
     sequence of them; keyword arguments as there), with bad input as a one-line RadiometerError: what
     ``api.sun_position`` returns, for host code (which never imports the api)."""
     try:

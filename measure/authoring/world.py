@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from ...errors import RadiometerError
-from ...radiometry import environment
+from ...radiometry.skies import environment
 from ..capture.world_capture import read_world
 
 # --- photometry -------------------------------------------------------------------------------------

@@ -456,7 +456,7 @@ def _copy(model, scene):
 
 def capture(scene, view_layer=None, exclude=()):
     """``scene_capture.capture(scene, view_layer, exclude)``, served from the cache when the scene has
-    not changed since (see the module docstring). Returns a ``radiometry.scene_model.SceneModel``."""
+    not changed since (see the module docstring). Returns a ``radiometry.scene.scene_model.SceneModel``."""
     view_layer = view_layer or scene.view_layers[0]
     if _ensure_handlers():
         clear()  # updates may have gone uncounted while the handler was missing

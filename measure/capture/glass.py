@@ -221,7 +221,7 @@ def _stack_channels(m, layers):
 
 def thin_pane_material(pane, name, stack=None):
     """A new material (removed by the scene guard with every data-block a measurement creates) that
-    renders ``pane`` (``radiometry.thin_glass.Pane``) as thin glass with the closed form's T and R.
+    renders ``pane`` (``radiometry.scene.thin_glass.Pane``) as thin glass with the closed form's T and R.
     ``stack``: all the panes of a multiple glazing unit ``pane`` stands in for (issue 18, F5), in order
     along ``pane.geometry.normal``: T and R of the whole stack by the adding formula (R from the side the
     ray comes from), so the light bouncing between the panes is rendered; the others are clear."""
@@ -310,7 +310,7 @@ def stand_in_stacks(panes, objects=None):
     object); other stacks keep a thin pane each (their inter-pane light is not rendered)."""
     import numpy as np
 
-    from ...radiometry import thin_glass
+    from ...radiometry.scene import thin_glass
 
     panes = panes or {}
     objects = pane_objects(panes) if objects is None else objects
@@ -332,7 +332,7 @@ def stand_in_stacks(panes, objects=None):
 def _stacks(panes):
     """(stack, rendered as one stand-in) for every stack of parallel panes in ``panes`` (each stack the
     Panes in ``thin_glass.parallel_stacks`` order)."""
-    from ...radiometry import thin_glass
+    from ...radiometry.scene import thin_glass
 
     panes = panes or {}
     modelled = {frozenset(id(p) for p in group) for _lead, group in stand_in_stacks(panes)}
@@ -561,7 +561,7 @@ def stack_notes(model):
     (``thin_glass.interpane_share``). A meter's own closed-form direct light includes it."""
     import numpy as np
 
-    from ...radiometry import thin_glass
+    from ...radiometry.scene import thin_glass
 
     notes = []
     for panes, whole in _stacks(model.panes):

@@ -3,7 +3,7 @@
 Import (:func:`import_luminaire`): a POINT light of radius 0 whose node tree is
 Geometry.Incoming -> Vector Transform (NORMAL, world -> object) -> Mapping (VECTOR, rotation
 z = -90 deg, scale (1, -1, 1)) -> IES Texture (internal text) -> Emission.Strength -> Light Output.
-The text is :func:`radiometry.photometric_files.to_ies_text` of the file's type-C table expanded to
+The text is :func:`radiometry.photometry.photometric_files.to_ies_text` of the file's type-C table expanded to
 0-360 deg, so Cycles interprets no symmetry or TILT of its own. The Mapping turns Radiometer's
 convention (vertical 0 deg = local -Z, C0 = local +X, C90 = local +Y) into Cycles' own IES frame,
 which is mirrored (C0 along local -Y, C90 along local -X: measured, see the README). The light's
@@ -14,7 +14,7 @@ Recognition (:func:`photometric_table`): any light whose active output is
 Emission <- IES Texture (vector unlinked, or the chain above with any Mapping rotation/scale),
 with unlinked colour/strength inputs and a text/file Cycles can read, gets an
 :class:`~radiometer.radiometry.emitters.photometric.Photometry` (``light_table``) read the way Cycles reads that text
-(:func:`~radiometer.radiometry.photometric_files.cycles_ies_table`); anything else is left to
+(:func:`~radiometer.radiometry.photometry.photometric_files.cycles_ies_table`); anything else is left to
 rendering.
 """
 
@@ -27,7 +27,7 @@ import numpy as np
 
 from ...errors import RadiometerError
 from ...radiometry.constants import K_M_LM_PER_W
-from ...radiometry import photometric_files as pf
+from ...radiometry.photometry import photometric_files as pf
 
 #: Custom properties Radiometer puts on an imported light's data.
 PROP_SOURCE = "radiometer_photometric_file"

@@ -1,16 +1,16 @@
 """Reading a scene's participating media for the meter (issue 18): a homogeneous world volume.
 
 Host code: inspects the world's node tree only (nothing is changed). The maths is in
-``radiometry/media.py``.
+``radiometry/scene/media.py``.
 """
 
-from ...radiometry import media
+from ...radiometry.scene import media
 
 _NODES = {"ShaderNodeVolumeScatter": "scatter", "ShaderNodeVolumeAbsorption": "absorption"}
 
 
 def world_medium(scene):
-    """The world's volume as a :class:`~radiometer.radiometry.media.HomogeneousMedium`, or None when
+    """The world's volume as a :class:`~radiometer.radiometry.scene.media.HomogeneousMedium`, or None when
     there is none or it is not provably homogeneous: the active World Output's Volume must come
     straight from one Volume Scatter or Volume Absorption node whose Density and Color are plain
     values (no texture, attribute or driver-fed link)."""

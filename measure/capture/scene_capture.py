@@ -1,4 +1,4 @@
-"""Capture the scene exactly as Cycles renders it, into a pure ``radiometry.scene_model.SceneModel``.
+"""Capture the scene exactly as Cycles renders it, into a pure ``radiometry.scene.scene_model.SceneModel``.
 
 The viewport depsgraph is not what Cycles renders: it drops objects disabled in viewports, keeps
 collections disabled in renders, evaluates modifiers and geometry nodes at viewport settings and
@@ -25,7 +25,7 @@ import bpy
 import numpy as np
 
 from ...errors import RadiometerError
-from ...radiometry import scene_model
+from ...radiometry.scene import scene_model
 from ...compat import active_node_tree
 from ..blender import scene_guard
 from . import scene_lights, shader_kinds
@@ -362,13 +362,13 @@ def _used_slots(slot, slots, traits, trait, cache, tag, read):
 
 def _glass_object(panes, refractors, index, name, source, world_tris, slot, slots, traits, cache, source_id=None,
                   rough=None):
-    """Record the transmissive part of an object as a thin pane (``radiometry.thin_glass.Pane`` in
+    """Record the transmissive part of an object as a thin pane (``radiometry.scene.thin_glass.Pane`` in
     ``panes`` by object index) when every transmissive material it uses is a pane with the same
     optics and those triangles form a planar pane (other slots, e.g. an opaque window frame in the
     same mesh, stay ordinary geometry); returns the (T,) mask of the pane's triangles. Otherwise the
     object is recorded as a refractor (name, reason) that Cycles renders as it is, and None returned;
     its name goes to ``rough`` too when every transmissive material is ``glass.rough_refraction``."""
-    from ...radiometry import thin_glass
+    from ...radiometry.scene import thin_glass
     from . import glass
 
     optics, glass_slots = [], []

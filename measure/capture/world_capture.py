@@ -1,5 +1,5 @@
-"""The scene's world read as pure data (``radiometry.environment.WorldLight``, or
-``radiometry.cie_sky.CIESkyWorld`` for a Radiometer CIE sky): what the scene capture needs, and
+"""The scene's world read as pure data (``radiometry.skies.environment.WorldLight``, or
+``radiometry.skies.cie_sky.CIESkyWorld`` for a Radiometer CIE sky): what the scene capture needs, and
 nothing that measures (``measure/authoring/world.py`` measures the world with the meter; ``measure/authoring/sky.py``
 builds CIE sky worlds). Host code: reads node trees and images through bpy, renders nothing.
 
@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from ...errors import RadiometerError
-from ...radiometry import cie_sky, environment
+from ...radiometry.skies import cie_sky, environment
 
 #: The custom property on a World that ``measure.authoring.sky.set_cie_sky`` writes (JSON parameters + fingerprint).
 CIE_SKY_TAG = "radiometer_cie_sky"
@@ -264,5 +264,5 @@ def read_sky_world(world, tree):
     sky.node = bg.name if bg is not None else ""
     name = "CIE overcast sky" if sky.sky_type == "overcast" else f"CIE sky type {sky.sky_type}"
     sky.notes.append(f"{name}, E_h {info['horizontal_illuminance_lux']:g} lx, ground rho {info['ground_reflectance']:g}: "
-                     "integrated exactly (radiometry/cie_sky.py)")
+                     "integrated exactly (radiometry/skies/cie_sky.py)")
     return sky

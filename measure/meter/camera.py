@@ -15,10 +15,10 @@ import time
 import bpy
 import numpy as np
 
-from ...radiometry import environment
+from ...radiometry.skies import environment
 from ... import quality as quality_presets
 from ...errors import MeasurementCancelled, RadiometerError
-from ...radiometry import allocation
+from ...radiometry.sampling import allocation
 from ...readings import LuminanceReading
 from ..blender import exr, scene_guard
 from . import point_meter as meter
@@ -167,7 +167,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     # Rounds of RENDERS_PER_ROUND independent renders (new seeds) at one spp each; the spp grows
     # from round to round as the error estimate asks (capped at 1024: float32 accumulation), and
     # rounds combine weighted by their samples, each with its own batch-means variance
-    # (radiometry.allocation.MeterTally: Cycles' QMC converges faster than 1/N, so per-sample
+    # (radiometry.sampling.allocation.MeterTally: Cycles' QMC converges faster than 1/N, so per-sample
     # variances are not pooled across spp).
     tally = allocation.MeterTally(1)
     spp, k, record = 64, 0, None

@@ -13,7 +13,7 @@ import bpy
 import numpy as np
 
 from ... import quality as quality_presets
-from ...radiometry import allocation
+from ...radiometry.sampling import allocation
 from ...errors import RadiometerError
 from ...radiometry.constants import K_M_LM_PER_W
 from ...readings import IlluminanceReading
@@ -61,7 +61,7 @@ def as_directions(direction, count, name="normal"):
 def scene_photometry(scene):
     """(colour space name, luminance weights (3,), efficacy lm/W) for this scene."""
     from ...compat import working_colour_space
-    from ...radiometry import photometry
+    from ...radiometry.photometry import efficacy as photometry
 
     space = working_colour_space()
     settings = getattr(scene, "radiometer", None)
@@ -72,7 +72,7 @@ def scene_photometry(scene):
 # --- deciding how to measure ----------------------------------------------------------------------
 
 def capture_model(scene, view_layer=None, exclude=()):
-    """The scene as Cycles renders it (``radiometry.scene_model.SceneModel``, metres)."""
+    """The scene as Cycles renders it (``radiometry.scene.scene_model.SceneModel``, metres)."""
     from ..capture import capture_cache  # the capture, again only when the scene changed (issue 17)
 
     return capture_cache.capture(scene, view_layer, exclude=exclude)
@@ -81,13 +81,13 @@ def capture_model(scene, view_layer=None, exclude=()):
 def plan(scene, model, points_m, normals, method, direct_only=False):
     """Decide how every reading is obtained and say why. Returns a dict (pure data inside).
 
-    ``direct``: the per-light, per-point :class:`~radiometer.radiometry.scene_model.DirectPlan`;
+    ``direct``: the per-light, per-point :class:`~radiometer.radiometry.scene.scene_model.DirectPlan`;
     ``method``: "analytic" when every contribution at every point is a closed form (exact or with a
     bound) and no light can arrive by reflection, else "render" (``auto``), or as requested.
     ``direct_only``: only light straight from the sources is wanted (reflections do not count;
     light from the world or emitting surfaces still needs a render).
     """
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     if method not in quality_presets.METHODS:
         raise RadiometerError(f"unknown method {method!r}; choose one of {', '.join(quality_presets.METHODS)}")
@@ -158,7 +158,7 @@ def _plan_direct(model, points_m, normals):
     unchanged scene proves the same visibility again otherwise). The model's parts are pure data, never
     changed in place, and the entry holds them, so equal identities mean equal values; the plan handed
     out is a copy (its arrays are the caller's)."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     if model.world is not None:  # read again on every capture served (image pixels): never the same object
         return scene_model.plan_direct(model, points_m, normals)
@@ -182,7 +182,7 @@ def closed_form_points(model, direct, method, chosen, direct_only=False):
     "analytic" reads every meter from closed forms; a requested "render" renders every meter (the user
     asked for it). (The hybrid takes only the EXACT ones: ``plan`` intersects.)
     """
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     n = direct.status.shape[1]
     if chosen == "analytic":
@@ -198,7 +198,7 @@ def closed_form_points(model, direct, method, chosen, direct_only=False):
 
 def _world_rendered(direct):
     """True when the world's light must be rendered at some receiver (issue 14)."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     return direct.world_status is not None and bool(np.any(direct.world_status == scene_model.RENDER))
 
@@ -207,7 +207,7 @@ def world_irradiance(model, direct, normals):
     """The world's own contribution (N, 3) W/m^2 SI, its absolute error bound (N, 3) and a note, or
     (zeros, zeros, None) when the world is black or not modelled (issue 14). A receiver where the
     world is RENDER (forced analytic) keeps the unoccluded value with a 100 % bound, as lights do."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     n = len(normals)
     zeros = np.zeros((n, 3))
@@ -233,7 +233,7 @@ def analytic_irradiance(model, direct, points_m, normals):
     Contributions planned ZERO are exactly 0; RENDER ones (possible partial occlusion, forced
     analytic) keep the unoccluded value with a bound of 100 % (the truth lies between 0 and it).
     """
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     n_pts = len(points_m)
     per_light = np.zeros((len(model.lights), n_pts, 3))
@@ -306,10 +306,10 @@ def single_delta_light(decision):
 
 def sensor_points(points_scene, normals, scale, model=None):
     """Sensor positions (scene units) and their offsets: a meter within a few offsets of a surface is
-    raised by a scale-aware epsilon along its normal (``radiometry.scene_model.receiver_offset``),
+    raised by a scale-aware epsilon along its normal (``radiometry.scene.scene_model.receiver_offset``),
     so a meter placed on a surface reads the light arriving at that surface instead of the inside
     of the surface in Cycles' float32 geometry; meters in free space stay where they are."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     eps = scene_model.receiver_offset(points_scene, unit_length=1.0 / scale)
     if model is not None:
@@ -346,7 +346,7 @@ def _placement_memo(geometry, key, value=None):
 
 def placement_notes(model, points_m, normals, eps_m):
     """Notes for meters that lie on a surface (the usual desk case)."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     key = ("notes", id(model.geometry), np.asarray(points_m, float).tobytes(), np.asarray(normals, float).tobytes(),
            np.asarray(eps_m, float).tobytes())
@@ -371,7 +371,7 @@ def placement_notes(model, points_m, normals, eps_m):
 
 def enclosure_notes(model, points_m, values):
     """For meters that read ~0: say when a closed mesh encloses them (light cannot get in)."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     notes = []
     for k in np.flatnonzero(np.abs(values) <= 1e-12 * max(1.0, float(np.max(np.abs(values))))):
@@ -395,7 +395,7 @@ def hybrid_split(model, direct, count, also=None):
     analytically and excluded from the sensor (light linking acts on objects, so all instances of
     an object must qualify). ``also`` (L, N) bool: more contributions known in closed form (a delta
     light through a homogeneous medium, ``through_medium``). Returns a list of frozensets."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     by_source = {}
     for i, light in enumerate(model.lights):
@@ -424,7 +424,7 @@ def through_medium(model, direct, medium):
     """(L, N) bool: contributions whose direct light is a closed form times the medium's exp(-sigma_t d)
     (issue 18): a delta point or spot light (radius 0, exact closed form) that the planner proved
     unoccluded but for a homogeneous world volume (``medium``, or None: nothing)."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     out = np.zeros(direct.status.shape, bool)
     if medium is None:
@@ -455,7 +455,7 @@ def mirror_bounds(model, points_m, normals):
     mirror (``glass.mirror_triangles``), the image's closed form with reflectance 1: I(towards the
     mirror point) cos / r^2 from the mirrored position, or the sun's normal irradiance x cos of its
     mirrored direction; one per distinct image (summed). Occlusion is ignored (a bound)."""
-    from ...radiometry import visibility
+    from ...radiometry.scene import visibility
 
     n = len(points_m)
     out = np.zeros((n, 3))
@@ -498,7 +498,7 @@ def world_floor(model, direct):
     rendered there and the world has no closed form (``scene_model.world_modelled``: sky textures, node
     worlds such as one-patch skies), whose small bright regions a pilot misses while its variance
     looks tiny."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     if direct.world_status is None or not model.world_emits or scene_model.world_modelled(model):
         return None
@@ -509,7 +509,7 @@ def world_floor(model, direct):
 def may_be_lit(direct, direct_only=False):
     """(N,) bool: meters that rendered light may reach by a path a pilot can miss (issue 18): a
     reflecting surface above the horizon, a light that must be rendered there, or the world."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     out = np.any(direct.status == scene_model.RENDER, axis=0)
     if not direct_only:
@@ -543,7 +543,7 @@ def glass_notes(model):
 def caustic_risk(model, direct, split):
     """(L, N) bool: a small light (delta, sun, or a sphere/area light seen under a small angle) that
     is rendered at a meter because a refractor (``model.refractors``) may stand on its way there."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     out = np.zeros(direct.status.shape, bool)
     # Rough refraction is no caustic: light sampling at the refraction vertex finds the light (glass.ROUGH_REFRACTION).
@@ -567,7 +567,7 @@ def _glass_bounded(light, direct, i, k):
     """True when light i at meter k is BOUNDED only by the spread of a thin pane's T over the light's
     extent (its own closed form is exact; issue 18): its closed form is added with that bound,
     stated in the reading."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     return (direct.status[i, k] == scene_model.BOUNDED and direct.glass_bound is not None
             and direct.glass_bound[i, k] > 0.0 and bool(light.spec.exactness()[0]))
@@ -616,7 +616,7 @@ def _plan_at(direct, idx):
 def _closed_form_part(model, decision, sensors_m, normals, direct_only):
     """Closed-form readings at every meter: mean (N, 3) and bound (N, 3) W/m^2 SI, notes and parts
     per meter. The caller keeps the meters that ``plan`` found need no render."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     direct = decision["direct"]
     n = len(sensors_m)
@@ -789,7 +789,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
 def pooled_notes(run, method, n):
     """Per rendered meter: its method (``method``, or ``method + '+pooled'`` where the reading is a pooled
     field's) and its own notes saying how it was pooled, held out or refused (issue 17)."""
-    from ...radiometry import pooled_field
+    from ...radiometry.sampling import pooled_field
 
     methods = np.full(n, method, dtype=object)
     notes = [[] for _ in range(n)]
@@ -906,7 +906,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
 
 def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     """Analytic per-light breakdown at one point: list of dicts (SI), with each light's verdict."""
-    from ...radiometry import scene_model
+    from ...radiometry.scene import scene_model
 
     scene = scene or bpy.context.scene
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]

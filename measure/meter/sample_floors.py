@@ -24,7 +24,8 @@ import math
 import bpy
 import numpy as np
 
-from ...radiometry import allocation, visibility
+from ...radiometry.sampling import allocation
+from ...radiometry.scene import visibility
 from ...radiometry.emitters.base import RayVisibility
 from ..capture import glass
 

@@ -1,6 +1,6 @@
 """Rendered irradiance with per-meter, error-targeted sample allocation and the hybrid split.
 
-Host side of ``radiometry.allocation``: each round builds sensor quads (``sensors.build_sensor``)
+Host side of ``radiometry.sampling.allocation``: each round builds sensor quads (``sensors.build_sensor``)
 for the blocks the plan gives every meter (a meter that has converged gets none), bakes them all in
 ONE Cycles bake (one scene sync per round), and hands the texels back to the allocator.
 
@@ -18,7 +18,7 @@ import bpy
 import numpy as np
 
 from ...errors import MeasurementCancelled, RadiometerError
-from ...radiometry import allocation
+from ...radiometry.sampling import allocation
 from . import render_settings, sensors
 from ..capture import scene_capture
 from ..blender import scene_guard
@@ -66,7 +66,7 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
     mean_rgb (N, 3) and se_rgb (N, 3) of the rendered part, se (N,) scalar, samples (N,),
     rounds, stopped, reached, seconds, record (render settings).
     ``panes``: thin glass panes (``SceneModel.panes``), rendered as thin panes (``measure.capture.glass``).
-    ``pooled``: with a target, pool groups of many meters on one plane (``radiometry.pooled_field``);
+    ``pooled``: with a target, pool groups of many meters on one plane (``radiometry.sampling.pooled_field``);
     then ``pooled`` (N,) bool says which readings are the fitted field's, ``pool_groups`` their checks.
     """
     n = len(points_scene)
@@ -175,8 +175,8 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
 
         if pooled and target is not None and time_budget is None and fixed_samples is None:
             # Issue 17: groups of many meters on one plane pool their rendered light in a fitted field,
-            # its misfit checked on held-out meters (radiometry.pooled_field); the rest as below.
-            from ...radiometry import pooled_field
+            # its misfit checked on held-out meters (radiometry.sampling.pooled_field); the rest as below.
+            from ...radiometry.sampling import pooled_field
 
             result = pooled_field.allocate_pooled(bake, n, points_m=points_scene * scale, normals=normals,
                                                   target=target, keys=exclusions, offset=offset, seed=seed,

@@ -211,7 +211,7 @@ def _apply(scene, *, samples, bounces, needs, seed, snapshot, writes):
     # larger; -1.3 % combined with opaque lights). Tabulated Sobol with scrambling distance 1: each
     # pixel draws from one of 256 fixed patterns (NUM_TAB_SOBOL_PATTERNS), only shuffled per pixel,
     # so texels are independent draws of a finite table: rare paths get the table's floor
-    # (radiometry/allocation.py, docs/errors.md).
+    # (radiometry/sampling/allocation.py, docs/errors.md).
     # With a participating medium the table's floor is below HEAVY_TAIL and unstated, yet it is what
     # a 512-sample reading in fog reads: -0.20 ... -0.25 % over 40 seeds at 0.56-0.85 % stated (90-95 %
     # coverage). There the scrambling distance is ROTATED_TABLE, just below 1: Cycles then gives every

@@ -351,12 +351,12 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
                   ra=None, quality="standard", camera_image=True, cancelled=None):
     """Add the client's parts to ``report`` (the analysis report dict) and write report.html and
     report.pdf into ``out_dir``. ``project``: dict of project data (name, client, designer, ...);
-    ``task``: an EN 12464-1 task key (``radiometry.compliance.TASKS``) or a dict of requirement values
+    ``task``: an EN 12464-1 task key (``radiometry.metrics.compliance.TASKS``) or a dict of requirement values
     (maintained_lx, uniformity, ugr_limit, ra_required), None: each work plane's custom property
     ``radiometer_task`` or no compliance table; ``observers``: ((x, y, z), (dx, dy, dz)) eye positions
     for UGR. Returns the client dict (also stored as ``report["client"]``)."""
     from ... import plots
-    from ...radiometry import compliance
+    from ...radiometry.metrics import compliance
     from ..analyses import glare as glare_mod
     from ..analyses.grid import work_planes
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from radiometer.measure.analyses import annual
-from radiometer.radiometry import sky_patches
+from radiometer.radiometry.skies import sky_patches
 
 
 def closed_form(p, patches, normal):
@@ -69,7 +69,7 @@ def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blend
     none beyond 5), and a uniform sky is exact (every ray ends on some patch: the dome has no cracks)."""
     from radiometer.measure.analyses import daylight_coefficients as dcm
     from radiometer.measure.blender import scene_guard
-    from radiometer.radiometry import perez
+    from radiometer.radiometry.skies import perez
 
     scene = bpy.context.scene
     if not dcm.supported(scene):
@@ -120,7 +120,7 @@ def test_direct_sun_closed_form_blocked_and_through_a_pane():
     """ASE's direct sun (annual.direct_sun, pure numpy on a scene model): E_dn max(0, n.s) in the open,
     0 behind an opaque wall, x the thin pane's luminance-weighted slab transmittance through glass."""
     from radiometer.measure.analyses import annual
-    from radiometer.radiometry import scene_model, thin_glass
+    from radiometer.radiometry.scene import scene_model, thin_glass
 
     wall = np.array([[(-5, 1, -5), (5, 1, -5), (5, 1, 5)], [(-5, 1, -5), (5, 1, 5), (-5, 1, 5)]], float)
     geom = scene_model.SceneGeometry(triangles=wall, object_index=np.zeros(2, int), casts_shadow=[True],

@@ -16,7 +16,7 @@ from radiometer import api
 from radiometer.compat import ensure_node_tree
 from radiometer.measure.capture import capture_cache, scene_capture
 from radiometer.measure.analyses import light_isolation
-from radiometer.measure.meter.point_meter import point_meter as meter
+from radiometer.measure.meter import point_meter as meter
 
 K = 683.0  # lm/W, the default efficacy; a white light's CIE Y weight is 1
 

@@ -88,7 +88,7 @@ def test_radiance_map_paths_are_private_and_distinct(clean_blender):
     import os
     import tempfile
 
-    from radiometer.measure.meter.point_meter import meter_objects as meters
+    from radiometer.measure.meter import meter_objects as meters
 
     a, b = meters.map_path("Map.1"), meters.map_path("Map_1")
     assert a != b and os.path.dirname(a) == os.path.dirname(b)

@@ -28,7 +28,7 @@ POINTS = [((0.3, 0.0, 0.5), (0.0, 0.0, 1.0)), ((-0.3, 0.2, 0.5), (0.0, 0.0, 1.0)
 def _variant(path, power_w, texture=None):
     """A point light over a floor with a wall that reflects light onto two meters (hybrid: rendered)."""
     import radiometer
-    from radiometer.measure.meter.point_meter.meter_objects import add_meter
+    from radiometer.measure.meter.meter_objects import add_meter
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     radiometer.register()

@@ -102,7 +102,7 @@ def test_luminaire_summary_is_not_reread_on_every_redraw(clean_blender, tmp_path
     import os
 
     from radiometer.measure.capture import luminaires
-    from radiometer.radiometry import photometric_files as pf
+    from radiometer.radiometry.photometry import photometric_files as pf
 
     path, obj = _isotropic_luminaire(tmp_path, 100)
     reads = []
@@ -120,7 +120,7 @@ def test_luminaire_summary_is_not_reread_on_every_redraw(clean_blender, tmp_path
 def test_an_ies_text_is_parsed_once_for_every_capture(clean_blender, tmp_path, monkeypatch):
     """Issue 17: IES data went text -> table on every capture; the parsed table is kept per text."""
     from radiometer.measure.capture import luminaires
-    from radiometer.radiometry import photometric_files as pf
+    from radiometer.radiometry.photometry import photometric_files as pf
 
     _path, obj = _isotropic_luminaire(tmp_path, 123)
     calls = []

@@ -1,7 +1,7 @@
 """Issue 18 acceptance on scenes the window and fog corpus does not hold (T8's QA; every case and
 seed in bench/qa_glass_fog.md, made by bench/qa_glass_fog.py). The cheap, decisive cases: clear panes
 under delta lights and a 0.53 degree sun against this suite's own Fresnel slab
-(``glass_fog_unseen_scenes.fresnel_slab``, not ``radiometry/thin_glass.py``), a volume cube and a
+(``glass_fog_unseen_scenes.fresnel_slab``, not ``radiometry/scene/thin_glass.py``), a volume cube and a
 glossy floor against converged patch renders cached in glass_fog_unseen_references.json
 (make_glass_fog_unseen_references.py)."""
 
@@ -176,7 +176,7 @@ def test_rendered_point_light_through_a_tilted_pane_states_float32_rounding(clea
     """Issue 18 (T8 QA, F3): rendered, it read 1.2e-7 low (one float32 ulp) stating 1.0e-8; a rendered
     reading's error now has a float32 floor (``meter.FLOAT32_FLOOR``) and no more."""
     from radiometer import api
-    from radiometer.measure.meter.point_meter import point_meter as meter
+    from radiometer.measure.meter import point_meter as meter
 
     scene, [(_label, point, normal)] = u.skylight_tilted("POINT")
     r = api.measure_illuminance(point, normal, scene=scene, method="render", quality="preview")
@@ -193,7 +193,7 @@ def test_sun_through_double_glazing_into_a_foggy_room_seed_0(clean_blender):
     the inter-pane light, so no bound is added for it (F2 fixed: 20 seeds cover without it)."""
     from radiometer import api
     from radiometer.measure.capture import glass, scene_capture
-    from radiometer.radiometry import scene_model
+    from radiometer.radiometry.scene import scene_model
 
     scene, cases = u.foggy_room()
     label, point, normal = cases[0]

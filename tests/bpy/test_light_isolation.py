@@ -9,7 +9,7 @@ import bpy
 import numpy as np
 
 from radiometer.measure.analyses import light_isolation
-from radiometer.measure.meter.point_meter import point_meter as meter
+from radiometer.measure.meter import point_meter as meter
 from radiometer.measure.capture import scene_capture
 
 

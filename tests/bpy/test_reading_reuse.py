@@ -10,8 +10,8 @@ import pytest
 
 from radiometer import api
 from radiometer.measure.capture import capture_cache
-from radiometer.measure.meter.point_meter import point_meter as meter
-from radiometer.radiometry import scene_model
+from radiometer.measure.meter import point_meter as meter
+from radiometer.radiometry.scene import scene_model
 
 
 @pytest.fixture

@@ -23,7 +23,7 @@ def _snapshot():
 
 def test_register_unregister_five_times_leaves_nothing_behind(tmp_path):
     import radiometer
-    from radiometer.measure.meter.point_meter import live
+    from radiometer.measure.meter import live
     from radiometer.operators import false_colour
 
     bpy.ops.wm.read_factory_settings(use_empty=True)

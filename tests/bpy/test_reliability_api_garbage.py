@@ -176,7 +176,7 @@ def test_meter_exactly_at_a_radius_0_light_is_an_error_or_finite(scene):
 
 
 def test_unexpected_errors_below_are_wrapped_with_context(scene, monkeypatch):
-    from radiometer.measure.meter.point_meter import point_meter as meter
+    from radiometer.measure.meter import point_meter as meter
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("float division by zero")

@@ -16,7 +16,7 @@ import pytest
 
 from radiometer import api
 from radiometer.errors import MeasurementCancelled, RadiometerError
-from radiometer.measure.meter.point_meter import camera
+from radiometer.measure.meter import camera
 from radiometer.measure.render import sensors
 from radiometer.measure.blender.scene_guard import scene_fingerprint
 
@@ -369,7 +369,7 @@ def test_failed_second_step_writes_no_reading(clean_blender, build, private_tmp,
     bpy.ops.radiometer.add_meter(kind="LUMINANCE")
     lum = bpy.context.active_object
     lum.location = (0, 0, 1.0)
-    from radiometer.measure.meter.point_meter import meter_objects as meters
+    from radiometer.measure.meter import meter_objects as meters
 
     patch_render(monkeypatch, lambda *a, **k: {"CANCELLED"})
     before = scene_fingerprint(scene)

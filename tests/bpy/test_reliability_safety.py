@@ -121,7 +121,7 @@ def test_measurements_write_no_files_outside_temp(clean_blender, build, tmp_path
 
 
 def test_default_map_path_is_under_extension_user_dir_or_temp(clean_blender):
-    from radiometer.measure.meter.point_meter import camera
+    from radiometer.measure.meter import camera
 
     path = pathlib.Path(camera.default_map_path("../../etc/passwd"))
     # The meter name cannot climb out of the folder: no separators or dots survive in the stem.

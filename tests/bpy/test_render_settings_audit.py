@@ -15,7 +15,7 @@ import pytest
 
 from radiometer import api
 from radiometer.compat import ensure_node_tree
-from radiometer.measure.meter.point_meter import point_meter as meter
+from radiometer.measure.meter import point_meter as meter
 from radiometer.measure.render import render_settings, sensors
 from radiometer.measure.blender import scene_guard
 

@@ -22,7 +22,7 @@ def _scenes():
 
 
 def _floor(scene, point, normal, which="highlight_floor"):
-    from radiometer.measure.meter.point_meter import point_meter as meter, sample_floors
+    from radiometer.measure.meter import point_meter as meter, sample_floors
 
     model = meter.capture_model(scene, scene.view_layers[0])
     return getattr(sample_floors, which)(model, np.array([point], float), np.array([normal], float))
@@ -65,7 +65,7 @@ def test_a_dielectric_highlight_gets_a_floor_too(clean_blender):
     its specular layer is a glossy reflector like a metal's, with the same floor. Up to
     DIELECTRIC_ROUGHNESS_MAX (0.3; float32 0.30000001 counts); IOR 1 reflects nothing; a smooth coat on a
     rough base counts by its own roughness."""
-    from radiometer.measure.meter.point_meter import sample_floors
+    from radiometer.measure.meter import sample_floors
 
     u = _scenes()
     scene, [(_label, point, normal)] = u.glossy_wall()

@@ -15,7 +15,7 @@ import pytest
 
 from radiometer import api
 from radiometer.compat import ensure_node_tree
-from radiometer.radiometry import environment
+from radiometer.radiometry.skies import environment
 
 
 def _load(name):

@@ -40,7 +40,7 @@ SIGGRAPH 2001, pp. 497-500 (eq. 8-13, the constants c1..c5 and the 9 % remark).
 
 import numpy as np
 
-from .emitters.environment import EnvironmentEmitter
+from ..emitters.environment import EnvironmentEmitter
 
 
 class EnvironmentInputError(ValueError):

@@ -13,7 +13,7 @@ ISO 2720:1974 calibration of exposure meters, with the usual constants:
 Correlated colour temperature and Duv
 -------------------------------------
 The light's chromaticity is that of its linear RGB in the scene's working colour space (RGB -> XYZ by
-the space's normalised primary matrix, :func:`radiometry.photometry.rgb_to_xyz_matrix`): a render has no
+the space's normalised primary matrix, :func:`radiometry.photometry.efficacy.rgb_to_xyz_matrix`): a render has no
 spectrum, so the CCT is that of any light metameric to the RGB. CIE 1960 UCS: u = 4X / (X + 15Y + 3Z),
 v = 6Y / (X + 15Y + 3Z). CCT is the temperature of the nearest point of the Planckian locus in (u, v)
 and Duv the signed distance to it (positive above the locus, towards green), by Ohno's method
@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 from . import _cie_tables as cie
-from .photometry import COLOUR_SPACES, rgb_to_xyz_matrix
+from .efficacy import COLOUR_SPACES, rgb_to_xyz_matrix
 
 __all__ = ["ISO_S", "C_FLAT", "C_DOME", "K_REFLECTED", "ev100_incident", "ev100_reflected", "rgb_to_uv",
            "xyz_to_uv", "planck_uv", "cct_duv", "cct_duv_of_rgb"]

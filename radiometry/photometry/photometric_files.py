@@ -49,7 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .emitters.photometric import ANGLE_TOL as _ANGLE_TOL, Photometry, catmull_rom_table
+from ..emitters.photometric import ANGLE_TOL as _ANGLE_TOL, Photometry, catmull_rom_table
 
 __all__ = ["Photometry", "PhotometricFileError", "Tilt", "read_photometry", "parse_ies", "parse_ldt",
            "catmull_rom_table", "cycles_ies_table", "to_ies_text", "CYCLES_CANDELA_TO_WATT"]

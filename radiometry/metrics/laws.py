@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .units import as_finite_array
+from ..units import as_finite_array
 
 __all__ = ["PowerLawFit", "fit_power_law", "near_field_limit", "five_times_rule",
            "relative_deviation", "cosine_law_analysis", "horizon_onset_deg", "within_tolerance",

@@ -180,7 +180,7 @@ def projected_opening_area(width_m, length_m, height_m, gamma_deg):
 
 def luminous_opening_m(metadata):
     """(width, length, height) in metres of a photometric file's luminous opening, from the reader's
-    metadata (``radiometry.photometric_files``): LM-63 in feet (units type 1) or metres (2), EULUMDAT
+    metadata (``radiometry.photometry.photometric_files``): LM-63 in feet (units type 1) or metres (2), EULUMDAT
     in mm (width 0: a circle of diameter = the length, written here as LM-63 does, negative).
     None when the file gives no opening."""
     md = metadata or {}

@@ -5,7 +5,7 @@ HELP = ("daylight factor under the CIE overcast sky (lights off, the world repla
         "--csv and --json")
 NEEDS_SCENE = True
 
-from . import _cluster, _points  # noqa: E402
+from .. import _cluster, _points  # noqa: E402
 
 
 def add_arguments(parser):
@@ -29,9 +29,9 @@ def run(args):
     import bpy
     import numpy as np
 
-    from .. import api
-    from ..errors import RadiometerError
-    from . import _io
+    from ... import api
+    from ...errors import RadiometerError
+    from .. import _io
 
     _io.check_output_file(args.csv, "--csv file")
     scene = bpy.context.scene

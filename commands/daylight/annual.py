@@ -4,7 +4,7 @@ HELP = ("annual daylight from an EPW weather file by daylight coefficients (all 
         "sDA300/50%, ASE1000/250h, UDI 100-2000 lx at points (--points CSV) or on a plane's grid; --csv and --json")
 NEEDS_SCENE = True
 
-from . import _cluster, _points  # noqa: E402
+from .. import _cluster, _points  # noqa: E402
 
 
 def add_arguments(parser):
@@ -31,9 +31,9 @@ def run(args):
     import bpy
     import numpy as np
 
-    from .. import api
-    from ..errors import RadiometerError
-    from . import _io
+    from ... import api
+    from ...errors import RadiometerError
+    from .. import _io
 
     _io.check_output_file(args.csv, "--csv file")
     if not os.path.isfile(args.epw):

@@ -4,7 +4,7 @@ HELP = ("sun study: illuminance from the sun at points (--points CSV or --plane 
         "every --step minutes; sunlit flags and sunlight hours; --csv and --json")
 NEEDS_SCENE = True
 
-from . import _cluster, _points  # noqa: E402
+from .. import _cluster, _points  # noqa: E402
 
 
 def add_arguments(parser):
@@ -31,7 +31,7 @@ def time_range(start, end, step_min, tz):
     import datetime as dt
     import math
 
-    from ..errors import RadiometerError
+    from ...errors import RadiometerError
     from .sun import parse_times
 
     if not (step_min > 0 and math.isfinite(step_min)):
@@ -52,9 +52,9 @@ def run(args):
     import bpy
     import numpy as np
 
-    from .. import api
-    from ..errors import RadiometerError
-    from . import _io
+    from ... import api
+    from ...errors import RadiometerError
+    from .. import _io
 
     _io.check_output_file(args.csv, "--csv file")
     if args.lux is not None and not (args.lux >= 0 and np.isfinite(args.lux)):

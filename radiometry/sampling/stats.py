@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .units import as_finite_array, check_positive
+from ..units import as_finite_array, check_positive
 
 __all__ = ["batch_mean", "relative_standard_error", "t_half_width_95", "samples_for_target", "t_quantile_975"]
 

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .laws import fit_power_law
-from .units import as_finite_array
+from ..metrics.laws import fit_power_law
+from ..units import as_finite_array
 
 __all__ = ["ConvergenceFit", "fit_convergence", "rms_relative_error"]
 

@@ -18,8 +18,8 @@ References
 import numpy as np
 
 from . import _cie_tables as cie
-from .constants import C2_M_K, K_M_LM_PER_W, K_RADIANCE_WHITE_LM_PER_W, VISIBLE_RANGE_NM
-from .units import as_finite_array, check_nonnegative, check_positive
+from ..constants import C2_M_K, K_M_LM_PER_W, K_RADIANCE_WHITE_LM_PER_W, VISIBLE_RANGE_NM
+from ..units import as_finite_array, check_nonnegative, check_positive
 
 __all__ = [
     "COLOUR_SPACES", "EFFICACY", "rgb_to_xyz_matrix", "luminance_weights", "luminance_factor",

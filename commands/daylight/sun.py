@@ -30,8 +30,8 @@ def parse_times(texts, tz_name):
     """Timezone-aware datetimes from ISO texts; naive ones take ``tz_name`` (RadiometerError without it)."""
     import datetime as dt
 
-    from ..errors import RadiometerError
-    from ..radiometry import solar_position
+    from ...errors import RadiometerError
+    from ...radiometry.sun import solar_position
 
     tz = None
     if tz_name:
@@ -61,8 +61,8 @@ def run(args):
 
     import numpy as np
 
-    from .. import api
-    from ..errors import RadiometerError
+    from ... import api
+    from ...errors import RadiometerError
 
     times = parse_times(args.time, args.tz)
     pos = api.sun_position(args.lat, args.lon, times, elevation_m=args.elevation, north_offset_deg=args.north)
@@ -88,12 +88,12 @@ def run(args):
             raise RadiometerError("--set needs a .blend to put the sun into")
         if os.path.abspath(args.out) == os.path.abspath(source):
             raise RadiometerError("--out must not be the input .blend (an output never overwrites an input)")
-        from . import _io
+        from .. import _io
 
         _io.check_output_file(args.out, "--out file")
         out = api.set_sun(bpy.context.scene, args.lat, args.lon, times[0], direct_normal_illuminance_lux=args.lux,
                           north_offset_deg=args.north, elevation_m=args.elevation)
-        from ..measure.blender.blend_file import save_copy
+        from ...measure.blender.blend_file import save_copy
 
         save_copy(args.out, getattr(args, "interrupt", None))
         print(f"sun {out['object']!r}: {out['direct_normal_illuminance_lux']:.6g} lx direct normal "

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from .units import as_finite_array
+from ..units import as_finite_array
 
 __all__ = ["en12464_spacing", "grid_counts", "cell_centres", "grid_stats", "MAX_SPACING_M"]
 

@@ -165,12 +165,12 @@ class SceneModel:
     needs: dict = field(default_factory=dict)
     scale_length: float = 1.0
     notes: list = field(default_factory=list)
-    world: object = None  # radiometry.environment.WorldLight when the world emits (modelled or not)
+    world: object = None  # radiometry.skies.environment.WorldLight when the world emits (modelled or not)
     #: Participating media (issue 18): (name, box min (3,), box max (3,)) in metres per volume object
     #: (a mesh with a Volume shader, an OpenVDB volume); ``world_volume`` when the world has one.
     volumes: list = field(default_factory=list)
     world_volume: bool = False
-    #: Recognised thin glass panes (``radiometry.thin_glass.Pane``) by object index (issue 18).
+    #: Recognised thin glass panes (``radiometry.scene.thin_glass.Pane``) by object index (issue 18).
     panes: dict = field(default_factory=dict)
     #: Transmissive objects that are not thin panes (name, reason): rendered as they are (issue 18).
     refractors: list = field(default_factory=list)

@@ -48,7 +48,7 @@ lux, luminance in cd/m^2.
 
 import numpy as np
 
-from .emitters.environment import EnvironmentEmitter
+from ..emitters.environment import EnvironmentEmitter
 
 __all__ = ["CIE_GENERAL_SKIES", "SKY_TYPES", "TYPICAL_HORIZONTAL_ILLUMINANCE", "parse_sky_type", "parameters",
            "needs_sun", "relative_luminance", "sky_integral", "zenith_luminance", "plane_illuminance",

@@ -1,0 +1,1 @@
+"""Daylight subcommands: sun, sun-study, daylight-factor, annual."""
