@@ -20,13 +20,15 @@ import bpy
 import numpy as np
 
 from ... import quality as quality_presets
-from ...errors import MeasurementCancelled, RadiometerError
+from ...errors import RadiometerError
 from ..meter import camera as camera_mod
 from ..meter import point_meter as meter
 from ..blender import scene_guard
+from ..render.rounds import RenderRounds, relative_errors
 
 RENDERS = 8            #: independent renders per round (7 degrees of freedom per pixel error)
 MAX_SPP = 1024
+FIRST_SPP = 16         #: samples per pixel of the first round
 MAX_PIXELS = 1024 * 1024
 
 
@@ -72,6 +74,23 @@ def _resolution(scene, resolution):
     return w, h
 
 
+def _rounds_to_target(scene, render, weights, target, cap, cancelled, progress=None):
+    """Rounds of :data:`RENDERS` renders from 16 samples per pixel, 4x per round up to ``cap``, until the
+    90th percentile of the lit pixels' relative error is on ``target``; only the last round is kept.
+    Returns (the last round's renders (R, H, W, 3), (mean Y, relative s.e.) per pixel, the finite
+    relative errors, samples per pixel)."""
+    rounds = RenderRounds(scene, cancelled=cancelled, progress=progress)
+    spp = FIRST_SPP
+    while True:
+        stack = rounds.round(RENDERS, spp, render)            # (R, H, W, 3)
+        mean_y, rel = relative_errors(stack @ weights)
+        lit = rel[np.isfinite(rel)]
+        p90 = float(np.percentile(lit, 90)) if lit.size else 0.0
+        if p90 <= target or spp >= cap:
+            return stack, (mean_y, rel), lit, spp
+        spp = min(cap, spp * 4)
+
+
 def render_luminance(*, scene=None, camera=None, resolution=None, quality="standard", target_rel_error=None,
                      progress=None, cancelled=None, max_spp=MAX_SPP):
     """:class:`LuminanceImage` of ``camera`` (an object or its name; default the scene camera).
@@ -90,34 +109,17 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
     folder = camera_mod.scratch_folder()
     started = time.perf_counter()
     cap = int(min(max(int(max_spp), 16), MAX_SPP))
-    spp, k = 16, 0
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
-            camera_mod.prepare_render(scene, dict(preset, samples=spp), snapshot)
+            camera_mod.prepare_render(scene, dict(preset, samples=FIRST_SPP), snapshot)
             scene.camera = cam
-            while True:
-                images = []
-                for _ in range(RENDERS):
-                    if cancelled is not None and cancelled():
-                        raise MeasurementCancelled("measurement cancelled; the scene was restored")
-                    scene.cycles.seed = k
-                    scene.cycles.samples = spp
-                    images.append(camera_mod.render_exr(scene, folder, f"img{k}", width, height) / unit_area)
-                    k += 1
-                    if progress is not None:
-                        progress(k, k + RENDERS)
-                stack = np.array(images)                      # (R, H, W, 3)
-                mean_rgb = stack.mean(axis=0)
-                y = stack @ weights                            # (R, H, W)
-                mean_y = y.mean(axis=0)
-                se_y = y.std(axis=0, ddof=1) / math.sqrt(RENDERS)
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    rel = np.where(mean_y > 0, se_y / mean_y, np.nan)
-                lit = rel[np.isfinite(rel)]
-                p90 = float(np.percentile(lit, 90)) if lit.size else 0.0
-                if p90 <= target or spp >= cap:
-                    break
-                spp = min(cap, spp * 4)
+
+            def render(k):
+                return camera_mod.render_exr(scene, folder, f"img{k}", width, height) / unit_area
+
+            stack, (mean_y, rel), lit, spp = _rounds_to_target(scene, render, weights, target, cap, cancelled,
+                                                                progress)
+            mean_rgb = stack.mean(axis=0)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
     share = float(np.mean(lit <= target)) if lit.size else 1.0
@@ -245,38 +247,23 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
     cap = int(min(max(int(max_spp), 16), MAX_SPP))
     folder = camera_mod.scratch_folder()
     started = time.perf_counter()
-    spp, k = 16, 0
     old_group = scene.compositing_node_group
     layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
-            camera_mod.prepare_render(scene, dict(preset, samples=spp), snapshot)
+            camera_mod.prepare_render(scene, dict(preset, samples=FIRST_SPP), snapshot)
             scene.camera = cam
             for attr in ("use_pass_diffuse_direct", "use_pass_diffuse_indirect"):
                 snapshot.remember(layer, attr)
                 setattr(layer, attr, True)
             tree = _light_pass_compositor(scene)
             scene.compositing_node_group = tree
-            while True:
-                values = []
-                for _ in np.arange(RENDERS):  # 'range' is the colour scale's argument here
-                    if cancelled is not None and cancelled():
-                        raise MeasurementCancelled("measurement cancelled; the scene was restored")
-                    scene.cycles.seed = k
-                    scene.cycles.samples = spp
-                    img = camera_mod.render_exr(scene, folder, f"e{k}", width, height, compositing=True)
-                    values.append(math.pi * img / unit_area @ weights)
-                    k += 1
-                y = np.array(values)
-                mean_y = y.mean(axis=0)
-                se_y = y.std(axis=0, ddof=1) / math.sqrt(RENDERS)
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    rel = np.where(mean_y > 0, se_y / mean_y, np.nan)
-                lit = rel[np.isfinite(rel)]
-                p90 = float(np.percentile(lit, 90)) if lit.size else 0.0
-                if p90 <= target or spp >= cap:
-                    break
-                spp = min(cap, spp * 4)
+
+            def render(k):
+                img = camera_mod.render_exr(scene, folder, f"e{k}", width, height, compositing=True)
+                return math.pi * img / unit_area
+
+            _stack, (mean_y, rel), lit, spp = _rounds_to_target(scene, render, weights, target, cap, cancelled)
     finally:
         # the scene guard removes the node group it saw created; put the user's compositor back
         scene.compositing_node_group = old_group

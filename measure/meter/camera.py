@@ -17,12 +17,13 @@ import numpy as np
 
 from ...radiometry.skies import environment
 from ... import quality as quality_presets
-from ...errors import MeasurementCancelled, RadiometerError
+from ...errors import RadiometerError
 from ...radiometry.sampling import allocation
 from ...readings import LuminanceReading
 from ..blender import exr, scene_guard
 from . import point_meter as meter
 from ..render import render_settings
+from ..render.rounds import RenderRounds
 from ..blender.temporary_scene import scratch_folder
 
 # Panorama orientation: local +Y (image up) -> world +Z, local +Z (image centre) -> world -Y.
@@ -170,7 +171,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     # (radiometry.sampling.allocation.MeterTally: Cycles' QMC converges faster than 1/N, so per-sample
     # variances are not pooled across spp).
     tally = allocation.MeterTally(1)
-    spp, k, record = 64, 0, None
+    spp, record = 64, None
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
             record = prepare_render(scene, dict(preset, samples=spp), snapshot)
@@ -178,19 +179,16 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
             cam.data.type = "PERSP"
             cam.data.sensor_fit = "HORIZONTAL"
             cam.data.angle = 2 * half
+            shown = None if progress is None else (lambda done, total: progress(min(done, total), total))
+            rounds = RenderRounds(scene, cancelled=cancelled, progress=shown, total_of=lambda _done: max_renders)
+
+            def render(k):
+                img = render_exr(scene, folder, f"lum{k}", resolution, resolution) / unit_area
+                return np.einsum("hw,hwc->c", w, img)
+
             while True:
-                batch = []
-                for _ in range(RENDERS_PER_ROUND):
-                    if cancelled is not None and cancelled():
-                        raise MeasurementCancelled("measurement cancelled; the scene was restored")
-                    scene.cycles.seed = k
-                    scene.cycles.samples = spp
-                    img = render_exr(scene, folder, f"lum{k}", resolution, resolution) / unit_area
-                    batch.append(np.einsum("hw,hwc->c", w, img))
-                    k += 1
-                    if progress is not None:
-                        progress(min(k, max_renders), max_renders)
-                batch = np.array(batch)
+                batch = rounds.round(RENDERS_PER_ROUND, spp, render)
+                k = rounds.renders
                 tally.add(np.zeros(len(batch), int), spp, batch @ weights, batch)
                 rel = float(tally.rel_std_error()[0])
                 if rel <= target or k >= max_renders:
