@@ -165,7 +165,7 @@ def read_epw(path):
         raise EPWError(f"{source}: no such file") from None
     except OSError as exc:
         raise EPWError(f"{source}: cannot read it ({exc.strerror or exc})") from None
-    with os.fdopen(fd, "rb") as fh:
+    try:
         st = os.fstat(fd)
         if stat.S_ISDIR(st.st_mode):
             raise EPWError(f"{source}: is a directory, not an EPW weather file")
@@ -174,6 +174,10 @@ def read_epw(path):
         if st.st_size > MAX_FILE_BYTES:
             raise EPWError(f"{source}: {st.st_size} bytes is too large for an EPW weather file (at most "
                            f"{MAX_FILE_BYTES}; a year of hourly records is 1.5-3 MB)")
+    except BaseException:
+        os.close(fd)
+        raise
+    with os.fdopen(fd, "rb") as fh:
         try:
             return _parse(_file_lines(fh, source), source)
         except OSError as exc:
@@ -198,10 +202,10 @@ def _file_lines(fh, source):
         if not raw:
             return
         number += 1
-        if len(raw) > MAX_LINE_BYTES and not raw.endswith(b"\n"):
-            raise EPWError(f"{source} line {number}: longer than {MAX_LINE_BYTES} bytes: not an EPW line")
         if b"\0" in raw:
             raise EPWError(f"{source} line {number}: binary data (a NUL byte): not an EPW text file")
+        if len(raw) > MAX_LINE_BYTES and not raw.endswith(b"\n"):
+            raise EPWError(f"{source} line {number}: longer than {MAX_LINE_BYTES} bytes: not an EPW line")
         try:
             line = raw.decode("utf-8")
         except UnicodeDecodeError:
@@ -376,7 +380,7 @@ def _check_step(previous, record, first, count, source):
 
 # --- irradiance against the sun at the site ------------------------------------------------------
 
-def _sun(weather, leap, chunk=2048):
+def _sun(weather, leap, chunk=256):
     """(sin of the sun's largest apparent elevation over each hour, the sun down the whole hour,
     extraterrestrial normal irradiance E0 W/m^2), NREL SPA at each hour's start, middle and end, in
     chunks so that memory stays bounded."""
@@ -434,11 +438,12 @@ def _check_sun(weather, raw, leap, source):
             "global and diffuse horizontal radiation were not compared with the sun's height")
     for name, (label, horizontal) in _SOLAR.items():
         v = raw[name]
-        missing, negative = v >= 9999.0, v < 0.0
-        if horizontal:  # + 0.5 W/m^2: the file's rounding to whole numbers
-            above = ~missing & up & (v > e0 * np.maximum(sin_max, 0.0) + 0.5) & (not misplaced)
-        else:
-            above = ~missing & (v > e0 + 0.5)
+        missing, negative = v == 9999.0, v < 0.0
+        # + 0.5 W/m^2: the file's rounding to whole numbers. Above E0 is impossible at any hour (1e9
+        # too: only 9999 itself means missing); horizontal values also above E0 sin(elevation).
+        above = ~missing & (v > e0 + 0.5)
+        if horizontal and not misplaced:
+            above |= ~missing & up & (v > e0 * np.maximum(sin_max, 0.0) + 0.5)
         kinds = ((missing & up, "missing (9999)"), (negative & up, "negative"),
                  (above, "above the extraterrestrial irradiance" if horizontal else
                   f"above the extraterrestrial {SOLAR_CONSTANT:g} W/m^2 / R^2 (at most 1414 W/m^2)"))
