@@ -220,9 +220,9 @@ _USER_ERRORS = ()
 def _user_errors():
     global _USER_ERRORS
     if not _USER_ERRORS:
-        from .radiometry import environment, photometric_files
+        from .radiometry import environment, epw, photometric_files
 
-        _USER_ERRORS = (photometric_files.PhotometricFileError, environment.EnvironmentInputError)
+        _USER_ERRORS = (photometric_files.PhotometricFileError, environment.EnvironmentInputError, epw.EPWError)
     return _USER_ERRORS
 
 

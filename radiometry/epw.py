@@ -236,6 +236,7 @@ def _header(lines, source):
         if not line.strip():
             continue
         k = len(seen) + 1
+        line = line.lstrip("\ufeff") if k == 1 else line  # a byte-order mark before LOCATION
         key = _keyword(line)
         if k == 1:
             if not key.startswith("LOCATION"):

@@ -404,3 +404,81 @@ def test_memory_of_a_process_reading_the_148_mb_files(tmp_path):
                          env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
     message, grown_kib = out.stdout.strip().splitlines()
     assert "too large" in message and int(grown_kib) < 16 * 1024
+
+
+# --- fuzz -----------------------------------------------------------------------------------------
+
+def _fuzz_cases():
+    from hypothesis import strategies as st
+
+    cell = st.one_of(st.sampled_from(["9999", "-1", "nan", "inf", "-inf", "1e309", "1e9", "", " ", "0", "60", "61",
+                                      "24", "25", "29", "30", "31", "2", "13", "1.5", "x", "\ufeff1", "99.9"]),
+                     st.integers(-10**12, 10**12).map(str), st.floats().map(repr), st.text(max_size=6))
+    line = st.integers(0, 60)
+    op = st.one_of(
+        st.tuples(st.just("delete"), line), st.tuples(st.just("duplicate"), line),
+        st.tuples(st.just("swap"), line, line), st.tuples(st.just("cell"), line, st.integers(0, 36), cell),
+        st.tuples(st.just("cut"), line, st.integers(0, 200)), st.tuples(st.just("insert"), line, st.text(max_size=40)),
+        st.tuples(st.just("bytes"), line, st.binary(max_size=40)))
+    return st.lists(op, min_size=1, max_size=4)
+
+
+def _mutate(ops):
+    lines = [ln.encode("latin-1") for ln in text(year()[4000:4048]).splitlines()]
+    for o in ops:
+        i = o[1] % len(lines) if lines else 0
+        if not lines:
+            break
+        if o[0] == "delete":
+            del lines[i]
+        elif o[0] == "duplicate":
+            lines.insert(i, lines[i])
+        elif o[0] == "swap":
+            j = o[2] % len(lines)
+            lines[i], lines[j] = lines[j], lines[i]
+        elif o[0] == "cell":
+            cells = lines[i].split(b",")
+            cells[o[2] % len(cells)] = o[3].encode("utf-8")
+            lines[i] = b",".join(cells)
+        elif o[0] == "cut":
+            lines[i] = lines[i][:o[2]]
+        elif o[0] == "insert":
+            lines.insert(i, o[2].encode("utf-8"))
+        else:
+            lines[i] = o[2]
+    return b"\n".join(lines) + b"\n"
+
+
+def test_fuzz_malformed_weather_files_give_one_line(tmp_path_factory):
+    """Malformed files (records deleted, duplicated, swapped, cut short, cells replaced by numbers, NaN,
+    codes or text, random text or bytes inserted): each is read (its notes one line each) or refused with
+    one EPWError line; never another exception."""
+    from hypothesis import HealthCheck, given, settings
+
+    folder = tmp_path_factory.mktemp("fuzz")
+    outcomes = {"read": 0, "refused": 0}
+
+    @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow], database=None)
+    @given(_fuzz_cases())
+    def check(ops):
+        path = folder / "f.epw"
+        data = _mutate(ops)
+        path.write_bytes(data)
+        try:
+            epw.parse_epw(data.decode("latin-1"), source=str(path))
+        except epw.EPWError as exc:
+            assert str(exc) and "\n" not in str(exc)
+        try:
+            w = epw.read_epw(path)
+        except epw.EPWError as exc:
+            message = str(exc)
+            assert message and "\n" not in message and message.startswith(str(path)), message
+            outcomes["refused"] += 1
+            return
+        assert all(isinstance(n, str) and "\n" not in n for n in w.notes)
+        assert w.usable.shape == (w.count,) and not w.is_full_year
+        outcomes["read"] += 1
+
+    check()
+    print(outcomes)
+    assert outcomes["refused"] > 0
