@@ -201,6 +201,16 @@ def test_minute_0_or_60_and_data_source_flags_accepted():
         assert w.count == 48 and (w.minute == minute).all()
 
 
+def test_byte_order_mark_utf8_blank_lines_and_crlf_accepted(tmp_path):
+    content = text(year()[:48]).replace("Testville", "São Tomé").replace("\n", "\r\n")
+    lines = content.split("\r\n")
+    content = "\r\n".join(lines[:8] + [""] + lines[8:20] + ["  "] + lines[20:])
+    path = tmp_path / "bom.epw"
+    path.write_bytes(b"\xef\xbb\xbf" + content.encode("utf-8"))
+    w = epw.read_epw(path)
+    assert w.city == "São Tomé" and w.count == 48 and w.line_numbers[0] == 10 and w.line_numbers[-1] == 58
+
+
 def test_header_of_the_wrong_length_refused():
     lines = text(year()[:48]).splitlines()
     short = lines[:6] + lines[7:]   # COMMENTS 2 left out: the first record would be header line 8
