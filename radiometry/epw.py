@@ -46,7 +46,7 @@ import os
 
 import numpy as np
 
-from . import solar_position
+from . import input_files, solar_position
 from .perez import SOLAR_CONSTANT
 
 __all__ = ["EPW", "EPWError", "read_epw", "parse_epw", "FIELDS", "MAX_FILE_BYTES", "MAX_LINE_BYTES",
@@ -154,30 +154,8 @@ class EPW:
 def read_epw(path):
     """Read and check an EPW file (see the module docstring); ``EPWError`` (a ValueError) with one
     line naming the file and the line for anything that cannot be used."""
-    import stat
-
     source = os.fspath(path)
-    try:
-        # O_NONBLOCK: opening a FIFO for reading returns at once (instead of waiting for a writer), so
-        # fstat can refuse it; regular files are unaffected.
-        fd = os.open(source, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except FileNotFoundError:
-        raise EPWError(f"{source}: no such file") from None
-    except OSError as exc:
-        raise EPWError(f"{source}: cannot read it ({exc.strerror or exc})") from None
-    try:
-        st = os.fstat(fd)
-        if stat.S_ISDIR(st.st_mode):
-            raise EPWError(f"{source}: is a directory, not an EPW weather file")
-        if not stat.S_ISREG(st.st_mode):
-            raise EPWError(f"{source}: is not a regular file (a pipe or a device): refusing to read it")
-        if st.st_size > MAX_FILE_BYTES:
-            raise EPWError(f"{source}: {st.st_size} bytes is too large for an EPW weather file (at most "
-                           f"{MAX_FILE_BYTES}; a year of hourly records is 1.5-3 MB)")
-    except BaseException:
-        os.close(fd)
-        raise
-    with os.fdopen(fd, "rb") as fh:
+    with input_files.open_regular(source, "weather", MAX_FILE_BYTES, EPWError) as fh:
         try:
             return _parse(_file_lines(fh, source), source)
         except OSError as exc:
