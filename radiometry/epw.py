@@ -207,7 +207,7 @@ def _keyword(line):
 
 
 def _header(lines, source):
-    """The LOCATION fields and the line number of the last header line, after checking the 8 lines."""
+    """The LOCATION fields, after checking the 8 header lines."""
     seen = {}
     loc = None
     for number, line in lines:
@@ -233,7 +233,7 @@ def _header(lines, source):
         if key == "DATA PERIODS":
             _data_periods(line, number, source)
         if k == 8:
-            return loc, number
+            return loc
     if loc is None:
         raise EPWError(f"{source}: not an EPW file (the first line must start with LOCATION)")
     raise EPWError(f"{source}: the file ends after {len(seen)} header lines: an EPW has 8, then the hourly records")
@@ -272,7 +272,7 @@ def _whole(text, what, low, high, number, source):
 
 def _parse(lines, source):
     lines = iter(lines)
-    loc, last_header = _header(lines, source)
+    loc = _header(lines, source)
     if len(loc) < 10:
         raise EPWError(f"{source} line 1: LOCATION needs 10 fields, got {len(loc)}")
     lat, lon = _float(loc[6], "latitude", 1, source), _float(loc[7], "longitude", 1, source)

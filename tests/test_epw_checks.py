@@ -7,7 +7,6 @@ cross-check of the values read.
 """
 
 import datetime as dt
-import math
 import os
 import subprocess
 import sys
