@@ -428,7 +428,8 @@ def _fuzz_cases():
         st.tuples(st.just("delete"), line), st.tuples(st.just("duplicate"), line),
         st.tuples(st.just("swap"), line, line), st.tuples(st.just("cell"), line, st.integers(0, 36), cell),
         st.tuples(st.just("cut"), line, st.integers(0, 200)), st.tuples(st.just("insert"), line, st.text(max_size=40)),
-        st.tuples(st.just("bytes"), line, st.binary(max_size=40)))
+        st.tuples(st.just("bytes"), line, st.binary(max_size=40)),
+        st.tuples(st.just("column"), st.integers(1, 5), st.integers(0, 36), cell))  # every n-th record
     return st.lists(op, min_size=1, max_size=4)
 
 
@@ -451,6 +452,11 @@ def _mutate(ops):
             lines[i] = b",".join(cells)
         elif o[0] == "cut":
             lines[i] = lines[i][:o[2]]
+        elif o[0] == "column":
+            for k in range(8, len(lines), o[1]):
+                cells = lines[k].split(b",")
+                cells[o[2] % len(cells)] = o[3].encode("utf-8")
+                lines[k] = b",".join(cells)
         elif o[0] == "insert":
             lines.insert(i, o[2].encode("utf-8"))
         else:
@@ -460,7 +466,7 @@ def _mutate(ops):
 
 def test_fuzz_malformed_weather_files_give_one_line(tmp_path_factory):
     """Malformed files (records deleted, duplicated, swapped, cut short, cells replaced by numbers, NaN,
-    codes or text, random text or bytes inserted): each is read (its notes one line each) or refused with
+    codes or text in one record or in every n-th, random text or bytes inserted): each is read (its notes one line each) or refused with
     one EPWError line; never another exception."""
     from hypothesis import HealthCheck, given, settings
 
