@@ -16,7 +16,7 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from radiometer.radiometry import epw, solar_position
+from radiometer.radiometry.sun import epw, solar_position
 
 LAT, LON, TZ = 51.5, -0.12, 0.0
 HEADER = ["LOCATION,Testville,TS,XYZ,synthetic,000000,{lat},{lon},{tz},20.0",
