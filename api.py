@@ -568,7 +568,7 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
 def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=None, m=1, quality="preview",
                     samples=None, target_rel_error=None, ground_reflectance=0.2, north_offset_deg=0.0,
                     occupied_from=8.0, occupied_to=18.0, seed=0, progress=None, cancelled=None, client=None,
-                    method="dome"):
+                    method="dome", partial_period=False):
     """Annual climate-based daylight at ``locations`` from an EPW weather file, the two-phase way.
 
     Daylight coefficients of every sky patch (Reinhart MF:``m``; 146 patches with the ground for
@@ -581,14 +581,18 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
     within 2 standard errors counted failing / passing), ``ase`` (ASE1000/250 h from the direct sun
     alone, LM-83), ``udi``, per-point fractions, ``to_dict()``, ``csv_text()``. See
     docs/daylight-sky.md. ``client``: a Dask client (the same tasks, the same numbers; docs/cluster.md).
+    The weather file is checked (radiometry/sun/epw.py; one line naming the line, or a note): a file that is
+    not a whole year is refused unless ``partial_period=True`` (the notes then say the period).
     """
+    if not isinstance(partial_period, bool):
+        _v.fail("partial_period", "True or False", partial_period)
     from .measure.analyses import annual
 
     return annual.annual_daylight(locations, normals, epw_path, scene=scene, m=m, quality=quality, samples=samples,
                                   target_rel_error=target_rel_error, ground_reflectance=ground_reflectance,
                                   north_offset_deg=north_offset_deg, occupied_from=occupied_from,
                                   occupied_to=occupied_to, seed=seed, progress=progress, cancelled=cancelled,
-                                  client=client, method=method)
+                                  client=client, method=method, partial_period=partial_period)
 
 
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------

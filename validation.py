@@ -11,7 +11,6 @@ Bounds are stated here once (``MAX_*``), in the units of the argument.
 import math
 import numbers
 import os
-import stat
 
 import numpy as np
 
@@ -190,6 +189,7 @@ def check_input_file(value, what="file", *, max_bytes=MAX_INPUT_BYTES):
     """An existing REGULAR file of at most ``max_bytes``: FIFOs, devices (/dev/zero) and folders are
     refused before anything is read (reading them blocks forever or never ends)."""
     from .outputs import shown
+    from .radiometry import input_files
 
     full = path(value, what)
     try:
@@ -198,13 +198,9 @@ def check_input_file(value, what="file", *, max_bytes=MAX_INPUT_BYTES):
         raise RadiometerError(f"no such file: {shown(value)}") from None
     except OSError as exc:
         raise RadiometerError(f"cannot read {what} {shown(value)}: {exc.strerror or exc}") from None
-    if stat.S_ISDIR(st.st_mode):
-        raise RadiometerError(f"{shown(value)} is a directory, not a {what} file")
-    if not stat.S_ISREG(st.st_mode):
-        raise RadiometerError(f"{shown(value)} is not a regular file (a pipe or a device): refusing to read it")
-    if st.st_size > max_bytes:
-        raise RadiometerError(f"{shown(value)} is too large for a {what} file ({st.st_size} bytes; "
-                              f"at most {max_bytes})")
+    why = input_files.refusal(st, what, max_bytes)
+    if why:
+        raise RadiometerError(f"{shown(value)} {why}")
     return full
 
 
@@ -221,9 +217,10 @@ def _user_errors():
     global _USER_ERRORS
     if not _USER_ERRORS:
         from .radiometry.skies import environment
+        from .radiometry.sun import epw
         from .radiometry.photometry import photometric_files
 
-        _USER_ERRORS = (photometric_files.PhotometricFileError, environment.EnvironmentInputError)
+        _USER_ERRORS = (photometric_files.PhotometricFileError, environment.EnvironmentInputError, epw.EPWError)
     return _USER_ERRORS
 
 

@@ -60,15 +60,17 @@ def test_perez_parameters_match_gendaylit(month, day, hour, dni, dhi):
                                rtol=5e-4, atol=1e-4)  # gendaylit prints eps, delta to 4 decimals
 
 
-def _write_epw(path):
+def _write_epw(path, month, day):
+    """One day of records (the reader refuses a file whose days are not consecutive)."""
     rows = []
-    for month, day in ((6, 21), (3, 20)):
-        for hour in range(1, 25):
-            sun = max(0.0, math.sin(math.pi * (hour - 6.5) / 12)) if month == 6 else max(0.0, math.sin(math.pi * (hour - 8.5) / 8))
-            dni, dhi = round(700 * sun * (0.3 + 0.7 * (hour % 3 == 0))), round(180 * sun + (5 if sun > 0 else 0))
-            f = [2026, month, day, hour, 60, "?9", 15.0, 8.0, 60, 101325, 1000, 1300, 300, dhi + dni, dni, dhi,
-                 999999, 999999, 999999, 9999, 180, 3.0, 5, 3, 10.0, 77777, 9, 999999999, 10, 0.1, 0, 88, 0.2, 0, 1]
-            rows.append(",".join(str(v) for v in f))
+    for hour in range(1, 25):
+        sun = max(0.0, math.sin(math.pi * (hour - 6.5) / 12)) if month == 6 else max(0.0, math.sin(math.pi * (hour - 8.5) / 8))
+        dni, dhi = round(700 * sun * (0.3 + 0.7 * (hour % 3 == 0))), round(180 * sun + (5 if sun > 0 else 0))
+        # global horizontal = diffuse (not used by the sky; dhi + dni would exceed the extraterrestrial
+        # irradiance at the March noon, which the reader refuses)
+        f = [2026, month, day, hour, 60, "?9", 15.0, 8.0, 60, 101325, 1000, 1300, 300, dhi, dni, dhi,
+             999999, 999999, 999999, 9999, 180, 3.0, 5, 3, 10.0, 77777, 9, 999999999, 10, 0.1, 0, 88, 0.2, 0, 1]
+        rows.append(",".join(str(v) for v in f))
     path.write_text("\n".join(HEADER + rows) + "\n", encoding="latin-1")
     return path
 
@@ -77,18 +79,24 @@ def test_sky_matrix_matches_gendaymtx(tmp_path):
     pytest.importorskip("bpy")  # measure.analyses.annual lives with the bpy code (imports it lazily)
     from radiometer.measure.analyses import annual
 
-    path = _write_epw(tmp_path / "t.epw")
     patches = sky_patches.reinhart_patches(1)
-    m = annual.sky_matrix(epw.read_epw(path), patches)
-    s_all, s_sun = m.sky, m.sun_patches
     env = radiance_env()
-    subprocess.run(["epw2wea", str(path), str(tmp_path / "t.wea")], env=env, check=True, capture_output=True)
-    ref = {}
-    for key, flags in (("all", []), ("sky", ["-s"])):
-        out = subprocess.run(["gendaymtx", "-h", "-m", "1", *flags, str(tmp_path / "t.wea")], env=env,
-                             capture_output=True, text=True, check=True).stdout
-        a = np.array(out.split(), float).reshape(patches.count, -1, 3)
-        ref[key] = (179.0 * (0.265 * a[..., 0] + 0.670 * a[..., 1] + 0.065 * a[..., 2])).T  # cd/m^2, (T, P)
+    parts, refs = [], []
+    for month, day in ((6, 21), (3, 20)):
+        path = _write_epw(tmp_path / f"t{month}.epw", month, day)
+        parts.append(annual.sky_matrix(epw.read_epw(path), patches))
+        wea = tmp_path / f"t{month}.wea"
+        subprocess.run(["epw2wea", str(path), str(wea)], env=env, check=True, capture_output=True)
+        ref = {}
+        for key, flags in (("all", []), ("sky", ["-s"])):
+            out = subprocess.run(["gendaymtx", "-h", "-m", "1", *flags, str(wea)], env=env,
+                                 capture_output=True, text=True, check=True).stdout
+            a = np.array(out.split(), float).reshape(patches.count, -1, 3)
+            ref[key] = (179.0 * (0.265 * a[..., 0] + 0.670 * a[..., 1] + 0.065 * a[..., 2])).T  # cd/m^2, (T, P)
+        refs.append(ref)
+    s_all = np.concatenate([m.sky for m in parts])
+    s_sun = np.concatenate([m.sun_patches for m in parts])
+    ref = {key: np.concatenate([r[key] for r in refs]) for key in ("all", "sky")}
     weight = patches.solid_angle * patches.cos_zenith()
     day = ref["all"].sum(axis=1) > 0
     assert np.array_equal(day, s_all.sum(axis=1) > 0)

@@ -63,5 +63,5 @@ def test_epw_bad_input(tmp_path):
     lines[9] = "1999,6,1"
     with pytest.raises(ValueError, match="line 10"):
         epw.parse_epw("\n".join(lines))
-    with pytest.raises(ValueError, match="cannot read"):
+    with pytest.raises(ValueError, match="no such file"):
         epw.read_epw(tmp_path / "missing.epw")

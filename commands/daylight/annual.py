@@ -21,23 +21,25 @@ def add_arguments(parser):
                         "16 x 16 pixels); the errors reached are stated")
     parser.add_argument("--method", choices=("dome", "per_patch"), default="dome",
                         help="dome: every sky patch in one render (default); per_patch: one render per patch (slow)")
+    parser.add_argument("--partial-period", action="store_true",
+                        help="accept a weather file that is not a whole year (8760 or 8784 hourly records): the "
+                        "metrics cover its period and the notes say which; without it such a file is refused")
     parser.add_argument("--csv", metavar="FILE", help="write one row per point")
     _cluster.add_arguments(parser)
 
 
 def run(args):
-    import os
-
     import bpy
     import numpy as np
 
     from ... import api
-    from ...errors import RadiometerError
+    from ... import api, validation
+    from ...radiometry.sun import epw
     from .. import _io
 
     _io.check_output_file(args.csv, "--csv file")
-    if not os.path.isfile(args.epw):
-        raise RadiometerError(f"--epw {args.epw}: no such file")
+    # a folder, a FIFO or a device is named as such (read_epw checks again when it opens the file)
+    validation.check_input_file(args.epw, "weather", max_bytes=epw.MAX_FILE_BYTES)
     scene = bpy.context.scene
     locations, normals = _points.from_args(args, scene)
     progress = getattr(args, "progress", None)
@@ -47,10 +49,11 @@ def run(args):
         r = api.annual_daylight(locations, normals, args.epw, scene=scene, m=args.subdivision, quality=args.quality,
                                 ground_reflectance=args.ground_reflectance, north_offset_deg=args.north,
                                 progress=progress, cancelled=getattr(args, "cancelled", None), client=client,
-                                method=args.method)
+                                method=args.method, partial_period=args.partial_period)
     if progress is not None:
         progress.clear()
-    print(f"annual daylight at {len(locations)} points: sDA300/50% {100 * r.sda:.1f} % (within 2 s.e.: "
+    what = "annual daylight" if r.whole_year else f"daylight over a PARTIAL PERIOD ({r.weather_period})"
+    print(f"{what} at {len(locations)} points: sDA300/50% {100 * r.sda:.1f} % (within 2 s.e.: "
           f"{100 * r.sda_range[0]:.1f}-{100 * r.sda_range[1]:.1f} %), ASE1000/250h (direct sun) "
           f"{100 * r.ase:.1f} %, mean UDI 100-2000 lx {100 * float(np.mean(r.udi[1])):.1f} % of occupied hours "
           f"(worst stated hourly error {100 * r.max_rel_std_error:.2g} %)")

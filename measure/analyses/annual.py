@@ -250,8 +250,11 @@ def sky_matrix(weather, patches, *, ground_reflectance=0.2, north_offset_deg=0.0
                                         elevation_m=weather.elevation_m, north_offset_deg=north_offset_deg)
     directions = np.asarray(pos.direction, float)
     doy = np.array([t.timetuple().tm_yday for t in times])
-    dni = np.nan_to_num(weather.direct_normal_w_m2)
-    dhi = np.nan_to_num(weather.diffuse_horizontal_w_m2)
+    # The reader's checks (radiometry/sun/epw.py): in usable hours a value that is missing or negative has
+    # the sun down (taken as 0, noted); unusable hours get no sky and are left out of the metrics.
+    usable = np.ones(len(times), bool) if weather.usable is None else weather.usable
+    dni = np.where(usable, np.clip(np.nan_to_num(weather.direct_normal_w_m2), 0.0, None), 0.0)
+    dhi = np.where(usable, np.clip(np.nan_to_num(weather.diffuse_horizontal_w_m2), 0.0, None), 0.0)
     dew = np.where(np.isfinite(weather.dew_point_c), weather.dew_point_c, 11.0)
     s_all = np.zeros((len(times), patches.count))
     s_sun = np.zeros_like(s_all)
@@ -318,7 +321,8 @@ class AnnualResult:
     ``sda_uncertain`` (N,) bool, ``sda_point_fraction_bounds`` (low (N,), high (N,): the share of hours
     at 300 lx with every hour 2 standard errors lower / higher), ``ase``, ``ase_hours`` (N,), ``udi``
     (fell_short, useful, exceeded: (N,) each), ``max_rel_std_error`` of the hourly values over occupied
-    hours at 100 lx or more, ``seconds_coefficients``, ``notes``."""
+    hours at 100 lx or more, ``seconds_coefficients``, ``notes``, ``weather_period`` (the EPW records'
+    span) and ``whole_year`` (False: the metrics cover only that period, asked for explicitly)."""
 
     locations: np.ndarray
     illuminance: np.ndarray
@@ -336,6 +340,8 @@ class AnnualResult:
     max_rel_std_error: float
     seconds_coefficients: float
     notes: list
+    weather_period: str = ""
+    whole_year: bool = True
 
     def to_dict(self):
         return {"locations": np.asarray(self.locations).tolist(), "sda_300_50": self.sda,
@@ -349,7 +355,7 @@ class AnnualResult:
                 "udi_fell_short": self.udi[0].tolist(), "udi_useful": self.udi[1].tolist(),
                 "udi_exceeded": self.udi[2].tolist(), "occupied_hours": int(np.sum(self.occupied)),
                 "max_rel_std_error": self.max_rel_std_error, "seconds_coefficients": self.seconds_coefficients,
-                "notes": self.notes}
+                "weather_period": self.weather_period, "whole_year": self.whole_year, "notes": self.notes}
 
     def csv_text(self):
         lines = ["x,y,z,sda_hours_fraction,sda_uncertain,ase_hours,udi_fell_short,udi_useful,udi_exceeded"]
@@ -358,6 +364,19 @@ class AnnualResult:
                          f"{int(bool(self.sda_uncertain[i]))},{int(self.ase_hours[i])},"
                          f"{self.udi[0][i]:.4f},{self.udi[1][i]:.4f},{self.udi[2][i]:.4f}")
         return "\n".join(lines) + "\n"
+
+
+def weather_period_notes(weather, source, partial_period):
+    """[] for a whole year; for a shorter file a note saying the period when ``partial_period``,
+    else RadiometerError (annual metrics from part of a year would pass as annual)."""
+    if weather.is_full_year:
+        return []
+    if not partial_period:
+        raise RadiometerError(f"{source}: {weather.period}, not a whole year (8760 hourly records, 8784 with "
+                              "29 February): annual metrics refused; to compute them over this period ask for it "
+                              "(partial_period=True, CLI --partial-period)")
+    return [f"partial period, NOT annual: {weather.period}; sDA and UDI are shares of its occupied hours and "
+            "ASE counts its hours against 250 h"]
 
 
 def hourly_std_error(sky, covariance):
@@ -371,10 +390,11 @@ def hourly_std_error(sky, covariance):
 def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=None, m=1, quality="preview",
                     samples=None, target_rel_error=None, ground_reflectance=0.2, north_offset_deg=0.0,
                     occupied_from=8.0, occupied_to=18.0, seed=0, progress=None, cancelled=None, client=None,
-                    method="dome"):
+                    method="dome", partial_period=False):
     """Annual daylight metrics at points from an EPW file (module docstring). Returns ``AnnualResult``.
     ``client``: a Dask client for the daylight coefficients (:func:`daylight_coefficients`);
-    ``method``: "dome" (one render for all patches) or "per_patch"."""
+    ``method``: "dome" (one render for all patches) or "per_patch"; ``partial_period``: True to accept
+    a file that is not a whole year (the notes say the period), else such a file is refused."""
     import time
 
     import bpy
@@ -387,10 +407,13 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
 
     if epw_path is None:
         raise RadiometerError("annual daylight needs an EPW weather file (epw_path)")
+    if not isinstance(partial_period, (bool, np.bool_)):
+        raise RadiometerError(f"partial_period must be True or False, got {partial_period!r}")
     try:
         weather = epw.read_epw(epw_path)
     except ValueError as exc:
         raise RadiometerError(str(exc)) from None
+    period_notes = weather_period_notes(weather, epw_path, partial_period)
     try:
         rho = float(ground_reflectance)
     except (TypeError, ValueError):
@@ -407,7 +430,8 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
                                                       cancelled=cancelled, client=client, method=method)
     seconds_dc = time.perf_counter() - start
     sky = sky_matrix(weather, patches, ground_reflectance=rho, north_offset_deg=north_offset_deg)
-    occupied = daylight_metrics.occupied_hours(sky.hours, occupied_from, occupied_to)
+    occupied_all = daylight_metrics.occupied_hours(sky.hours, occupied_from, occupied_to)
+    occupied = occupied_all & weather.usable
     e = sky.sky @ dc
     se = np.zeros_like(e)
     se[occupied] = hourly_std_error(sky.sky[occupied], cov)
@@ -447,6 +471,18 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
         notes.append(f"{int(uncertain.sum())} point(s) have an sDA verdict that changes within 2 standard errors of "
                      f"their hourly illuminance (near 300 lx for about half of the hours): sDA "
                      f"{100 * sda_range[0]:.1f}-{100 * sda_range[1]:.1f} %")
+    dew_missing = int(np.sum(occupied & ~np.isfinite(weather.dew_point_c)))
+    if dew_missing:
+        notes.append(f"dew point missing (99.9) in {dew_missing} occupied hours: 11 deg C taken there (Perez's "
+                     "luminous efficacy uses it for the atmosphere's water)")
+    left_out = int(np.sum(occupied_all & ~weather.usable))
+    if left_out:
+        notes.append(f"{left_out} occupied hours left out of sDA, ASE and UDI (their irradiance is unusable, "
+                     "see the weather notes); their hourly illuminance is NaN")
+    notes += period_notes + weather.notes
+    e[~weather.usable] = np.nan
+    e_sun[~weather.usable] = np.nan
     lit = occupied[:, None] & (e >= 100.0)  # dimmer hours count as "fell short" whatever their error
     return AnnualResult(points, e, se, e_sun, occupied, sda, sda_range, frac, uncertain, (frac_lo, frac_hi), ase,
-                        ase_h, udi, float(np.max(rel[lit])) if lit.any() else 0.0, seconds_dc, notes)
+                        ase_h, udi, float(np.max(rel[lit])) if lit.any() else 0.0, seconds_dc, notes,
+                        weather.period, weather.is_full_year)

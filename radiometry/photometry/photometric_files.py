@@ -471,23 +471,13 @@ def parse_ldt(text, path="<text>"):
 def read_photometry(path):
     """Read an IES LM-63 (``.ies``) or EULUMDAT (``.ldt``) file; the format is decided by the
     extension, else by content (a first line of ``IESNA``/``IES:``/``TILT=`` means LM-63)."""
-    import stat
+    from .. import input_files
 
     path = os.fspath(path)
     try:
         # A FIFO blocks forever and /dev/zero never ends: only regular files of a sane size are read.
-        st = os.stat(path)
-        if stat.S_ISDIR(st.st_mode):
-            raise PhotometricFileError(f"{path}: is a folder, not a photometric file")
-        if not stat.S_ISREG(st.st_mode):
-            raise PhotometricFileError(f"{path}: not a regular file (a pipe or a device): refusing to read it")
-        if st.st_size > MAX_FILE_BYTES:
-            raise PhotometricFileError(f"{path}: {st.st_size} bytes is too large for a photometric file "
-                                       f"(at most {MAX_FILE_BYTES})")
-        with open(path, "rb") as fh:
+        with input_files.open_regular(path, "photometric", MAX_FILE_BYTES, PhotometricFileError) as fh:
             data = fh.read(MAX_FILE_BYTES + 1)
-    except FileNotFoundError:
-        raise PhotometricFileError(f"{path}: no such file") from None
     except OSError as exc:
         raise PhotometricFileError(f"{path}: cannot read it ({exc.strerror or exc})") from None
     if b"\0" in data[:4096]:

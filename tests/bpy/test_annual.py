@@ -60,6 +60,73 @@ def test_cli_annual_bad_input(clean_blender, tmp_path, capsys):
     assert "not an EPW" in capsys.readouterr().err
 
 
+def _room_module():
+    import importlib.util
+    import pathlib
+
+    spec = importlib.util.spec_from_file_location("annual_room", pathlib.Path(__file__).parent / "annual_room.py")
+    room = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(room)
+    return room
+
+
+def test_cli_annual_names_what_the_weather_path_is(clean_blender, tmp_path, capsys):
+    """Issue 33: a folder, a FIFO and a device are named as such (not "no such file"), a part of a year
+    is refused unless --partial-period, each before any render, one line and exit 2."""
+    import os
+
+    from radiometer import cli
+
+    points = tmp_path / "p.csv"
+    points.write_text("0,0,0\n", encoding="utf-8")
+    fifo = tmp_path / "pipe.epw"
+    os.mkfifo(fifo)
+    for path, what in ((tmp_path, "is a directory"), (fifo, "is not a regular file"),
+                       ("/dev/zero", "is not a regular file")):
+        assert cli._blender_cli(["annual", "--epw", str(path), "--points", str(points)]) == 2
+        err = capsys.readouterr().err
+        assert what in err and "no such file" not in err and "Traceback" not in err, err
+    year = _room_module().write_epw(tmp_path / "year.epw")
+    short = tmp_path / "short.epw"
+    short.write_text("\n".join(year.read_text(encoding="latin-1").splitlines()[:108]) + "\n", encoding="latin-1")
+    assert cli._blender_cli(["annual", "--epw", str(short), "--points", str(points)]) == 2
+    err = capsys.readouterr().err
+    assert "100 hourly records from 1 January hour 1 (line 9) to 5 January hour 4 (line 108)" in err
+    assert "not a whole year" in err and "--partial-period" in err and "Traceback" not in err
+
+
+def test_partial_period_is_computed_only_when_asked_and_said(clean_blender, tmp_path):
+    """A week of the room's year with partial_period=True: the notes and the result say the period."""
+    from radiometer import api
+    from radiometer.errors import RadiometerError
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+
+    room = _room_module()
+    scene = bpy.context.scene
+    room.room.build_blender(scene, room.quads())
+    if not dcm.supported(scene):
+        pytest.skip("the dome coefficients need Blender 5.0")
+    year = room.write_epw(tmp_path / "year.epw")
+    week = tmp_path / "week.epw"
+    lines = year.read_text(encoding="latin-1").splitlines()
+    records = [r.split(",") for r in lines[8 + 24 * 180:8 + 24 * 187]]
+    for k in (24 + 11, 24 + 12, 48 + 14):  # 1 July 10-11 h and 11-12 h, 2 July 13-14 h: direct normal missing
+        records[k][14] = "9999"
+    week.write_text("\n".join(lines[:8] + [",".join(r) for r in records]) + "\n", encoding="latin-1")
+    with pytest.raises(RadiometerError, match="168 hourly records from 30 June hour 1"):
+        api.annual_daylight(room.POINTS[:2], (0, 0, 1), str(week), scene=scene, samples=2)
+    with pytest.raises(RadiometerError, match="partial_period"):
+        api.annual_daylight(room.POINTS[:2], (0, 0, 1), str(week), scene=scene, samples=2, partial_period="yes")
+    r = api.annual_daylight(room.POINTS[:2], (0, 0, 1), str(week), scene=scene, samples=2, partial_period=True)
+    assert not r.whole_year and r.to_dict()["whole_year"] is False
+    assert r.illuminance.shape == (168, 2) and int(r.occupied.sum()) == 70 - 3
+    assert np.isnan(r.illuminance[[35, 36, 62]]).all() and np.isfinite(r.illuminance[r.occupied]).all()
+    assert any(n.startswith("direct normal radiation: missing (9999) 3 h of") and "lines 44-45, 71" in n
+               for n in r.notes), r.notes
+    assert any(n.startswith("3 occupied hours left out of sDA, ASE and UDI") for n in r.notes)
+    assert any(n.startswith("partial period, NOT annual: 168 hourly records from 30 June hour 1") for n in r.notes)
+
+
 # --- the dome: every patch's coefficients from one render (measure/analyses/daylight_coefficients.py) ----------
 
 def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blender, build):
