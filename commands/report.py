@@ -30,7 +30,7 @@ def implied_outputs(args):
     checks them once the scene is open, before measuring)."""
     import os
 
-    from ..measure.report import fixed_files
+    from ..measure.report_files import fixed_files
 
     return [(f"the report's {name}", os.path.join(args.out, name)) for name in fixed_files(not args.no_client)]
 

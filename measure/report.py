@@ -24,6 +24,7 @@ from .. import outputs, plots
 from ..errors import MeasurementCancelled, RadiometerError
 from . import analysis, meters
 from .analysis_common import plain
+from .report_files import planned_files
 from .grid import work_planes  # noqa: F401 - report.work_planes: the planes the report grids
 
 
@@ -136,23 +137,6 @@ def _fmt(value, spec=".4g"):
     if not _given(value) or (isinstance(value, float) and not math.isfinite(value)):
         return "n/a" if not _given(value) or math.isnan(value) else "∞"
     return format(value, spec)
-
-
-def fixed_files(client=True):
-    """The report set's files whatever the scene holds (the pictures' names depend on it)."""
-    return ("report.json", "report.md") + (("report.html", "report.pdf") if client else ())
-
-
-def _planned_files(lights, planes, stems, draw, convergence, client):
-    """Every file name the report may write into its folder (checked before any measurement)."""
-    names = list(fixed_files(client))
-    for light in lights:
-        names += [f"inverse_square_{stems(light.name)}.png", f"cosine_{stems(light.name)}.png"] if draw else []
-    for plane in planes:
-        names += [f"grid_{stems(plane.name)}.csv"] + ([f"isolux_{stems(plane.name)}.png"] if draw else [])
-    names += ["convergence.png"] if draw and convergence else []
-    names += ["luminance.exr", "luminance.png"] if draw and client else []
-    return names
 
 
 def export_report(out_dir, **kwargs):
@@ -285,8 +269,9 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
     watch = {"cancelled": cancelled, "progress": part_progress}
     draw = plots.matplotlib_available()  # without matplotlib: the numbers, no plot paths asked for
     # Every target before any work (issue 33: a report.html that is a folder was refused after 20 s).
-    outputs.check_set(out, _planned_files(lights, planes, stems, draw, conv_target is not None, client),
-                      "report file")
+    planned = planned_files([stems(ob.name) for ob in lights], [stems(ob.name) for ob in planes], draw,
+                            conv_target is not None, client)
+    outputs.check_set(out, planned, "report file")
     out, final = stage.folder, stage.target  # written into the staging folder, moved into `final` at the end
     # Meters (readings are not written to the objects: a report leaves the scene as it was).
     if objs:

@@ -196,3 +196,68 @@ def test_signal_after_the_outputs_were_written_names_them(blend, tmp_path):
     assert len(lines) == 1 and "Ctrl-C" in lines[0] and "wrote" in lines[0], out.stderr
     assert csv.exists() and str(csv) in lines[0], out.stderr  # (grid delivers --json before the CSV)
     assert all(str(p) in lines[0] for p in (csv, js) if p.exists()), out.stderr
+
+
+# --- a real Ctrl-C during `report` -----------------------------------------------------------------
+
+CAMERA = ("cam = bpy.data.objects.new('cam', bpy.data.cameras.new('cam')); cam.location = (0, -3, 1.5); "
+          "cam.rotation_euler = (1.1, 0, 0); s.collection.objects.link(cam); s.camera = cam\n"
+          "s.render.resolution_x, s.render.resolution_y = 32, 24\n")
+
+
+@pytest.fixture(scope="module")
+def camera_blend(tmp_path_factory):
+    pytest.importorskip("bpy")
+    from test_reliability_outputs import SCENE
+
+    path = str(tmp_path_factory.mktemp("report_set") / "room.blend")
+    code = SCENE.format(path=path, with_map=False).replace("bpy.ops.wm.save_as_mainfile", CAMERA +
+                                                           "bpy.ops.wm.save_as_mainfile")
+    subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, timeout=300)
+    return path
+
+
+def test_ctrl_c_during_report_leaves_the_previous_set_or_the_new_one_whole(camera_blend, tmp_path):
+    # Acceptance of issue 33: Ctrl-C at any second of `report` leaves the previous report set intact,
+    # or the new one whole, and no temporary file. The runs take ~8-15 s here; SIGINT at 1.5 s
+    # (start-up), 4 s and 7 s (measuring, the picture) and 10 s (the client report or after), in
+    # parallel processes, each on its own copy of a finished previous set.
+    import shutil
+
+    pytest.importorskip("matplotlib")
+    first = tmp_path / "first"
+    done = run_cli("report", camera_blend, "--out", first, "--quality", "preview", "--no-convergence",
+                   "--project", "first")
+    assert done.returncode == 0, done.stderr
+    previous = _state(first)
+    assert json.loads((first / "report.json").read_text())["files"] == sorted(previous)
+    env = dict(os.environ, TMPDIR=str(tmp_path))
+    runs = {}
+    for delay in (1.5, 4.0, 7.0, 10.0):
+        folder = tmp_path / f"at{delay}"
+        shutil.copytree(first, folder)
+        runs[delay] = (folder, subprocess.Popen(
+            [sys.executable, "-m", "radiometer", "report", camera_blend, "--out", str(folder), "--quality", "preview",
+             "--no-convergence", "--project", "second"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+            cwd="/", env=env))
+    started, outcomes = time.monotonic(), []
+    for delay, (folder, proc) in sorted(runs.items()):
+        time.sleep(max(0.0, started + delay - time.monotonic()))
+        if proc.poll() is None:
+            proc.send_signal(signal.SIGINT)
+    for delay, (folder, proc) in sorted(runs.items()):
+        _, stderr = proc.communicate(timeout=300)
+        assert proc.returncode in (0, 130), (delay, proc.returncode, stderr)
+        assert "Traceback" not in stderr, stderr
+        now = _state(folder)
+        assert not [n for n in now if n.startswith(".")], (delay, now)  # no staging folder, no .tmp file
+        if now == previous:
+            outcomes.append("previous")
+            assert proc.returncode == 130 and len([ln for ln in stderr.splitlines() if ln.strip()]) == 1, stderr
+            continue
+        listed = json.loads((folder / "report.json").read_text())["files"]
+        assert listed == sorted(now), (delay, listed, now)  # the new set, whole
+        assert all(now[n] != previous[n] for n in ("report.json", "report.html", "report.md")), delay
+        outcomes.append("new")
+    assert "previous" in outcomes, outcomes  # at least one run was really cut short
+    assert not [n for n in os.listdir(tmp_path) if n.startswith(("radiometer-", "blender"))]  # scratch gone
