@@ -194,3 +194,23 @@ def test_cli_workers_100000_refused_before_any_work(tmp_path):
                          capture_output=True, text=True, cwd="/", timeout=120)
     lines = [line for line in out.stderr.splitlines() if line.strip()]
     assert out.returncode == 2 and len(lines) == 1 and "per core" in lines[0], out.stderr
+
+
+def test_a_client_whose_start_fails_prints_nothing_later():
+    # The address check and the probe normally refuse a bad address before any Client exists; here both
+    # are skipped, so the Client itself fails in its start. Before, its __del__ printed "Exception ignored
+    # in: <function Client.__del__> ... TimeoutError: timed out after 4 s." (2 x the timeout) later.
+    pytest.importorskip("distributed")
+    code = ("import time\n"
+            "from radiometer.cluster import engine\n"
+            "from radiometer.errors import RadiometerError\n"
+            "engine._probe_scheduler = lambda address, timeout_s: None\n"
+            "engine._scheduler_address = lambda address: address\n"
+            "try:\n"
+            "    engine.connect('tcp://127.0.0.1:notaport', timeout_s=2.0)\n"
+            "except RadiometerError as exc:\n"
+            "    print(exc)\n"
+            "time.sleep(5.0)\n")  # past the 4 s after which the half-made client spoke up
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd="/", timeout=60)
+    assert out.returncode == 0 and out.stderr.strip() == "", out.stderr
+    assert "did not accept a client" in out.stdout, out.stdout
