@@ -92,3 +92,20 @@ def test_cancel_at_any_point_keeps_the_previous_set(clean_blender, build, tmp_pa
     assert sorted(json.loads((out / "report.json").read_text())["files"]) == sorted(now)
     assert "report.html" not in now and "report.pdf" not in now  # the previous set's, not this one's
     assert now["report.json"] != previous["report.json"]
+
+
+def test_report_operator_cancelled_between_parts_leaves_no_staging_folder(clean_blender, build, tmp_path):
+    # The Report operator runs the report as steps; Esc between two parts leaves the generator suspended.
+    # Its end closes it, so the staging folder inside the output folder goes at once (not at GC).
+    from radiometer.operators import analysis as ops
+
+    scene = _scene(build)
+    out = tmp_path / "ui"
+    scene.radiometer_analysis.output_dir = str(out)
+    task = ops.report_task(bpy.context, convergence=False)
+    task.step()  # the meters / first law check
+    assert [n for n in os.listdir(out) if n.startswith(".report.staging")]
+    task.request_cancel()
+    task.step()
+    task.on_end()
+    assert os.listdir(out) == []
