@@ -261,3 +261,17 @@ def test_ctrl_c_during_report_leaves_the_previous_set_or_the_new_one_whole(camer
         outcomes.append("new")
     assert "previous" in outcomes, outcomes  # at least one run was really cut short
     assert not [n for n in os.listdir(tmp_path) if n.startswith(("radiometer-", "blender"))]  # scratch gone
+
+
+def test_check_plots_targets_checked_before_the_checks(blend, tmp_path):
+    # `check --plots DIR` writes a plot per light and law: a target that is a folder was found only
+    # after the checks had run and the JSON was written; now one line before, nothing written.
+    plots = tmp_path / "plots"
+    plots.mkdir()
+    (plots / "cosine_lamp.png").mkdir()
+    out = run_cli("check", blend, "--plots", plots, "--json", tmp_path / "c.json")
+    one_error_line(out, "cosine_lamp.png")
+    assert not (tmp_path / "c.json").exists() and os.listdir(plots) == ["cosine_lamp.png"]
+    (plots / "cosine_lamp.png").rmdir()
+    one_error_line(run_cli("check", blend, "--plots", plots, "--json", plots / "inverse_square_lamp.png"),
+                   "same file")
