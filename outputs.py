@@ -89,8 +89,9 @@ def remove_temporaries():
 
 
 def _note_written(full):
-    """Record a finished file (not one written into a staging folder: that one is not in place yet)."""
-    if not any(full.startswith(os.path.join(t, "")) for t in list(_temporaries)):
+    """Record a finished file: not one in a staging folder (not in place yet), nor one in this
+    process's private folder (scratch, removed when the CLI exits)."""
+    if not any(full.startswith(os.path.join(t, "")) for t in [*_temporaries, *created_roots]):
         written.append(full)
 
 

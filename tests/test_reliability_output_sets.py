@@ -116,6 +116,8 @@ def test_written_files_are_recorded_for_the_stop_message(tmp_path):
     line = _io.stop_message(signal.SIGINT)
     assert "wrote" in line and "a.csv" in line and "b.png" in line and "m.json" in line and "\n" not in line
     assert ".set.staging" not in line  # a file in a staging folder is not written yet
+    outputs.write_text(os.path.join(outputs.private_temp_root(), "scratch.exr"), "x")
+    assert "scratch.exr" not in _io.stop_message(signal.SIGINT)  # removed at exit: not a result
     outputs.written.clear()
 
 
