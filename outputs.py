@@ -411,7 +411,8 @@ class FileSet:
     that window can leave a mix, and the manifest, renamed last, then still names the previous set.
     Files that the previous manifest listed (its ``"files"``) and the new set lacks are removed after.
     Leaving the block without a commit (an error, a cancel, Ctrl-C) removes the staging folder: the
-    previous set stays as it was. The CLI removes a staging folder on every exit, forced ones too.
+    previous set stays as it was. The CLI removes a staging folder on every exit, forced ones too;
+    one left by a killed process (SIGKILL) is removed by the next set written into that folder.
     """
 
     def __init__(self, folder, manifest, name="set"):
@@ -422,12 +423,38 @@ class FileSet:
         self.committed = []
 
     def __enter__(self):
+        self._remove_orphans()
         try:
-            self.folder = tempfile.mkdtemp(prefix=f".{self.name}.staging-", dir=self.target)
+            self.folder = tempfile.mkdtemp(prefix=f".{self.name}.staging-{os.getpid()}-", dir=self.target)
         except OSError as exc:
             raise _error(self.target, exc, f"the {self.name} into") from None
         _temporaries.add(self.folder)
         return self
+
+    def _remove_orphans(self):
+        """Staging folders of processes that no longer run (a SIGKILL, a power cut): nothing else
+        removes them. The folder names carry the process id; this process's own are left alone."""
+        import shutil
+
+        prefix = f".{self.name}.staging-"
+        try:
+            names = [n for n in os.listdir(self.target) if n.startswith(prefix)]
+        except OSError:
+            return
+        for name in names:
+            pid = name[len(prefix):].split("-", 1)[0]
+            if not pid.isdigit() or int(pid) == os.getpid():
+                continue
+            try:
+                os.kill(int(pid), 0)
+                continue  # still running (another report into the same folder)
+            except ProcessLookupError:
+                pass
+            except (PermissionError, OverflowError):
+                continue  # another user's process runs, or no such process id: not ours to judge
+            full = os.path.join(self.target, name)
+            if os.path.isdir(full) and not os.path.islink(full):
+                shutil.rmtree(full, ignore_errors=True)
 
     def path(self, name):
         """Where the file ``name`` of the set is written (inside the staging folder)."""

@@ -277,3 +277,17 @@ def test_check_plots_targets_checked_before_the_checks(blend, tmp_path):
     (plots / "cosine_lamp.png").rmdir()
     one_error_line(run_cli("check", blend, "--plots", plots, "--json", plots / "inverse_square_lamp.png"),
                    "same file")
+
+
+def test_staging_folder_of_a_killed_process_is_removed_by_the_next_set(tmp_path):
+    # SIGKILL leaves a staging folder (nothing runs to remove it); the next set into that folder removes
+    # it, and leaves a running process's own alone.
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    orphan = tmp_path / f".set.staging-{dead.pid}-abc"
+    orphan.mkdir()
+    (orphan / "a.png").write_text("half")
+    alive = tmp_path / f".set.staging-{os.getppid()}-def"  # pytest's parent: running
+    alive.mkdir()
+    _write_set(tmp_path, {"a.png": "new"})
+    assert sorted(os.listdir(tmp_path)) == sorted(["a.png", "m.json", alive.name])
