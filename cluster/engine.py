@@ -82,14 +82,17 @@ def _short(exc, limit=160):
 
 def _scheduler_address(address):
     """The address with its scheme ("host:8786" -> "tcp://host:8786"); a malformed one is one line."""
-    from distributed.comm.addressing import get_address_host_port, normalize_address
+    from distributed.comm.addressing import get_address_host_port, normalize_address, parse_address
 
     if not isinstance(address, str) or not address.strip():
         raise RadiometerError(f"not a scheduler address: {address!r} (expected e.g. tcp://host:8786)")
     address = address.strip()
     try:
         normal = normalize_address(address)
-        get_address_host_port(normal)  # a host and a port, for the schemes that have them
+        if parse_address(normal)[0] != "inproc":  # a host and a port, for the schemes that have them
+            port = get_address_host_port(normal)[1]
+            if port is not None and not 0 < int(port) < 65536:
+                raise ValueError(f"port {port} is not between 1 and 65535")
     except (ValueError, TypeError) as exc:
         raise RadiometerError(f"not a scheduler address: {address} ({_short(exc)}; expected e.g. "
                               "tcp://host:8786)") from None
