@@ -42,7 +42,7 @@ def _scene(build):
 
 
 def _report(scene, out, cancelled=None, **kw):
-    from radiometer.measure import report
+    from radiometer.measure.reports import report
 
     return report.export_report(str(out), scene=scene, quality="preview", convergence=False, cancelled=cancelled,
                                 **kw)
@@ -75,7 +75,7 @@ def test_cancel_at_any_point_keeps_the_previous_set(clean_blender, build, tmp_pa
         assert _state(out) == previous, f"cancelled at poll {k} of {len(polls)}"
 
     # The case of issue 33: the picture itself raises MeasurementCancelled (its renders saw the flag).
-    from radiometer.measure import luminance_image
+    from radiometer.measure.analyses import luminance_image
 
     def cancelled_picture(*args, **kwargs):
         raise MeasurementCancelled("luminance image cancelled")
