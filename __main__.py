@@ -17,8 +17,12 @@ def _stop_at_once(signum, _frame):
     # The CLI's plumbing may not be imported yet, or only half (the signal came during its import):
     # then the private folders that outputs made, if any, are removed here.
     # Nothing is imported here: the signal may have come in the middle of an import.
+    said = "stopped, no file left half-written"
     try:
-        remove = getattr(sys.modules.get(f"{__package__}.commands._io"), "remove_scratch", None)
+        io = sys.modules.get(f"{__package__}.commands._io")
+        if getattr(io, "written_files_text", None) is not None:  # after the run: say what it wrote
+            said = f"stopped; {io.written_files_text()}"
+        remove = getattr(io, "remove_scratch", None)
         if remove is not None:
             remove()
         else:
@@ -28,7 +32,7 @@ def _stop_at_once(signum, _frame):
                 shutil.rmtree(folder, ignore_errors=True)
     except Exception:  # noqa: BLE001 - a half-imported module: the line and the exit code still follow
         pass
-    os.write(2, f"radiometer: {what}; stopped, no file left half-written\n".encode())
+    os.write(2, f"radiometer: {what}; {said}\n".encode())
     os._exit(128 + signum)
 
 

@@ -121,13 +121,15 @@ def _open_blend(path):
 
 #: Options that name files or folders a subcommand writes, and arguments naming files it reads.
 OUTPUT_OPTIONS = {"json": "--json", "csv": "--csv", "png": "--png", "plot": "--plot", "plots": "--plots",
-                  "irradiance_map": "--irradiance-map", "out": "--out"}
+                  "irradiance_map": "--irradiance-map", "luminance_image": "--luminance-image", "out": "--out"}
 INPUT_ARGUMENTS = {"blend": "scene", "file": "file"}
 
 
-def _check_paths(args, in_blender):
+def _check_paths(args, in_blender, module=None):
     """Before any work: no empty file names, no output onto an input of this run, no two outputs
-    onto one file (one line each)."""
+    onto one file, the files a subcommand writes without an option of their own included (the PNG
+    beside a luminance EXR, a report's html/pdf/md/json: its ``implied_outputs(args)``), and each of
+    those writable (not a link, a folder or in a missing folder): one line each."""
     outputs_, inputs = [], []
     for attr, label in OUTPUT_OPTIONS.items():
         value = getattr(args, attr, None)
@@ -135,6 +137,10 @@ def _check_paths(args, in_blender):
             if not value.strip():
                 raise RadiometerError(f"{label} needs a file name (got an empty one)")
             outputs_.append((label, value))
+    implied = list(getattr(module, "implied_outputs", lambda _args: [])(args))
+    if implied:
+        outputs_ = [(label, p) for label, p in outputs_ if not os.path.isdir(p)]  # a folder is not a file
+    outputs_ += implied
     for attr, label in INPUT_ARGUMENTS.items():
         value = getattr(args, attr, None)
         if isinstance(value, str) and value:
@@ -150,6 +156,10 @@ def _check_paths(args, in_blender):
     from . import outputs
 
     outputs.refuse_overlaps(outputs_, inputs)
+    for label, path in implied:
+        if not os.path.isdir(os.path.dirname(os.path.abspath(path))):
+            continue  # its folder is made by the run (a report's --out): checked as a folder there
+        outputs.check_writable(path, label)
 
 
 def _os_error_message(exc):
@@ -172,7 +182,10 @@ def main(argv=None, *, in_blender=False):
         if args.command is None:
             raise RadiometerError(f"{PROG}: a subcommand is required (see --help)")
         module = _command_module(args.command)
-        _check_paths(args, in_blender)
+        from . import outputs
+
+        outputs.written.clear()  # this run's files, for the stop messages
+        _check_paths(args, in_blender, module)
         json_to_stdout = args.json == "-"
         if args.json:
             _io.check_output_file(args.json, "JSON file")  # before the run, not after it

@@ -19,6 +19,7 @@ import hashlib
 import os
 import re
 import tempfile
+import threading
 
 _private_root = None
 _WINDOWS_RESERVED = {"con", "prn", "aux", "nul", *(f"com{i}" for i in range(1, 10)), *(f"lpt{i}" for i in range(1, 10))}
@@ -27,6 +28,13 @@ MAX_STEM = 80
 
 #: Every private folder this process made (removed together: one made after an earlier removal too).
 created_roots = []
+#: Files this process finished writing (absolute paths, in order): the CLI's stop messages name them.
+written = []
+#: Temporary files and staging folders alive now, beside their destinations: removed on every exit of
+#: the CLI (:func:`remove_private_roots`), the watchdog's forced one included, if not gone already.
+_temporaries = set()
+#: Held while a result file or a set of files is put in place: the CLI's watchdog waits for it.
+writing = threading.RLock()
 
 
 def private_temp_root():
@@ -64,6 +72,27 @@ def remove_private_roots():
     for folder in {root, *created_roots} - {None}:
         shutil.rmtree(folder, ignore_errors=True)
     created_roots.clear()
+    remove_temporaries()
+
+
+def remove_temporaries():
+    """Remove every temporary file and staging folder this process has beside a destination now."""
+    import shutil
+
+    for path in list(_temporaries):
+        if os.path.isdir(path) and not os.path.islink(path):
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            with _contextlib.suppress(OSError):
+                os.unlink(path)
+        _temporaries.discard(path)
+
+
+def _note_written(full):
+    """Record a finished file: not one in a staging folder (not in place yet), nor one in this
+    process's private folder (scratch, removed when the CLI exits)."""
+    if not any(full.startswith(os.path.join(t, "")) for t in [*_temporaries, *created_roots]):
+        written.append(full)
 
 
 def user_folder(sub):
@@ -187,6 +216,7 @@ def write_bytes(path, data):
                 os.close(fd)
             return path
         fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(full)}.", suffix=".tmp", dir=os.path.dirname(full))
+        _temporaries.add(tmp)
         try:
             with os.fdopen(fd, "wb") as f:
                 f.write(data)
@@ -200,10 +230,13 @@ def write_bytes(path, data):
             if os.path.islink(full):  # planted while we wrote
                 raise _error(path, "it is a symbolic link (refusing to follow it)")
             os.replace(tmp, full)
+            _note_written(full)
         except BaseException:
             with _contextlib.suppress(OSError):
                 os.unlink(tmp)
             raise
+        finally:
+            _temporaries.discard(tmp)
     except OSError as exc:
         raise _error(path, exc) from None
     return path
@@ -233,6 +266,7 @@ def atomic_output(path):
         # A device's folder (/dev) is no place for our temp file: use this process's private folder.
         fd, tmp = tempfile.mkstemp(prefix=f".{stem}.", suffix=f".tmp{suffix}",
                                    dir=private_temp_root() if special else folder)
+        _temporaries.add(tmp)
         os.close(fd)
     except OSError as exc:
         raise _error(path, exc) from None
@@ -251,6 +285,7 @@ def atomic_output(path):
         if os.path.islink(full):  # planted while we wrote
             raise _error(path, "it is a symbolic link (refusing to follow it)")
         os.replace(tmp, full)
+        _note_written(full)
     except OSError as exc:
         with _contextlib.suppress(OSError):
             os.unlink(tmp)
@@ -259,6 +294,8 @@ def atomic_output(path):
         with _contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
+    finally:
+        _temporaries.discard(tmp)
 
 
 def check_writable(path, what="output file"):
@@ -336,4 +373,165 @@ def json_safe(value):
         return {k: json_safe(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [json_safe(v) for v in value]
+    return value
+
+
+def check_set(folder, names, what="output"):
+    """Say now (one-line RadiometerError) that a set of files ``names`` in ``folder`` could not be put in
+    place later: every target is checked (a link, a folder, a device), and the folder once (a file is
+    created there and removed). For multi-file outputs, before their work starts."""
+    first = None
+    for name in names:
+        full = _check_destination(os.path.join(folder, name), what)
+        if _is_special(full):
+            raise _error(full, "it is a device or a pipe, not a file of a set", what)
+        first = first or full
+    if first is not None:
+        check_writable(first, what)
+
+
+class FileSet:
+    """A set of files in ``folder`` replaced together or not at all (a report's html, pdf, md, json
+    and pictures): a staging folder beside the targets, renamed into place file by file at the end.
+
+    Why a staging folder and not only a manifest written last: with a manifest alone the new files
+    would replace the old ones one by one while the run goes on, and a cancel halfway would leave a
+    mix; staged, nothing in ``folder`` changes until every file of the new set is complete.
+
+    Use::
+
+        with FileSet(out, manifest="report.json", name="report") as stage:
+            write(stage.path("report.html")) ...            # every file of the set into stage.folder
+            stage.commit()                                   # the set, together
+
+    :meth:`commit` checks every destination first (a link, a folder: one line, nothing moved), then
+    renames every staged file onto its destination, the manifest last, holding :data:`writing` (the
+    CLI's watchdog waits for it) and finishing the renames even if a KeyboardInterrupt arrives
+    halfway (re-raised after). The renames take microseconds each: only a SIGKILL or a power cut in
+    that window can leave a mix, and the manifest, renamed last, then still names the previous set.
+    Files that the previous manifest listed (its ``"files"``) and the new set lacks are removed after.
+    Leaving the block without a commit (an error, a cancel, Ctrl-C) removes the staging folder: the
+    previous set stays as it was. The CLI removes a staging folder on every exit, forced ones too;
+    one left by a killed process (SIGKILL) is removed by the next set written into that folder.
+    """
+
+    def __init__(self, folder, manifest, name="set"):
+        self.target = os.path.abspath(os.fspath(folder))
+        self.manifest = manifest
+        self.name = name
+        self.folder = None
+        self.committed = []
+
+    def __enter__(self):
+        self._remove_orphans()
+        try:
+            self.folder = tempfile.mkdtemp(prefix=f".{self.name}.staging-{os.getpid()}-", dir=self.target)
+        except OSError as exc:
+            raise _error(self.target, exc, f"the {self.name} into") from None
+        _temporaries.add(self.folder)
+        return self
+
+    def _remove_orphans(self):
+        """Staging folders of processes that no longer run (a SIGKILL, a power cut): nothing else
+        removes them. The folder names carry the process id; this process's own are left alone."""
+        import shutil
+
+        prefix = f".{self.name}.staging-"
+        try:
+            names = [n for n in os.listdir(self.target) if n.startswith(prefix)]
+        except OSError:
+            return
+        for name in names:
+            pid = name[len(prefix):].split("-", 1)[0]
+            if not pid.isdigit() or int(pid) == os.getpid():
+                continue
+            try:
+                os.kill(int(pid), 0)
+                continue  # still running (another report into the same folder)
+            except ProcessLookupError:
+                pass
+            except (PermissionError, OverflowError):
+                continue  # another user's process runs, or no such process id: not ours to judge
+            full = os.path.join(self.target, name)
+            if os.path.isdir(full) and not os.path.islink(full):
+                shutil.rmtree(full, ignore_errors=True)
+
+    def path(self, name):
+        """Where the file ``name`` of the set is written (inside the staging folder)."""
+        return os.path.join(self.folder, name)
+
+    def files(self):
+        """The names of the files staged so far (no temporary files of writers still at work)."""
+        return sorted(n for n in os.listdir(self.folder)
+                      if not n.startswith(".") and os.path.isfile(os.path.join(self.folder, n)))
+
+    def _previous(self):
+        import json
+
+        try:
+            with open(os.path.join(self.target, self.manifest), encoding="utf-8") as f:
+                listed = json.load(f).get("files")
+        except (OSError, ValueError, AttributeError):
+            return []
+        if not isinstance(listed, list):
+            return []
+        # Only plain names of files in this folder: a damaged or hand-edited manifest deletes nothing else.
+        return [n for n in listed if isinstance(n, str) and n and n == os.path.basename(n)
+                and not n.startswith(".") and n not in (os.curdir, os.pardir)]
+
+    def commit(self):
+        """Put the staged set in place (see the class); returns the destinations, the manifest last."""
+        names = self.files()
+        if self.manifest in names:
+            names = [n for n in names if n != self.manifest] + [self.manifest]
+        check_set(self.target, names, f"{self.name} file")
+        previous = self._previous()
+        done, interrupted = [], None
+        with writing:
+            for name in names:
+                while True:
+                    try:
+                        os.replace(self.path(name), os.path.join(self.target, name))
+                        done.append(os.path.join(self.target, name))
+                        break
+                    except KeyboardInterrupt as exc:  # finish the set first
+                        interrupted = exc
+                    except FileNotFoundError as exc:
+                        if not os.path.exists(self.path(name)) and os.path.isfile(os.path.join(self.target, name)):
+                            done.append(os.path.join(self.target, name))  # moved just before an interrupt
+                            break
+                        raise _error(os.path.join(self.target, name), exc, f"{self.name} file") from None
+                    except OSError as exc:
+                        raise _error(os.path.join(self.target, name), exc,
+                                     f"{self.name} file ({len(done)} of {len(names)} in place)") from None
+            written.extend(done)
+            self.committed = done
+        for name in set(previous) - set(names):
+            with _contextlib.suppress(OSError):
+                full = os.path.join(self.target, name)
+                if os.path.isfile(full) and not os.path.islink(full):
+                    os.unlink(full)
+        if interrupted is not None:
+            raise interrupted
+        return done
+
+    def __exit__(self, *exc):
+        import shutil
+
+        shutil.rmtree(self.folder, ignore_errors=True)
+        _temporaries.discard(self.folder)
+        return False
+
+
+def relocated(value, old_folder, new_folder):
+    """``value`` (dicts, lists, tuples, strings) with every mention of ``old_folder`` (a staging
+    folder) in its strings replaced by ``new_folder``: the paths the files have once moved there."""
+    old, new = os.fspath(old_folder), os.fspath(new_folder)
+    if isinstance(value, str):
+        return value.replace(old, new)
+    if isinstance(value, dict):
+        return {k: relocated(v, old, new) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return type(value)(relocated(v, old, new) for v in value) if not hasattr(value, "_fields") else \
+            type(value)(*(relocated(v, old, new) for v in value))
     return value

@@ -9,5 +9,5 @@ Contract (other modules code against it)::
 Importing this package needs neither bpy nor dask (the UI checks :func:`available`).
 """
 
-from .engine import (INSTALL_HINT, available, cluster_client, cluster_info, connect, local_client,  # noqa: F401
-                     run_file_tasks, run_scene_tasks)
+from .engine import (INSTALL_HINT, available, check_workers, cluster_client, cluster_info, connect,  # noqa: F401
+                     local_client, max_local_workers, run_file_tasks, run_scene_tasks)

@@ -4,7 +4,8 @@ A task is ``fn(scene, **kwargs)``: ``fn`` an importable module-level function, `
 sky patch / frame / variant and a chunk of points, the result anything picklable (readings and
 their statistics). Results come back in the order of ``kwargs_list`` whatever order the tasks ran
 in. Seeds are the caller's: put the seed in each task's kwargs (e.g. ``seed=index`` or a fixed
-one), so readings do not depend on the number of workers or on which worker ran a task.
+one), so a task's seed does not depend on the number of workers or on which worker ran it. That
+makes in-process and cluster runs agree within their stated errors, not digit for digit (docs/cluster.md).
 """
 
 import contextlib
@@ -21,6 +22,8 @@ from . import worker
 INSTALL_HINT = ("Dask is not installed: pip install dask==2026.8.0 distributed==2026.8.0 (the versions in "
                 "requirements.txt) into the Python that runs Radiometer")
 CONNECT_TIMEOUT_S = 5.0
+#: Local worker processes allowed per usable core (``--workers``); see :func:`max_local_workers`.
+WORKERS_PER_CORE = 4
 _POLL_S = 0.02  # how often the client looks for finished tasks and polls cancelled() (s)
 #: Times a finished task whose result was lost with its worker is run again before the run fails.
 _MAX_RESUBMITS = 3
@@ -45,24 +48,149 @@ def _require_distributed():
 def connect(address, *, timeout_s=CONNECT_TIMEOUT_S):
     """A ``distributed.Client`` for the scheduler at ``address`` ("tcp://host:8786" or "host:8786").
 
-    An unreachable scheduler is a one-line RadiometerError after ``timeout_s`` seconds.
+    Every way of not finding a scheduler there is one RadiometerError within ``timeout_s`` seconds
+    (plus the client's own start), and nothing is printed afterwards:
+
+    - a malformed address is refused before anything connects;
+    - before a Client exists, a probe in its own event loop, bounded as a whole by ``timeout_s``,
+      connects, does Dask's handshake and asks the peer who it is: an unreachable port, a service
+      that never answers the handshake (an HTTP server, e.g. the dashboard's port 8787) or one that
+      answers garbage (measured: "Maximum allowed dimension exceeded", or a MemoryError for a
+      3 EiB frame) each become one line. ``distributed``'s own connect bounds the TCP connect but
+      not the handshake read (measured: an HTTP server kept ``Client(...)`` waiting past 90 s);
+    - a Client whose start fails anyway is closed there, so that its ``__del__`` does not print a
+      ``TimeoutError`` traceback 10 s later (measured before this guard).
     """
     _require_distributed()
-    from distributed import Client
+    address = _scheduler_address(address)
+    _probe_scheduler(address, timeout_s)
+    client_class = _guarded_client_class()
+    try:
+        return client_class(address, timeout=f"{timeout_s}s", set_as_default=False)
+    except (OSError, TimeoutError) as exc:
+        raise RadiometerError(f"cannot reach the Dask scheduler at {address} within {timeout_s:g} s "
+                              f"({_short(exc)})") from None
+    except Exception as exc:  # the probe passed, yet the client could not start: still one line
+        raise RadiometerError(f"the Dask scheduler at {address} did not accept a client "
+                              f"({type(exc).__name__}: {_short(exc)})") from None
+
+
+def _short(exc, limit=160):
+    reason = " ".join(str(exc).split()) or type(exc).__name__
+    return reason if len(reason) <= limit else reason[:limit - 3] + "..."
+
+
+def _scheduler_address(address):
+    """The address with its scheme ("host:8786" -> "tcp://host:8786"); a malformed one is one line."""
+    from distributed.comm.addressing import get_address_host_port, normalize_address, parse_address
 
     if not isinstance(address, str) or not address.strip():
         raise RadiometerError(f"not a scheduler address: {address!r} (expected e.g. tcp://host:8786)")
     address = address.strip()
     try:
-        return Client(address, timeout=f"{timeout_s}s", set_as_default=False)
-    except (OSError, TimeoutError) as exc:
-        reason = " ".join(str(exc).split()) or type(exc).__name__
-        if len(reason) > 160:
-            reason = reason[:157] + "..."
-        raise RadiometerError(f"cannot reach the Dask scheduler at {address} within {timeout_s:g} s ({reason})") \
-            from None
-    except ValueError as exc:
-        raise RadiometerError(f"not a scheduler address: {address} ({exc})") from None
+        normal = normalize_address(address)
+        if parse_address(normal)[0] != "inproc":  # a host and a port, for the schemes that have them
+            port = get_address_host_port(normal)[1]
+            if port is not None and not 0 < int(port) < 65536:
+                raise ValueError(f"port {port} is not between 1 and 65535")
+    except (ValueError, TypeError) as exc:
+        raise RadiometerError(f"not a scheduler address: {address} ({_short(exc)}; expected e.g. "
+                              "tcp://host:8786)") from None
+    return normal
+
+
+def _probe_scheduler(address, timeout_s):
+    """Connect, handshake and ask ``identity`` within ``timeout_s`` in a private loop; one line if not.
+
+    Runs in a daemon thread with its own event loop (the caller may be inside one: Jupyter), joined
+    with a deadline, so nothing the peer does can keep the caller waiting longer.
+    """
+    import asyncio
+    import threading
+
+    outcome = {"stage": "connect"}
+
+    async def probe():
+        from distributed.comm import connect as comm_connect
+        from distributed.comm.addressing import get_address_host_port
+        from distributed.security import Security
+
+        try:
+            host, port = get_address_host_port(address)
+        except ValueError:  # a scheme without host and port (inproc): Dask's connect alone
+            host = None
+        while host is not None:  # is anything listening? (refused: retried, a scheduler may be starting)
+            try:
+                _, writer = await asyncio.open_connection(host, port)
+            except ConnectionRefusedError as exc:
+                outcome["refused"] = exc
+                await asyncio.sleep(0.2)
+                continue
+            writer.close()
+            outcome.pop("refused", None)
+            break
+        outcome["stage"] = "handshake"
+        comm = await comm_connect(address, timeout=timeout_s, **Security().get_connection_args("client"))
+        try:
+            outcome["stage"] = "identity"
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            with contextlib.suppress(BaseException):
+                await asyncio.wait_for(comm.close(), 1.0)
+
+    def run():
+        try:
+            outcome["reply"] = asyncio.run(asyncio.wait_for(probe(), timeout_s))
+        except BaseException as exc:  # noqa: BLE001 - reported by the caller, never printed here
+            outcome["error"] = exc
+
+    thread = threading.Thread(target=run, name="radiometer-scheduler-probe", daemon=True)
+    thread.start()
+    thread.join(timeout_s + 1.0)
+    error = outcome.get("error")
+    timed_out = thread.is_alive() or isinstance(error, (asyncio.TimeoutError, TimeoutError))
+    if outcome["stage"] == "connect" and (timed_out or isinstance(error, OSError)):
+        reason = outcome.get("refused") or (error if not timed_out else None) or "no answer"
+        raise RadiometerError(f"cannot reach the Dask scheduler at {address} within {timeout_s:g} s "
+                              f"({_short(reason)})")
+    if timed_out:
+        raise RadiometerError(f"no Dask scheduler answered at {address} within {timeout_s:g} s: something listens "
+                              "there but does not speak Dask's protocol (the dashboard's HTTP port, 8787, or "
+                              "another service?); the scheduler's port is 8786 by default")
+    if error is not None:
+        raise RadiometerError(f"{address} is not a Dask scheduler: it answered Dask's handshake with something "
+                              f"else ({type(error).__name__}: {_short(error, 100)})")
+    reply = outcome.get("reply")
+    if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
+        kind = reply.get("type") if isinstance(reply, dict) else type(reply).__name__
+        raise RadiometerError(f"{address} is not a Dask scheduler (it says it is {kind!s:.40}): give the "
+                              "scheduler's address, e.g. tcp://host:8786")
+
+
+def _guarded_client_class():
+    """``distributed.Client`` whose failed start leaves nothing behind to print from ``__del__``."""
+    global _GuardedClient
+    if _GuardedClient is None:
+        from distributed import Client
+
+        class GuardedClient(Client):
+            def start(self, **kwargs):
+                try:
+                    return super().start(**kwargs)
+                except BaseException:
+                    # Half-made: Client.__del__ would call close(), which waits 10 s for a loop that
+                    # never connected and prints "Exception ignored ... TimeoutError". Stop it here.
+                    self.status = "closed"
+                    with contextlib.suppress(Exception):
+                        self._loop_runner.stop()
+                    raise
+
+        _GuardedClient = GuardedClient
+    return _GuardedClient
+
+
+_GuardedClient = None
 
 
 def local_client(workers):
@@ -74,12 +202,35 @@ def local_client(workers):
     _require_distributed()
     from distributed import Client, LocalCluster
 
-    workers = int(workers)
-    if workers < 1:
-        raise RadiometerError(f"--workers must be at least 1, got {workers}")
+    workers = check_workers(workers)
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                            silence_logs=logging.ERROR, host="127.0.0.1")
     return Client(cluster, set_as_default=False)
+
+
+def max_local_workers():
+    """The most worker processes :func:`local_client` starts: ``WORKERS_PER_CORE`` × this machine's cores.
+
+    Each worker is a Python process with bpy loaded (hundreds of MB before a scene) rendering with
+    cores / workers Cycles threads; past a few per core they only add memory and start-up time.
+    """
+    return WORKERS_PER_CORE * _usable_cores()
+
+
+def check_workers(workers):
+    """``workers`` as an int between 1 and :func:`max_local_workers`, or a one-line RadiometerError."""
+    try:
+        count = int(workers)
+    except (TypeError, ValueError):
+        raise RadiometerError(f"--workers must be a whole number, got {workers!r}") from None
+    if count != workers or count < 1:
+        raise RadiometerError(f"--workers must be a whole number of at least 1, got {workers!r}")
+    limit = max_local_workers()
+    if count > limit:
+        raise RadiometerError(f"--workers {count} is more than {WORKERS_PER_CORE} per core ({limit} on the "
+                              f"{_usable_cores()} cores here): each worker is a Blender process; use at most "
+                              f"{limit}, or a cluster of several machines (--scheduler)")
+    return count
 
 
 @contextlib.contextmanager

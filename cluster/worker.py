@@ -192,7 +192,7 @@ def run_task(source, fn_name, kwargs, index, label, threads_by_host):
 
 
 def _run_task_locked(source, fn_name, kwargs, index, label, threads_by_host):
-    from ..errors import RadiometerError
+    from ..errors import MeasurementCancelled, RadiometerError
 
     started = time.perf_counter()
     where = f"{label} task {index + 1}"
@@ -206,6 +206,8 @@ def _run_task_locked(source, fn_name, kwargs, index, label, threads_by_host):
         host = _this_host()
         set_cycles_threads(scene, (threads_by_host or {}).get(host))
         result = fn(scene, **kwargs)
+    except MeasurementCancelled:
+        raise
     except RadiometerError as exc:
         raise RadiometerError(f"{where} ({source.name}): {exc}") from None
     except Exception as exc:  # a scene or code failure: one line, not a traceback storm

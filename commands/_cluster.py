@@ -12,7 +12,7 @@ def add_arguments(parser):
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--workers", type=int, metavar="N", default=None,
                        help="run on a local Dask cluster of N worker processes (one thread each; Cycles threads "
-                            "= cores / N); needs dask and distributed")
+                            "= cores / N; at most 4 per core); needs dask and distributed")
     group.add_argument("--scheduler", metavar="ADDRESS", default=None,
                        help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (started with `dask "
                             "scheduler` and `dask worker ADDRESS --nthreads 1`; see docs/cluster.md)")
@@ -20,12 +20,11 @@ def add_arguments(parser):
 
 def client(args):
     """Context manager yielding the Dask client the options ask for (None: this process)."""
-    from ..cluster import cluster_client
-    from ..errors import RadiometerError
+    from ..cluster import check_workers, cluster_client
 
     workers = getattr(args, "workers", None)
-    if workers is not None and workers < 1:
-        raise RadiometerError(f"--workers must be at least 1, got {workers}")
+    if workers is not None:
+        check_workers(workers)  # before any work: 1 to 4 per core
     return cluster_client(workers=workers, scheduler=getattr(args, "scheduler", None))
 
 

@@ -107,10 +107,25 @@ def blender_logs_silenced(enabled=True, quiet=False):
         os.close(null)
 
 
-def stop_message(signum):
-    """The one line said when a signal stops the CLI."""
+def stop_message(signum, forced=False):
+    """The one line said when a signal stops the CLI: which files were complete by then (a signal after
+    the outputs were written must not say that nothing was), and that none is left half-written."""
     what = "terminated (SIGTERM)" if signum == signal.SIGTERM else "interrupted (Ctrl-C)"
-    return f"radiometer: {what}; stopped, no file left half-written"
+    how = "the run did not stop in time, ended it" if forced else "stopped"
+    return f"radiometer: {what}; {how}; {written_files_text()}"
+
+
+def written_files_text(limit=6):
+    """"wrote a.json, b.png" (the files this run completed, the first ``limit`` and a count) or
+    "no result file was written"; never a half-written file."""
+    from .. import outputs
+
+    done = list(dict.fromkeys(outputs.written))  # each once, in order
+    if not done:
+        return "no result file was written"
+    shown = ", ".join(outputs.shown(p, 100) for p in done[:limit])
+    more = f" and {len(done) - limit} more" if len(done) > limit else ""
+    return f"wrote {shown}{more} before stopping (each whole); no file left half-written"
 
 
 def exit_code(signum):
@@ -135,7 +150,9 @@ class Interrupt:
         self.signum = None
         self.flag = threading.Event()
         self.finished = threading.Event()
-        self._writing = threading.Lock()
+        from .. import outputs
+
+        self._writing = outputs.writing  # one lock with outputs.FileSet.commit: the watchdog waits for both
         self._installed = False
         self._signals = 0
         self.stderr_fd = 2  # main() sets the real stderr while fd 2 points at /dev/null
@@ -188,10 +205,8 @@ class Interrupt:
             with self._writing:
                 if self.finished.is_set():
                     return
-                what = "terminated (SIGTERM)" if self.signum == signal.SIGTERM else "interrupted (Ctrl-C)"
                 remove_scratch()
-                os.write(self.stderr_fd, f"radiometer: {what}; the run did not stop in time, ended it; "
-                                         "no result file was written\n".encode())
+                os.write(self.stderr_fd, (stop_message(self.signum, forced=True) + "\n").encode())
                 os._exit(self.exit_code)
 
     def install(self):

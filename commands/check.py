@@ -47,6 +47,12 @@ def run(args):
 
         require_matplotlib()  # asked for plots: say at once, before the checks, that they cannot be made
         _io.check_output_dir(args.plots, "--plots folder")
+        # Every plot's target before the checks (a link or a folder by that name), and not the --json file.
+        stems = outputs.Stems(sorted(ob.name for ob in lights))
+        planned = [f"{kind}_{stems(ob.name)}.png" for ob in lights for kind in ("inverse_square", "cosine")]
+        outputs.check_set(os.path.abspath(args.plots), planned, "--plots file")
+        outputs.refuse_overlaps([("--json", getattr(args, "json", None))]
+                                + [("a --plots file", os.path.join(args.plots, n)) for n in planned], [])
     watch = {"cancelled": getattr(args, "cancelled", None)}
     progress = getattr(args, "progress", None)
     out = {"scene": scene.name, "inverse_square": [], "cosine": [], "meters": [], "grids": [], "convergence": None}
@@ -81,7 +87,6 @@ def run(args):
             print(f"  {r['light']}: {r['error']}")
     deliver(args, out)  # the numbers are safe on disk before any plot is drawn
     if args.plots:
-        stems = outputs.Stems(sorted(ob.name for ob in lights))
         writers = {"inverse_square": analysis.write_inverse_square_plot, "cosine": analysis.write_cosine_plot}
         by_light = {}
         for kind, name, r in done:

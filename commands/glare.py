@@ -13,6 +13,16 @@ def add_arguments(parser):
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
 
 
+def implied_outputs(args):
+    """The false-colour PNG written beside ``--luminance-image X.exr`` (X.png): in the CLI's checks."""
+    import os
+
+    path = getattr(args, "luminance_image", None)
+    if not path or not str(path).lower().endswith(".exr"):
+        return []
+    return [("the PNG beside --luminance-image", os.path.splitext(path)[0] + ".png")]
+
+
 def run(args):
     import bpy
 

@@ -25,6 +25,16 @@ def add_arguments(parser):
     parser.add_argument("--no-client", action="store_true", help="skip the client's report.html and report.pdf")
 
 
+def implied_outputs(args):
+    """The report set's fixed files in ``--out`` (the pictures' names depend on the scene: the report
+    checks them once the scene is open, before measuring)."""
+    import os
+
+    from ..measure.reports.report_files import fixed_files
+
+    return [(f"the report's {name}", os.path.join(args.out, name)) for name in fixed_files(not args.no_client)]
+
+
 def run(args):
     import bpy
 

@@ -420,6 +420,7 @@ def report_task(context, convergence=True):
 
     task = Task("Report", [Step(label, fn, weight) for label, weight in plan])
     task.results = box
+    task.on_end = parts.close  # Esc between parts: the report's staging folder is removed now, not at GC
     holder["task"] = task
     return task
 

@@ -54,6 +54,8 @@ class Task:
         self.error = None
         self.cancel_requested = False
         self.started = time.perf_counter()
+        #: Called once when the task ends, however (a report's generator is closed: its staging folder goes).
+        self.on_end = None
 
     # --- polled by the measurements -------------------------------------------------------------
     def cancelled(self):
@@ -228,6 +230,8 @@ class TaskOperator:
                 area.tag_redraw()
 
     def _end(self, context, task):
+        if task.on_end is not None:
+            task.on_end()
         wm = context.window_manager
         if self._timer is not None:
             wm.event_timer_remove(self._timer)

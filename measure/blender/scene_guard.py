@@ -24,7 +24,10 @@ _DERIVED = {"white_balance_whitepoint"}
 
 # Properties whose values must not be written back (read-only at runtime or derived).
 _SKIP = {"rna_type", "is_evaluated", "original", "users", "session_uid", "is_missing",
-         "use_nodes"}  # Scene.use_nodes is deprecated in 5.0 (reading it warns)
+         "use_nodes",  # Scene.use_nodes is deprecated in 5.0 (reading it warns)
+         # A view layer's evaluated state, made on demand (a fresh scene has none until its layer is
+         # updated): runtime, not a setting; walking it put the evaluated copies into the snapshot.
+         "depsgraph"}
 
 
 _WRITABLE = {}  # RNA struct identifier -> identifiers of its writable plain properties
@@ -51,6 +54,46 @@ def _writable_identifiers(struct):
 # Nested structs that only hold a value when their parent says so (reading them otherwise logs
 # "current value '-1' matches no enum" on every snapshot: a PNG output has no linear colour space).
 _ONLY_WHEN = {"linear_colorspace_settings": "has_linear_colorspace"}
+
+#: Colour-space settings hold one name: DNA ``ColorManagedColorspaceSettings { char name[64]; }``.
+#: Never set (a fresh scene's PNG output: '') it reads through RNA as "no enum" with a warning and
+#: cannot be written back through RNA, and once a measurement sets an EXR output Blender fills it in
+#: ('Linear Rec.709'), which returning to PNG does not undo (issue 33: left changed on a fresh scene).
+#: So these are kept as their 64 bytes and written back byte for byte, the layout checked first
+#: against the scene's sequencer colour space (the same DNA struct, always set, read through RNA).
+_RAW_COLORSPACE = {"ColorManagedInputColorspaceSettings"}
+_RAW_SIZE = 64
+_raw_layout_ok = None
+
+
+def _raw_colorspace_ok(struct):
+    """True when a colour-space settings struct is ``char name[64]`` here (checked once per process)."""
+    global _raw_layout_ok
+    if _raw_layout_ok is None:
+        import ctypes
+
+        try:
+            ref = struct.id_data.sequencer_colorspace_settings
+            raw = ctypes.string_at(ref.as_pointer(), _RAW_SIZE)
+            _raw_layout_ok = bool(ref.name) and raw.split(b"\0", 1)[0].decode("utf-8") == ref.name
+        except (AttributeError, TypeError, ValueError, UnicodeDecodeError):
+            _raw_layout_ok = False
+    return _raw_layout_ok
+
+
+def _raw_tree(struct):
+    import ctypes
+
+    raw = ctypes.string_at(struct.as_pointer(), _RAW_SIZE)
+    # "name" as RNA would read it ('' when unset), for the fingerprint's readers; "raw" is restored.
+    return {"values": {"name": raw.split(b"\0", 1)[0].decode("utf-8", "replace")}, "nested": {}, "raw": raw}
+
+
+def _restore_raw(struct, raw):
+    import ctypes
+
+    if ctypes.string_at(struct.as_pointer(), _RAW_SIZE) != raw:
+        ctypes.memmove(struct.as_pointer(), raw, _RAW_SIZE)
 
 
 def _is_id(rna):
@@ -82,9 +125,6 @@ def _tree_values(struct, depth=MAX_DEPTH, seen=None):
     nested = {}
     if depth > 0:
         for ident in _nested_identifiers(struct):
-            flag = _ONLY_WHEN.get(ident)
-            if flag is not None and not getattr(struct, flag, True):
-                continue
             try:
                 child = getattr(struct, ident)
             except (AttributeError, RuntimeError):
@@ -92,11 +132,20 @@ def _tree_values(struct, depth=MAX_DEPTH, seen=None):
             if child is None or not hasattr(child, "bl_rna") \
                     or (child.bl_rna.identifier, child.as_pointer()) in seen:
                 continue
+            if child.bl_rna.identifier in _RAW_COLORSPACE and _raw_colorspace_ok(child):
+                nested[ident] = _raw_tree(child)  # exact, unset ('') included
+                continue
+            flag = _ONLY_WHEN.get(ident)
+            if flag is not None and not getattr(struct, flag, True):
+                continue
             nested[ident] = _tree_values(child, depth - 1, seen)
     return {"values": _rna_values(struct), "nested": nested}
 
 
 def _restore_tree(struct, tree):
+    if "raw" in tree:
+        _restore_raw(struct, tree["raw"])
+        return
     _restore_values(struct, tree["values"])  # parents first: their enums may reset the children
     for ident, child_tree in tree["nested"].items():
         try:

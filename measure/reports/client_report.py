@@ -380,10 +380,12 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
     glare_results = []
     for k, obs in enumerate(observers or ()):
         if cancelled is not None and cancelled():
-            raise MeasurementCancelled("report cancelled; nothing written")
+            raise MeasurementCancelled("report cancelled; the previous report is as it was")
         (p, d) = obs
         try:
             g = glare_mod.glare_ugr(p, d, scene=scene, quality=quality)
+        except MeasurementCancelled:
+            raise
         except RadiometerError as exc:
             report.setdefault("errors", []).append(f"glare at observer {k + 1}: {exc}")
             continue
@@ -432,6 +434,8 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
             client["images"].append((f"False-colour luminance seen by the camera {scene.camera.name} (cd/m², log "
                                      f"scale; {100 * img.share_on_target:.0f} % of the pixels within "
                                      f"{100 * img.target_rel_error:g} %)", "luminance.png"))
+        except MeasurementCancelled:  # a cancel is no failed picture: the report stops (issue 33)
+            raise
         except RadiometerError as exc:
             report.setdefault("errors", []).append(f"luminance image: {exc}")
     for grid in report.get("grids", []):

@@ -25,6 +25,7 @@ from ...errors import MeasurementCancelled, RadiometerError
 from ..analyses import analysis
 from ..meter import meter_objects as meters
 from ..analyses.analysis_common import plain
+from .report_files import planned_files
 from ..analyses.grid import work_planes  # noqa: F401 - report.work_planes: the planes the report grids
 
 
@@ -170,7 +171,13 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     ``progress(done, total, seconds_left)``: done/total in thousandths of the whole report, ETA in
     s or None; ``phase(label)``: the part being measured ("meters", "laws Lamp", ...);
     ``cancelled()``: polled by every measurement, True raises MeasurementCancelled (nothing written).
-    report.json is written before report.md, each whole or not at all.
+
+    The files are one set, replaced together or not at all (``outputs.FileSet``): every file is
+    written into a hidden staging folder inside ``out_dir``, and only when all are complete are they
+    renamed into place, report.json (the manifest: its ``"files"`` lists the set) last; files of the
+    previous report that the new one lacks are removed then. An error, a cancel or Ctrl-C at any
+    moment before leaves the previous set as it was and no temporary file. Every target (a link, a
+    folder) is checked before the first measurement.
 
     ``client``: also write the client's report.html and report.pdf (``measure.reports.client_report``: project
     data ``project`` (dict), luminaire schedule, EN 12464-1 compliance for ``task`` with
@@ -178,15 +185,29 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     ``ra``, a false-colour luminance image of the scene camera, the isolux plots, the readings, and the
     law checks as an engineering appendix).
     """
-    scene = scene or bpy.context.scene
-    from ..meter.point_meter import capture_model
-
-    capture_model(scene)  # bad input (a light of non-finite power) is one error, as for `measure`
     out = os.path.abspath(out_dir)
     try:
         os.makedirs(out, exist_ok=True)
     except OSError as exc:
         raise RadiometerError(f"cannot create report folder {out}: {exc.strerror}") from None
+    with outputs.FileSet(out, manifest="report.json", name="report") as stage:
+        return (yield from _report_parts(stage, scene=scene, quality=quality, method=method,
+                                         target_rel_error=target_rel_error, time_budget_s=time_budget_s,
+                                         convergence=convergence, convergence_samples=convergence_samples,
+                                         progress=progress, cancelled=cancelled, phase=phase, client=client,
+                                         project=project, task=task, maintenance_factor=maintenance_factor,
+                                         observers=observers, ra=ra))
+
+
+def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budget_s, convergence,
+                  convergence_samples, progress, cancelled, phase, client, project, task, maintenance_factor,
+                  observers, ra):
+    """:func:`iter_report`'s parts, written into ``stage`` (an ``outputs.FileSet``) and committed at the end."""
+    scene = scene or bpy.context.scene
+    from ..meter.point_meter import capture_model
+
+    capture_model(scene)  # bad input (a light of non-finite power) is one error, as for `measure`
+    out = stage.target
     settings = meters.scene_settings(scene, quality) if hasattr(scene, "radiometer") else \
         {"method": "auto", "quality": quality or "standard", "target_rel_error": None}
     if method:
@@ -238,7 +259,7 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     def step(label):
         # What the generator yields before measuring a part: the plan first, then the part's label.
         if cancelled is not None and cancelled():
-            raise MeasurementCancelled("report cancelled; the scene was restored, nothing written")
+            raise MeasurementCancelled("report cancelled; the scene was restored, the previous report is as it was")
         state["part"] += 1
         if phase is not None:
             phase(label)
@@ -248,8 +269,11 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     stems = outputs.Stems(sorted({ob.name for ob in lights} | {ob.name for ob in planes}))
     watch = {"cancelled": cancelled, "progress": part_progress}
     draw = plots.matplotlib_available()  # without matplotlib: the numbers, no plot paths asked for
-    if not draw:
-        report["errors"].append("no plots: " + plots.missing_message())
+    # Every target before any work (issue 33: a report.html that is a folder was refused after 20 s).
+    planned = planned_files([stems(ob.name) for ob in lights], [stems(ob.name) for ob in planes], draw,
+                            conv_target is not None, client)
+    outputs.check_set(out, planned, "report file")
+    out, final = stage.folder, stage.target  # written into the staging folder, moved into `final` at the end
     # Meters (readings are not written to the objects: a report leaves the scene as it was).
     if objs:
         yield step("meters")
@@ -328,14 +352,19 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
         client_report.client_report(report, out, scene=scene, project=project, task=task,
                                     maintenance_factor=maintenance_factor, observers=observers, ra=ra, quality=q,
                                     cancelled=cancelled)
+    if cancelled is not None and cancelled():
+        raise MeasurementCancelled("report cancelled; the scene was restored, the previous report is as it was")
     _overall(1.0)
     report["seconds"] = time.perf_counter() - started
-    report["summary"] = summary_table(report)
     report["paths"] = {"json": os.path.join(out, "report.json"), "markdown": os.path.join(out, "report.md")}
     report["paths"].update(report.get("client", {}).get("paths", {}))
-    # JSON first: it holds everything; the Markdown is a view of it.
-    outputs.write_text(report["paths"]["json"], json.dumps(plain(report), indent=2) + "\n")
-    outputs.write_text(report["paths"]["markdown"], markdown(report))
+    report = outputs.relocated(report, out, final)  # the paths the files will have once in place
+    report["summary"] = summary_table(report)
+    report["files"] = sorted(set(stage.files()) | {"report.json", "report.md"})  # the set (the manifest)
+    # Markdown first, JSON last: report.json is the manifest, renamed into place last too.
+    outputs.write_text(stage.path("report.md"), markdown(report))
+    outputs.write_text(stage.path("report.json"), json.dumps(plain(report), indent=2) + "\n")
+    stage.commit()
     return report
 
 

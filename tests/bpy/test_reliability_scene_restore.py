@@ -83,3 +83,26 @@ def test_failed_reading_leaves_every_nested_setting(user_scene, monkeypatch):
     with pytest.raises(RadiometerError):
         api.measure_luminance((0, 0, 0.5), (0, 0, 1), quality="preview")
     assert scene_guard.scene_fingerprint(user_scene) == before
+
+
+def test_unset_linear_colour_space_of_a_fresh_scene_comes_back_unset(clean_blender):
+    # Issue 33: on a fresh scene (PNG output) the linear colour space was never set (''); an EXR output
+    # set inside a measurement fills it in ('Linear Rec.709', or what the measurement chose) and going
+    # back to PNG keeps it: the guard left it changed, and its snapshot did not even see it (it skipped
+    # the struct while the format had no linear colour space). Now it is kept and given back exactly.
+    scene = bpy.data.scenes.new("fresh")
+    structs = (scene.render.image_settings, scene.render.bake.image_settings)
+    assert all(ims.file_format == "PNG" and not ims.has_linear_colorspace for ims in structs)
+    before = scene_guard.scene_fingerprint(scene)
+    assert leaves(before["values"]["image_settings"])["linear_colorspace_settings.name"] == ""
+    with scene_guard.preserved_scene(scene):
+        for ims in structs:
+            ims.file_format = "OPEN_EXR"
+            ims.color_management = "OVERRIDE"
+            ims.linear_colorspace_settings.name = "Linear Rec.2020"
+    assert scene_guard.scene_fingerprint(scene) == before
+    for ims in structs:
+        assert ims.file_format == "PNG" and ims.color_management == "FOLLOW_SCENE"
+        assert ims.linear_colorspace_settings.name == ""  # unset again (was left 'Linear Rec.2020')
+        ims.file_format = "OPEN_EXR"  # unset, Blender fills in its default again (not the one set inside)
+        assert ims.linear_colorspace_settings.name == "Linear Rec.709"
