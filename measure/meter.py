@@ -537,9 +537,11 @@ def glass_notes(model):
     return notes
 
 
-def caustic_risk(model, direct, split):
+def caustic_risk(model, direct, split, sensors_m=None):
     """(L, N) bool: a small light (delta, sun, or a sphere/area light seen under a small angle) that
-    is rendered at a meter because a refractor (``model.refractors``) may stand on its way there."""
+    is rendered at a meter because a refractor (``model.refractors``) may stand on its way there: the
+    planner's reason names it, or (``sensors_m`` (N, 3) m given) its bounding box meets the region
+    between the meter and the light (``scene_model.boxes_on_paths``)."""
     from ..radiometry import scene_model
 
     out = np.zeros(direct.status.shape, bool)
@@ -548,15 +550,26 @@ def caustic_risk(model, direct, split):
     names = [name for name, _why in model.refractors if name not in rough]
     if not names:
         return out
+    # The planner's reason names one blocker; a refractor farther along is found by its box (issue 32:
+    # a rejected roof pane behind a wall read the sun 0 lx +-inf).
+    g = model.geometry
+    wanted = set(names)
+    boxes = [(g.object_names[k], corners.min(axis=0), corners.max(axis=0))
+             for k, _verts, corners, _e in g.object_vertices() if g.object_names[k] in wanted]
+    points = sensors_m if sensors_m is not None else np.zeros((0, 3))
     for i, light in enumerate(model.lights):
         spec = light.spec
         if spec is None or spec.kind not in ("SUN", "POINT", "SPOT"):  # area lights: not small
             continue
-        for k in range(direct.status.shape[1]):
-            if split and light_object_key(light) in split[k]:
-                continue
-            if direct.status[i, k] == scene_model.RENDER and any(repr(nm) in str(direct.reason[i, k]) for nm in names):
-                out[i, k] = True
+        rendered = [k for k in range(direct.status.shape[1]) if direct.status[i, k] == scene_model.RENDER
+                    and not (split and light_object_key(light) in split[k])]
+        named = [k for k in rendered if any(repr(nm) in str(direct.reason[i, k]) for nm in names)]
+        out[i, named] = True
+        rest = [k for k in rendered if k not in named]
+        if rest and boxes and len(points):
+            on = scene_model.boxes_on_paths(spec, points[rest], boxes, scene_model.length_tolerance(points),
+                                            scene_model.scene_reach(g, points))
+            out[i, np.asarray(rest)[on != None]] = True  # noqa: E711 - object array
     return out
 
 
@@ -693,7 +706,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                 # specular chain to the light that no render finds: counted as a bound.
                 missing = ~take & (direct.interpane[i] > 0)
                 bound_rgb[missing] += np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
-    caustic = caustic_risk(model, direct, split)
+    caustic = caustic_risk(model, direct, split, sensors_m)
     if caustic.any():
         per_light, _b, _i = analytic_irradiance(model, direct, sensors_m, normals)
         bound_rgb += np.einsum("ln,lnc->nc", caustic, np.abs(per_light))
