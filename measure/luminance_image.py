@@ -109,7 +109,8 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
                 mean_rgb = stack.mean(axis=0)
                 y = stack @ weights                            # (R, H, W)
                 mean_y = y.mean(axis=0)
-                se_y = y.std(axis=0, ddof=1) / math.sqrt(RENDERS)
+                # never below Cycles' float32 rounding (meter.FLOAT32_FLOOR; issue 32: identical renders gave 0)
+                se_y = np.hypot(y.std(axis=0, ddof=1) / math.sqrt(RENDERS), meter.FLOAT32_FLOOR * np.abs(mean_y))
                 with np.errstate(divide="ignore", invalid="ignore"):
                     rel = np.where(mean_y > 0, se_y / mean_y, np.nan)
                 lit = rel[np.isfinite(rel)]
@@ -268,7 +269,8 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
                     k += 1
                 y = np.array(values)
                 mean_y = y.mean(axis=0)
-                se_y = y.std(axis=0, ddof=1) / math.sqrt(RENDERS)
+                # never below Cycles' float32 rounding (meter.FLOAT32_FLOOR; issue 32: identical renders gave 0)
+                se_y = np.hypot(y.std(axis=0, ddof=1) / math.sqrt(RENDERS), meter.FLOAT32_FLOOR * np.abs(mean_y))
                 with np.errstate(divide="ignore", invalid="ignore"):
                     rel = np.where(mean_y > 0, se_y / mean_y, np.nan)
                 lit = rel[np.isfinite(rel)]

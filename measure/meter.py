@@ -746,11 +746,11 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                                  panes=model.panes, may_be_lit=may_be_lit(direct, direct_only),
                                  min_samples=floor, pooled=pooling)
     mean_rgb = run["mean_rgb"] + offset_rgb
-    se_rgb = np.nan_to_num(run["se_rgb"])
-    scalar_se = np.nan_to_num(run["se"])
     # Issue 18 (F3): Cycles computes and accumulates in float32, so no rendered part is known better
-    # than its float32 rounding, even where every sample agrees (one delta light: batch-means s.e. ~0).
-    scalar_se = np.hypot(scalar_se, FLOAT32_FLOOR * np.abs(run["mean_rgb"] @ weights))
+    # than its float32 rounding, even where every sample agrees (one delta light: batch-means s.e. ~0);
+    # per channel too (issue 32: std_error_rgb stated 0 for a rendered part).
+    se_rgb = np.hypot(np.nan_to_num(run["se_rgb"]), FLOAT32_FLOOR * np.abs(run["mean_rgb"]))
+    scalar_se = np.hypot(np.nan_to_num(run["se"]), FLOAT32_FLOOR * np.abs(run["mean_rgb"] @ weights))
     dark = np.asarray(run.get("dark", np.zeros(n, bool)), bool)
     if dark.any():
         # Issue 18: no rendered light found although some may arrive (a small bright region past
