@@ -225,8 +225,8 @@ def pane_geometry(triangles, tol):
     vertices within ``tol`` of a face plane; each face's area equal to the outline's within a band
     ``tol`` wide along its perimeter; an edge face square to the faces when it shifts the outline by at
     most ``tol`` across the pane's thickness d, |tan(tilt)| d <= tol: a 6 mm pane tilted 45 deg with
-    its rotation applied to float32 vertices tilts its edges by 2.8e-5 (issue 32), within 1e-6 x 6 m /
-    6 mm = 1e-3. A shift of ``tol`` is what the crossing proofs' margin ``tol`` already allows for."""
+    its rotation applied to float32 vertices tilts its edges by 2.8e-5 (issue 32), within 1e-6 x 5.1 m /
+    6 mm = 8.5e-4 (5.1 m: its largest coordinate). A shift of ``tol`` is what the crossing proofs' margin ``tol`` already allows for."""
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     if not len(tris):
         return None, "no triangles"
@@ -259,13 +259,7 @@ def pane_geometry(triangles, tol):
     hull_area = _polygon_area(hull)
     band = 1e-9 * hull_area + 2.0 * tol * _perimeter(hull)  # a tol-wide band along the outline (m^2)
     th = tris @ n
-    for height in heights:
-        face = np.all(np.abs(th - height) <= tol, axis=1)
-        face_area = float(areas[face].sum())
-        if abs(face_area - hull_area) > band:
-            return None, ("its face does not fill its convex outline (holes, an L shape, or overlapping "
-                          "triangles)")
-    if len(heights) == 2:
+    if len(heights) == 2:  # edges first: a taper also leaves a face short of the outline
         d = hi - lo
         side = ~np.all(np.abs(th - heights[0]) <= tol, axis=1) & ~np.all(np.abs(th - heights[1]) <= tol, axis=1)
         side_normals = cross[side] / np.maximum(np.linalg.norm(cross[side], axis=1, keepdims=True), 1e-300)
@@ -275,6 +269,13 @@ def pane_geometry(triangles, tol):
             return None, (f"its edges are not square to its faces (a bevel or taper: the outline shifts "
                           f"{1000 * float(shift.max()):.3g} mm across its {1000 * d:.3g} mm, tolerance "
                           f"{1000 * tol:.2g} mm)")
+    for height in heights:
+        face = np.all(np.abs(th - height) <= tol, axis=1)
+        face_area = float(areas[face].sum())
+        if abs(face_area - hull_area) > band:
+            return None, ("its face does not fill its convex outline (holes, an L shape, or overlapping "
+                          "triangles)")
+    if len(heights) == 2:
         # Both faces must have the same outline: the pane is a right prism over ``hull``.
         for height in heights:
             sel = np.abs(h - height) <= tol
