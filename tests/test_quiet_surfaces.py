@@ -4,32 +4,21 @@ meter (``scene_model.mirror_misses``), and an opaque plane whose side towards th
 light (``scene_model.dark_planes``, a lamp with shadows off behind a wall)."""
 
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from radiometer.radiometry import emitters, scene_model, thin_glass
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_thin_glass import _box  # noqa: E402
+from test_thin_glass_recognition import _axes_towards  # noqa: E402
+
 
 def _quad(a, b, c, d):
     return [[a, b, c], [a, c, d]]
-
-
-def _box(lo, hi):
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    v = np.array([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0],
-                  [x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]])
-    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
-    return np.array([[v[a], v[b], v[c]] for a, b, c, d in quads] + [[v[a], v[c], v[d]] for a, b, c, d in quads])
-
-
-def _axes_towards(direction):
-    z = -np.asarray(direction, float) / np.linalg.norm(direction)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = np.cross(helper, z)
-    x /= np.linalg.norm(x)
-    return np.stack([x, np.cross(z, x), z], axis=1)
 
 
 def _sun(to_sun, angle_deg=0.53):
