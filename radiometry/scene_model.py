@@ -563,7 +563,8 @@ def dark_planes(model):
     surface (no transmission) sends light only back into the half-space it came from. So a planar
     object, opaque, emitting nothing, is dark on side s when every light lies wholly on the other side
     (``_light_beyond``) and every other object that reflects or emits lies on or beyond its plane: then
-    nothing on side s emits or scatters. (Volumes and an emitting world are handled by the caller.) A
+    nothing on side s emits or scatters (none with a participating medium in the scene; the world's own
+    light is rendered wherever a surface rises above the horizon: ``world_statuses``). A
     lamp with shadows off shining through a wall at a meter before it lights the meter (a closed
     form) and the wall's far side only. Empty when a light has no closed-form emitter, or the work would
     exceed ``DARK_PLANE_WORK``."""
@@ -571,8 +572,9 @@ def dark_planes(model):
 
     g = model.geometry
     lights = [lt for lt in model.lights if not lt.portal]
-    if not g.count or any(lt.spec is None or not hasattr(lt.spec, "kind") for lt in lights):
-        return {}
+    if (not g.count or model.volumes or model.world_volume
+            or any(lt.spec is None or not hasattr(lt.spec, "kind") for lt in lights)):
+        return {}  # a medium anywhere may scatter light onto either side
     opaque = np.asarray(g.opaque, bool)
     emissive = np.asarray(g.emissive, bool) if len(g.emissive) else np.zeros(g.count, bool)
     reflects = np.asarray(g.reflects, bool)
