@@ -10,7 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from radiometer.radiometry import emitters, scene_model, thin_glass
+from radiometer.radiometry import emitters
+from radiometer.radiometry.scene import scene_model, thin_glass
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_thin_glass import _box  # noqa: E402

@@ -13,7 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from radiometer.radiometry import emitters, scene_model, thin_glass
+from radiometer.radiometry import emitters
+from radiometer.radiometry.scene import scene_model, thin_glass
 
 IOR, THICKNESS, E_DN = 1.52, 0.006, 100.0  # -, m, W/m^2 per channel
 
@@ -43,7 +44,7 @@ def _rotation(tilt_deg, azimuth_deg):
 
 
 def _captured(mode, size, tilt, location, azimuth=30.0, aspect=0.6):
-    """(world triangles (T, 3, 3) m, tolerance m) of a pane as ``measure.scene_capture`` reads it: float32
+    """(world triangles (T, 3, 3) m, tolerance m) of a pane as ``measure.capture.scene_capture`` reads it: float32
     mesh coordinates times a float32 object matrix, in float64.
 
     ``object``: the box in its own frame, the rotation (and a non-uniform scale) in the matrix;
