@@ -97,7 +97,18 @@ def test_plan_direct_area_light_over_a_desk():
     assert plan0.exact_points().all()
     # A meter under the desk, facing up: the desk covers the whole panel (and reflects nothing down).
     under = scene_model.plan_direct(model, [[0, 0, -0.1]], [[0, 0, 1]])
-    assert under.status[0, 0] == scene_model.RENDER and under.indirect[0]
+    # The desk is one opaque plane with the panel wholly above it: its underside is provably dark
+    # (scene_model.dark_planes, issue 32), so no indirect light; the panel's own light is rendered.
+    assert under.status[0, 0] == scene_model.RENDER and not under.indirect[0]
+    # With a second surface below the desk (it could light the underside) the proof is gone.
+    floor = [[[-1, -1, -0.5], [1, -1, -0.5], [1, 1, -0.5]]]
+    tris = np.concatenate([np.asarray(desk, float), np.asarray(floor, float)])
+    geometry = scene_model.SceneGeometry(
+        triangles=tris, object_index=np.array([0, 0, 1]), object_names=["Desk", "Floor"],
+        casts_shadow=np.array([True, True]), opaque=np.ones(3, bool), reflects=np.array([True, True]),
+        emissive=np.zeros(3, bool))
+    two = scene_model.SceneModel(lights=model.lights, geometry=geometry)
+    assert scene_model.plan_direct(two, [[0, 0, -0.1]], [[0, 0, 1]]).indirect[0]
 
 
 def test_plan_direct_partial_and_blocked():
@@ -112,8 +123,13 @@ def test_plan_direct_partial_and_blocked():
     assert plan.status[0, 0] == scene_model.RENDER and "Box" in plan.reason[0, 0]
     assert plan.status[1, 0] == scene_model.ZERO and "blocked" in plan.reason[1, 0]
     assert plan.status[0, 1] == scene_model.EXACT and plan.status[1, 1] == scene_model.EXACT
-    # The card is above both meters' horizon and reflects: the readings need rendering anyway.
-    assert plan.indirect.all() and not plan.exact_points().any()
+    # The card is above both meters' horizon and reflects, but both lights lie wholly above its plane:
+    # its underside, the side the meters see, is provably dark (issue 32), so the meter beside it is exact.
+    assert not plan.indirect.any() and list(plan.exact_points()) == [False, True]
+    # A lamp under the card lights its underside: reflected light is possible at both meters.
+    low = emitters.CyclesLight(name="low", kind="POINT", position=(1.0, 0, 0.5), radius=0.0)
+    lit = scene_model.plan_direct(_model(card, panel, lamp, low), [[0, 0, 0.0], [3, 0, 0.0]], [[0, 0, 1]] * 2)
+    assert lit.indirect.all() and not lit.exact_points().any()
     # A glass card blocks nothing for sure: the delta light is then undecidable, not zero.
     glass = _model(card, panel, lamp, opaque=False)
     assert scene_model.plan_direct(glass, [[0, 0, 0.0]], [[0, 0, 1]]).status[1, 0] == scene_model.RENDER

@@ -162,6 +162,7 @@ def _camera_readings(scene, points, dirs, quality, seed, progress, cancelled):
     scale2 = scene.unit_settings.scale_length ** 2  # Cycles renders W per scene-unit^2
     e = efficacy * (e_rgb @ weights) / scale2
     sd = efficacy * np.sqrt(np.maximum(np.einsum("c,ncd,d->n", weights, cov, weights), 0.0)) / scale2
+    sd = np.hypot(sd, meter.FLOAT32_FLOOR * np.abs(e))  # a rendered value: never below float32 rounding (issue 32)
     note = (f"meter camera: {record['rays_per_meter']} cosine-weighted rays per point from the point itself "
             f"(8 rounds; stratified per-pixel error), {record.get('engine', 'Cycles')}")
     return [types.SimpleNamespace(illuminance=float(v), rel_std_error=float(s / v) if v > 0 else math.inf,

@@ -544,7 +544,7 @@ def _pane_edges(model):
         if geom is None or not mine.size:
             continue
         tris = np.asarray(g.triangles, float)[mine]
-        tol = 1e-6 * max(1.0, float(np.abs(tris).max()))  # float32 vertices, as the capture's pane test
+        tol = geom.tol or 1e-6 * max(1.0, float(np.abs(tris).max()))  # the tolerance it was recognised with
         h = tris @ np.asarray(geom.normal, float)  # (M, 3) vertex offsets along the pane's normal
         in_plane = np.zeros(mine.size, bool)
         for height in geom.heights:

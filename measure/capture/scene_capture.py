@@ -245,8 +245,11 @@ def _collect(depsgraph):
         bound_chunks.append(bounds)
         pane_mask = None
         if traits[used, 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
+            # The mesh's own float32 coordinates, in metres through the transform's largest stretch (issue 32).
+            local_extent = float(np.abs(verts_local).max()) * float(np.linalg.norm(m[:3, :3], 2)) * _Capture.scale
             pane_mask = _glass_object(panes, refractors, len(names), name, original.name, world, slot, slots,
-                                      traits, material_cache, source_id=_source_id(inst, original), rough=rough)
+                                      traits, material_cache, source_id=_source_id(inst, original), rough=rough,
+                                      local_extent=local_extent)
         pane_chunks.append(np.where(pane_mask, len(names), -1) if pane_mask is not None else np.full(len(world), -1))
         if traits[used, 4].any() and len(names) not in panes:  # a medium fills this mesh (issue 18)
             flat = world.reshape(-1, 3)
@@ -361,13 +364,16 @@ def _used_slots(slot, slots, traits, trait, cache, tag, read):
 
 
 def _glass_object(panes, refractors, index, name, source, world_tris, slot, slots, traits, cache, source_id=None,
-                  rough=None):
+                  rough=None, local_extent=0.0):
     """Record the transmissive part of an object as a thin pane (``radiometry.scene.thin_glass.Pane`` in
     ``panes`` by object index) when every transmissive material it uses is a pane with the same
     optics and those triangles form a planar pane (other slots, e.g. an opaque window frame in the
     same mesh, stay ordinary geometry); returns the (T,) mask of the pane's triangles. Otherwise the
     object is recorded as a refractor (name, reason) that Cycles renders as it is, and None returned;
-    its name goes to ``rough`` too when every transmissive material is ``glass.rough_refraction``."""
+    its name goes to ``rough`` too when every transmissive material is ``glass.rough_refraction``.
+    ``local_extent``: the largest |coordinate| of the mesh in its own frame, in metres through the
+    transform's largest stretch: float32 rounding there, not only in world coordinates, sets the
+    tolerance of the pane test (a CAD import's mesh far from its origin, moved back by its transform)."""
     from ...radiometry.scene import thin_glass
     from . import glass
 
@@ -383,7 +389,7 @@ def _glass_object(panes, refractors, index, name, source, world_tris, slot, slot
     mask = np.isin(slot, glass_slots)
     pane_tris = world_tris[mask]
     flat = world_tris.reshape(-1, 3)
-    tol = 1e-6 * max(1.0, float(np.abs(flat).max()))  # float32 vertices through a transform
+    tol = thin_glass.coordinate_tolerance(float(np.abs(flat).max()), local_extent)  # float32 vertices, transform
     geom, why = thin_glass.pane_geometry(pane_tris, tol)
     if geom is None:
         refractors.append((name, f"curved or thick refractor ({why})"))

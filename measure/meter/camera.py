@@ -199,7 +199,9 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
         shutil.rmtree(folder, ignore_errors=True)
     mean = tally.mean_rgb[0]
     radiance = float(tally.mean[0])
-    se = float(tally.std_error[0])
+    # A rendered value is known no better than Cycles' float32 rounding (meter.FLOAT32_FLOOR; issue 32:
+    # identical renders of a uniform emitter gave s.e. 0).
+    se = math.hypot(float(tally.std_error[0]), meter.FLOAT32_FLOOR * abs(radiance))
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}",
              f"perspective camera, cone {acceptance_deg:g} deg full angle, cos^3 pixel weights, "
              f"{k} independent renders in {len(tally.rounds)} round(s) (batch means), target {100 * target:g} %",

@@ -18,17 +18,12 @@ from ...errors import RadiometerError
 from ...radiometry.constants import K_M_LM_PER_W
 from ...readings import IlluminanceReading
 from ..capture import glass
-from ..render import render_settings, sensors
+from ..render import render_settings, rounds, sensors
 from . import sample_floors
 from ..blender import scene_guard
 
 DEFAULT_EFFICACY = K_M_LM_PER_W  # 683 lm/W, Blender's glTF convention; see README "Conventions"
-#: Relative float32 floor of every rendered part's 1-sigma error (issue 18, F3): Cycles shades, films and
-#: accumulates in float32 (unit roundoff 2^-24); a rendered value passes some tens of operations (light
-#: evaluation, BSDF and the thin-pane stand-in's math nodes, film sum and division), whose independent
-#: roundings add to about sqrt(64) x 2^-24 = 4 x 2^-23 = 4.8e-7. Measured: a point light through a
-#: tilted pane, rendered, read 1.19e-7 low (one ulp) while its batch-means s.e. was 1e-8.
-FLOAT32_FLOOR = 4.0 * 2.0 ** -23
+FLOAT32_FLOOR = rounds.FLOAT32_FLOOR  # (render/rounds.py: the reason and the measurement)
 
 
 # --- inputs ---------------------------------------------------------------------------------------
@@ -540,9 +535,11 @@ def glass_notes(model):
     return notes
 
 
-def caustic_risk(model, direct, split):
+def caustic_risk(model, direct, split, sensors_m=None):
     """(L, N) bool: a small light (delta, sun, or a sphere/area light seen under a small angle) that
-    is rendered at a meter because a refractor (``model.refractors``) may stand on its way there."""
+    is rendered at a meter because a refractor (``model.refractors``) may stand on its way there: the
+    planner's reason names it, or (``sensors_m`` (N, 3) m given) its bounding box meets the region
+    between the meter and the light (``scene_model.boxes_on_paths``)."""
     from ...radiometry.scene import scene_model
 
     out = np.zeros(direct.status.shape, bool)
@@ -551,15 +548,26 @@ def caustic_risk(model, direct, split):
     names = [name for name, _why in model.refractors if name not in rough]
     if not names:
         return out
+    # The planner's reason names one blocker; a refractor farther along is found by its box (issue 32:
+    # a rejected roof pane behind a wall read the sun 0 lx +-inf).
+    g = model.geometry
+    wanted = set(names)
+    boxes = [(g.object_names[k], corners.min(axis=0), corners.max(axis=0))
+             for k, _verts, corners, _e in g.object_vertices() if g.object_names[k] in wanted]
+    points = sensors_m if sensors_m is not None else np.zeros((0, 3))
     for i, light in enumerate(model.lights):
         spec = light.spec
         if spec is None or spec.kind not in ("SUN", "POINT", "SPOT"):  # area lights: not small
             continue
-        for k in range(direct.status.shape[1]):
-            if split and light_object_key(light) in split[k]:
-                continue
-            if direct.status[i, k] == scene_model.RENDER and any(repr(nm) in str(direct.reason[i, k]) for nm in names):
-                out[i, k] = True
+        rendered = [k for k in range(direct.status.shape[1]) if direct.status[i, k] == scene_model.RENDER
+                    and not (split and light_object_key(light) in split[k])]
+        named = [k for k in rendered if any(repr(nm) in str(direct.reason[i, k]) for nm in names)]
+        out[i, named] = True
+        rest = [k for k in rendered if k not in named]
+        if rest and boxes and len(points):
+            on = scene_model.boxes_on_paths(spec, points[rest], boxes, scene_model.length_tolerance(points),
+                                            scene_model.scene_reach(g, points))
+            out[i, np.asarray(rest)[on != None]] = True  # noqa: E711 - object array
     return out
 
 
@@ -696,7 +704,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                 # specular chain to the light that no render finds: counted as a bound.
                 missing = ~take & (direct.interpane[i] > 0)
                 bound_rgb[missing] += np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
-    caustic = caustic_risk(model, direct, split)
+    caustic = caustic_risk(model, direct, split, sensors_m)
     if caustic.any():
         per_light, _b, _i = analytic_irradiance(model, direct, sensors_m, normals)
         bound_rgb += np.einsum("ln,lnc->nc", caustic, np.abs(per_light))
@@ -736,11 +744,11 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                                  panes=model.panes, may_be_lit=may_be_lit(direct, direct_only),
                                  min_samples=floor, pooled=pooling)
     mean_rgb = run["mean_rgb"] + offset_rgb
-    se_rgb = np.nan_to_num(run["se_rgb"])
-    scalar_se = np.nan_to_num(run["se"])
     # Issue 18 (F3): Cycles computes and accumulates in float32, so no rendered part is known better
-    # than its float32 rounding, even where every sample agrees (one delta light: batch-means s.e. ~0).
-    scalar_se = np.hypot(scalar_se, FLOAT32_FLOOR * np.abs(run["mean_rgb"] @ weights))
+    # than its float32 rounding, even where every sample agrees (one delta light: batch-means s.e. ~0);
+    # per channel too (issue 32: std_error_rgb stated 0 for a rendered part).
+    se_rgb = np.hypot(np.nan_to_num(run["se_rgb"]), FLOAT32_FLOOR * np.abs(run["mean_rgb"]))
+    scalar_se = np.hypot(np.nan_to_num(run["se"]), FLOAT32_FLOOR * np.abs(run["mean_rgb"] @ weights))
     dark = np.asarray(run.get("dark", np.zeros(n, bool)), bool)
     if dark.any():
         # Issue 18: no rendered light found although some may arrive (a small bright region past

@@ -452,9 +452,13 @@ def quiet_panes(model, p, tol, lone=None):
     closed forms' T, inter-pane reflections included). A pane reflects only light from ``p``'s side of
     it, so it is quiet when nothing on that side shines or reflects: no object other than panes
     reflects or emits, and every light lies wholly beyond every pane (an emitting world was handled
-    before). ``lone``: ``lone_panes(model)`` when the caller has it."""
+    before). A light on ``p``'s side keeps it quiet when its mirror image in every triangle of the pane
+    provably misses ``p`` (``mirror_misses``, issue 32) and every other pane lies on or beyond its
+    plane (nothing else on ``p``'s side can send it light to mirror). ``lone``: ``lone_panes(model)``
+    when the caller has it."""
     panes, lights = lone_panes(model) if lone is None else lone
     quiet = set()
+    g = model.geometry
     for k, pane in panes:
         normal = np.asarray(pane.geometry.normal, float)
         offsets = normal @ p - np.asarray(pane.geometry.heights, float)
@@ -462,12 +466,146 @@ def quiet_panes(model, p, tol, lone=None):
             continue  # p inside the slab or on a face
         side = 1.0 if offsets[0] > 0 else -1.0
         height = min(pane.geometry.heights) if side > 0 else max(pane.geometry.heights)
-        if all(_light_beyond(lt.spec, normal, height, side, tol) for lt in lights):
-            quiet.add(k)
+        near = [lt for lt in lights if not _light_beyond(lt.spec, normal, height, side, tol)]
+        if near:
+            others = np.asarray(g.triangles[(g.pane_of >= 0) & (g.pane_of != k)], float).reshape(-1, 3)
+            if np.any(side * (others @ normal - height) > tol):
+                continue  # another pane on p's side may send it light to mirror
+            mine = np.asarray(g.triangles[g.pane_of == k], float)
+            if not all(mirror_misses(mine, p, lt.spec, max(tol, pane.geometry.tol)) for lt in near):
+                continue
+        quiet.add(k)
     return quiet
 
 
-def indirect_possible(model, p, n, tol, lone=None):
+def mirror_misses(triangles, p, spec, tol):
+    """True when no triangle of ``triangles`` (T, 3, 3) m, each a sharp mirror on both sides, shows the
+    light ``spec`` to a receiver at ``p``: proven the way visibility is (issue 32).
+
+    Per triangle: a light wholly behind its plane (seen from ``p``) lights only its far side. Otherwise
+    the light reaches ``p`` from the triangle only along directions w in the cone around r, the mirror
+    image of the direction to the light (a sun: its disc's half-angle a; a point or spot light of radius
+    r_l: the cone from ``p`` over its mirrored sphere). That cone meets the plane within a disc around
+    the central hit x0: with h the height of ``p`` over the plane, theta the angle of r to the plane's
+    normal, c_min = cos(theta + a) and c_max = cos(max(theta - a, 0)), a direction w of the cone meets the
+    plane at distance s_w in [h / c_max, h / c_min] and x - x0 = s_w (w - r) + (s_w - t) r, so
+    |x - x0| <= h / c_min 2 sin(a / 2) + h / c_min - h / c_max. The triangle is missed when x0
+    lies outside it by more than that radius (+ ``tol``), or when the light arrives so near grazing that
+    its mirror image leaves the plane less steeply (the light's elevation over the plane + a) than any
+    point of the triangle is seen from ``p`` (asin(h / farthest vertex distance)). Area lights prove
+    nothing (False)."""
+    p = np.asarray(p, float)
+    for tri in np.asarray(triangles, float).reshape(-1, 3, 3):
+        normal = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+        length = float(np.linalg.norm(normal))
+        if length == 0.0:
+            continue  # a degenerate triangle has no area to mirror with
+        normal = normal / length
+        hp = float(normal @ (p - tri[0]))
+        if abs(hp) <= tol:
+            return False
+        normal = normal * np.sign(hp)  # towards p
+        if spec.kind == "SUN":
+            s = np.asarray(spec.axes[:, 2], float)
+            half = 0.5 * float(spec.angle)
+            c = float(s @ normal)
+            if c < -np.sin(half) - 1e-12:
+                continue  # the sun lights only its far side
+            r = s - 2.0 * c * normal
+        elif spec.kind in ("POINT", "SPOT"):
+            radius = float(getattr(spec, "radius", 0.0))
+            hl = float(normal @ (np.asarray(spec.position, float) - tri[0]))
+            if hl < -(radius + tol):
+                continue
+            if hl <= radius + tol:
+                return False  # the light straddles its plane
+            d = np.asarray(spec.position, float) - 2.0 * hl * normal - p
+            dist = float(np.linalg.norm(d))
+            r, half = d / dist, float(np.arcsin(min(1.0, radius / dist)))
+            c = float(-(r @ normal))
+        else:
+            return False
+        height = abs(hp)
+        # Every point of the triangle is seen from p at least this steeply against its plane; the mirrored
+        # light leaves the plane no steeper than the light arrives (+ its half-angle): a grazing light misses.
+        steep = float(np.arcsin(min(1.0, height / float(np.max(np.linalg.norm(tri - p, axis=1))))))
+        if steep > float(np.arcsin(min(1.0, abs(c)))) + half + 1e-12:
+            continue
+        theta = float(np.arccos(np.clip(c, -1.0, 1.0)))
+        if theta + half >= 0.5 * np.pi - 1e-9:
+            return False
+        c_min, c_max = float(np.cos(theta + half)), float(np.cos(max(theta - half, 0.0)))
+        reach = height / c_min * (1.0 + 2.0 * np.sin(0.5 * half)) - height / c_max
+        x0 = p + height / c * r
+        # Signed distances of x0 beyond each edge's line, in the triangle's plane (outward positive).
+        outside = -np.inf
+        for i in range(3):
+            a, b, other = tri[i], tri[(i + 1) % 3], tri[(i + 2) % 3]
+            out = np.cross(b - a, normal)
+            out = out / np.linalg.norm(out)
+            if out @ (other - a) > 0:
+                out = -out
+            outside = max(outside, float(out @ (x0 - a)))
+        if outside <= reach + tol:
+            return False
+    return True
+
+
+#: Largest (planar objects x scene vertices) ``dark_planes`` examines (about a second of numpy).
+DARK_PLANE_WORK = 20_000_000
+
+
+def dark_planes(model):
+    """{object index: (normal (3,), height, sides, tolerance m)} of the opaque planar objects that send no light to
+    one side of their plane (``sides``: the signs s with nothing on that side; issue 32).
+
+    Light reaches a surface's side s only along rays from the open half-space on side s; an opaque
+    surface (no transmission) sends light only back into the half-space it came from. So a planar
+    object, opaque, emitting nothing, is dark on side s when every light lies wholly on the other side
+    (``_light_beyond``) and every other object that reflects or emits lies on or beyond its plane: then
+    nothing on side s emits or scatters (none with a participating medium in the scene; the world's own
+    light is rendered wherever a surface rises above the horizon: ``world_statuses``). A
+    lamp with shadows off shining through a wall at a meter before it lights the meter (a closed
+    form) and the wall's far side only. Empty when a light has no closed-form emitter, or the work would
+    exceed ``DARK_PLANE_WORK``."""
+    from . import thin_glass
+
+    g = model.geometry
+    lights = [lt for lt in model.lights if not lt.portal]
+    if (not g.count or model.volumes or model.world_volume
+            or any(lt.spec is None or not hasattr(lt.spec, "kind") for lt in lights)):
+        return {}  # a medium anywhere may scatter light onto either side
+    opaque = np.asarray(g.opaque, bool)
+    emissive = np.asarray(g.emissive, bool) if len(g.emissive) else np.zeros(g.count, bool)
+    reflects = np.asarray(g.reflects, bool)
+    relevant = (reflects[g.object_index] | emissive)
+    candidates = []
+    for k, verts, _corners, _emitting in g.object_vertices():
+        mine = g.object_index == k
+        if not reflects[k] or k in model.panes or not np.all(opaque[mine]) or np.any(emissive[mine]):
+            continue
+        centred = verts - verts.mean(axis=0)
+        _u, sv, vt = np.linalg.svd(centred, full_matrices=False)
+        normal = vt[-1]
+        tol = thin_glass.coordinate_tolerance(float(np.abs(verts).max()))
+        offsets = centred @ normal
+        if len(sv) < 3 or sv[-2] <= 0.0 or np.any(np.abs(offsets) > tol):
+            continue  # not one plane
+        candidates.append((k, normal, float(verts.mean(axis=0) @ normal), tol))
+    if not candidates or len(candidates) * 3 * g.count > DARK_PLANE_WORK:
+        return {}
+    out = {}
+    for k, normal, height, tol in candidates:
+        others = g.triangles[relevant & (g.object_index != k)].reshape(-1, 3) @ normal - height
+        sides = tuple(side for side in (1.0, -1.0)
+                      if not np.any(side * others > tol)
+                      and all(_light_beyond(lt.spec, normal, height, side, tol) for lt in lights))
+        if sides:
+            out[k] = (normal, height, sides, tol)
+    return out
+
+
+def indirect_possible(model, p, n, tol, lone=None, dark=None):
     """(bool, reason): can light reach p (normal n) other than straight from a light?
 
     Exactly when some render-visible surface that reflects or emits lies (partly) above the
@@ -475,7 +613,9 @@ def indirect_possible(model, p, n, tol, lone=None):
     ``quiet_panes``), the world emits, or geometry could not be triangulated. Objects are
     tested largest first, by their bounding boxes and then their vertices, and the first one
     above ends the search.
-    ``lone``: ``lone_panes(model)``, computed once by a caller that asks for many points.
+    ``lone``: ``lone_panes(model)``, computed once by a caller that asks for many points; ``dark``:
+    ``dark_planes(model)`` likewise (an opaque planar object whose side towards ``p`` nothing can light
+    does not count).
     """
     if model.world_emits and not world_modelled(model):
         return True, "the world emits light"
@@ -489,9 +629,15 @@ def indirect_possible(model, p, n, tol, lone=None):
         return False, ""
     reflects = np.asarray(g.reflects, bool)
     quiet = quiet_panes(model, p, tol, lone)
+    dark = dark_planes(model) if dark is None else dark
     for k, verts, corners, emitting in g.object_vertices():
         if not reflects[k] or k in quiet or np.all((corners - p) @ n <= tol):
             continue
+        if k in dark:
+            normal, height, sides, plane_tol = dark[k]
+            offset = float(normal @ p) - height
+            if abs(offset) > max(tol, plane_tol) and np.sign(offset) in sides:
+                continue
         if np.any(verts @ n > p @ n + tol):
             if len(emitting) and np.any(~visibility.below_plane(emitting, p, n, tol)):
                 return True, "an emitting surface is above the meter's horizon"
@@ -510,16 +656,15 @@ def plan_direct(model, points, normals, exact_model=None):
     status = np.full((n_lights, n_pts), RENDER, dtype=object)
     reason = np.full((n_lights, n_pts), "", dtype=object)
     tol = length_tolerance(points)
-    lo, hi = model.geometry.bounds()
-    reach = 4.0 * (np.linalg.norm(hi - lo) + np.max(np.abs(points)) + 1.0) if n_pts else 1.0
+    reach = scene_reach(model.geometry, points)
     indirect = np.zeros(n_pts, bool)
     indirect_reason = np.full(n_pts, "", dtype=object)
     transmittance = np.ones((n_lights, n_pts, 3))   # thin glass on the way (issue 18)
     glass_bound = np.zeros((n_lights, n_pts))
     interpane = np.zeros((n_lights, n_pts))
-    lone = lone_panes(model)  # the same for every point
+    lone, dark = lone_panes(model), dark_planes(model)  # the same for every point
     for k in range(n_pts):
-        indirect[k], indirect_reason[k] = indirect_possible(model, points[k], normals[k], tol, lone)
+        indirect[k], indirect_reason[k] = indirect_possible(model, points[k], normals[k], tol, lone, dark)
     for i, light in enumerate(model.lights):
         if light.portal:
             status[i], reason[i] = ZERO, "portal light: guides world sampling, emits nothing"
@@ -581,29 +726,53 @@ def plan_direct(model, points, normals, exact_model=None):
 
 def volume_on_paths(model, spec, points, tol, scene_reach):
     """(N,) object array: the name of a volume that may meet a segment from each receiver to the
-    light (the world's volume, or a volume object whose bounding box meets the bounding box of the
-    region holding those segments), else None. Conservative: a box overlap is not a crossing."""
+    light (the world's volume, or a volume object whose box meets the region holding those segments:
+    ``boxes_on_paths``), else None. Conservative: a box overlap is not a crossing."""
     points = np.asarray(points, float)
-    n = len(points)
-    out = np.full(n, None, dtype=object)
+    out = np.full(len(points), None, dtype=object)
     if model.world_volume:
         out[:] = "the world's volume"
         return out
-    if not model.volumes or not n:
+    boxes = [(f"volume {name!r}", vlo, vhi) for name, vlo, vhi in model.volumes]
+    return boxes_on_paths(spec, points, boxes, tol, scene_reach)
+
+
+def boxes_on_paths(spec, points, boxes, tol, scene_reach):
+    """(N,) object array: the label of the first of ``boxes`` ((label, min (3,), max (3,)) in m) that may
+    meet a segment from each receiver to the light, else None. A box is passed over only when it misses
+    the segment from the receiver to the centre of the region's far base widened by that base's radius
+    (the region holding every segment to the light lies within that distance of it: a cone narrows
+    towards its apex). Conservative: meeting a box is not meeting what it bounds."""
+    points = np.asarray(points, float)
+    n = len(points)
+    out = np.full(n, None, dtype=object)
+    if not boxes or not n:
         return out
-    kind, ends, _inside = _source_bases(spec, points, scene_reach)
+    kind, ends, inside = _source_bases(spec, points, scene_reach)
     for k in range(n):
-        region = np.vstack([points[k][None, :], np.reshape(ends[k], (-1, 3))])
+        if inside[k]:
+            out[k] = boxes[0][0]
+            continue
+        base = np.reshape(ends[k], (-1, 3))
+        centre = base.mean(axis=0)
+        widen = float(np.max(np.linalg.norm(base - centre, axis=1))) + tol
+        region = np.vstack([points[k][None, :], base])
         lo, hi = region.min(axis=0) - tol, region.max(axis=0) + tol
-        for name, vlo, vhi in model.volumes:
+        for name, vlo, vhi in boxes:
             vlo, vhi = np.asarray(vlo, float), np.asarray(vhi, float)
             if not (np.all(vhi >= lo) and np.all(vlo <= hi)):
                 continue
-            if kind == "segment" and not _segment_meets_box(points[k], ends[k], vlo - tol, vhi + tol):
+            if not _segment_meets_box(points[k], centre, vlo - widen, vhi + widen):
                 continue
-            out[k] = f"volume {name!r}"
+            out[k] = name
             break
     return out
+
+
+def scene_reach(geometry, points):
+    """A length (m) past every surface and receiver: how far the proofs follow a ray to the sun."""
+    lo, hi = geometry.bounds()
+    return 4.0 * (np.linalg.norm(hi - lo) + np.max(np.abs(points)) + 1.0) if len(points) else 1.0
 
 
 def _segment_meets_box(a, b, lo, hi):

@@ -38,7 +38,21 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = ["fresnel_dielectric", "slab", "Pane", "PaneGeometry", "pane_geometry", "stack",
-           "segment_crossing", "pyramid_crossing", "convex_hull_2d"]
+           "segment_crossing", "pyramid_crossing", "convex_hull_2d", "coordinate_tolerance", "FLOAT32_RELATIVE"]
+
+#: Relative position tolerance of float32 mesh data (issue 32): a vertex stored in float32 is off by at
+#: most 2^-24 |x| per coordinate (half a unit in the last place), sqrt(3) 2^-24 |x| = 1.03e-7 |x| as a
+#: point; the object matrix, also float32, adds as much again for a vertex |x_local| from its origin; a
+#: plane fitted through such points and the height of a vertex over it carry a few of these. 1e-6 is
+#: 16.8 x 2^-24: room for those factors without admitting any bevel a lighting calculation could see.
+FLOAT32_RELATIVE = 1e-6
+
+
+def coordinate_tolerance(*extents_m):
+    """Position tolerance (m) for geometry read from float32 coordinates: ``FLOAT32_RELATIVE`` times the
+    largest of ``extents_m`` (the largest |coordinate| in metres of each frame the vertices passed
+    through: the mesh's own, scaled by its transform, and the world's) and 1 m (a floor of 1 um)."""
+    return FLOAT32_RELATIVE * max([1.0] + [float(e) for e in extents_m if np.isfinite(e)])
 
 
 def fresnel_dielectric(cos_i, ior):
@@ -146,6 +160,9 @@ class PaneGeometry:
     v: np.ndarray
     hull: np.ndarray
     extra: list = field(default_factory=list)
+    #: the position tolerance (m) it was recognised with: a vertex may lie this far from the right prism
+    #: over ``hull`` (float32 rounding), so the crossing proofs keep at least this margin (issue 32)
+    tol: float = 0.0
 
     @property
     def thickness(self):
@@ -176,25 +193,59 @@ def _polygon_area(poly):
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
 
+def _perimeter(poly):
+    return float(np.sum(np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1)))
+
+
+def _fit_normal(verts, n0, tol):
+    """The pane's normal refined from all its vertices: the least-squares normal of the vertices on each
+    face plane (split at the middle height along ``n0``, each group about its own mean), which a float32
+    vertex moves by about its rounding over the pane's width; ``n0`` (a triangle's normal, which a skinny
+    triangle tilts by rounding / its height) when the fit is not a clear plane."""
+    h = verts @ n0
+    mid = 0.5 * (h.min() + h.max())
+    groups = [verts[h <= mid], verts[h > mid]] if h.max() - h.min() > tol else [verts]
+    centred = np.concatenate([g - g.mean(axis=0) for g in groups if len(g)])
+    if len(centred) < 3:
+        return n0
+    _u, s, vt = np.linalg.svd(centred, full_matrices=False)
+    n = vt[-1]
+    if s[-2] <= 0.0 or abs(float(n @ n0)) < 0.999:
+        return n0
+    return n * np.sign(float(n @ n0))
+
+
 def pane_geometry(triangles, tol):
     """(PaneGeometry, "") when ``triangles`` (T, 3, 3) in metres form a planar pane: one plane, or
     two parallel planes (a solidified slab, a flat box) whose face triangles cover the same convex
-    outline; else (None, reason)."""
+    outline; else (None, reason).
+
+    ``tol`` (m) is how far a vertex may lie from where the pane's shape puts it: float32 rounding of
+    the coordinates the mesh was read from (``coordinate_tolerance``). Every test is that one length:
+    vertices within ``tol`` of a face plane; each face's area equal to the outline's within a band
+    ``tol`` wide along its perimeter; an edge face square to the faces when it shifts the outline by at
+    most ``tol`` across the pane's thickness d, |tan(tilt)| d <= tol: a 6 mm pane tilted 45 deg with
+    its rotation applied to float32 vertices tilts its edges by 2.8e-5 (issue 32), within 1e-6 x 5.1 m /
+    6 mm = 8.5e-4 (5.1 m: its largest coordinate). A shift of ``tol`` is what the crossing proofs' margin ``tol`` already allows for."""
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     if not len(tris):
         return None, "no triangles"
+    if not np.all(np.isfinite(tris)):
+        return None, "non-finite vertex coordinates"
     cross = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     areas = 0.5 * np.linalg.norm(cross, axis=1)
     k = int(np.argmax(areas))
     if areas[k] <= 0.0:
         return None, "degenerate triangles"
-    n = cross[k] / np.linalg.norm(cross[k])
     verts = tris.reshape(-1, 3)
+    n = _fit_normal(verts, cross[k] / np.linalg.norm(cross[k]), tol)
     h = verts @ n
     lo, hi = float(h.min()), float(h.max())
     on_lo, on_hi = np.abs(h - lo) <= tol, np.abs(h - hi) <= tol
     if not np.all(on_lo | on_hi):
-        return None, "not planar: vertices between its two faces (curved, bevelled or thick glass)"
+        worst = float(np.max(np.minimum(np.abs(h - lo), np.abs(h - hi))))
+        return None, (f"not planar: vertices up to {1000 * worst:.3g} mm off both face planes (curved, bevelled "
+                      f"or thick glass; tolerance {1000 * tol:.2g} mm)")
     heights = (lo,) if hi - lo <= tol else (lo, hi)
     helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     u = np.cross(n, helper)
@@ -206,24 +257,31 @@ def pane_geometry(triangles, tol):
     if len(hull) < 3:
         return None, "degenerate outline"
     hull_area = _polygon_area(hull)
+    band = 1e-9 * hull_area + 2.0 * tol * _perimeter(hull)  # a tol-wide band along the outline (m^2)
     th = tris @ n
+    if len(heights) == 2:  # edges first: a taper also leaves a face short of the outline
+        d = hi - lo
+        side = ~np.all(np.abs(th - heights[0]) <= tol, axis=1) & ~np.all(np.abs(th - heights[1]) <= tol, axis=1)
+        side_normals = cross[side] / np.maximum(np.linalg.norm(cross[side], axis=1, keepdims=True), 1e-300)
+        cos_tilt = np.abs(side_normals @ n)  # 0 for an edge square to the faces
+        shift = d * cos_tilt / np.sqrt(np.maximum(1.0 - cos_tilt ** 2, 1e-300))  # outline shift across d
+        if np.any(shift > tol):
+            return None, (f"its edges are not square to its faces (a bevel or taper: the outline shifts "
+                          f"{1000 * float(shift.max()):.3g} mm across its {1000 * d:.3g} mm, tolerance "
+                          f"{1000 * tol:.2g} mm)")
     for height in heights:
         face = np.all(np.abs(th - height) <= tol, axis=1)
         face_area = float(areas[face].sum())
-        if abs(face_area - hull_area) > 1e-6 * hull_area + 4 * tol * np.sqrt(hull_area):
+        if abs(face_area - hull_area) > band:
             return None, ("its face does not fill its convex outline (holes, an L shape, or overlapping "
                           "triangles)")
     if len(heights) == 2:
-        side = ~np.all(np.abs(th - heights[0]) <= tol, axis=1) & ~np.all(np.abs(th - heights[1]) <= tol, axis=1)
-        side_normals = cross[side] / np.maximum(np.linalg.norm(cross[side], axis=1, keepdims=True), 1e-300)
-        if np.any(np.abs(side_normals @ n) > 1e-6):
-            return None, "its edges are not square to its faces (a bevel or taper)"
         # Both faces must have the same outline: the pane is a right prism over ``hull``.
         for height in heights:
             sel = np.abs(h - height) <= tol
-            if abs(_polygon_area(convex_hull_2d(flat[sel])) - hull_area) > 1e-6 * hull_area:
+            if abs(_polygon_area(convex_hull_2d(flat[sel])) - hull_area) > band:
                 return None, "its two faces have different outlines"
-    return PaneGeometry(normal=n, heights=heights, origin=origin, u=u, v=v, hull=hull), ""
+    return PaneGeometry(normal=n, heights=heights, origin=origin, u=u, v=v, hull=hull, tol=float(tol)), ""
 
 
 def _inside_hull(geom, x, margin):
@@ -245,6 +303,7 @@ def segment_crossing(geom, a, b, tol):
     exactly the pane's two faces (or its one face) and nothing else of it; ``cos_i`` = |cos| of the
     segment's angle to the normal. (False, nan) when it does not provably do so."""
     a, b = np.asarray(a, float), np.asarray(b, float)
+    tol = max(float(tol), float(getattr(geom, "tol", 0.0)))
     d = b - a
     ha, hb = float(a @ geom.normal), float(b @ geom.normal)
     lo, hi = min(geom.heights), max(geom.heights)
