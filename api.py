@@ -707,15 +707,26 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
                                      ugr_limit=ugr_limit, ra=ra_required)
     except ValueError as exc:
         raise RadiometerError(str(exc)) from None
-    g = grid if grid is not None else illuminance_grid(plane, scene=scene, quality=quality)
-    lo_index = int(np.argmin(g.lux)) if hasattr(g.lux, "size") else 0
-    glare_results = []
+    import bpy
+
+    from .measure import light_isolation
+
     for k, obs in enumerate(observers or ()):
         try:
-            position, direction = obs
+            _position, _direction = obs
         except (TypeError, ValueError):
             raise RadiometerError(f"observer {k + 1}: give ((x, y, z), (dx, dy, dz)), got {obs!r}") from None
-        glare_results.append(glare_ugr(position, direction, scene=scene, quality=quality))
+    # EN 12464-1 rates the electric lighting: suns and an emitting world are off while it is measured.
+    with light_isolation.electric_lighting_only(scene or bpy.context.scene) as lighting:
+        if grid is not None:
+            g = grid
+            lighting = ("the work-plane grid was given by the caller and is taken as measured (daylight included "
+                        "if the scene had any then)" + (f"; glare: {lighting}" if lighting else ""))
+        else:
+            g = illuminance_grid(plane, scene=scene, quality=quality)
+        glare_results = [glare_ugr(position, direction, scene=scene, quality=quality)
+                         for position, direction in (observers or ())]
+    lo_index = int(np.argmin(g.lux)) if hasattr(g.lux, "size") else 0
     try:
         rows = compliance.assess(req, average_lx=g.stats["avg"], minimum_lx=g.stats["min"],
                                  maintenance_factor=maintenance_factor,
@@ -723,13 +734,14 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
                                  average_rel_se=float(np.sqrt(np.sum(np.square(g.lux * g.rel_std_error)))
                                                       / max(float(np.sum(g.lux)), 1e-300)),
                                  minimum_rel_se=float(g.rel_std_error.ravel()[lo_index]),
-                                 ugr=[(f"observer {k + 1}", r.ugr, r.ugr_std_error) for k, r in enumerate(glare_results)],
-                                 ra=ra)
+                                 ugr=[(f"observer {k + 1}", r.ugr, r.ugr_std_error, r.error_unknown or r.not_measurable)
+                                      for k, r in enumerate(glare_results)],
+                                 ra=ra, lighting=lighting)
     except ValueError as exc:
         raise RadiometerError(str(exc)) from None
     return {"requirement": dataclasses.asdict(req), "checks": [dataclasses.asdict(r) for r in rows],
             "overall": compliance.overall(rows), "maintenance_factor": float(maintenance_factor), "grid": g,
-            "glare": glare_results}
+            "glare": glare_results, "lighting": lighting or "electric lighting (the scene has no sun or emitting world)"}
 
 
 @_v.boundary
