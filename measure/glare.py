@@ -10,14 +10,20 @@ UGR's), the sky seen through windows, sources outside CIE 117's field.
 Emissive meshes (an Emission shader of plain strength and colour: ``radiometry.emitters.EmissiveMesh``)
 count: Cycles' emission is Lambertian, so each triangle's luminance towards the eye is K x Y of its
 radiance (strength x colour, SI), whatever the direction; its solid angle is exact (Van Oosterom &
-Strackee); only triangles whose centre the eye sees (nothing of the scene in between, the mesh's own
-far side included) count, each whole. The object is one source: omega the sum, L such that L^2 omega
-is the sum of the triangles' L^2 omega, p at the centre of the luminous area seen. Left out, and said
-so: emission the capture cannot read (a texture, a node chain), meshes invisible to camera rays, and
-meshes of more than :data:`MAX_SOURCE_TRIANGLES` triangles.
+Strackee); each triangle counts for the part the eye sees. The object is one source: omega the sum, L
+such that L^2 omega is the sum of the triangles' L^2 omega, p at the centre of the luminous area seen.
+Left out, and said so: emission the capture cannot read (a texture, a node chain), meshes invisible to
+camera rays, and meshes of more than :data:`MAX_SOURCE_TRIANGLES` triangles.
+
+Visibility (issue 32), for every source alike (an area light's outline, an IES opening, a mesh's
+triangles): proven in full view, proven hidden (left out, with the occluder's name) or cut to the part
+in view with proven bounds (``radiometry.source_visibility``: the meter's separating-axis proof, a
+coplanar-patch proof of hiding, subdivision between).
 
 Background: Lb = E_ind / pi, E_ind = the vertical illuminance at the eye minus its direct part (both
-measured by the meter: closed forms where proven, Cycles with lights transparent to rays otherwise).
+measured by the meter: closed forms where proven, Cycles with lights transparent to rays otherwise),
+with the quality's target on E_ind itself; an error that is not known is "error unknown" with the
+cause (``GlareResult.error_unknown``), never a number.
 """
 
 import dataclasses
