@@ -180,7 +180,7 @@ def _tables(report, client):
             elif c["quantity"] == "Ra":
                 shown = f"{achieved:g}"
             else:  # UGR: one decimal, with its standard error
-                shown = f"{achieved:.1f}" + ((f" ± {c['std_error']:.1f}" if c.get("std_error") else "") if known
+                shown = f"{achieved:.1f}" + ((f" ± {c['std_error']:.2g}" if c.get("std_error") else "") if known
                                              else " (error unknown)")
             margin = c["margin"]
             if not math.isfinite(margin):

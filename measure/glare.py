@@ -76,7 +76,7 @@ class GlareResult:
         """'±0.1', or 'error unknown (cause)' (never ±inf or ±nan)."""
         if self.error_unknown or not math.isfinite(self.ugr_std_error):
             return f"error unknown ({self.error_unknown or 'no standard error'})"
-        return f"±{self.ugr_std_error:.1f}"
+        return f"±{self.ugr_std_error:.2g}"  # 2 significant digits: a small error never prints as ±0.0
 
     def background_text(self):
         from ..readings import format_value

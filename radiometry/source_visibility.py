@@ -36,6 +36,9 @@ __all__ = ["CLEAR", "HIDDEN", "MIXED", "SeenPart", "seen_part", "polygon_cells",
 
 CLEAR, HIDDEN, MIXED = "clear", "hidden", "mixed"
 
+#: Most triangles (whose plane separates the eye from the cell) a hiding proof walks; more: not tried.
+MAX_PROOF_TRIANGLES = 512
+
 
 @dataclass
 class SeenPart:
@@ -188,27 +191,35 @@ def _boundary_edges(tris2d, tris3d):
     return out
 
 
-def hidden_behind(eye, cell, tris, tol):
+def hidden_behind(eye, cell, tris, tol, max_triangles=MAX_PROOF_TRIANGLES):
     """Indices (into ``tris``, opaque triangles) of a coplanar set proven to hide every point of the convex
-    polygon ``cell`` (K, 3) from ``eye``, or None (see the module docstring for the proof)."""
+    polygon ``cell`` (K, 3) from ``eye``, or None (see the module docstring for the proof). Only triangles
+    whose plane lies strictly between the eye and the whole cell can take part (a vectorised first cut);
+    more than ``max_triangles`` of them: None (not tried: the proof's edge walk is plain Python)."""
+    eye, cell, tris = (np.asarray(a, float) for a in (eye, cell, tris))
+    if not len(tris):
+        return None
     n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     norm = np.linalg.norm(n, axis=1)
     good = norm > 0
     n = np.where(good[:, None], n / np.where(norm > 0, norm, 1.0)[:, None], 0.0)
     h_eye = np.einsum("tk,tk->t", eye - tris[:, 0], n)
     n = np.where((h_eye < 0)[:, None], -n, n)          # every normal towards the eye
+    h_eye = np.abs(h_eye)
+    h_cell = np.einsum("tkv,tv->tk", cell[None, :, :] - tris[:, None, 0, :], n)
+    between = good & (h_eye > tol) & np.all(h_cell < -tol, axis=1)  # the plane strictly between
+    if not between.any() or between.sum() > max_triangles:
+        return None
     offset = np.einsum("tk,tk->t", tris[:, 0], n)
-    unused = good.copy()
+    unused = between.copy()
     while unused.any():
         i = int(np.flatnonzero(unused)[0])
         group = unused & (np.abs(n @ n[i] - 1.0) <= 1e-9) & (np.abs(offset - offset[i]) <= tol)
         group[i] = True
         unused &= ~group
         members = np.flatnonzero(group)
-        he = float((eye - tris[i, 0]) @ n[i])
-        hc = (cell - tris[i, 0]) @ n[i]
-        if not (he > tol and np.all(hc < -tol)):
-            continue  # the plane does not lie strictly between the eye and the cell
+        he = float(h_eye[i])
+        hc = h_cell[i]
         section = eye + (he / (he - hc))[:, None] * (cell - eye)
         helper = np.array([1.0, 0.0, 0.0]) if abs(n[i][0]) < 0.9 else np.array([0.0, 1.0, 0.0])
         e1 = np.cross(n[i], helper)
