@@ -655,9 +655,11 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard"):
     """CIE 117-1995 Unified Glare Rating for an eye at ``observer`` (scene coordinates) looking along
     ``view_direction`` (+Z up). Returns a ``GlareResult``: ``ugr``, ``ugr_std_error``,
     ``background_luminance`` (cd/m², indirect vertical illuminance at the eye / pi), ``sources`` (name,
-    luminance cd/m², solid_angle sr, position_index, sigma_deg, tau_deg), ``left_out`` (name, reason),
-    ``notes``. Area lights and IES/EULUMDAT lights with a flat luminous opening are rated; see
-    ``measure.glare``."""
+    luminance cd/m², solid_angle sr of the part the eye sees, position_index, sigma_deg, tau_deg,
+    visible_fraction and its proven bounds, visibility), ``left_out`` (name, reason: hidden from the eye,
+    outside the field, ...), ``ugr_visibility_range``, ``error_unknown`` / ``not_measurable`` (the cause,
+    where the error or the value cannot be given), ``notes``. Area lights, IES/EULUMDAT lights with a flat
+    luminous opening and emitting meshes are rated for the part the eye sees; see ``measure.glare``."""
     from .measure import glare
 
     return glare.glare_ugr(observer, view_direction, scene=scene, quality=quality)
@@ -694,8 +696,10 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
     ``uniformity``, ``ugr_limit``, ``ra_required``; ``maintenance_factor`` (Ēm = MF x Ē); ``observers``:
     ((x, y, z), (dx, dy, dz)) eye positions and view directions rated for UGR; ``ra``: the luminaires'
     rated Ra; ``grid``: a ``GridResult`` already measured on ``plane`` (else one is measured at the
-    EN 12464-1 spacing). Returns a dict: ``requirement``, ``checks`` (quantity, required, achieved, unit,
-    status pass/fail/marginal/not assessed, margin, std_error, note), ``overall``, ``grid``, ``glare``."""
+    EN 12464-1 spacing). The grid and the UGR are measured with the electric lighting only: suns and an
+    emitting world are switched off meanwhile (restored after), and the notes say so. Returns a dict:
+    ``requirement``, ``checks`` (quantity, required, achieved, unit, status pass/fail/marginal/not
+    assessed/error unknown, margin, std_error, note), ``overall``, ``grid``, ``glare``, ``lighting``."""
     import dataclasses
 
     import numpy as np
