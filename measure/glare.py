@@ -34,6 +34,7 @@ import numpy as np
 from ..errors import RadiometerError
 from ..radiometry import glare as glare_math
 from ..radiometry import scene_model, source_visibility, visibility
+from ..radiometry.emitters import RayVisibility
 
 
 MAX_SOURCE_TRIANGLES = 20000  #: an emitting mesh with more triangles is left out (said so), not rated
@@ -218,8 +219,6 @@ def _light_part(name, geometry, eye, model):
 def _mesh_source(mesh, eye, efficacy, weights, model):
     """((luminance cd/m², solid angle sr, centre) of what the eye sees of an emitting mesh, seen record),
     or (None, reason)."""
-    from ..radiometry.emitters import RayVisibility
-
     if mesh.radiance is None:
         return None, "emissive surface whose emission the capture cannot read (a texture or node chain): not rated"
     if not mesh.visibility & RayVisibility.CAMERA:
