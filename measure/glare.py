@@ -388,8 +388,9 @@ def _background(eye_scene, view, scene, quality, meter):
 
     def combine(total, direct):
         e_total, e_direct = float(total.illuminance), float(direct.illuminance)
-        s_total = abs(e_total) * total.rel_std_error if e_total else 0.0
-        s_direct = abs(e_direct) * direct.rel_std_error if e_direct else 0.0
+        # a reading of 0 states its error as 0 (exact) or infinite (unknown): keep which
+        s_total = abs(e_total) * total.rel_std_error if e_total else (0.0 if total.rel_std_error == 0 else math.inf)
+        s_direct = abs(e_direct) * direct.rel_std_error if e_direct else (0.0 if direct.rel_std_error == 0 else math.inf)
         return e_total, e_direct, s_total, s_direct
 
     total, direct = read(0)

@@ -5,6 +5,7 @@ import json
 import math
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from radiometer.measure import glare
@@ -75,3 +76,25 @@ def test_result_words_never_print_inf_or_nan():
                               total_illuminance=2000.0, background_rel_std_error=0.0098, sources=[], left_out=[],
                               observer=(0, 0, 1.2), view_direction=(0, 1, 0), notes=[])
     assert "UGR 18.2 ±0.034" in known.summary()
+
+
+def test_dark_reading_with_unknown_error_stays_unknown():
+    """An eye outside a dark room: both readings 0 lx, the total one with an unknown error: unknown, said so."""
+    meter = StubMeter({(False, 0): (0.0, math.inf, False, [DARK]), (True, 0): (0.0, 0.0, True, [])})
+    b = glare._background((0, 0, 1.2), (0, 1, 0), None, "preview", meter)
+    assert math.isnan(b["rel"]) and "vertical illuminance reading" in b["unknown"]
+
+
+def test_ies_opening_outline_follows_the_luminaire_axes():
+    """LM-63 / EULUMDAT: length along C0-C180 (local X), width along C90-C270 (local Y); a circle (negative
+    width) as a circumscribed polygon of its diameter."""
+    axes = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # local X = world Y, local Y = -world X
+    spec = SimpleNamespace(axes=axes, position=np.array([1.0, 2.0, 3.0]))
+    outline = glare._opening_outline(spec, (0.2, 1.2, 0.0))  # width 0.2 m, length 1.2 m
+    span = outline.max(axis=0) - outline.min(axis=0)
+    assert span == pytest.approx([0.2, 1.2, 0.0])
+    assert outline.mean(axis=0) == pytest.approx([1.0, 2.0, 3.0])
+    disk = glare._opening_outline(spec, (-0.5, -0.5, 0.0))
+    r = np.linalg.norm(disk - [1.0, 2.0, 3.0], axis=1)
+    assert np.all(r >= 0.25) and np.all(r <= 0.25 / math.cos(math.pi / glare.OUTLINE_SIDES) + 1e-12)
+    assert np.ptp(disk[:, 2]) == 0.0
