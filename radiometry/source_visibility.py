@@ -117,7 +117,7 @@ def _plane_towards(eye, cell):
     return (n, h) if h >= 0 else (-n, -h)
 
 
-def _candidates(eye, cell, geometry, tol):
+def _candidates(eye, cell, geometry, tol, shadow):
     """Indices of shadow-casting triangles that may cut segments from ``eye`` to ``cell``: their boxes meet
     the pyramid's box and they have a vertex on the eye's side of the cell's plane."""
     lo = np.minimum(eye, cell.min(axis=0))
@@ -125,7 +125,7 @@ def _candidates(eye, cell, geometry, tol):
     idx = geometry.grid.query(lo, hi, tol)
     if not idx.size:
         return idx
-    idx = idx[geometry.shadow_triangles()[idx]]
+    idx = idx[shadow[idx]]
     if not idx.size:
         return idx
     n, _h = _plane_towards(eye, cell)
@@ -211,13 +211,20 @@ def hidden_behind(eye, cell, tris, tol, max_triangles=MAX_PROOF_TRIANGLES):
     if not between.any() or between.sum() > max_triangles:
         return None
     offset = np.einsum("tk,tk->t", tris[:, 0], n)
-    unused = between.copy()
-    while unused.any():
-        i = int(np.flatnonzero(unused)[0])
-        group = unused & (np.abs(n @ n[i] - 1.0) <= 1e-9) & (np.abs(offset - offset[i]) <= tol)
-        group[i] = True
-        unused &= ~group
-        members = np.flatnonzero(group)
+    # Planes by a quantised key (a plane split across two bins only makes the proof fail); a plane whose
+    # triangles have less area than the section cannot cover it (a cheap first cut over dense clutter).
+    idx = np.flatnonzero(between)
+    keys = np.c_[np.round(n[idx] * 1e7), np.round(offset[idx] / max(8.0 * tol, 1e-12))].astype(np.int64)
+    _keys, group_of = np.unique(keys, axis=0, return_inverse=True)
+    group_of = group_of.ravel()
+    ratio = (h_eye[idx][:, None] / (h_eye[idx][:, None] - h_cell[idx]))[..., None]
+    sections = eye + ratio * (cell[None] - eye)                                        # (B, K, 3)
+    fan = np.cross(sections[:, 1:-1] - sections[:, :1], sections[:, 2:] - sections[:, :1]).sum(axis=1)
+    need = 0.5 * np.linalg.norm(fan, axis=1)
+    have = np.bincount(group_of, weights=0.5 * norm[idx])
+    for g in np.flatnonzero(have >= need[np.unique(group_of, return_index=True)[1]] * (1.0 - 1e-9)):
+        members = idx[group_of == g]
+        i = int(members[0])
         he = float(h_eye[i])
         hc = h_cell[i]
         section = eye + (he / (he - hc))[:, None] * (cell - eye)
@@ -238,44 +245,58 @@ def hidden_behind(eye, cell, tris, tol, max_triangles=MAX_PROOF_TRIANGLES):
     return None
 
 
-def _classify(eye, cells, geometry, tol):
-    """Per cell: (state, names of hiding objects, names of non-opaque objects in the way)."""
+def _classify(eye, cells, cands, geometry, tol, shadow, max_pairs):
+    """(per cell: (state, names of hiding objects, names of non-opaque objects in the way, indices of the
+    triangles that may meet its pyramid), pairs tested); None for the first when the (cell, triangle)
+    pairs exceed ``max_pairs`` (a dense occluder: the caller stops cutting). ``cands``: per cell the
+    triangles that met its parent's pyramid (a part's pyramid lies inside its parent's), or None."""
     names = geometry.object_names
-    per_cell = [_candidates(eye, c, geometry, tol) for c in cells]
+    per_cell = [_candidates(eye, c, geometry, tol, shadow) if k is None else k for c, k in zip(cells, cands)]
+    tested = sum(len(i) for i in per_cell)
+    if tested > max_pairs:
+        return None, 0
     pk = np.concatenate([np.full(len(i), k) for k, i in enumerate(per_cell)]) if cells else np.zeros(0, int)
     pt = np.concatenate(per_cell) if cells else np.zeros(0, int)
     meets = np.zeros(len(pt), bool)
     if len(pt):
-        bases = np.stack([cells[k] for k in pk]) if len({len(c) for c in cells}) == 1 else None
-        if bases is not None:
-            verts, normals, edges = visibility.pyramids(np.broadcast_to(eye, (len(pk), 3)), bases)
-            meets = visibility.triangles_meet_polytopes(geometry.triangles[pt], verts, normals, edges, tol)
+        if len({len(c) for c in cells}) == 1:
+            stacked = np.asarray(cells, float)
+            step = max(1, 200_000 // stacked.shape[1])  # pairs per batch: bounded memory for 64-gon outlines
+            for a in range(0, len(pt), step):
+                sl = slice(a, a + step)
+                verts, normals, edges = visibility.pyramids(np.broadcast_to(eye, (len(pk[sl]), 3)), stacked[pk[sl]])
+                meets[sl] = visibility.triangles_meet_polytopes(geometry.triangles[pt[sl]], verts, normals, edges, tol)
         else:
-            for k in np.unique(pk):
-                sel = pk == k
-                meets[sel] = visibility.triangles_meet_polytope(geometry.triangles[pt[sel]],
-                                                                visibility.pyramid(eye, cells[k]), tol)
+            start = 0
+            for k, idx in enumerate(per_cell):
+                if len(idx):
+                    meets[start:start + len(idx)] = visibility.triangles_meet_polytope(
+                        geometry.triangles[idx], visibility.pyramid(eye, cells[k]), tol)
+                start += len(idx)
     out = []
     opaque = np.asarray(geometry.opaque, bool)
+    ends = np.cumsum([len(i) for i in per_cell])  # pairs are in cell order: cell k's are [ends[k-1], ends[k])
     for k, cell in enumerate(cells):
-        hit = pt[(pk == k) & meets]
-        through = sorted({names[geometry.object_index[j]] for j in hit[~opaque[hit]]})
-        hit = hit[opaque[hit]]
+        part = slice(ends[k - 1] if k else 0, ends[k])
+        met = pt[part][meets[part]]
+        through = sorted({names[geometry.object_index[j]] for j in met[~opaque[met]]})
+        hit = met[opaque[met]]
         if not hit.size:
-            out.append((CLEAR, [], through))
+            out.append((CLEAR, [], through, met))
             continue
         members = hidden_behind(eye, cell, geometry.triangles[hit], tol)
         if members is not None:
-            out.append((HIDDEN, sorted({names[geometry.object_index[j]] for j in hit[members]}), through))
+            out.append((HIDDEN, sorted({names[geometry.object_index[j]] for j in hit[members]}), through, met))
         else:
-            out.append((MIXED, sorted({names[geometry.object_index[j]] for j in hit}), through))
-    return out
+            out.append((MIXED, sorted({names[geometry.object_index[j]] for j in hit}), through, met))
+    return out, tested
 
 
-def _centre_seen(eye, cell, geometry, tol):
-    """The estimate for a mixed cell left at the end: is the segment to its centre blocked?"""
+def _centre_seen(eye, cell, geometry, tol, met):
+    """The estimate for a mixed cell left at the end: is the segment to its centre blocked? ``met``: the
+    triangles that may meet its pyramid (the only ones that can)."""
     centre = cell.mean(axis=0)
-    idx = _candidates(eye, cell, geometry, tol)
+    idx = np.asarray(met, int)
     idx = idx[np.asarray(geometry.opaque, bool)[idx]]
     if not idx.size:
         return True
@@ -286,13 +307,16 @@ def _centre_seen(eye, cell, geometry, tol):
     return not hit[0] < dist - tol
 
 
-def seen_part(eye, cells, geometry, tol, *, max_depth=6, max_cells=4096):
+def seen_part(eye, cells, geometry, tol, *, max_depth=6, max_cells=4096, max_pairs=2_000_000):
     """:class:`SeenPart` of a source made of ``cells`` (a list or array of convex polygons (K, 3), m: one
     polygon for a light's outline, the triangles of an emitting mesh) seen from ``eye`` (3,) m among
     ``geometry`` (``scene_model.SceneGeometry``: its shadow-casting triangles occlude). ``tol``: the
-    proofs' length tolerance (m, ``scene_model.length_tolerance``)."""
+    proofs' length tolerance (m, ``scene_model.length_tolerance``). ``max_depth``, ``max_cells`` and
+    ``max_pairs`` (cell-triangle separating-axis tests) bound the work: cells still undecided then count
+    by their centre ray, and whole in the bounds."""
     eye = np.asarray(eye, float)
     cells = [np.asarray(c, float) for c in cells]
+    shadow = geometry.shadow_triangles()  # occluders: the surfaces that cast shadows, as for the meter
     m = len(cells)
     omega = np.array([_solid_angle(eye, c) for c in cells])
     seen_w, seen_a, clear_i, hidden_i = np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(m)
@@ -300,16 +324,24 @@ def seen_part(eye, cells, geometry, tol, *, max_depth=6, max_cells=4096):
     moment = np.zeros((m, 3))
     clear_w = hidden_w = 0.0
     blockers, through = set(), set()
-    level = [(c, i, 0) for i, c in enumerate(cells)]
-    count = unresolved = 0
+    level = [(c, i, 0, None) for i, c in enumerate(cells)]
+    count = unresolved = pairs = 0
+    exhausted = False
     while level:
         count += len(level)
         states = []
-        for size in sorted({len(c) for c, _i, _d in level}):
+        for size in sorted({len(c) for c, _i, _d, _k in level}):
             group = [item for item in level if len(item[0]) == size]
-            states += list(zip(group, _classify(eye, [c for c, _i, _d in group], geometry, tol)))
+            found, tested = _classify(eye, [c for c, _i, _d, _k in group], [k for _c, _i, _d, k in group], geometry,
+                                      tol, shadow, max_pairs - pairs)
+            pairs += tested
+            if found is None:  # over the budget of pair tests: these cells are left undecided, no more cuts
+                exhausted = True
+                found = [(MIXED, [], [], k if k is not None else _candidates(eye, c, geometry, tol, shadow))
+                         for c, _i, _d, k in group]
+            states += list(zip(group, found))
         nxt = []
-        for (cell, i, depth), (state, names, see) in states:
+        for (cell, i, depth, _k), (state, names, see, met) in states:
             through.update(see)
             w = _solid_angle(eye, cell) if depth else omega[i]
             if state == HIDDEN:
@@ -317,9 +349,9 @@ def seen_part(eye, cells, geometry, tol, *, max_depth=6, max_cells=4096):
                 hidden_w += w
                 hidden_i[i] += w
                 continue
-            if state == MIXED and depth < max_depth and count + len(nxt) + 4 <= max_cells:
+            if state == MIXED and not exhausted and depth < max_depth and count + len(nxt) + 4 <= max_cells:
                 blockers.update(names)
-                nxt += [(part, i, depth + 1) for part in _split(cell)]
+                nxt += [(part, i, depth + 1, met) for part in _split(cell)]
                 continue
             if state == CLEAR:
                 clear_w += w
@@ -327,7 +359,7 @@ def seen_part(eye, cells, geometry, tol, *, max_depth=6, max_cells=4096):
             else:
                 blockers.update(names)
                 unresolved += 1
-                if not _centre_seen(eye, cell, geometry, tol):
+                if not _centre_seen(eye, cell, geometry, tol, met):
                     continue
             a = _area(cell)
             seen_w[i] += w
