@@ -35,7 +35,7 @@ def _num(value, rel_se=0.0, exact=False):
 
 # --- the luminaire schedule ----------------------------------------------------------------------
 
-def _daylight_words(scene):
+def daylight_words(scene):
     """A warning for the compliance notes when the report's grids were measured with daylight on (a sun or
     an emitting world): EN 12464-1 rates the electric lighting (``api.en12464_compliance`` switches
     daylight off; the report's grids are measured with the scene as it is)."""
@@ -414,7 +414,7 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
                                 "lb_text": g.background_text(),
                                 "sources": g.sources, "left_out": g.left_out})
     planes = {p.name: p for p in work_planes(scene)}
-    daylight = _daylight_words(scene)
+    daylight = daylight_words(scene)
     for grid in report.get("grids", []):
         if "error" in grid:
             continue

@@ -149,3 +149,9 @@ def test_compliance_in_a_sunlit_room_measures_the_electric_lighting(clean_blende
     assert checks["Ēm"]["achieved"] == pytest.approx(0.8 * g.stats["avg"])
     assert "sun(s) 'Sun'" in checks["Ēm"]["note"] and "emitting world" in checks["Ēm"]["note"]
     assert "electric lighting only" in out["lighting"]
+    # The client report measures its grids with the scene as it is: it says daylight is included.
+    from radiometer.measure import client_report
+
+    assert "DAYLIGHT INCLUDED" in client_report.daylight_words(scene) and "'Sun'" in client_report.daylight_words(scene)
+    sun.hide_render, scene.world = True, None
+    assert client_report.daylight_words(scene) == ""
