@@ -29,8 +29,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import visibility
-from .glare import triangle_solid_angles
+from .scene import visibility
+from .metrics.glare import triangle_solid_angles
 
 __all__ = ["CLEAR", "HIDDEN", "MIXED", "SeenPart", "seen_part", "polygon_cells", "hidden_behind"]
 

@@ -8,7 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from radiometer.measure import glare
+from radiometer.measure.analyses import glare
 
 
 class StubMeter:

@@ -7,7 +7,7 @@ on a 600 x 600 grid of the panel's cells)."""
 import numpy as np
 import pytest
 
-from radiometer.radiometry import scene_model
+from radiometer.radiometry.scene import scene_model
 from radiometer.radiometry import source_visibility as sv
 
 EYE = np.zeros(3)

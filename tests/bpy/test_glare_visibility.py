@@ -150,7 +150,7 @@ def test_compliance_in_a_sunlit_room_measures_the_electric_lighting(clean_blende
     assert "sun(s) 'Sun'" in checks["Ēm"]["note"] and "emitting world" in checks["Ēm"]["note"]
     assert "electric lighting only" in out["lighting"]
     # The client report measures its grids with the scene as it is: it says daylight is included.
-    from radiometer.measure import client_report
+    from radiometer.measure.reports import client_report
 
     assert "DAYLIGHT INCLUDED" in client_report.daylight_words(scene) and "'Sun'" in client_report.daylight_words(scene)
     sun.hide_render, scene.world = True, None
