@@ -659,9 +659,11 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard"):
     """CIE 117-1995 Unified Glare Rating for an eye at ``observer`` (scene coordinates) looking along
     ``view_direction`` (+Z up). Returns a ``GlareResult``: ``ugr``, ``ugr_std_error``,
     ``background_luminance`` (cd/m², indirect vertical illuminance at the eye / pi), ``sources`` (name,
-    luminance cd/m², solid_angle sr, position_index, sigma_deg, tau_deg), ``left_out`` (name, reason),
-    ``notes``. Area lights and IES/EULUMDAT lights with a flat luminous opening are rated; see
-    ``measure.analyses.glare``."""
+    luminance cd/m², solid_angle sr of the part the eye sees, position_index, sigma_deg, tau_deg,
+    visible_fraction and its proven bounds, visibility), ``left_out`` (name, reason: hidden from the eye,
+    outside the field, ...), ``ugr_visibility_range``, ``error_unknown`` / ``not_measurable`` (the cause,
+    where the error or the value cannot be given), ``notes``. Area lights, IES/EULUMDAT lights with a flat
+    luminous opening and emitting meshes are rated for the part the eye sees; see ``measure.analyses.glare``."""
     from .measure.analyses import glare
 
     return glare.glare_ugr(observer, view_direction, scene=scene, quality=quality)
@@ -698,8 +700,10 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
     ``uniformity``, ``ugr_limit``, ``ra_required``; ``maintenance_factor`` (Ēm = MF x Ē); ``observers``:
     ((x, y, z), (dx, dy, dz)) eye positions and view directions rated for UGR; ``ra``: the luminaires'
     rated Ra; ``grid``: a ``GridResult`` already measured on ``plane`` (else one is measured at the
-    EN 12464-1 spacing). Returns a dict: ``requirement``, ``checks`` (quantity, required, achieved, unit,
-    status pass/fail/marginal/not assessed, margin, std_error, note), ``overall``, ``grid``, ``glare``."""
+    EN 12464-1 spacing). The grid and the UGR are measured with the electric lighting only: suns and an
+    emitting world are switched off meanwhile (restored after), and the notes say so. Returns a dict:
+    ``requirement``, ``checks`` (quantity, required, achieved, unit, status pass/fail/marginal/not
+    assessed/error unknown, margin, std_error, note), ``overall``, ``grid``, ``glare``, ``lighting``."""
     import dataclasses
 
     import numpy as np
@@ -711,15 +715,26 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
                                      ugr_limit=ugr_limit, ra=ra_required)
     except ValueError as exc:
         raise RadiometerError(str(exc)) from None
-    g = grid if grid is not None else illuminance_grid(plane, scene=scene, quality=quality)
-    lo_index = int(np.argmin(g.lux)) if hasattr(g.lux, "size") else 0
-    glare_results = []
+    import bpy
+
+    from .measure.analyses import light_isolation
+
     for k, obs in enumerate(observers or ()):
         try:
-            position, direction = obs
+            _position, _direction = obs
         except (TypeError, ValueError):
             raise RadiometerError(f"observer {k + 1}: give ((x, y, z), (dx, dy, dz)), got {obs!r}") from None
-        glare_results.append(glare_ugr(position, direction, scene=scene, quality=quality))
+    # EN 12464-1 rates the electric lighting: suns and an emitting world are off while it is measured.
+    with light_isolation.electric_lighting_only(scene or bpy.context.scene) as lighting:
+        if grid is not None:
+            g = grid
+            lighting = ("the work-plane grid was given by the caller and is taken as measured (daylight included "
+                        "if the scene had any then)" + (f"; glare: {lighting}" if lighting else ""))
+        else:
+            g = illuminance_grid(plane, scene=scene, quality=quality)
+        glare_results = [glare_ugr(position, direction, scene=scene, quality=quality)
+                         for position, direction in (observers or ())]
+    lo_index = int(np.argmin(g.lux)) if hasattr(g.lux, "size") else 0
     try:
         rows = compliance.assess(req, average_lx=g.stats["avg"], minimum_lx=g.stats["min"],
                                  maintenance_factor=maintenance_factor,
@@ -727,13 +742,14 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
                                  average_rel_se=float(np.sqrt(np.sum(np.square(g.lux * g.rel_std_error)))
                                                       / max(float(np.sum(g.lux)), 1e-300)),
                                  minimum_rel_se=float(g.rel_std_error.ravel()[lo_index]),
-                                 ugr=[(f"observer {k + 1}", r.ugr, r.ugr_std_error) for k, r in enumerate(glare_results)],
-                                 ra=ra)
+                                 ugr=[(f"observer {k + 1}", r.ugr, r.ugr_std_error, r.error_unknown or r.not_measurable)
+                                      for k, r in enumerate(glare_results)],
+                                 ra=ra, lighting=lighting)
     except ValueError as exc:
         raise RadiometerError(str(exc)) from None
     return {"requirement": dataclasses.asdict(req), "checks": [dataclasses.asdict(r) for r in rows],
             "overall": compliance.overall(rows), "maintenance_factor": float(maintenance_factor), "grid": g,
-            "glare": glare_results}
+            "glare": glare_results, "lighting": lighting or "electric lighting (the scene has no sun or emitting world)"}
 
 
 @_v.boundary

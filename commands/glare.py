@@ -41,7 +41,8 @@ def run(args):
         print(f"observer ({o[0]:g}, {o[1]:g}, {o[2]:g}) looking ({o[3]:g}, {o[4]:g}, {o[5]:g}): {g.summary()}")
         for s in g.sources:
             print(f"  {s['name']:<24} L {format_value(s['luminance'], 1e-3)} cd/m²  ω {s['solid_angle']:.3g} sr  "
-                  f"p {s['position_index']:.3g}")
+                  f"p {s['position_index']:.3g}"
+                  + ("" if s.get("visible_fraction_bounds", (1.0, 1.0)) == (1.0, 1.0) else f"  ({s['visibility']})"))
         for d in g.left_out:
             print(f"  {d['name']:<24} left out: {d['reason']}")
         out["observers"].append(g.to_dict())

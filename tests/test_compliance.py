@@ -48,3 +48,22 @@ def test_quoted_rows_are_marked_indicative_and_user_rows_are_not():
     assert all(t.indicative for t in compliance.TASKS.values())
     assert not compliance.requirement(maintained_lx=400).indicative
     assert compliance.TASKS["office_writing"].source == "EN 12464-1:2011 Table 5.26, ref. 5.26.2"
+
+
+def test_unknown_error_is_no_verdict_and_says_why():
+    """Issue 32: a UGR of 8.4 with an infinite error was called "marginal". An unknown error gives the status
+    "error unknown" with its cause, not pass/fail/marginal; a UGR that cannot be measured is "not assessed"."""
+    req = compliance.TASKS["office_writing"]
+    rows = compliance.assess(req, average_lx=700.0, minimum_lx=450.0, maintenance_factor=0.8,
+                             ugr=[("desk", 8.4, math.inf, "the direct-only reading found no rendered light"),
+                                  ("door", math.nan, math.nan, "no indirect light reaches the eye")],
+                             lighting="electric lighting only: sun(s) 'Sun' switched off for this measurement")
+    by = {r.quantity: r for r in rows}
+    assert by["UGR (desk)"].status == compliance.ERROR_UNKNOWN
+    assert "found no rendered light" in by["UGR (desk)"].note and math.isnan(by["UGR (desk)"].std_error)
+    assert by["UGR (door)"].status == "not assessed" and "not measurable" in by["UGR (door)"].note
+    assert "sun(s) 'Sun' switched off" in by["Ēm"].note and "switched off" in by["U0"].note
+    assert compliance.overall(rows) == "pass (partly assessed)"  # Ēm and U0 pass; the UGR rows give no verdict
+    grid_unknown = compliance.assess(req, average_lx=700.0, minimum_lx=450.0, maintenance_factor=0.8,
+                                     average_rel_se=math.inf)
+    assert grid_unknown[0].status == compliance.ERROR_UNKNOWN and "error unknown" in grid_unknown[0].note

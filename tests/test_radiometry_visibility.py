@@ -95,11 +95,12 @@ def test_plan_direct_area_light_over_a_desk():
     # Exactly on the desk: the desk is in the horizon plane, so it cuts no light arriving from above.
     plan0 = scene_model.plan_direct(model, [[0, 0, 0.0]], [[0, 0, 1]])
     assert plan0.exact_points().all()
-    # A meter under the desk, facing up: the desk covers the whole panel (and reflects nothing down).
+    # A meter under the desk, facing up: the desk (two triangles sharing a diagonal) covers the whole
+    # panel's pyramid, which is proven (issue 32: source_visibility.hidden_behind): its direct light is 0.
     under = scene_model.plan_direct(model, [[0, 0, -0.1]], [[0, 0, 1]])
     # The desk is one opaque plane with the panel wholly above it: its underside is provably dark
-    # (scene_model.dark_planes, issue 32), so no indirect light; the panel's own light is rendered.
-    assert under.status[0, 0] == scene_model.RENDER and not under.indirect[0]
+    # (scene_model.dark_planes, issue 32), so no indirect light either.
+    assert under.status[0, 0] == scene_model.ZERO and "blocked" in under.reason[0, 0] and not under.indirect[0]
     # With a second surface below the desk (it could light the underside) the proof is gone.
     floor = [[[-1, -1, -0.5], [1, -1, -0.5], [1, 1, -0.5]]]
     tris = np.concatenate([np.asarray(desk, float), np.asarray(floor, float)])
@@ -109,6 +110,9 @@ def test_plan_direct_area_light_over_a_desk():
         emissive=np.zeros(3, bool))
     two = scene_model.SceneModel(lights=model.lights, geometry=geometry)
     assert scene_model.plan_direct(two, [[0, 0, -0.1]], [[0, 0, 1]]).indirect[0]
+    # A desk that leaves part of the pyramid open is not proven to hide it: rendered.
+    half = _model(desk[:1], panel)
+    assert scene_model.plan_direct(half, [[0, 0, -0.1]], [[0, 0, 1]]).status[0, 0] == scene_model.RENDER
 
 
 def test_plan_direct_partial_and_blocked():

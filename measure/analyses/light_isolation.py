@@ -99,6 +99,28 @@ def isolated_light(scene, obj, model=None):
         yield off
 
 
+@contextlib.contextmanager
+def electric_lighting_only(scene, model=None):
+    """Daylight off inside the block: every sun light object off in renders and no world where the world
+    emits (a sky, an HDRI), as the daylight factor isolates the sky the other way round; the scene guard
+    restores both. Yields one sentence saying what was switched off ("" when the scene had no daylight)."""
+    model = scene_model(scene) if model is None else model
+    with scene_guard.preserved_scene(scene) as snapshot:
+        suns = [ob for ob in rendering_light_objects(scene, model)
+                if getattr(ob.data, "type", "") == "SUN" and not ob.hide_render]
+        for ob in suns:
+            snapshot.remember(ob, "hide_render")
+            ob.hide_render = True
+        world = scene.world is not None and bool(model.world_emits)
+        if world:
+            scene.world = None  # the snapshot puts the world back
+        common.view_layer_of(scene).update()
+        off = [f"sun(s) {', '.join(repr(ob.name) for ob in suns)}" if suns else "",
+               "the emitting world" if world else ""]
+        off = [x for x in off if x]
+        yield (f"electric lighting only: {' and '.join(off)} switched off for this measurement" if off else "")
+
+
 def free_distance(scene, origin_m, direction, model=None):
     """Distance (m) along ``direction`` from ``origin_m`` (m) to the first surface that renders, inf
     if none. Cast against the scene model's triangles (what Cycles renders, instances included),

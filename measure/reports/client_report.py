@@ -35,6 +35,23 @@ def _num(value, rel_se=0.0, exact=False):
 
 # --- the luminaire schedule ----------------------------------------------------------------------
 
+def daylight_words(scene):
+    """A warning for the compliance notes when the report's grids were measured with daylight on (a sun or
+    an emitting world): EN 12464-1 rates the electric lighting (``api.en12464_compliance`` switches
+    daylight off; the report's grids are measured with the scene as it is)."""
+    from ..meter import point_meter as meter
+    from ..analyses.analysis_common import view_layer_of
+
+    model = meter.capture_model(scene, view_layer_of(scene))
+    suns = [lt.name for lt in model.lights if lt.spec is not None and lt.spec.kind == "SUN"]
+    parts = ([f"sun(s) {', '.join(repr(n) for n in suns)}"] if suns else []) + \
+        (["an emitting world"] if model.world_emits else [])
+    if not parts:
+        return ""
+    return (f"DAYLIGHT INCLUDED ({' and '.join(parts)} on while the grid was measured): not the electric "
+            "lighting alone; use api.en12464_compliance, which switches daylight off")
+
+
 def luminaire_schedule(scene):
     """Rows per luminaire type: type, file (name only), count, flux per luminaire (lm), power (W),
     efficacy (lm/W). IES/EULUMDAT lights: the file's flux and input watts; Blender lights: the emitted
@@ -153,8 +170,10 @@ def _tables(report, client):
         rows = []
         for c in comp["checks"]:
             achieved = c["achieved"]
+            known = c.get("std_error") is None or math.isfinite(c["std_error"])
             if c["unit"] == "lx":
-                shown = f"{_num(achieved, c['std_error'] / achieved if achieved else 0)} lx"
+                shown = (f"{_num(achieved, c['std_error'] / achieved if achieved else 0)} lx" if known
+                         else f"{_num(achieved, 0.01)} lx (error unknown)")
             elif isinstance(achieved, float) and not math.isfinite(achieved):
                 shown = "n/a" if math.isnan(achieved) else "no glare source"
             elif c["quantity"] == "U0":
@@ -162,7 +181,8 @@ def _tables(report, client):
             elif c["quantity"] == "Ra":
                 shown = f"{achieved:g}"
             else:  # UGR: one decimal, with its standard error
-                shown = f"{achieved:.1f}" + (f" ± {c['std_error']:.1f}" if c.get("std_error") else "")
+                shown = f"{achieved:.1f}" + ((f" ± {c['std_error']:.2g}" if c.get("std_error") else "") if known
+                                             else " (error unknown)")
             margin = c["margin"]
             if not math.isfinite(margin):
                 mtext = "n/a"
@@ -391,11 +411,13 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
             continue
         glare_results.append((f"observer {k + 1}", g))
         client["glare"].append({"label": f"observer {k + 1} {tuple(round(float(v), 2) for v in p)} m",
-                                "ugr": g.ugr, "ugr_text": f"{g.ugr:.1f} ± {g.ugr_std_error:.1f}"
-                                if math.isfinite(g.ugr) else "no source in the field",
-                                "lb_text": f"{_num(g.background_luminance, g.background_rel_std_error)} cd/m²",
+                                "ugr": g.ugr, "ugr_text": f"not measurable: {g.not_measurable}" if g.not_measurable
+                                else f"{g.ugr:.1f} {g.error_text()}" if math.isfinite(g.ugr)
+                                else "no source in the field",
+                                "lb_text": g.background_text(),
                                 "sources": g.sources, "left_out": g.left_out})
     planes = {p.name: p for p in work_planes(scene)}
+    daylight = daylight_words(scene)
     for grid in report.get("grids", []):
         if "error" in grid:
             continue
@@ -413,7 +435,8 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
                                  maintenance_factor=maintenance_factor,
                                  average_rel_se=float(np.sqrt(np.sum((lux * se) ** 2)) / max(lux.sum(), 1e-300)),
                                  minimum_rel_se=float(se.ravel()[int(np.argmin(lux))]),
-                                 ugr=[(label, g.ugr, g.ugr_std_error) for label, g in glare_results], ra=ra)
+                                 ugr=[(label, g.ugr, g.ugr_std_error, g.error_unknown or g.not_measurable)
+                                      for label, g in glare_results], ra=ra, lighting=daylight)
         import dataclasses
 
         client["compliance"].append({"plane": grid["target"], "requirement": dataclasses.asdict(req),

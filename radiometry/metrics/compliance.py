@@ -31,7 +31,7 @@ else "not assessed".
 import dataclasses
 import math
 
-__all__ = ["Requirement", "TASKS", "Check", "assess", "requirement"]
+__all__ = ["Requirement", "TASKS", "Check", "assess", "requirement", "ERROR_UNKNOWN"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -93,52 +93,72 @@ class Check:
     required: str          #: e.g. ">= 500 lx"
     achieved: float        #: nan when not assessed
     unit: str
-    status: str            #: "pass", "fail", "marginal" or "not assessed"
+    status: str            #: "pass", "fail", "marginal", "not assessed" or "error unknown" (the note says why)
     margin: float          #: achieved - required (signed so that > 0 is on the good side); nan if not assessed
     std_error: float = 0.0  #: 1 s.e. of ``achieved`` (absolute)
     note: str = ""
 
 
+ERROR_UNKNOWN = "error unknown"  #: a check's status when the achieved value's standard error is unknown
+
+
 def _status(margin, se):
     if not math.isfinite(margin):
         return "not assessed"
+    if not math.isfinite(se):
+        return ERROR_UNKNOWN  # no verdict: pass, fail or marginal cannot be told without the error
     if se > 0 and abs(margin) < 2 * se:
         return "marginal"
     return "pass" if margin >= 0 else "fail"
 
 
 def assess(req, *, average_lx, minimum_lx, maintenance_factor, average_rel_se=0.0, minimum_rel_se=0.0,
-           ugr=(), ra=None):
+           ugr=(), ra=None, lighting=""):
     """The compliance table of one work plane: a list of :class:`Check`.
 
     ``average_lx``/``minimum_lx``: Ē and E_min of the new installation (lx) with their relative standard
-    errors; ``maintenance_factor`` in (0, 1]; ``ugr``: (label, UGR, 1 s.e.) per observer; ``ra``: the
-    luminaires' rated Ra or None.
+    errors; ``maintenance_factor`` in (0, 1]; ``ugr``: (label, UGR, 1 s.e.) or (label, UGR, 1 s.e., why the
+    error is unknown / UGR not measurable) per observer (UGR nan: not measurable; s.e. not finite: "error
+    unknown", never a verdict); ``ra``: the luminaires' rated Ra or None; ``lighting``: what was measured
+    (e.g. "electric lighting only: sun(s) 'Sun' switched off"), added to the notes of the measured rows.
     """
     mf = float(maintenance_factor)
     if not 0 < mf <= 1:
         raise ValueError(f"maintenance factor must be in (0, 1], got {maintenance_factor}")
     em = mf * float(average_lx)
     em_se = em * float(average_rel_se)
+    also = f"; {lighting}" if lighting else ""
     rows = [Check("Ēm", f">= {req.maintained_lx:g} lx", em, "lx", _status(em - req.maintained_lx, em_se),
-                  em - req.maintained_lx, em_se, f"maintained = MF {mf:g} x Ē {float(average_lx):.4g} lx")]
+                  em - req.maintained_lx, em_se, f"maintained = MF {mf:g} x Ē {float(average_lx):.4g} lx{also}")]
     u0 = float(minimum_lx) / float(average_lx) if average_lx > 0 else math.nan
     u0_se = u0 * math.hypot(average_rel_se, minimum_rel_se) if math.isfinite(u0) else 0.0
     if req.uniformity is not None:
         rows.append(Check("U0", f">= {req.uniformity:.2f}", u0, "", _status(u0 - req.uniformity, u0_se),
-                          u0 - req.uniformity, u0_se, "E_min / Ē on the grid"))
+                          u0 - req.uniformity, u0_se, f"E_min / Ē on the grid{also}"))
     if req.ugr_limit is not None:
         if not ugr:
             rows.append(Check("UGR", f"<= {req.ugr_limit:g}", math.nan, "", "not assessed", math.nan,
                               note="no observer position given"))
-        for label, value, se in ugr:
-            v = float(value)
+        for item in ugr:
+            label, value, se = item[:3]
+            why = item[3] if len(item) > 3 else ""
+            v, se = float(value), float(se)
             if v == -math.inf:
                 rows.append(Check(f"UGR ({label})", f"<= {req.ugr_limit:g}", v, "", "pass", math.inf, 0.0,
-                                  "no glare source in the field"))
+                                  f"no glare source in the field{also}"))
                 continue
-            rows.append(Check(f"UGR ({label})", f"<= {req.ugr_limit:g}", v, "", _status(req.ugr_limit - v, se),
-                              req.ugr_limit - v, float(se), "CIE 117"))
+            if math.isnan(v):
+                rows.append(Check(f"UGR ({label})", f"<= {req.ugr_limit:g}", v, "", "not assessed", math.nan,
+                                  math.nan, f"not measurable: {why or 'no value'}"))
+                continue
+            status = _status(req.ugr_limit - v, se)
+            note = f"CIE 117{also}" + (f"; error unknown: {why or 'no standard error'}" if status == ERROR_UNKNOWN else "")
+            rows.append(Check(f"UGR ({label})", f"<= {req.ugr_limit:g}", v, "", status, req.ugr_limit - v,
+                              se if math.isfinite(se) else math.nan, note))
+    for row in rows:
+        if row.status == ERROR_UNKNOWN and "error unknown" not in row.note:
+            row.std_error = math.nan
+            row.note += "; error unknown: a grid reading states no finite standard error (see its notes)"
     if req.ra is not None:
         if ra is None:
             rows.append(Check("Ra", f">= {req.ra:g}", math.nan, "", "not assessed", math.nan,
@@ -158,4 +178,4 @@ def overall(rows):
         return "marginal"
     if states <= {"pass"}:
         return "pass"
-    return "pass (partly assessed)" if "pass" in states else "not assessed"
+    return "pass (partly assessed)" if "pass" in states else "not assessed"  # "error unknown" rows: not assessed

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import source_visibility
 from . import visibility
 
 EXACT, ZERO, BOUNDED, RENDER = "exact", "zero", "bounded", "render"
@@ -353,7 +354,15 @@ def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach, panes=
         meets = visibility.triangles_meet_polytopes(tris, verts, face_normals, edges, tol)
         for k in np.unique(pk[meets]):
             status[k] = visibility.PARTIAL
-            blocker[k] = names[geometry.object_index[pt[meets & (pk == k)][0]]]
+            hit = pt[meets & (pk == k)]
+            blocker[k] = names[geometry.object_index[hit[0]]]
+            # An opaque coplanar patch (a baffle, a wall) across the whole pyramid hides the light.
+            opaque = hit[np.asarray(geometry.opaque, bool)[hit]]
+            hiding = source_visibility.hidden_behind(points[k], ends[k], geometry.triangles[opaque], tol) \
+                if opaque.size else None
+            if hiding is not None:
+                status[k] = visibility.BLOCKED
+                blocker[k] = names[geometry.object_index[opaque[hiding[0]]]]
         return (status, blocker, crossings) if panes is not None else (status, blocker)
     for k in np.unique(pk):
         sel = pk == k

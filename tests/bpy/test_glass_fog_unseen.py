@@ -139,7 +139,9 @@ def test_grey_room_behind_double_glazing_against_a_patch_render(clean_blender):
     for label, point, normal in cases[:2]:
         quality = "standard" if "shade" in label else "preview"
         r = api.measure_illuminance(point, normal, scene=scene, method="auto", quality=quality)
-        assert r.method == ("render" if "shade" in label else "hybrid") and not r.exact, (label, r.method)
+        # both hybrid: in the shade the sun's disc is proven hidden by the wall (issue 32: the wall's face
+        # covers its whole cone), so its direct part is exactly 0 and only the interreflections render
+        assert r.method == "hybrid" and not r.exact, (label, r.method)
         _check(r, *_stored(f"grey_room_glazing/{label}", point, normal))
 
 

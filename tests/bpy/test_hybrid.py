@@ -50,9 +50,14 @@ def test_hybrid_equals_full_render(clean_blender, build):
     full = api.measure_illuminance(POINTS, (0, 0, 1), method="render", target_rel_error=0.003, seed=500)
     assert scene_fingerprint(scene) == before
     assert all(ob.light_linking.receiver_collection is None for ob in scene.objects if ob.type == "LIGHT")
-    # The split is real: every meter takes some light from closed forms, and not all the same.
+    # The split is real: every meter takes some light from closed forms, and not all the same ones: the
+    # cabinet hides the whole ceiling panel from the meters beside it (proven since issue 32: its face
+    # covers the panel's pyramid, so the panel is exactly 0 there), not from the others.
     parts = [tuple(r.parts["analytic"]) for r in hybrid]
-    assert all(parts) and len(set(parts)) > 1, parts
+    assert all(parts), parts
+    panel = [next(row["status"] for row in api.predict_illuminance(p, (0, 0, 1)) if row["light"] == "area")
+             for p in POINTS]
+    assert "zero" in panel and "exact" in panel, panel
     z = []
     for h, f in zip(hybrid, full):
         assert h.method == "hybrid" and f.method == "render"
