@@ -664,6 +664,25 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard"):
 
 
 @_v.boundary
+def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolution=128, threshold_cd_m2=2000.0,
+              threshold_factor=None, low_light_correction=False, hdr_path=None):
+    """Daylight glare probability (Wienold & Christoffersen 2006) for an eye at ``observer`` (scene
+    coordinates) looking along ``view_direction`` (+Z up): a 180 deg angular fisheye (``resolution`` px
+    a side, preview-sized) is rendered from the eye, glare sources are found on it as evalglare finds
+    them (pixels above ``threshold_cd_m2``, default 2000 cd/m², or ``threshold_factor`` x the picture's
+    mean luminance), E_v is the meter's. ``hdr_path``: also write the fisheye as a Radiance HDR for
+    evalglare. Returns a ``DaylightGlareResult``: ``dgp``, ``dgp_std_error``, ``dgp_class``
+    (imperceptible < 0.35 <= perceptible < 0.40 <= disturbing < 0.45 <= intolerable),
+    ``vertical_illuminance`` (lx), ``sources`` (luminance cd/m², solid_angle sr, position_index, ...),
+    ``notes``. See ``measure.daylight_glare``."""
+    from .measure import daylight_glare
+
+    return daylight_glare.glare_dgp(observer, view_direction, scene=scene, quality=quality, resolution=resolution,
+                                    threshold_cd_m2=threshold_cd_m2, threshold_factor=threshold_factor,
+                                    low_light_correction=low_light_correction, hdr_path=hdr_path)
+
+
+@_v.boundary
 def cluster_info(scheduler):
     """Workers of the Dask cluster at ``scheduler`` ("tcp://host:8786"): a dict with ``workers``,
     ``threads``, ``hosts``, ``memory_bytes``; an unreachable scheduler raises RadiometerError (one line,

@@ -48,7 +48,7 @@ import numpy as np
 from . import glare
 
 __all__ = ["dgp", "dgp_simplified", "low_light_factor", "dgp_class", "position_index_dgp", "angular_fisheye",
-           "find_glare_sources", "dgp_from_picture", "DGPResult", "CLASS_LIMITS"]
+           "find_glare_sources", "dgp_from_picture", "DGPResult", "CLASS_LIMITS", "radiance_picture"]
 
 C_EV, C_LOG, C_0, EV_EXPONENT = 5.87e-5, 9.18e-2, 0.16, 1.87   #: Wienold & Christoffersen 2006
 SIMPLIFIED_SLOPE, SIMPLIFIED_OFFSET = 6.22e-5, 0.184            #: DGPs, Wienold 2007
@@ -332,3 +332,22 @@ def dgp_from_picture(luminance, directions, solid_angles, valid, view_direction,
     return DGPResult(dgp=value, dgp_class=dgp_class(value), vertical_illuminance=ev, direct_illuminance=e_dir,
                      mean_luminance=float(np.sum((L * w)[ok]) / np.sum(w[ok])), threshold_cd_m2=threshold,
                      sources=sources, low_light_correction=bool(low_light_correction), notes=notes)
+
+
+def radiance_picture(luminance, view_direction, up=(0.0, 0.0, 1.0), eye=(0.0, 0.0, 0.0), fov_deg=180.0):
+    """Bytes of a Radiance picture (RGBE, flat scanlines, top row first) of ``luminance`` (H, W) cd/m²
+    as grey R = G = B = L / 179 (Radiance's white efficacy), with its angular-fisheye VIEW in the
+    header, as evalglare reads it. Pure: the caller writes the bytes. Every pixel's largest mantissa
+    byte is >= 128, so no pixel reads as an old-style run-length marker (1, 1, 1, n)."""
+    v = np.asarray(luminance, float) / 179.0
+    if v.ndim != 2 or not np.all(np.isfinite(v)) or np.any(v < 0):
+        raise ValueError("a Radiance picture needs a 2-D array of finite luminances >= 0")
+    m, e = np.frexp(v)
+    small = v < 1e-32
+    mant = np.where(small, 0, np.floor(m * 256)).astype(np.uint8)
+    ex = np.where(small, 0, e + 128).astype(np.uint8)
+    h, w = v.shape
+    vd, vu, vp = (" ".join(f"{float(c):.9g}" for c in vec) for vec in (view_direction, up, eye))
+    head = (f"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\nVIEW= -vta -vp {vp} -vd {vd} -vu {vu} -vh {fov_deg:g} "
+            f"-vv {fov_deg:g}\n\n-Y {h} +X {w}\n").encode()
+    return head + np.stack([mant, mant, mant, ex], axis=-1).tobytes()

@@ -147,27 +147,14 @@ def _evalglare():
     return exe
 
 
-def _rgbe(luminance):
-    """Grey RGBE bytes (H, W, 4) of luminance / 179 (Radiance's white efficacy), and what they decode to."""
-    v = np.asarray(luminance, float) / 179.0
-    m, e = np.frexp(v)
-    mant = np.floor(m * 256).astype(int)
-    small = v < 1e-32
-    byte = np.where(small, 0, mant).astype(np.uint8)
-    ex = np.where(small, 0, e + 128).astype(np.uint8)
-    out = np.stack([byte, byte, byte, ex], axis=-1)
-    decoded = np.where(small, 0.0, (mant + 0.5) * np.ldexp(1.0, e - 8)) * 179.0
-    return out, decoded
-
-
 def _write_hdr(path, luminance):
-    """Radiance picture, flat (uncompressed) scanlines, top row first; returns the decoded luminance."""
-    data, decoded = _rgbe(luminance)
+    """Write the picture with Radiometer's encoder; return what Radiance decodes from its bytes
+    ((mantissa + 0.5) 2^(exponent - 136) x 179, grey), so both programs read the same numbers."""
+    data = glare_dgp.radiance_picture(luminance, VIEW, UP)
+    path.write_bytes(data)
     h, w = luminance.shape
-    head = ("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\nVIEW= -vta -vp 0 0 0 -vd 0 1 0 -vu 0 0 1 -vh 180 -vv 180\n\n"
-            f"-Y {h} +X {w}\n").encode()
-    path.write_bytes(head + data.tobytes())
-    return decoded
+    px = np.frombuffer(data[len(data) - 4 * h * w:], np.uint8).reshape(h, w, 4).astype(float)
+    return np.where(px[..., 3] > 0, (px[..., 1] + 0.5) * np.ldexp(1.0, px[..., 3].astype(int) - 136), 0.0) * 179.0
 
 
 def _run_evalglare(exe, path, *args):
