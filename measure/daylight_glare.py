@@ -11,7 +11,9 @@ seen through a pane, the sky through openings, luminaires and bright surfaces al
 E_v: the meter's vertical illuminance at the eye (closed forms where proven, rendered otherwise, with
 its standard error), which the DGP uses; the picture's own E_v (the sum of L cos(theta) omega) is
 reported beside it as a check of the picture. The DGP's standard error combines E_v's and the
-sources' luminance errors (first order). Delta lights (point/spot of radius 0, sun of angle 0) are not
+sources' luminance errors (first order); pixelation is stated apart: a source's border pixels are
+partly covered (a pixel's mean luminance), so half their solid angle is counted as uncertain
+(``radiometry.glare_dgp``'s ``dgp_pixel_error``); it shrinks as 1 / resolution. Delta lights (point/spot of radius 0, sun of angle 0) are not
 seen by camera rays: they light the eye (E_v) but are no glare source (a note says so).
 """
 
@@ -32,7 +34,8 @@ class DaylightGlareResult:
     """DGP at one observer. Luminances cd/m², solid angles sr, illuminances lx."""
 
     dgp: float
-    dgp_std_error: float
+    dgp_std_error: float                 #: 1 s.e. from the render noise (E_v and the sources' pixels)
+    dgp_resolution_error: float          #: from the sources' partly covered border pixels (pixelation)
     dgp_class: str
     vertical_illuminance: float          #: the meter's E_v at the eye (used in the DGP), lx
     vertical_illuminance_rel_std_error: float
@@ -50,8 +53,8 @@ class DaylightGlareResult:
         return dataclasses.asdict(self)
 
     def summary(self):
-        return (f"DGP {self.dgp:.3f} ±{self.dgp_std_error:.3f} ({self.dgp_class}; {len(self.sources)} glare sources, "
-                f"E_v {self.vertical_illuminance:.0f} lx)")
+        return (f"DGP {self.dgp:.3f} ±{self.dgp_std_error:.3f} (noise) ±{self.dgp_resolution_error:.3f} (pixels) "
+                f"({self.dgp_class}; {len(self.sources)} glare sources, E_v {self.vertical_illuminance:.0f} lx)")
 
 
 def _fisheye_camera(scene, eye_scene, view, up):
@@ -152,7 +155,8 @@ def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolu
     paths = {}
     if hdr_path is not None:
         paths["hdr"] = write_angular_hdr(hdr_path, lum, view, up, eye_scene)
-    return DaylightGlareResult(dgp=result.dgp, dgp_std_error=se, dgp_class=result.dgp_class, vertical_illuminance=ev,
+    return DaylightGlareResult(dgp=result.dgp, dgp_std_error=se, dgp_resolution_error=result.dgp_pixel_error,
+                               dgp_class=result.dgp_class, vertical_illuminance=ev,
                                vertical_illuminance_rel_std_error=ev_rel, picture_vertical_illuminance=picture_ev,
                                threshold_cd_m2=result.threshold_cd_m2, sources=result.sources,
                                low_light_correction=bool(low_light_correction),

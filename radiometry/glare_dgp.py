@@ -229,7 +229,8 @@ def find_glare_sources(luminance, directions, solid_angles, valid, view_directio
     ``-t x y angle``). ``peak_cd_m2`` None: no peak extraction.
     Returns (sources, threshold cd/m², reference luminance cd/m² or None): sources are dicts with
     ``luminance`` (cd/m²), ``solid_angle`` (sr), ``direction``, ``sigma_deg``, ``tau_deg``,
-    ``elevation_deg``, ``position_index``, ``pixels``, ``peak`` (True for an extracted peak).
+    ``elevation_deg``, ``position_index``, ``pixels``, ``border_solid_angle`` (sr, of its pixels with a
+    neighbour outside it), ``peak`` (True for an extracted peak).
     """
     L = np.asarray(luminance, float)
     dirs = np.asarray(directions, float)
@@ -268,6 +269,11 @@ def find_glare_sources(luminance, directions, solid_angles, valid, view_directio
         n_first = top
     else:
         n_first = labels.max() + 1
+    pad = np.pad(labels, 1, constant_values=-2)
+    inner = np.ones(labels.shape, bool)
+    for dy in (0, 1, 2):
+        for dx in (0, 1, 2):
+            inner &= pad[dy: dy + labels.shape[0], dx: dx + labels.shape[1]] == labels
     sources = []
     for k in range(labels.max() + 1):
         sel = labels == k
@@ -281,7 +287,7 @@ def find_glare_sources(luminance, directions, solid_angles, valid, view_directio
         sources.append({"luminance": float(lw.sum() / omega), "solid_angle": omega, "direction": centre.tolist(),
                         "sigma_deg": float(sigma), "tau_deg": float(tau), "elevation_deg": float(elev),
                         "position_index": float(position_index_dgp(sigma, tau, elev)), "pixels": int(sel.sum()),
-                        "peak": bool(k >= n_first)})
+                        "border_solid_angle": float(w[sel & ~inner].sum()), "peak": bool(k >= n_first)})
     return sources, threshold, reference
 
 
@@ -291,6 +297,7 @@ class DGPResult:
 
     dgp: float
     dgp_class: str
+    dgp_pixel_error: float            #: DGP's uncertainty from the sources' partly covered border pixels
     vertical_illuminance: float       #: E_v from the picture (sum of L cos(theta) omega), lx
     direct_illuminance: float         #: the glare sources' part of E_v, lx
     mean_luminance: float             #: solid-angle weighted mean over the valid pixels, cd/m²
@@ -326,10 +333,17 @@ def dgp_from_picture(luminance, directions, solid_angles, valid, view_direction,
     e_dir = float(np.sum((L * cos_t * w)[bright]))
     value = dgp(ev, [s["luminance"] for s in sources], [s["solid_angle"] for s in sources],
                 [s["position_index"] for s in sources], low_light_correction=low_light_correction)
+    # pixelation: a source's border pixels are partly covered; half their solid angle is taken as
+    # uncertain (in or out), which moves the sum by that share of each source's term
+    terms = np.array([s["luminance"] ** 2 * s["solid_angle"] / s["position_index"] ** 2 for s in sources])
+    total = float(terms.sum())
+    x = total / ev ** EV_EXPONENT
+    shares = np.array([0.5 * s["border_solid_angle"] / s["solid_angle"] for s in sources])
+    pixel_error = C_LOG / math.log(10) * x / (1 + x) * float(terms @ shares) / total if total > 0 else 0.0
     if ev < 380:
         notes.append(f"E_v {ev:.0f} lx is below 380 lx: DGP was fitted on brighter scenes and may underestimate "
                      "glare here (evalglare's notice)")
-    return DGPResult(dgp=value, dgp_class=dgp_class(value), vertical_illuminance=ev, direct_illuminance=e_dir,
+    return DGPResult(dgp=value, dgp_class=dgp_class(value), dgp_pixel_error=pixel_error, vertical_illuminance=ev, direct_illuminance=e_dir,
                      mean_luminance=float(np.sum((L * w)[ok]) / np.sum(w[ok])), threshold_cd_m2=threshold,
                      sources=sources, low_light_correction=bool(low_light_correction), notes=notes)
 

@@ -119,6 +119,7 @@ def test_uniform_rectangle_closed_form():
     assert r.sources[0]["solid_angle"] == pytest.approx(omega, rel=3e-3)
     assert r.sources[0]["position_index"] == pytest.approx(1.0, abs=1e-3)
     assert r.dgp == pytest.approx(expected, abs=1e-3)
+    assert abs(r.dgp - expected) <= r.dgp_pixel_error < 0.01          # the stated pixelation covers the error
     assert 0.3 < expected < 0.9                                       # a case where the source term matters
 
 
@@ -240,3 +241,4 @@ def test_against_evalglare_relative_threshold(tmp_path):
     ours = glare_dgp.dgp_from_picture(pic, dirs, w, ok, VIEW, UP, threshold_factor=5)
     assert ours.mean_luminance == pytest.approx(ref["av_lum"], rel=0.01)
     assert ours.dgp == pytest.approx(ref["dgp"], abs=0.02)
+
