@@ -683,6 +683,45 @@ def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolu
 
 
 @_v.boundary
+def en17037_table(*, illuminance=None, daylight_hours=None, daylight_factor=None, median_external_illuminance_lux=None,
+                  sunlight_hours=None, dgp=None, view_out=None):
+    """EN 17037:2018+A1:2021 table: the level (minimum / medium / high / not met / not assessed) of each
+    criterion, values marked indicative (``radiometry.en17037``). Daylight provision from hourly
+    ``illuminance`` (T hours, N plane points, lx; ``daylight_hours`` (T,) bool) or, failing that,
+    ``daylight_factor`` (N,) % with the site's ``median_external_illuminance_lux`` (E_v,d); exposure
+    to sunlight from ``sunlight_hours`` (h on the reference day, e.g. ``sun_study``'s); protection from
+    glare from ``dgp`` (one value per occupied hour); view out from ``view_out`` = (horizontal sight
+    angle deg, outside distance m, layers seen). A criterion without input reads "not assessed".
+    Returns a list of dicts (criterion, method, level, values, per_level, source, indicative, note)."""
+    import dataclasses
+
+    from .radiometry import en17037
+
+    try:
+        provision = None
+        if illuminance is not None:
+            provision = en17037.daylight_provision_illuminance(illuminance, daylight_hours)
+        elif daylight_factor is not None:
+            if median_external_illuminance_lux is None:
+                raise ValueError("the DF method needs the site's median_external_illuminance_lux (E_v,d)")
+            provision = en17037.daylight_provision_daylight_factor(daylight_factor, median_external_illuminance_lux)
+        sun = None if sunlight_hours is None else en17037.sunlight_exposure(sunlight_hours)
+        glare_row = None if dgp is None else en17037.glare_protection(dgp)
+        if view_out is None:
+            view = None
+        else:
+            try:
+                angle, distance, layers = view_out
+            except (TypeError, ValueError):
+                raise ValueError(f"view_out must be (sight angle deg, distance m, layers), got {view_out!r}") from None
+            view = en17037.view_out(angle, distance, layers)
+    except ValueError as exc:
+        raise RadiometerError(f"EN 17037: {exc}") from None
+    return [dataclasses.asdict(row) for row in en17037.table(provision=provision, sunlight=sun, glare=glare_row,
+                                                             view=view)]
+
+
+@_v.boundary
 def cluster_info(scheduler):
     """Workers of the Dask cluster at ``scheduler`` ("tcp://host:8786"): a dict with ``workers``,
     ``threads``, ``hosts``, ``memory_bytes``; an unreachable scheduler raises RadiometerError (one line,

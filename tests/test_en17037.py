@@ -86,3 +86,18 @@ def test_table_marks_missing_rows_not_assessed():
                                            "view out"]
     assert [r.level for r in rows] == ["not assessed", "medium", "not assessed", "not assessed"]
     assert all(r.indicative for r in rows)
+
+
+def test_api_table_and_bad_input():
+    from radiometer import api
+    from radiometer.errors import RadiometerError
+
+    e, lit = _year(20000.0)
+    rows = api.en17037_table(illuminance=e, daylight_hours=lit, sunlight_hours=2.0, dgp=np.full(10, 0.3),
+                             view_out=(30, 25, 2))
+    assert [r["level"] for r in rows] == ["high", "minimum", "high", "medium"]
+    rows = api.en17037_table(daylight_factor=np.full(9, 2.0), median_external_illuminance_lux=15000.0)
+    assert [r["level"] for r in rows] == ["minimum", "not assessed", "not assessed", "not assessed"]
+    for kwargs in ({"daylight_factor": [2.0]}, {"view_out": (1, 2)}, {"dgp": []}, {"illuminance": np.ones(3)}):
+        with pytest.raises(RadiometerError, match="EN 17037"):
+            api.en17037_table(**kwargs)
