@@ -6,16 +6,18 @@ import math
 import os
 import pathlib
 import subprocess
+import sys
 
 import bpy
-import numpy as np
 import pytest
 
-from radiometer import api
-from radiometer.compat import ensure_node_tree
-from radiometer.errors import RadiometerError
-from radiometer.measure import scene_guard
-from radiometer.radiometry import glare, glare_dgp
+sys.path.insert(0, os.path.dirname(__file__))
+import office  # noqa: E402
+
+from radiometer import api  # noqa: E402
+from radiometer.errors import RadiometerError  # noqa: E402
+from radiometer.measure import scene_guard  # noqa: E402
+from radiometer.radiometry import glare, glare_dgp  # noqa: E402
 
 EYE = (0.0, 0.0, 1.2)
 VIEW = (0.0, 1.0, 0.0)
@@ -26,14 +28,7 @@ def _glowing_rectangle(scene):
     x0, x1, z0, z1 = -HW, HW, EYE[2] - HH, EYE[2] + HH
     mesh = bpy.data.meshes.new("Window")
     mesh.from_pydata([(x0, 1.0, z0), (x1, 1.0, z0), (x1, 1.0, z1), (x0, 1.0, z1)], [], [(0, 1, 2, 3)])
-    mat = bpy.data.materials.new("Window")
-    tree = ensure_node_tree(mat)
-    tree.nodes.clear()
-    em = tree.nodes.new("ShaderNodeEmission")
-    em.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    em.inputs["Strength"].default_value = STRENGTH
-    tree.links.new(em.outputs["Emission"], tree.nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
-    mesh.materials.append(mat)
+    mesh.materials.append(office.emission_material("Window", STRENGTH))
     scene.collection.objects.link(bpy.data.objects.new("Window", mesh))
 
 
