@@ -2,7 +2,7 @@
 
 Method: an angular (equidistant) 180 deg fisheye is rendered from the eye along the line of sight
 (a temporary Cycles panoramic camera, ``FISHEYE_EQUIDISTANT``, removed afterwards) with the
-luminance-image method (``measure.luminance_image.render_luminance``: independent renders, per-pixel
+luminance-image method (``measure.analyses.luminance_image.render_luminance``: independent renders, per-pixel
 error by batch means); its pixels' directions and solid angles are ``radiometry.glare_dgp``'s
 ``angular_fisheye`` (Radiance's ``-vta``), so the same picture, written as a Radiance HDR, reads the
 same in evalglare. Glare sources are found as evalglare finds them, on the picture: the sun's disc
@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import RadiometerError
 from ..radiometry import glare_dgp as dgp_math
-from ..radiometry.glare import view_frame
+from ..radiometry.metrics.glare import view_frame
 
 MAX_RESOLUTION = 512   #: px a side of the fisheye; preview-sized pictures are the point (128 by default)
 #: cap on the samples per pixel of one fisheye render, per quality: DGP needs the bright pixels, which
@@ -108,7 +108,9 @@ def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolu
     """
     import bpy
 
-    from . import glare, luminance_image, meter, scene_guard
+    from .analyses import glare, luminance_image
+    from .meter import point_meter as meter
+    from .blender import scene_guard
 
     scene = scene or bpy.context.scene
     eye_scene, view = glare.observer_and_view(observer, view_direction, up)

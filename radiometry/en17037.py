@@ -13,7 +13,7 @@ not given:
   50 % and D_TM = 100 E_TM / E_v,d over 95 % of the plane, E_v,d the site's median external diffuse
   illuminance (the standard's Annex A tabulates it per capital; the user gives the site's).
 - **Exposure to sunlight**: sunlight duration on a chosen day between 1 February and
-  21 March at the assessed point: minimum 1.5 h, medium 3 h, high 4 h (``measure.sun_study``'s
+  21 March at the assessed point: minimum 1.5 h, medium 3 h, high 4 h (``measure.analyses.sun_study``'s
   ``sunlight_hours``).
 - **Protection from glare**: the DGP exceeded for no more than 5 % of the occupied time
   (the 95th percentile of the hourly DGP): minimum <= 0.45, medium <= 0.40, high <= 0.35.
@@ -23,11 +23,11 @@ not given:
 
 **Indicative.** The standard's text was not available to check these numbers against (it is sold by the
 national standards bodies); they are the values commonly quoted from it (CIBSE/SLL summaries, the
-Honeybee/Pollination and ClimateStudio EN 17037 recipes), as ``radiometry.compliance`` marks the
+Honeybee/Pollination and ClimateStudio EN 17037 recipes), as ``radiometry.metrics.compliance`` marks the
 EN 12464-1 rows. The time share of daylight provision is applied hour by hour to the plane's share
 (the standard's wording); tools that count per point first (each point's share of hours) agree with it
 whenever the plane is lit alike, as in the tests here. Every row says so (``indicative``). Only
-Table A.1 is cited by number (as ``measure.daylight_factor`` cites it); the other rows' tables are not.
+Table A.1 is cited by number (as ``measure.analyses.daylight_factor`` cites it); the other rows' tables are not.
 """
 
 import dataclasses

@@ -10,7 +10,7 @@ for daylight environments with the use of CCD cameras", Energy and Buildings 38,
 - ``L_i`` (cd/m²), ``omega_i`` (sr): glare source i's mean luminance (solid-angle weighted) and solid
   angle;
 - ``P_i``: the position index at the source's centre. Above the line of sight Guth's, in Levin's form
-  (:func:`radiometry.glare.position_index`, the one UGR uses); below it the Iwata & Osterhaus (2010)
+  (:func:`radiometry.metrics.glare.position_index`, the one UGR uses); below it the Iwata & Osterhaus (2010)
   form that evalglare uses since v3.02: beta = atan(tan(sigma) sqrt(1 + 0.3225 cos²(tau))),
   P = exp(6.49e-3 beta + 21e-5 beta²) (degrees); P is capped at 16 as evalglare caps it.
 
@@ -37,7 +37,7 @@ src/util/evalglare.c) finds them:
   pixel coordinates, then the pixel there), where P is taken.
 
 Pictures: angular fisheye (Radiance ``-vta``; :func:`angular_fisheye`), top row first, luminance in
-cd/m². Coordinates: right-handed, +Z up (Blender's), as ``radiometry.glare``.
+cd/m². Coordinates: right-handed, +Z up (Blender's), as ``radiometry.metrics.glare``.
 """
 
 import dataclasses
@@ -45,7 +45,7 @@ import math
 
 import numpy as np
 
-from . import glare
+from .metrics import glare
 
 __all__ = ["dgp", "dgp_simplified", "low_light_factor", "dgp_class", "position_index_dgp", "angular_fisheye",
            "find_glare_sources", "dgp_from_picture", "DGPResult", "CLASS_LIMITS", "radiance_picture"]

@@ -12,7 +12,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from radiometer.radiometry import glare, glare_dgp
+from radiometer.radiometry.metrics import glare
+from radiometer.radiometry import glare_dgp
 
 VIEW = (0.0, 1.0, 0.0)
 UP = (0.0, 0.0, 1.0)

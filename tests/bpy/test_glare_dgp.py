@@ -16,8 +16,9 @@ import office  # noqa: E402
 
 from radiometer import api  # noqa: E402
 from radiometer.errors import RadiometerError  # noqa: E402
-from radiometer.measure import scene_guard  # noqa: E402
-from radiometer.radiometry import glare, glare_dgp  # noqa: E402
+from radiometer.measure.blender import scene_guard  # noqa: E402
+from radiometer.radiometry.metrics import glare
+from radiometer.radiometry import glare_dgp  # noqa: E402
 
 EYE = (0.0, 0.0, 1.2)
 VIEW = (0.0, 1.0, 0.0)
