@@ -670,6 +670,64 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard"):
 
 
 @_v.boundary
+def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolution=128, threshold_cd_m2=2000.0,
+              threshold_factor=None, low_light_correction=False, hdr_path=None):
+    """Daylight glare probability (Wienold & Christoffersen 2006) for an eye at ``observer`` (scene
+    coordinates) looking along ``view_direction`` (+Z up): a 180 deg angular fisheye (``resolution`` px
+    a side, preview-sized) is rendered from the eye, glare sources are found on it as evalglare finds
+    them (pixels above ``threshold_cd_m2``, default 2000 cd/m², or ``threshold_factor`` x the picture's
+    mean luminance), E_v is the meter's. ``hdr_path``: also write the fisheye as a Radiance HDR for
+    evalglare. Returns a ``DaylightGlareResult``: ``dgp``, ``dgp_std_error``, ``dgp_class``
+    (imperceptible < 0.35 <= perceptible < 0.40 <= disturbing < 0.45 <= intolerable),
+    ``vertical_illuminance`` (lx), ``sources`` (luminance cd/m², solid_angle sr, position_index, ...),
+    ``notes``. See ``measure.analyses.daylight_glare``."""
+    from .measure.analyses import daylight_glare
+
+    return daylight_glare.glare_dgp(observer, view_direction, scene=scene, quality=quality, resolution=resolution,
+                                    threshold_cd_m2=threshold_cd_m2, threshold_factor=threshold_factor,
+                                    low_light_correction=low_light_correction, hdr_path=hdr_path)
+
+
+@_v.boundary
+def en17037_table(*, illuminance=None, daylight_hours=None, daylight_factor=None, median_external_illuminance_lux=None,
+                  sunlight_hours=None, dgp=None, view_out=None):
+    """EN 17037:2018+A1:2021 table: the level (minimum / medium / high / not met / not assessed) of each
+    criterion, values marked indicative (``radiometry.metrics.en17037``). Daylight provision from hourly
+    ``illuminance`` (T hours, N plane points, lx; ``daylight_hours`` (T,) bool) or, failing that,
+    ``daylight_factor`` (N,) % with the site's ``median_external_illuminance_lux`` (E_v,d); exposure
+    to sunlight from ``sunlight_hours`` (h on the reference day, e.g. ``sun_study``'s); protection from
+    glare from ``dgp`` (one value per occupied hour); view out from ``view_out`` = (horizontal sight
+    angle deg, outside distance m, layers seen). A criterion without input reads "not assessed".
+    Returns a list of dicts (criterion, method, level, values, per_level, source, indicative, note)."""
+    import dataclasses
+
+    from .radiometry.metrics import en17037
+
+    try:
+        provision = None
+        if illuminance is not None:
+            provision = en17037.daylight_provision_illuminance(illuminance, daylight_hours)
+        elif daylight_factor is not None:
+            if median_external_illuminance_lux is None:
+                raise ValueError("the DF method needs the site's median_external_illuminance_lux (E_v,d)")
+            provision = en17037.daylight_provision_daylight_factor(daylight_factor, median_external_illuminance_lux)
+        sun = None if sunlight_hours is None else en17037.sunlight_exposure(sunlight_hours)
+        glare_row = None if dgp is None else en17037.glare_protection(dgp)
+        if view_out is None:
+            view = None
+        else:
+            try:
+                angle, distance, layers = view_out
+            except (TypeError, ValueError):
+                raise ValueError(f"view_out must be (sight angle deg, distance m, layers), got {view_out!r}") from None
+            view = en17037.view_out(angle, distance, layers)
+    except ValueError as exc:
+        raise RadiometerError(f"EN 17037: {exc}") from None
+    return [dataclasses.asdict(row) for row in en17037.table(provision=provision, sunlight=sun, glare=glare_row,
+                                                             view=view)]
+
+
+@_v.boundary
 def cluster_info(scheduler):
     """Workers of the Dask cluster at ``scheduler`` ("tcp://host:8786"): a dict with ``workers``,
     ``threads``, ``hosts``, ``memory_bytes``; an unreachable scheduler raises RadiometerError (one line,

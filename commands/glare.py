@@ -1,6 +1,8 @@
-"""`glare`: CIE 117 UGR at one or more observers, and optionally a false-colour luminance image."""
+"""`glare`: CIE 117 UGR (or, with ``--index dgp``, the daylight glare probability) at one or more
+observers, and optionally a false-colour luminance image."""
 
-HELP = "UGR (CIE 117) at observer positions; --luminance-image writes the camera's false-colour view (cd/m²)"
+HELP = ("UGR (CIE 117) or DGP (--index dgp, daylight glare) at observer positions; --luminance-image writes "
+        "the camera's false-colour view (cd/m²)")
 NEEDS_SCENE = True
 
 
@@ -11,6 +13,15 @@ def add_arguments(parser):
                         "32-bit EXR (cd/m²) and a false-colour PNG beside it")
     parser.add_argument("--scale", choices=("log", "linear"), default="log", help="colour scale of the PNG")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
+    parser.add_argument("--index", choices=("ugr", "dgp"), default="ugr",
+                        help="ugr: CIE 117 (electric light, rated from the lights); dgp: daylight glare probability "
+                             "(Wienold & Christoffersen 2006) from a rendered 180 deg fisheye at each observer")
+    parser.add_argument("--resolution", type=int, default=128, metavar="PX",
+                        help="with --index dgp: the fisheye's side in pixels (16-512; default 128)")
+    parser.add_argument("--threshold", type=float, default=2000.0, metavar="CD_M2",
+                        help="with --index dgp: glare-source luminance threshold in cd/m² (evalglare's default 2000)")
+    parser.add_argument("--hdr", metavar="HDR", help="with --index dgp and one observer: also write the fisheye as a "
+                        "Radiance HDR (angular fisheye view in its header) for evalglare")
 
 
 def implied_outputs(args):
@@ -31,12 +42,28 @@ def run(args):
     from ..readings import format_value
     from . import _io
 
+    if args.index == "dgp" and not args.observer:
+        raise RadiometerError("--index dgp needs --observer X Y Z DX DY DZ (the eye and its line of sight)")
     if not args.observer and not args.luminance_image:
         raise RadiometerError("give --observer X Y Z DX DY DZ (and/or --luminance-image FILE.exr)")
+    if args.hdr and (args.index != "dgp" or len(args.observer or []) != 1):
+        raise RadiometerError("--hdr needs --index dgp and exactly one --observer")
     _io.check_output_file(args.luminance_image, "--luminance-image file")
+    _io.check_output_file(args.hdr, "--hdr file")
     scene = bpy.context.scene
     out = {"scene": scene.name, "observers": []}
-    for o in args.observer or []:
+    if args.index == "dgp":
+        for o in args.observer:
+            g = api.glare_dgp(tuple(o[:3]), tuple(o[3:]), scene=scene, quality=args.quality,
+                              resolution=args.resolution, threshold_cd_m2=args.threshold, hdr_path=args.hdr)
+            print(f"observer ({o[0]:g}, {o[1]:g}, {o[2]:g}) looking ({o[3]:g}, {o[4]:g}, {o[5]:g}): {g.summary()}")
+            for s in g.sources:
+                print(f"  source L {format_value(s['luminance'], 1e-3)} cd/m²  ω {s['solid_angle']:.3g} sr  "
+                      f"P {s['position_index']:.3g}  {s['sigma_deg']:.0f} deg off the line of sight")
+            for path in g.paths.values():
+                print(f"wrote {path}")
+            out["observers"].append(g.to_dict())
+    for o in (args.observer or []) if args.index == "ugr" else []:
         g = api.glare_ugr(tuple(o[:3]), tuple(o[3:]), scene=scene, quality=args.quality)
         print(f"observer ({o[0]:g}, {o[1]:g}, {o[2]:g}) looking ({o[3]:g}, {o[4]:g}, {o[5]:g}): {g.summary()}")
         for s in g.sources:

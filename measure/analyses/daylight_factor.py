@@ -28,12 +28,10 @@ import math
 import numpy as np
 
 from ...errors import RadiometerError
+from ...radiometry.metrics import en17037
 
 #: Unobstructed horizontal illuminance of the temporary overcast sky (lux); DF does not depend on it.
 SKY_HORIZONTAL_LUX = 10_000.0
-#: EN 17037:2018 Table A.1, daylight provision by a vertical/inclined opening: level -> (E_T over 50 %
-#: of the plane, E_TM over 95 % of the plane), lux.
-EN17037_LEVELS = {"minimum": (300.0, 100.0), "medium": (500.0, 300.0), "high": (750.0, 500.0)}
 
 
 @dataclasses.dataclass
@@ -189,16 +187,14 @@ def plane_statistics(df, *, target_percent=None, median_external_illuminance_lux
         out["target_percent"] = float(target_percent)
         out["share_above_target"] = float(np.mean(v >= float(target_percent)))
     if median_external_illuminance_lux is not None:
-        evd = float(median_external_illuminance_lux)
-        if not (math.isfinite(evd) and evd > 0):
-            raise RadiometerError(f"median external illuminance must be > 0 lux, got {median_external_illuminance_lux!r}")
-        levels = {}
-        for name, (e_t, e_tm) in EN17037_LEVELS.items():
-            d_t, d_tm = 100.0 * e_t / evd, 100.0 * e_tm / evd
-            s_t, s_tm = float(np.mean(v >= d_t)), float(np.mean(v >= d_tm))
-            levels[name] = {"E_T_lux": e_t, "E_TM_lux": e_tm, "D_T": d_t, "D_TM": d_tm, "share_D_T": s_t,
-                            "share_D_TM": s_tm, "met": bool(s_t >= 0.5 and s_tm >= 0.95)}
-        out["en17037"] = {"median_external_illuminance_lux": evd, "levels": levels}
+        try:
+            row = en17037.daylight_provision_daylight_factor(v, median_external_illuminance_lux)
+        except ValueError as exc:
+            raise RadiometerError(str(exc)) from None
+        keys = ("E_T_lux", "E_TM_lux", "D_T", "D_TM", "share_D_T", "share_D_TM", "met")
+        levels = {name: {k: lv[k] for k in keys} for name, lv in row.per_level.items()}
+        out["en17037"] = {"median_external_illuminance_lux": row.values["median_external_illuminance_lux"],
+                          "levels": levels}
     return out
 
 

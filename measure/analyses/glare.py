@@ -250,16 +250,9 @@ def _mesh_source(mesh, eye, efficacy, weights, model):
     return (lum, total, centre), record
 
 
-def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0.0, 0.0, 1.0)):
-    """CIE 117 UGR for an eye at ``observer`` (scene coordinates) looking along ``view_direction``.
-
-    Returns :class:`GlareResult`. See the module docstring for what counts as a source.
-    """
-    import bpy
-
-    from ..meter import point_meter as meter
-
-    scene = scene or bpy.context.scene
+def observer_and_view(observer, view_direction, up=(0.0, 0.0, 1.0)):
+    """(eye (3,) scene coordinates, unit view (3,)) checked: one-line RadiometerError for anything that is
+    not 3 finite numbers each, a zero view, or a view along ``up`` (no vertical plane for P)."""
     try:
         eye_scene = np.asarray(observer, float).reshape(3)
         view = np.asarray(view_direction, float).reshape(3)
@@ -273,6 +266,20 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0
         glare_math.view_frame(view, up)
     except ValueError as exc:
         raise RadiometerError(str(exc)) from None
+    return eye_scene, view
+
+
+def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0.0, 0.0, 1.0)):
+    """CIE 117 UGR for an eye at ``observer`` (scene coordinates) looking along ``view_direction``.
+
+    Returns :class:`GlareResult`. See the module docstring for what counts as a source.
+    """
+    import bpy
+
+    from ..meter import point_meter as meter
+
+    scene = scene or bpy.context.scene
+    eye_scene, view = observer_and_view(observer, view_direction, up)
     scale = scene.unit_settings.scale_length
     eye = eye_scene * scale
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]

@@ -31,6 +31,19 @@ def grey_material(name="grey", albedo=ALBEDO):
     return mat
 
 
+def emission_material(name, strength):
+    """A white Emission shader of ``strength``: radiance = strength W/(m² sr) per channel (Blender manual:
+    strength 1 shows the colour as it is)."""
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    emission = tree.nodes.new("ShaderNodeEmission")
+    emission.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    emission.inputs["Strength"].default_value = strength
+    tree.links.new(emission.outputs["Emission"], tree.nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
+    return mat
+
+
 def room_faces():
     """The six faces of the room as corner lists (each seen counter-clockwise from inside the room)."""
     (x0, x1), (y0, y1), (z0, z1) = ROOM

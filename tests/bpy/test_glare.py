@@ -19,7 +19,6 @@ import office  # noqa: E402
 import reference  # noqa: E402
 
 from radiometer import api  # noqa: E402
-from radiometer.compat import ensure_node_tree  # noqa: E402
 
 
 def _panel_integrals(eye, view, centre, side, cells=400):
@@ -76,14 +75,7 @@ def _emissive_square(scene, name, centre, side, strength):
     x, y, z = centre
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata([(x - h, y - h, z), (x - h, y + h, z), (x + h, y + h, z), (x + h, y - h, z)], [], [(0, 1, 2, 3)])
-    mat = bpy.data.materials.new(name)
-    tree = ensure_node_tree(mat)
-    tree.nodes.clear()
-    emission = tree.nodes.new("ShaderNodeEmission")
-    emission.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    emission.inputs["Strength"].default_value = strength
-    tree.links.new(emission.outputs["Emission"], tree.nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
-    mesh.materials.append(mat)
+    mesh.materials.append(office.emission_material(name, strength))
     obj = bpy.data.objects.new(name, mesh)
     scene.collection.objects.link(obj)
     return obj
