@@ -269,6 +269,8 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
     stems = outputs.Stems(sorted({ob.name for ob in lights} | {ob.name for ob in planes}))
     watch = {"cancelled": cancelled, "progress": part_progress}
     draw = plots.matplotlib_available()  # without matplotlib: the numbers, no plot paths asked for
+    if not draw:
+        report["errors"].append("no plots: " + plots.missing_message())
     # Every target before any work (issue 33: a report.html that is a folder was refused after 20 s).
     planned = planned_files([stems(ob.name) for ob in lights], [stems(ob.name) for ob in planes], draw,
                             conv_target is not None, client)
