@@ -64,6 +64,28 @@ def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     return meter.predict_illuminance(location, normal, scene=scene)
 
 
+@_v.boundary
+def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="melanopic"):
+    """CIE S 026 alpha-opic reading of the **direct** light at one meter (a plain, JSON-ready dict, SI).
+
+    Per light, mel-EDI = E_v x mel-DER of the light's spectrum (and likewise for the S/M/L cone-opic and
+    rhodopic quantities): E_v from the meter's closed forms, the spectrum from the light's setting
+    (custom property ``radiometer_spectrum``: "A", "D65", "FL2", "LED-B3", "D5000", "blackbody:3000" or a
+    spectral .csv) or its blackbody temperature. Keys: ``illuminance_lx``, ``mel_edi_lx``, ``mel_der``,
+    ``alpha_opic_edi_lx``, ``alpha_opic_irradiance_w_m2`` (W/m²), ``sp_ratio``, ``exact``, ``complete``
+    (False: a light with no known spectrum or no closed form, named in ``notes``, and the sums are lower
+    bounds), ``lights``, ``not_included`` (reflected light, the world and emitting surfaces: not yet
+    spectral, docs/spectral.md), ``units``. ``quantity``: "melanopic" (all alpha-opic quantities).
+    """
+    location = _v.points(location, "location", allow_many=False)
+    normal = _v.directions(normal, "normal", allow_many=False)
+    _v.choice(quantity, "quantity", ("melanopic",))
+    _b.scene(scene)
+    from .measure import spectra
+
+    return spectra.spectral_reading(location, normal, scene=scene)
+
+
 @_v.boundary(finite=True)
 def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, quality="standard",
                       target_rel_error=None, progress=None, cancelled=None):

@@ -26,6 +26,7 @@ Scotopic and mesopic
 import numpy as np
 
 from . import _spectral_tables as tables
+from .constants import K_M_LM_PER_W
 
 __all__ = ["ALPHA", "K_M_S026_LM_PER_W", "KP_M_LM_PER_W", "ACTION_SPECTRA", "PHOTOPIC_V", "SCOTOPIC_V",
            "alpha_opic_elr", "alpha_opic_der", "alpha_opic_edi", "alpha_opic_irradiance", "melanopic_der",
@@ -48,8 +49,8 @@ ACTION_SPECTRA = np.stack([tables.S026_S_CONE, tables.S026_M_CONE, tables.S026_L
 PHOTOPIC_V = tables.PHOTOPIC_V_1NM
 SCOTOPIC_V = tables.S026_RHODOPIC
 
-#: V'(lambda) at 555 nm as CIE 191:2010 takes it: 683/1699.
-_VP_555 = 683.0 / 1699.0
+#: V'(lambda) at 555 nm as CIE 191:2010 takes it: K_m / 1699 = 683/1699.
+_VP_555 = K_M_LM_PER_W / 1699.0
 _MESOPIC_A, _MESOPIC_B = 0.7670, 0.3334
 MESOPIC_RANGE_CD_M2 = (0.005, 5.0)
 
