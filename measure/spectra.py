@@ -25,7 +25,8 @@ from ..radiometry import action_spectra, spectral
 #: Custom property holding an emitter's spectrum setting (see the module docstring).
 PROP_SPECTRUM = "radiometer_spectrum"
 
-UNITS = {"illuminance_lx": "lx", "illuminance_known_spectrum_lx": "lx", "alpha_opic_edi_lx": "lx", "mel_edi_lx": "lx", "mel_der": "1",
+UNITS = {"illuminance_lx": "lx", "illuminance_known_spectrum_lx": "lx", "alpha_opic_edi_lx": "lx", "mel_edi_lx": "lx",
+         "mel_der": "1",
          "alpha_opic_irradiance_w_m2": "W/m²", "sp_ratio": "1", "alpha_opic_der": "1"}
 
 
@@ -115,7 +116,8 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
                 (None, "not a light object")
     lights = [_light_row(row, spectra) for row in rows]
     known = [r for r in lights if r.get("mel_der") is not None]
-    missing = [r for r in lights if r.get("mel_der") is None and (r["illuminance_lx"] is None or r["illuminance_lx"] > 0)]
+    missing = [r for r in lights
+               if r.get("mel_der") is None and (r["illuminance_lx"] is None or r["illuminance_lx"] > 0)]
     ev_known = sum(r["illuminance_lx"] for r in known)
     edi = {a: sum(r["alpha_opic_edi_lx"][a] for r in known) for a in action_spectra.ALPHA}
     irr = {a: sum(r["alpha_opic_irradiance_w_m2"][a] for r in known) for a in action_spectra.ALPHA}

@@ -116,8 +116,9 @@ def mesopic_luminance(photopic_cd_m2, sp, max_iterations=200):
 
     Returns (L_mes, m), each of the broadcast shape. The iteration (module docstring) is a contraction
     for every L_p > 0 and S/P > 0; it stops when m changes by less than 1e-14. L_p <= 0, S/P <= 0 or
-    non-finite inputs give nan. Above 5 cd/m² the result is photopic (m = 1, L_mes = L_p); below
-    0.005 cd/m² scotopic (m = 0, L_mes = L_s).
+    non-finite inputs give nan. Where the fixed point has L_mes >= 5 cd/m² it is photopic (m = 1, L_mes = L_p);
+    where L_mes <= 0.005 cd/m² scotopic (m = 0, L_mes = L_s). CIE 191 leaves which fixed point to take
+    open where there are several (extreme S/P): this is the one reached from m = 0.5, as CIE 191 starts.
     """
     lp, sp = np.broadcast_arrays(np.asarray(photopic_cd_m2, float), np.asarray(sp, float))
     ok = np.isfinite(lp) & np.isfinite(sp) & (lp > 0) & (sp > 0)

@@ -51,7 +51,7 @@ import numpy as np
 
 from .emitters.photometric import ANGLE_TOL as _ANGLE_TOL, Photometry, catmull_rom_table
 
-__all__ = ["Photometry", "PhotometricFileError", "Tilt", "read_photometry", "parse_ies", "parse_ldt",
+__all__ = ["Photometry", "PhotometricFileError", "Tilt", "read_photometry", "read_text_file", "parse_ies", "parse_ldt",
            "catmull_rom_table", "cycles_ies_table", "to_ies_text", "CYCLES_CANDELA_TO_WATT"]
 
 #: Cycles' conversion of IES candela to its texture value (``intern/cycles/util/ies.cpp``):
@@ -468,31 +468,37 @@ def parse_ldt(text, path="<text>"):
 
 # --- front end ---------------------------------------------------------------------------------
 
-def read_photometry(path):
-    """Read an IES LM-63 (``.ies``) or EULUMDAT (``.ldt``) file; the format is decided by the
-    extension, else by content (a first line of ``IESNA``/``IES:``/``TILT=`` means LM-63)."""
+def read_text_file(path, what, error, max_bytes):
+    """The text of a data file (UTF-8, else Latin-1), refusing what cannot be one: ``error(message)``
+    (one line naming ``path``) for a missing file, a folder, a pipe or device, more than ``max_bytes``
+    or binary data. ``what`` names the kind in the messages ("photometric file")."""
     import stat
 
-    path = os.fspath(path)
     try:
         # A FIFO blocks forever and /dev/zero never ends: only regular files of a sane size are read.
         st = os.stat(path)
         if stat.S_ISDIR(st.st_mode):
-            raise PhotometricFileError(f"{path}: is a folder, not a photometric file")
+            raise error(f"{path}: is a folder, not a {what}")
         if not stat.S_ISREG(st.st_mode):
-            raise PhotometricFileError(f"{path}: not a regular file (a pipe or a device): refusing to read it")
-        if st.st_size > MAX_FILE_BYTES:
-            raise PhotometricFileError(f"{path}: {st.st_size} bytes is too large for a photometric file "
-                                       f"(at most {MAX_FILE_BYTES})")
+            raise error(f"{path}: not a regular file (a pipe or a device): refusing to read it")
+        if st.st_size > max_bytes:
+            raise error(f"{path}: {st.st_size} bytes is too large for a {what} (at most {max_bytes})")
         with open(path, "rb") as fh:
-            data = fh.read(MAX_FILE_BYTES + 1)
+            data = fh.read(max_bytes + 1)
     except FileNotFoundError:
-        raise PhotometricFileError(f"{path}: no such file") from None
+        raise error(f"{path}: no such file") from None
     except OSError as exc:
-        raise PhotometricFileError(f"{path}: cannot read it ({exc.strerror or exc})") from None
+        raise error(f"{path}: cannot read it ({exc.strerror or exc})") from None
     if b"\0" in data[:4096]:
-        raise PhotometricFileError(f"{path}: line 1: expected a text photometric file, got binary data")
-    text = data.decode("utf-8") if _is_utf8(data) else data.decode("latin-1")
+        raise error(f"{path}: line 1: expected a text {what}, got binary data")
+    return data.decode("utf-8") if _is_utf8(data) else data.decode("latin-1")
+
+
+def read_photometry(path):
+    """Read an IES LM-63 (``.ies``) or EULUMDAT (``.ldt``) file; the format is decided by the
+    extension, else by content (a first line of ``IESNA``/``IES:``/``TILT=`` means LM-63)."""
+    path = os.fspath(path)
+    text = read_text_file(path, "photometric file", PhotometricFileError, MAX_FILE_BYTES)
     ext = os.path.splitext(path)[1].lower()
     if ext == ".ldt":
         return parse_ldt(text, path)

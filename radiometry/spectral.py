@@ -30,6 +30,7 @@ import numpy as np
 from ..errors import RadiometerError
 from . import _spectral_tables as tables
 from .constants import PLANCK_J_S, SPEED_OF_LIGHT_M_PER_S
+from .photometric_files import read_text_file
 
 __all__ = ["WAVELENGTHS_NM", "C2_CIE_M_K", "DAYLIGHT_CCT_RANGE_K", "D65_CCT_K", "ILLUMINANT_NAMES",
            "SpectralFileError", "planck", "cie_illuminant_a", "daylight_xy", "cie_daylight", "cie_illuminant",
@@ -139,32 +140,6 @@ def cie_illuminant(name, wavelength_nm=None):
                           "D<CCT in K> (4000-25000) or blackbody:<K>")
 
 
-def _read_text(path):
-    import stat
-
-    try:
-        st = os.stat(path)
-        if stat.S_ISDIR(st.st_mode):
-            raise SpectralFileError(f"{path}: is a folder, not a spectral file")
-        if not stat.S_ISREG(st.st_mode):
-            raise SpectralFileError(f"{path}: not a regular file (a pipe or a device): refusing to read it")
-        if st.st_size > MAX_FILE_BYTES:
-            raise SpectralFileError(f"{path}: {st.st_size} bytes is too large for a spectral file "
-                                    f"(at most {MAX_FILE_BYTES})")
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_FILE_BYTES + 1)
-    except FileNotFoundError:
-        raise SpectralFileError(f"{path}: no such file") from None
-    except OSError as exc:
-        raise SpectralFileError(f"{path}: cannot read it ({exc.strerror or exc})") from None
-    if b"\0" in data[:4096]:
-        raise SpectralFileError(f"{path}: line 1: expected a text spectral file (nm, relative power), got binary data")
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        return data.decode("latin-1")
-
-
 def read_spectrum_csv(path):
     """(wavelengths nm, relative power) of a spectral file: two numeric columns, one row per wavelength.
 
@@ -173,7 +148,7 @@ def read_spectrum_csv(path):
     header. Anything else is a :class:`SpectralFileError` (one line: the file, the line, what was wrong).
     """
     path = os.fspath(path)
-    text = _read_text(path)
+    text = read_text_file(path, "spectral file", SpectralFileError, MAX_FILE_BYTES).lstrip("\ufeff")
     wl, power = [], []
     for number, line in enumerate(text.splitlines(), start=1):
         line = line.strip()

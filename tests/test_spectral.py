@@ -3,7 +3,8 @@
 References, each independent of the code under test:
 - luxpy 1.12.5's CIE S 026 toolbox (tests/luxpy_s026.py, in its own interpreter): alpha-opic ELR, DER,
   EDI and irradiances, and its 1 nm D65, A and action-spectrum tables;
-- colour-science 0.4.6: V(lambda), V'(lambda), V and V' for the S/P ratio, CIE A, the D-series, F and LED tables, Planck's law;
+- colour-science 0.4.6: V(lambda) and V'(lambda) (also for the S/P ratio), CIE A, the D-series, F and LED
+  tables, Planck's law;
 - CIE S 026/E:2018's own rounded D65 ELRs (0.8173, 1.4558, 1.6289, 1.4497, 1.3262 mW/lm);
 - CIE 191:2010's defining equations (the mesopic fixed point) and, at L_p = 1 cd/m², luxpy's iteration.
 """

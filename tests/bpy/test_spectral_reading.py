@@ -122,9 +122,9 @@ def test_sun_is_daylight_at_its_cct_and_the_world_d65(clean_blender, build):
     build.light(scene, "SUN", energy=3.0, angle=0.0, use_temperature=True, temperature=5500.0)
     r = api.spectral_reading((0.0, 0.0, 0.0))
     assert r["lights"][0]["spectrum"] == "CIE daylight 5500 K (sun)" and r["exact"]
-    assert r["mel_der"] == pytest.approx(float(
-        __import__("radiometer.radiometry.action_spectra", fromlist=["x"]).melanopic_der(spectral.cie_daylight(5500.0))),
-        rel=1e-12)
+    from radiometer.radiometry import action_spectra
+
+    assert r["mel_der"] == pytest.approx(float(action_spectra.melanopic_der(spectral.cie_daylight(5500.0))), rel=1e-12)
     assert any("the world (its spectrum: CIE D65 (default sky))" in s for s in r["not_included"])
     scene.world["radiometer_spectrum"] = "D5000"
     assert any("CIE daylight 5000 K" in s for s in api.spectral_reading((0.0, 0.0, 0.0))["not_included"])
@@ -162,3 +162,22 @@ def test_cli_measure_quantity_melanopic(clean_blender, build, tmp_path, capsys, 
     assert "mel-EDI" in text and "direct light only" in text and "exact" in text
     assert cli._blender_cli(["measure", "--quantity", "scotopic"]) == 2
     assert "--quantity" in capsys.readouterr().err
+
+
+def test_spectrum_metrics_and_mesopic_api(luxpy_der):
+    m = api.spectrum_metrics("A")
+    assert m["spectrum"] == "CIE A" and m["units"]["sp_ratio"] == "1"
+    assert m["mel_der"] == pytest.approx(luxpy_der["CIE A"][4], rel=1e-6)
+    for i, a in enumerate(ALPHA):
+        assert m["alpha_opic_der"][a] == pytest.approx(luxpy_der["CIE A"][i], rel=1e-6)
+    assert api.spectrum_metrics("D65")["mel_der"] == 1.0
+    json.dumps(m, allow_nan=False)
+    mes = api.mesopic_luminance(0.5, 1.0)  # S/P = 1: mesopic = photopic (CIE 191)
+    assert mes["mesopic_cd_m2"] == pytest.approx(0.5, rel=1e-13) and 0 < mes["m"] < 1
+    assert mes["units"]["mesopic_cd_m2"] == "cd/m²"
+    for bad in ((-1.0, 1.0), (1.0, math.inf), ("x", 1.0)):
+        with pytest.raises(RadiometerError) as info:
+            api.mesopic_luminance(*bad)
+        assert "\n" not in str(info.value)
+    with pytest.raises(RadiometerError, match="unknown spectrum"):
+        api.spectrum_metrics("sodium")
