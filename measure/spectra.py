@@ -103,7 +103,7 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     ``complete`` (every light's spectrum known; else the sums are lower bounds of the lights that have
     one), ``lights`` (per light), ``not_included`` (what this reading leaves out), ``units``.
     """
-    from . import meter
+    from .meter import point_meter as meter
 
     scene = scene or bpy.context.scene
     rows = meter.predict_illuminance(location, normal, scene=scene)

@@ -30,7 +30,7 @@ import numpy as np
 from ..errors import RadiometerError
 from . import _spectral_tables as tables
 from .constants import PLANCK_J_S, SPEED_OF_LIGHT_M_PER_S
-from .photometric_files import read_text_file
+from .photometry.photometric_files import read_text_file
 
 __all__ = ["WAVELENGTHS_NM", "C2_CIE_M_K", "DAYLIGHT_CCT_RANGE_K", "D65_CCT_K", "ILLUMINANT_NAMES",
            "SpectralFileError", "planck", "cie_illuminant_a", "daylight_xy", "cie_daylight", "cie_illuminant",

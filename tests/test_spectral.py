@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 from radiometer.errors import RadiometerError
-from radiometer.radiometry import _cie_tables, _spectral_tables as tables
+from radiometer.radiometry.photometry import _cie_tables
+from radiometer.radiometry import _spectral_tables as tables
 from radiometer.radiometry import action_spectra as aos
 from radiometer.radiometry import spectral
 
@@ -128,7 +129,7 @@ def test_planck_matches_colour_science():
 
 
 def test_blackbody_cct_is_its_temperature_on_the_projects_locus():
-    from radiometer.radiometry import colorimetry
+    from radiometer.radiometry.photometry import colorimetry
 
     x = np.interp(WL, _cie_tables.WAVELENGTHS_NM, _cie_tables.CMF_XBAR)
     y = np.interp(WL, _cie_tables.WAVELENGTHS_NM, _cie_tables.CMF_YBAR)
