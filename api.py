@@ -64,6 +64,59 @@ def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     return meter.predict_illuminance(location, normal, scene=scene)
 
 
+@_v.boundary
+def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="melanopic"):
+    """CIE S 026 alpha-opic reading of the **direct** light at one meter (a plain, JSON-ready dict, SI).
+
+    Per light, mel-EDI = E_v x mel-DER of the light's spectrum (and likewise for the S/M/L cone-opic and
+    rhodopic quantities): E_v from the meter's closed forms, the spectrum from the light's setting
+    (custom property ``radiometer_spectrum``: "A", "D65", "FL2", "LED-B3", "D5000", "blackbody:3000" or a
+    spectral .csv) or its blackbody temperature. Keys: ``illuminance_lx``, ``mel_edi_lx``, ``mel_der``,
+    ``alpha_opic_edi_lx``, ``alpha_opic_irradiance_w_m2`` (W/m²), ``sp_ratio``, ``exact``, ``complete``
+    (False: a light with no known spectrum or no closed form, named in ``notes``, and the sums are lower
+    bounds), ``lights``, ``not_included`` (reflected light, the world and emitting surfaces: not yet
+    spectral, docs/spectral.md), ``units``. ``quantity``: "melanopic" (all alpha-opic quantities).
+    """
+    location = _v.points(location, "location", allow_many=False)
+    normal = _v.directions(normal, "normal", allow_many=False)
+    _v.choice(quantity, "quantity", ("melanopic",))
+    _b.scene(scene)
+    from .measure.meter import spectra
+
+    return spectra.spectral_reading(location, normal, scene=scene)
+
+
+@_v.boundary
+def spectrum_metrics(spectrum):
+    """CIE S 026 and scotopic figures of one spectrum setting (no scene needed), a JSON-ready dict.
+
+    ``spectrum``: "A", "D65", "FL2", "LED-B3", "D5000", "blackbody:2700" or a spectral .csv (nm, relative
+    power). Returns ``spectrum`` (its label), ``alpha_opic_elr_w_per_lm`` (W/lm), ``alpha_opic_der`` and
+    ``mel_der`` (1; D65 = 1), ``sp_ratio`` (1) and ``units``.
+    """
+    from .radiometry.photometry import action_spectra, spectral
+
+    label, spd = spectral.spectrum_from_spec(spectrum)
+    elr, der = action_spectra.alpha_opic_elr(spd), action_spectra.alpha_opic_der(spd)
+    return {"spectrum": label, "alpha_opic_elr_w_per_lm": dict(zip(action_spectra.ALPHA, map(float, elr))),
+            "alpha_opic_der": dict(zip(action_spectra.ALPHA, map(float, der))), "mel_der": float(der[4]),
+            "sp_ratio": float(action_spectra.sp_ratio(spd)),
+            "units": {"alpha_opic_elr_w_per_lm": "W/lm", "alpha_opic_der": "1", "mel_der": "1", "sp_ratio": "1"}}
+
+
+@_v.boundary
+def mesopic_luminance(photopic_cd_m2, sp_ratio):
+    """CIE 191:2010 mesopic luminance of a photopic luminance L_p (cd/m², > 0) seen under light of S/P ratio
+    ``sp_ratio`` (> 0): {"mesopic_cd_m2", "m" (adaptation coefficient, 0 scotopic to 1 photopic), "units"}."""
+    from .radiometry.photometry import action_spectra
+
+    lp = _v.positive(photopic_cd_m2, "photopic_cd_m2")
+    sp = _v.positive(sp_ratio, "sp_ratio")
+    lmes, m = action_spectra.mesopic_luminance(lp, sp)
+    return {"mesopic_cd_m2": float(lmes), "m": float(m), "photopic_cd_m2": lp, "sp_ratio": sp,
+            "units": {"mesopic_cd_m2": "cd/m²", "photopic_cd_m2": "cd/m²", "m": "1", "sp_ratio": "1"}}
+
+
 @_v.boundary(finite=True)
 def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, quality="standard",
                       target_rel_error=None, progress=None, cancelled=None):

@@ -13,6 +13,10 @@ def add_arguments(parser):
     parser.add_argument("--target", type=float, default=None, metavar="FRACTION",
                         help="relative standard error (1 sigma) every reading must reach, e.g. 0.01 "
                              "(default: the quality preset's target: preview 0.05, standard 0.01, reference 0.002)")
+    parser.add_argument("--quantity", choices=("photopic", "melanopic"), default="photopic",
+                        help="photopic: lux and cd/m² only; melanopic: also the CIE S 026 reading of each "
+                             "illuminance meter's direct light (mel-EDI lx, mel-DER, alpha-opic W/m², S/P) from "
+                             "each light's spectrum (docs/spectral.md) (default: photopic)")
 
 
 def format_value(value, digits=6):
@@ -44,6 +48,35 @@ def format_table(results):
         lines.append(f"{obj.name:<22} {reading:>10} {unit:<6} {err:>9} {asked:>7}  {r.method:<9} "
                      f"{photographic_summary(r)}".rstrip())
     return "\n".join(lines)
+
+
+def format_spectral(rows):
+    """One line per illuminance meter: the direct part's E_v (all lights in closed form, and those of known
+    spectrum), mel-EDI, mel-DER and S/P, and whether exact ("lower bound": a light without a spectrum)."""
+    from ..readings import format_value as supported
+
+    lines = ["spectral (CIE S 026), direct light only:",
+             f"{'meter':<22} {'E_v direct':>11} {'of known':>11} {'mel-EDI':>10} {'mel-DER':>8} {'S/P':>6}  status"]
+    for name, sr in rows:
+        if sr is None:
+            lines.append(f"{name:<22} {'n/a':>11} {'n/a':>11} {'n/a':>10} {'n/a':>8} {'n/a':>6}  "
+                         "luminance meter: not spectral yet")
+            continue
+        status = "exact" if sr["exact"] else ("lower bound" if not sr["complete"] else "bounded")
+        mel_der = "n/a" if sr["mel_der"] is None else f"{sr['mel_der']:.4f}"
+        sp = "n/a" if sr["sp_ratio"] is None else f"{sr['sp_ratio']:.3f}"
+        lines.append(f"{name:<22} {supported(sr['illuminance_lx'], 0.0, True) + ' lx':>11} "
+                     f"{supported(sr['illuminance_known_spectrum_lx'], 0.0, True) + ' lx':>11} "
+                     f"{supported(sr['mel_edi_lx'], 0.0, True) + ' lx':>10} {mel_der:>8} {sp:>6}  {status}")
+    return "\n".join(lines)
+
+
+def spectral_rows(results, scene):
+    """(meter name, ``api.spectral_reading`` dict or None for a luminance meter) for every reading."""
+    from .. import api
+
+    return [(obj.name, None if r.quantity == "luminance" else api.spectral_reading(r.location, r.normal, scene=scene))
+            for obj, r in results]
 
 
 def used_settings(args, stored):
@@ -102,7 +135,12 @@ def run(args):
         s.method, s.quality, s.target_rel_error = before
     if progress is not None:
         progress.clear()
+    spectral = spectral_rows(results, scene) if getattr(args, "quantity", "photopic") == "melanopic" else None
     print(format_settings(used))
     print(format_table(results))
-    return {"scene": scene.name, "file": bpy.data.filepath, "settings": used,
-            "meters": [dict(name=obj.name, **r.to_dict()) for obj, r in results]}
+    meters_out = [dict(name=obj.name, **r.to_dict()) for obj, r in results]
+    if spectral is not None:
+        print(format_spectral(spectral))
+        for d, (_, sr) in zip(meters_out, spectral):
+            d["spectral"] = sr
+    return {"scene": scene.name, "file": bpy.data.filepath, "settings": used, "meters": meters_out}

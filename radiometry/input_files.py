@@ -8,7 +8,7 @@ a file (its ``os.stat`` result) is not read; ``open_regular`` opens a path witho
 import os
 import stat
 
-__all__ = ["refusal", "open_regular"]
+__all__ = ["refusal", "open_regular", "read_text"]
 
 
 def refusal(st, what, max_bytes):
@@ -41,3 +41,19 @@ def open_regular(path, what, max_bytes, error=ValueError):
         os.close(fd)
         raise
     return os.fdopen(fd, "rb")
+
+
+def read_text(path, what, max_bytes, error=ValueError):
+    """The text of a data file (UTF-8, else Latin-1) read through ``open_regular``; binary data (a NUL
+    in the first 4 KiB) is ``error("<path>: line 1: expected a text <what> file, got binary data")``."""
+    try:
+        with open_regular(path, what, max_bytes, error) as fh:
+            data = fh.read(max_bytes + 1)
+    except OSError as exc:
+        raise error(f"{os.fspath(path)}: cannot read it ({exc.strerror or exc})") from None
+    if b"\0" in data[:4096]:
+        raise error(f"{os.fspath(path)}: line 1: expected a text {what} file, got binary data")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")

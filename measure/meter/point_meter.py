@@ -930,12 +930,13 @@ def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     rows = []
     for i, (light, (exact, model_name, note)) in enumerate(zip(model.lights, info)):
         if light.spec is None:
-            rows.append({"light": light.name, "irradiance_rgb": None, "irradiance": None, "illuminance": None,
-                         "model": None, "exact": False, "status": str(direct.status[i, 0]),
+            rows.append({"light": light.name, "source": light.source, "irradiance_rgb": None, "irradiance": None,
+                         "illuminance": None, "model": None, "exact": False, "status": str(direct.status[i, 0]),
                          "note": f"not covered: {light.uncovered}; measure by rendering"})
             continue
         e = float(per_light[i, 0] @ weights)
-        rows.append({"light": light.name, "irradiance_rgb": tuple(map(float, per_light[i, 0])), "irradiance": e,
+        rows.append({"light": light.name, "source": light.source, "irradiance_rgb": tuple(map(float, per_light[i, 0])),
+                     "irradiance": e,
                      "illuminance": efficacy * e, "model": model_name, "exact": bool(exact),
                      "status": str(direct.status[i, 0]), "reason": str(direct.reason[i, 0]),
                      "rel_error_bound": float(abs(bounds[i, 0] @ weights) / abs(e)) if e else 0.0, "note": note})

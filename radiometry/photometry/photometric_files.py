@@ -474,15 +474,7 @@ def read_photometry(path):
     from .. import input_files
 
     path = os.fspath(path)
-    try:
-        # A FIFO blocks forever and /dev/zero never ends: only regular files of a sane size are read.
-        with input_files.open_regular(path, "photometric", MAX_FILE_BYTES, PhotometricFileError) as fh:
-            data = fh.read(MAX_FILE_BYTES + 1)
-    except OSError as exc:
-        raise PhotometricFileError(f"{path}: cannot read it ({exc.strerror or exc})") from None
-    if b"\0" in data[:4096]:
-        raise PhotometricFileError(f"{path}: line 1: expected a text photometric file, got binary data")
-    text = data.decode("utf-8") if _is_utf8(data) else data.decode("latin-1")
+    text = input_files.read_text(path, "photometric", MAX_FILE_BYTES, PhotometricFileError)
     ext = os.path.splitext(path)[1].lower()
     if ext == ".ldt":
         return parse_ldt(text, path)
@@ -492,14 +484,6 @@ def read_photometry(path):
     if head.startswith(("IESNA", "IES:")) or "\nTILT=" in text.upper():
         return parse_ies(text, path)
     return parse_ldt(text, path)
-
-
-def _is_utf8(data):
-    try:
-        data.decode("utf-8")
-        return True
-    except UnicodeDecodeError:
-        return False
 
 
 # --- Cycles' own reading of an IES text, and a canonical text Cycles reads as we do --------------

@@ -73,6 +73,9 @@ def base_calls(tmp_path):
         "calibrate_world": dict(illuminance_lux=100.0),
         "world_model": dict(),
         "mirror_ball_probe": dict(size=8, shape=(4, 8)),
+        "spectral_reading": dict(location=(0, 0, 0.5), normal=(0, 0, 1)),
+        "spectrum_metrics": dict(spectrum="A"),
+        "mesopic_luminance": dict(photopic_cd_m2=1.0, sp_ratio=1.5),
     }
 
 
