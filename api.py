@@ -14,7 +14,7 @@ from .errors import MeasurementCancelled, RadiometerError  # noqa: F401  (re-exp
 @_v.boundary(finite=True)
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
-                        seed=0, pooling=True):
+                        seed=0, pooling=True, target_abs_error=None):
     """Irradiance (W/m^2) and illuminance (lux) on the side ``normal`` faces.
 
     ``location``: 3 numbers, or (N, 3) to measure N meters in one batch; ``normal``: 3 numbers or
@@ -36,6 +36,10 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     300 rendered meters on one plane (same normal, same lights in closed form) reads its rendered part
     from a smooth field fitted over all of them, its error checked on held-out meters read on their own
     (method "hybrid+pooled", said in the notes; docs/pooled-meters.md); False reads every meter alone.
+    ``target_abs_error``: the absolute floor of the 1-sigma error, lux (None: the preset's, 2 / 0.5 /
+    0.1 lx for preview / standard / reference): a meter stops where its error is below it or below the
+    relative target, whichever is larger (a point in the dark does not chase 1 % of almost nothing);
+    0: none (the relative target alone, and a meter that finds no light samples on, issue 18).
     """
     location = _v.points(location, "location")
     normal = _v.directions(normal, "normal")
@@ -45,12 +49,13 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                    time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     if not isinstance(pooling, bool):
         _v.fail("pooling", "True or False", pooling)
+    _v.real(target_abs_error, "target_abs_error", low=0.0, allow_none=True)
     from .measure import meter
 
     return meter.measure_illuminance(location, normal, scene=scene, method=method, quality=quality,
                                      target_rel_error=target_rel_error, samples=samples,
                                      time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed=seed,
-                                     pooling=bool(pooling))
+                                     pooling=bool(pooling), target_abs_error=target_abs_error)
 
 
 @_v.boundary

@@ -38,6 +38,9 @@ def format_table(results):
             value, unit = r.illuminance, "lx"
         se = r.rel_std_error
         err = format_error(se if se is not None else float("nan"), r.exact)
+        upper = getattr(r, "upper_bound_lux", None)
+        if upper is not None:  # issue 31: no light found after the pilot: a one-sided bound, never ±inf
+            err = f"≤ {upper:.2g} lx"
         target = getattr(r, "target_rel_error", None)
         asked = f"{100 * target:g} %" if target else "-"
         reading = supported(value, se if se is not None else 0.0, r.exact)

@@ -548,7 +548,8 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     exact part of each reading (rendered mean + offset is the reading). ``progress(fraction,
     seconds_left)`` is called before every round with the plan's estimate. Returns an
     :class:`AllocationResult`. ``may_be_lit`` (N,) bool: meters that light may reach by a path the
-    pilot can miss; while all their texels read 0 they are not converged (``DARK_FLOOR``).
+    pilot can miss; while all their texels read 0 they are not converged (``DARK_FLOOR``), unless an
+    absolute floor ``target_abs`` is given: then such a meter stops after its pilot (issue 31).
     ``min_samples`` (N,) or None: a floor of samples per meter, taken in one round right after the
     pilot (issue 18: light from a small bright region of a rendered world comes by rare paths that a
     256-sample pilot misses while its variance looks tiny; see ``floor_round``).
@@ -604,7 +605,9 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     reached, stopped = False, "round limit"
     goal = target
     plan_factor = PLAN_FACTOR if staged else 1.0
-    plan_lit = None if staged else may_be_lit  # staged: a dark pilot stops (issue 31), no DARK_FLOOR chase
+    # Issue 31: with an absolute floor (or staged), a meter whose pilot found no light stops there (its
+    # reading states a one-sided bound, ``dark_meters``) instead of chasing DARK_FLOOR samples.
+    plan_lit = None if staged or target_abs is not None else may_be_lit
     for _round in range(max_rounds):
         elapsed = clock() - started
         if time_budget is not None and elapsed >= time_budget:

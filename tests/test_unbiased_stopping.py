@@ -65,3 +65,13 @@ def test_absolute_floor_stops_a_faint_meter():
     assert floored.reached and floored.tally.std_error[1] <= 1e-3 * 0.05
     assert floored.samples[1] < 0.5 * plain.samples[1]
     assert floored.samples[0] > 0.5 * plain.samples[0]  # the bright meter still meets 2 %
+
+
+def test_every_preset_states_an_absolute_floor():
+    """Issue 31: each preset names its absolute floor in lux; the relative target rules above floor / target."""
+    from radiometer import quality
+
+    for name in quality.PRESETS:
+        p = quality.preset(name)
+        assert p["target_abs_lux"] > 0
+        assert p["target_abs_lux"] / p["target"] <= 50.0  # the relative target rules at any task illuminance >= 50 lx
