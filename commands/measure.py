@@ -13,6 +13,11 @@ def add_arguments(parser):
     parser.add_argument("--target", type=float, default=None, metavar="FRACTION",
                         help="relative standard error (1 sigma) every reading must reach, e.g. 0.01 "
                              "(default: the quality preset's target: preview 0.05, standard 0.01, reference 0.002)")
+    parser.add_argument("--target-abs", type=float, default=None, metavar="LX",
+                        help="absolute floor of an illuminance meter's error (1 sigma, lux): a meter stops where its "
+                             "error is below it or below --target, and one that finds no light states it as a "
+                             "one-sided bound (default: the quality preset's: preview 2, standard 0.5, reference "
+                             "0.1; 0: none)")
 
 
 def format_value(value, digits=6):
@@ -90,6 +95,11 @@ def run(args):
 
         if not 0 < args.target < 0.5:
             raise RadiometerError(f"--target must be a fraction in (0, 0.5), got {args.target}")
+    target_abs = getattr(args, "target_abs", None)
+    if target_abs is not None and not (0 <= target_abs < float("inf")):
+        from ..errors import RadiometerError
+
+        raise RadiometerError(f"--target-abs must be a finite number of lux >= 0, got {target_abs}")
     s = scene.radiometer
     used = used_settings(args, (s.method, s.quality, s.target_rel_error))
     progress = getattr(args, "progress", None)
@@ -100,7 +110,7 @@ def run(args):
     s.method, s.quality, s.target_rel_error = used["method"], used["quality"], used["target_rel_error"]
     try:
         results = meters.measure_meters(scene=scene, quality=used["quality"], progress=progress,
-                                        cancelled=getattr(args, "cancelled", None))
+                                        cancelled=getattr(args, "cancelled", None), target_abs_error=target_abs)
     finally:
         s.method, s.quality, s.target_rel_error = before
     if progress is not None:

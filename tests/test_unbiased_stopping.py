@@ -75,3 +75,15 @@ def test_every_preset_states_an_absolute_floor():
         p = quality.preset(name)
         assert p["target_abs_lux"] > 0
         assert p["target_abs_lux"] / p["target"] <= 50.0  # the relative target rules at any task illuminance >= 50 lx
+
+
+def test_daylight_factor_floor_is_stated_in_df_points():
+    """A DF floor in DF points is the meter's floor in lux at the 10 000 lx overcast sky (issue 31)."""
+    pytest.importorskip("bpy")
+    from radiometer import quality
+    from radiometer.measure import daylight_factor
+
+    assert daylight_factor.floor_lux("standard", None) == pytest.approx(
+        quality.preset("standard")["target_abs_df"] / 100 * daylight_factor.SKY_HORIZONTAL_LUX)
+    assert daylight_factor.floor_lux("standard", 0.01) == pytest.approx(1.0)  # 0.01 DF points = 1 lx
+    assert daylight_factor.floor_lux("preview", 0) == 0.0  # 0: no floor
