@@ -559,8 +559,8 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     meter stops where its error is below it or below ``target`` relative, whichever allows more.
     ``staged`` (with a target and no time budget; issue 32): planning rounds aimed at ``PLAN_FACTOR`` x
     the target, then one independent measurement (``measurement_round``) whose tally is the result's. A
-    meter whose planning found nothing (every texel 0) takes no measurement: it stops after its pilot
-    (``dark_meters``; the meter states a one-sided bound). ``samples`` counts both stages.
+    meter whose planning found nothing (every texel 0, after DARK_FLOOR samples where ``may_be_lit`` and
+    no ``target_abs``) takes no measurement (``dark_meters``). ``samples`` counts both stages.
     """
     import time
 
@@ -605,9 +605,9 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     reached, stopped = False, "round limit"
     goal = target
     plan_factor = PLAN_FACTOR if staged else 1.0
-    # Issue 31: with an absolute floor (or staged), a meter whose pilot found no light stops there (its
-    # reading states a one-sided bound, ``dark_meters``) instead of chasing DARK_FLOOR samples.
-    plan_lit = None if staged or target_abs is not None else may_be_lit
+    # Issue 31: with an absolute floor, a meter whose pilot found no light stops there (its reading states
+    # a one-sided bound, ``dark_meters``) instead of chasing DARK_FLOOR samples.
+    plan_lit = None if target_abs is not None else may_be_lit
     for _round in range(max_rounds):
         elapsed = clock() - started
         if time_budget is not None and elapsed >= time_budget:
