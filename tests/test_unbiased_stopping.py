@@ -7,7 +7,7 @@ s.e. must lie within +-0.3 and its 95 % intervals must cover at least 90 %."""
 import numpy as np
 import pytest
 
-from radiometer.radiometry import allocation
+from radiometer.radiometry.sampling import allocation
 
 
 def _rare_bake(p, rng):
@@ -81,7 +81,7 @@ def test_daylight_factor_floor_is_stated_in_df_points():
     """A DF floor in DF points is the meter's floor in lux at the 10 000 lx overcast sky (issue 31)."""
     pytest.importorskip("bpy")
     from radiometer import quality
-    from radiometer.measure import daylight_factor
+    from radiometer.measure.analyses import daylight_factor
 
     assert daylight_factor.floor_lux("standard", None) == pytest.approx(
         quality.preset("standard")["target_abs_df"] / 100 * daylight_factor.SKY_HORIZONTAL_LUX)
