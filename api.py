@@ -14,7 +14,7 @@ from .errors import MeasurementCancelled, RadiometerError  # noqa: F401  (re-exp
 @_v.boundary(finite=True)
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
-                        seed=0, pooling=True):
+                        seed=0, pooling=True, target_abs_error=None):
     """Irradiance (W/m^2) and illuminance (lux) on the side ``normal`` faces.
 
     ``location``: 3 numbers, or (N, 3) to measure N meters in one batch; ``normal``: 3 numbers or
@@ -36,6 +36,10 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     300 rendered meters on one plane (same normal, same lights in closed form) reads its rendered part
     from a smooth field fitted over all of them, its error checked on held-out meters read on their own
     (method "hybrid+pooled", said in the notes; docs/pooled-meters.md); False reads every meter alone.
+    ``target_abs_error``: the absolute floor of the 1-sigma error, lux (None: the preset's, 2 / 0.5 /
+    0.1 lx for preview / standard / reference): a meter stops where its error is below it or below the
+    relative target, whichever is larger (a point in the dark does not chase 1 % of almost nothing);
+    0: none (the relative target alone, and a meter that finds no light samples on, issue 18).
     """
     location = _v.points(location, "location")
     normal = _v.directions(normal, "normal")
@@ -45,12 +49,13 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                    time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     if not isinstance(pooling, bool):
         _v.fail("pooling", "True or False", pooling)
+    _v.real(target_abs_error, "target_abs_error", low=0.0, allow_none=True)
     from .measure.meter import point_meter as meter
 
     return meter.measure_illuminance(location, normal, scene=scene, method=method, quality=quality,
                                      target_rel_error=target_rel_error, samples=samples,
                                      time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed=seed,
-                                     pooling=bool(pooling))
+                                     pooling=bool(pooling), target_abs_error=target_abs_error)
 
 
 @_v.boundary
@@ -158,9 +163,11 @@ def capture_radiance_map(location, path, *, resolution=256, scene=None, quality=
 
 
 @_v.boundary
-def measure_meters(objects=None, *, scene=None, quality=None, progress=None, cancelled=None):
-    """Measure meter objects (default: every meter in the scene) and store the readings on them."""
+def measure_meters(objects=None, *, scene=None, quality=None, progress=None, cancelled=None, target_abs_error=None):
+    """Measure meter objects (default: every meter in the scene) and store the readings on them.
+    ``target_abs_error``: the illuminance meters' absolute error floor, lux (None: the preset's)."""
     _b.scene(scene)
+    _v.real(target_abs_error, "target_abs_error", low=0.0, allow_none=True)
     _v.quality(quality, allow_none=True)
     _v.callable_or_none(progress, "progress")
     _v.callable_or_none(cancelled, "cancelled")
@@ -170,7 +177,8 @@ def measure_meters(objects=None, *, scene=None, quality=None, progress=None, can
         objects = [_b.blender_object(ob, "objects") for ob in objects]
     from .measure.meter import meter_objects as meters
 
-    return meters.measure_meters(objects, scene=scene, quality=quality, progress=progress, cancelled=cancelled)
+    return meters.measure_meters(objects, scene=scene, quality=quality, progress=progress, cancelled=cancelled,
+                                 target_abs_error=target_abs_error)
 
 
 @_v.boundary
@@ -247,7 +255,7 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
 @_v.boundary
 def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, method="auto", quality="standard",
                      target_rel_error=None, samples=None, time_budget_s=None, seed=0, png=None, csv=None,
-                     progress=None, cancelled=None):
+                     progress=None, cancelled=None, target_abs_error=None):
     """Illuminance on a grid over a plane object's local XY (its +Z side), in one measurement.
 
     ``resolution=(nx, ny)`` or ``spacing`` (m); neither: EN 12464-1 p = 0.2 x 5^log10(d). Every
@@ -257,10 +265,12 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     (ny, nx, 3) scene coordinates, ``rel_std_error`` (ny, nx), ``max_rel_std_error``,
     ``target_rel_error``, ``stats`` (avg, min, max in lux, u0 = min/avg). ``png``: isolux image;
     ``csv``: point table. ``progress(done, total, seconds_left)`` and ``cancelled()`` as in
-    :func:`measure_illuminance` (law checks too).
+    :func:`measure_illuminance` (law checks too). ``target_abs_error``: the absolute error floor, lux
+    (None: the preset's; see :func:`measure_illuminance`).
     """
     _b.scene(scene)
     target = _b.blender_object(target, "target", scene_=scene, types=("MESH",))
+    _v.real(target_abs_error, "target_abs_error", low=0.0, allow_none=True)
     resolution = _v.resolution2(resolution, "resolution", high=1000, allow_none=True)
     spacing = _v.positive(spacing, "spacing", high=_v.MAX_COORDINATE, allow_none=True)
     _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
@@ -271,7 +281,7 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     return analysis.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,
                                      quality=quality, target_rel_error=target_rel_error, samples=samples,
                                      time_budget_s=time_budget_s, seed=seed, png=png, csv_path=csv, progress=progress,
-                                     cancelled=cancelled)
+                                     cancelled=cancelled, target_abs_error=target_abs_error)
 
 
 @_v.boundary
@@ -577,7 +587,8 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
 
 @_v.boundary
 def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="standard", ground_reflectance=0.2,
-                    target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None):
+                    target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None,
+                    target_abs_error=None):
     """Daylight factor DF = 100 x E_in / E_out,h (%) under the CIE overcast sky, at ``locations``
     (3 numbers or (N, 3), scene coordinates) facing ``normals``.
 
@@ -588,18 +599,22 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
     ``method``: the meter's ("auto", ...), or "camera": cosine-weighted rays from each point through a
     custom camera, a fixed number per quality, the error stated (docs/daylight-sky.md).
     ``client``: a Dask client: the points run in chunks of 256 on its workers (docs/cluster.md).
+    ``target_abs_error``: the absolute error floor in daylight-factor points (None: the preset's, 0.025 /
+    0.005 / 0.001 for preview / standard / reference; 0: none), beside the relative target.
     """
     from .measure.analyses import daylight_factor as df
 
+    _v.real(target_abs_error, "target_abs_error", low=0.0, allow_none=True)
     return df.daylight_factor(locations, normals, scene=scene, quality=quality, ground_reflectance=ground_reflectance,
                               target_rel_error=target_rel_error, method=method, seed=seed, progress=progress,
-                              cancelled=cancelled, client=client)
+                              cancelled=cancelled, client=client, target_abs_error=target_abs_error)
 
 
 @_v.boundary
 def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, quality="standard",
                          ground_reflectance=0.2, target_percent=None, median_external_illuminance_lux=None,
-                         target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None):
+                         target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None,
+                         target_abs_error=None):
     """Daylight factor on a work-plane object's grid (points as :func:`illuminance_grid` lays them out).
 
     Returns a ``DaylightFactorGrid``: ``daylight_factor`` (ny, nx) %, ``rel_std_error``, ``points``
@@ -607,14 +622,16 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
     ``share_above_target`` for ``target_percent``, and EN 17037 D_T / D_TM checks per level when the
     site's ``median_external_illuminance_lux`` (E_v,d, EN 17037 Annex A) is given. ``client``: a Dask
     client: the grid's points run in chunks of 256 on its workers (docs/cluster.md).
+    ``target_abs_error``: the absolute error floor in daylight-factor points (see :func:`daylight_factor`).
     """
     from .measure.analyses import daylight_factor as df
 
+    _v.real(target_abs_error, "target_abs_error", low=0.0, allow_none=True)
     return df.daylight_factor_grid(target, resolution=resolution, spacing=spacing, scene=scene, quality=quality,
                                    ground_reflectance=ground_reflectance, target_percent=target_percent,
                                    median_external_illuminance_lux=median_external_illuminance_lux,
                                    target_rel_error=target_rel_error, method=method, seed=seed, progress=progress,
-                                   cancelled=cancelled, client=client)
+                                   cancelled=cancelled, client=client, target_abs_error=target_abs_error)
 
 
 @_v.boundary

@@ -7,15 +7,22 @@ first round's fixed "standard" (256 samples x 64 texels) read 0.95 % RMS, a dire
 0.007 %, the same count for both; now each meter gets what it needs. Bounce limits stay high
 enough that truncation bias is negligible (Cycles ends paths by Russian roulette long before: a
 0.7-albedo room loses 0.7^64 ~ 1e-10 at 64 bounces). ``target_rel_error`` overrides the preset's
-target; ``samples`` (a fixed number of samples per meter, for studies) and ``time_budget_s``
+target; ``target_abs_error`` (lux) overrides the preset's absolute floor; ``samples`` (a fixed number of samples per meter, for studies) and ``time_budget_s``
 (best accuracy within a wall-clock budget) replace it.
 """
 
 PRESETS = {
-    # name: target 1-sigma relative standard error, light bounces when geometry is present
-    "preview": {"target": 0.05, "bounces": 16},
-    "standard": {"target": 0.01, "bounces": 64},
-    "reference": {"target": 0.002, "bounces": 128},
+    # name: target 1-sigma relative standard error, light bounces when geometry is present, and the
+    # absolute floor of the 1-sigma error of an illuminance in lux (issue 31: a meter in the dark stops
+    # when its error is below it, not at a relative target of almost nothing). The relative target
+    # rules above 40 lx (preview), 50 lx (standard), 50 lx (reference): the floors are 5 %, 1 % and
+    # 0.2 % of those, well below EN 12464-1's lowest maintained task illuminance (20 lx).
+    # Daylight factors have their own floor in DF points (``target_abs_df``): the relative target rules
+    # above DF 0.5 % at every preset, below the low values EN 17037 / BS 8206 minimum checks hinge on
+    # (at the 10 000 lx overcast sky the floors are 2.5, 0.5 and 0.1 lx).
+    "preview": {"target": 0.05, "bounces": 16, "target_abs_lux": 2.0, "target_abs_df": 0.025},
+    "standard": {"target": 0.01, "bounces": 64, "target_abs_lux": 0.5, "target_abs_df": 0.005},
+    "reference": {"target": 0.002, "bounces": 128, "target_abs_lux": 0.1, "target_abs_df": 0.001},
 }
 
 #: Fixed-sample legacy settings (samples per texel, texels per side, bakes) per preset, used by the

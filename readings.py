@@ -148,6 +148,9 @@ class IlluminanceReading:
     target_rel_error: Optional[float] = None
     #: Which light came from closed forms and what Cycles rendered: {"analytic": [...], "rendered": [...]}.
     parts: dict = dataclasses.field(default_factory=dict)
+    #: Issue 31: a meter whose pilot found no rendered light stops there and states a one-sided upper
+    #: bound of its illuminance (lux; the absolute floor, see its notes) instead of an unknown error.
+    upper_bound_lux: Optional[float] = None
 
     def to_dict(self):
         return _with_photographic(self, dataclasses.asdict(self))
@@ -171,6 +174,8 @@ class IlluminanceReading:
 
     def summary(self):
         err = "exact" if self.exact else f"±{100 * self.rel_std_error:.2g} % (1 s.e.)"
+        if self.upper_bound_lux is not None:
+            err = f"at most {self.upper_bound_lux:.3g} lx (no light found; one-sided bound)"
         return f"{self.illuminance:.6g} lx  ({self.irradiance:.6g} W/m²)  {err}  [{self.method}]"
 
 

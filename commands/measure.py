@@ -17,6 +17,11 @@ def add_arguments(parser):
                         help="photopic: lux and cd/m² only; melanopic: also the CIE S 026 reading of each "
                              "illuminance meter's direct light (mel-EDI lx, mel-DER, alpha-opic W/m², S/P) from "
                              "each light's spectrum (docs/spectral.md) (default: photopic)")
+    parser.add_argument("--target-abs", type=float, default=None, metavar="LX",
+                        help="absolute floor of an illuminance meter's error (1 sigma, lux): a meter stops where its "
+                             "error is below it or below --target, and one that finds no light states it as a "
+                             "one-sided bound (default: the quality preset's: preview 2, standard 0.5, reference "
+                             "0.1; 0: none)")
 
 
 def format_value(value, digits=6):
@@ -42,6 +47,9 @@ def format_table(results):
             value, unit = r.illuminance, "lx"
         se = r.rel_std_error
         err = format_error(se if se is not None else float("nan"), r.exact)
+        upper = getattr(r, "upper_bound_lux", None)
+        if upper is not None:  # issue 31: no light found after the pilot: a one-sided bound, never ±inf
+            err = f"≤ {upper:.2g} lx"
         target = getattr(r, "target_rel_error", None)
         asked = f"{100 * target:g} %" if target else "-"
         reading = supported(value, se if se is not None else 0.0, r.exact)
@@ -120,6 +128,11 @@ def run(args):
 
         if not 0 < args.target < 0.5:
             raise RadiometerError(f"--target must be a fraction in (0, 0.5), got {args.target}")
+    target_abs = getattr(args, "target_abs", None)
+    if target_abs is not None and not (0 <= target_abs < float("inf")):
+        from ..errors import RadiometerError
+
+        raise RadiometerError(f"--target-abs must be a finite number of lux >= 0, got {target_abs}")
     s = scene.radiometer
     used = used_settings(args, (s.method, s.quality, s.target_rel_error))
     progress = getattr(args, "progress", None)
@@ -130,7 +143,7 @@ def run(args):
     s.method, s.quality, s.target_rel_error = used["method"], used["quality"], used["target_rel_error"]
     try:
         results = meters.measure_meters(scene=scene, quality=used["quality"], progress=progress,
-                                        cancelled=getattr(args, "cancelled", None))
+                                        cancelled=getattr(args, "cancelled", None), target_abs_error=target_abs)
     finally:
         s.method, s.quality, s.target_rel_error = before
     if progress is not None:

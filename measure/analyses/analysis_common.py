@@ -53,12 +53,13 @@ def luminance_weights(scene):
     return weights, efficacy
 
 
-def budget(quality="standard", target_rel_error=None, samples=None, time_budget_s=None):
+def budget(quality="standard", target_rel_error=None, samples=None, time_budget_s=None, target_abs_error=None):
     """The meter's accuracy settings as keywords (see ``meter.measure_illuminance``): ``quality`` a
     preset name (target 1-sigma relative error 5 %, 1 %, 0.2 %), ``target_rel_error`` a fraction,
-    ``samples`` a fixed count per meter, ``time_budget_s`` seconds per measurement."""
+    ``samples`` a fixed count per meter, ``time_budget_s`` seconds per measurement,
+    ``target_abs_error`` the absolute error floor in lux (None: the preset's)."""
     return {"quality": quality or "standard", "target_rel_error": target_rel_error, "samples": samples,
-            "time_budget_s": time_budget_s}
+            "time_budget_s": time_budget_s, "target_abs_error": target_abs_error}
 
 
 def measure(scene, points_scene, normals, *, method, budget, seed=0, progress=None, cancelled=None,

@@ -91,6 +91,15 @@ def _check_rho(ground_reflectance):
 CHUNK_POINTS = 256
 
 
+def floor_lux(quality, target_abs_error):
+    """The meter's absolute floor (lux) for a daylight-factor floor in DF points (None: the preset's
+    ``target_abs_df``): DF points / 100 x the overcast sky's horizontal illuminance."""
+    from ...quality import preset
+
+    points = preset(quality)["target_abs_df"] if target_abs_error is None else float(target_abs_error)
+    return points / 100.0 * SKY_HORIZONTAL_LUX
+
+
 def daylight_factor_chunk(scene, *, locations, normals, **kwargs):
     """One cluster task: the daylight factor at a chunk of points (a list of readings)."""
     out = daylight_factor(locations, normals, scene=scene, **kwargs)
@@ -99,8 +108,11 @@ def daylight_factor_chunk(scene, *, locations, normals, **kwargs):
 
 def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="standard", ground_reflectance=0.2,
                     target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None,
-                    chunk_points=CHUNK_POINTS):
+                    chunk_points=CHUNK_POINTS, target_abs_error=None):
     """Daylight factor (%) at ``locations`` (3,) or (N, 3) facing ``normals``; a reading or a list.
+
+    ``target_abs_error``: the absolute error floor in daylight-factor points (None: the preset's
+    ``target_abs_df``; 0: none), beside the relative target (issue 31).
 
     ``client``: a Dask client: the points go in chunks of ``chunk_points`` (task k seeded
     ``seed + 7919 k``) to the cluster's workers (``radiometer.cluster.run_scene_tasks``).
@@ -120,7 +132,8 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
         size = max(1, int(chunk_points))
         tasks = [dict(locations=points[k:k + size], normals=dirs[k:k + size], quality=quality,
                       ground_reflectance=rho, target_rel_error=target_rel_error, method=method,
-                      seed=int(seed) + 7919 * (k // size)) for k in range(0, len(points), size)]
+                      seed=int(seed) + 7919 * (k // size), target_abs_error=target_abs_error)
+                 for k in range(0, len(points), size)]
         parts = run_scene_tasks(scene, daylight_factor_chunk, tasks, client=client, progress=progress,
                                 cancelled=cancelled, label="daylight factor")
         out = [r for part in parts for r in part]
@@ -137,7 +150,8 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
             notes = overcast_only(scene, snapshot, rho)
             readings = meter.measure_illuminance(points, dirs, scene=scene, method=method, quality=quality,
                                                  target_rel_error=target_rel_error, seed=seed, progress=progress,
-                                                 cancelled=cancelled)
+                                                 cancelled=cancelled,
+                                                 target_abs_error=floor_lux(quality, target_abs_error))
     readings = readings if isinstance(readings, list) else [readings]
     out = [DaylightFactorReading(tuple(map(float, p)), tuple(map(float, n)), 100.0 * r.illuminance / SKY_HORIZONTAL_LUX,
                                  float(r.rel_std_error), float(r.illuminance), SKY_HORIZONTAL_LUX, bool(r.exact),
@@ -240,8 +254,9 @@ def _grid_layout(scene, target, resolution, spacing):
 def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, quality="standard",
                          ground_reflectance=0.2, target_percent=None, median_external_illuminance_lux=None,
                          target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None,
-                         chunk_points=CHUNK_POINTS):
+                         chunk_points=CHUNK_POINTS, target_abs_error=None):
     """Daylight factor on a work plane object's grid (``measure.analyses.grid.illuminance_grid`` points).
+    ``target_abs_error``: the absolute error floor in daylight-factor points (see :func:`daylight_factor`).
 
     ``client``: a Dask client: the grid's points run in chunks of ``chunk_points`` on its workers
     (see :func:`daylight_factor`).
@@ -258,7 +273,7 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
         readings = daylight_factor(points.reshape(-1, 3), np.broadcast_to(normal, (nx * ny, 3)), scene=scene,
                                    quality=quality, ground_reflectance=rho, target_rel_error=target_rel_error,
                                    method=method, seed=seed, progress=progress, cancelled=cancelled, client=client,
-                                   chunk_points=chunk_points)
+                                   chunk_points=chunk_points, target_abs_error=target_abs_error)
         df = np.array([r.daylight_factor for r in readings], float).reshape(ny, nx)
         se = np.array([r.rel_std_error for r in readings], float).reshape(ny, nx)
         stats = plane_statistics(df, target_percent=target_percent,
@@ -273,7 +288,8 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
         notes = overcast_only(scene, snapshot, rho)
         result = grid.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,
                                        quality=quality, target_rel_error=target_rel_error, seed=seed,
-                                       progress=progress, cancelled=cancelled)
+                                       progress=progress, cancelled=cancelled,
+                                       target_abs_error=floor_lux(quality, target_abs_error))
     df = 100.0 * np.asarray(result.lux, float) / SKY_HORIZONTAL_LUX
     stats = plane_statistics(df, target_percent=target_percent,
                              median_external_illuminance_lux=median_external_illuminance_lux)

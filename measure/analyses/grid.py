@@ -194,13 +194,14 @@ def grid_layout(scene, target, resolution=None, spacing=None):
 
 def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, method="auto", quality="standard",
                      target_rel_error=None, samples=None, time_budget_s=None, seed=0, png=None, csv_path=None,
-                     progress=None, cancelled=None):
+                     progress=None, cancelled=None, target_abs_error=None):
     """Illuminance at the cell centres of a grid on a plane object's local XY (its +Z side).
 
     ``target``: a mesh object or its name. ``resolution``: (nx, ny); ``spacing``: cell size in m;
     neither: the EN 12464-1 spacing p = 0.2 x 5^log10(d). ``quality`` / ``target_rel_error``
     (fraction, every point) / ``samples`` (per point) / ``time_budget_s`` (s, the whole grid) as in
-    ``meter.measure_illuminance``. Returns :class:`GridResult`.
+    ``meter.measure_illuminance``; ``target_abs_error``: the absolute error floor, lux (None: the
+    preset's). Returns :class:`GridResult`.
     """
     scene = common.scene_or_context(scene)
     layout = grid_layout(scene, target, resolution, spacing)
@@ -210,7 +211,8 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     started = time.perf_counter()
     readings = common.measure(scene, points.reshape(-1, 3), normal, method=method, seed=seed, progress=progress,
                               cancelled=cancelled,
-                              budget=common.budget(quality, target_rel_error, samples, time_budget_s))
+                              budget=common.budget(quality, target_rel_error, samples, time_budget_s,
+                                                   target_abs_error))
     seconds = time.perf_counter() - started
     irr = np.array([r.irradiance for r in readings]).reshape(ny, nx)
     lux = np.array([r.illuminance for r in readings]).reshape(ny, nx)

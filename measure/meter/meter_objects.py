@@ -104,7 +104,7 @@ def run_step(scene, step, settings, *, progress=None, cancelled=None):
             np.array([p for p, _ in poses]), np.array([z for _, z in poses]), scene=scene,
             method=settings["method"], quality=quality, target_rel_error=settings["target_rel_error"],
             time_budget_s=settings.get("time_budget_s"), progress=progress, cancelled=cancelled,
-            exclude={ob.name for ob in objs})
+            exclude={ob.name for ob in objs}, target_abs_error=settings.get("target_abs_error"))
         return list(zip(objs, readings))
     ob = objs[0]
     location, z = _pose(ob)
@@ -191,8 +191,10 @@ class StepProgress:
             self.report(self.fraction, self.seconds_left)
 
 
-def measure_meters(objects=None, *, scene=None, quality=None, progress=None, cancelled=None):
+def measure_meters(objects=None, *, scene=None, quality=None, progress=None, cancelled=None, target_abs_error=None):
     """Measure meters (default: all in ``scene``) and write their readings; returns [(object, reading)].
+
+    ``target_abs_error``: the illuminance meters' absolute error floor, lux (None: the preset's).
 
     ``progress(done, total, seconds_left)``: done/total in thousandths of the whole run, with an
     ETA in s (None until known), called within every step. ``cancelled()``: polled before every
@@ -200,7 +202,7 @@ def measure_meters(objects=None, *, scene=None, quality=None, progress=None, can
     """
     scene = scene or bpy.context.scene
     objects = meter_objects(scene, objects)
-    settings = scene_settings(scene, quality)
+    settings = dict(scene_settings(scene, quality), target_abs_error=target_abs_error)
     results = []
     steps = plan_steps(scene, objects)
     tracker = StepProgress(steps, None if progress is None else

@@ -659,7 +659,7 @@ def _closed_form_part(model, decision, sensors_m, normals, direct_only):
 
 def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sensors_m, normals, *, preset,
                  method, direct_only, weights, target, budget, fixed, progress, cancelled, seed, scale, n_closed,
-                 medium=None, pooling=False):
+                 target_abs=None, medium=None, pooling=False):
     """Cycles (hybrid or render) at the meters that need it; ``direct`` is the plan cut to them
     (``_plan_at``), as are the sensors and normals. Returns a dict: mean_rgb, bound_rgb, se_rgb (M, 3),
     se, samples (M,), method, record, notes (common to these meters), parts (per meter)."""
@@ -742,7 +742,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                                  time_budget=budget, fixed_samples=fixed, exclusions=split,
                                  offset=offset_rgb @ weights, progress=progress, cancelled=cancelled, seed=seed,
                                  panes=model.panes, may_be_lit=may_be_lit(direct, direct_only),
-                                 min_samples=floor, pooled=pooling)
+                                 min_samples=floor, pooled=pooling, target_abs=target_abs)
     mean_rgb = run["mean_rgb"] + offset_rgb
     # Issue 18 (F3): Cycles computes and accumulates in float32, so no rendered part is known better
     # than its float32 rounding, even where every sample agrees (one delta light: batch-means s.e. ~0);
@@ -750,15 +750,31 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
     se_rgb = np.hypot(np.nan_to_num(run["se_rgb"]), FLOAT32_FLOOR * np.abs(run["mean_rgb"]))
     scalar_se = np.hypot(np.nan_to_num(run["se"]), FLOAT32_FLOOR * np.abs(run["mean_rgb"] @ weights))
     dark = np.asarray(run.get("dark", np.zeros(n, bool)), bool)
+    upper = np.full(n, np.nan)
     if dark.any():
         # Issue 18: no rendered light found although some may arrive (a small bright region past
         # an obstruction): the error is unknown, never 0, also where closed forms add light (hybrid),
         # unless a deterministic bound (a caustic's closed form) already states what may be missing.
-        scalar_se = np.where(dark & ~(np.abs(bound_rgb) @ np.abs(weights) > 0.0), np.inf, scalar_se)
-        notes.append(f"{int(dark.sum())} meter(s) found no rendered light in {int(run['samples'][dark].min()):,}+ samples "
-                     "although lit surfaces or partly hidden lights lie above their horizon: light from a small "
-                     "bright region may be missing, so their error is unknown (stated as infinite unless a caustic's bound "
-                     "states it)")
+        unbounded = dark & ~(np.abs(bound_rgb) @ np.abs(weights) > 0.0)
+        taken = int(run['samples'][dark].min())
+        if target_abs is not None and fixed is None:
+            # Issue 31: the meter stopped after its pilot; it states the absolute floor as a one-sided bound.
+            scalar_se = np.where(unbounded, target_abs, scalar_se)
+            upper = np.where(unbounded, target_abs, np.nan)
+            floor_lux = target_abs * scene_photometry(scene)[2]
+            notes.append(f"{int(dark.sum())} meter(s) found no rendered light in {taken:,} samples (their pilot) "
+                         "although lit surfaces or partly hidden lights lie above their horizon: by the rule of "
+                         f"three, fewer than 3/{taken:,} of their sample paths carry light (95 %); they read 0 and "
+                         f"state the absolute floor {floor_lux:.3g} lx as a one-sided bound, which holds "
+                         f"unless one light-carrying sample would carry more than {taken / 3:,.0f} x that floor (a "
+                         "small bright region seen past an obstruction can: measure it with a relative target and "
+                         "target_abs_error=0 to sample on)")
+        else:
+            scalar_se = np.where(unbounded, np.inf, scalar_se)
+            notes.append(f"{int(dark.sum())} meter(s) found no rendered light in {taken:,}+ samples "
+                         "although lit surfaces or partly hidden lights lie above their horizon: light from a small "
+                         "bright region may be missing, so their error is unknown (stated as infinite unless a "
+                         "caustic's bound states it)")
     spent = run["samples"]
     why = "; ".join(decision["reasons"]) or "requested"
     rule = (f"{fixed} samples per meter" if fixed is not None else
@@ -776,8 +792,9 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
         notes.append(f"hybrid: direct light of {', '.join(repr(x) for x in names)} added from closed forms "
                      "where proven (excluded from the sensor by light linking); Cycles rendered the rest")
     if target is not None and not run["reached"]:
-        missed = int(np.sum(np.nan_to_num(scalar_se) > target * np.abs(run["mean_rgb"] @ weights
-                                                                         + offset_rgb @ weights)))
+        missed = int(np.sum(np.nan_to_num(scalar_se) > np.maximum(target * np.abs(run["mean_rgb"] @ weights
+                                                                                     + offset_rgb @ weights),
+                                                                   0.0 if target_abs is None else target_abs)))
         notes.append(f"target {100 * target:g} % NOT reached at {missed} of {n} rendered meter(s) ({run['stopped']}; "
                      f"at most {allocation.MAX_SAMPLES_PER_METER:,} samples per meter)")
     record = run["record"]
@@ -791,6 +808,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
         notes.append(f"unit scale {scale:g} m per unit: Cycles' scene-unit result divided by scale²")
     methods, meter_notes = pooled_notes(run, "hybrid" if any(split) else "render", n)
     return {"mean_rgb": mean_rgb, "bound_rgb": bound_rgb, "se_rgb": se_rgb, "se": scalar_se, "samples": spent,
+            "upper": upper,
             "method": methods, "record": record, "notes": notes, "parts": parts, "meter_notes": meter_notes}
 
 
@@ -828,7 +846,7 @@ def pooled_notes(run, method, n):
 
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
-                        exclude=(), seed=0, direct_only=False, model=None, pooling=True):
+                        exclude=(), seed=0, direct_only=False, model=None, pooling=True, target_abs_error=None):
     """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``.
 
     ``direct_only``: light straight from the sources only (closed forms where proven, else Cycles
@@ -837,6 +855,8 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     for the scene as it is now (issue 17: capture once); None captures it.
     ``pooling``: with a target, groups of at least ``pooled_field.POOL_MIN_METERS`` rendered meters on
     one plane read their rendered part from a fitted field checked on held-out meters (issue 17).
+    ``target_abs_error``: the absolute floor of the 1-sigma error in lux (None: the preset's
+    ``target_abs_lux``); a meter stops where its error is below it or below the relative target.
     """
     scene = scene or bpy.context.scene
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
@@ -856,6 +876,11 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     decision = plan(scene, model, sensors_m, normals, method, direct_only=direct_only)
     space, weights, efficacy = scene_photometry(scene)
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"]
+    floor_lux = preset["target_abs_lux"] if target_abs_error is None else float(target_abs_error)
+    abs_floor = None if target is None or not floor_lux > 0 else floor_lux / efficacy  # W/m^2, CIE Y weighted
+    if abs_floor is not None:
+        notes.append(f"absolute error floor {floor_lux:g} lx (1 s.e.): a meter stops where its error is below "
+                     f"it or below the relative target, whichever is larger (issue 31)")
     if direct_only:
         notes.append("direct light only (requested): light reflected by surfaces is NOT included (rendered "
                      "parts use 0 bounces); shadows are")
@@ -867,6 +892,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     closed = np.asarray(decision["closed_points"], bool)
     mean_rgb, bound_rgb = np.zeros((n, 3)), np.zeros((n, 3))
     se_rgb, scalar_se, spent = np.zeros((n, 3)), np.zeros(n), np.zeros(n)
+    upper = np.full(n, np.nan)  # one-sided 95 % bound (W/m^2) of a meter that found no light (issue 31)
     own_notes = [[] for _ in range(n)]
     parts = [{"analytic": [], "rendered": []} for _ in range(n)]
     methods = np.full(n, "analytic", dtype=object)
@@ -882,9 +908,11 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                            sensors_scene[rendered], sensors_m[rendered], normals[rendered], preset=preset,
                            method=method, direct_only=direct_only, weights=weights, target=target, budget=budget,
                            fixed=fixed, progress=progress, cancelled=cancelled, seed=seed, scale=scale,
-                           n_closed=int(closed.sum()), medium=_world_medium(scene, model), pooling=pooling)
+                           n_closed=int(closed.sum()), medium=_world_medium(scene, model), pooling=pooling,
+                           target_abs=abs_floor)
         mean_rgb[rendered], bound_rgb[rendered] = run["mean_rgb"], run["bound_rgb"]
         se_rgb[rendered], scalar_se[rendered], spent[rendered] = run["se_rgb"], run["se"], run["samples"]
+        upper[rendered] = run["upper"]
         methods[rendered], record = run["method"], run["record"]
         for j, k in enumerate(rendered):
             own_notes[k], parts[k] = list(run["notes"]) + run["meter_notes"][j], run["parts"][j]
@@ -907,7 +935,8 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
             efficacy=efficacy, colour_space=space, location=tuple(points_scene[k]), normal=tuple(normals[k]),
             exact=bool(exact_points[k]), std_error_rgb=tuple(float(v) for v in se_rgb[k]),
             notes=list(notes) + own_notes[k], render_settings=None if closed[k] else record,
-            rel_error_bound=rel_bound, target_rel_error=target, parts=parts[k]))
+            rel_error_bound=rel_bound, target_rel_error=target, parts=parts[k],
+            upper_bound_lux=None if np.isnan(upper[k]) else float(efficacy * (e + upper[k]))))
     watch.done()  # only on success, after the guard restored the scene
     return readings[0] if single else readings
 

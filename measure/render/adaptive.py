@@ -56,7 +56,7 @@ def _exclude_from(coll, obj):
 def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, weights, target=None,
                   time_budget=None, fixed_samples=None, exclusions=None, offset=None, progress=None,
                   cancelled=None, seed=0, max_samples=allocation.MAX_SAMPLES_PER_METER, panes=None,
-                  may_be_lit=None, min_samples=None, pooled=False):
+                  may_be_lit=None, min_samples=None, pooled=False, target_abs=None):
     """Rendered irradiance at the sensors, W/m^2 SI, each meter sampled to its own need.
 
     ``exclusions``: per meter, a frozenset of light OBJECT identities (``meter.light_object_key``: session
@@ -68,6 +68,8 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
     ``panes``: thin glass panes (``SceneModel.panes``), rendered as thin panes (``measure.capture.glass``).
     ``pooled``: with a target, pool groups of many meters on one plane (``radiometry.sampling.pooled_field``);
     then ``pooled`` (N,) bool says which readings are the fitted field's, ``pool_groups`` their checks.
+    ``target_abs``: the absolute floor of the scalar 1-sigma error, W/m^2 (``allocation.allocate``); a
+    pooled field keeps the relative target alone (its meters read on their own take the floor).
     """
     n = len(points_scene)
     scale = scene.unit_settings.scale_length
@@ -181,12 +183,14 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
             result = pooled_field.allocate_pooled(bake, n, points_m=points_scene * scale, normals=normals,
                                                   target=target, keys=exclusions, offset=offset, seed=seed,
                                                   progress=report, may_be_lit=may_be_lit, min_samples=min_samples,
-                                                  max_samples=max_samples, table_patterns=allocation.TABLE_PATTERNS)
+                                                  max_samples=max_samples, table_patterns=allocation.TABLE_PATTERNS,
+                                                  target_abs=target_abs)
         else:
             result = allocation.allocate(bake, n, target=target, time_budget=time_budget,
                                          fixed_samples=fixed_samples, offset=offset, max_samples=max_samples,
                                          progress=report, may_be_lit=may_be_lit, min_samples=min_samples,
-                                         table_patterns=allocation.TABLE_PATTERNS)  # Cycles' tabulated Sobol
+                                         table_patterns=allocation.TABLE_PATTERNS,  # Cycles' tabulated Sobol
+                                         target_abs=target_abs)
     tally = result.tally
     record = dict(record, samples=None, rounds=result.rounds, bakes=state["bakes"])
     return {

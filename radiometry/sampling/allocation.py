@@ -103,6 +103,101 @@ HEAVY_TAIL = 100.0
 RARE_PATH_SPP = TABLE_SIZES[1]
 
 
+#: Issue 32: the samples that decide when to stop must not bias the reading. A target-driven measurement
+#: runs in two stages: PLANNING rounds (the pilot and the sequential rounds above, aimed at
+#: ``PLAN_FACTOR`` x the target, about 1 / PLAN_FACTOR^2 of the samples) measure each meter's texel
+#: variance and its decay with spp; then ONE MEASUREMENT, sized from the planning alone, with fresh
+#: seeds, gives the reading and its stated error. The measurement's size is a function of the planning
+#: samples only, which are independent of it, so its mean is unbiased (E[m | size] = mu). Sequential
+#: stopping on the running relative error read rare-hit meters high (a high running mean has a small
+#: relative error: slit-sky DF +1.66 % over 12 seeds stating 0.77 %; mean z +0.8 to +1.2 in
+#: tests/test_unbiased_stopping.py).
+PLAN_FACTOR = 2.0
+#: The measurement is planned with this many standard deviations of its own error estimate's noise
+#: (relative s.d. 1 / sqrt(2 dof)) below the target, so it meets the target without a second try.
+MEASURE_MARGIN_SDS = 1.5
+#: A measurement that misses the target (its stated error above it) is replaced ONCE by a fresh one
+#: sized from it; the second is kept whatever it states. Choosing between two independent readings by
+#: the first one's outcome biases by at most sqrt(P(retry)) standard errors (Cauchy-Schwarz:
+#: |E[z 1_retry]| <= sqrt(E[z^2] P(retry))); measured P(retry) and mean z in
+#: tests/test_unbiased_stopping.py and docs/errors.md.
+MEASURE_TRIES = 2
+
+
+def effective_target(target, target_abs, tally, offset=0.0):
+    """(N,) relative target per meter: ``target`` or, where the absolute floor ``target_abs`` (N,) (in
+    the tally's scalar units) allows more, target_abs / |mean + offset| (inf where the reading is 0)."""
+    if target_abs is None:
+        return target
+    total = np.abs(tally.mean + offset)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel_abs = np.where(total > 0, np.asarray(target_abs, float) / total, np.inf)
+    return np.maximum(target, np.where(np.asarray(target_abs, float) > 0, rel_abs, 0.0))
+
+
+def measurement_round(tally, target, offset=0.0, max_samples=MAX_SAMPLES_PER_METER, min_samples=None,
+                      spread_sds=PLAN_SPREAD_SDS, skip=None):
+    """(spp (N,), blocks (N,)) of an independent measurement that alone meets ``target`` (N,) relative
+    at each meter, planned from ``tally`` (the planning rounds) only; ``skip`` (N,) bool: meters that
+    get none. Per meter the cheapest of 1x, 2x, 4x its last spp (by its texel-variance model; at most
+    MAX_SPP, or the larger table where its table floor needs it), counting each texel's own cost as
+    ``TEXEL_COST`` samples, at least ``MIN_BLOCKS`` blocks and ``min_samples``."""
+    total = np.abs(tally.mean + offset)
+    target = np.broadcast_to(np.asarray(target, float), total.shape)
+    v_last, s_last, alpha, _measured = tally.texel_variance_model()
+    s_last = np.where(s_last > 0, s_last, PILOT_SPP)
+    v_last = np.nan_to_num(v_last, nan=0.0)
+    inflate = 1.0 + spread_sds * np.sqrt(2.0 / np.maximum(tally.dof, 1.0))
+    floor_now = tally.table_floor
+    need_min = np.zeros(tally.count) if min_samples is None else np.minimum(np.asarray(min_samples, float),
+                                                                           max_samples)
+    texels_per_block = BLOCK_TEXELS ** 2
+    best_cost = np.full(tally.count, np.inf)
+    best_spp = s_last.astype(int)
+    best_blocks = np.full(tally.count, MIN_BLOCKS)
+    for step in (1, 2, 4, 8):
+        spp = np.minimum(s_last * step, np.where(floor_now > 0, RARE_PATH_SPP, MAX_SPP)).astype(int)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            v = inflate * v_last * (s_last / spp) ** alpha
+            floor = np.where(floor_now > 0, tally.table_floor_at_each(spp), 0.0)
+            goal = target * total
+            c = np.maximum(goal ** 2 - floor ** 2, 0.25 * goal ** 2)
+            texels = v / c
+            # The measurement's own error estimate is noisy (relative s.d. 1 / sqrt(2 (J - 1))): aim below.
+            texels = texels * (1.0 + MEASURE_MARGIN_SDS / np.sqrt(2.0 * np.maximum(texels, 32.0) - 2.0)) ** 2
+        texels = np.where(np.isfinite(texels), texels, 0.0)
+        texels = np.maximum(texels, np.ceil(need_min / spp))
+        blocks = np.maximum(np.ceil(texels / texels_per_block), MIN_BLOCKS)
+        blocks = np.minimum(blocks, np.maximum(np.floor(max_samples / (spp * texels_per_block)), MIN_BLOCKS))
+        cost = blocks * texels_per_block * (spp + TEXEL_COST)
+        better = cost < best_cost * 0.95
+        best_cost = np.where(better, cost, best_cost)
+        best_spp = np.where(better, spp, best_spp)
+        best_blocks = np.where(better, blocks, best_blocks)
+    if skip is not None:
+        best_blocks = np.where(skip, 0, best_blocks)
+    return best_spp.astype(int), best_blocks.astype(int)
+
+
+def run_measurement(run, count, spp, blocks, max_blocks=MAX_BLOCKS):
+    """Bake a planned measurement: one bake per distinct spp (split at ``max_blocks``); every size is
+    fixed before the first of them, so none depends on the measurement's own texels."""
+    for s in np.unique(spp[blocks > 0]):
+        at = np.where((spp == s), blocks, 0)
+        while at.any():
+            take = np.minimum(at, np.maximum(at * max_blocks // max(int(at.sum()), 1), np.where(at > 0, 1, 0)))
+            run(int(s), take)
+            at = at - take
+
+
+def _masked(tally, keep):
+    """``tally``'s rounds with the meters not in ``keep`` (N,) bool removed (texels 0)."""
+    out = MeterTally(tally.count, table_patterns=tally.table_patterns)
+    for r in tally.rounds:
+        out.rounds.append(dict(r, texels=np.where(keep, r["texels"], 0)))
+    return out
+
+
 def table_size(spp):
     """Points per pattern of Cycles' tabulated Sobol table at ``spp`` samples per pixel."""
     size = 1 << max(int(spp) - 1, 1).bit_length()  # next power of two above spp - 1
@@ -197,6 +292,14 @@ class MeterTally:
             per_sample = np.where(r["texels"] > 1, np.nan_to_num(r["var"][:, 0], nan=0.0) * r["spp"], per_sample)
         at = np.sqrt(per_sample / (table_size(spp) * self.table_patterns))
         return np.where(self.table_floor > 0, at, 0.0)
+
+    def table_floor_at_each(self, spp):
+        """(N,) ``table_floor_at`` with each meter's own ``spp`` (N,)."""
+        spp = np.broadcast_to(np.asarray(spp, int), (self.count,))
+        out = np.zeros(self.count)
+        for s in np.unique(spp):
+            out = np.where(spp == s, self.table_floor_at(int(s)), out)
+        return out
 
     @property
     def table_floor(self):
@@ -372,7 +475,7 @@ def choose_spp(tally, target, previous, offset=0.0, max_samples=MAX_SAMPLES_PER_
         # the largest (fin scene, 99 % hidden: 8 % at 128 spp, 4 % at 1024, 1.4 % at 8192).
         for size in (MAX_SPP, 2 * MAX_SPP, 4 * MAX_SPP):
             at = np.divide(tally.table_floor_at(size), total, out=np.zeros(tally.count), where=total > 0)
-            if np.all(at[rare] <= 0.5 * target):
+            if np.all(at[rare] <= 0.5 * np.broadcast_to(target, at.shape)[rare]):
                 return max(size, previous)
         return RARE_PATH_SPP
     if not np.all(measured | (rel <= target)):
@@ -429,12 +532,13 @@ class AllocationResult:
     seconds: float
     reached: bool                  #: every meter met the target (target mode)
     stopped: str = ""              #: why the loop ended
-    samples: np.ndarray = None     #: (N,) samples spent per meter
+    samples: np.ndarray = None     #: (N,) samples spent per meter (planning and measurement)
+    planning_samples: np.ndarray = None  #: (N,) of those, the planning's (not in the estimate; issue 32)
 
 
 def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, offset=0.0, max_rounds=8,
              max_samples=MAX_SAMPLES_PER_METER, progress=None, clock=None, may_be_lit=None, min_samples=None,
-             table_patterns=0):
+             table_patterns=0, target_abs=None, staged=False):
     """Run rounds of ``bake`` until every meter meets ``target`` (1-sigma relative standard error),
     or spend about ``time_budget`` seconds lowering the worst error, or spend ``fixed_samples`` per
     meter.
@@ -444,12 +548,19 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     exact part of each reading (rendered mean + offset is the reading). ``progress(fraction,
     seconds_left)`` is called before every round with the plan's estimate. Returns an
     :class:`AllocationResult`. ``may_be_lit`` (N,) bool: meters that light may reach by a path the
-    pilot can miss; while all their texels read 0 they are not converged (``DARK_FLOOR``).
+    pilot can miss; while all their texels read 0 they are not converged (``DARK_FLOOR``), unless an
+    absolute floor ``target_abs`` is given: then such a meter stops after its pilot (issue 31).
     ``min_samples`` (N,) or None: a floor of samples per meter, taken in one round right after the
     pilot (issue 18: light from a small bright region of a rendered world comes by rare paths that a
     256-sample pilot misses while its variance looks tiny; see ``floor_round``).
     ``table_patterns``: the sampler's fixed table (``TABLE_PATTERNS`` for Cycles' tabulated Sobol) whose
     floor meters lit by rare paths state (``MeterTally.table_patterns``); 0: independent samples.
+    ``target_abs`` (N,) or None: an absolute floor of the 1-sigma error in the tally's scalar units; a
+    meter stops where its error is below it or below ``target`` relative, whichever allows more.
+    ``staged`` (with a target and no time budget; issue 32): planning rounds aimed at ``PLAN_FACTOR`` x
+    the target, then one independent measurement (``measurement_round``) whose tally is the result's. A
+    meter whose planning found nothing (every texel 0, after DARK_FLOOR samples where ``may_be_lit`` and
+    no ``target_abs``) takes no measurement (``dark_meters``). ``samples`` counts both stages.
     """
     import time
 
@@ -458,11 +569,11 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     tally = MeterTally(count, table_patterns=table_patterns)
     costs = []  # (samples, seconds) per round: time model seconds = a + b * samples
 
-    def run(spp, blocks):
+    def run(spp, blocks, into=None):
         t0 = clock()
         idx, scalar, rgb = bake(int(spp), np.asarray(blocks, int))
         costs.append((float(np.sum(blocks)) * BLOCK_TEXELS ** 2 * spp, clock() - t0))
-        tally.add(idx, spp, scalar, rgb)
+        (tally if into is None else into).add(idx, spp, scalar, rgb)
 
     def time_model():
         s, t = np.array(costs).T
@@ -483,14 +594,20 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
         report(1.0, 0.0)
         return AllocationResult(tally, 1, clock() - started, True, "fixed budget", tally.n.copy())
 
+    staged = bool(staged) and target is not None and time_budget is None
+    target_abs = None if target_abs is None else np.broadcast_to(np.asarray(target_abs, float), (count,))
     spp = PILOT_SPP
     run(spp, np.full(count, pilot_blocks(count)))
-    if min_samples is not None:
+    if min_samples is not None and not staged:  # staged: the floor is the measurement's (issue 32)
         floor_spp, floor_blocks = floor_round(tally, min_samples, max_samples)
         if floor_blocks.any():
             run(floor_spp, floor_blocks)
     reached, stopped = False, "round limit"
     goal = target
+    plan_factor = PLAN_FACTOR if staged else 1.0
+    # Issue 31: with an absolute floor, a meter whose pilot found no light stops there (its reading states
+    # a one-sided bound, ``dark_meters``) instead of chasing DARK_FLOOR samples.
+    plan_lit = None if target_abs is not None else may_be_lit
     for _round in range(max_rounds):
         elapsed = clock() - started
         if time_budget is not None and elapsed >= time_budget:
@@ -508,11 +625,14 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
                 break
             n_now = tally.n.sum()
             goal = float(np.max(finite)) * np.sqrt(n_now / (n_now + left))
+        else:
+            goal = effective_target(target * plan_factor, None if target_abs is None else target_abs * plan_factor,
+                                    tally, offset)
         previous = spp
-        many = plan_round(tally, goal, previous, offset, max_samples=max_samples, may_be_lit=may_be_lit)
+        many = plan_round(tally, goal, previous, offset, max_samples=max_samples, may_be_lit=plan_lit)
         sds = PLAN_SPREAD_SDS_MANY if np.count_nonzero(many) >= MANY_METERS else PLAN_SPREAD_SDS
-        spp = choose_spp(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=may_be_lit, spread_sds=sds)
-        blocks = plan_round(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=may_be_lit,
+        spp = choose_spp(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=plan_lit, spread_sds=sds)
+        blocks = plan_round(tally, goal, spp, offset, max_samples=max_samples, may_be_lit=plan_lit,
                             spread_sds=sds)
         if not blocks.any():
             reached, stopped = True, "target reached" if target is not None else "converged"
@@ -525,7 +645,7 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
             known = int(values[np.argmax(counts)])  # the spp those meters' variance was measured at
             if known != spp:
                 side = known_spp_share(tally, goal, known, blocks, spp, offset, max_samples=max_samples,
-                                       may_be_lit=may_be_lit, spread_sds=sds)
+                                       may_be_lit=plan_lit, spread_sds=sds)
             if side is not None:
                 blocks = np.where(side > 0, 0, blocks)
         planned = float(blocks.sum()) * BLOCK_TEXELS ** 2 * spp
@@ -561,9 +681,47 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
             run(spp, blocks)
         else:
             spp = previous  # every meter took the known-spp share: the next step grows from there
+    if staged:
+        return _measure(run, tally, count, target, target_abs, offset, max_samples, min_samples, started, clock,
+                        report)
     report(1.0, 0.0)
     if target is not None:
-        reached = bool(np.all(tally.rel_std_error(offset) <= target))
+        reached = bool(np.all(tally.rel_std_error(offset) <= effective_target(target, target_abs, tally, offset)))
         if reached:
             stopped = "target reached"
     return AllocationResult(tally, len(tally.rounds), clock() - started, reached, stopped, tally.n.copy())
+
+
+def _measure(run, plan, count, target, target_abs, offset, max_samples, min_samples, started, clock, report):
+    """The measurement stage of ``allocate`` (issue 32): one independent measurement sized from the
+    planning tally ``plan`` alone; a meter whose measurement misses the target takes one fresh one in
+    its place (``MEASURE_TRIES``). Returns the AllocationResult of the measurement's tally."""
+    spent = plan.n.copy()
+    all_zero = (plan.mean == 0.0) & (plan.std_error == 0.0)
+    floor = np.zeros(count) if min_samples is None else np.asarray(min_samples, float)
+    skip = all_zero & (floor <= plan.n)  # found nothing, and no sample floor asks for more: stop (dark)
+    sds = PLAN_SPREAD_SDS_MANY if count >= MANY_METERS else PLAN_SPREAD_SDS
+    tally = MeterTally(count, table_patterns=plan.table_patterns)
+    report(plan.n.sum() / max(plan.n.sum() * (1 + PLAN_FACTOR ** 2), 1.0), 0.0)
+    goal = effective_target(target, target_abs, plan, offset)
+    spp, blocks = measurement_round(plan, goal, offset, max_samples, floor, sds, skip)
+    run_measurement(lambda s, b: run(s, b, tally), count, spp, blocks)
+    rounds = len(plan.rounds) + len(tally.rounds)
+    spent += tally.n
+    for _try in range(1, MEASURE_TRIES):
+        goal = effective_target(target, target_abs, tally, offset)
+        missed = (blocks > 0) & (tally.rel_std_error(offset) > goal) & (tally.n < max_samples)
+        if not missed.any():
+            break
+        again = MeterTally(count, table_patterns=plan.table_patterns)
+        spp2, blocks2 = measurement_round(tally, goal, offset, max_samples, floor, sds, ~missed)
+        run_measurement(lambda s, b: run(s, b, again), count, spp2, blocks2)
+        rounds += len(again.rounds)
+        spent += again.n
+        kept = _masked(tally, ~missed)
+        kept.rounds += again.rounds
+        tally, blocks = kept, np.where(missed, blocks2, blocks)
+    report(1.0, 0.0)
+    reached = bool(np.all(skip | (tally.rel_std_error(offset) <= effective_target(target, target_abs, tally, offset))))
+    stopped = "target reached" if reached else "target missed by the measurement (stated as measured)"
+    return AllocationResult(tally, rounds, clock() - started, reached, stopped, spent, planning_samples=plan.n.copy())

@@ -19,11 +19,18 @@ def test_dark_meter_facing_a_surface_states_no_zero_error(clean_blender, build):
     # A black card above a meter that faces it, away from the lamp: nothing reaches the meter, but
     # the card lies above its horizon, so the pilot's 0 is not proof.
     build.plane(scene, size=0.5, location=(0.0, 0.0, -0.5), albedo=0.0, name="card")
-    r = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), quality="preview")
+    # With no absolute floor the meter samples on to DARK_FLOOR and states its error unknown (issue 18).
+    r = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), quality="preview", target_abs_error=0)
     assert r.illuminance == 0.0 and r.method in ("render", "hybrid")
-    assert math.isinf(r.rel_std_error)
+    assert math.isinf(r.rel_std_error) and r.upper_bound_lux is None
     assert r.samples >= allocation.DARK_FLOOR
     assert any("found no rendered light" in note for note in r.notes)
+    # With the preset's absolute floor (issue 31) it stops after its pilot and states a finite one-sided bound.
+    pilot = allocation.pilot_blocks(1) * allocation.PILOT_SPP * allocation.BLOCK_TEXELS ** 2
+    d = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), quality="preview")
+    assert d.illuminance == 0.0 and d.samples == pilot
+    assert d.upper_bound_lux == pytest.approx(2.0) and "at most 2 lx" in d.summary()
+    assert any("rule of three" in note for note in d.notes)
     # The same meter facing the lamp reads the closed form exactly, with nothing to render.
     lit = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), quality="preview")
     assert lit.illuminance == pytest.approx(683 * 100 / (4 * math.pi) / 4, rel=1e-6)
@@ -85,3 +92,27 @@ def test_one_patch_world_takes_the_sample_floor(clean_blender):
                                        target_rel_error=0.03, seed=5)
     assert abs(dc[0, 0] - ref) <= 3 * se[0, 0], (dc[0, 0], ref, se[0, 0])
     assert se[0, 0] / dc[0, 0] > 1e-3  # the floor's samples see the rare paths: no 0.04 % claim
+
+
+def test_meters_outside_a_closed_room_stop_after_their_pilot(clean_blender, build):
+    """Issue 31 (dark meters): in one batch, meters outside a closed lit box read 0 and state a finite
+    one-sided bound (the preset's absolute floor) after their pilot's samples only; the meter inside is
+    measured as before."""
+    from radiometer import api
+    from radiometer.radiometry.sampling import allocation
+
+    scene = bpy.context.scene
+    build.black_world(scene)
+    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(0.0, 0.0, 1.0))  # closed box 2 x 2 x 2 m
+    build.light(scene, "POINT", location=(0.0, 0.0, 1.5), energy=100.0, shadow_soft_size=0.0)
+    box = bpy.context.scene.objects["Cube"]
+    assert box.type == "MESH"
+    points = [(0.0, 0.0, 0.5), (3.0, 0.0, 1.0), (0.0, -3.0, 1.0)]   # inside, then two outside facing the box
+    normals = [(0.0, 0.0, 1.0), (-1.0, 0.0, 0.0), (0.0, 1.0, 0.0)]
+    readings = api.measure_illuminance(points, normals, quality="preview")
+    pilot = allocation.pilot_blocks(2) * allocation.PILOT_SPP * allocation.BLOCK_TEXELS ** 2  # 2 rendered meters
+    inside, outside = readings[0], readings[1:]
+    assert inside.illuminance > 0 and inside.upper_bound_lux is None
+    for r in outside:
+        assert r.illuminance == 0.0 and r.samples <= pilot
+        assert r.upper_bound_lux is not None and math.isfinite(r.upper_bound_lux) and r.upper_bound_lux == pytest.approx(2.0)
