@@ -59,7 +59,7 @@ import numpy as np
 from . import visibility
 
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
-           "polygon_plane", "aperture_clear", "find_apertures", "is_convex", "SKIES"]
+           "polygon_plane", "aperture_clear", "find_apertures", "is_convex", "enclosure_closed", "inside_enclosure", "SKIES"]
 
 #: Sky models with a closed form over a polygon: name -> (constant, z-coefficient) of L / Lz = c0 + c1 u_z.
 SKIES = {"uniform": (1.0, 0.0), "overcast": (1.0 / 3.0, 2.0 / 3.0)}
@@ -445,3 +445,134 @@ def is_convex(vertices, tol=1e-9):
     turns = np.einsum("kj,j->k", np.cross(np.roll(v, -1, axis=0) - v, np.roll(v, -2, axis=0) - np.roll(v, -1, axis=0)),
                       normal)
     return bool(np.all(turns >= -tol) or np.all(turns <= tol))
+
+
+# --- closure: every direction from the point leaves through an aperture or meets the enclosure ---------
+
+#: Above this many triangles in the enclosure's search, :func:`enclosure_closed` declines (its edge
+#: splitting is O(edges x vertices)): "not proven", never a wrong answer.
+CLOSURE_MAX_TRIANGLES = 20000
+
+
+def _weld(points, tol):
+    q = np.round(np.asarray(points, float) / tol).astype(np.int64)
+    uniq, inv = np.unique(q, axis=0, return_inverse=True)
+    inv = inv.ravel()
+    pts = np.zeros((len(uniq), 3))
+    pts[inv] = points
+    return pts, inv
+
+
+def _split_edges(pts, edges, tol):
+    """Edges (E, 2) split at every welded vertex lying strictly inside them: list of (a, b)."""
+    out = []
+    for a, b in edges:
+        d = pts[b] - pts[a]
+        length2 = d @ d
+        if length2 <= tol * tol:
+            continue
+        s = ((pts - pts[a]) @ d) / length2
+        off = np.linalg.norm(np.cross(pts - pts[a], d), axis=1) / np.sqrt(length2)
+        on = np.flatnonzero((off <= tol) & (s * np.sqrt(length2) > tol) & ((1 - s) * np.sqrt(length2) > tol))
+        chain = [a] + list(on[np.argsort(s[on])]) + [b]
+        out += list(zip(chain[:-1], chain[1:]))
+    return out
+
+
+def _on_polygon_edge(x, y, loops, tol):
+    for poly in loops:
+        for k in range(len(poly)):
+            a, b = poly[k], poly[(k + 1) % len(poly)]
+            d = b - a
+            length = np.linalg.norm(d)
+            ok = True
+            for p in (x, y):
+                s = (p - a) @ d / (length * length)
+                if not (-tol / length <= s <= 1 + tol / length and np.linalg.norm(np.cross(p - a, d)) / length <= tol):
+                    ok = False
+            if ok:
+                return True
+    return False
+
+
+def enclosure_closed(triangles, loops, tol):
+    """(closed, component mask (T,), reason): whether the triangles connected to the aperture ``loops``
+    (a list of (K, 3) polygons) form a closed two-manifold surface apart from exactly those holes
+    (vertices welded within ``tol`` m, edges split at T-junctions, every edge used twice except those
+    on an aperture's outline). ``component`` marks those triangles."""
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    none = np.zeros(len(tris), bool)
+    if len(tris) > CLOSURE_MAX_TRIANGLES:
+        return False, none, f"more than {CLOSURE_MAX_TRIANGLES} triangles: closure not checked"
+    pts, inv = _weld(tris.reshape(-1, 3), tol)
+    ids = inv.reshape(-1, 3)
+    parent = np.arange(len(pts))
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    raw = [(t[i], t[(i + 1) % 3]) for t in ids for i in range(3)]
+    split = _split_edges(pts, raw, tol)
+    for a, b in split:
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[ra] = rb
+    roots = np.array([find(i) for i in range(len(pts))])
+    loop_pts = np.concatenate(loops)
+    near = np.flatnonzero(np.min(np.linalg.norm(pts[:, None, :] - loop_pts[None], axis=2), axis=1) <= tol)
+    if not near.size:
+        return False, none, "the apertures' outlines are not edges of the scene's surfaces"
+    chosen = set(roots[near].tolist())
+    comp = np.isin(roots[ids[:, 0]], list(chosen))
+    count = {}
+    for a, b in split:
+        if roots[a] in chosen:
+            key = (min(a, b), max(a, b))
+            count[key] = count.get(key, 0) + 1
+    for (a, b), c in count.items():
+        if c == 2:
+            continue
+        if c == 1 and _on_polygon_edge(pts[a], pts[b], loops, tol):
+            continue
+        where = np.round(0.5 * (pts[a] + pts[b]), 3).tolist()
+        return False, comp, (f"the surface around the openings is not closed (an edge near {where} m is used {c} "
+                             "time(s)): sky may enter elsewhere")
+    return True, comp, ""
+
+
+def inside_enclosure(point, triangles, loops, tol):
+    """True / False / None (undecided): whether ``point`` lies inside the closed surface made of
+    ``triangles`` and the apertures' ``loops`` as caps: the parity of a ray's crossings, for the first
+    of a few fixed directions whose every crossing is clear of edges by ``tol`` m."""
+    caps = [fan_triangles(poly) for poly in loops]
+    tris = np.concatenate([np.asarray(triangles, float).reshape(-1, 3, 3)] + caps)
+    p = np.asarray(point, float)
+    dirs = _unit(np.array([[0.5358, 0.2672, 0.8010], [-0.3111, 0.8409, 0.4427], [0.7071, -0.6124, -0.3536],
+                           [-0.6, -0.48, 0.64], [0.1, -0.2, -0.97468]]))
+    for d in dirs:
+        v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+        h = np.cross(d, e2)
+        det = np.einsum("tk,tk->t", e1, h)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            f = 1.0 / det
+            s = p - v0
+            u = f * np.einsum("tk,tk->t", s, h)
+            q = np.cross(s, e1)
+            v = f * (q @ d)
+            t = f * np.einsum("tk,tk->t", q, e2)
+        scale = np.maximum(np.linalg.norm(e1, axis=1), np.linalg.norm(e2, axis=1))
+        m = tol / np.maximum(scale, 1e-300)
+        ok = np.isfinite(f) & (np.abs(det) > 1e-12 * scale ** 2)
+        w = 1.0 - u - v
+        hit = ok & (u > m) & (v > m) & (w > m) & (t > tol)
+        miss = ~ok | (u < -m) | (v < -m) | (w < -m) | (t < -tol)
+        # a parallel triangle is missed only if the ray's line stays off its plane
+        if np.any(~ok):
+            nrm = _unit(np.cross(e1[~ok], e2[~ok]))
+            miss[~ok] = np.abs(np.einsum("tk,tk->t", p - v0[~ok], nrm)) > tol
+        if np.all(hit | miss):
+            return bool(np.count_nonzero(hit) % 2)
+    return None

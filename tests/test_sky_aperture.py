@@ -201,3 +201,39 @@ def test_aperture_clear_is_sound_against_sampled_rays():
             proved += 1
             assert not np.any(hit)
     assert proved >= 10  # the test exercised the proof
+
+
+def test_enclosure_closed_and_inside():
+    """The side-lit room is closed apart from its window; a hole elsewhere, or a missing wall, breaks
+    the proof; points in the room are inside, points outside are not."""
+    room = _room()
+    tris = _room_triangles(room)
+    loops = [poly for poly, _n in sa.find_apertures(tris, tol=1e-6)]
+    closed, comp, reason = sa.enclosure_closed(tris, loops, 1e-6)
+    assert closed and comp.all() and reason == ""
+    for p in room.POINTS:
+        assert sa.inside_enclosure(p, tris, loops, 1e-6) is True
+    assert sa.inside_enclosure((2.0, -1.0, 1.0), tris, loops, 1e-6) is False
+    assert sa.inside_enclosure((2.0, 1.0, 5.0), tris, loops, 1e-6) is False
+    # the back wall removed: open, and the proof says so
+    no_back = np.r_[tris[:4], tris[6:]]
+    closed, _comp, reason = sa.enclosure_closed(no_back, loops, 1e-6)
+    assert not closed and "not closed" in reason
+    # a second hole that the caller did not list as an aperture
+    x0, x1, z0, z1 = room.WINDOW
+    cut = [(n, q) for n, q in room.quads() if not (n == "walls" and q[0] == (x0, 0, z1))]  # drop the strip above
+    cut_tris = _room_triangles(type("R", (), {"quads": staticmethod(lambda: cut)}))
+    closed, _comp, _reason = sa.enclosure_closed(cut_tris, loops, 1e-6)
+    assert not closed
+
+
+def test_a_furniture_piece_does_not_break_closure():
+    """A single-sided table top inside the room is not connected to the room's shell: the shell stays
+    closed (the table may still block an aperture: aperture_clear decides that)."""
+    room = _room()
+    tris = _room_triangles(room)
+    table = np.array([[[1.0, 1.0, 0.7], [2.0, 1.0, 0.7], [2.0, 2.0, 0.7]], [[1.0, 1.0, 0.7], [2.0, 2.0, 0.7], [1.0, 2.0, 0.7]]])
+    loops = [poly for poly, _n in sa.find_apertures(np.r_[tris, table], tol=1e-6)]
+    assert len(loops) == 1
+    closed, comp, _ = sa.enclosure_closed(np.r_[tris, table], loops, 1e-6)
+    assert closed and comp[:len(tris)].all() and not comp[len(tris):].any()
