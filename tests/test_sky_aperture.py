@@ -142,9 +142,11 @@ def test_find_the_side_lit_rooms_window():
     x0, x1, z0, z1 = room.WINDOW
     assert sorted(map(tuple, np.round(poly, 9))) == sorted([(x0, 0, z0), (x1, 0, z0), (x1, 0, z1), (x0, 0, z1)])
     assert abs(normal[1]) == pytest.approx(1.0) and sa.is_convex(poly)
-    # a closed box has no aperture
-    closed = [("q", [(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)])]
-    assert sa.find_apertures(np.zeros((0, 3, 3))) == [] and closed
+    assert sa.find_apertures(np.zeros((0, 3, 3))) == []
+    # the window closed by a quad: no hole left
+    x0, x1, z0, z1 = room.WINDOW
+    cap = np.array([[[x0, 0, z0], [x1, 0, z0], [x1, 0, z1]], [[x0, 0, z0], [x1, 0, z1], [x0, 0, z1]]], float)
+    assert sa.find_apertures(np.r_[_room_triangles(room), cap], tol=1e-6) == []
 
 
 def test_aperture_clear_proves_and_refuses():
