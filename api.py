@@ -7,7 +7,7 @@ message and leaves the scene untouched; so does a failed or cancelled measuremen
 """
 
 from . import validation as _v
-from .measure import arguments as _b  # the Blender arguments' checks (host: bpy inside)
+from .measure.blender import arguments as _b  # the Blender arguments' checks (host: bpy inside)
 from .errors import MeasurementCancelled, RadiometerError  # noqa: F401  (re-exported)
 
 
@@ -45,7 +45,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                    time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     if not isinstance(pooling, bool):
         _v.fail("pooling", "True or False", pooling)
-    from .measure import meter
+    from .measure.meter import point_meter as meter
 
     return meter.measure_illuminance(location, normal, scene=scene, method=method, quality=quality,
                                      target_rel_error=target_rel_error, samples=samples,
@@ -59,7 +59,7 @@ def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     location = _v.points(location, "location", allow_many=False)
     normal = _v.directions(normal, "normal", allow_many=False)
     _b.scene(scene)
-    from .measure import meter
+    from .measure.meter import point_meter as meter
 
     return meter.predict_illuminance(location, normal, scene=scene)
 
@@ -74,7 +74,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     _b.scene(scene)
     _v.measurement(quality_=quality, target_rel_error=target_rel_error, progress=progress,
                    cancelled=cancelled, method_="render")
-    from .measure import camera
+    from .measure.meter import camera
 
     return camera.measure_luminance(location, direction, acceptance_deg=acceptance_deg, scene=scene,
                                     quality=quality, target_rel_error=target_rel_error, progress=progress,
@@ -99,7 +99,7 @@ def capture_radiance_map(location, path, *, resolution=256, scene=None, quality=
     resolution = _v.integer(resolution, "resolution", low=4, high=_v.MAX_MAP_SIDE // 2)
     _b.scene(scene)
     _v.quality(quality)
-    from .measure import camera
+    from .measure.meter import camera
 
     return camera.capture_radiance_map(location, path, resolution=resolution, scene=scene, quality=quality)
 
@@ -115,7 +115,7 @@ def measure_meters(objects=None, *, scene=None, quality=None, progress=None, can
         if isinstance(objects, (str, bytes)) or not hasattr(objects, "__iter__"):
             raise RadiometerError(f"objects must be a list of meter objects or None, got {objects!r:.60}")
         objects = [_b.blender_object(ob, "objects") for ob in objects]
-    from .measure import meters
+    from .measure.meter import meter_objects as meters
 
     return meters.measure_meters(objects, scene=scene, quality=quality, progress=progress, cancelled=cancelled)
 
@@ -152,7 +152,7 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
                    samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     tolerance = _v.fraction(tolerance, "tolerance")
     plot = _v.optional_output(plot, "plot")
-    from .measure import analysis
+    from .measure.analyses import analysis
 
     return analysis.check_inverse_square(light, scene=scene, distances=distances, method=method, quality=quality,
                                          tolerance=tolerance, target_rel_error=target_rel_error, samples=samples,
@@ -183,7 +183,7 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
                    samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     tolerance = _v.fraction(tolerance, "tolerance")
     plot = _v.optional_output(plot, "plot")
-    from .measure import analysis
+    from .measure.analyses import analysis
 
     return analysis.check_cosine_law(light, scene=scene, location=location, angles_deg=angles_deg, method=method,
                                      quality=quality, tolerance=tolerance, target_rel_error=target_rel_error,
@@ -213,7 +213,7 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
                    samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     png, csv = _v.optional_output(png, "png"), _v.optional_output(csv, "csv")
-    from .measure import analysis
+    from .measure.analyses import analysis
 
     return analysis.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,
                                      quality=quality, target_rel_error=target_rel_error, samples=samples,
@@ -252,7 +252,7 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     _v.measurement(quality_=quality, target_rel_error=target_rel_error, time_budget_s=time_budget_s,
                    seed_=seed, allow_none_quality=True)
     plot = _v.optional_output(plot, "plot")
-    from .measure import analysis
+    from .measure.analyses import analysis
 
     return analysis.convergence_study(target, scene=scene, location=location, normal=normal, samples=samples,
                                       target_error=target_error, replicas=replicas,
@@ -277,7 +277,7 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
     _b.scene(scene)
     _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
                    time_budget_s=time_budget_s, allow_none_quality=True, allow_none_method=True)
-    from .measure import report
+    from .measure.reports import report
 
     return report.export_report(out_dir, scene=scene, quality=quality, method=method,
                                 target_rel_error=target_rel_error, time_budget_s=time_budget_s,
@@ -315,7 +315,7 @@ def read_photometry(path):
     ``lumens``, ``rated_lumens``, ``max_candela``, ``beam_angle_deg``, ``field_angle_deg``,
     ``symmetry``, ``metadata``, ``summary()``. Bad files raise RadiometerError naming the line."""
     path = _v.check_input_file(path, "photometric file")
-    from .radiometry import photometric_files
+    from .radiometry.photometry import photometric_files
 
     try:
         return photometric_files.read_photometry(path)
@@ -334,7 +334,7 @@ def import_luminaire(path, *, scene=None, location=(0.0, 0.0, 0.0), rotation_eul
     rotation_euler = _v.points(rotation_euler, "rotation_euler", allow_many=False)
     if name is not None and (not isinstance(name, str) or not name.strip() or len(name) > 63):
         raise RadiometerError(f"name must be a non-empty object name of at most 63 characters, got {name!r:.60}")
-    from .measure import luminaires
+    from .measure.capture import luminaires
 
     return luminaires.import_luminaire(path, scene=scene, location=location, rotation_euler=rotation_euler,
                                        name=name)
@@ -353,14 +353,14 @@ def goniometric_diagram(source, path, *, title=None):
     import numpy as np
 
     from .plots import goniometric
-    from .radiometry import photometric_files
+    from .radiometry.photometry import photometric_files
 
     if isinstance(source, photometric_files.Photometry):
         photometry = source
     elif isinstance(source, (str, bytes, os.PathLike)):
         photometry = read_photometry(source)
     else:
-        from .measure import luminaires
+        from .measure.capture import luminaires
 
         photometry = luminaires.photometry_of_light(source)
     if photometry.photometric_type != "C":
@@ -393,7 +393,7 @@ def irradiance_environment_map(source, path, *, method="exact", resolution=(64, 
     _v.choice(method, "method", ("exact", "sh9"))
     resolution = _v.resolution2(resolution, "resolution")
     _b.scene(scene)
-    from .measure import world
+    from .measure.authoring import world
 
     return world.irradiance_environment_map(source, path, method=method, resolution=resolution, scene=scene)
 
@@ -406,7 +406,7 @@ def world_illuminance(scene=None, normal=(0.0, 0.0, 1.0)):
     ``brightest_direction``, ``brightest_luminance`` cd/m^2, ``notes``)."""
     _b.scene(scene)
     normal = _v.directions(normal, "normal", allow_many=False)
-    from .measure import world
+    from .measure.authoring import world
 
     return world.world_illuminance(scene, normal)
 
@@ -418,18 +418,18 @@ def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
     _b.scene(scene)
     illuminance_lux = _v.positive(illuminance_lux, "illuminance_lux", high=1e7)
     normal = _v.directions(normal, "normal", allow_many=False)
-    from .measure import world
+    from .measure.authoring import world
 
     return world.calibrate_world(scene, illuminance_lux, normal)
 
 
 @_v.boundary
 def world_model(scene=None):
-    """The world as Radiometer models it (``radiometry.environment.WorldLight``: kind, reason, ...)."""
+    """The world as Radiometer models it (``radiometry.skies.environment.WorldLight``: kind, reason, ...)."""
     _b.scene(scene)
     import bpy
 
-    from .measure import world_capture
+    from .measure.capture import world_capture
 
     return world_capture.read_world(scene or bpy.context.scene)
 
@@ -444,10 +444,10 @@ def mirror_ball_probe(scene=None, *, size=256, shape=(128, 256), view=(0.0, -1.0
     size = _v.integer(size, "size", low=8, high=_v.MAX_MAP_SIDE)
     shape = _v.resolution2(shape, "shape", low=2)
     view = _v.directions(view, "view", allow_many=False)
-    from .measure import world
-    from .radiometry import environment
+    from .measure.authoring import world
+    from .radiometry.skies import environment
 
-    from .measure import scene_guard
+    from .measure.blender import scene_guard
 
     with scene_guard.preserved_scene(scene):  # the render leaves a 'Render Result' image otherwise
         probe, camera = world.render_mirror_ball(scene, size=size, view=view)
@@ -470,7 +470,7 @@ def sun_position(latitude_deg, longitude_deg, when, *, elevation_m=0.0, pressure
     from scene +Y to true north, counter-clockwise seen from above), ``earth_sun_distance_au``,
     ``equation_of_time_min``, ``delta_t_s``; arrays for a sequence of times. See docs/daylight-sun.md.
     """
-    from .radiometry import solar_position
+    from .radiometry.sun import solar_position
 
     try:
         unix = solar_position.unix_seconds(when)
@@ -491,7 +491,7 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
     strength is 0. Returns a dict (object, azimuth_deg, elevation_deg, direction,
     direct_normal_illuminance_lux, strength_w_m2, model, above_horizon, notes).
     """
-    from .measure import sun
+    from .measure.authoring import sun
 
     return sun.set_sun(scene, latitude_deg, longitude_deg, when,
                        direct_normal_illuminance_lux=direct_normal_illuminance_lux,
@@ -516,7 +516,7 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
     """
     import bpy
 
-    from .measure import sky
+    from .measure.authoring import sky
 
     return sky.set_cie_sky(scene or bpy.context.scene, sky_type, horizontal_illuminance_lux=horizontal_illuminance_lux,
                            sun_direction=sun_direction, ground_reflectance=ground_reflectance)
@@ -536,7 +536,7 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
     custom camera, a fixed number per quality, the error stated (docs/daylight-sky.md).
     ``client``: a Dask client: the points run in chunks of 256 on its workers (docs/cluster.md).
     """
-    from .measure import daylight_factor as df
+    from .measure.analyses import daylight_factor as df
 
     return df.daylight_factor(locations, normals, scene=scene, quality=quality, ground_reflectance=ground_reflectance,
                               target_rel_error=target_rel_error, method=method, seed=seed, progress=progress,
@@ -555,7 +555,7 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
     site's ``median_external_illuminance_lux`` (E_v,d, EN 17037 Annex A) is given. ``client``: a Dask
     client: the grid's points run in chunks of 256 on its workers (docs/cluster.md).
     """
-    from .measure import daylight_factor as df
+    from .measure.analyses import daylight_factor as df
 
     return df.daylight_factor_grid(target, resolution=resolution, spacing=spacing, scene=scene, quality=quality,
                                    ground_reflectance=ground_reflectance, target_percent=target_percent,
@@ -582,7 +582,7 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
     alone, LM-83), ``udi``, per-point fractions, ``to_dict()``, ``csv_text()``. See
     docs/daylight-sky.md. ``client``: a Dask client (the same tasks, the same numbers; docs/cluster.md).
     """
-    from .measure import annual
+    from .measure.analyses import annual
 
     return annual.annual_daylight(locations, normals, epw_path, scene=scene, m=m, quality=quality, samples=samples,
                                   target_rel_error=target_rel_error, ground_reflectance=ground_reflectance,
@@ -638,7 +638,7 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
     ``sunlight_hours`` (N,) (EN 17037 exposure: trapezoid weights, sun at least
     ``min_elevation_deg`` high), ``to_dict()``, ``csv_text()``.
     """
-    from .measure import sun_study as study
+    from .measure.analyses import sun_study as study
 
     return study.sun_study(locations, normals, times, latitude_deg=latitude_deg, longitude_deg=longitude_deg,
                            elevation_m=elevation_m, direct_normal_illuminance_lux=direct_normal_illuminance_lux,
@@ -657,8 +657,8 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard"):
     ``background_luminance`` (cd/m², indirect vertical illuminance at the eye / pi), ``sources`` (name,
     luminance cd/m², solid_angle sr, position_index, sigma_deg, tau_deg), ``left_out`` (name, reason),
     ``notes``. Area lights and IES/EULUMDAT lights with a flat luminous opening are rated; see
-    ``measure.glare``."""
-    from .measure import glare
+    ``measure.analyses.glare``."""
+    from .measure.analyses import glare
 
     return glare.glare_ugr(observer, view_direction, scene=scene, quality=quality)
 
@@ -680,7 +680,7 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
     ``path`` (32-bit EXR, cd/m² in every channel) and a false-colour PNG with a legend in cd/m² beside
     it (``scale`` "log" | "linear", ``range`` (lo, hi) cd/m² or automatic). Returns a ``LuminanceImage``:
     ``luminance`` (H, W) cd/m², ``rel_std_error`` (H, W), ``paths``, ``notes``."""
-    from .measure import luminance_image as images
+    from .measure.analyses import luminance_image as images
 
     return images.luminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
                                   scale=scale, range=range)
@@ -690,7 +690,7 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
 def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None, ugr_limit=None, ra_required=None,
                        maintenance_factor=0.8, observers=(), ra=None, scene=None, quality="standard", grid=None):
     """EN 12464-1 compliance of a work plane (issue 23): ``task`` a key of
-    ``radiometry.compliance.TASKS`` (values cited there) or the user's own ``maintained_lx`` (lx),
+    ``radiometry.metrics.compliance.TASKS`` (values cited there) or the user's own ``maintained_lx`` (lx),
     ``uniformity``, ``ugr_limit``, ``ra_required``; ``maintenance_factor`` (Ēm = MF x Ē); ``observers``:
     ((x, y, z), (dx, dy, dz)) eye positions and view directions rated for UGR; ``ra``: the luminaires'
     rated Ra; ``grid``: a ``GridResult`` already measured on ``plane`` (else one is measured at the
@@ -700,7 +700,7 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
 
     import numpy as np
 
-    from .radiometry import compliance
+    from .radiometry.metrics import compliance
 
     try:
         req = compliance.requirement(task, maintained_lx=maintained_lx, uniformity=uniformity,
@@ -736,10 +736,10 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
 def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None):  # noqa: A002
     """Illuminance (lx) on the surfaces the camera sees, from Cycles' diffuse light passes:
     E = pi x (Diffuse Direct + Diffuse Indirect), exact for Lambertian surfaces (Diffuse BSDF, roughness 0);
-    0 where nothing diffuse is seen (see ``measure.luminance_image.illuminance_image`` for where it does
+    0 where nothing diffuse is seen (see ``measure.analyses.luminance_image.illuminance_image`` for where it does
     not hold). Writes ``path`` (32-bit EXR, lx) and a false-colour PNG beside it; returns an
     ``IlluminanceImage``: ``illuminance`` (H, W) lx, ``rel_std_error`` (H, W), ``paths``, ``notes``."""
-    from .measure import luminance_image as images
+    from .measure.analyses import luminance_image as images
 
     return images.illuminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
                                     scale=scale, range=range)

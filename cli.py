@@ -182,7 +182,7 @@ def main(argv=None, *, in_blender=False):
         if not in_blender:
             _scratch_inside_private_root()
         if args.verbose:
-            from .measure import op_reports
+            from .measure.blender import op_reports
 
             op_reports.keep_reports = True  # --verbose shows Blender's own reports too
         with interrupt, _io.blender_logs_silenced(enabled=not args.verbose, quiet=args.quiet) as err_fd, \

@@ -61,7 +61,7 @@ def active_node_tree(idblock):
 
 def working_colour_space():
     """The blend file's scene-linear working colour space: the one place Radiometer reads it (RGB
-    to CIE Y weights come from it, ``radiometry.photometry.luminance_weights``). Blender 4.5 has no
+    to CIE Y weights come from it, ``radiometry.photometry.efficacy.luminance_weights``). Blender 4.5 has no
     choice (``bpy.data.colorspace`` is new in 5.0): Linear Rec.709."""
     import bpy
 

@@ -1,7 +1,7 @@
 """Quality presets (pure data, no bpy): a preset is a TARGET relative standard error.
 
 A rendered reading is sampled, meter by meter, until its 1-sigma relative standard error reaches
-the target (``radiometry.allocation``): preview 5 %, standard 1 %, reference 0.2 %. Chosen from
+the target (``radiometry.sampling.allocation``): preview 5 %, standard 1 %, reference 0.2 %. Chosen from
 the measured convergence study (``bench/presets.md``): in the interreflecting demo room the
 first round's fixed "standard" (256 samples x 64 texels) read 0.95 % RMS, a direct-lit area light
 0.007 %, the same count for both; now each meter gets what it needs. Bounce limits stay high

@@ -61,7 +61,7 @@ def format_reading(reading):
 
 
 def _ev(value, kind):
-    from .radiometry import colorimetry
+    from .radiometry.photometry import colorimetry
 
     try:
         v = float(value)
@@ -72,7 +72,7 @@ def _ev(value, kind):
 
 
 def _cct(rgb, colour_space):
-    from .radiometry import colorimetry, photometry
+    from .radiometry.photometry import colorimetry, efficacy as photometry
 
     space = colour_space if colour_space in photometry.COLOUR_SPACES else None
     try:

@@ -4,7 +4,7 @@
 Called at the top of every ``api`` function so that garbage (wrong types, shapes, NaN/inf, huge or
 empty values) never reaches numpy or bpy as a ValueError, TypeError, IndexError, OverflowError,
 MemoryError, ... deep inside. Pure Python + numpy; the checks of Blender arguments (a scene, an
-object) are host code in ``measure/arguments.py``.
+object) are host code in ``measure/blender/arguments.py``.
 Bounds are stated here once (``MAX_*``), in the units of the argument.
 """
 
@@ -220,7 +220,8 @@ _USER_ERRORS = ()
 def _user_errors():
     global _USER_ERRORS
     if not _USER_ERRORS:
-        from .radiometry import environment, photometric_files
+        from .radiometry.skies import environment
+        from .radiometry.photometry import photometric_files
 
         _USER_ERRORS = (photometric_files.PhotometricFileError, environment.EnvironmentInputError)
     return _USER_ERRORS
@@ -317,7 +318,7 @@ def measurement(*, quality_=None, method_=_UNSET, target_rel_error=None, samples
                 time_budget_s=None, progress=None, cancelled=None, seed_=0, allow_none_quality=False,
                 allow_none_method=False):
     """The keywords most measurements share, checked together (returns nothing; raises one line). The
-    scene is checked by ``measure.arguments.scene`` (host code: it needs bpy)."""
+    scene is checked by ``measure.blender.arguments.scene`` (host code: it needs bpy)."""
     quality(quality_, allow_none=allow_none_quality)
     if method_ is not _UNSET:  # functions without a method argument do not pass one
         method(method_, allow_none=allow_none_method)

@@ -56,7 +56,7 @@ def main(write=True, per_patch_sample=PER_PATCH_SAMPLE):
     import bpy
 
     import radiometer
-    from radiometer.measure import annual
+    from radiometer.measure.analyses import annual
 
     room = _room()
     folder = tempfile.mkdtemp(prefix="radiometer-annual-")

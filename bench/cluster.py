@@ -85,7 +85,7 @@ def grid_points(n_side):
 
 
 def study_tasks(points, normals, n_times, seed=0):
-    """The sun study's per-time kwargs, as ``measure.sun_study.sun_study`` builds them."""
+    """The sun study's per-time kwargs, as ``measure.analyses.sun_study.sun_study`` builds them."""
     start = dt.datetime(2026, 6, 21, 6, 0, tzinfo=TZ)
     times = [start + dt.timedelta(minutes=15 * k) for k in range(n_times)]
     common = dict(locations=points, normals=normals, latitude_deg=LAT, longitude_deg=LON, elevation_m=0.0,
@@ -96,7 +96,7 @@ def study_tasks(points, normals, n_times, seed=0):
 
 def run(scene_or_path, tasks, client):
     from radiometer.cluster import run_scene_tasks
-    from radiometer.measure.sun_study import sun_study_step
+    from radiometer.measure.analyses.sun_study import sun_study_step
 
     stats = {}
     t0 = time.perf_counter()
@@ -165,7 +165,7 @@ def projection(a, b, overhead_s, load_s, import_s, scatter_s, matmul_s_per_hour_
     """Annual daylight coefficients on C single-threaded workers (one per core).
 
     Tasks: every sky patch (Reinhart MF:1: 145 + the ground, the two-phase method of
-    ``measure.annual``: the sun spread over patches) x a chunk of the points, each a rendered
+    ``measure.analyses.annual``: the sun spread over patches) x a chunk of the points, each a rendered
     measurement at the measured cost t(n) = a + b n plus the measured per-task overhead; the points
     are split into 1, 2, 4 or 8 chunks, whichever finishes first (more, smaller tasks fill many cores
     but pay ``a`` more often). Then per hour a weighted sum of the coefficients (the (8760 x P) @
@@ -193,10 +193,10 @@ def projection(a, b, overhead_s, load_s, import_s, scatter_s, matmul_s_per_hour_
 
 
 def dc_task_seconds(scene, points, normals, patches=(10, 40, 80, 120)):
-    """Seconds per sky patch of the real daylight-coefficient task (``measure.annual.patch_coefficients``),
+    """Seconds per sky patch of the real daylight-coefficient task (``measure.analyses.annual.patch_coefficients``),
     or None when this build has no annual daylight."""
     try:
-        from radiometer.measure.annual import patch_coefficients
+        from radiometer.measure.analyses.annual import patch_coefficients
     except ImportError:
         return None
     t0 = time.perf_counter()
@@ -227,7 +227,7 @@ def markdown(res):
         f"{LAT} N {LON} E), quality {QUALITY}",
         "",
         "A court 12 m x 12 m with walls to the south and west; work-plane points 0.8 m high. Each time is a task "
-        "(`measure.sun_study.sun_study_step`): a 0.53 deg sun, the meter's closed forms where the sun is "
+        "(`measure.analyses.sun_study.sun_study_step`): a 0.53 deg sun, the meter's closed forms where the sun is "
         "unblocked and nothing reflects, Cycles for the rest (the walls reflect).",
         "",
         "| run | study wall s (warm workers) | cluster start s | Blender + scene in the workers s | "
@@ -269,7 +269,7 @@ def markdown(res):
         f"b = {1000 * res['fit']['b']:.3f} ms per point; multiplied by the measured median step time on 1 worker / in this process "
         f"= {res['fit']['single_thread_factor']:.2f} (a worker has one Cycles thread; this process had "
         f"{m['cores']}). Tasks: the 146 sky patches of Reinhart MF:1 (two-phase, the sun spread over patches, as "
-        "`measure.annual`) x 1, 2, 4 or 8 chunks of the 1000 points, whichever is fastest; start-up = Blender + "
+        "`measure.analyses.annual`) x 1, 2, 4 or 8 chunks of the 1000 points, whichever is fastest; start-up = Blender + "
         "scene load + scatter, once per worker in parallel; per task + the measured round-trip overhead; "
         "combine = the (8760 x 146) @ (146 x 1000) product (numpy, measured). Single-threaded workers, one per "
         "core.",
@@ -330,12 +330,12 @@ def main(argv=None):
     small_pts, small_n = grid_points(max(2, n_side // 2))
     dc_small = dc_task_seconds(scene, small_pts, small_n)
     if dc_small is not None:
-        cost_from = "measure.annual.patch_coefficients (4 sky patches per call, seconds per patch, best of 3)"
+        cost_from = "measure.analyses.annual.patch_coefficients (4 sky patches per call, seconds per patch, best of 3)"
         # The minimum of repetitions: other processes on a shared machine only ever add time.
         step_small = [min([dc_small] + [dc_task_seconds(scene, small_pts, small_n) for _ in range(2)])]
         step_big = [min(dc_task_seconds(scene, points, normals) for _ in range(3))]
     else:
-        cost_from = "sun-study steps (a proxy: this build has no measure.annual)"
+        cost_from = "sun-study steps (a proxy: this build has no measure.analyses.annual)"
         few = tasks[len(tasks) // 3: len(tasks) // 3 + 6]
         step_small = [s["seconds"] for s in run(scene, [dict(t, locations=small_pts, normals=small_n) for t in few],
                                                  None)[0]]

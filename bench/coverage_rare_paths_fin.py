@@ -13,7 +13,7 @@ part is a rectangle whose projected solid angle is Lambert's contour formula).
 
 ``--pattern burley`` is an EXPERIMENT, not the product: it renders with Cycles' Sobol-Burley sampler
 (a debug-only choice in Blender 5.0: the bench switches the debug preferences on for the run and back
-after) instead of the tabulated Sobol that ``measure/render_settings.py`` sets, to show what the
+after) instead of the tabulated Sobol that ``measure/render/render_settings.py`` sets, to show what the
 tabulated tables do to rare paths (see coverage_rare_paths_fin.md).
 """
 
@@ -42,7 +42,7 @@ def _with_pattern(pattern):
     import contextlib
 
     import bpy
-    from radiometer.measure import render_settings
+    from radiometer.measure.render import render_settings
 
     @contextlib.contextmanager
     def swapped():

@@ -1,6 +1,6 @@
 """Issue 18 (F1 of bench/qa_glass_fog.md): coverage of the stated error for a wall meter lit by a metal
 floor's glossy reflection of an area light (``glass_fog_unseen_scenes.glossy_wall``) at several floor
-roughnesses, at ``preview``. Picks the roughness range of ``measure/sample_floors.py``'s highlight floor
+roughnesses, at ``preview``. Picks the roughness range of ``measure/meter/sample_floors.py``'s highlight floor
 and measures it.
 
     .venv/bin/python bench/glossy_highlight_floor.py refs 0.3 0.5      # patch-render references (cached)
@@ -85,7 +85,7 @@ def run(roughnesses, seeds, tag, quality="preview"):
     from radiometer import api
 
     if tag == "before":  # the code without the highlight floor (as bench/qa_glass_fog.md F1 measured it)
-        from radiometer.measure import sample_floors
+        from radiometer.measure.meter import sample_floors
 
         sample_floors.highlight_floor = lambda model, points_m, normals: (None, [])
     data = _data()

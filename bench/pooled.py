@@ -2,7 +2,7 @@
 
 The interreflecting throughput room (bench/scenes.py ``room``) and its 1000 meters at 0.75 m (the
 throughput section's points). Interleaved, each rep with its own seed: ``measure_illuminance`` with
-``pooling=True`` (the default: radiometry/pooled_field.py) and with ``pooling=False`` (every meter
+``pooling=True`` (the default: radiometry/sampling/pooled_field.py) and with ``pooling=False`` (every meter
 on its own samples), timed, with the samples and bakes each spent. Coverage: the independent numpy
 tracer (bench/room_reference.py, transparent light as in Cycles) at ``checked`` meters drawn at
 random; z = (reading - truth) / (stated 1-sigma (+) truth's s.e.), for pooled readings and for the
@@ -37,7 +37,7 @@ def _load():
 def bench_pooled(quick=False, reps=None, truth_from=None):
     import room_reference
     from radiometer import api
-    from radiometer.measure import sensors
+    from radiometer.measure.render import sensors
 
     n = 400 if quick else 1000
     reps = reps or (2 if quick else 3)
@@ -124,7 +124,7 @@ def markdown(p):
            f"One run of bench/pooled.py, load average {p['load_start']} at the start and {p['load_end']} at the end "
            f"(2 cores shared). The throughput room's {p['meters']} meters at a 1 % target, {p['reps']} reps "
            "interleaved, each with its own seed: `pooling=True` (the default: groups of >= 300 meters on one plane "
-           "read their rendered part from a fitted field, radiometry/pooled_field.py) against `pooling=False` "
+           "read their rendered part from a fitted field, radiometry/sampling/pooled_field.py) against `pooling=False` "
            "(every meter on its own samples, the previous product). Medians over the reps.", "",
            "| way | seconds | samples | bakes | meters pooled | worst stated error | median stated error |",
            "|---|---:|---:|---:|---:|---:|---:|"]

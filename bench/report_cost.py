@@ -81,7 +81,7 @@ def main():
     ap.add_argument("--out", default=None)
     ap.add_argument("--kind", choices=("ies", "area"), default="ies", help="IES luminaires or Blender area lights")
     args = ap.parse_args()
-    from radiometer.measure import report
+    from radiometer.measure.reports import report
 
     with tempfile.TemporaryDirectory() as tmp:
         scene = build(args.lights, tmp, args.kind)
@@ -101,7 +101,7 @@ def main():
         phase("end")
         # What the report's law checks cost before issue 23 item 4, in the same process: every light,
         # the full sweep (24 distances, 13 tilts) at the report's quality target, both plots.
-        from radiometer.measure import analysis
+        from radiometer.measure.analyses import analysis
 
         started = time.perf_counter()
         cpu = time.process_time()

@@ -33,8 +33,11 @@ import scenes  # noqa: E402
 import speed  # noqa: E402
 from radiometer import api  # noqa: E402
 from radiometer import quality as quality_presets  # noqa: E402
-from radiometer.measure import adaptive, capture_cache, meter, render_settings, scene_capture, scene_guard, sensors  # noqa: E402
-from radiometer.radiometry import allocation  # noqa: E402
+from radiometer.measure.render import adaptive, render_settings, sensors
+from radiometer.measure.capture import capture_cache, scene_capture
+from radiometer.measure.meter import point_meter as meter
+from radiometer.measure.blender import scene_guard  # noqa: E402
+from radiometer.radiometry.sampling import allocation  # noqa: E402
 
 QUICK = False
 CORES = os.cpu_count() or 1
@@ -318,7 +321,7 @@ def bench_batching():
     pts, nrm = scenes.floor_meters(100, seed=200)
     model = meter.capture_model(scene, bpy.context.view_layer)
     direct = meter.plan(scene, model, pts + nrm * 5e-6, nrm, "auto")["direct"]
-    from radiometer.radiometry import scene_model
+    from radiometer.radiometry.scene import scene_model
 
     partial = int(np.any(direct.status == scene_model.RENDER, axis=0).sum())
     zero = int(np.any(direct.status == scene_model.ZERO, axis=0).sum())
@@ -714,12 +717,12 @@ def _live_change_latency(scene, light, st, live_mod, repeats):
 def bench_live():
     """Live mode latency: a change to an exact reading (point lights, nothing else: closed forms) and to
     a preview reading in the demo room, then the refinement to the scene's quality while idle."""
-    from radiometer.measure import live as live_mod
+    from radiometer.measure.meter import live as live_mod
 
     repeats = 2 if QUICK else 4
     out = {"debounce_s": live_mod.DEBOUNCE_S, "tick_s": live_mod.TICK_S, "refine_idle_s": live_mod.REFINE_IDLE_S}
     scene = _delta_scene()
-    from radiometer.measure.meters import add_meter
+    from radiometer.measure.meter.meter_objects import add_meter
 
     for p in _three_points():
         add_meter(bpy.context, "ILLUMINANCE", tuple(p))

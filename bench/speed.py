@@ -27,7 +27,9 @@ import bpy
 
 import scenes
 from radiometer import api
-from radiometer.measure import capture_cache, law_checks, meter, scene_capture
+from radiometer.measure.capture import capture_cache, scene_capture
+from radiometer.measure.analyses import law_checks
+from radiometer.measure.meter import point_meter as meter
 
 Y = np.array([0.2126, 0.7152, 0.0722])  # Rec.709 Y: grey walls and a white light, all channels equal
 
@@ -156,7 +158,7 @@ def edits_markdown(rows):
 def _live_latency(scene, edit, repeats):
     """Wall time from an edit (``edit(k)``) to the next live reading, ticking as Blender's timer would;
     also the measuring part alone (the tick that measured). Returns a dict of medians (s)."""
-    from radiometer.measure import live as live_mod
+    from radiometer.measure.meter import live as live_mod
 
     st = live_mod.state(scene)
     total, measuring, after_debounce = [], [], []
@@ -184,8 +186,8 @@ def bench_live_edits(quick=False):
     (a) three radius-0 point lights over a 130k-triangle floor 0.5 m below six meters (every reading a
     closed form, the floor's triangles in every proof), (b) the 130k-triangle room (interreflection:
     preview readings at 5 %)."""
-    from radiometer.measure import live as live_mod
-    from radiometer.measure.meters import add_meter
+    from radiometer.measure.meter import live as live_mod
+    from radiometer.measure.meter.meter_objects import add_meter
 
     repeats = 2 if quick else 5
     out = {"debounce_s": live_mod.DEBOUNCE_S, "tick_s": live_mod.TICK_S}
@@ -259,7 +261,7 @@ def live_edits_markdown(b):
 def bench_batch_cost(quick=False):
     """Seconds per meter-sample of a 100-meter call against a 1-meter call, both at the same FIXED samples
     per meter (130k-triangle room, floor meters): the whole call, and the bakes alone."""
-    from radiometer.measure import sensors
+    from radiometer.measure.render import sensors
 
     scene, tris = scenes.big_room()
     samples = 1024

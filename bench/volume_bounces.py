@@ -30,7 +30,7 @@ def main(limits, seeds, samples):
 
     import radiometer
     from radiometer import api, quality
-    from radiometer.measure import render_settings
+    from radiometer.measure.render import render_settings
 
     preview_bounces = quality.PRESETS["preview"]["bounces"]
     u = _load("glass_fog_unseen_scenes")

@@ -31,8 +31,8 @@ def main(floor, seeds, quality):
 
     import radiometer
     from radiometer import api
-    from radiometer.measure import sample_floors
-    from radiometer.radiometry import scene_model
+    from radiometer.measure.meter import sample_floors
+    from radiometer.radiometry.scene import scene_model
 
     highlight_floor = sample_floors.highlight_floor
 

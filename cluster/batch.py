@@ -56,7 +56,7 @@ def measure_file(scene, *, file="", meters=None, quality="standard", method=None
     meter object names, or illuminance meters as locations (scene coordinates) with optional
     normals (default +Z). ``seed``: first Cycles seed of located meters (deterministic readings).
     """
-    from ..measure import meter, meters as meter_objects
+    from ..measure.meter import point_meter as meter, meter_objects as meter_objects
 
     if meters is None or (meters and all(isinstance(m, str) for m in meters)):
         objects = None

@@ -10,7 +10,7 @@ the task function by name only after that).
 The scene arrives as the .blend's bytes (scattered once per worker) or as a path on a shared file
 system; the worker keeps one scene open, keyed by the content hash, so consecutive tasks of a run
 reuse it. A task function must leave the scene as it found it (every Radiometer measurement does:
-``measure/scene_guard.py``), since the next task on that worker sees the same open scene.
+``measure/blender/scene_guard.py``), since the next task on that worker sees the same open scene.
 """
 
 import importlib

@@ -17,9 +17,9 @@ SUBCOMMANDS = {
     "luminaire": "luminaire",
     "world": "world",
     "batch": "batch",
-    "sun": "sun",
-    "sun-study": "sun_study",
-    "daylight-factor": "daylight_factor",
-    "annual": "annual",
+    "sun": "daylight.sun",
+    "sun-study": "daylight.sun_study",
+    "daylight-factor": "daylight.daylight_factor",
+    "annual": "daylight.annual",
     "glare": "glare",
 }

@@ -58,10 +58,10 @@ def read_points(path):
 
 def plane_points(scene, name, spacing=None, resolution=None):
     """Cell centres (N, 3) and normals (N, 3) of the grid on a plane object, laid out as every grid is
-    (``measure.grid.grid_layout``: EN 12464-1 spacing by default, at most 250 000 points)."""
+    (``measure.analyses.grid.grid_layout``: EN 12464-1 spacing by default, at most 250 000 points)."""
     import numpy as np
 
-    from ..measure.grid import grid_layout
+    from ..measure.analyses.grid import grid_layout
 
     layout = grid_layout(scene, name, resolution=resolution, spacing=spacing)
     points = layout.points.reshape(-1, 3)

@@ -34,7 +34,8 @@ def run(args):
     from .. import outputs
     from ._io import deliver, write_json
     from ..errors import MeasurementCancelled, RadiometerError
-    from ..measure import analysis, report
+    from ..measure.analyses import analysis
+    from ..measure.reports import report
     from . import _io
 
     scene = bpy.context.scene

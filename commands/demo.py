@@ -27,7 +27,7 @@ def run(args):
     import bpy
 
     from ..demo import scene as demo_scene
-    from ..measure import meters
+    from ..measure.meter import meter_objects as meters
     from .measure import format_table
 
     from . import _io
@@ -71,7 +71,7 @@ def run(args):
     print(format_settings(used_settings(args, (s.method, s.quality, s.target_rel_error))))
     print(format_table(results))
     # Direct light alone, from the closed forms, for comparison with the rendered totals.
-    from ..measure import meter as meter_mod
+    from ..measure.meter import point_meter as meter_mod
 
     print("\nDirect light at the meters from closed forms (no interreflection):")
     direct = {}
@@ -91,7 +91,7 @@ def run(args):
     deliver(args, result)
     print(f"\nWrote {os.path.join(out, 'demo.json')}")
     # The analysis report: law checks per light, the EN 12464-1 grid on the Work Plane, convergence.
-    from ..measure import report
+    from ..measure.reports import report
 
     print("\nAnalysis report (law checks per light, work-plane grid, convergence):")
     rep = report.export_report(os.path.join(out, "report"), scene=scene, quality=args.quality,

@@ -23,7 +23,7 @@ def run(args):
 
     from ._io import deliver
     from ..errors import RadiometerError
-    from ..measure import analysis, grid
+    from ..measure.analyses import analysis, grid
     from . import _io
 
     if args.png:

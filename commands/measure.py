@@ -79,7 +79,7 @@ def format_settings(used):
 def run(args):
     import bpy
 
-    from ..measure import meters
+    from ..measure.meter import meter_objects as meters
 
     scene = bpy.context.scene
     if args.target is not None:

@@ -28,7 +28,7 @@ def add_arguments(parser):
 def run(args):
     import bpy
 
-    from ..measure import report
+    from ..measure.reports import report
     from . import _io
 
     _io.check_output_dir(args.out, "--out folder")
@@ -37,7 +37,7 @@ def run(args):
     if not 0 < args.maintenance_factor <= 1:
         raise RadiometerError(f"--maintenance-factor must be in (0, 1], got {args.maintenance_factor}")
     if args.task is not None:
-        from ..radiometry import compliance
+        from ..radiometry.metrics import compliance
 
         if args.task not in compliance.TASKS:
             raise RadiometerError(f"unknown --task {args.task!r}; known: {', '.join(sorted(compliance.TASKS))}")

@@ -1,6 +1,6 @@
 """A daylit room, built by code: a 4 x 4 x 3 m room with a window in its south wall and a 6 mm
-glass pane in it, the sun where it stands at a chosen place and time (``measure.sun.set_sun``, what
-``api.set_sun`` calls), and a few meters measured by a one-time sun study (``measure.sun_study``).
+glass pane in it, the sun where it stands at a chosen place and time (``measure.authoring.sun.set_sun``, what
+``api.set_sun`` calls), and a few meters measured by a one-time sun study (``measure.analyses.sun_study``).
 
 Run it with ``python -m radiometer demo --daylight [--out DIR] [--open]`` (``make demo`` does, after
 the electric-light demo; about 2 s). The sun reaches the floor through the pane: the meter reads a
@@ -86,7 +86,7 @@ def build(scene=None, *, glass=True, pane_renders=True):
 
 
 def local_time(when=WHEN, time_zone=SITE["time_zone"]):
-    from ..radiometry import solar_position
+    from ..radiometry.sun import solar_position
 
     return solar_position.local_datetime(*when, time_zone)
 
@@ -97,8 +97,8 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
     ``glass``: render the pane (a Glass BSDF slab); False hides it in renders (an open window; the
     pane is built either way); ``interrupt``: the CLI's Ctrl-C handler (the .blend is written inside its
     critical section) or None. Returns a dict (sun, readings per meter, seconds)."""
-    from ..measure import sun as sun_light
-    from ..measure import sun_study
+    from ..measure.authoring import sun as sun_light
+    from ..measure.analyses import sun_study
 
     started = time.perf_counter()
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -144,7 +144,7 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
     blend = None
     if out_dir:
         from ..errors import RadiometerError
-        from ..measure.blend_file import save_copy
+        from ..measure.blender.blend_file import save_copy
 
         try:
             os.makedirs(out_dir, exist_ok=True)  # `radiometer demo --daylight` checked it before the run

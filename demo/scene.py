@@ -57,7 +57,7 @@ def build(scene=None, *, with_meters=True):
     scene.collection.objects.link(plane)
 
     if with_meters:
-        from ..measure.meters import add_meter
+        from ..measure.meter.meter_objects import add_meter
 
         meters = bpy.data.collections.new("Meters")
         scene.collection.children.link(meters)

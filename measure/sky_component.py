@@ -27,7 +27,8 @@ import math
 
 import numpy as np
 
-from ..radiometry import scene_model, sky_aperture
+from ..radiometry.scene import scene_model
+from ..radiometry import sky_aperture
 
 
 @dataclasses.dataclass
@@ -57,8 +58,8 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     """One :class:`SkyComponent` per point (``points_m`` (N, 3) in metres, unit ``normals`` (N, 3)) for the
     CIE overcast sky of unobstructed horizontal illuminance ``horizontal_lux`` over a ground of
     ``ground_reflectance``."""
-    from . import meter
-    from .analysis_common import view_layer_of
+    from .meter import point_meter as meter
+    from .analyses.analysis_common import view_layer_of
 
     model = model or meter.capture_model(scene, view_layer_of(scene))
     points_m, normals = np.asarray(points_m, float), np.asarray(normals, float)

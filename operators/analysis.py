@@ -123,14 +123,14 @@ def _measure_settings(context):
 
 def _slug(name):
     """The report's file-name stem for an object: readable, unique among the scene's objects."""
-    from ..measure.report import plot_stem
+    from ..measure.reports.report import plot_stem
 
     return plot_stem(name, among=[ob.name for ob in bpy.context.scene.objects])
 
 
 def _law_task(self, context, kind):
     """A Task with one step per light: ``task.results`` maps light name -> result object."""
-    from ..measure import analysis
+    from ..measure.analyses import analysis
 
     out = output_dir(context)
     lights = _targets(self, context)
@@ -284,7 +284,7 @@ class RADIOMETER_OT_illuminance_grid(TaskOperator, bpy.types.Operator):
         return cls.task_poll(context)
 
     def build_task(self, context):
-        from ..measure import analysis
+        from ..measure.analyses import analysis
 
         settings = context.scene.radiometer_analysis
         plane = settings.work_plane
@@ -316,7 +316,7 @@ class RADIOMETER_OT_illuminance_grid(TaskOperator, bpy.types.Operator):
         settings.grid_method, settings.grid_image, settings.grid_csv = g.method, g.image, g.csv
         load_image(context, g.image)
         if settings.colour_plane:
-            from ..measure import analysis
+            from ..measure.analyses import analysis
 
             try:
                 analysis.colour_plane(g, scene=context.scene)
@@ -346,7 +346,7 @@ class RADIOMETER_OT_convergence_study(TaskOperator, bpy.types.Operator):
         return cls.task_poll(context)
 
     def build_task(self, context):
-        from ..measure import analysis
+        from ..measure.analyses import analysis
 
         settings = context.scene.radiometer_analysis
         out = output_dir(context)
@@ -400,7 +400,7 @@ class RADIOMETER_OT_export_report(TaskOperator, bpy.types.Operator):
 
 def report_task(context, convergence=True):
     """A Task with one step per part of the report (meters, each light's laws, each grid, convergence)."""
-    from ..measure import report
+    from ..measure.reports import report
 
     box = {}
     holder = {}

@@ -110,7 +110,7 @@ def write_lobe_plot(material, path):
     in the file's working space, as the meter weighs them (``plots.brdf.write_lobes``)."""
     from ..compat import working_colour_space
     from ..plots.brdf import write_lobes
-    from ..radiometry import photometry
+    from ..radiometry.photometry import efficacy as photometry
 
     model, fid, lobes = lobe_data(material)
     return write_lobes(path, model, fid.closure, fid.summary(), lobes,

@@ -10,7 +10,7 @@ LAST = {}
 
 def settings_datetime(settings):
     """The timezone-aware datetime of the Daylight settings (RadiometerError with one line if invalid)."""
-    from ..radiometry import solar_position
+    from ..radiometry.sun import solar_position
 
     try:
         return solar_position.local_datetime(settings.year, settings.month, settings.day, settings.hour,

@@ -1,6 +1,6 @@
 """False colour in the viewport: the last illuminance grid as coloured quads over its plane, and a legend.
 
-* :func:`show` makes the coloured copy (``measure.grid.colour_plane``: colour attribute 'lux_colour',
+* :func:`show` makes the coloured copy (``measure.analyses.grid.colour_plane``: colour attribute 'lux_colour',
   hidden in renders) with an emission material reading that attribute (so Material Preview shows it), and
   adds one ``SpaceView3D`` POST_PIXEL draw handler that draws a colour bar with lux labels.
 * :func:`hide` removes both. ``unregister_extra`` and a persistent ``load_pre`` handler call it, and
@@ -40,7 +40,7 @@ def legend_layout(lo, hi, region_width, region_height, *, ui_scale=1.0, steps=32
     Returns {"bar": (x0, y0, x1, y1), "segments": [(y0, y1, rgba)], "ticks": [(y, value, label)],
     "title": (x, y, text)}. Pure: no GPU, usable in tests.
     """
-    from ..measure.grid import false_colour
+    from ..measure.analyses.grid import false_colour
 
     s = max(0.5, float(ui_scale))
     width, margin = 18 * s, 20 * s
@@ -128,7 +128,7 @@ def _material():
 
 def show(result, scene=None):
     """Show ``result`` (a GridResult, or anything with ``target`` and ``lux``) in false colour. Returns the object."""
-    from ..measure.grid import colour_plane
+    from ..measure.analyses.grid import colour_plane
 
     scene = scene or bpy.context.scene
     if scene.objects.get(result.target) is None:
@@ -191,7 +191,7 @@ def last_grid(scene):
     """The scene's last grid (target and lux read back from its CSV), or RadiometerError."""
     import os
 
-    from ..measure.grid import lux_from_csv
+    from ..measure.analyses.grid import lux_from_csv
 
     s = scene.radiometer_analysis
     path = bpy.path.abspath(s.grid_csv) if s.grid_csv else ""

@@ -35,7 +35,7 @@ class RADIOMETER_OT_set_light_power(bpy.types.Operator):
         return True
 
     def invoke(self, context, event):
-        from ..measure import light_power
+        from ..measure.authoring import light_power
 
         ob = context.active_object
         units = [u for u, (types, _label) in light_power.UNITS.items() if ob.data.type in types]
@@ -48,7 +48,7 @@ class RADIOMETER_OT_set_light_power(bpy.types.Operator):
         return context.window_manager.invoke_props_dialog(self, title=f"Set Photometric Power of {ob.name}")
 
     def execute(self, context):
-        from ..measure import light_power
+        from ..measure.authoring import light_power
 
         try:
             energy = light_power.set_photometric_power(context.active_object, self.unit, self.value, context.scene)
@@ -73,7 +73,7 @@ class RADIOMETER_PT_light_power(bpy.types.Panel):
         return context.light is not None and context.active_object is not None
 
     def draw(self, context):
-        from ..measure import light_power
+        from ..measure.authoring import light_power
 
         layout = self.layout
         ob = context.active_object

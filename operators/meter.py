@@ -4,7 +4,7 @@ import bpy
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty
 
 from ..props.meter import METER_KINDS
-from ..measure.meters import DEFAULT_ROTATION, add_meter
+from ..measure.meter.meter_objects import DEFAULT_ROTATION, add_meter
 from .modal import Step, Task, TaskOperator
 
 ALIGN_ITEMS = [
@@ -226,7 +226,7 @@ class RADIOMETER_OT_measure(TaskOperator, bpy.types.Operator):
         return cls.task_poll(context)
 
     def _targets(self, context):
-        from ..measure import meters
+        from ..measure.meter import meter_objects as meters
 
         selected = [ob for ob in context.selected_objects if ob.radiometer_meter.is_meter]
         return meters.meter_objects(context.scene, selected if (self.only_selected and selected) else None)
@@ -235,7 +235,7 @@ class RADIOMETER_OT_measure(TaskOperator, bpy.types.Operator):
         return measure_task(context.scene, self._targets(context), batch=None if bpy.app.background else UI_BATCH)
 
     def finish(self, context, task):
-        from ..measure import meters
+        from ..measure.meter import meter_objects as meters
 
         for obj, reading in task.results:
             meters.write_reading(obj, reading)
@@ -246,7 +246,7 @@ class RADIOMETER_OT_measure(TaskOperator, bpy.types.Operator):
 
 def measure_task(scene, objects, batch=UI_BATCH):
     """A Task measuring ``objects``; ``task.results`` collects (object, reading) (written by finish)."""
-    from ..measure import meters
+    from ..measure.meter import meter_objects as meters
 
     settings = meters.scene_settings(scene)
     steps = meters.plan_steps(scene, objects, batch=batch)

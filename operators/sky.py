@@ -6,7 +6,7 @@ from bpy.props import EnumProperty, FloatProperty
 from ..errors import RadiometerError
 
 def _sky_items(_self, _context):
-    from ..radiometry import cie_sky
+    from ..radiometry.skies import cie_sky
 
     items = [("overcast", "CIE Overcast (traditional)", "L = Lz (1 + 2 cos Z) / 3 (Moon & Spencer), the daylight-factor sky")]
     for t, row in cie_sky.CIE_GENERAL_SKIES.items():
@@ -51,7 +51,7 @@ class RADIOMETER_OT_set_cie_sky(bpy.types.Operator):
 
     def execute(self, context):
         from .. import api
-        from ..radiometry import cie_sky
+        from ..radiometry.skies import cie_sky
 
         sky = self.sky_type if self.sky_type == "overcast" else int(self.sky_type)
         sun = scene_sun_direction(context.scene)

@@ -90,7 +90,7 @@ class RADIOMETER_OT_world_irradiance_map(bpy.types.Operator):
         import os
 
         from .. import api
-        from ..measure import camera
+        from ..measure.meter import camera
 
         path = camera.default_map_path(f"{context.scene.name}_irradiance")
         try:

@@ -17,7 +17,7 @@ class RADIOMETER_PT_luminaire(bpy.types.Panel):
 
     def draw(self, context):
         from ..errors import RadiometerError
-        from ..measure import luminaires
+        from ..measure.capture import luminaires
 
         layout = self.layout
         ob = context.active_object

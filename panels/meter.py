@@ -86,7 +86,7 @@ class RADIOMETER_PT_meters(bpy.types.Panel):
         col.prop(settings, "show_overlay")
         col.prop(settings, "live", icon="REC")
         if settings.live:
-            from ..measure import live
+            from ..measure.meter import live
 
             col.label(text=live.status(context.scene) or "Live: waiting for a change", icon="TIME")
         row = layout.row(align=True)
@@ -168,7 +168,7 @@ def _draw_overlay():
     scale = context.preferences.system.ui_scale if context.preferences else 1.0
     blf.size(font, 12 * scale)
     if scene.radiometer.live:
-        from ..measure import live
+        from ..measure.meter import live
 
         blf.position(font, 20 * scale, 20 * scale, 0)
         blf.draw(font, "Radiometer " + (live.status(scene) or "Live"))

@@ -3,7 +3,7 @@
 matplotlib is imported inside the functions (Agg backend), so importing this package is cheap and
 works where matplotlib is missing until a plot is asked for. Blender's bundled Python has no
 matplotlib: :func:`require_matplotlib` then raises a RadiometerError that says how to get it, and the
-analyses (``measure.analysis``) skip their images with a note while every number, CSV and JSON stays.
+analyses (``measure.analyses.analysis``) skip their images with a note while every number, CSV and JSON stays.
 """
 
 import importlib

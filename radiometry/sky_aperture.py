@@ -6,7 +6,7 @@ aperture ``A`` (an open hole in a room, or a pane's outline) is
     E = integral over the directions u through A of L(u) max(0, n . u) T(u) du,
 
 with L the sky's luminance above the horizon (u_z > 0) and the ground's below it (a sharp horizon,
-as ``measure.sky`` builds the world), and T the pane's transmittance (1 for an opening).
+as ``measure.authoring.sky`` builds the world), and T the pane's transmittance (1 for an opening).
 
 Closed forms
 ------------
@@ -48,7 +48,7 @@ What is proven and what is not
 These formulas are exact for the directions through the aperture. That they are the direct sky
 component of a scene needs a visibility proof (nothing between p and the aperture and nothing
 beyond it in those directions): :func:`aperture_clear` gives it for triangle meshes with
-``radiometry.visibility``'s separating-axis tests (every doubt reads as "not proven").
+``radiometry.scene.visibility``'s separating-axis tests (every doubt reads as "not proven").
 
 Lengths in metres, luminance in cd/m^2, illuminance in lux (any consistent radiometric units work
 the same way).
@@ -56,7 +56,7 @@ the same way).
 
 import numpy as np
 
-from . import visibility
+from .scene import visibility
 
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
            "polygon_plane", "aperture_clear", "find_apertures", "is_convex", "enclosure_closed", "inside_enclosure", "SKIES"]

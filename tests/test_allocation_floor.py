@@ -4,7 +4,7 @@ world arrives by rare high-value paths. Reference: a synthetic bake with a known
 
 import numpy as np
 
-from radiometer.radiometry import allocation
+from radiometer.radiometry.sampling import allocation
 
 RARE, SPIKE, BASE = 1e-4, 100.0, 0.5
 MEAN = BASE + RARE * SPIKE

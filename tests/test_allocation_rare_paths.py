@@ -4,7 +4,7 @@ region seen past an obstruction) must not stop at "0 +- 0"."""
 import numpy as np
 import pytest
 
-from radiometer.radiometry import allocation
+from radiometer.radiometry.sampling import allocation
 
 
 def _rare_bake(value, p, rng):

@@ -1,11 +1,12 @@
-"""Pure tier: law-check math (radiometry.laws, grid, convergence) against closed forms."""
+"""Pure tier: law-check math (radiometry.metrics.laws, grid, convergence) against closed forms."""
 
 import math
 
 import numpy as np
 import pytest
 
-from radiometer.radiometry import convergence, grid, laws
+from radiometer.radiometry.sampling import convergence
+from radiometer.radiometry.metrics import grid, laws
 
 
 def square_on_axis(h, a=1.0):

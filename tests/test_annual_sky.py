@@ -11,7 +11,9 @@ import sys
 import numpy as np
 import pytest
 
-from radiometer.radiometry import daylight_metrics, epw, perez, sky_patches
+from radiometer.radiometry.metrics import daylight_metrics
+from radiometer.radiometry.sun import epw
+from radiometer.radiometry.skies import perez, sky_patches
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
 from test_epw import HEADER  # noqa: E402
@@ -72,8 +74,8 @@ def _write_epw(path):
 
 
 def test_sky_matrix_matches_gendaymtx(tmp_path):
-    pytest.importorskip("bpy")  # measure.annual lives with the bpy code (imports it lazily)
-    from radiometer.measure import annual
+    pytest.importorskip("bpy")  # measure.analyses.annual lives with the bpy code (imports it lazily)
+    from radiometer.measure.analyses import annual
 
     path = _write_epw(tmp_path / "t.epw")
     patches = sky_patches.reinhart_patches(1)

@@ -1,4 +1,4 @@
-"""CIE standard general skies (radiometry/cie_sky.py): closed forms, an independent integration of the
+"""CIE standard general skies (radiometry/skies/cie_sky.py): closed forms, an independent integration of the
 ISO 15469 formulas written here, NaN/inf and n-dimensional behaviour."""
 
 import math
@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from radiometer.radiometry import cie_sky
+from radiometer.radiometry.skies import cie_sky
 
 # ISO 15469:2004 / CIE S 011/E:2003 Table 1, typed again here from the standard for the independent check.
 ISO_TABLE = {1: (4, -0.7, 0, -1, 0), 2: (4, -0.7, 2, -1.5, 0.15), 3: (1.1, -0.8, 0, -1, 0),

@@ -6,7 +6,7 @@ import warnings
 import numpy as np
 import pytest
 
-from radiometer.radiometry import colorimetry, photometry
+from radiometer.radiometry.photometry import colorimetry, efficacy as photometry
 from radiometer.readings import IlluminanceReading, LuminanceReading, format_quantity, format_value
 
 colour = pytest.importorskip("colour")

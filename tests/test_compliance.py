@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from radiometer.radiometry import compliance
+from radiometer.radiometry.metrics import compliance
 
 
 def test_task_table_values_and_sources():

@@ -15,10 +15,10 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings, strategies as st
 
 from radiometer.radiometry import emitters
-from radiometer.radiometry.cie_sky import CIESkyWorld
+from radiometer.radiometry.skies.cie_sky import CIESkyWorld
 from radiometer.radiometry.emitters import EmitterFlags
 from radiometer.radiometry.emitters.photometric import Photometry, table_flux
-from radiometer.radiometry.environment import WorldLight
+from radiometer.radiometry.skies.environment import WorldLight
 
 SETTINGS = settings(max_examples=12, deadline=None, derandomize=True,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])

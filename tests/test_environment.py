@@ -1,4 +1,4 @@
-"""Environment maps (radiometry/environment.py) against closed forms, on maps the tests write as EXR.
+"""Environment maps (radiometry/skies/environment.py) against closed forms, on maps the tests write as EXR.
 
 Reference numbers and where they come from:
 * uniform radiance L over the sphere: E = pi L for every normal (the lecture; Lambert);
@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from radiometer.radiometry import environment as env
+from radiometer.radiometry.skies import environment as env
 
 OpenEXR = pytest.importorskip("OpenEXR")
 
@@ -29,7 +29,7 @@ def write_exr(path, rgb):
 
 
 def roundtrip(tmp_path, rgb, name="map.exr"):
-    from radiometer.measure import exr
+    from radiometer.measure.blender import exr
 
     write_exr(tmp_path / name, rgb)
     return exr.read_rgb(str(tmp_path / name))

@@ -1,11 +1,11 @@
-"""EPW reader (radiometry/epw.py) against pvlib's read_epw (independent) on a small file the test writes."""
+"""EPW reader (radiometry/sun/epw.py) against pvlib's read_epw (independent) on a small file the test writes."""
 
 import math
 
 import numpy as np
 import pytest
 
-from radiometer.radiometry import epw
+from radiometer.radiometry.sun import epw
 
 HEADER = ["LOCATION,Testville,TS,XYZ,synthetic,000000,51.50,-0.12,0.0,20.0",
           "DESIGN CONDITIONS,0", "TYPICAL/EXTREME PERIODS,0", "GROUND TEMPERATURES,0",

@@ -1,10 +1,10 @@
 """Issue 17: the triangle grid and the per-object structures that sensor placement and the proofs share
-(radiometry.visibility.TriangleGrid, radiometry.scene_model.SceneGeometry), built in O(T). Checked against
+(radiometry.scene.visibility.TriangleGrid, radiometry.scene.scene_model.SceneGeometry), built in O(T). Checked against
 the definitions they index: brute-force box overlap, numpy's own reductions, per-object masks."""
 
 import numpy as np
 
-from radiometer.radiometry import scene_model, visibility
+from radiometer.radiometry.scene import scene_model, visibility
 
 
 def _soup(rng, n, big=0.1):

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from radiometer.radiometry import glare
+from radiometer.radiometry.metrics import glare
 
 
 def test_solid_angle_of_a_square_on_axis_closed_form():
@@ -67,7 +67,7 @@ def test_triangles_and_patches_make_one_source():
     """A square split into two triangles: the triangles' solid angles add up to the square's (Van Oosterom &
     Strackee both ways, and the closed form of a square on its axis, 4 asin(a² / (a² + 4 h²))); uniform
     patches keep their luminance; the centre is the centre of the luminous area."""
-    from radiometer.radiometry import glare as g
+    from radiometer.radiometry.metrics import glare as g
 
     eye = np.array([0.3, -0.2, 0.0])
     square = np.array([[-0.5, -0.5, 2.0], [0.5, -0.5, 2.0], [0.5, 0.5, 2.0], [-0.5, 0.5, 2.0]])

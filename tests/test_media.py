@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from radiometer.radiometry import media
+from radiometer.radiometry.scene import media
 
 
 def test_extinction_of_cycles_volume_nodes():

@@ -20,8 +20,8 @@ REC709_Y = (0.2126, 0.7152, 0.0722)
 #: Known copies not removed this session, with the owner and the date.
 EXCEPTIONS = {
     ("rec709", "brdf/plots.py"): "2026-12-01: BRDF plots weigh RGB by Rec.709 (H5 owns brdf/plots.py)",
-    ("rec709", "radiometry/environment.py"): "2026-12-01: `brightest(weights=...)` default (H1 edits it)",
-    ("rec709", "radiometry/cie_sky.py"): "2026-12-01: `brightest(weights=...)` default, as environment.py (H4's "
+    ("rec709", "radiometry/skies/environment.py"): "2026-12-01: `brightest(weights=...)` default (H1 edits it)",
+    ("rec709", "radiometry/skies/cie_sky.py"): "2026-12-01: `brightest(weights=...)` default, as environment.py (H4's "
                                          "new module)",
 }
 
@@ -56,7 +56,7 @@ def test_each_constant_has_one_home():
     homes = {("683", os.path.join("radiometry", "constants.py")), ("colorspace", "compat.py")}
     stray = {key: line for key, line in found.items() if key not in homes and key not in EXCEPTIONS}
     assert not stray, ("import K from radiometry.constants, the working space from compat.working_colour_space "
-                       f"and the weights from radiometry.photometry.luminance_weights: {stray}")
+                       f"and the weights from radiometry.photometry.efficacy.luminance_weights: {stray}")
     stale = [key for key in EXCEPTIONS if key not in found]
     assert not stale, f"fixed, so delete from EXCEPTIONS: {stale}"
 
@@ -76,7 +76,7 @@ def test_json_policy_nan_and_inf_are_null_everywhere():
 def test_cli_and_analyses_use_the_one_policy():
     pytest.importorskip("bpy")
     from radiometer.commands._io import json_text
-    from radiometer.measure.analysis_common import plain
+    from radiometer.measure.analyses.analysis_common import plain
 
     value = {"E": np.array([1.0, math.nan]), "rows": [(math.inf, 2)]}
     assert json.loads(json_text(value)) == json_safe(value) == plain(value) == {"E": [1.0, None], "rows": [[None, 2]]}

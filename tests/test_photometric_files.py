@@ -1,4 +1,4 @@
-"""Photometric file reader (radiometry.photometric_files): every LM-63 version, TILT variant,
+"""Photometric file reader (radiometry.photometry.photometric_files): every LM-63 version, TILT variant,
 symmetry and EULUMDAT symmetry, written here, with flux computed independently of the reader."""
 
 import math
@@ -7,7 +7,7 @@ import os
 import numpy as np
 import pytest
 
-from radiometer.radiometry import photometric_files as pf
+from radiometer.radiometry.photometry import photometric_files as pf
 
 FORMAT_LINES = {"LM-63-1986": None, "LM-63-1991": "IESNA91", "LM-63-1995": "IESNA:LM-63-1995",
                 "LM-63-2002": "IESNA:LM-63-2002", "LM-63-2019": "IES:LM-63-2019"}

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from radiometer.radiometry import emitters
-from radiometer.radiometry import photometric_files as pf
+from radiometer.radiometry.photometry import photometric_files as pf
 
 
 def _table(func, h=np.arange(0.0, 360.0 + 1e-9, 30.0), v=np.arange(0.0, 180.0 + 1e-9, 10.0), vector_map=None):

@@ -1,11 +1,11 @@
-"""The pooled estimator of many meters' rendered light (radiometry/pooled_field.py, issue 17): pure numpy.
+"""The pooled estimator of many meters' rendered light (radiometry/sampling/pooled_field.py, issue 17): pure numpy.
 
 Synthetic fields with a known truth, sampled by a fake bake whose texels are the truth plus Gaussian
 noise of a known spread (the batch-means statistics of ``allocation`` on top, as in a measurement)."""
 
 import numpy as np
 
-from radiometer.radiometry import allocation, pooled_field as pf
+from radiometer.radiometry.sampling import allocation, pooled_field as pf
 
 
 def smooth(p):

@@ -1,11 +1,11 @@
-"""Error-targeted allocation (radiometry.allocation) on a synthetic integrand with known answer:
+"""Error-targeted allocation (radiometry.sampling.allocation) on a synthetic integrand with known answer:
 every meter meets its target, the error statement is honest (coverage), and the samples spent are
 close to what an oracle that knew each meter's variance would spend."""
 
 import numpy as np
 import pytest
 
-from radiometer.radiometry import allocation
+from radiometer.radiometry.sampling import allocation
 
 
 def _synthetic_bake(mu, sigma, rng, rate=0.5):

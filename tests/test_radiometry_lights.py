@@ -6,7 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from radiometer.radiometry import emitters, geometry
+from radiometer.radiometry import emitters
+from radiometer.radiometry.scene import geometry
 from radiometer.radiometry.emitters import area as area_emitter
 from radiometer.radiometry.emitters import CyclesLight
 from radiometer.radiometry.emitters.spot import spot_attenuation

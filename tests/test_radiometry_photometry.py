@@ -3,9 +3,10 @@
 import numpy as np
 import pytest
 
-from radiometer.radiometry import _cie_tables as cie
-from radiometer.radiometry import photometry as ph
-from radiometer.radiometry import stats, units
+from radiometer.radiometry.photometry import _cie_tables as cie
+from radiometer.radiometry.photometry import efficacy as ph
+from radiometer.radiometry.sampling import stats
+from radiometer.radiometry import units
 from radiometer.radiometry.constants import K_M_LM_PER_W
 
 colour = pytest.importorskip("colour")

@@ -1,4 +1,4 @@
-"""Student-t quantile of radiometer.radiometry.stats (numpy/math only) against scipy.stats.t.ppf.
+"""Student-t quantile of radiometer.radiometry.sampling.stats (numpy/math only) against scipy.stats.t.ppf.
 
 Reference values: scipy.stats.t.ppf (Boost's inverse incomplete beta), the closed forms for 1, 2, 4
 degrees of freedom (Shaw 2006, sec. 3) and the normal limit Phi^{-1}(0.975) = 1.959963984540054
@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from radiometer.radiometry import stats
+from radiometer.radiometry.sampling import stats
 
 scipy_stats = pytest.importorskip("scipy.stats")
 

@@ -1,10 +1,11 @@
-"""Exact visibility proofs (radiometry.visibility, radiometry.scene_model.plan_direct): soundness
+"""Exact visibility proofs (radiometry.scene.visibility, radiometry.scene.scene_model.plan_direct): soundness
 against brute-force point sampling, and the decisions on small synthetic scenes."""
 
 import numpy as np
 import pytest
 
-from radiometer.radiometry import emitters, scene_model, visibility
+from radiometer.radiometry import emitters
+from radiometer.radiometry.scene import scene_model, visibility
 
 TOL = 1e-9
 

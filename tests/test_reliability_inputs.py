@@ -6,8 +6,8 @@ import os
 import numpy as np
 import pytest
 
-from radiometer.radiometry import environment
-from radiometer.radiometry import photometric_files as pf
+from radiometer.radiometry.skies import environment
+from radiometer.radiometry.photometry import photometric_files as pf
 
 HEAD = "IESNA:LM-63-2002\nTILT=NONE\n"
 
@@ -109,7 +109,7 @@ def test_time_budget_holds_when_big_rounds_cost_more_per_sample_than_small_ones(
     took 0.10 s and 0.16 s, a round of 330 000 took 14 s (4.2e-5 s per sample, not the 3.3e-5 the
     two small rounds suggest). With a 10 s budget the old allocator planned one big round and took
     15 s; now the whole call stays within 10 % of the budget."""
-    from radiometer.radiometry import allocation
+    from radiometer.radiometry.sampling import allocation
 
     rng = np.random.default_rng(7)
     clock = {"t": 0.0}

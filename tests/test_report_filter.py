@@ -1,11 +1,11 @@
-"""The one filter of Blender's operator reports (measure.op_reports.ReportFilter), as the API and the
+"""The one filter of Blender's operator reports (measure.blender.op_reports.ReportFilter), as the API and the
 CLI configure it: line by line, a partial last line kept until it ends or the filter closes."""
 
 import io
 
 import pytest
 
-from radiometer.measure.op_reports import ReportFilter
+from radiometer.measure.blender.op_reports import ReportFilter
 
 
 def test_api_drops_info_and_sends_warnings_and_errors_to_stderr():

@@ -2,7 +2,8 @@
 
 import numpy as np
 
-from radiometer.radiometry import emitters, scene_model
+from radiometer.radiometry import emitters
+from radiometer.radiometry.scene import scene_model
 
 
 def _empty_model(*specs, volumes=(), world_volume=False):

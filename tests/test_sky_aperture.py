@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from radiometer.radiometry import sky_aperture as sa
-from radiometer.radiometry import thin_glass
+from radiometer.radiometry.scene import thin_glass
 
 WINDOW = np.array([[1.0, 0.0, 0.9], [3.0, 0.0, 0.9], [3.0, 0.0, 2.1], [1.0, 0.0, 2.1]])  # wall y = 0
 OVERCAST = lambda u: (1.0 + 2.0 * u[..., 2]) / 3.0  # noqa: E731 - L / Lz of the CIE overcast sky

@@ -1,4 +1,4 @@
-"""Sun position (radiometry/solar_position.py) against pvlib's NREL SPA and the SPA paper's example.
+"""Sun position (radiometry/sun/solar_position.py) against pvlib's NREL SPA and the SPA paper's example.
 
 References: pvlib 0.16 ``solarposition.spa_python`` (an independent implementation of Reda &
 Andreas 2008; test-only dependency) and the worked example in Reda & Andreas (2008), Table A5.1.
@@ -12,7 +12,7 @@ import pytest
 
 from radiometer import api
 from radiometer.errors import RadiometerError
-from radiometer.radiometry import solar_position as sp
+from radiometer.radiometry.sun import solar_position as sp
 
 pvlib = pytest.importorskip("pvlib")
 pd = pytest.importorskip("pandas")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from radiometer.radiometry import thin_glass
+from radiometer.radiometry.scene import thin_glass
 
 
 @given(st.floats(0.0, 1.0), st.floats(1.01, 3.0), st.floats(0.0, 0.05), st.floats(0.0, 50.0),

@@ -14,7 +14,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from radiometer.radiometry import thin_glass
+from radiometer.radiometry.scene import thin_glass
 
 pyradiance = pytest.importorskip("pyradiance")
 BIN = pathlib.Path(pyradiance.__file__).parent / "bin"

@@ -167,7 +167,7 @@ def main(argv):
     import tempfile
 
     with tempfile.TemporaryDirectory() as tmp:
-        from radiometer.measure import luminance_image
+        from radiometer.measure.analyses import luminance_image
 
         img = luminance_image.luminance_image(os.path.join(tmp, "luminance.exr"), scene=scene,
                                               resolution=(240, 135), quality="preview", max_spp=64)

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import norm, polygon_projected_solid_angle, unit
+from ..scene.geometry import norm, polygon_projected_solid_angle, unit
 from .base import EmitterFlags
 from .cycles_light import CyclesLight
 

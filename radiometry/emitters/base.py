@@ -3,8 +3,8 @@
 An :class:`Emitter` is a light source as Cycles renders it, in SI: flux in W, intensity in W/sr,
 irradiance in W/m^2, all per RGB channel of the scene's working colour space (a "watt" of Blender's
 is radiometric per channel; photometric values are K x the Y of that triple, see
-:mod:`radiometer.radiometry.photometry`). Every kind lives in its own module of this package and is
-built only by the capture layer (``measure.scene_capture``) or from plain values in tests.
+:mod:`radiometer.radiometry.photometry.efficacy`). Every kind lives in its own module of this package and is
+built only by the capture layer (``measure.capture.scene_capture``) or from plain values in tests.
 
 Conventions
 -----------
@@ -25,8 +25,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..constants import K_M_LM_PER_W
-from ..photometry import luminance_weights
-from ..geometry import norm
+from ..photometry.efficacy import luminance_weights
+from ..scene.geometry import norm
 from ..units import as_finite_array
 
 __all__ = ["EmitterFlags", "RayVisibility", "SourceId", "Emitter", "prepare_receivers", "REC709_WEIGHTS_NAME"]

@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..geometry import norm, unit
+from ..scene.geometry import norm, unit
 from ..units import as_finite_array, check_nonnegative, frozen_array, scene_to_metres
-from ..photometry import blackbody_rgb
+from ..photometry.efficacy import blackbody_rgb
 from .base import Emitter, RayVisibility, SourceId, prepare_receivers
 
 __all__ = ["CyclesLight", "KINDS", "SHAPES", "from_blender_values"]

@@ -17,7 +17,7 @@ sum of L A_t |cos| per side.
 
 import numpy as np
 
-from ..geometry import polygon_projected_solid_angle
+from ..scene.geometry import polygon_projected_solid_angle
 from ..units import as_finite_array
 from .base import Emitter, EmitterFlags, RayVisibility, SourceId, prepare_receivers
 

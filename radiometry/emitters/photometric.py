@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..geometry import unit as unit_vector
+from ..scene.geometry import unit as unit_vector
 from ..units import as_finite_array, frozen_array
 from .base import EmitterFlags
 from .point import PointLight, delta_irradiance
@@ -142,7 +142,7 @@ def _subdivide(angles, step):
 @dataclass(frozen=True)
 class Photometry:
     """An intensity table on type-C (or A/B) angles, read with Cycles' interpolation: ONE class for a
-    photometric file's luminaire (``radiometry.photometric_files``: unit cd, the file's symmetry and
+    photometric file's luminaire (``radiometry.photometry.photometric_files``: unit cd, the file's symmetry and
     metadata) and for the table a Blender IES light renders (:meth:`light_table`: Cycles' own reading
     of the light's IES text, already expanded to 0-360 deg, per watt of the light's ``rgb_power``,
     with the node tree's direction map and colour). Both share the interpolation

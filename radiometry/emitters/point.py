@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import cap_projected_solid_angle, norm, unit
+from ..scene.geometry import cap_projected_solid_angle, norm, unit
 from .base import EmitterFlags
 from .cycles_light import CyclesLight
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import unit
+from ..scene.geometry import unit
 from .point import PointLight
 
 __all__ = ["SpotLight", "spot_attenuation", "QUADRATURE_SPOT_PHI", "QUADRATURE_SPOT_T"]

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import cap_projected_solid_angle
+from ..scene.geometry import cap_projected_solid_angle
 from .base import EmitterFlags
 from .cycles_light import CyclesLight
 

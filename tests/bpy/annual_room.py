@@ -40,7 +40,7 @@ def write_epw(path, seed=7):
     """A year of hourly records (standard time UTC+0): a clear-sky model (direct normal 1000 exp(-0.16
     m) W/m^2, diffuse 40 + 60 sin h; m = 1 / sin h) scaled each day by a random clearness k in
     [0, 1] (direct x k, diffuse x (1 + 1.5 (1 - k))): the weather is an input, not a reference."""
-    from radiometer.radiometry import solar_position
+    from radiometer.radiometry.sun import solar_position
 
     import datetime as dt
 
@@ -92,7 +92,9 @@ def radiance_annual(folder, epw_path, points=POINTS):
     import pandas as pd
     import pvlib
 
-    from radiometer.radiometry import daylight_metrics, epw, sky_patches
+    from radiometer.radiometry.metrics import daylight_metrics
+    from radiometer.radiometry.sun import epw
+    from radiometer.radiometry.skies import sky_patches
 
     env = _env(folder)
     rays = "".join(f"{x} {y} {z} 0 0 1\n" for x, y, z in points)

@@ -215,7 +215,7 @@ def window_room(part=None):
                [(-g, -h, top), (-g, -g, top), (g, -g, top), (g, -h, top)], [(-g, g, top), (-g, h, top), (g, h, top), (g, g, top)]]
     _quads(scene, "Room", floor + walls + ceiling, wall)
     if part == "sun":
-        from radiometer.radiometry import thin_glass  # the slab's closed form (reference side)
+        from radiometer.radiometry.scene import thin_glass  # the slab's closed form (reference side)
 
         c = math.cos(math.radians(90.0 - ROOM_SUN_ELEVATION))
         T, R, _A = thin_glass.slab(c, float(np.float32(1.52)))

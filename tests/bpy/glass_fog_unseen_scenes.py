@@ -8,7 +8,7 @@ metal floor reflecting an area light onto a wall meter.
 
 Builders use bpy only (no Radiometer measurement code). Each returns ``(scene, cases)`` with cases a
 list of ``(label, point, normal)``. ``fresnel_slab`` is this file's own Fresnel slab (written from the
-textbook, not from ``radiometry/thin_glass.py``): the closed-form reference for the clear panes.
+textbook, not from ``radiometry/scene/thin_glass.py``): the closed-form reference for the clear panes.
 """
 
 import importlib.util

@@ -1,6 +1,6 @@
 """Stated errors of error-targeted readings cover the truth in an interreflecting room (issue 17).
 
-The allocation (radiometry/allocation.py) sizes rounds from a larger pilot and finishes small needs at
+The allocation (radiometry/sampling/allocation.py) sizes rounds from a larger pilot and finishes small needs at
 the pilot's samples per texel; whatever it does, a 1-sigma error stated at a 1 % target must cover an
 independent truth. Truth: bench/room_reference.py, a numpy path tracer of the same box (Lambert's
 polygon formula at every vertex, no Cycles), with the panel transparent to reflected rays as Cycles

@@ -16,7 +16,7 @@ import pytest
 
 from radiometer import api, cli
 from radiometer.errors import RadiometerError
-from radiometer.measure.scene_guard import scene_fingerprint
+from radiometer.measure.blender.scene_guard import scene_fingerprint
 
 
 def corner(x, y, h):

@@ -15,7 +15,7 @@ import pytest
 from radiometer import api
 from radiometer.compat import ensure_node_tree
 from radiometer.errors import RadiometerError
-from radiometer.measure.scene_guard import scene_fingerprint
+from radiometer.measure.blender.scene_guard import scene_fingerprint
 
 
 def square_on_axis_ratio(h, a):

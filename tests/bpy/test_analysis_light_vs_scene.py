@@ -16,7 +16,7 @@ import pytest
 
 from radiometer import api
 from radiometer.demo import scene as demo
-from radiometer.measure.scene_guard import scene_fingerprint
+from radiometer.measure.blender.scene_guard import scene_fingerprint
 
 
 def _split_consistent(rows):

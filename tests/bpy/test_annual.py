@@ -1,4 +1,4 @@
-"""Annual daylight (measure/annual.py): the one-patch worlds give the daylight coefficients of an
+"""Annual daylight (measure/analyses/annual.py): the one-patch worlds give the daylight coefficients of an
 unobstructed meter (closed form: integral of cos over the patch).
 
 Tolerance: max(3 stated s.e., 2 %). The meter's stated standard error is too small for these small
@@ -13,8 +13,8 @@ import bpy
 import numpy as np
 import pytest
 
-from radiometer.measure import annual
-from radiometer.radiometry import sky_patches
+from radiometer.measure.analyses import annual
+from radiometer.radiometry.skies import sky_patches
 
 
 def closed_form(p, patches, normal):
@@ -60,16 +60,16 @@ def test_cli_annual_bad_input(clean_blender, tmp_path, capsys):
     assert "not an EPW" in capsys.readouterr().err
 
 
-# --- the dome: every patch's coefficients from one render (measure/daylight_coefficients.py) ----------
+# --- the dome: every patch's coefficients from one render (measure/analyses/daylight_coefficients.py) ----------
 
 def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blender, build):
     """Unobstructed meters: DC[p] = integral of max(0, n.w) over patch p (closed form above). The
     stated covariance is checked where it matters, on hourly sky vectors (Perez skies with a sun):
     the errors over 100 skies x 3 meters must look like their stated standard errors (RMS z < 1.5,
     none beyond 5), and a uniform sky is exact (every ray ends on some patch: the dome has no cracks)."""
-    from radiometer.measure import daylight_coefficients as dcm
-    from radiometer.measure import scene_guard
-    from radiometer.radiometry import perez
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+    from radiometer.measure.blender import scene_guard
+    from radiometer.radiometry.skies import perez
 
     scene = bpy.context.scene
     if not dcm.supported(scene):
@@ -119,8 +119,8 @@ def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blend
 def test_direct_sun_closed_form_blocked_and_through_a_pane():
     """ASE's direct sun (annual.direct_sun, pure numpy on a scene model): E_dn max(0, n.s) in the open,
     0 behind an opaque wall, x the thin pane's luminance-weighted slab transmittance through glass."""
-    from radiometer.measure import annual
-    from radiometer.radiometry import scene_model, thin_glass
+    from radiometer.measure.analyses import annual
+    from radiometer.radiometry.scene import scene_model, thin_glass
 
     wall = np.array([[(-5, 1, -5), (5, 1, -5), (5, 1, 5)], [(-5, 1, -5), (5, 1, 5), (-5, 1, 5)]], float)
     geom = scene_model.SceneGeometry(triangles=wall, object_index=np.zeros(2, int), casts_shadow=[True],
@@ -150,7 +150,7 @@ def test_annual_against_radiance_in_a_room_that_does_not_saturate(clean_blender,
     import json
     import pathlib
 
-    from radiometer.measure import annual
+    from radiometer.measure.analyses import annual
 
     here = pathlib.Path(__file__).resolve().parent
     spec = importlib.util.spec_from_file_location("annual_room", here / "annual_room.py")
@@ -162,7 +162,7 @@ def test_annual_against_radiance_in_a_room_that_does_not_saturate(clean_blender,
     room.room.build_blender(scene, room.quads())
     epw_path = room.write_epw(tmp_path / "year.epw")
     from radiometer.errors import RadiometerError
-    from radiometer.measure import daylight_coefficients as dcm
+    from radiometer.measure.analyses import daylight_coefficients as dcm
 
     if not dcm.supported(scene):  # Blender 4.x: one clear line, no silent per-patch fallback
         with pytest.raises(RadiometerError, match="needs Blender 5.0"):

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from radiometer import api
-from radiometer.radiometry import environment
+from radiometer.radiometry.skies import environment
 from radiometer.compat import ensure_node_tree
-from radiometer.measure import camera
+from radiometer.measure.meter import camera
 
 
 def emitter(scene, location, strength, size=1.0, rotation=(0.0, 0.0, 0.0), name="emitter", sphere=False):
@@ -74,7 +74,7 @@ def test_radiance_map_directions(clean_blender, build, tmp_path, axis):
     build.black_world(scene)
     emitter(scene, tuple(4.0 * np.array(axis, float)), strength=1.0, size=0.5, sphere=True)
     m = api.capture_radiance_map((0, 0, 0), str(tmp_path / "map.exr"), resolution=64)
-    from radiometer.measure import exr
+    from radiometer.measure.blender import exr
 
     img = exr.read_rgb(m.path).mean(axis=2)
     dirs, _ = environment.pixel_directions(*img.shape, camera._PANO_ROTATION)
@@ -90,7 +90,7 @@ def test_radiance_map_of_uniform_sky_gives_pi_L(clean_blender, tmp_path):
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.7
     scene.world = world
     m = api.capture_radiance_map((0, 0, 0), str(tmp_path / "sky.exr"), resolution=32)
-    # The pixel weights are exact (radiometry.environment.irradiance): Cycles' noise is what is left.
+    # The pixel weights are exact (radiometry.skies.environment.irradiance): Cycles' noise is what is left.
     assert m.irradiance == pytest.approx(math.pi * 0.7, rel=1e-4)
     assert np.allclose(m.irradiance_for((1, 0, 0)), math.pi * 0.7, rtol=1e-4)
     assert any("CANNOT see delta lights" in n for n in m.notes)
@@ -103,7 +103,7 @@ def test_equirect_solid_angles_cover_the_sphere():
 
 def test_measure_operator_handles_every_meter_kind(clean_blender, monkeypatch, tmp_path):
     """One Measure covers illuminance, luminance and radiance-map meters and stores SI readings."""
-    from radiometer.measure import camera as camera_mod
+    from radiometer.measure.meter import camera as camera_mod
 
     monkeypatch.setattr(camera_mod, "default_map_path", lambda name: str(tmp_path / f"{name}.exr"))
     scene = bpy.context.scene

@@ -14,7 +14,9 @@ import pytest
 
 from radiometer import api
 from radiometer.compat import ensure_node_tree
-from radiometer.measure import capture_cache, light_isolation, meter, scene_capture
+from radiometer.measure.capture import capture_cache, scene_capture
+from radiometer.measure.analyses import light_isolation
+from radiometer.measure.meter import point_meter as meter
 
 K = 683.0  # lm/W, the default efficacy; a white light's CIE Y weight is 1
 

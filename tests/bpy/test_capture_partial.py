@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from radiometer import api
-from radiometer.measure import capture_cache, scene_capture
+from radiometer.measure.capture import capture_cache, scene_capture
 
 K = 683.0  # lm/W, white light (FACTS.md)
 _CUBE_FACES = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]

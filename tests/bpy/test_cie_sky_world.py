@@ -1,4 +1,4 @@
-"""CIE sky worlds (api.set_cie_sky, measure/sky.py): the meter reads them exactly where nothing is
+"""CIE sky worlds (api.set_cie_sky, measure/authoring/sky.py): the meter reads them exactly where nothing is
 above its horizon, against an independent integration written here; a Cycles render of a white patch
 (tests/bpy/reference.py) agrees; an edited sky is no longer called exact."""
 

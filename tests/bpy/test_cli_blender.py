@@ -44,7 +44,7 @@ def _convergence_with_nan():
 
 
 def test_report_text_survives_nan_and_none(clean_blender):
-    from radiometer.measure import report
+    from radiometer.measure.reports import report
 
     rep = {"scene": "S", "file": "", "quality": "standard", "method": "auto", "seconds": 1.0, "errors": [],
            "meters": [{"name": "Lamp.1", "quantity": "illuminance", "illuminance": float("nan"), "exact": False,
@@ -57,7 +57,8 @@ def test_report_text_survives_nan_and_none(clean_blender):
 
 
 def test_report_of_nan_convergence_writes_json_and_markdown(clean_blender, tmp_path, monkeypatch):
-    from radiometer.measure import analysis, report
+    from radiometer.measure.analyses import analysis
+    from radiometer.measure.reports import report
 
     class FakeStudy:
         def to_dict(self):
@@ -76,7 +77,7 @@ def test_report_of_nan_convergence_writes_json_and_markdown(clean_blender, tmp_p
 
 
 def test_report_plot_names_are_unique_per_object_name(clean_blender):
-    from radiometer.measure import report
+    from radiometer.measure.reports import report
 
     names = ("Lamp.1", "Lamp_1", "Lampe größer", "Lampe grösser", "LAMP.1")
     assert len({report.plot_stem(n, among=names) for n in names}) == 5
@@ -87,7 +88,7 @@ def test_radiance_map_paths_are_private_and_distinct(clean_blender):
     import os
     import tempfile
 
-    from radiometer.measure import meters
+    from radiometer.measure.meter import meter_objects as meters
 
     a, b = meters.map_path("Map.1"), meters.map_path("Map_1")
     assert a != b and os.path.dirname(a) == os.path.dirname(b)

@@ -42,7 +42,7 @@ def test_client_report_html_pdf(clean_blender, build, tmp_path):
     reading = api.measure_illuminance((0.0, 0.0, 0.8), (0, 0, 1), quality="preview")
     report = {"quality": "preview", "grids": [g.to_dict()], "meters": [dict(name="Desk", **reading.to_dict())],
               "inverse_square": [], "cosine": [], "convergence": None, "errors": []}
-    from radiometer.measure import client_report
+    from radiometer.measure.reports import client_report
 
     client = client_report.client_report(report, str(out), scene=scene, project={"name": "Office 2.14"},
                                          task="office_writing", maintenance_factor=0.8,
@@ -72,7 +72,7 @@ def test_client_report_html_pdf(clean_blender, build, tmp_path):
 
 def test_sun_cosine_check_point_is_in_the_room(clean_blender, build):
     """The report runs a sun's cosine check at the first work plane's centre, never at the origin."""
-    from radiometer.measure import report
+    from radiometer.measure.reports import report
 
     scene = bpy.context.scene
     plane = build.plane(scene, size=2.0, location=(1.0, 2.0, 0.75), name="Work Plane")
@@ -86,7 +86,7 @@ def test_schedule_flux_of_blender_lights_honours_colour_temperature_and_exposure
     """Luminaire schedule, Blender lights: flux = K x Y(colour x temperature colour) x P x 2^exposure with
     Rec.709 luminance weights and K = 683 lm/W (the scene's defaults); two lights that differ only in
     colour temperature are two rows, not one."""
-    from radiometer.measure.client_report import luminaire_schedule
+    from radiometer.measure.reports.client_report import luminaire_schedule
 
     scene = bpy.context.scene
     y709 = (0.2126, 0.7152, 0.0722)

@@ -28,7 +28,7 @@ POINTS = [((0.3, 0.0, 0.5), (0.0, 0.0, 1.0)), ((-0.3, 0.2, 0.5), (0.0, 0.0, 1.0)
 def _variant(path, power_w, texture=None):
     """A point light over a floor with a wall that reflects light onto two meters (hybrid: rendered)."""
     import radiometer
-    from radiometer.measure.meters import add_meter
+    from radiometer.measure.meter.meter_objects import add_meter
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     radiometer.register()
@@ -351,7 +351,7 @@ def test_ui_check_of_an_unreachable_scheduler_says_so_in_one_line(clean_blender)
 
 
 def test_daylight_factor_points_on_the_cluster_agree_in_chunks(clean_blender, request, tmp_path):
-    from radiometer.measure import daylight_factor as df
+    from radiometer.measure.analyses import daylight_factor as df
 
     scene = _sun_study_scene(tmp_path / "court.blend")  # a wall above the points' horizon: rendered
     points = np.array([[x, y, 0.8] for x in (-1.0, 1.0) for y in (-0.5, 0.5, 2.0)])
@@ -370,7 +370,7 @@ def test_daylight_factor_points_on_the_cluster_agree_in_chunks(clean_blender, re
 
 
 def test_daylight_factor_grid_on_the_cluster_lays_out_the_same_points(clean_blender, request, tmp_path):
-    from radiometer.measure import daylight_factor as df
+    from radiometer.measure.analyses import daylight_factor as df
 
     scene = _sun_study_scene(tmp_path / "court.blend")
     here = df.daylight_factor_grid("plane", resolution=(3, 2), scene=scene, quality="preview")
@@ -419,9 +419,9 @@ def test_cancel_on_the_cluster_leaves_no_task_of_the_run(clean_blender, variants
 
 def test_annual_daylight_coefficient_tasks_on_the_cluster_give_the_same_numbers(clean_blender, request, tmp_path):
     from radiometer.cluster import run_scene_tasks
-    from radiometer.measure import annual
+    from radiometer.measure.analyses import annual
 
-    from radiometer.measure import daylight_coefficients as dcm
+    from radiometer.measure.analyses import daylight_coefficients as dcm
 
     scene = _sun_study_scene(tmp_path / "court.blend")
     if not dcm.supported(scene):

@@ -18,7 +18,8 @@ bpy = pytest.importorskip("bpy")
 OpenEXR = pytest.importorskip("OpenEXR")
 
 from radiometer.compat import ensure_node_tree  # noqa: E402
-from radiometer.radiometry import emitters, stats  # noqa: E402
+from radiometer.radiometry import emitters
+from radiometer.radiometry.sampling import stats  # noqa: E402
 
 PATCH_M = 1e-3
 

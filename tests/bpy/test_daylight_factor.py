@@ -1,4 +1,4 @@
-"""Daylight factor (api.daylight_factor / daylight_factor_grid, measure/daylight_factor.py): exact
+"""Daylight factor (api.daylight_factor / daylight_factor_grid, measure/analyses/daylight_factor.py): exact
 outdoors, a side-lit room against Radiance's rtrace run as a path tracer under the same sharp-horizon
 overcast sky, the user's world, lights and data-blocks unchanged afterwards."""
 
@@ -57,7 +57,7 @@ def test_grid_statistics_and_en17037(clean_blender, build):
     lv = g.stats["en17037"]["levels"]
     assert lv["minimum"]["D_T"] == pytest.approx(2.0) and lv["minimum"]["D_TM"] == pytest.approx(100 / 150)
     assert lv["high"]["D_T"] == pytest.approx(5.0) and all(v["met"] for v in lv.values())
-    from radiometer.measure.daylight_factor import plane_statistics
+    from radiometer.measure.analyses.daylight_factor import plane_statistics
 
     s = plane_statistics([1.0, 2.0, 3.0, 6.0], target_percent=2.5, median_external_illuminance_lux=15_000.0)
     assert s["average"] == 3.0 and s["minimum"] == 1.0 and s["uniformity"] == pytest.approx(1 / 3)

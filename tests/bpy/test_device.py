@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from radiometer import api
-from radiometer.measure import device, render_settings
+from radiometer.measure.blender import device
+from radiometer.measure.render import render_settings
 
 
 def test_choice_follows_the_preferences_and_the_scene():

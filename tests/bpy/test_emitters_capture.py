@@ -9,7 +9,7 @@ import pytest
 
 from radiometer import api
 from radiometer.compat import ensure_node_tree
-from radiometer.measure import scene_capture
+from radiometer.measure.capture import scene_capture
 from radiometer.radiometry import emitters
 
 
@@ -101,8 +101,8 @@ def test_luminaire_summary_is_not_reread_on_every_redraw(clean_blender, tmp_path
     the panel re-read and re-integrated the file on every redraw)."""
     import os
 
-    from radiometer.measure import luminaires
-    from radiometer.radiometry import photometric_files as pf
+    from radiometer.measure.capture import luminaires
+    from radiometer.radiometry.photometry import photometric_files as pf
 
     path, obj = _isotropic_luminaire(tmp_path, 100)
     reads = []
@@ -119,8 +119,8 @@ def test_luminaire_summary_is_not_reread_on_every_redraw(clean_blender, tmp_path
 
 def test_an_ies_text_is_parsed_once_for_every_capture(clean_blender, tmp_path, monkeypatch):
     """Issue 17: IES data went text -> table on every capture; the parsed table is kept per text."""
-    from radiometer.measure import luminaires
-    from radiometer.radiometry import photometric_files as pf
+    from radiometer.measure.capture import luminaires
+    from radiometer.radiometry.photometry import photometric_files as pf
 
     _path, obj = _isotropic_luminaire(tmp_path, 123)
     calls = []

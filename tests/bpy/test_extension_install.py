@@ -21,7 +21,7 @@ def test_zip_builds_and_keeps_dev_files_out(tmp_path):
     assert result.returncode == 0, result.stdout + result.stderr
     names = zipfile.ZipFile(path).namelist()
     assert "blender_manifest.toml" in names and "__init__.py" in names
-    assert "brdf/__init__.py" in names and "radiometry/__init__.py" in names and "measure/sensors.py" in names
+    assert "brdf/__init__.py" in names and "radiometry/__init__.py" in names and "measure/render/sensors.py" in names
     for excluded in ("tests/", "bench/", ".ci/", "Makefile", "requirements.txt", "tools/", "docs/"):
         assert not any(n.startswith(excluded) for n in names), excluded
 

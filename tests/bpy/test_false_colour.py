@@ -29,7 +29,7 @@ def _grid_scene(tmp_path, lux=None):
 
 
 def test_toggle_creates_and_removes_overlay_and_handler(clean_blender, tmp_path):
-    from radiometer.measure.grid import lux_from_csv
+    from radiometer.measure.analyses.grid import lux_from_csv
     from radiometer.operators import false_colour as fc
 
     scene, plane, lux = _grid_scene(tmp_path)
@@ -92,7 +92,7 @@ def test_unregister_and_file_load_remove_everything(clean_blender, tmp_path):
 
 
 def test_legend_layout_ticks_colours_and_scale():
-    from radiometer.measure.grid import false_colour
+    from radiometer.measure.analyses.grid import false_colour
     from radiometer.operators.false_colour import legend_layout
 
     lay = legend_layout(100.0, 500.0, 800, 600, ticks=5, steps=16)

@@ -92,7 +92,7 @@ def _slab_reference(name, cosine):
     """The windows' transmittance from the slab's closed form (``thin_glass.slab``, property-tested
     against Fresnel's normal-incidence form and Radiance's glass in tests/test_thin_glass*.py), and
     the adding formula for two panes."""
-    from radiometer.radiometry import thin_glass
+    from radiometer.radiometry.scene import thin_glass
 
     kind, ior, colour, panes = scenes.WINDOWS[name]
     # The shader node stores its inputs in float32 (an IOR of 1.52 is 1.5199999809...).
@@ -109,7 +109,7 @@ WINDOW_KINDS = {"plain": "plain glass", "single_face": "single-face glass", "pri
 def _window_closed_form(name, light):
     """(lux, cosine) under ``scenes.window(name, light)``: the unobstructed light's closed form times
     the slab's T (``_slab_reference``) at its incidence angle."""
-    from radiometer.radiometry import photometry  # the scene's Y weights (checked against colour-science)
+    from radiometer.radiometry.photometry import efficacy as photometry  # the scene's Y weights (checked against colour-science)
 
     if light == "SUN":
         cosine = math.cos(math.radians(30.0))
@@ -167,7 +167,7 @@ def test_frosted_and_curved_glass_stay_rendered(clean_blender):
     sampling at the pane finds the lamp): no bound, a stochastic error (against a converged patch
     render in test_frosted_pane_against_a_patch_render)."""
     from radiometer import api
-    from radiometer.measure import glass
+    from radiometer.measure.capture import glass
 
     caustic = "caustic light may be missing"
     scene, [(_label, point, normal)] = scenes.frosted_window("POINT", roughness=0.1)
@@ -260,7 +260,8 @@ def test_volume_absorption_inside_a_pane(clean_blender):
     render through the real Glass BSDF with its volume (a large source: it converges); the slab's
     closed form integrated over the pane agrees with it, and so does the meter."""
     from radiometer import api
-    from radiometer.radiometry import photometry, thin_glass
+    from radiometer.radiometry.photometry import efficacy as photometry
+    from radiometer.radiometry.scene import thin_glass
 
     scene, [(label, point, normal)] = scenes.absorbing_pane_sky()
     ref_lux, ref_se = _stored(f"absorbing_pane_sky/{label}", point, normal)
@@ -322,7 +323,7 @@ def test_window_with_its_frame_in_one_mesh(clean_blender):
     rows = api.predict_illuminance(point, normal, scene=scene)
     assert rows[0]["status"] == "exact" and "thin glass" in rows[0]["reason"], rows[0]
     d = np.array([0.0, 0.5, 3.0])
-    from radiometer.radiometry import photometry
+    from radiometer.radiometry.photometry import efficacy as photometry
 
     weights = np.asarray(photometry.luminance_weights("Linear Rec.709"), float)
     expected = 683.0 * 1000.0 / (4 * math.pi) * (3.0 / np.linalg.norm(d)) / (d @ d) * float(
@@ -340,7 +341,7 @@ def test_fog_that_varies_in_space_stays_rendered(clean_blender):
     """Only a provably homogeneous world volume gets exp(-sigma_t d): a density fed by a texture is
     rendered whole."""
     from radiometer import api
-    from radiometer.measure import media
+    from radiometer.measure.capture import media
 
     scene, [(_label, point, normal)] = scenes.fog("POINT")
     assert media.world_medium(scene).sigma_t == pytest.approx((0.04,) * 3)
@@ -358,7 +359,8 @@ def test_panes_found_by_identity_renamed_and_linked_duplicate(clean_blender):
     (another object sharing the mesh) scaled to twice the thickness is its own pane: each object gets
     its own thin-pane material (linked to the object, the shared mesh is never changed) with its own
     absorption path, and everything is put back."""
-    from radiometer.measure import glass, scene_capture, scene_guard
+    from radiometer.measure.capture import glass, scene_capture
+    from radiometer.measure.blender import scene_guard
 
     scene, _cases = scenes.absorbing_pane_sky()
     first = bpy.data.objects["Pane 1"]
@@ -402,7 +404,7 @@ def test_the_corpus_covers_issue_18s_list(request):
 def test_sharp_mirrors_found_by_identity(clean_blender):
     """The sharp-mirror bound finds its mirrors by the capture's identity: a mirror renamed after its
     capture (a cached capture) still counts, and the name it had then finds nothing."""
-    from radiometer.measure import glass, scene_capture
+    from radiometer.measure.capture import glass, scene_capture
 
     scene, _cases = scenes.glossy_floor(roughness=0.0)
     model = scene_capture.capture(scene)

@@ -1,7 +1,7 @@
 """Issue 18 acceptance on scenes the window and fog corpus does not hold (T8's QA; every case and
 seed in bench/qa_glass_fog.md, made by bench/qa_glass_fog.py). The cheap, decisive cases: clear panes
 under delta lights and a 0.53 degree sun against this suite's own Fresnel slab
-(``glass_fog_unseen_scenes.fresnel_slab``, not ``radiometry/thin_glass.py``), a volume cube and a
+(``glass_fog_unseen_scenes.fresnel_slab``, not ``radiometry/scene/thin_glass.py``), a volume cube and a
 glossy floor against converged patch renders cached in glass_fog_unseen_references.json
 (make_glass_fog_unseen_references.py)."""
 
@@ -164,7 +164,7 @@ def test_glossy_floor_onto_a_wall_meter_against_a_patch_render(clean_blender):
 
 def test_glossy_floor_onto_a_wall_meter_at_preview_seed_4(clean_blender):
     """Issue 18 (T8 QA, F1): seed 4 stopped after a 512-sample pilot that missed the floor's highlight
-    and read 25 % low stating 1.6 %; the highlight floor (``measure/sample_floors.py``) now holds it."""
+    and read 25 % low stating 1.6 %; the highlight floor (``measure/meter/sample_floors.py``) now holds it."""
     from radiometer import api
 
     scene, [(label, point, normal)] = u.glossy_wall()
@@ -176,7 +176,7 @@ def test_rendered_point_light_through_a_tilted_pane_states_float32_rounding(clea
     """Issue 18 (T8 QA, F3): rendered, it read 1.2e-7 low (one float32 ulp) stating 1.0e-8; a rendered
     reading's error now has a float32 floor (``meter.FLOAT32_FLOOR``) and no more."""
     from radiometer import api
-    from radiometer.measure import meter
+    from radiometer.measure.meter import point_meter as meter
 
     scene, [(_label, point, normal)] = u.skylight_tilted("POINT")
     r = api.measure_illuminance(point, normal, scene=scene, method="render", quality="preview")
@@ -192,8 +192,8 @@ def test_sun_through_double_glazing_into_a_foggy_room_seed_0(clean_blender):
     panes are proved crossed and the sun is rendered for the fog, through one stand-in pane that renders
     the inter-pane light, so no bound is added for it (F2 fixed: 20 seeds cover without it)."""
     from radiometer import api
-    from radiometer.measure import glass, scene_capture
-    from radiometer.radiometry import scene_model
+    from radiometer.measure.capture import glass, scene_capture
+    from radiometer.radiometry.scene import scene_model
 
     scene, cases = u.foggy_room()
     label, point, normal = cases[0]
@@ -221,7 +221,8 @@ def test_double_glazing_rendered_as_one_stand_in_pane(clean_blender):
     Fresnel slab stacked (``double_glazing_optics``) to the sun disc's spread of T. A stack whose gap is
     deep next to its outline keeps a pane each (rays entering the gap from the side meet one pane)."""
     from radiometer import api
-    from radiometer.measure import glass, scene_capture, scene_guard
+    from radiometer.measure.capture import glass, scene_capture
+    from radiometer.measure.blender import scene_guard
 
     scene, cases = u.wall_double_glazing()
     label, point, normal = cases[0]
@@ -249,7 +250,7 @@ def test_double_glazing_rendered_as_one_stand_in_pane(clean_blender):
 
 def test_a_fog_box_with_a_surface_still_blocks(clean_blender):
     """A box with a Volume AND an opaque Surface is no null interface: it still casts shadows."""
-    from radiometer.measure import scene_capture
+    from radiometer.measure.capture import scene_capture
 
     scene, _cases = u.foggy_room()
     mat = scene.objects["Room fog"].material_slots[0].material
@@ -266,7 +267,7 @@ def test_rendered_point_light_through_a_vertical_slab_states_no_edge_face_mirror
     the lamp's mirror image in the slab's 5 mm edge face (reachable only through the slab) was counted.
     A thin pane's edge faces give no mirror image; its two face planes still do."""
     from radiometer import api
-    from radiometer.measure import glass, scene_capture
+    from radiometer.measure.capture import glass, scene_capture
 
     scene, [(_label, point, normal)] = u.principled_vertical()
     model = scene_capture.capture(scene)

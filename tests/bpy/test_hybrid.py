@@ -14,7 +14,7 @@ bpy = pytest.importorskip("bpy")
 
 from radiometer import api  # noqa: E402
 from radiometer.demo.builders import diffuse_material  # noqa: E402
-from radiometer.measure.scene_guard import scene_fingerprint  # noqa: E402
+from radiometer.measure.blender.scene_guard import scene_fingerprint  # noqa: E402
 
 
 def _box(name, centre, half, albedo):
@@ -96,7 +96,7 @@ def test_long_rounds_are_split_so_cancel_answers(clean_blender, build, monkeypat
     """With a cancel callback a round is baked in chunks of ~CHUNK_SECONDS; the chunks give the
     same statistics (same spp, independent seeds), and a cancel between chunks stops the run."""
     from radiometer.errors import MeasurementCancelled
-    from radiometer.measure import adaptive, sensors
+    from radiometer.measure.render import adaptive, sensors
 
     _room(clean_blender, build)
     monkeypatch.setattr(adaptive, "CHUNK_SECONDS", 1e-4)  # every block its own bake

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from radiometer import api
-from radiometer.measure import law_checks, report
+from radiometer.measure.analyses import law_checks
+from radiometer.measure.reports import report
 
 
 def test_area_light_near_field_is_expected_not_a_fault(clean_blender, build, tmp_path):

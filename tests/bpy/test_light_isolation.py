@@ -8,7 +8,9 @@ still get its own emitter (at its own position), each must be found again from t
 import bpy
 import numpy as np
 
-from radiometer.measure import light_isolation, meter, scene_capture
+from radiometer.measure.analyses import light_isolation
+from radiometer.measure.meter import point_meter as meter
+from radiometer.measure.capture import scene_capture
 
 
 def test_shared_light_data_and_a_rename_are_isolated_by_identity(clean_blender, build):

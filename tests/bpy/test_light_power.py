@@ -7,7 +7,7 @@ import pytest
 
 from radiometer import api
 from radiometer.errors import RadiometerError
-from radiometer.measure import light_power
+from radiometer.measure.authoring import light_power
 
 
 def test_candela_sets_the_illuminance_at_one_metre(clean_blender, build):
@@ -57,7 +57,7 @@ def test_wrong_unit_for_light_type_is_refused(clean_blender, build):
 def test_photometric_light_flux_comes_from_its_table(clean_blender, tmp_path):
     """An imported isotropic IES file of 100 cd emits 4 pi x 100 lm (closed form), not K x watts."""
     from radiometer import api
-    from radiometer.measure import light_power
+    from radiometer.measure.authoring import light_power
     from radiometer.errors import RadiometerError
 
     path = tmp_path / "iso.ies"

@@ -18,7 +18,7 @@ pytest.importorskip("OpenEXR")
 
 from radiometer import api  # noqa: E402
 from radiometer.errors import RadiometerError  # noqa: E402
-from radiometer.radiometry import photometric_files as pf  # noqa: E402
+from radiometer.radiometry.photometry import photometric_files as pf  # noqa: E402
 
 
 def _load(name):

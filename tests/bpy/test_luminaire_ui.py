@@ -73,7 +73,7 @@ def test_goniometric_diagram_from_file_and_from_light(scene, tmp_path):
     assert os.path.getsize(out) > 1000
     obj = api.import_luminaire(str(path))
     os.remove(path)                      # the light's own IES text is enough
-    from radiometer.measure import luminaires
+    from radiometer.measure.capture import luminaires
 
     p = luminaires.photometry_of_light(obj)
     assert p.candela_at(30.0, 90.0) == pytest.approx(0.5 * lobe(np.array(30.0)), rel=1e-8)

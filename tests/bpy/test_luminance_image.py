@@ -13,7 +13,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import reference  # noqa: E402
 
 from radiometer import api  # noqa: E402
-from radiometer.measure.scene_guard import scene_fingerprint  # noqa: E402
+from radiometer.measure.blender.scene_guard import scene_fingerprint  # noqa: E402
 
 
 def _ortho_camera(scene, location, rotation, scale):
@@ -41,7 +41,7 @@ def test_emitter_pixels_equal_the_panel_luminance(clean_blender, build, tmp_path
     tol = np.maximum(3 * np.nan_to_num(img.rel_std_error) * img.luminance, 1e-5 * expected)
     assert np.all(np.abs(img.luminance - expected) <= tol), (img.luminance, expected)
     assert os.path.exists(img.paths["exr"]) and open(img.paths["png"], "rb").read(4) == b"\x89PNG"
-    from radiometer.measure import exr
+    from radiometer.measure.blender import exr
 
     assert exr.read_rgb(img.paths["exr"])[..., 0] == pytest.approx(img.luminance, rel=1e-6)  # float32 file
 

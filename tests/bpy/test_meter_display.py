@@ -19,7 +19,7 @@ def _reading(**overrides):
 
 
 def test_a_dark_rendered_reading_keeps_its_unknown_error(clean_blender):
-    from radiometer.measure import meters
+    from radiometer.measure.meter import meter_objects as meters
     from radiometer.panels.meter import format_reading
 
     ob = bpy.data.objects.new("meter", None)

@@ -10,7 +10,7 @@ import bpy
 import pytest
 
 from radiometer import api
-from radiometer.measure import adaptive
+from radiometer.measure.render import adaptive
 
 
 @pytest.fixture

@@ -12,7 +12,7 @@ import bpy
 import pytest
 
 from radiometer.errors import MeasurementCancelled, RadiometerError
-from radiometer.measure import scene_guard
+from radiometer.measure.blender import scene_guard
 from radiometer.operators import modal
 
 

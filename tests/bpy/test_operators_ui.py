@@ -95,7 +95,7 @@ def test_set_photometric_power_runs_with_its_properties(clean_blender, build):
     light = build.light(bpy.context.scene, "POINT", (0, 0, 1), energy=1.0)
     bpy.context.view_layer.objects.active = light
     assert bpy.ops.radiometer.set_light_power(unit="LUMEN", value=683.0) == {"FINISHED"}
-    from radiometer.measure import light_power
+    from radiometer.measure.authoring import light_power
 
     assert light_power.photometric_power(light, "LUMEN", bpy.context.scene) == pytest.approx(683.0, rel=1e-6)
 

@@ -1,4 +1,4 @@
-"""Many meters on one plane read through the pooled field (radiometry/pooled_field.py, issue 17).
+"""Many meters on one plane read through the pooled field (radiometry/sampling/pooled_field.py, issue 17).
 
 The interreflecting room of test_allocation_coverage (truth there from bench/room_reference.py, an
 independent numpy path tracer), 200 meters at 0.75 m including its 5 reference points; the group
@@ -13,7 +13,7 @@ bpy = pytest.importorskip("bpy")
 
 from radiometer import api  # noqa: E402
 from radiometer.errors import RadiometerError  # noqa: E402
-from radiometer.radiometry import pooled_field  # noqa: E402
+from radiometer.radiometry.sampling import pooled_field  # noqa: E402
 from tests.bpy.test_allocation_coverage import REFERENCE, _room  # noqa: E402
 
 

@@ -11,7 +11,7 @@ bpy = pytest.importorskip("bpy")
 
 def test_dark_meter_facing_a_surface_states_no_zero_error(clean_blender, build):
     from radiometer import api
-    from radiometer.radiometry import allocation
+    from radiometer.radiometry.sampling import allocation
 
     scene = bpy.context.scene
     build.black_world(scene)
@@ -73,8 +73,8 @@ def test_one_patch_world_takes_the_sample_floor(clean_blender):
     """Issue 18: a world that is one small bright sky patch (the annual method's Reinhart zenith cap)
     came out 0.7-0.9 % low stating 0.04 % at a 3 % target (9 seeds in 10). Reference: the patch's
     closed form, the integral of cos(theta) over the cap (midpoint rule, as in test_annual.py)."""
-    from radiometer.measure import annual
-    from radiometer.radiometry import sky_patches
+    from radiometer.measure.analyses import annual
+    from radiometer.radiometry.skies import sky_patches
 
     patches = sky_patches.reinhart_patches(1)
     p = patches.count - 1  # the zenith cap, altitude above its lower edge, all azimuths

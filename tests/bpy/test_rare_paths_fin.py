@@ -49,7 +49,7 @@ def test_mostly_hidden_patch_never_reads_zero_with_zero_error(clean_blender):
     """99 % hidden: the sliver is found with probability ~2.4e-3 a sample, so the 512-sample pilot misses
     it 30 % of the time (the issue's 0 lx +- 0); seed 1's pilot does (measured: the DARK_FLOOR round follows). The reading must find the light,
     state a non-zero error, and lie within it."""
-    from radiometer.radiometry import allocation
+    from radiometer.radiometry.sampling import allocation
 
     fin.build(bpy.context.scene)
     ref, _hidden = fin.reference_lux("99 % hidden")

@@ -9,8 +9,9 @@ import bpy
 import pytest
 
 from radiometer import api
-from radiometer.measure import capture_cache, meter
-from radiometer.radiometry import scene_model
+from radiometer.measure.capture import capture_cache
+from radiometer.measure.meter import point_meter as meter
+from radiometer.radiometry.scene import scene_model
 
 
 @pytest.fixture

@@ -23,7 +23,7 @@ def _snapshot():
 
 def test_register_unregister_five_times_leaves_nothing_behind(tmp_path):
     import radiometer
-    from radiometer.measure import live
+    from radiometer.measure.meter import live
     from radiometer.operators import false_colour
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -70,7 +70,7 @@ def test_meter_settings_and_readings_survive_save_and_reload(clean_blender, tmp_
     bpy.ops.radiometer.add_meter(kind="LUMINANCE", acceptance_deg=2.5)
     meter = bpy.context.active_object
     name = meter.name
-    # readings are read-only properties, stored as ID properties by measure.meters.write_reading
+    # readings are read-only properties, stored as ID properties by measure.meter.meter_objects.write_reading
     meter.radiometer_meter["photometric"] = 123.25
     meter.radiometer_meter["has_reading"] = True
     meter.radiometer_meter["notes"] = "note a | note b"

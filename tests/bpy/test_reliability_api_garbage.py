@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 
 from radiometer import api
 from radiometer.errors import RadiometerError
-from radiometer.measure.scene_guard import scene_fingerprint
+from radiometer.measure.blender.scene_guard import scene_fingerprint
 
 GARBAGE = [None, "abc", "", b"x", 5, -1, 0, 1e308, -1e308, math.nan, math.inf, -math.inf, True, 10**30, [], [1, 2],
            [[math.nan] * 3], {}, {"a": 1}, object(), (1, 2, 3, 4), "Scene", np.zeros((2, 2)), np.full(3, np.inf),
@@ -176,7 +176,7 @@ def test_meter_exactly_at_a_radius_0_light_is_an_error_or_finite(scene):
 
 
 def test_unexpected_errors_below_are_wrapped_with_context(scene, monkeypatch):
-    from radiometer.measure import meter
+    from radiometer.measure.meter import point_meter as meter
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("float division by zero")

@@ -16,8 +16,9 @@ import pytest
 
 from radiometer import api
 from radiometer.errors import MeasurementCancelled, RadiometerError
-from radiometer.measure import camera, sensors
-from radiometer.measure.scene_guard import scene_fingerprint
+from radiometer.measure.meter import camera
+from radiometer.measure.render import sensors
+from radiometer.measure.blender.scene_guard import scene_fingerprint
 
 # EEVEE's engine id: BLENDER_EEVEE_NEXT in Blender 4.2-4.5, BLENDER_EEVEE again since 5.0.
 EEVEE = "BLENDER_EEVEE" if bpy.app.version >= (5, 0, 0) else "BLENDER_EEVEE_NEXT"
@@ -368,7 +369,7 @@ def test_failed_second_step_writes_no_reading(clean_blender, build, private_tmp,
     bpy.ops.radiometer.add_meter(kind="LUMINANCE")
     lum = bpy.context.active_object
     lum.location = (0, 0, 1.0)
-    from radiometer.measure import meters
+    from radiometer.measure.meter import meter_objects as meters
 
     patch_render(monkeypatch, lambda *a, **k: {"CANCELLED"})
     before = scene_fingerprint(scene)

@@ -97,7 +97,7 @@ def test_environment_texture_without_image_is_an_error(clean_blender):
 
 def test_irradiance_map_of_an_exr_with_non_finite_pixels_is_an_error(clean_blender, tmp_path):
     # Finding 6: NaN/inf SH coefficients were returned and the map written.
-    from radiometer.measure.world import write_exr
+    from radiometer.measure.authoring.world import write_exr
 
     px = np.ones((8, 16, 3))
     px[4, 4] = np.nan

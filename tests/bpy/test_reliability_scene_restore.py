@@ -10,7 +10,7 @@ import pytest
 
 from radiometer import api
 from radiometer.errors import RadiometerError
-from radiometer.measure import scene_guard
+from radiometer.measure.blender import scene_guard
 
 
 def leaves(tree, prefix=""):
@@ -72,7 +72,7 @@ def test_camera_readings_leave_every_nested_setting(user_scene, tmp_path, call):
 
 
 def test_failed_reading_leaves_every_nested_setting(user_scene, monkeypatch):
-    from radiometer.measure import camera
+    from radiometer.measure.meter import camera
 
     before = scene_guard.scene_fingerprint(user_scene)
 

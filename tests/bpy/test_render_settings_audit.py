@@ -15,7 +15,9 @@ import pytest
 
 from radiometer import api
 from radiometer.compat import ensure_node_tree
-from radiometer.measure import meter, render_settings, scene_guard, sensors
+from radiometer.measure.meter import point_meter as meter
+from radiometer.measure.render import render_settings, sensors
+from radiometer.measure.blender import scene_guard
 
 
 def _area(scene, build, z, energy=50.0, size=0.5):

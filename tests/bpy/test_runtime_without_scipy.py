@@ -2,7 +2,7 @@
 
 A fresh bpy process blocks the three imports (``sys.modules[name] = None``), registers the add-on,
 builds a point light + area light scene and runs a rendered measurement to 1 % (Student-t interval,
-radiometry.stats), a BRDF assignment with a fitted closure (shading.fit: BVLS + Nelder-Mead), a law
+radiometry.sampling.stats), a BRDF assignment with a fitted closure (shading.fit: BVLS + Nelder-Mead), a law
 check asked for a plot (a one-line error) and without one, the analysis operators (pictures skipped
 with a warning) and the report (numbers, CSV, JSON,
 report.md without images), and the BRDF plot operator and ``check --plots``, which must say clearly

@@ -1,4 +1,4 @@
-"""Issue 18: the sample floor for meters lit by a glossy highlight (``measure/sample_floors.py``; its
+"""Issue 18: the sample floor for meters lit by a glossy highlight (``measure/meter/sample_floors.py``; its
 coverage is measured in bench/glossy_highlight_floor.py and bench/qa_glass_fog.md F1): the floor's size
 against a hand computation of the highlight's geometry, and where it does not apply."""
 
@@ -22,7 +22,7 @@ def _scenes():
 
 
 def _floor(scene, point, normal, which="highlight_floor"):
-    from radiometer.measure import meter, sample_floors
+    from radiometer.measure.meter import point_meter as meter, sample_floors
 
     model = meter.capture_model(scene, scene.view_layers[0])
     return getattr(sample_floors, which)(model, np.array([point], float), np.array([normal], float))
@@ -65,7 +65,7 @@ def test_a_dielectric_highlight_gets_a_floor_too(clean_blender):
     its specular layer is a glossy reflector like a metal's, with the same floor. Up to
     DIELECTRIC_ROUGHNESS_MAX (0.3; float32 0.30000001 counts); IOR 1 reflects nothing; a smooth coat on a
     rough base counts by its own roughness."""
-    from radiometer.measure import sample_floors
+    from radiometer.measure.meter import sample_floors
 
     u = _scenes()
     scene, [(_label, point, normal)] = u.glossy_wall()

@@ -7,7 +7,7 @@ import pytest
 
 from radiometer import api
 from radiometer.errors import MeasurementCancelled, RadiometerError
-from radiometer.measure.scene_guard import scene_fingerprint
+from radiometer.measure.blender.scene_guard import scene_fingerprint
 
 # EEVEE's engine id: BLENDER_EEVEE_NEXT in Blender 4.2-4.5, BLENDER_EEVEE again since 5.0.
 EEVEE = "BLENDER_EEVEE" if bpy.app.version >= (5, 0, 0) else "BLENDER_EEVEE_NEXT"
@@ -67,7 +67,7 @@ def test_failing_bake_leaves_scene_untouched(clean_blender, build, monkeypatch):
     def broken(*_args, **_kwargs):
         raise RuntimeError("simulated Cycles failure")
 
-    from radiometer.measure import sensors
+    from radiometer.measure.render import sensors
 
     monkeypatch.setattr(sensors, "run_bake", broken)
     # The API boundary wraps what escapes from below as one RadiometerError, chained (issue 21).

@@ -9,7 +9,8 @@ NEEDS = {"geometry": True, "glossy": True, "transmission": True, "volume": True,
 
 
 def test_every_written_setting_is_read_back_and_none_is_missing(clean_blender):
-    from radiometer.measure import render_settings, scene_guard
+    from radiometer.measure.render import render_settings
+    from radiometer.measure.blender import scene_guard
 
     scene = bpy.context.scene
     with scene_guard.preserved_scene(scene) as snapshot:
@@ -28,7 +29,7 @@ MISSPELT = "filter_glossy_radiometer"
 
 
 def test_a_misspelt_or_missing_name_is_recorded_not_silent(clean_blender):
-    from radiometer.measure import render_settings
+    from radiometer.measure.render import render_settings
 
     scene = bpy.context.scene
     log = render_settings._Writes.current = render_settings._Writes()
@@ -46,7 +47,7 @@ def test_a_misspelt_or_missing_name_is_recorded_not_silent(clean_blender):
 
 def test_a_setting_that_does_not_take_fails_the_read_back(clean_blender):
     from radiometer.errors import RadiometerError
-    from radiometer.measure import render_settings
+    from radiometer.measure.render import render_settings
 
     scene = bpy.context.scene
     scene.cycles.samples = 0  # Blender clamps to its minimum (1)
@@ -56,7 +57,7 @@ def test_a_setting_that_does_not_take_fails_the_read_back(clean_blender):
 
 def test_the_reading_says_which_settings_this_blender_lacks(clean_blender, build, monkeypatch):
     from radiometer import api
-    from radiometer.measure import render_settings
+    from radiometer.measure.render import render_settings
 
     scene = bpy.context.scene
     build.black_world(scene)
@@ -81,7 +82,7 @@ def test_the_rotated_table_is_told_from_a_scrambling_distance_of_1(clean_blender
     """1 - 2^-20 is 9.5e-7 below 1: within the float tolerance of other settings, so a value that is
     exactly a float32 must read back exactly (a Blender that kept 1.0 would silently use the fixed table)."""
     from radiometer.errors import RadiometerError
-    from radiometer.measure import render_settings
+    from radiometer.measure.render import render_settings
 
     scene = bpy.context.scene
     scene.cycles.scrambling_distance = render_settings.ROTATED_TABLE

@@ -10,7 +10,7 @@ import numpy as np
 
 from radiometer import api
 from radiometer.measure import sky_component
-from radiometer.measure.daylight_factor import SKY_HORIZONTAL_LUX
+from radiometer.measure.analyses.daylight_factor import SKY_HORIZONTAL_LUX
 
 
 def _room():

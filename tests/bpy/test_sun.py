@@ -10,7 +10,7 @@ import pytest
 
 from radiometer import api
 from radiometer.errors import RadiometerError
-from radiometer.radiometry import solar_position as sp
+from radiometer.radiometry.sun import solar_position as sp
 
 UTC = dt.timezone.utc
 NOON = dt.datetime(2026, 6, 21, 12, 0, tzinfo=UTC)

@@ -13,8 +13,8 @@ import pytest
 
 from radiometer import api
 from radiometer.errors import MeasurementCancelled, RadiometerError
-from radiometer.measure import sun_study
-from radiometer.measure.scene_guard import scene_fingerprint
+from radiometer.measure.analyses import sun_study
+from radiometer.measure.blender.scene_guard import scene_fingerprint
 from tests.bpy.conftest import add_light, add_plane, make_black_world
 
 UTC = dt.timezone.utc

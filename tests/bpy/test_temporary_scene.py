@@ -1,4 +1,4 @@
-"""measure.temporary_scene: Radiometer's own render scenes leave nothing behind, also when the render
+"""measure.blender.temporary_scene: Radiometer's own render scenes leave nothing behind, also when the render
 fails, and share only what they are given with the user's scene."""
 
 import os
@@ -6,7 +6,7 @@ import os
 import bpy
 import pytest
 
-from radiometer.measure.temporary_scene import temporary_scene
+from radiometer.measure.blender.temporary_scene import temporary_scene
 
 
 def test_everything_made_is_removed_even_after_an_error(clean_blender, build):

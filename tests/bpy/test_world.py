@@ -15,7 +15,7 @@ import pytest
 
 from radiometer import api
 from radiometer.compat import ensure_node_tree
-from radiometer.radiometry import environment
+from radiometer.radiometry.skies import environment
 
 
 def _load(name):
@@ -197,7 +197,7 @@ def test_sky_texture_is_rendered_and_said_so(clean_blender):
 
 
 def test_irradiance_map_of_the_world_and_of_a_radiance_map(clean_blender, tmp_path):
-    from radiometer.measure import exr
+    from radiometer.measure.blender import exr
 
     scene = bpy.context.scene
     constant_world(scene, (1.0, 1.0, 1.0), strength=0.5)
@@ -237,7 +237,7 @@ def test_calibrate_operator_is_undoable_and_panel_registers(clean_blender):
 
 def test_cli_world_calibrates_and_writes_the_map(clean_blender, tmp_path, capsys):
     from radiometer import cli
-    from radiometer.measure import exr
+    from radiometer.measure.blender import exr
 
     scene = bpy.context.scene
     env_world(scene, hot_spot_map(), strength=1.0)
@@ -251,7 +251,7 @@ def test_cli_world_calibrates_and_writes_the_map(clean_blender, tmp_path, capsys
     text = capsys.readouterr().out
     assert "20000 lx" in text and "L00" in text and f"saved the calibrated scene to {calibrated}" in text
     assert exr.read_rgb(str(out)).shape == (32, 64, 3)
-    # nothing else beside the outputs: no temp file, no .blend1 backup of one (measure.blend_file.save_copy)
+    # nothing else beside the outputs: no temp file, no .blend1 backup of one (measure.blender.blend_file.save_copy)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["calibrated.blend", "irr.exr", "w.blend"]
     assert api.world_illuminance(scene)["illuminance"] == pytest.approx(20000.0, rel=1e-6)
     # the input is untouched, the session still names it, and the new file holds the calibration
@@ -289,7 +289,7 @@ def test_mirror_ball_probe_render_and_its_resolution_loss(clean_blender):
     camera) and loses resolution towards the direction behind the ball, which the ball squeezes
     into its rim: angular pixel size 4 / (S cos(theta / 2)) rad for a ball S pixels wide, theta
     measured from the direction towards the camera."""
-    from radiometer.measure import world as world_module
+    from radiometer.measure.authoring import world as world_module
 
     scene = bpy.context.scene
     px = smooth_map()

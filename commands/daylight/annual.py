@@ -1,0 +1,61 @@
+"""`annual`: climate-based daylight (sDA, ASE, UDI) from an EPW file at points or on a work plane."""
+
+HELP = ("annual daylight from an EPW weather file by daylight coefficients (all sky patches in one render): "
+        "sDA300/50%, ASE1000/250h, UDI 100-2000 lx at points (--points CSV) or on a plane's grid; --csv and --json")
+NEEDS_SCENE = True
+
+from .. import _cluster, _points  # noqa: E402
+
+
+def add_arguments(parser):
+    parser.add_argument("--epw", required=True, metavar="FILE", help="EnergyPlus weather file (.epw)")
+    _points.add_arguments(parser)
+    parser.add_argument("--subdivision", type=int, default=1, metavar="M",
+                        help="Reinhart sky subdivision MF:M (1 = Tregenza, 146 patches with the ground)")
+    parser.add_argument("--ground-reflectance", type=float, default=0.2, metavar="RHO",
+                        help="reflectance of the ground (default 0.2)")
+    parser.add_argument("--north", type=float, default=0.0, metavar="DEG",
+                        help="angle from the scene's +Y axis to true north, counter-clockwise seen from above")
+    parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="preview",
+                        help="rays per point for the daylight coefficients (default preview: 8 rounds x 8 samples x "
+                        "16 x 16 pixels); the errors reached are stated")
+    parser.add_argument("--method", choices=("dome", "per_patch"), default="dome",
+                        help="dome: every sky patch in one render (default); per_patch: one render per patch (slow)")
+    parser.add_argument("--csv", metavar="FILE", help="write one row per point")
+    _cluster.add_arguments(parser)
+
+
+def run(args):
+    import os
+
+    import bpy
+    import numpy as np
+
+    from ... import api
+    from ...errors import RadiometerError
+    from .. import _io
+
+    _io.check_output_file(args.csv, "--csv file")
+    if not os.path.isfile(args.epw):
+        raise RadiometerError(f"--epw {args.epw}: no such file")
+    scene = bpy.context.scene
+    locations, normals = _points.from_args(args, scene)
+    progress = getattr(args, "progress", None)
+    if progress is not None:
+        progress.label = f"annual daylight, {len(locations)} points"
+    with _cluster.client(args) as client:
+        r = api.annual_daylight(locations, normals, args.epw, scene=scene, m=args.subdivision, quality=args.quality,
+                                ground_reflectance=args.ground_reflectance, north_offset_deg=args.north,
+                                progress=progress, cancelled=getattr(args, "cancelled", None), client=client,
+                                method=args.method)
+    if progress is not None:
+        progress.clear()
+    print(f"annual daylight at {len(locations)} points: sDA300/50% {100 * r.sda:.1f} % (within 2 s.e.: "
+          f"{100 * r.sda_range[0]:.1f}-{100 * r.sda_range[1]:.1f} %), ASE1000/250h (direct sun) "
+          f"{100 * r.ase:.1f} %, mean UDI 100-2000 lx {100 * float(np.mean(r.udi[1])):.1f} % of occupied hours "
+          f"(worst stated hourly error {100 * r.max_rel_std_error:.2g} %)")
+    for note in r.notes:
+        print(note)
+    result = r.to_dict()
+    _io.deliver_with_csv(args, result, r.csv_text())
+    return result

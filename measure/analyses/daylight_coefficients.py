@@ -1,0 +1,463 @@
+"""Daylight coefficients of every sky patch at every meter from ONE Cycles render (issue 19).
+
+Radiance's ``rcontrib`` traces paths from each sensor and adds each path's contribution to the bin of
+the sky patch where it escapes. Cycles does the same with three of its own features:
+
+* **a patch dome**: the world is replaced by a sphere of emitting triangles around the scene, one
+  object per sky patch (``radiometry.skies.sky_patches.dome_mesh``: the radial projections of its
+  triangles are the patches, crack-free; patch 0 the ground), each emitting white radiance 1, each
+  in its own **light group**. A light group's pass holds exactly the light that left that group's
+  emitters, after any number of bounces: one render gives every patch's contribution at once.
+* **a custom OSL camera** (Cycles' ``CUSTOM`` lens, no OSL shading needed): the image is a grid of
+  B x B pixel blocks, one per meter. A pixel sample at (u, v) inside meter k's block starts a ray at
+  the meter (lifted ``EPS`` of the scene's size along its normal) in the direction that the
+  concentric (Shirley-Chiu) map sends (u, v) to on the cosine-weighted hemisphere about the meter's
+  normal (Malley's method). With a one-pixel box filter the samples are uniform over the block, so
+  the block's mean radiance times pi is the irradiance: E_k,p = pi mean(L_p), exactly the diffuse
+  sensor's estimator, for every patch p.
+* **the compositor's File Output node** writes every light-group pass to one multilayer EXR (bpy
+  5.0 writes only Combined when a render is saved).
+
+DC[p, k] = pi Y_p,k (lux per cd/m^2: a patch of luminance L_v gives L_v DC lux): the patches emit
+white radiance 1 and Y weighs the pass with the scene's luminance weights, so coloured surfaces
+count as they do for the meter. Ray visibility: the first ray leaves from the meter like the
+sensor's diffuse ray, so for that render every object's camera visibility is set to its diffuse
+visibility (restored after). Lights are hidden (light groups would exclude them anyway; hidden,
+they cost no samples) and the world is black.
+
+Error: the render is repeated in ``rounds`` with different seeds; each pixel is a stratum of the
+hemisphere, so the variance of a block mean is the sum over its pixels of the between-round variance
+of the pixel's mean over rounds, divided by the pixel count squared (stratified sampling: no
+correlation between pixels is assumed beyond that of Cycles' per-pixel scrambling, which the
+measurement settings keep at full distance). The same pixel data give the full covariance of the
+coefficients of one meter (patches share paths), which ``covariance`` returns so that hourly
+illuminance errors are propagated with it (``measure.analyses.annual``).
+
+The dome is centred on the bounding box of the scene's render-visible triangles and the meters, with
+radius ``DOME_SCALE`` times its half-diagonal: a meter at distance d from the centre sees a patch
+edge displaced by at most d / R < 1 / DOME_SCALE rad (1e-5 rad: at 1e-3 a 12 deg patch's coefficient
+moved by ~1 %).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import glob
+import math
+import os
+import shutil
+import tempfile
+
+import numpy as np
+
+from ...errors import MeasurementCancelled, RadiometerError
+
+#: Dome radius over the scene's half-diagonal (the largest patch-edge displacement seen from a
+#: meter is 1 / DOME_SCALE rad).
+DOME_SCALE = 1e5
+#: Ray lift off the meter along its normal, relative to the scene's half-diagonal (a meter on a
+#: floor must not see the floor's back face).
+EPS = 1e-6
+#: Samples per pixel, pixels per block side, rounds per quality.
+PRESETS = {"preview": (8, 16, 8), "standard": (32, 24, 8), "reference": (128, 32, 8)}
+LIGHTGROUP = "radiometer_patch_{:04d}"
+
+
+@dataclasses.dataclass
+class Coefficients:
+    """``dc`` (P, N) lux per cd/m^2, ``std_error`` (P, N), ``covariance`` (N, P, P) of the
+    coefficients of each meter, ``samples`` rays per meter, ``seconds``, ``notes``."""
+
+    dc: np.ndarray
+    std_error: np.ndarray
+    covariance: np.ndarray
+    samples: int
+    seconds: float
+    notes: list
+
+
+def _frame(n):
+    helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    t = np.cross(n, helper)
+    t /= np.linalg.norm(t)
+    return t, np.cross(n, t)
+
+
+def camera_source(origins, normals, block, columns):
+    """OSL source of the meter camera: meter k's block is column k % columns, row k // columns.
+
+    Positions and directions go out in Cycles' camera space (+Z forward, +Y up), which for a camera
+    object at the origin without rotation is world (x, y, -z).
+    """
+    n = len(origins)
+    rows = -(-n // columns)
+    table = []
+    def xyz(v):  # full-precision Python floats (numpy 2 writes np.float64(...) as repr)
+        return ", ".join(repr(float(c)) for c in v)
+
+    for k, (o, d) in enumerate(zip(origins, normals)):
+        t, b = _frame(np.asarray(d, float))
+        table.append(f"    if (k == {k}) {{ O = point({xyz(o)}); Nn = vector({xyz(d)}); T = vector({xyz(t)}); "
+                     f"Bt = vector({xyz(b)}); }}")
+    # A binary search over k keeps the per-ray cost logarithmic in the meter count.
+    body = _dispatch(table, 0, n)
+    return f"""// Radiometer meter camera (generated): one block of {block} x {block} pixels per meter.
+shader radiometer_meters(output point position = point(0, 0, 0), output vector direction = vector(0, 0, 1),
+                         output color throughput = color(1, 1, 1))
+{{
+    point rp = camera_shader_raster_position();
+    float px = rp[0] * {columns * block}.0 / {block}.0;
+    float py = rp[1] * {rows * block}.0 / {block}.0;
+    int cx = (int)floor(px);
+    int cy = (int)floor(py);
+    int k = cy * {columns} + cx;
+    // The pixel from the raster position, the place inside the pixel from the camera's own random
+    // pair: Cycles' box filter spreads samples over ~0.96 of a pixel (measured: Var 0.077, not 1/12),
+    // which left the block's outer ring (grazing directions) under-sampled.
+    vector xi = camera_shader_random_sample();
+    float su = clamp((floor(rp[0] * {columns * block}.0) - cx * {block}.0 + xi[0]) / {block}.0, 0.0, 1.0);
+    float sv = clamp((floor(rp[1] * {rows * block}.0) - cy * {block}.0 + xi[1]) / {block}.0, 0.0, 1.0);
+    point O = point(0, 0, 0);
+    vector Nn = vector(0, 0, 1), T = vector(1, 0, 0), Bt = vector(0, 1, 0);
+    if (k < 0 || k >= {n}) {{ throughput = color(0, 0, 0); return; }}
+{body}
+    float a = 2 * su - 1, b = 2 * sv - 1, r = 0, phi = 0;
+    if (a != 0 || b != 0) {{
+        if (abs(a) > abs(b)) {{ r = a; phi = M_PI / 4 * (b / a); }}
+        else {{ r = b; phi = M_PI / 2 - M_PI / 4 * (a / b); }}
+    }}
+    float dx = r * cos(phi), dy = r * sin(phi);
+    vector d = dx * T + dy * Bt + sqrt(max(0.0, 1 - dx * dx - dy * dy)) * Nn;
+    position = point(O[0], O[1], -O[2]);
+    direction = vector(d[0], d[1], -d[2]);
+    throughput = color(1, 1, 1);
+}}
+"""
+
+
+def _dispatch(table, lo, hi):
+    if hi - lo <= 4:
+        return "\n".join(table[lo:hi])
+    mid = (lo + hi) // 2
+    left = _dispatch(table, lo, mid).replace("\n", "\n    ")
+    right = _dispatch(table, mid, hi).replace("\n", "\n    ")
+    return f"    if (k < {mid}) {{\n    {left}\n    }} else {{\n    {right}\n    }}"
+
+
+def _block_layout(n, block):
+    columns = max(1, int(math.ceil(math.sqrt(n))))
+    return columns, -(-n // columns)
+
+
+def _compile_camera(source):
+    import bpy
+
+    from ...shading.osl import ensure_oslquery
+
+    ensure_oslquery()
+    from cycles import osl as cycles_osl  # Blender's Cycles add-on, present with bpy
+
+    text = bpy.data.texts.new("radiometer_meter_camera.osl")
+    text.write(source)
+    cam_data = bpy.data.cameras.new("radiometer_meter_camera")
+    cam_data.type = "CUSTOM"
+    cam_data.custom_mode = "INTERNAL"
+    cam_data.custom_shader = text
+    cam_data.clip_start = 1e-9
+    cam_data.clip_end = 1e30
+    messages = []
+    cycles_osl.update_custom_camera_shader(cam_data, lambda kind, msg: messages.append((set(kind), msg)))
+    if not cam_data.custom_bytecode:
+        raise RadiometerError("the meter camera (OSL) did not compile: " + "; ".join(m for _k, m in messages))
+    return cam_data
+
+
+def _emission_material():
+    import bpy
+
+    from ...compat import ensure_node_tree
+
+    mat = bpy.data.materials.new("radiometer_patch_emission")
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    em = tree.nodes.new("ShaderNodeEmission")
+    em.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    em.inputs["Strength"].default_value = 1.0
+    tree.links.new(em.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def _build_dome(scene, view_layer, patches, centre, radius):
+    """One emitting object per patch, each in its own light group; returns the group names."""
+    import bpy
+
+    from ...radiometry.skies import sky_patches
+
+    mat = _emission_material()
+    names = []
+    for p, (verts, faces) in enumerate(sky_patches.dome_mesh(patches)):
+        name = LIGHTGROUP.format(p)
+        me = bpy.data.meshes.new(name)
+        me.from_pydata((np.asarray(centre) + radius * verts).tolist(), [], faces.tolist())
+        me.materials.append(mat)
+        ob = bpy.data.objects.new(name, me)
+        scene.collection.objects.link(ob)
+        ob.visible_shadow = True
+        if view_layer.lightgroups.get(name) is None:
+            view_layer.lightgroups.add(name=name)
+        ob.lightgroup = name
+        names.append(name)
+    return names
+
+
+def _file_output(scene, folder, names):
+    import bpy
+
+    tree = bpy.data.node_groups.new("radiometer_patch_passes", "CompositorNodeTree")
+    layers = tree.nodes.new("CompositorNodeRLayers")
+    layers.scene = scene
+    out = tree.nodes.new("CompositorNodeOutputFile")
+    out.format.media_type = "MULTI_LAYER_IMAGE"
+    out.format.file_format = "OPEN_EXR_MULTILAYER"
+    out.format.color_depth = "32"
+    out.format.exr_codec = "ZIP"
+    out.directory = folder
+    out.file_name = "patches"
+    for name in names:
+        out.file_output_items.new("RGBA", name)
+        tree.links.new(layers.outputs["Combined_" + name], out.inputs[name])
+    return tree
+
+
+def _read_passes(folder, names, weights):
+    """(P, H, W) luminance-weighted passes (top row first) from the File Output's EXR."""
+    import OpenEXR
+
+    files = glob.glob(os.path.join(folder, "patches*.exr"))
+    if len(files) != 1:
+        raise RadiometerError(f"the patch passes were not written ({len(files)} files in {folder})")
+    out = None
+    with OpenEXR.File(files[0], separate_channels=True) as f:
+        parts = {p.name(): p for p in f.parts}
+        for i, name in enumerate(names):
+            part = parts.get(name)
+            if part is None:
+                raise RadiometerError(f"the render has no pass for sky patch {i}")
+            ch = part.channels
+            y = sum(w * np.asarray(ch[f"{name}.{c}"].pixels, np.float64) for w, c in zip(weights, "RGB"))
+            if out is None:
+                out = np.empty((len(names),) + y.shape)
+            out[i] = y
+    os.remove(files[0])
+    return out
+
+
+def _blocks(img, n, block, columns):
+    """(P, H, W) -> (n, P, block * block): each meter's pixels. The camera's raster y runs from the
+    bottom of the image, the EXR's rows from the top."""
+    p, h, w = img.shape
+    img = img[:, ::-1, :]
+    rows = -(-n // columns)
+    cells = img[:, :rows * block, :columns * block].reshape(p, rows, block, columns, block)
+    cells = cells.transpose(1, 3, 0, 2, 4).reshape(rows * columns, p, block * block)
+    return cells[:n]
+
+
+def supported(scene):
+    """Whether this Blender has what the dome needs: custom cameras and compositor node groups with a
+    File Output node that takes items (Blender 5.0; 4.5 has neither the group nor the items)."""
+    import bpy
+
+    return hasattr(scene, "compositing_node_group") and "CUSTOM" in \
+        bpy.types.Camera.bl_rna.properties["type"].enum_items.keys()
+
+
+def require_dome(scene):
+    """Raise one RadiometerError where this Blender cannot render the dome (:func:`supported`). Measured on
+    Blender 4.5 (the annual test room, 2 spp): falling back silently to one render per patch gave per-point
+    sDA bounds that missed Radiance's by up to 57 points, so the dome is refused and per_patch stays an
+    explicit choice (with target_rel_error, which takes the meter's sample floor)."""
+    if not supported(scene):
+        raise RadiometerError("the one-render sky-patch dome needs Blender 5.0 (custom cameras and compositor "
+                              "node groups); on this Blender ask for method='per_patch' with target_rel_error "
+                              "(one adaptive measurement per sky patch: far slower)")
+
+
+def scene_extent(model, points_scene, scale):
+    """(centre, half-diagonal) of the render-visible triangles and the points, scene units."""
+    pts = [np.asarray(points_scene, float)]
+    if model.geometry.count:
+        pts.append(model.geometry.triangles.reshape(-1, 3) / scale)
+    allp = np.concatenate(pts)
+    lo, hi = allp.min(axis=0), allp.max(axis=0)
+    return (lo + hi) / 2, max(float(np.linalg.norm(hi - lo)) / 2, 1.0)
+
+
+def _meter_camera(scene, snapshot, model, points, normals, half, *, blk, spp, seed, quality):
+    """Inside the caller's guard: every object's camera visibility = its diffuse visibility (the first
+    ray is the sensor's diffuse ray), the meter camera, measurement settings, thin panes as the meter
+    reads them, a one-pixel box filter. Returns (the settings' record, (width, height) of the image)."""
+    import bpy
+
+    from ... import quality as quality_presets
+    from ..render import render_settings
+
+    for ob in scene.objects:
+        if ob.type != "LIGHT" and ob.visible_camera != ob.visible_diffuse:
+            snapshot.remember(ob, "visible_camera")
+            ob.visible_camera = ob.visible_diffuse
+    columns, rows = _block_layout(len(points), blk)
+    cam_data = _compile_camera(camera_source(points + EPS * half * normals, normals, blk, columns))
+    cam = bpy.data.objects.new("radiometer_meter_camera", cam_data)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    preset = quality_presets.preset(quality)
+    record = render_settings.apply(scene, samples=spp, bounces=preset["bounces"], needs=model.needs, seed=seed,
+                                   snapshot=snapshot)
+    if model.needs.get("thin_panes"):  # panes read as thin glass, as the meter reads them
+        from ..capture import glass
+
+        glass.swap_panes(snapshot, model.needs["thin_panes"])
+    scene.cycles.filter_width = 1.0  # box of one pixel: samples stay inside their block
+    return record, (columns * blk, rows * blk)
+
+
+def _rounds(scene, folder, size, nrounds, seed, cancelled, progress, label, read, compositing=False):
+    """Render ``nrounds`` times (seeds ``seed * 7919 + k``; ``measure.meter.camera.render_exr``); ``read(image)``
+    -> (N, C, npix) after each. Returns the per-pixel sums over rounds and the sum over rounds and
+    pixels of x x^T (N, C, C)."""
+    from ..meter.camera import render_exr
+
+    total = cross = None
+    for k in range(nrounds):
+        if cancelled is not None and cancelled():
+            raise MeasurementCancelled(f"{label} cancelled")
+        scene.cycles.seed = int(seed) * 7919 + k
+        x = read(render_exr(scene, folder, "combined", size[0], size[1], compositing=compositing))
+        total = x if total is None else total + x
+        cross = np.einsum("npi,nqi->npq", x, x) + (0.0 if cross is None else cross)
+        if progress is not None:
+            progress(k + 1, nrounds, None)
+    return total, cross
+
+
+def _stratified(total, cross, nrounds):
+    """(mean (N, C), covariance (N, C, C)) of the block means: Var(block mean) = sum over pixels of
+    Var(pixel's round mean) / npix^2, each from R rounds; sum_i sum_r (x_ri - m_i)(x_ri - m_i)^T =
+    sum_r sum_i x x^T - R sum_i m_i m_i^T (streamed: the rounds are never all in memory)."""
+    npix = total.shape[-1]
+    mean = total.sum(axis=2) / (nrounds * npix)
+    cov = (cross - np.einsum("npi,nqi->npq", total, total) / nrounds) / ((nrounds - 1) * nrounds * npix ** 2)
+    return mean, cov
+
+
+def render_irradiance(points_scene, normals, *, scene, quality="standard", samples=None, block=None, rounds=None,
+                      seed=0, progress=None, cancelled=None):
+    """Irradiance at the meters from the scene AS IT IS (world and lights as the caller left them),
+    through the meter camera (module docstring; no dome, no light groups): (E_rgb (N, 3) W/m^2 per
+    scene unit^2 as Cycles renders, covariance (N, 3, 3), record). The scene is as before afterwards."""
+    from ..meter import point_meter as meter
+    from ..blender import scene_guard
+    from .analysis_common import view_layer_of
+
+    spp, blk, nrounds = _settings(quality, samples, block, rounds)
+    points = np.asarray(points_scene, float).reshape(-1, 3)
+    normals = np.asarray(normals, float).reshape(-1, 3)
+    n = len(points)
+    columns, _rows = _block_layout(n, blk)
+    folder = tempfile.mkdtemp(prefix="radiometer_cam_")
+    try:
+        with scene_guard.preserved_scene(scene) as snapshot:
+            model = meter.capture_model(scene, view_layer_of(scene))
+            _centre, half = scene_extent(model, points, scene.unit_settings.scale_length)
+            record, size = _meter_camera(scene, snapshot, model, points, normals, half, blk=blk, spp=spp, seed=seed,
+                                         quality=quality)
+            total, cross = _rounds(scene, folder, size, nrounds, seed, cancelled, progress, "meter camera",
+                                   lambda img: np.pi * _blocks(np.moveaxis(img, -1, 0), n, blk, columns))
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    mean, cov = _stratified(total, cross, nrounds)
+    return mean, cov, dict(record, rays_per_meter=nrounds * spp * blk * blk)
+
+
+def _settings(quality, samples, block, rounds):
+    from ... import quality as quality_presets
+
+    if quality not in PRESETS:
+        quality_presets.preset(quality)  # the one-line error for an unknown name
+    spp, blk, nrounds = PRESETS[quality]
+    spp, blk, nrounds = int(samples or spp), int(block or blk), int(rounds or nrounds)
+    if spp < 1 or blk < 2 or nrounds < 2:
+        raise RadiometerError("the meter camera needs samples >= 1, block >= 2 and rounds >= 2")
+    return spp, blk, nrounds
+
+
+def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview", samples=None, block=None,
+                        rounds=None, seed=0, progress=None, cancelled=None):
+    """Daylight coefficients of every Reinhart MF:m patch (patch 0 the ground) at every meter, from
+    ``rounds`` renders of one dome (module docstring). The scene is as before afterwards."""
+    import time
+
+    import bpy
+
+    from ...radiometry.skies import sky_patches
+    from ..meter import point_meter as meter
+    from ..blender import scene_guard
+    from .analysis_common import view_layer_of
+
+    require_dome(scene)
+    spp, blk, nrounds = _settings(quality, samples, block, rounds)
+    start = time.perf_counter()
+    points = np.asarray(points_scene, float).reshape(-1, 3)
+    normals = np.asarray(normals, float).reshape(-1, 3)
+    n = len(points)
+    patches = sky_patches.reinhart_patches(m)
+    columns, _rows = _block_layout(n, blk)
+    folder = tempfile.mkdtemp(prefix="radiometer_dc_")
+    view_layer = view_layer_of(scene)
+    added_groups = []
+    active_group = view_layer.active_lightgroup_index
+    try:
+        with scene_guard.preserved_scene(scene) as snapshot:
+            model = meter.capture_model(scene, view_layer)
+            scale = scene.unit_settings.scale_length
+            from .light_isolation import rendering_light_objects
+
+            for ob in rendering_light_objects(scene, model):
+                snapshot.remember(ob, "hide_render")
+                ob.hide_render = True
+            scene.world = bpy.data.worlds.new("radiometer black world")
+            from ...compat import ensure_node_tree
+
+            tree = ensure_node_tree(scene.world)
+            bg = next((nd for nd in tree.nodes if nd.type == "BACKGROUND"), None)
+            if bg is not None:
+                bg.inputs["Strength"].default_value = 0.0
+            centre, half = scene_extent(model, points, scale)
+            before = {g.name for g in view_layer.lightgroups}
+            names = _build_dome(scene, view_layer, patches, centre, DOME_SCALE * half)
+            added_groups = [g for g in names if g not in before]
+            record, size = _meter_camera(scene, snapshot, model, points, normals, half, blk=blk, spp=spp, seed=seed,
+                                         quality=quality)
+            snapshot.remember(scene, "compositing_node_group")
+            scene.compositing_node_group = _file_output(scene, folder, names)
+            weights = meter.scene_photometry(scene)[1]
+            total, cross = _rounds(scene, folder, size, nrounds, seed, cancelled, progress, "daylight coefficients",
+                                   lambda _img: np.pi * _blocks(_read_passes(folder, names, weights), n, blk, columns),
+                                   compositing=True)
+    finally:
+        for g in added_groups:
+            lg = view_layer.lightgroups.get(g)
+            if lg is not None:
+                view_layer.lightgroups.remove(lg)
+        if view_layer.active_lightgroup_index != active_group:  # adding and removing groups moved it
+            view_layer.active_lightgroup_index = active_group
+        shutil.rmtree(folder, ignore_errors=True)
+    mean, cov = _stratified(total, cross, nrounds)
+    dc = mean.T  # (P, N) irradiance per unit radiance
+    se = np.sqrt(np.maximum(np.einsum("npp->pn", cov), 0.0))
+    notes = [f"daylight coefficients of {patches.count} patches (Reinhart MF:{m}) from {nrounds} renders of a "
+             f"patch dome with one light group per patch: {spp} samples x {blk}x{blk} pixels per meter per "
+             f"render ({nrounds * spp * blk * blk} rays per meter), {record.get('engine', 'Cycles')}"]
+    return Coefficients(dc, se, cov, nrounds * spp * blk * blk, time.perf_counter() - start, notes)

@@ -1,0 +1,306 @@
+"""False-colour images of the camera view (host side): per-pixel luminance (cd/m²) with its standard
+error, written as a 32-bit EXR and a false-colour PNG with a legend.
+
+Method: independent Cycles renders of the scene camera's view (new seed each, measurement-grade
+settings as for the spot meter: no denoising, clamping or adaptive sampling, box pixel filter of one
+pixel, lights visible to camera rays) at ``spp`` samples; per pixel the mean and the batch-means
+standard error std / sqrt(renders). Rounds of :data:`RENDERS` renders; when the 90th percentile of the
+pixels' relative error is above the quality's target the next round renders at 4x the samples (up to
+1024: float32 accumulation), and only the last round is kept.
+A pixel's luminance = K x CIE Y of its radiance (the scene's working colour space and efficacy).
+Delta lights (radius 0) are invisible to camera rays: they light the scene but are not seen.
+"""
+
+import dataclasses
+import math
+import shutil
+import time
+
+import bpy
+import numpy as np
+
+from ... import quality as quality_presets
+from ...errors import MeasurementCancelled, RadiometerError
+from ..meter import camera as camera_mod
+from ..meter import point_meter as meter
+from ..blender import scene_guard
+
+RENDERS = 8            #: independent renders per round (7 degrees of freedom per pixel error)
+MAX_SPP = 1024
+MAX_PIXELS = 1024 * 1024
+
+
+@dataclasses.dataclass
+class LuminanceImage:
+    """Per-pixel luminance of the camera view. Arrays (H, W), top row first."""
+
+    luminance: np.ndarray          #: cd/m²
+    rel_std_error: np.ndarray      #: 1 s.e. relative (nan where the luminance is 0)
+    radiance_rgb: np.ndarray       #: (H, W, 3) W/(m² sr)
+    camera: str
+    resolution: tuple              #: (width, height) px
+    samples: int                   #: samples per pixel over the kept renders
+    target_rel_error: float
+    share_on_target: float         #: fraction of lit pixels whose error reached the target
+    efficacy: float
+    colour_space: str
+    seconds: float
+    notes: list
+    paths: dict = dataclasses.field(default_factory=dict)  #: "exr", "png"
+
+    def to_dict(self):
+        d = {k: v for k, v in dataclasses.asdict(self).items() if k not in ("luminance", "rel_std_error",
+                                                                          "radiance_rgb")}
+        d["luminance_stats"] = {"min": float(np.min(self.luminance)), "max": float(np.max(self.luminance)),
+                                "mean": float(np.mean(self.luminance))}
+        return d
+
+
+def _resolution(scene, resolution):
+    if resolution is None:
+        r = scene.render
+        w = r.resolution_x * r.resolution_percentage / 100
+        h = r.resolution_y * r.resolution_percentage / 100
+        k = min(1.0, 320.0 / max(w, h))
+        return max(1, round(w * k)), max(1, round(h * k))
+    try:
+        w, h = (int(v) for v in resolution)
+    except (TypeError, ValueError):
+        raise RadiometerError(f"resolution must be two integers (width, height), got {resolution!r}") from None
+    if w < 1 or h < 1 or w * h > MAX_PIXELS:
+        raise RadiometerError(f"resolution must be at least 1 x 1 and at most {MAX_PIXELS} pixels, got {w} x {h}")
+    return w, h
+
+
+def render_luminance(*, scene=None, camera=None, resolution=None, quality="standard", target_rel_error=None,
+                     progress=None, cancelled=None, max_spp=MAX_SPP):
+    """:class:`LuminanceImage` of ``camera`` (an object or its name; default the scene camera).
+
+    ``max_spp``: cap on the samples per pixel of one render (16..1024); the notes say how many pixels
+    reached the target."""
+    scene = scene or bpy.context.scene
+    cam = scene.camera if camera is None else (scene.objects.get(camera) if isinstance(camera, str) else camera)
+    if cam is None or getattr(cam, "type", None) != "CAMERA":
+        raise RadiometerError("no camera to render from: give camera= or set the scene's camera")
+    width, height = _resolution(scene, resolution)
+    preset = quality_presets.preset(quality)
+    target = float(target_rel_error) if target_rel_error is not None else float(preset["target"])
+    space, weights, efficacy = meter.scene_photometry(scene)
+    unit_area = scene.unit_settings.scale_length ** 2
+    folder = camera_mod.scratch_folder()
+    started = time.perf_counter()
+    cap = int(min(max(int(max_spp), 16), MAX_SPP))
+    spp, k = 16, 0
+    try:
+        with scene_guard.preserved_scene(scene) as snapshot:
+            camera_mod._prepare(scene, dict(preset, samples=spp), snapshot)
+            scene.camera = cam
+            while True:
+                images = []
+                for _ in range(RENDERS):
+                    if cancelled is not None and cancelled():
+                        raise MeasurementCancelled("measurement cancelled; the scene was restored")
+                    scene.cycles.seed = k
+                    scene.cycles.samples = spp
+                    images.append(camera_mod.render_exr(scene, folder, f"img{k}", width, height) / unit_area)
+                    k += 1
+                    if progress is not None:
+                        progress(k, k + RENDERS)
+                stack = np.array(images)                      # (R, H, W, 3)
+                mean_rgb = stack.mean(axis=0)
+                y = stack @ weights                            # (R, H, W)
+                mean_y = y.mean(axis=0)
+                se_y = y.std(axis=0, ddof=1) / math.sqrt(RENDERS)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    rel = np.where(mean_y > 0, se_y / mean_y, np.nan)
+                lit = rel[np.isfinite(rel)]
+                p90 = float(np.percentile(lit, 90)) if lit.size else 0.0
+                if p90 <= target or spp >= cap:
+                    break
+                spp = min(cap, spp * 4)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    share = float(np.mean(lit <= target)) if lit.size else 1.0
+    notes = [f"{RENDERS} independent renders of {spp} samples per pixel; error per pixel by batch means",
+             f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}",
+             "delta lights (radius 0) are invisible to camera rays: they light the scene but are not seen"]
+    if share < 0.9:
+        notes.append(f"only {100 * share:.0f} % of the lit pixels reached the {100 * target:g} % target at "
+                     f"{spp} samples per pixel")
+    return LuminanceImage(luminance=efficacy * mean_y, rel_std_error=rel, radiance_rgb=mean_rgb, camera=cam.name,
+                          resolution=(width, height), samples=spp * RENDERS, target_rel_error=target,
+                          share_on_target=share, efficacy=efficacy, colour_space=space,
+                          seconds=time.perf_counter() - started, notes=notes)
+
+
+def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log",
+                    range=None, progress=None, cancelled=None, max_spp=MAX_SPP):  # noqa: A002 - the API's name
+    """Render :func:`render_luminance` and write ``path`` (.exr: 32-bit, luminance in cd/m² in R, G and
+    B) and the false-colour PNG beside it (same stem, .png; legend in cd/m², ``scale`` 'log' | 'linear',
+    ``range`` (lo, hi) cd/m² or automatic). Returns the :class:`LuminanceImage` with ``paths``."""
+    import os
+
+    from ..authoring import world
+
+    if scale not in ("log", "linear"):
+        raise RadiometerError(f"scale must be 'log' or 'linear', got {scale!r}")
+    path = os.fspath(path)
+    if not path.lower().endswith(".exr"):
+        raise RadiometerError(f"path must name an .exr file, got {path!r:.200}")
+    if range is not None:
+        from ...plots.false_colour_image import scale_range
+
+        try:
+            scale_range([1.0], scale, range)
+        except ValueError as exc:
+            raise RadiometerError(str(exc)) from None
+    result = render_luminance(scene=scene, camera=camera, resolution=resolution, quality=quality,
+                              progress=progress, cancelled=cancelled, max_spp=max_spp)
+    world.write_exr(path, np.repeat(result.luminance[..., None], 3, axis=-1))
+    result.paths["exr"] = path
+    from ...plots import matplotlib_available
+
+    if matplotlib_available():
+        from ...plots.false_colour_image import false_colour_png
+
+        png = os.path.splitext(path)[0] + ".png"
+        false_colour_png(png, result.luminance, unit="cd/m²", quantity="luminance", scale=scale, value_range=range,
+                         title=f"Luminance seen by {result.camera} ({result.resolution[0]} x {result.resolution[1]} px; "
+                               f"{100 * result.share_on_target:.0f} % of the pixels within "
+                               f"{100 * result.target_rel_error:g} %)")
+        result.paths["png"] = png
+    else:
+        result.notes.append("no false-colour PNG: matplotlib is not installed (the EXR holds the numbers)")
+    return result
+
+
+# --- illuminance on the visible surfaces --------------------------------------------------------------
+
+@dataclasses.dataclass
+class IlluminanceImage:
+    """Illuminance (lx) on the surface seen in each pixel, (H, W), top row first."""
+
+    illuminance: np.ndarray
+    rel_std_error: np.ndarray
+    camera: str
+    resolution: tuple
+    samples: int
+    target_rel_error: float
+    share_on_target: float
+    efficacy: float
+    colour_space: str
+    seconds: float
+    notes: list
+    paths: dict = dataclasses.field(default_factory=dict)
+
+
+def _light_pass_compositor(scene):
+    """A compositor node group whose output is Diffuse Direct + Diffuse Indirect; returns it."""
+    tree = bpy.data.node_groups.new("radiometer_diffuse_light", "CompositorNodeTree")
+    tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+    layers = tree.nodes.new("CompositorNodeRLayers")
+    layers.scene = scene
+    add = tree.nodes.new("ShaderNodeMix")
+    add.data_type, add.blend_type = "RGBA", "ADD"
+    add.inputs["Factor"].default_value = 1.0
+    tree.links.new(layers.outputs["Diffuse Direct"], add.inputs[6])
+    tree.links.new(layers.outputs["Diffuse Indirect"], add.inputs[7])
+    tree.links.new(add.outputs[2], tree.nodes.new("NodeGroupOutput").inputs[0])
+    return tree
+
+
+def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log",
+                      range=None, max_spp=MAX_SPP, cancelled=None):  # noqa: A002 - the API's name
+    """Illuminance (lx) on the surfaces the camera sees: E = pi x (Diffuse Direct + Diffuse Indirect).
+
+    Why it holds: Cycles writes a BSDF's light passes divided by its colour pass (Combined = (Direct +
+    Indirect) x Colour), so on a Lambertian surface (Diffuse BSDF, roughness 0) of any albedo rho the
+    passes hold L / rho = E / pi. Measured on a lit wall of albedo 0.3: pi x passes = E to 1e-4 (the
+    test compares with the reference patch render). Where it does not hold: surfaces with no diffuse
+    component (metals, glass, emitters, the world: 0 there), rough diffuse (Oren-Nayar, roughness > 0,
+    whose reflection is not rho E / pi), and the Principled BSDF's diffuse lobe (not verified here).
+    Writes ``path`` (.exr, lux in R, G, B) and a false-colour PNG beside it; sampling as
+    :func:`render_luminance`. Returns :class:`IlluminanceImage`.
+    """
+    import os
+
+    scene = scene or bpy.context.scene
+    if not hasattr(scene, "compositing_node_group"):
+        # Blender 4.x has no compositor node groups (the passes are summed in one); not ported yet.
+        raise RadiometerError("illuminance images need Blender 5.0 or newer; luminance images "
+                              "(luminance_image) work on 4.5 too")
+    cam = scene.camera if camera is None else (scene.objects.get(camera) if isinstance(camera, str) else camera)
+    if cam is None or getattr(cam, "type", None) != "CAMERA":
+        raise RadiometerError("no camera to render from: give camera= or set the scene's camera")
+    path = os.fspath(path)
+    if not path.lower().endswith(".exr"):
+        raise RadiometerError(f"path must name an .exr file, got {path!r:.200}")
+    if scale not in ("log", "linear"):
+        raise RadiometerError(f"scale must be 'log' or 'linear', got {scale!r}")
+    width, height = _resolution(scene, resolution)
+    preset = quality_presets.preset(quality)
+    target = float(preset["target"])
+    space, weights, efficacy = meter.scene_photometry(scene)
+    unit_area = scene.unit_settings.scale_length ** 2
+    cap = int(min(max(int(max_spp), 16), MAX_SPP))
+    folder = camera_mod.scratch_folder()
+    started = time.perf_counter()
+    spp, k = 16, 0
+    old_group = scene.compositing_node_group
+    layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
+    try:
+        with scene_guard.preserved_scene(scene) as snapshot:
+            camera_mod._prepare(scene, dict(preset, samples=spp), snapshot)
+            scene.camera = cam
+            for attr in ("use_pass_diffuse_direct", "use_pass_diffuse_indirect"):
+                snapshot.remember(layer, attr)
+                setattr(layer, attr, True)
+            tree = _light_pass_compositor(scene)
+            scene.compositing_node_group = tree
+            while True:
+                values = []
+                for _ in np.arange(RENDERS):  # 'range' is the colour scale's argument here
+                    if cancelled is not None and cancelled():
+                        raise MeasurementCancelled("measurement cancelled; the scene was restored")
+                    scene.cycles.seed = k
+                    scene.cycles.samples = spp
+                    img = camera_mod.render_exr(scene, folder, f"e{k}", width, height, compositing=True)
+                    values.append(math.pi * img / unit_area @ weights)
+                    k += 1
+                y = np.array(values)
+                mean_y = y.mean(axis=0)
+                se_y = y.std(axis=0, ddof=1) / math.sqrt(RENDERS)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    rel = np.where(mean_y > 0, se_y / mean_y, np.nan)
+                lit = rel[np.isfinite(rel)]
+                p90 = float(np.percentile(lit, 90)) if lit.size else 0.0
+                if p90 <= target or spp >= cap:
+                    break
+                spp = min(cap, spp * 4)
+    finally:
+        # the scene guard removes the node group it saw created; put the user's compositor back
+        scene.compositing_node_group = old_group
+        shutil.rmtree(folder, ignore_errors=True)
+    share = float(np.mean(lit <= target)) if lit.size else 1.0
+    notes = ["E = pi (Diffuse Direct + Diffuse Indirect): holds on Lambertian surfaces (Diffuse BSDF, roughness 0); "
+             "0 where nothing diffuse is seen (metal, glass, emitters, the world)",
+             f"{RENDERS} independent renders of {spp} samples per pixel; error per pixel by batch means",
+             f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"]
+    result = IlluminanceImage(illuminance=efficacy * mean_y, rel_std_error=rel, camera=cam.name,
+                              resolution=(width, height), samples=spp * RENDERS, target_rel_error=target,
+                              share_on_target=share, efficacy=efficacy, colour_space=space,
+                              seconds=time.perf_counter() - started, notes=notes)
+    from ..authoring import world
+
+    world.write_exr(path, np.repeat(result.illuminance[..., None], 3, axis=-1))
+    result.paths["exr"] = path
+    from ...plots import matplotlib_available
+
+    if matplotlib_available():
+        from ...plots.false_colour_image import false_colour_png
+
+        png = os.path.splitext(path)[0] + ".png"
+        false_colour_png(png, result.illuminance, unit="lx", quantity="illuminance", scale=scale, value_range=range,
+                         title=f"Illuminance on the surfaces seen by {cam.name} ({width} x {height} px)")
+        result.paths["png"] = png
+    return result

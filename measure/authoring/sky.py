@@ -1,0 +1,135 @@
+"""CIE sky worlds: build a World whose shader evaluates the ISO 15469 / CIE overcast luminance formula
+on the ray direction (``radiometry.skies.cie_sky``), and mark it so that the meter recognises it.
+
+The world's node tree: Texture Coordinate > Generated (the ray direction in world shaders) >
+Normalize > math nodes computing the sky luminance (as radiance, W/(m^2 sr) per scene unit^2:
+luminance / luminous efficacy x scale_length^2) above the horizon and the uniform ground radiance
+below a sharp horizon (cos Z > 0), into a Background's Strength with a white colour. The parameters
+are stored on the world as the custom property ``radiometer_cie_sky`` (JSON) with a fingerprint of
+the node tree: ``read_sky_world`` returns the exact ``cie_sky.CIESkyWorld`` only while the tree is
+exactly as built, and "not modelled" (rendered) once the user has edited it. Reading such a world
+(``read_sky_world``, the tag and the fingerprint) lives in ``measure/capture/world_capture.py``.
+"""
+
+import json
+import math
+
+from ...errors import RadiometerError
+from ...radiometry.skies import cie_sky
+from ..capture.world_capture import CIE_SKY_SCHEMA, CIE_SKY_TAG, sky_fingerprint
+
+
+def _math(tree, op, a=None, b=None, c=None, x=0):
+    node = tree.nodes.new("ShaderNodeMath")
+    node.operation = op
+    node.location = (x, -60 * len(tree.nodes))
+    for i, v in enumerate((a, b, c)):
+        if v is None:
+            continue
+        if isinstance(v, (int, float)):
+            node.inputs[i].default_value = float(v)
+        else:
+            tree.links.new(v, node.inputs[i])
+    return node.outputs[0]
+
+
+def build_sky_tree(tree, sky_type, sun, zenith_radiance, ground_radiance):
+    """Fill ``tree`` (cleared) with the sky: radiance zenith_radiance x L/Lz above, ground_radiance below."""
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputWorld")
+    out.location = (900, 0)
+    bg = tree.nodes.new("ShaderNodeBackground")
+    bg.location = (700, 0)
+    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    tree.links.new(bg.outputs["Background"], out.inputs["Surface"])
+    coord = tree.nodes.new("ShaderNodeTexCoord")
+    coord.location = (-900, 0)
+    norm = tree.nodes.new("ShaderNodeVectorMath")
+    norm.operation = "NORMALIZE"
+    norm.location = (-700, 0)
+    tree.links.new(coord.outputs["Generated"], norm.inputs[0])
+    sep = tree.nodes.new("ShaderNodeSeparateXYZ")
+    sep.location = (-500, 0)
+    tree.links.new(norm.outputs["Vector"], sep.inputs[0])
+    cos_z = sep.outputs["Z"]
+    params = cie_sky.parameters(sky_type)
+    if params is None:  # traditional overcast: Lz (1 + 2 cos Z) / 3
+        sky = _math(tree, "MULTIPLY_ADD", cos_z, 2.0 * zenith_radiance / 3.0, zenith_radiance / 3.0)
+    else:
+        a, b, c, d, e = params
+        zeta = float(cie_sky.zenith_shape(cie_sky.parse_sky_type(sky_type), sun))
+        k = zenith_radiance / zeta
+        cz = _math(tree, "MAXIMUM", cos_z, 1e-6)
+        phi = _math(tree, "MULTIPLY_ADD", _math(tree, "EXPONENT", _math(tree, "DIVIDE", b, cz)), a, 1.0)
+        if c == 0.0 and e == 0.0:
+            sky = _math(tree, "MULTIPLY", phi, k)
+        else:
+            dot = tree.nodes.new("ShaderNodeVectorMath")
+            dot.operation = "DOT_PRODUCT"
+            dot.location = (-500, -300)
+            tree.links.new(norm.outputs["Vector"], dot.inputs[0])
+            dot.inputs[1].default_value = tuple(float(v) for v in sun)
+            cos_chi = _math(tree, "MAXIMUM", _math(tree, "MINIMUM", dot.outputs["Value"], 1.0), -1.0)
+            chi = _math(tree, "ARCCOSINE", cos_chi)
+            ind = _math(tree, "MULTIPLY_ADD", _math(tree, "EXPONENT", _math(tree, "MULTIPLY", chi, d)), c,
+                        1.0 - c * math.exp(d * math.pi / 2))
+            f = _math(tree, "MULTIPLY_ADD", _math(tree, "MULTIPLY", cos_chi, cos_chi), e, ind)
+            sky = _math(tree, "MULTIPLY", _math(tree, "MULTIPLY", f, phi), k)
+    above = _math(tree, "GREATER_THAN", cos_z, 0.0)
+    value = _math(tree, "MULTIPLY_ADD", above, _math(tree, "SUBTRACT", sky, ground_radiance), ground_radiance)
+    tree.links.new(value, bg.inputs["Strength"])
+    return bg
+
+
+def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_direction=None, ground_reflectance=0.2,
+                world=None):
+    """Make ``scene.world`` the CIE sky (a new world, or ``world`` rebuilt); returns a dict of what was set.
+
+    The unobstructed horizontal illuminance from the sky is ``horizontal_illuminance_lux`` (default
+    ``cie_sky.TYPICAL_HORIZONTAL_ILLUMINANCE``); the ground below the sharp horizon has luminance
+    rho_g E_h / pi. Luminance is converted to radiance with the scene's luminous efficacy (Radiometer
+    settings, 683 lm/W by default) and scene units (radiance per scene unit^2).
+    """
+    import bpy
+
+    from ...compat import ensure_node_tree
+    from ..meter import point_meter as meter
+
+    try:
+        t = cie_sky.parse_sky_type(sky_type)
+    except ValueError as exc:
+        raise RadiometerError(str(exc)) from None
+    e_h = cie_sky.TYPICAL_HORIZONTAL_ILLUMINANCE if horizontal_illuminance_lux is None else horizontal_illuminance_lux
+    try:
+        e_h = float(e_h)
+        rho = float(ground_reflectance)
+    except (TypeError, ValueError):
+        raise RadiometerError(f"horizontal illuminance and ground reflectance must be numbers, got "
+                              f"{horizontal_illuminance_lux!r}, {ground_reflectance!r}") from None
+    if not (math.isfinite(e_h) and e_h > 0):
+        raise RadiometerError(f"horizontal_illuminance_lux must be a finite number > 0, got {horizontal_illuminance_lux!r}")
+    if not (math.isfinite(rho) and 0.0 <= rho <= 1.0):
+        raise RadiometerError(f"ground_reflectance must be within 0..1, got {ground_reflectance!r}")
+    try:
+        sun = cie_sky.sun_for_sky(t, sun_direction)
+        lz = float(cie_sky.zenith_luminance(e_h, t, sun))
+    except ValueError as exc:
+        raise RadiometerError(str(exc)) from None
+    _space, _weights, efficacy = meter.scene_photometry(scene)
+    unit = scene.unit_settings.scale_length ** 2
+    lg = float(cie_sky.ground_luminance(e_h, rho))
+    zr, gr = lz / efficacy * unit, lg / efficacy * unit
+    name = "CIE overcast sky" if t == "overcast" else f"CIE sky type {t}"
+    if world is None:
+        world = bpy.data.worlds.new(name)
+    tree = ensure_node_tree(world)
+    build_sky_tree(tree, t, sun, zr, gr)
+    info = {"schema": CIE_SKY_SCHEMA, "sky_type": t, "sun_direction": [float(v) for v in sun],
+            "horizontal_illuminance_lux": e_h, "ground_reflectance": rho, "zenith_luminance": lz,
+            "ground_luminance": lg, "efficacy": efficacy, "scale_length": scene.unit_settings.scale_length,
+            "zenith_radiance": zr, "ground_radiance": gr, "fingerprint": sky_fingerprint(tree)}
+    world[CIE_SKY_TAG] = json.dumps(info)
+    scene.world = world
+    return dict(info, world=world.name, notes=[
+        f"{name}: Lz = {lz:.6g} cd/m^2 for E_h = {e_h:g} lx (exact integration, radiometry/skies/cie_sky.py), "
+        f"ground {lg:.6g} cd/m^2 (rho_g = {rho:g}) below a sharp horizon; luminous efficacy {efficacy:g} lm/W"])

@@ -1,0 +1,53 @@
+"""Read 32-bit EXR files written by Cycles: OpenEXR when installed, else Blender's OpenImageIO."""
+
+import os
+import sys
+
+import numpy as np
+
+from ...errors import RadiometerError
+
+
+def _oiio():
+    try:
+        import OpenImageIO
+
+        return OpenImageIO
+    except ImportError:
+        import bpy
+
+        # Inside the bpy wheel OIIO ships in Blender's own site-packages, which is not on sys.path.
+        site = os.path.join(bpy.utils.resource_path("LOCAL"), "python", "lib",
+                            f"python{sys.version_info.major}.{sys.version_info.minor}", "site-packages")
+        if site not in sys.path and os.path.isdir(site):
+            sys.path.append(site)
+        import OpenImageIO
+
+        return OpenImageIO
+
+
+def read_rgb(path):
+    """(H, W, 3) float64 array, top row first. Clear error for missing or corrupt files."""
+    if not os.path.isfile(path):
+        raise RadiometerError(f"render output missing: {path}")
+    try:
+        import OpenEXR
+
+        with OpenEXR.File(path) as f:
+            channels = f.channels()
+            if "RGBA" in channels:
+                px = np.array(channels["RGBA"].pixels, dtype=np.float64)[..., :3]
+            elif "RGB" in channels:
+                px = np.array(channels["RGB"].pixels, dtype=np.float64)
+            else:
+                px = np.stack([np.array(channels[c].pixels, dtype=np.float64) for c in ("R", "G", "B")], axis=-1)
+        return px
+    except ImportError:
+        pass
+    except Exception as exc:  # OpenEXR raises RuntimeError/KeyError for broken files
+        raise RadiometerError(f"cannot read EXR {path}: {exc}") from None
+    oiio = _oiio()
+    buf = oiio.ImageBuf(path)
+    if buf.has_error:
+        raise RadiometerError(f"cannot read EXR {path}: {buf.geterror()}")
+    return np.asarray(buf.get_pixels(oiio.FLOAT), dtype=np.float64)[..., :3]

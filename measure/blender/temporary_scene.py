@@ -1,0 +1,60 @@
+"""A temporary scene for Radiometer's own renders that must not see the user's objects (the world
+alone on a sensor, the mirror-ball probe): a new scene that shares only what it is given (the world),
+whose data-blocks and scratch folder are removed on exit, whatever happens. The user's own scene is
+never rebuilt this way: measurements in it borrow and restore it (``scene_guard.preserved_scene``)."""
+
+import contextlib
+import shutil
+
+
+class TemporaryScene:
+    """``scene``: the new scene; :meth:`keep` / :meth:`link` record what was made for it,
+    :meth:`scratch` gives a private folder for render outputs; all removed on exit."""
+
+    def __init__(self, scene):
+        self.scene = scene
+        self.created = []
+        self.folder = None
+
+    def keep(self, block):
+        """Remove ``block`` (a data-block made for this scene) on exit; returns it."""
+        self.created.append(block)
+        return block
+
+    def link(self, obj):
+        """Keep ``obj`` and link it into the scene; returns it."""
+        self.scene.collection.objects.link(self.keep(obj))
+        return obj
+
+    def scratch(self):
+        """A private temporary folder for this scene's render outputs (made once)."""
+        if self.folder is None:
+            from ..meter.camera import scratch_folder
+
+            self.folder = scratch_folder()
+        return self.folder
+
+
+@contextlib.contextmanager
+def temporary_scene(name, *, like=None):
+    """A new Cycles scene named ``name``; with ``like`` (the user's scene) it shares its world and copies
+    its unit scale and Radiometer luminous-efficacy settings, so that readings in it mean the same."""
+    import bpy
+
+    rig = TemporaryScene(bpy.data.scenes.new(name))
+    try:
+        rig.scene.render.engine = "CYCLES"
+        if like is not None:
+            rig.scene.world = like.world
+            rig.scene.unit_settings.scale_length = like.unit_settings.scale_length
+            src, dst = getattr(like, "radiometer", None), getattr(rig.scene, "radiometer", None)
+            if src is not None and dst is not None:
+                dst.efficacy_convention = src.efficacy_convention
+                dst.efficacy = src.efficacy
+        yield rig
+    finally:
+        bpy.data.scenes.remove(rig.scene)
+        if rig.created:
+            bpy.data.batch_remove(ids=tuple(reversed(rig.created)))
+        if rig.folder is not None:
+            shutil.rmtree(rig.folder, ignore_errors=True)

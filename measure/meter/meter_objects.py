@@ -1,0 +1,216 @@
+"""Measure meter objects and store their readings (the work behind ``radiometer.measure``).
+
+Readings are computed first and written to the objects only when every step succeeded, so a
+failed or cancelled run leaves the previous readings (and the rest of the scene) as they were.
+"""
+
+import os
+import time
+
+import bpy
+import numpy as np
+
+from ...errors import MeasurementCancelled, RadiometerError
+from ...progress import reporter
+from . import camera, point_meter as meter
+
+_DISPLAY = {"ILLUMINANCE": ("SINGLE_ARROW", 0.3), "LUMINANCE": ("CONE", 0.1), "RADIANCE_MAP": ("SPHERE", 0.1)}
+
+DEFAULT_ROTATION = {"LUMINANCE": (3.14159265358979 / 2, 0.0, 0.0)}  # a spot meter looks along +Y
+
+
+def add_meter(context, kind, location, acceptance_deg=1.0, rotation=None):
+    """Create a meter empty at ``location`` (linked to the active collection) and make it active.
+
+    Host data, shared by the Add operator, the demo and the bench (so the demo imports no UI).
+
+    ``rotation``: Euler angles (rad); None: the kind's default (a spot meter looks along +Y).
+    """
+    name = {"ILLUMINANCE": "Illuminance Meter", "LUMINANCE": "Luminance Meter", "RADIANCE_MAP": "Radiance Map"}[kind]
+    obj = bpy.data.objects.new(name, None)
+    obj.empty_display_type, obj.empty_display_size = _DISPLAY[kind]
+    obj.rotation_euler = DEFAULT_ROTATION.get(kind, (0.0, 0.0, 0.0)) if rotation is None else tuple(rotation)
+    obj.location = location
+    settings = obj.radiometer_meter
+    settings.is_meter, settings.kind, settings.acceptance_deg = True, kind, acceptance_deg
+    context.collection.objects.link(obj)
+    for other in context.view_layer.objects:
+        other.select_set(False)
+    obj.select_set(True)
+    context.view_layer.objects.active = obj
+    return obj
+
+
+def _call(progress, done, total, seconds_left=None):
+    """Call a progress callback that takes (done, total, seconds_left) or only (done, total)."""
+    if progress is not None:
+        reporter(progress)(done, total, seconds_left)
+
+
+def _two_args(progress):
+    # camera.measure_luminance reports (done, total): pass them on with no ETA.
+    return reporter(progress)
+
+
+def map_path(name):
+    """Where a radiance map of meter ``name`` goes: the extension's user folder, else a private temp folder.
+
+    The file name keeps the meter's name readable and unique ("Lamp.1" and "Lamp_1" differ).
+    """
+    from ... import outputs
+
+    return os.path.join(outputs.user_folder("radiance_maps"), outputs.file_stem(name) + ".exr")
+
+
+def meter_objects(scene, objects=None):
+    if objects is None:
+        objects = [ob for ob in scene.objects if ob.radiometer_meter.is_meter]
+    else:
+        objects = list(objects)
+        bad = [ob.name for ob in objects if not ob.radiometer_meter.is_meter]
+        if bad:
+            raise RadiometerError(f"not light meters: {', '.join(bad)} (add one with Add > Light Meter)")
+    if not objects:
+        raise RadiometerError("no light meters to measure: add one with Add > Light Meter")
+    return objects
+
+
+def _pose(obj):
+    """World location (scene units) and local +Z axis of a meter, from the evaluated depsgraph."""
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    mw = obj.evaluated_get(depsgraph).matrix_world
+    z = np.array(mw.to_3x3().col[2], float)
+    return np.array(mw.translation, float), z
+
+
+def plan_steps(scene, objects, batch=None):
+    """Steps of a measurement: illuminance meters in batches (one batch of all when ``batch`` is None:
+    cheapest; the UI uses smaller ones so a step is short), then one step per other meter."""
+    illum = [ob for ob in objects if ob.radiometer_meter.kind == "ILLUMINANCE"]
+    steps = []
+    size = len(illum) if not batch else int(batch)
+    for k in range(0, len(illum), max(size, 1)):
+        steps.append(("ILLUMINANCE", illum[k:k + size]))
+    steps += [(ob.radiometer_meter.kind, [ob]) for ob in objects if ob.radiometer_meter.kind != "ILLUMINANCE"]
+    return steps
+
+
+def run_step(scene, step, settings, *, progress=None, cancelled=None):
+    kind, objs = step
+    quality = settings["quality"]
+    if kind == "ILLUMINANCE":
+        poses = [_pose(ob) for ob in objs]
+        readings = meter.measure_illuminance(
+            np.array([p for p, _ in poses]), np.array([z for _, z in poses]), scene=scene,
+            method=settings["method"], quality=quality, target_rel_error=settings["target_rel_error"],
+            time_budget_s=settings.get("time_budget_s"), progress=progress, cancelled=cancelled,
+            exclude={ob.name for ob in objs})
+        return list(zip(objs, readings))
+    ob = objs[0]
+    location, z = _pose(ob)
+    if kind == "LUMINANCE":
+        reading = camera.measure_luminance(location, -z, acceptance_deg=ob.radiometer_meter.acceptance_deg,
+                                           scene=scene, quality=quality, cancelled=cancelled,
+                                           progress=_two_args(progress),
+                                           target_rel_error=settings["target_rel_error"])
+        return [(ob, reading)]
+    if cancelled is not None and cancelled():
+        raise MeasurementCancelled("measurement cancelled; the scene was restored")
+    path = map_path(ob.name)
+    result = camera.capture_radiance_map(location, path, resolution=ob.radiometer_meter.map_resolution,
+                                         scene=scene, quality=quality)
+    return [(ob, result)]
+
+
+def write_reading(obj, reading):
+    """Store ``reading`` on the meter object (read-only properties of ``obj.radiometer_meter``: the
+    values are ID properties of the same names, so they persist in the .blend and follow undo)."""
+    m = obj.radiometer_meter
+    if reading.quantity == "illuminance":
+        rgb, value, photometric = reading.irradiance_rgb, reading.irradiance, reading.illuminance
+    elif reading.quantity == "luminance":
+        rgb, value, photometric = reading.radiance_rgb, reading.radiance, reading.luminance
+    else:  # radiance map: store the irradiance it implies for the meter's +Z normal
+        rgb, value, photometric = reading.irradiance_rgb, reading.irradiance, reading.illuminance
+        m["map_path"] = reading.path
+    m["value_rgb"] = [float(v) for v in rgb]
+    m["value"], m["photometric"] = float(value), float(photometric)
+    # inf is kept: a rendered reading that found no light yet has no error bound, and 0 would
+    # show "0 lx ±0 %" (issue 18); the sidebar says "n/a" for it.
+    m["rel_std_error"] = float(reading.rel_std_error)
+    m["exact"], m["method"], m["samples"] = bool(reading.exact), str(reading.method), int(reading.samples)
+    m["seconds"], m["efficacy"] = float(reading.seconds), float(reading.efficacy)
+    m["notes"] = " | ".join(reading.notes)
+    m["has_reading"] = True
+
+
+def scene_settings(scene, quality=None):
+    s = scene.radiometer
+    return {"method": s.method, "quality": quality or s.quality,
+            "target_rel_error": s.target_rel_error if s.target_rel_error > 0 else None}
+
+
+def step_weights(steps):
+    """Relative cost of each step for a progress bar (a batch of n meters ~ n, a map ~ 4 meters)."""
+    return [float(len(objs)) if kind == "ILLUMINANCE" else (4.0 if kind == "RADIANCE_MAP" else 1.0)
+            for kind, objs in steps]
+
+
+class StepProgress:
+    """Maps each step's own progress (done/total) onto the whole run: ``fraction`` 0..1 and an ETA (s).
+
+    ``report(fraction, seconds_left)`` receives the overall values. Shared by ``measure_meters`` and
+    the modal operators.
+    """
+
+    def __init__(self, steps, report=None):
+        w = step_weights(steps)
+        self.bounds = np.concatenate([[0.0], np.cumsum(w)]) / max(sum(w), 1e-12)
+        self.report = report
+        self.index = 0
+        self.fraction = 0.0
+        self.seconds_left = None
+        self.started = time.perf_counter()
+
+    def start(self, index):
+        self.index = index
+        self._update(self.bounds[index], None)
+
+    def __call__(self, done, total, seconds_left=None):
+        lo, hi = self.bounds[self.index], self.bounds[self.index + 1]
+        part = min(max(done / total, 0.0), 1.0) if total else 0.0
+        self._update(lo + (hi - lo) * part, seconds_left)
+
+    def _update(self, fraction, step_seconds_left):
+        self.fraction = float(max(self.fraction, fraction))
+        elapsed = time.perf_counter() - self.started
+        # Whole-run ETA from the pace so far (the step's own ETA covers only the step).
+        self.seconds_left = elapsed * (1 - self.fraction) / self.fraction if self.fraction > 0.02 else \
+            step_seconds_left
+        if self.report is not None:
+            self.report(self.fraction, self.seconds_left)
+
+
+def measure_meters(objects=None, *, scene=None, quality=None, progress=None, cancelled=None):
+    """Measure meters (default: all in ``scene``) and write their readings; returns [(object, reading)].
+
+    ``progress(done, total, seconds_left)``: done/total in thousandths of the whole run, with an
+    ETA in s (None until known), called within every step. ``cancelled()``: polled before every
+    allocation round; True raises MeasurementCancelled and leaves every reading as it was.
+    """
+    scene = scene or bpy.context.scene
+    objects = meter_objects(scene, objects)
+    settings = scene_settings(scene, quality)
+    results = []
+    steps = plan_steps(scene, objects)
+    tracker = StepProgress(steps, None if progress is None else
+                           (lambda f, eta: _call(progress, int(round(1000 * f)), 1000, eta)))
+    for i, step in enumerate(steps):
+        if cancelled is not None and cancelled():
+            raise MeasurementCancelled("measurement cancelled; the scene was restored")
+        tracker.start(i)
+        results += run_step(scene, step, settings, progress=tracker, cancelled=cancelled)
+        tracker(1, 1)
+    for obj, reading in results:
+        write_reading(obj, reading)
+    return results
