@@ -1,0 +1,117 @@
+"""The sky component (SC) of daylight-factor readings, proven in closed form (issue 31).
+
+For each point, ``sky_components`` captures the scene (``meter.capture_model``: render-visible
+triangles in metres), finds its apertures (``radiometry.sky_aperture.find_apertures``: holes in
+planar groups of triangles) and states the direct light of the CIE overcast sky through them, exact,
+only when all of these are proven:
+
+1. every aperture is convex and open (no pane or other surface in it: a pane's T(theta) weighting
+   exists in ``sky_aperture.pane_bounded_illuminance`` but is not wired here yet);
+2. the opaque, shadow-casting triangles connected to the apertures (found among those triangles
+   only, so that a pane does not close its opening) form a surface closed apart from them
+   (``enclosure_closed``), the point is inside it (``inside_enclosure``), and the scene has no geometry
+   without triangles and no participating medium: so every sky direction from the point leaves
+   through an aperture or meets that opaque surface;
+3. for each aperture, nothing stands in the directions from the point through it above the point's
+   horizontal plane, out past every triangle of the scene (``aperture_clear``).
+
+Then SC = sum over apertures of the closed form (``aperture_illuminance``), and the world's ground
+seen directly through the apertures (its luminance rho_g E_h / pi below the sharp horizon) is stated
+too where the whole pyramid (below the horizontal plane as well) is proven clear. Otherwise the
+reading's SC is None with the reason. Nothing here changes a reading's value: the total daylight
+factor is measured as before, and the SC is an exact part of it.
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ...radiometry.scene import scene_model
+from ...radiometry.skies import sky_aperture
+
+
+@dataclasses.dataclass
+class SkyComponent:
+    """``sky_lux``: the direct illuminance from the sky through the openings (lux; None when not
+    proven), ``ground_lux``: from the world's ground seen directly through them (None when not
+    proven), ``reason``: why not (empty when both are proven), ``apertures``: how many were used."""
+
+    sky_lux: object
+    ground_lux: object
+    reason: str
+    apertures: int
+
+
+def _scene_refusal(model):
+    g = model.geometry
+    if g.unmodelled:
+        return "geometry without triangles may let sky in or block it"
+    if model.volumes or model.world_volume:
+        return "a participating medium attenuates and scatters the sky's light"
+    if not g.count:
+        return "no surfaces: the meter's own sky proof applies"
+    return ""
+
+
+def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_lux, model=None):
+    """One :class:`SkyComponent` per point (``points_m`` (N, 3) in metres, unit ``normals`` (N, 3)) for the
+    CIE overcast sky of unobstructed horizontal illuminance ``horizontal_lux`` over a ground of
+    ``ground_reflectance``."""
+    from ..meter import point_meter as meter
+    from .analysis_common import view_layer_of
+
+    model = model or meter.capture_model(scene, view_layer_of(scene))
+    points_m, normals = np.asarray(points_m, float), np.asarray(normals, float)
+
+    def refuse(why):
+        return [SkyComponent(None, None, why, 0) for _ in range(len(points_m))]
+
+    why = _scene_refusal(model)
+    if why:
+        return refuse(why)
+    g = model.geometry
+    tris = g.triangles
+    lo, hi = g.bounds()
+    tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, points_m.ravel()])
+    opaque = np.asarray(g.opaque, bool) & g.shadow_triangles()
+    found = sky_aperture.find_apertures(tris[opaque], tol)  # a pane's faces do not close an opening
+    if not found:
+        return refuse("no opening found in the scene's surfaces")
+    loops = [poly for poly, _normal in found]
+    bent = [k for k, poly in enumerate(loops) if not sky_aperture.is_convex(poly, tol)]
+    if bent:
+        return refuse(f"{len(bent)} opening(s) are not convex (the closed form needs convex ones)")
+    closed, comp, why = sky_aperture.enclosure_closed(tris[opaque], loops, tol)
+    if not closed:
+        return refuse(why)
+    shell = tris[opaque][comp]
+    reach = float(np.linalg.norm(hi - lo)) + 1.0
+    lz = 9.0 * horizontal_lux / (7.0 * math.pi)            # overcast: E_h = 7 pi Lz / 9
+    lg = ground_reflectance * horizontal_lux / math.pi
+    out = []
+    for p, n in zip(points_m, normals):
+        inside = sky_aperture.inside_enclosure(p, shell, loops, tol)
+        if inside is not True:
+            out.append(SkyComponent(None, None, "the point is not proven inside the room holding the openings"
+                                    if inside is None else "the point is outside the room holding the openings", 0))
+            continue
+        sky, ground, why = 0.0, 0.0, ""
+        for poly in loops:
+            s, gr = sky_aperture.aperture_illuminance(poly, [p], n, zenith_luminance=lz, ground_luminance=lg)
+            if s[0] > 0.0 and not sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=True):
+                sky, why = None, "a surface may stand between the point and the sky through an opening"
+                if sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=True, ignore=~opaque):
+                    why = ("a pane or other see-through surface is in an opening (its T(theta) weighting, "
+                           "sky_aperture.pane_bounded_illuminance, is not wired into readings yet)")
+                break
+            sky += float(s[0])
+            if ground is not None and gr[0] > 0.0:
+                ground = (ground + float(gr[0]) if sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=False)
+                          else None)
+        if sky is None:
+            ground = None
+        elif ground is None:
+            why = "a surface outside may stand in front of the world's ground seen through an opening"
+        out.append(SkyComponent(sky, ground, why, len(loops)))
+    return out

@@ -1,0 +1,65 @@
+"""The proven sky component (measure/analyses/sky_component.py, radiometry/skies/sky_aperture.py) against Cycles: in
+the side-lit room with every surface black and a black ground, the rendered daylight factor IS the
+direct sky through the window, so the closed form must lie within the render's stated error."""
+
+import importlib.util
+import pathlib
+
+import bpy
+import numpy as np
+
+from radiometer import api
+from radiometer.measure.analyses import sky_component
+from radiometer.measure.analyses.daylight_factor import SKY_HORIZONTAL_LUX
+
+
+def _room():
+    spec = importlib.util.spec_from_file_location("daylight_room", pathlib.Path(__file__).with_name("daylight_room.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _components(scene, points, ground_reflectance=0.0, normal=(0.0, 0.0, 1.0)):
+    pts = np.asarray(points, float)
+    return sky_component.sky_components(scene, pts, np.broadcast_to(normal, pts.shape),
+                                        ground_reflectance=ground_reflectance, horizontal_lux=SKY_HORIZONTAL_LUX)
+
+
+def test_black_room_render_equals_the_closed_form_sky_component(clean_blender, monkeypatch):
+    room = _room()
+    monkeypatch.setattr(room, "RHO", {"floor": 0.0, "ceiling": 0.0, "walls": 0.0})
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    points = room.POINTS + [(1.2, 0.4, 1.6)]
+    sc = _components(scene, points)
+    rs = api.daylight_factor(points, ground_reflectance=0.0, target_rel_error=0.01, seed=2)
+    for r, c in zip(rs, sc):
+        assert c.sky_lux is not None and c.reason == "" and c.apertures == 1, c.reason
+        df_sc = 100.0 * c.sky_lux / SKY_HORIZONTAL_LUX
+        se = r.rel_std_error * r.daylight_factor
+        print(f"black room: rendered DF {r.daylight_factor:.5f} % +- {se:.5f}, closed-form SC {df_sc:.5f} %")
+        assert not r.exact and abs(r.daylight_factor - df_sc) <= 4.0 * se
+        assert c.ground_lux == 0.0
+
+
+def test_refusals_say_why(clean_blender):
+    room = _room()
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    out = _components(scene, [(2.0, -2.0, 1.0), (2.0, 1.5, 0.85)], ground_reflectance=0.2)
+    assert out[0].sky_lux is None and "outside" in out[0].reason
+    assert out[1].sky_lux > 0 and out[1].ground_lux == 0.0  # the point at 0.85 m sees no ground through the window
+    high = _components(scene, [(2.0, 2.5, 2.0)], ground_reflectance=0.2, normal=(0.0, -1.0, 0.0))[0]
+    assert high.sky_lux > 0 and high.ground_lux > 0  # facing the window from 2 m: its lower part shows the ground
+    # an obstruction outside in front of the window: the sky component is not proven
+    me = bpy.data.meshes.new("block")
+    me.from_pydata([(0.0, -3.0, 0.0), (4.0, -3.0, 0.0), (4.0, -3.0, 6.0), (0.0, -3.0, 6.0)], [], [(0, 1, 2, 3)])
+    scene.collection.objects.link(bpy.data.objects.new("block", me))
+    blocked = _components(scene, [(2.0, 1.5, 0.85)])[0]
+    assert blocked.sky_lux is None and "between the point and the sky" in blocked.reason
+    # a pane in the opening: not wired yet, and said so
+    bpy.data.objects.remove(bpy.data.objects["block"])
+    room.add_pane_blender(scene)
+    glazed = _components(scene, [(2.0, 1.5, 0.85)])[0]
+    assert glazed.sky_lux is None and "pane" in glazed.reason and glazed.apertures == 1
