@@ -503,7 +503,11 @@ def _run_on_cluster(scenes, fn_name, kwargs_list, client, progress, cancelled, l
                 pending.discard(future)
                 index = index_of[future.key]
                 try:
-                    if future.status == "cancelled":  # this loop cancels nothing: lost with its worker
+                    # This loop cancels nothing: "cancelled" is a task lost with its worker. "lost" or
+                    # "pending" is a finished task whose result died with its worker and that the scheduler
+                    # is computing again (CI: a SIGKILL right after the first result gave status "lost",
+                    # exception None, "failed: NoneType: None"): both are run again under a new key.
+                    if future.status in ("cancelled", "lost", "pending"):
                         raise FutureCancelledError(future.key)
                     if future.status != "finished":
                         raise _task_error(future, index, label, items[index].name)
@@ -517,6 +521,8 @@ def _run_on_cluster(scenes, fn_name, kwargs_list, client, progress, cancelled, l
                             f"{resubmits[index] + 1} times (a crash in Blender or out of memory); see the "
                             "worker logs") from None
                     resubmits[index] += 1
+                    with contextlib.suppress(Exception):
+                        client.cancel([future], force=True)  # the scheduler's own recomputation, if any
                     rescatter_if_lost(index)
                     again = submit(index)
                     index_of[again.key] = index
