@@ -25,8 +25,10 @@ demo: setup
 test: setup
 	$(PY) -m pytest -q tests
 
+# Blender-free: bpy is shadowed (tests/blender_free/bpy refuses to import, in this process and in every
+# child), the bpy tier is left out and so are tests marked `subprocess` (they run the Blender-backed CLI).
 test-fast: setup
-	$(PY) -m pytest -q tests --ignore=tests/bpy
+	PYTHONPATH=tests/blender_free $(PY) -m pytest -q tests --ignore=tests/bpy -m "not subprocess"
 
 bench: setup
 	$(PY) bench/run.py

@@ -14,7 +14,7 @@ from .errors import MeasurementCancelled, RadiometerError  # noqa: F401  (re-exp
 @_v.boundary(finite=True)
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
-                        seed=0, pooling=True, target_abs_error=None):
+                        seed=0, pooling=True, target_abs_error=None, stop_dark=False):
     """Irradiance (W/m^2) and illuminance (lux) on the side ``normal`` faces.
 
     ``location``: 3 numbers, or (N, 3) to measure N meters in one batch; ``normal``: 3 numbers or
@@ -39,7 +39,13 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     ``target_abs_error``: the absolute floor of the 1-sigma error, lux (None: the preset's, 2 / 0.5 /
     0.1 lx for preview / standard / reference): a meter stops where its error is below it or below the
     relative target, whichever is larger (a point in the dark does not chase 1 % of almost nothing);
-    0: none (the relative target alone, and a meter that finds no light samples on, issue 18).
+    0: none (the relative target alone). A meter that finds no light samples on (issue 18) to
+    65 536 samples and then states its error unknown; ``stop_dark=True`` stops it after its pilot with a
+    one-sided bound by the rule of three (fewer than 3/n of its paths carry light): that bound holds only
+    where no single light-carrying sample carries more than n/3 x the floor, which a small bright region
+    seen past an obstruction breaks (tests/bpy/fin_scene.py: the 99 % hidden meter's exact reading is
+    7.1 lx while one sample that finds the sunlit patch carries pi x L = 2 730 lx, so a 512-sample pilot
+    that misses it would state "at most 2 lx"): a choice for meters known to sit in the dark, not the default.
     """
     location = _v.points(location, "location")
     normal = _v.directions(normal, "normal")
@@ -49,13 +55,15 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                    time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
     if not isinstance(pooling, bool):
         _v.fail("pooling", "True or False", pooling)
+    if not isinstance(stop_dark, bool):
+        _v.fail("stop_dark", "True or False", stop_dark)
     _v.real(target_abs_error, "target_abs_error", low=0.0, allow_none=True)
     from .measure.meter import point_meter as meter
 
     return meter.measure_illuminance(location, normal, scene=scene, method=method, quality=quality,
                                      target_rel_error=target_rel_error, samples=samples,
                                      time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed=seed,
-                                     pooling=bool(pooling), target_abs_error=target_abs_error)
+                                     pooling=bool(pooling), target_abs_error=target_abs_error, stop_dark=stop_dark)
 
 
 @_v.boundary

@@ -149,7 +149,8 @@ class IlluminanceReading:
     #: Which light came from closed forms and what Cycles rendered: {"analytic": [...], "rendered": [...]}.
     parts: dict = dataclasses.field(default_factory=dict)
     #: Issue 31: a meter whose pilot found no rendered light stops there and states a one-sided upper
-    #: bound of its illuminance (lux; the absolute floor, see its notes) instead of an unknown error.
+    #: bound of its illuminance (lux; the absolute floor, see its notes) instead of an unknown error; a
+    #: zero reading with a finite absolute error (e.g. a caustic's bound) states it here too.
     upper_bound_lux: Optional[float] = None
 
     def to_dict(self):
@@ -175,7 +176,7 @@ class IlluminanceReading:
     def summary(self):
         err = "exact" if self.exact else f"±{100 * self.rel_std_error:.2g} % (1 s.e.)"
         if self.upper_bound_lux is not None:
-            err = f"at most {self.upper_bound_lux:.3g} lx (no light found; one-sided bound)"
+            err = f"at most {self.upper_bound_lux:.3g} lx (one-sided bound: no rendered light found, see notes)"
         return f"{self.illuminance:.6g} lx  ({self.irradiance:.6g} W/m²)  {err}  [{self.method}]"
 
 

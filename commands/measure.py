@@ -19,9 +19,8 @@ def add_arguments(parser):
                              "each light's spectrum (docs/spectral.md) (default: photopic)")
     parser.add_argument("--target-abs", type=float, default=None, metavar="LX",
                         help="absolute floor of an illuminance meter's error (1 sigma, lux): a meter stops where its "
-                             "error is below it or below --target, and one that finds no light states it as a "
-                             "one-sided bound (default: the quality preset's: preview 2, standard 0.5, reference "
-                             "0.1; 0: none)")
+                             "error is below it or below --target (default: the quality preset's: preview 2, "
+                             "standard 0.5, reference 0.1; 0: none)")
 
 
 def format_value(value, digits=6):

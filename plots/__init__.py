@@ -44,3 +44,16 @@ def pyplot():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def save_png(fig, path, **savefig_kwargs):
+    """Write ``fig`` as a PNG at ``path``, whole or not at all and never through a planted link
+    (``outputs.atomic_output``), then close it; returns ``path``. ``savefig_kwargs``: dpi, bbox_inches."""
+    from ..outputs import atomic_output
+
+    try:
+        with atomic_output(path) as tmp:
+            fig.savefig(tmp, format="png", **savefig_kwargs)
+    finally:
+        pyplot().close(fig)
+    return path

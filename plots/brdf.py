@@ -5,8 +5,7 @@ callers (``commands/brdf.py``, ``operators/brdf.py``) check the parameters and g
 import os
 
 from ..errors import RadiometerError
-from ..outputs import atomic_output
-from . import pyplot, require_matplotlib
+from . import pyplot, require_matplotlib, save_png
 
 
 def write_summary(model, path, **params):
@@ -62,9 +61,4 @@ def write_lobes(path, model, closure, summary, lobes, weights):
     ax.set_title(f"{model}: model vs {closure} ({summary})", fontsize=8)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    try:
-        with atomic_output(path) as tmp:  # whole or not at all, never through a planted link (issue 21)
-            fig.savefig(tmp, format="png")
-    finally:
-        plt.close(fig)
-    return path
+    return save_png(fig, path)

@@ -5,8 +5,7 @@ import textwrap
 
 import numpy as np
 
-from ..outputs import atomic_output
-from . import pyplot
+from . import pyplot, save_png
 
 
 def fit_in_words(slope, what="samples"):
@@ -66,9 +65,4 @@ def convergence_plot(path, samples, seconds, errors, std_errors=None, *, fit=Non
         ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), frameon=False)
     fig.suptitle("\n".join(textwrap.fill(p, 110) for p in str(title).split("\n")), fontsize=9)
     fig.tight_layout()
-    try:
-        with atomic_output(path) as tmp:
-            fig.savefig(tmp, format="png", dpi=110)
-    finally:
-        plt.close(fig)
-    return path
+    return save_png(fig, path, dpi=110)

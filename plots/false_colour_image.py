@@ -5,8 +5,7 @@ import math
 
 import numpy as np
 
-from ..outputs import atomic_output
-from . import pyplot
+from . import pyplot, save_png
 
 
 def scale_range(values, scale="log", value_range=None):
@@ -61,9 +60,4 @@ def false_colour_png(path, values, *, unit="cd/m²", quantity="luminance", scale
     if title:
         ax.set_title(title, fontsize=9)
     fig.tight_layout()
-    try:
-        with atomic_output(path) as tmp:
-            fig.savefig(tmp, format="png", dpi=100)
-    finally:
-        plt.close(fig)
-    return path
+    return save_png(fig, path, dpi=100)

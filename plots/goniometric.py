@@ -3,8 +3,7 @@ beam (50 %) and field (10 %) angles of each plane marked."""
 
 import numpy as np
 
-from ..outputs import atomic_output
-from . import pyplot
+from . import pyplot, save_png
 
 
 def spread_angle(vertical_deg, right, left, fraction):
@@ -84,9 +83,4 @@ def goniometric_png(path, vertical_deg, planes, *, unit="cd", title=""):
     ax.text(0.5, -0.08, f"intensity in {unit}; 0° = nadir; dashed: beam angle (50 %), dotted: field angle (10 %)",
             transform=ax.transAxes, ha="center", fontsize=8)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize=9, frameon=False, ncol=1)
-    try:
-        with atomic_output(path) as tmp:
-            fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
-    finally:
-        plt.close(fig)
-    return path
+    return save_png(fig, path, dpi=110, bbox_inches="tight")

@@ -14,8 +14,7 @@ import math
 
 import numpy as np
 
-from ..outputs import atomic_output
-from . import pyplot
+from . import pyplot, save_png
 
 #: Standard illuminance steps within one decade (EN 12464-1 / CIE scale of maintained illuminances:
 #: ..., 20, 30, 50, 75, 100, 150, 200, 300, 500, 750, 1000, ...), as multiples of 10^k.
@@ -203,11 +202,5 @@ def _plain_formatter(minor=False):
 
 def isolux_png(path, lux, origin, axis_u, axis_v, **kwargs):
     """Write :func:`isolux_figure` as a PNG at ``path`` (whole or not at all); returns ``path``."""
-    plt = pyplot()
     fig = isolux_figure(lux, origin, axis_u, axis_v, **kwargs)
-    try:
-        with atomic_output(path) as tmp:
-            fig.savefig(tmp, format="png", dpi=110)
-    finally:
-        plt.close(fig)
-    return path
+    return save_png(fig, path, dpi=110)

@@ -11,21 +11,12 @@ import textwrap
 
 import numpy as np
 
-from ..outputs import atomic_output
-from . import pyplot
+from . import pyplot, save_png
 
 
 def _wrapped(title, width=84):
     """A long title broken into lines that fit the figure (never cut at its edges)."""
     return "\n".join(textwrap.fill(part, width) for part in str(title).split("\n"))
-
-
-def _save(fig, path):
-    try:
-        with atomic_output(path) as tmp:
-            fig.savefig(tmp, format="png", dpi=110)
-    finally:
-        fig.clf()
 
 
 def _plain_number(v):
@@ -108,11 +99,7 @@ def inverse_square_plot(path, distances, measured, predicted, rel_std_error, *, 
     ax2.legend(loc="lower right", fontsize=7.5)
     _plain_ticks(ax2, "x")
     fig.tight_layout()
-    try:
-        _save(fig, path)
-    finally:
-        plt.close(fig)
-    return path
+    return save_png(fig, path, dpi=110)
 
 
 def cosine_plot(path, angles_deg, ratio, ratio_rel_se, *, title="", tolerance=0.01, model_ratio=None,
@@ -166,8 +153,4 @@ def cosine_plot(path, angles_deg, ratio, ratio_rel_se, *, title="", tolerance=0.
     ax2.set_ylabel("E(θ) / (E(0) cos θ) − 1 (%)")
     ax2.legend(loc="upper left", fontsize=7.5)
     fig.tight_layout()
-    try:
-        _save(fig, path)
-    finally:
-        plt.close(fig)
-    return path
+    return save_png(fig, path, dpi=110)

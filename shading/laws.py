@@ -30,21 +30,8 @@ FRESNEL_INPUTS = {"schlick": ("f0",), "dielectric": ("ior",), "conductor": ("eta
 class NumpyOps:
     """The law algebra on floats (scalars) and RGB triples (numpy arrays of shape (3,))."""
 
-    @staticmethod
-    def add(a, b):
-        return np.add(a, b)
-
-    @staticmethod
-    def sub(a, b):
-        return np.subtract(a, b)
-
-    @staticmethod
-    def mul(a, b):
-        return np.multiply(a, b)
-
-    @staticmethod
-    def div(a, b):
-        return np.divide(a, b)
+    add, sub, mul, div = (staticmethod(f) for f in (np.add, np.subtract, np.multiply, np.divide))
+    cos, minimum, maximum = (staticmethod(f) for f in (np.cos, np.minimum, np.maximum))
 
     @staticmethod
     def sqrt(a):
@@ -53,18 +40,6 @@ class NumpyOps:
     @staticmethod
     def pow(a, b):
         return np.power(np.maximum(a, 0.0), b)
-
-    @staticmethod
-    def cos(a):
-        return np.cos(a)
-
-    @staticmethod
-    def minimum(a, b):
-        return np.minimum(a, b)
-
-    @staticmethod
-    def maximum(a, b):
-        return np.maximum(a, b)
 
     @staticmethod
     def less(a, b):

@@ -24,6 +24,7 @@ def test_help_lists_subcommands():
     (("measure", "/nonexistent/scene.blend"), "no such file"),
     (("measure", "--bogus-option"), "unrecognized arguments"),
 ])
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_bad_input_is_one_line_and_nonzero(args, fragment):
     out = run_cli(*args)
     assert out.returncode == 2
@@ -32,6 +33,7 @@ def test_bad_input_is_one_line_and_nonzero(args, fragment):
     assert len(lines) == 1 and fragment in lines[0], out.stderr
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_not_a_blend_file(tmp_path):
     fake = tmp_path / "scene.blend"
     fake.write_text("this is not a blend file")
@@ -39,6 +41,7 @@ def test_not_a_blend_file(tmp_path):
     assert out.returncode == 2 and "not a .blend file" in out.stderr and "Traceback" not in out.stderr
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_corrupt_blend_file(tmp_path):
     fake = tmp_path / "scene.blend"
     fake.write_bytes(b"BLENDER-v500" + os.urandom(200))
@@ -96,6 +99,7 @@ def test_version():
     assert out.returncode == 0 and out.stdout.startswith("radiometer ") and out.stdout.split()[1][0].isdigit()
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_stdout_has_results_and_no_blender_log_lines(room, tmp_path):
     out = run_cli("measure", room, "--json", str(tmp_path / "r.json"))
     assert out.returncode == 0, out.stderr
@@ -106,6 +110,7 @@ def test_stdout_has_results_and_no_blender_log_lines(room, tmp_path):
     assert json.loads((tmp_path / "r.json").read_text())["meters"][0]["method"] == "render"
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_verbose_shows_blender_log_lines_quiet_shows_nothing(room, tmp_path):
     verbose = run_cli("measure", room, "--verbose")
     assert verbose.returncode == 0
@@ -117,6 +122,7 @@ def test_verbose_shows_blender_log_lines_quiet_shows_nothing(room, tmp_path):
     assert also.returncode == 0 and also.stdout == ""
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_unwritable_json_is_one_line_before_the_run(room, tmp_path):
     _one_error_line(run_cli("measure", room, "--json", str(tmp_path / "missing" / "r.json")), "does not exist")
     _one_error_line(run_cli("measure", room, "--json", str(tmp_path)), "is a directory")
@@ -125,6 +131,7 @@ def test_unwritable_json_is_one_line_before_the_run(room, tmp_path):
     _one_error_line(run_cli("measure", room, "--json", str(blocker / "r.json")), "cannot write")
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_full_disk_is_one_line_after_the_results(room):
     # /dev/full accepts open() and fails every write with ENOSPC, like a full disk.
     out = run_cli("measure", room, "--json", "/dev/full")
@@ -132,12 +139,14 @@ def test_full_disk_is_one_line_after_the_results(room):
     assert "Illuminance Meter" in out.stdout  # the results were printed before the file failed
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_unwritable_grid_outputs(room, tmp_path):
     _one_error_line(run_cli("grid", room, "--resolution", "2", "2", "--csv", str(tmp_path / "no" / "g.csv")),
                     "--csv file")
     _one_error_line(run_cli("grid", room, "--resolution", "2", "2", "--png", str(tmp_path)), "is a directory")
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_unwritable_plot_and_out_folders(room, tmp_path):
     blocker = tmp_path / "a_file"
     blocker.write_text("x")
@@ -147,6 +156,7 @@ def test_unwritable_plot_and_out_folders(room, tmp_path):
     assert blocker.read_text() == "x"
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_grid_writes_json_before_csv_and_png(room, tmp_path):
     out = run_cli("grid", room, "--resolution", "3", "3", "--json", str(tmp_path / "g.json"),
                   "--csv", str(tmp_path / "g.csv"), "--png", str(tmp_path / "g.png"))
@@ -156,6 +166,7 @@ def test_grid_writes_json_before_csv_and_png(room, tmp_path):
     assert (tmp_path / "g.csv").exists() and (tmp_path / "g.png").exists()
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_brdf_plot_into_a_folder_or_without_extension(tmp_path):
     pytest.importorskip("matplotlib")
     out = run_cli("brdf", "lambert", "--plot", str(tmp_path))
@@ -197,6 +208,7 @@ def _interrupt_during(args, tmp_path, wait_for, delay, json_file=True):
     return rest
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_ctrl_c_during_a_long_bake_exits_130(room, tmp_path):
     # One time-budgeted round is a single ~60 s bake: Cycles swallows the KeyboardInterrupt inside
     # it, the measurement cannot poll, so the watchdog ends the run a few seconds after Ctrl-C.
@@ -204,6 +216,7 @@ def test_ctrl_c_during_a_long_bake_exits_130(room, tmp_path):
                        "--time-budget", "60"], tmp_path, wait_for="Read blend", delay=3.0)
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_ctrl_c_during_the_demo_exits_130(tmp_path):
     # The demo writes demo.json as soon as its meters are measured, then runs the report: whatever
     # the moment of the interrupt, every file there is whole (no half-written JSON, no temp file).

@@ -30,6 +30,7 @@ def test_every_option_of_every_subcommand_has_help():
     assert {"measure", "brdf", "world", "grid", "report", "check"} <= subcommands
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_brdf_list_names_every_model_with_its_parameters(tmp_path):
     from radiometer import brdf
 

@@ -81,6 +81,7 @@ def test_workers_and_scheduler_together_are_refused():
             pass
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_cli_unreachable_scheduler_exit_2_one_line(tmp_path):
     pytest.importorskip("distributed")
     blend = tmp_path / "a.blend"

@@ -97,6 +97,7 @@ def _cli(*args, cwd="/"):
                           timeout=300)
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_cli_luminaire_summary_json_and_bad_input(tmp_path):
     v = np.arange(0.0, 180.0 + 1e-9, 5.0)
     path = tmp_path / "iso.ies"

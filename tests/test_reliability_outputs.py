@@ -70,6 +70,7 @@ def scene_copy(blend, tmp_path):
 
 @pytest.mark.parametrize("args", [("world", "--json", "{blend}"), ("grid", "--resolution", "2", "2", "--csv", "{blend}"),
                                   ("grid", "--resolution", "2", "2", "--json", "{blend}")])
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_output_onto_the_input_scene_is_refused(scene_copy, args):
     before = scene_copy.read_bytes()
     argv = [a.format(blend=scene_copy) for a in args]
@@ -79,6 +80,7 @@ def test_output_onto_the_input_scene_is_refused(scene_copy, args):
     assert scene_copy.read_bytes() == before
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_output_onto_the_input_by_another_name_is_refused(scene_copy, tmp_path):
     before = scene_copy.read_bytes()
     (tmp_path / "sub").mkdir()
@@ -101,16 +103,19 @@ def test_luminaire_plot_onto_its_photometric_file_is_refused(tmp_path):
 
 # --- finding 14: two outputs onto one file, empty names, no arguments, long paths -------------------
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_two_outputs_onto_one_file_are_refused(blend, tmp_path):
     f = tmp_path / "g.out"
     one_error_line(run_cli("grid", blend, "--resolution", "2", "2", "--csv", f, "--json", f), "same file")
     assert not f.exists()
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_empty_json_name_is_an_error(blend):
     one_error_line(run_cli("world", blend, "--json", ""), "--json")
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_json_dash_is_stdout_alone(blend, tmp_path):
     out = subprocess.run([sys.executable, "-m", "radiometer", "world", str(blend), "--json", "-"],
                          capture_output=True, text=True, cwd=tmp_path, timeout=300)
@@ -124,12 +129,14 @@ def test_no_arguments_prints_usage_on_stderr_exit_2():
     assert out.returncode == 2 and out.stdout == "" and "usage" in out.stderr.lower()
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_a_5000_character_path_is_not_echoed_whole(tmp_path):
     long = "/" + "a" * 5000 + ".blend"
     line = one_error_line(run_cli("measure", long))
     assert len(line) < 400
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_access_based_checks_do_not_pass_a_folder_nobody_can_write_into(blend):
     # /proc passes access(W_OK) for root, but no file can be created there: refused before the run.
     out = run_cli("world", blend, "--json", "/proc/radiometer-test.json")
@@ -139,6 +146,7 @@ def test_access_based_checks_do_not_pass_a_folder_nobody_can_write_into(blend):
 
 # --- finding 3: symlinks planted at a destination -----------------------------------------------------
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 @pytest.mark.parametrize("option", ["--csv", "--png", "--json"])
 def test_planted_symlink_is_not_followed(blend, tmp_path, option):
     pytest.importorskip("matplotlib")
@@ -151,6 +159,7 @@ def test_planted_symlink_is_not_followed(blend, tmp_path, option):
     assert victim.read_text() == "precious" and os.path.islink(link)
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_brdf_plot_through_a_planted_symlink_is_refused(tmp_path):
     # Finding 2/3: `brdf --plot` wrote its PNG in place (through a link at the destination).
     pytest.importorskip("matplotlib")
@@ -184,6 +193,7 @@ def fill(folder):
             f.write(b"\0" * 4096)
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 @pytest.mark.parametrize("option, old", [("--csv", "x,y,lux\nold\n"), ("--json", '{"old": true}\n')])
 def test_full_disk_keeps_the_old_file_and_names_it(blend, tmp_path, option, old):
     with small_tmpfs(tmp_path) as disk:
@@ -197,11 +207,13 @@ def test_full_disk_keeps_the_old_file_and_names_it(blend, tmp_path, option, old)
         assert sorted(p.name for p in disk.iterdir()) == ["filler", target.name]  # no temp file left
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_full_disk_device_is_an_error_naming_it(blend):
     line = one_error_line(run_cli("world", blend, "--json", "/dev/full"), "No space left")
     assert "/dev/full" in line
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_png_onto_a_full_device_is_an_error_and_writes_no_other_file(blend):
     # Finding 14: `--png /dev/full` wrote /dev/full.png and reported success.
     pytest.importorskip("matplotlib")
@@ -212,12 +224,14 @@ def test_png_onto_a_full_device_is_an_error_and_writes_no_other_file(blend):
 
 # --- finding 13: EXR write errors and radiance maps left in a temp folder -------------------------------
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_irradiance_map_onto_a_full_device_is_an_error(blend):
     pytest.importorskip("OpenEXR")
     out = run_cli("world", blend, "--irradiance-map", "/dev/full", "--resolution", "8", "4")
     one_error_line(out, "/dev/full")
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_irradiance_map_on_a_full_disk_leaves_no_file(blend, tmp_path):
     pytest.importorskip("OpenEXR")
     with small_tmpfs(tmp_path, size="64k") as disk:
@@ -227,6 +241,7 @@ def test_irradiance_map_on_a_full_disk_leaves_no_file(blend, tmp_path):
         assert sorted(p.name for p in disk.iterdir()) == ["filler"]
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_cli_leaves_no_radiance_maps_behind_and_json_points_at_nothing_gone(tmp_path_factory, tmp_path):
     blend = _build(tmp_path_factory, "probe", True)
     scratch = tmp_path / "tmp"

@@ -56,6 +56,7 @@ def json_whole(out):
 
 @pytest.mark.parametrize("signum, delay", [(s, d) for s, ds in DELAYS.items() for d in ds],
                          ids=[f"{signal.Signals(s).name}-{d}s" for s, ds in DELAYS.items() for d in ds])
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_signal_at_any_moment_is_one_line_and_the_right_code(blend, tmp_path, signum, delay):
     rc, stdout, stderr, out, scratch = run_and_signal(blend, tmp_path, signum, delay)
     # Before the interpreter reaches the first statement of radiometer/__main__.py (Python's own
@@ -77,6 +78,7 @@ def test_signal_at_any_moment_is_one_line_and_the_right_code(blend, tmp_path, si
     assert os.listdir(scratch) == []  # no scratch folder left behind
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 @pytest.mark.parametrize("delay", [2.5])
 def test_sigkill_leaves_the_json_whole_or_as_it_was(blend, tmp_path, delay):
     rc, _out, _err, out, _scratch = run_and_signal(blend, tmp_path, signal.SIGKILL, delay)

@@ -102,6 +102,7 @@ def test_bad_model_and_method():
         realise("phong", "nodes", kd=0.8, ks=0.8)  # library rule kd + ks <= 1
 
 
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_brdf_subcommand(tmp_path, capsys):
     from radiometer.cli import main
 

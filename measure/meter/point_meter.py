@@ -659,7 +659,7 @@ def _closed_form_part(model, decision, sensors_m, normals, direct_only):
 
 def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sensors_m, normals, *, preset,
                  method, direct_only, weights, target, budget, fixed, progress, cancelled, seed, scale, n_closed,
-                 target_abs=None, medium=None, pooling=False):
+                 target_abs=None, medium=None, pooling=False, stop_dark=False):
     """Cycles (hybrid or render) at the meters that need it; ``direct`` is the plan cut to them
     (``_plan_at``), as are the sensors and normals. Returns a dict: mean_rgb, bound_rgb, se_rgb (M, 3),
     se, samples (M,), method, record, notes (common to these meters), parts (per meter)."""
@@ -742,7 +742,8 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                                  time_budget=budget, fixed_samples=fixed, exclusions=split,
                                  offset=offset_rgb @ weights, progress=progress, cancelled=cancelled, seed=seed,
                                  panes=model.panes, may_be_lit=may_be_lit(direct, direct_only),
-                                 min_samples=floor, pooled=pooling, target_abs=target_abs)
+                                 min_samples=floor, pooled=pooling, target_abs=target_abs,
+                                 stop_dark=stop_dark)
     mean_rgb = run["mean_rgb"] + offset_rgb
     # Issue 18 (F3): Cycles computes and accumulates in float32, so no rendered part is known better
     # than its float32 rounding, even where every sample agrees (one delta light: batch-means s.e. ~0);
@@ -757,7 +758,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
         # unless a deterministic bound (a caustic's closed form) already states what may be missing.
         unbounded = dark & ~(np.abs(bound_rgb) @ np.abs(weights) > 0.0)
         taken = int(run['samples'][dark].min())
-        if target_abs is not None and fixed is None:
+        if stop_dark and target_abs is not None and fixed is None:
             # Issue 31: the meter stopped after its pilot; it states the absolute floor as a one-sided bound.
             scalar_se = np.where(unbounded, target_abs, scalar_se)
             upper = np.where(unbounded, target_abs, np.nan)
@@ -846,7 +847,8 @@ def pooled_notes(run, method, n):
 
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
-                        exclude=(), seed=0, direct_only=False, model=None, pooling=True, target_abs_error=None):
+                        exclude=(), seed=0, direct_only=False, model=None, pooling=True, target_abs_error=None,
+                        stop_dark=False):
     """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``.
 
     ``direct_only``: light straight from the sources only (closed forms where proven, else Cycles
@@ -857,6 +859,8 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     one plane read their rendered part from a fitted field checked on held-out meters (issue 17).
     ``target_abs_error``: the absolute floor of the 1-sigma error in lux (None: the preset's
     ``target_abs_lux``); a meter stops where its error is below it or below the relative target.
+    ``stop_dark``: a meter whose pilot finds no light stops there and states the rule-of-three bound
+    (see ``radiometer.api.measure_illuminance``).
     """
     scene = scene or bpy.context.scene
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
@@ -909,7 +913,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                            method=method, direct_only=direct_only, weights=weights, target=target, budget=budget,
                            fixed=fixed, progress=progress, cancelled=cancelled, seed=seed, scale=scale,
                            n_closed=int(closed.sum()), medium=_world_medium(scene, model), pooling=pooling,
-                           target_abs=abs_floor)
+                           target_abs=abs_floor, stop_dark=stop_dark)
         mean_rgb[rendered], bound_rgb[rendered] = run["mean_rgb"], run["bound_rgb"]
         se_rgb[rendered], scalar_se[rendered], spent[rendered] = run["se_rgb"], run["se"], run["samples"]
         upper[rendered] = run["upper"]
@@ -929,6 +933,10 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
         abs_err = math.hypot(float(scalar_se[k]), float(scalar_bound[k]))
         rel = abs_err / abs(e) if e != 0 else (0.0 if abs_err == 0 else math.inf)
         rel_bound = float(scalar_bound[k] / abs(e)) if e != 0 else (0.0 if scalar_bound[k] == 0 else math.inf)
+        if e == 0 and np.isnan(upper[k]) and 0 < abs_err < math.inf:
+            # A zero reading has no finite relative error: its absolute one is stated as a one-sided bound
+            # (the deterministic bound, e.g. a caustic's closed form, plus 2 standard errors; issue 32).
+            upper[k] = float(scalar_bound[k]) + 2.0 * float(scalar_se[k])
         readings.append(IlluminanceReading(
             irradiance_rgb=tuple(float(v) for v in mean_rgb[k]), irradiance=e, illuminance=efficacy * e,
             rel_std_error=rel, method=str(methods[k]), samples=int(spent[k]), seconds=seconds / n,

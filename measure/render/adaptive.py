@@ -56,7 +56,7 @@ def _exclude_from(coll, obj):
 def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, weights, target=None,
                   time_budget=None, fixed_samples=None, exclusions=None, offset=None, progress=None,
                   cancelled=None, seed=0, max_samples=allocation.MAX_SAMPLES_PER_METER, panes=None,
-                  may_be_lit=None, min_samples=None, pooled=False, target_abs=None):
+                  may_be_lit=None, min_samples=None, pooled=False, target_abs=None, stop_dark=False):
     """Rendered irradiance at the sensors, W/m^2 SI, each meter sampled to its own need.
 
     ``exclusions``: per meter, a frozenset of light OBJECT identities (``meter.light_object_key``: session
@@ -184,13 +184,13 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
                                                   target=target, keys=exclusions, offset=offset, seed=seed,
                                                   progress=report, may_be_lit=may_be_lit, min_samples=min_samples,
                                                   max_samples=max_samples, table_patterns=allocation.TABLE_PATTERNS,
-                                                  target_abs=target_abs)
+                                                  target_abs=target_abs, stop_dark=stop_dark)
         else:
             result = allocation.allocate(bake, n, target=target, time_budget=time_budget,
                                          fixed_samples=fixed_samples, offset=offset, max_samples=max_samples,
                                          progress=report, may_be_lit=may_be_lit, min_samples=min_samples,
                                          table_patterns=allocation.TABLE_PATTERNS,  # Cycles' tabulated Sobol
-                                         target_abs=target_abs)
+                                         target_abs=target_abs, stop_dark=stop_dark)
     tally = result.tally
     record = dict(record, samples=None, rounds=result.rounds, bakes=state["bakes"])
     return {

@@ -538,7 +538,7 @@ class AllocationResult:
 
 def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, offset=0.0, max_rounds=8,
              max_samples=MAX_SAMPLES_PER_METER, progress=None, clock=None, may_be_lit=None, min_samples=None,
-             table_patterns=0, target_abs=None, staged=False):
+             table_patterns=0, target_abs=None, staged=False, stop_dark=False):
     """Run rounds of ``bake`` until every meter meets ``target`` (1-sigma relative standard error),
     or spend about ``time_budget`` seconds lowering the worst error, or spend ``fixed_samples`` per
     meter.
@@ -549,7 +549,9 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     seconds_left)`` is called before every round with the plan's estimate. Returns an
     :class:`AllocationResult`. ``may_be_lit`` (N,) bool: meters that light may reach by a path the
     pilot can miss; while all their texels read 0 they are not converged (``DARK_FLOOR``), unless an
-    absolute floor ``target_abs`` is given: then such a meter stops after its pilot (issue 31).
+    absolute floor ``target_abs`` is given and ``stop_dark``: then such a meter stops after its pilot (issue
+    31; its caller states the rule-of-three bound, which holds only where no single light-carrying sample
+    can carry much more than the floor: not the default, see docs/errors.md).
     ``min_samples`` (N,) or None: a floor of samples per meter, taken in one round right after the
     pilot (issue 18: light from a small bright region of a rendered world comes by rare paths that a
     256-sample pilot misses while its variance looks tiny; see ``floor_round``).
@@ -606,8 +608,8 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     goal = target
     plan_factor = PLAN_FACTOR if staged else 1.0
     # Issue 31: with an absolute floor, a meter whose pilot found no light stops there (its reading states
-    # a one-sided bound, ``dark_meters``) instead of chasing DARK_FLOOR samples.
-    plan_lit = None if target_abs is not None else may_be_lit
+    # a one-sided bound, ``dark_meters``) instead of chasing DARK_FLOOR samples, when asked (stop_dark).
+    plan_lit = None if target_abs is not None and stop_dark else may_be_lit
     for _round in range(max_rounds):
         elapsed = clock() - started
         if time_budget is not None and elapsed >= time_budget:

@@ -480,7 +480,7 @@ def _pick(value, idx):
 
 def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset=0.0, seed=0,
                     min_meters=None, progress=None, may_be_lit=None, min_samples=None,
-                    max_samples=allocation.MAX_SAMPLES_PER_METER, clock=None, table_patterns=0, target_abs=None):
+                    max_samples=allocation.MAX_SAMPLES_PER_METER, clock=None, table_patterns=0, target_abs=None, stop_dark=False):
     """``allocation.allocate`` in target mode for many meters, pooling the rendered part of groups
     of at least ``min_meters`` (None: ``POOL_MIN_METERS``) meters on one plane (``plane_groups``;
     ``keys`` per meter: what is rendered there, e.g. the lights excluded from its sensor; meters with
@@ -552,7 +552,7 @@ def allocate_pooled(bake, count, *, points_m, normals, target, keys=None, offset
     def per_meter(idx, lo, hi, ready=None):
         return stage(idx, lo, hi, ready=ready, target=target, offset=offset[idx],
                      may_be_lit=_pick(may_be_lit, idx), min_samples=None if min_samples is None else floors[idx],
-                     table_patterns=table_patterns, target_abs=_pick(target_abs, idx))  # meters read on their own: allocation.TABLE_PATTERNS
+                     table_patterns=table_patterns, target_abs=_pick(target_abs, idx), stop_dark=stop_dark)  # meters read on their own: allocation.TABLE_PATTERNS
 
     # The pilot of the meters read on their own (held out, or in no group) rides in the fitted meters' bake
     # when it is that bake's spp (allocate's first round: PILOT_SPP, pilot_blocks each); else it is baked apart.

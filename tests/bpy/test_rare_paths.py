@@ -25,9 +25,12 @@ def test_dark_meter_facing_a_surface_states_no_zero_error(clean_blender, build):
     assert math.isinf(r.rel_std_error) and r.upper_bound_lux is None
     assert r.samples >= allocation.DARK_FLOOR
     assert any("found no rendered light" in note for note in r.notes)
-    # With the preset's absolute floor (issue 31) it stops after its pilot and states a finite one-sided bound.
+    # The preset's absolute floor alone changes nothing for a meter that finds no light (it samples on).
+    r = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), quality="preview")
+    assert math.isinf(r.rel_std_error) and r.upper_bound_lux is None and r.samples >= allocation.DARK_FLOOR
+    # Asked to (stop_dark, issue 31), it stops after its pilot and states a finite one-sided bound.
     pilot = allocation.pilot_blocks(1) * allocation.PILOT_SPP * allocation.BLOCK_TEXELS ** 2
-    d = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), quality="preview")
+    d = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), quality="preview", stop_dark=True)
     assert d.illuminance == 0.0 and d.samples == pilot
     assert d.upper_bound_lux == pytest.approx(2.0) and "at most 2 lx" in d.summary()
     assert any("rule of three" in note for note in d.notes)
@@ -95,9 +98,9 @@ def test_one_patch_world_takes_the_sample_floor(clean_blender):
 
 
 def test_meters_outside_a_closed_room_stop_after_their_pilot(clean_blender, build):
-    """Issue 31 (dark meters): in one batch, meters outside a closed lit box read 0 and state a finite
-    one-sided bound (the preset's absolute floor) after their pilot's samples only; the meter inside is
-    measured as before."""
+    """Issue 31 (dark meters, ``stop_dark=True``): in one batch, meters outside a closed lit box read 0 and
+    state a finite one-sided bound (the preset's absolute floor) after their pilot's samples only; the
+    meter inside is measured as before."""
     from radiometer import api
     from radiometer.radiometry.sampling import allocation
 
@@ -109,7 +112,7 @@ def test_meters_outside_a_closed_room_stop_after_their_pilot(clean_blender, buil
     assert box.type == "MESH"
     points = [(0.0, 0.0, 0.5), (3.0, 0.0, 1.0), (0.0, -3.0, 1.0)]   # inside, then two outside facing the box
     normals = [(0.0, 0.0, 1.0), (-1.0, 0.0, 0.0), (0.0, 1.0, 0.0)]
-    readings = api.measure_illuminance(points, normals, quality="preview")
+    readings = api.measure_illuminance(points, normals, quality="preview", stop_dark=True)
     pilot = allocation.pilot_blocks(2) * allocation.PILOT_SPP * allocation.BLOCK_TEXELS ** 2  # 2 rendered meters
     inside, outside = readings[0], readings[1:]
     assert inside.illuminance > 0 and inside.upper_bound_lux is None
