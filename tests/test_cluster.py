@@ -81,6 +81,7 @@ def test_workers_and_scheduler_together_are_refused():
             pass
 
 
+@pytest.mark.slow
 @pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
 def test_cli_unreachable_scheduler_exit_2_one_line(tmp_path):
     pytest.importorskip("distributed")
@@ -156,6 +157,7 @@ def test_connect_to_a_foreign_service_is_one_line_within_the_timeout(foreign_ser
         assert elapsed < 2.0, (kind, elapsed)  # 1 s bound + the thread's join margin
 
 
+@pytest.mark.slow
 def test_cli_scheduler_mistakes_one_line_and_nothing_later(foreign_servers, tmp_path):
     # The CLI with --scheduler at an HTTP server, a garbage-speaking service and a malformed address:
     # exit 2 and one line within 5 s (the documented bound) plus start-up, and nothing after it. Before,
@@ -197,6 +199,7 @@ def test_cli_workers_100000_refused_before_any_work(tmp_path):
     assert out.returncode == 2 and len(lines) == 1 and "per core" in lines[0], out.stderr
 
 
+@pytest.mark.slow
 def test_a_client_whose_start_fails_prints_nothing_later():
     # The address check and the probe normally refuse a bad address before any Client exists; here both
     # are skipped, so the Client itself fails in its start. Before, its __del__ printed "Exception ignored

@@ -464,6 +464,7 @@ def _mutate(ops):
     return b"\n".join(lines) + b"\n"
 
 
+@pytest.mark.slow
 def test_fuzz_malformed_weather_files_give_one_line(tmp_path_factory):
     """Malformed files (records deleted, duplicated, swapped, cut short, cells replaced by numbers, NaN,
     codes or text in one record or in every n-th, random text or bytes inserted): each is read (its notes one line each) or refused with

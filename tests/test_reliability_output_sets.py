@@ -219,6 +219,7 @@ def camera_blend(tmp_path_factory):
     return path
 
 
+@pytest.mark.slow
 def test_ctrl_c_during_report_leaves_the_previous_set_or_the_new_one_whole(camera_blend, tmp_path):
     # Acceptance of issue 33: Ctrl-C at any second of `report` leaves the previous report set intact,
     # or the new one whole, and no temporary file. The runs take ~8-15 s here; SIGINT at 1.5 s

@@ -12,6 +12,8 @@ import subprocess
 import sys
 import textwrap
 
+import pytest
+
 SCRIPT = textwrap.dedent("""
     import json, os, sys, tempfile
     for name in ("scipy", "matplotlib", "colour"):
@@ -62,6 +64,7 @@ def _run():
     return json.loads(line[len("RESULT "):])
 
 
+@pytest.mark.slow
 def test_runtime_paths_work_without_scipy_matplotlib_colour():
     out = _run()
     assert out["blocked_loaded"] == []

@@ -252,6 +252,7 @@ def _sun_study(client, scene):
                          quality="preview", client=client)
 
 
+@pytest.mark.slow
 def test_dask_cli_scheduler_and_two_workers_run_a_sun_study(clean_blender, tmp_path):
     from radiometer.cluster import connect
 
@@ -340,6 +341,7 @@ def _rss(process):
         return 0
 
 
+@pytest.mark.slow
 def test_ui_check_of_an_unreachable_scheduler_says_so_in_one_line(clean_blender):
     import socket
 

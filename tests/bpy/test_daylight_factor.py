@@ -68,6 +68,7 @@ def test_grid_statistics_and_en17037(clean_blender, build):
         plane_statistics([1.0, float("nan")])
 
 
+@pytest.mark.slow
 def test_side_lit_room_against_radiance(clean_blender, build, tmp_path):
     scene = bpy.context.scene
     room.build_blender(scene)
@@ -120,6 +121,7 @@ def test_cli_daylight_factor(clean_blender, build, tmp_path, capsys):
     assert cli._blender_cli(["daylight-factor", "--points", str(points), "--target", "2"]) == 2
 
 
+@pytest.mark.slow
 def test_side_lit_room_with_6mm_glass_pane_against_radiance(clean_blender, tmp_path):
     # The pane is a solid of Glass BSDF (IOR 1.52); Radiance gets the same solid as a dielectric box.
     scene = bpy.context.scene

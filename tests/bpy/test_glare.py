@@ -133,6 +133,7 @@ RADIANCE = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.
                         "lib", "python3.11", "site-packages", "pyradiance")
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not os.path.exists(os.path.join(RADIANCE, "bin", "evalglare")), reason="pyradiance not installed")
 def test_ugr_office_against_evalglare(clean_blender, tmp_path):
     """evalglare on a 160 x 160 fisheye (rpict -vta, 2 ambient bounces): its UGR within about 1, for the

@@ -337,6 +337,7 @@ def test_window_with_its_frame_in_one_mesh(clean_blender):
     assert [m.name for m in pane.data.materials] == [mesh.materials[0].name, "frame"]
 
 
+@pytest.mark.slow
 def test_fog_that_varies_in_space_stays_rendered(clean_blender):
     """Only a provably homogeneous world volume gets exp(-sigma_t d): a density fed by a texture is
     rendered whole."""

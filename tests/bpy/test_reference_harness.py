@@ -117,6 +117,7 @@ def test_square_area_light_at_one_metre(empty_scene):
     _agree(e2[0], expected2, rel2, "tilted, off-axis area light")
 
 
+@pytest.mark.slow
 def test_integrating_sphere_all_bounces(empty_scene):
     rho, power = 0.8, 100.0
     built = corpus.integrating_sphere(rho=rho, power=power, segments=128, rings=64, do_reset=False)

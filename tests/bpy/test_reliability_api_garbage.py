@@ -117,6 +117,7 @@ def cases(tmp_path):
 ALL_PARAMS = cases(__import__("pathlib").Path("/nonexistent"))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted({n for n, _ in ALL_PARAMS}))
 def test_garbage_in_any_argument_gives_a_result_or_one_radiometer_error(scene, tmp_path, monkeypatch, name):
     monkeypatch.chdir(tmp_path)  # a text that is a valid relative file name writes there, not into the repo

@@ -48,6 +48,7 @@ def _report(scene, out, cancelled=None, **kw):
                                 **kw)
 
 
+@pytest.mark.slow
 def test_cancel_at_any_point_keeps_the_previous_set(clean_blender, build, tmp_path, monkeypatch):
     scene = _scene(build)
     out = tmp_path / "report"
