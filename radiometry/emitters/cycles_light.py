@@ -20,7 +20,7 @@ from ..units import as_finite_array, check_nonnegative, frozen_array, scene_to_m
 from ..photometry.efficacy import blackbody_rgb
 from .base import Emitter, RayVisibility, SourceId, prepare_receivers
 
-__all__ = ["CyclesLight", "KINDS", "SHAPES", "from_blender_values"]
+__all__ = ["CyclesLight", "KINDS", "SHAPES", "from_blender_values", "light_class"]
 
 KINDS = ("POINT", "SPOT", "SUN", "AREA")
 SHAPES = ("SQUARE", "RECTANGLE", "DISK", "ELLIPSE")
@@ -35,6 +35,15 @@ def _class_for(kind, table):
     if table is not None:
         return _KIND_CLASSES[("POINT", True)]
     return _KIND_CLASSES.get((kind, False), _KIND_CLASSES[("POINT", False)])  # a bad kind fails in __post_init__
+
+
+def light_class(light):
+    """The emitter class that answers for ``light``: its own class, or for a plain record of a light's
+    values (``kind``, ``radius``, ... as the fields below) the class of its kind, whose answers read only
+    those values (``light_class(r).describe(r)``)."""
+    if isinstance(light, CyclesLight):
+        return type(light)
+    return _class_for(light.kind, getattr(light, "intensity_table", None))
 
 
 @dataclass(frozen=True)
@@ -264,7 +273,7 @@ class CyclesLight(Emitter):
 
     def near_field_words(self):
         """Why this light departs from I/d² close to it, in words."""
-        return f"the source ({self.describe()}) is not a point at these distances"
+        return f"the source ({light_class(self).describe(self)}) is not a point at these distances"
 
     def inverse_square_causes(self, d):
         """Causes ('light: ...') in the light itself of a departure from I/d² over distances ``d`` (m,

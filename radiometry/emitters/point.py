@@ -96,7 +96,7 @@ class PointLight(CyclesLight, kind_key=("POINT", False)):
         if self.radius > 0:
             return (f"{self.kind.lower()} light, radius {self.radius:.2g} m"
                     + (", soft falloff" if self.soft_falloff else ""))
-        return super().describe()
+        return CyclesLight.describe(self)
 
     @property
     def interior_radius_m(self):
@@ -150,7 +150,7 @@ class PointLight(CyclesLight, kind_key=("POINT", False)):
     def near_field_words(self):
         if self.soft_falloff:
             return "Blender's soft falloff on a sphere light"
-        return super().near_field_words()
+        return CyclesLight.near_field_words(self)
 
     def inverse_square_causes(self, d):
         if not (self.radius > 0 and self.soft_falloff):
