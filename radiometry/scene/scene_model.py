@@ -242,12 +242,6 @@ def receiver_offset(points, unit_length=1.0):
     return 2e-6 * np.maximum(np.max(np.abs(p), axis=-1), unit_length)
 
 
-def source_outline(spec, sides=ROUND_SIDES):
-    """World vertices (K, 3), metres, of a convex polygon holding an area light's emitting shape
-    (``AreaLight.outline``)."""
-    return spec.outline(sides=sides)
-
-
 def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach, panes=None):
     """(status (N,), blocker object name or None (N,)) of the light as seen from every receiver;
     with ``panes`` (thin panes by object index) also the panes crossed whole on the way, per
