@@ -33,9 +33,10 @@ import numpy as np
 
 from ...errors import RadiometerError
 from ...radiometry.metrics import glare as glare_math
-from ...radiometry.scene import scene_model, visibility
+from ...radiometry.scene import scene_model
 from ...radiometry.scene import source_visibility
 from ...radiometry.emitters import RayVisibility
+from ...radiometry.emitters.photometric import opening_outline
 
 
 MAX_SOURCE_TRIANGLES = 20000  #: an emitting mesh with more triangles is left out (said so), not rated
@@ -104,61 +105,8 @@ class GlareResult:
 
 def _opening_outline(spec, opening):
     """World vertices (K, 3) m of a flat IES luminous opening at the light's photometric centre, facing
-    its emission direction: LM-63 / EULUMDAT give the length along the C0-C180 axis (the luminaire's
-    local +X) and the width along C90-C270 (local +Y); a circle (negative width) as a polygon around it."""
-    width, length, _height = opening
-    x, y = (np.asarray(spec.axes, float)[:, k] for k in (0, 1))
-    centre = np.asarray(spec.position, float)
-    if width < 0:
-        return visibility.circumscribed_polygon(centre, np.cross(x, y), abs(width) / 2, OUTLINE_SIDES)
-    corners = np.array([[-.5, -.5], [.5, -.5], [.5, .5], [-.5, .5]])
-    return centre + corners[:, :1] * length * x + corners[:, 1:] * width * y
-
-
-def _source_geometry(spec, eye, efficacy, weights, photometry_for):
-    """(luminance cd/m², solid angle sr, centre, outline (K, 3) m) of one light seen from ``eye``, or
-    (None, reason)."""
-    centre = np.asarray(spec.position, float)
-    to_eye = eye - centre
-    dist = float(np.linalg.norm(to_eye))
-    if dist == 0:
-        return None, "the observer is inside the light"
-    d = to_eye / dist
-    if spec.kind == "AREA":
-        if getattr(spec, "is_sheared", False):
-            return None, "a sheared area light (Cycles samples another shape): not modelled"
-        eu, ev = (np.asarray(e, float) for e in spec.edges)
-        round_shape = spec.shape in ("DISK", "ELLIPSE")
-        area = float(spec.area_m2)  # the emitter's area (its one home); not sheared here, so |eu x ev| (x pi/4)
-        cos_l = float(d @ spec.emission_direction)
-        if cos_l <= 0:
-            return None, "seen from behind: it emits nothing towards the eye"
-        intensity = float(spec.intensity_towards(d) @ weights) * efficacy  # cd
-        luminance = intensity / (area * cos_l)
-        if round_shape:
-            poly = glare_math.disk_polygon(centre, eu, ev)
-        else:
-            poly = centre + np.array([[-.5, -.5], [.5, -.5], [.5, .5], [-.5, .5]]) @ np.array([eu, ev])
-        outline = scene_model.source_outline(spec, sides=OUTLINE_SIDES)  # holds the shape (the proofs' cells)
-        return (luminance, glare_math.polygon_solid_angle(eye, poly), centre, outline), None
-    if spec.kind == "POINT" and spec.intensity_table is not None:
-        photometry = photometry_for()
-        if photometry is None:
-            return None, "photometric light whose file is not at hand: no luminous area to rate"
-        opening = glare_math.luminous_opening_m(photometry.metadata)
-        if opening is None:
-            return None, "its photometric file gives no luminous opening (a point source): no luminance to rate"
-        gamma = math.degrees(math.acos(float(np.clip(d @ spec.emission_direction, -1.0, 1.0))))
-        projected = glare_math.projected_opening_area(*opening, gamma)
-        if projected is None:
-            return None, "a luminous opening with height or of another shape: not modelled (flat ones only)"
-        if projected <= 0:
-            return None, "seen from above its luminous opening"
-        intensity = float(spec.intensity_towards(d) @ weights) * efficacy
-        return (intensity / projected, projected / dist**2, centre, _opening_outline(spec, opening)), None
-    if spec.kind == "SUN":
-        return None, "a sun: daylight glare is not rated by UGR (CIE 117 is for luminaires)"
-    return None, f"a {spec.kind.lower()} light without a luminous area: its luminance is not defined"
+    its emission direction (``radiometry.emitters.photometric.opening_outline``)."""
+    return opening_outline(spec.axes, spec.position, opening, OUTLINE_SIDES)
 
 
 def _rate(sources, left_out, name, geometry, view, eye, up, seen=None):
@@ -303,18 +251,7 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0
             continue
         if light.portal:
             continue
-
-        def photometry_for(light=light):
-            from ..capture import luminaires, scene_capture
-
-            # the light's own object by identity (SourceId), never by name
-            obj = next(iter(scene_capture.source_objects([light.source_id]).values()), None)
-            try:
-                return luminaires.photometry_of_light(obj) if obj is not None else None
-            except RadiometerError:
-                return None
-
-        geometry, reason = _source_geometry(light.spec, eye, efficacy, weights, photometry_for)
+        geometry, reason = light.spec.luminous_area_seen(eye, efficacy, weights, OUTLINE_SIDES)
         if geometry is None:
             left_out.append({"name": light.name, "reason": reason})
             continue

@@ -21,6 +21,7 @@ import typing
 import numpy as np
 
 from ...errors import RadiometerError
+from ...radiometry.emitters import light_class
 from ...radiometry.metrics import laws
 from . import analysis_common as common
 from .light_isolation import free_distance, light_object, light_spec, measure_light_and_scene, model_irradiance, scene_model, source_size
@@ -191,7 +192,7 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     obj = light_object(light, scene)
     model = scene_model(scene)  # one capture for the whole check (issue 17)
     spec = light_spec(obj, scene, model)
-    if spec.kind == "SUN":
+    if not spec.has_position:
         raise RadiometerError(f"light {obj.name!r} is a sun: it has no position, so the inverse-square law does "
                               "not apply (its irradiance does not change with distance); check its cosine law")
     weights, efficacy = common.luminance_weights(scene)
@@ -216,9 +217,9 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
         d = np.sort(np.asarray(distances, float).ravel())
         if d.size < 2 or not np.all(np.isfinite(d)) or np.any(d <= 0):
             raise RadiometerError("distances must be at least 2 finite values > 0 (m)")
-    if spec.kind in ("POINT", "SPOT") and spec.radius > 0 and not spec.soft_falloff and d[0] <= spec.radius:
+    if spec.interior_radius_m > 0 and d[0] <= spec.interior_radius_m:
         raise RadiometerError(f"distance {d[0]:.3g} m is inside light {obj.name!r}'s sphere (radius "
-                              f"{spec.radius:.3g} m): start the sweep outside it")
+                              f"{spec.interior_radius_m:.3g} m): start the sweep outside it")
     points_m = spec.position + d[:, None] * axis
     normals = np.tile(-axis, (d.size, 1))
     started = time.perf_counter()
@@ -301,17 +302,7 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
 
 def describe_light(spec):
     """The light in a designer's words: 'area light 0.6 x 0.6 m', 'point light, radius 0.1 m (soft falloff)'."""
-    kind = spec.kind.lower()
-    if spec.kind == "AREA":
-        u, v = spec.extents
-        shape = getattr(spec, "shape", "")
-        if shape in ("DISK", "ELLIPSE"):
-            return f"area light, disk {u:.2g} m" if abs(u - v) < 1e-9 else f"area light, ellipse {u:.2g} x {v:.2g} m"
-        return f"area light {u:.2g} x {v:.2g} m"
-    if spec.kind in ("POINT", "SPOT") and spec.radius > 0:
-        return (f"{kind} light, radius {spec.radius:.2g} m"
-                + (", soft falloff" if getattr(spec, "soft_falloff", False) else ""))
-    return f"{kind} light"
+    return light_class(spec).describe(spec)
 
 
 def _explained(direct, direct_se, model, tolerance):
@@ -331,8 +322,7 @@ def _expected_inverse_square(spec, d, direct, dse, model, model_dev, ok, judged,
     if not shape[fail].all() or not (far_passed or not math.isfinite(limit)):
         return False, ""
     k = int(np.flatnonzero(fail)[np.argmax(np.abs(model_dev[fail]))])
-    what = ("Blender's soft falloff on a sphere light" if spec.kind in ("POINT", "SPOT") and getattr(spec, "soft_falloff", False)
-            else f"the source ({describe_light(spec)}) is not a point at these distances")
+    what = light_class(spec).near_field_words(spec)
     where = (f"within {limit:.2g} m" if math.isfinite(limit)
              else f"at every distance checked (to {d[-1]:.2g} m: the far field lies farther)")
     return True, (f"near field {where}: {what}; its closed form predicts the departure measured "
@@ -343,19 +333,8 @@ def _light_causes_inverse_square(spec, d, model_dev, direct_dev, dse, judged_ok,
     """Why the light's OWN direct light departs from I/d^2 (its shape, falloff, spread)."""
     causes = []
     own = np.abs(model_dev) > tolerance
-    if spec.kind in ("POINT", "SPOT") and spec.radius > 0 and spec.soft_falloff and own.any():
-        r = spec.radius
-        causes.append(f"light: Blender's soft falloff on a {spec.kind.lower()} light with radius {r:.3g} m: Cycles "
-                      f"renders E = I/(R² + d²), a deviation of -R²/(R² + d²) (-{100 * r * r / (r * r + d[0] ** 2):.3g} "
-                      f"% at {d[0]:.3g} m; under 1 % beyond {math.sqrt(99) * r:.3g} m); turn Soft Falloff off for an "
-                      "inverse-square sphere")
-    if spec.kind == "AREA" and spec.spread >= np.pi and own.any():
-        u, v = spec.extents
-        causes.append(f"light: the size of the area light ({u:.3g} x {v:.3g} m): an extended source follows I/d² "
-                      f"only in the far field (five-times rule: {5 * source_size(spec):.3g} m)")
-    if spec.kind == "AREA" and spec.spread < np.pi and own.any():
-        causes.append(f"light: the area light's spread ({math.degrees(spec.spread):.3g} deg): close to the light "
-                      "only part of it shines on the meter, so E grows slower than 1/d² there")
+    if own.any():
+        causes += spec.inverse_square_causes(d)
     if not causes:
         bad = ~judged_ok
         if bad.any() and (np.abs(direct_dev[bad]) > tolerance + 3 * dse[bad]).any():
@@ -422,7 +401,7 @@ def write_inverse_square_plot(result, path):
 def default_location(spec, scene, model=None):
     """Scene coordinates: 2 source sizes (at least 1 m) in front of the light, but no farther than
     half-way to the first surface on its axis; the origin for a sun."""
-    if spec.kind == "SUN":
+    if not spec.has_position:
         return np.zeros(3)
     scale = scene.unit_settings.scale_length
     axis = np.asarray(spec.emission_direction, float)
@@ -435,37 +414,17 @@ def default_location(spec, scene, model=None):
 
 def angular_radius(spec, point_m, facing):
     """Largest angle (rad) between ``facing`` and a direction to a point of the source."""
-    if spec.kind == "SUN":
-        return 0.5 * spec.angle
-    to_c = np.asarray(spec.position) - point_m
-    dist = float(np.linalg.norm(to_c))
-    if spec.kind == "AREA":
-        u, v = spec.extents
-        ax = np.asarray(spec.axes)
-        phi = np.linspace(0, 2 * np.pi, 73)
-        if spec.shape in ("DISK", "ELLIPSE"):
-            outline = np.c_[0.5 * u * np.cos(phi), 0.5 * v * np.sin(phi)]
-        else:
-            outline = np.array([[-u, -v], [u, -v], [u, v], [-u, v]]) / 2
-        verts = spec.position + outline[:, :1] * ax[:, 0] + outline[:, 1:] * ax[:, 1]
-        dirs = verts - point_m
-        dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
-        return float(np.max(np.arccos(np.clip(dirs @ facing, -1, 1))))
-    if spec.radius > 0:
-        # soft falloff: a disk of radius R facing the receiver; otherwise a sphere of radius R
-        return float(math.atan2(spec.radius, dist) if spec.soft_falloff else math.asin(min(1.0, spec.radius / dist)))
-    return 0.0
+    return spec.angular_radius(point_m, facing)
 
 
 def _tilted_normals(spec, point_m, angles, name):
     """(facing, tilt direction, normals (n, 3)): from facing the light toward one of its axes."""
-    if spec.kind == "SUN":
-        facing = np.asarray(spec.axes)[:, 2]
-    else:
-        to_light = np.asarray(spec.position) - point_m
-        if np.linalg.norm(to_light) < 1e-9:
+    facing = spec.towards_centre(point_m)  # a sun: the unit vector towards it
+    if spec.has_position:
+        dist = np.linalg.norm(facing)
+        if dist < 1e-9:
             raise RadiometerError(f"the location is at light {name!r}'s centre: move it away from the light")
-        facing = to_light / np.linalg.norm(to_light)
+        facing = facing / dist
     helper = np.asarray(spec.axes)[:, 0]
     toward = helper - (helper @ facing) * facing
     if np.linalg.norm(toward) < 1e-6:
@@ -590,9 +549,7 @@ def _light_causes_cosine(spec, angles, own, model_ratio, alpha, horizon, toleran
         causes.append(f"light: the extended source sinks below the meter's horizon from {horizon:.3g} deg on (it "
                       f"spans {math.degrees(alpha):.3g} deg from its centre as seen from here), so E falls slower "
                       "than cos θ")
-    if spec.kind == "AREA" and spec.spread < np.pi:
-        causes.append(f"light: the area light's spread ({math.degrees(spec.spread):.3g} deg) makes its radiance "
-                      "depend on direction")
+    causes += spec.cosine_causes()
     shade = laws.relative_deviation(own["ratio"], model_ratio)
     if np.any(np.abs(shade) > tolerance + 3 * own["ratio_rel_se"]):
         causes.append("scene: occluders hide part of the light, differently at different tilts")

@@ -66,11 +66,7 @@ def scene_lights_to_check(scene):
 
 def source_size(spec):
     """Largest dimension of the luminous area, m: longer side or diameter; 2R for a sphere; 0 for delta."""
-    if spec.kind == "AREA":
-        return float(max(spec.extents))
-    if spec.kind in ("POINT", "SPOT"):
-        return 2.0 * spec.radius
-    return 0.0
+    return spec.size_m
 
 
 def rendering_light_objects(scene, model=None):

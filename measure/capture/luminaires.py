@@ -189,6 +189,36 @@ def _cycles_table(text):
     return pf.cycles_ies_table(text)
 
 
+@functools.lru_cache(maxsize=32)
+def _file_opening(path, _stamp):
+    """The luminous opening (m, or None) of the photometric file at ``path``; ``_stamp`` (mtime, size)
+    keys the cache so an edited file is read again."""
+    from ...radiometry.metrics.glare import luminous_opening_m
+
+    return luminous_opening_m(pf.read_photometry(path).metadata)
+
+
+@functools.lru_cache(maxsize=32)
+def _text_opening(text, label):
+    from ...radiometry.metrics.glare import luminous_opening_m
+
+    return luminous_opening_m(pf.parse_ies(text, path=label).metadata)
+
+
+def _luminous_opening(light_data, text):
+    """((width, length, height) m or None, whether a file was read): the luminous opening glare rates,
+    read once per capture from the file Radiometer imported the light from when it is still there, else
+    from the light's IES text (as :func:`photometry_of_light` reads them)."""
+    path = light_data.get(PROP_SOURCE) if hasattr(light_data, "get") else None
+    try:
+        if path and os.path.exists(path):
+            st = os.stat(path)
+            return _file_opening(path, (st.st_mtime_ns, st.st_size)), True
+        return _text_opening(text, f"{getattr(light_data, 'name', 'light')} (IES texture)"), True
+    except pf.PhotometricFileError:
+        return None, False
+
+
 def photometric_table(light_data):
     """(the light's ``Photometry`` table, None) for a recognised IES light, (None, reason) otherwise."""
     from ...radiometry.emitters import Photometry
@@ -218,9 +248,11 @@ def photometric_table(light_data):
     colour = np.array(emission.inputs["Color"].default_value[:3], dtype=np.float64)
     scale = colour * float(ies.inputs["Strength"].default_value)   # Emission.Strength is the IES Fac
     source = ies.ies.name if ies.mode == "INTERNAL" and ies.ies is not None else os.path.basename(ies.filepath)
+    opening, opening_read = _luminous_opening(light_data, text)
     try:
         return Photometry.light_table(h, v, values / (4.0 * np.pi), vector_map=vector_map, rgb_scale=scale,
-                                      label=f"IES table {source!r}"), None
+                                      label=f"IES table {source!r}", luminous_opening=opening,
+                                      opening_read=opening_read), None
     except ValueError as exc:
         return None, f"uses an IES texture Radiometer cannot model ({exc})"
 

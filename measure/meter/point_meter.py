@@ -16,6 +16,7 @@ from ... import quality as quality_presets
 from ...radiometry.sampling import allocation
 from ...errors import RadiometerError
 from ...radiometry.constants import K_M_LM_PER_W
+from ...radiometry.emitters import EmitterFlags
 from ...readings import IlluminanceReading
 from ..capture import glass
 from ..render import render_settings, rounds, sensors
@@ -294,7 +295,7 @@ def single_delta_light(decision):
     if len(emitting) != 1 or emitting[0].spec is None:
         return False
     spec = emitting[0].spec
-    return (spec.kind in ("POINT", "SPOT") and spec.radius == 0.0) or (spec.kind == "SUN" and spec.angle == 0.0)
+    return spec.is_delta  # a point or spot of radius 0, a sun of angle 0
 
 
 # --- the public entry used by api.py ----------------------------------------------------------------
@@ -426,8 +427,8 @@ def through_medium(model, direct, medium):
         return out
     for i, light in enumerate(model.lights):
         spec = light.spec
-        if (spec is None or light.portal or not light.reaches_diffuse or spec.kind not in ("POINT", "SPOT")
-                or spec.radius != 0.0 or not spec.exactness()[0]):
+        if (spec is None or light.portal or not light.reaches_diffuse or EmitterFlags.DELTA_POSITION not in spec.flags
+                or not spec.exactness()[0]):
             continue
         out[i] = (direct.status[i] == scene_model.RENDER) & np.array(
             [str(r).startswith(_WORLD_VOLUME_REASON) for r in direct.reason[i]], bool)
@@ -455,7 +456,7 @@ def mirror_bounds(model, points_m, normals):
     n = len(points_m)
     out = np.zeros((n, 3))
     small = [(i, lt) for i, lt in enumerate(model.lights)
-             if lt.spec is not None and not lt.portal and lt.reaches_diffuse and lt.spec.kind in ("SUN", "POINT", "SPOT")]
+             if lt.spec is not None and not lt.portal and lt.reaches_diffuse and lt.spec.may_render_small]
     if not small or not model.geometry.count:
         return out, []
     tris, owners = glass.mirror_triangles(model)
@@ -464,7 +465,7 @@ def mirror_bounds(model, points_m, normals):
     names = set()
     for i, light in small:
         spec = light.spec
-        sun = spec.kind == "SUN"
+        sun = not spec.has_position
         to_sun = -np.asarray(spec.emission_direction, float) if sun else None
         if sun:
             e_normal = spec.irradiance_at(points_m[:1], to_sun[None, :])[0][0]
@@ -557,7 +558,7 @@ def caustic_risk(model, direct, split, sensors_m=None):
     points = sensors_m if sensors_m is not None else np.zeros((0, 3))
     for i, light in enumerate(model.lights):
         spec = light.spec
-        if spec is None or spec.kind not in ("SUN", "POINT", "SPOT"):  # area lights: not small
+        if spec is None or not spec.may_render_small:  # area lights: not small
             continue
         rendered = [k for k in range(direct.status.shape[1]) if direct.status[i, k] == scene_model.RENDER
                     and not (split and light_object_key(light) in split[k])]

@@ -108,21 +108,6 @@ def glossy_triangles(model):
             rough[index[chosen]])
 
 
-def _image_solid_angle(spec, at, path_length):
-    """Solid angle (sr) of a light's mirror image seen over a path of ``path_length`` m that meets the
-    light from the mirror point ``at``: area light A |cos| / L^2, sphere light pi R^2 / L^2, the sun's
-    disc pi (angle / 2)^2; a delta light 0 (its highlight is the lobe alone)."""
-    if spec.kind == "SUN":
-        return math.pi * (0.5 * float(spec.angle)) ** 2
-    if spec.kind == "AREA":
-        towards = np.asarray(at, float) - np.asarray(spec.position, float)
-        cos = abs(float(np.asarray(spec.emission_direction, float) @ towards)) / max(float(np.linalg.norm(towards)), 1e-300)
-        return float(spec.area_m2) * cos / path_length ** 2
-    if spec.radius > 0.0:
-        return math.pi * float(spec.radius) ** 2 / path_length ** 2
-    return 0.0
-
-
 def _mesh_image_solid_angle(mesh, centre, at, path_length):
     """Solid angle (sr) of an emitting mesh's mirror image seen over a path of ``path_length`` m from the
     mirror point ``at``: its triangles' area projected towards ``at`` from its centre, over path^2."""
@@ -139,12 +124,12 @@ def _highlight_sources(model):
     out = []
     for light in model.lights:
         spec = light.spec
-        if spec is None or light.portal or not light.reaches_diffuse or spec.kind not in ("SUN", "POINT", "SPOT", "AREA"):
+        if spec is None or light.portal or not light.reaches_diffuse:
             continue
-        sun = spec.kind == "SUN"
+        sun = not spec.has_position
         out.append((light.name, None if sun else np.asarray(spec.position, float),
                     -np.asarray(spec.emission_direction, float) if sun else None,
-                    lambda at, path, spec=spec: _image_solid_angle(spec, at, path)))
+                    spec.mirror_image_solid_angle))
     for mesh in getattr(model, "emissive_meshes", None) or ():
         area = float(np.sum(mesh.areas_m2))
         if not mesh.visibility & RayVisibility.GLOSSY or area <= 0.0:

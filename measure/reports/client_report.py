@@ -43,7 +43,7 @@ def daylight_words(scene):
     from ..analyses.analysis_common import view_layer_of
 
     model = meter.capture_model(scene, view_layer_of(scene))
-    suns = [lt.name for lt in model.lights if lt.spec is not None and lt.spec.kind == "SUN"]
+    suns = [lt.name for lt in model.lights if lt.spec is not None and not lt.spec.has_position]
     parts = ([f"sun(s) {', '.join(repr(n) for n in suns)}"] if suns else []) + \
         (["an emitting world"] if model.world_emits else [])
     if not parts:

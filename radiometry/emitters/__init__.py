@@ -7,7 +7,7 @@ docs/emitters.md.
 """
 
 from .base import Emitter, EmitterFlags, RayVisibility, SourceId
-from .cycles_light import CyclesLight, from_blender_values
+from .cycles_light import CyclesLight, from_blender_values, light_class
 from .point import PointLight
 from .spot import SpotLight
 from .sun import SunLight
@@ -18,4 +18,4 @@ from .emissive_mesh import EmissiveMesh
 
 __all__ = ["Emitter", "EmitterFlags", "RayVisibility", "SourceId", "CyclesLight", "from_blender_values",
            "PointLight", "SpotLight", "SunLight", "AreaLight", "Photometry", "PhotometricLight",
-           "EnvironmentEmitter", "EmissiveMesh"]
+           "EnvironmentEmitter", "EmissiveMesh", "light_class"]

@@ -130,6 +130,11 @@ class Emitter(abc.ABC):
         return float(efficacy) * float(np.asarray(self.power_w(), float) @ np.asarray(weights, float))
 
     @property
+    def has_position(self):
+        """False for a source at infinity (sun, world): no distance, no inverse-square law, no location."""
+        return not self.flags & EmitterFlags.INFINITE
+
+    @property
     def is_delta(self):
         """True for a source a sampler can only hit by connecting to it (point, spot, sun of angle 0)."""
         return bool(self.flags & (EmitterFlags.DELTA_POSITION | EmitterFlags.DELTA_DIRECTION))

@@ -20,7 +20,7 @@ from ..units import as_finite_array, check_nonnegative, frozen_array, scene_to_m
 from ..photometry.efficacy import blackbody_rgb
 from .base import Emitter, RayVisibility, SourceId, prepare_receivers
 
-__all__ = ["CyclesLight", "KINDS", "SHAPES", "from_blender_values"]
+__all__ = ["CyclesLight", "KINDS", "SHAPES", "from_blender_values", "light_class"]
 
 KINDS = ("POINT", "SPOT", "SUN", "AREA")
 SHAPES = ("SQUARE", "RECTANGLE", "DISK", "ELLIPSE")
@@ -35,6 +35,15 @@ def _class_for(kind, table):
     if table is not None:
         return _KIND_CLASSES[("POINT", True)]
     return _KIND_CLASSES.get((kind, False), _KIND_CLASSES[("POINT", False)])  # a bad kind fails in __post_init__
+
+
+def light_class(light):
+    """The emitter class that answers for ``light``: its own class, or for a plain record of a light's
+    values (``kind``, ``radius``, ... as the fields below) the class of its kind, whose answers read only
+    those values (``light_class(r).describe(r)``)."""
+    if isinstance(light, CyclesLight):
+        return type(light)
+    return _class_for(light.kind, getattr(light, "intensity_table", None))
 
 
 @dataclass(frozen=True)
@@ -178,6 +187,102 @@ class CyclesLight(Emitter):
         if self.radius > 0.0 and self.kind in ("POINT", "SPOT"):
             return 4.0 * np.pi * self.radius**2
         return float("nan")
+
+    # What callers ask a light (issue 30: each kind answers in its own class, no caller asks its kind) ----
+    @property
+    def size_m(self):
+        """Largest dimension of the luminous area, m: an area light's longer side or diameter, a sphere's
+        2R; 0 for a delta light and a sun."""
+        return 0.0
+
+    def describe(self):
+        """The light in a designer's words: 'area light 0.6 x 0.6 m', 'point light, radius 0.1 m, soft falloff'."""
+        return f"{self.kind.lower()} light"
+
+    @property
+    def interior_radius_m(self):
+        """Radius, m, of the region around the centre where a receiver is inside the emitter (a sphere
+        light without soft falloff); 0 where there is none."""
+        return 0.0
+
+    @property
+    def may_render_small(self):
+        """True for a source so small in the render (point, spot, sun, of any radius or angle) that its
+        images in sharp mirrors and through glass are caustics a path tracer may miss; False for an area
+        light."""
+        return True
+
+    @property
+    def render_reason(self):
+        """Why Cycles' answer for this light is its own, so it must be rendered although a closed form
+        exists ('' when the closed form stands)."""
+        return ""
+
+    def towards_centre(self, p):
+        """Vector from ``p`` (3,) m to the light's centre, m (a sun: the unit vector towards it)."""
+        return np.asarray(self.position, float) - p
+
+    def angular_radius(self, point_m, facing):
+        """Largest angle (rad) between ``facing`` and a direction from ``point_m`` to a point of the
+        source (0 for a delta light)."""
+        return 0.0
+
+    def occlusion_bases(self, points, scene_reach, sides):
+        """Per receiver (N, 3) m: ('segment', ends (N, 3)) or ('polytope', bases (N, K, 3), ``sides``-gons
+        for round parts) such that the pyramid from the receiver over its base (or the segment to its end)
+        holds every segment from the receiver to the light; ``inside`` (N,) marks receivers with no such
+        region (inside a spherical light). ``scene_reach``: m, beyond every surface (a sun's far end)."""
+        n = len(points)
+        return "segment", np.broadcast_to(np.asarray(self.position, float), (n, 3)), np.zeros(n, bool)
+
+    def beyond_plane(self, normal, height, side, tol):
+        """True when the light lies wholly on the side of the plane ``normal . x = height`` opposite to
+        ``side`` (+1 / -1), by more than ``tol`` m."""
+        return all(side * (normal @ x - height) + self._reach < -tol for x in self._extreme_points())
+
+    def _extreme_points(self):
+        return [self.position]
+
+    _reach = 0.0  # m, how far the emitter extends around its extreme points (a sphere's radius)
+
+    def mirror_cone(self, p, normal, plane_point, tol):
+        """The cone of directions in which the light's mirror image in the plane through ``plane_point``
+        with unit ``normal`` (towards ``p``) is seen from ``p``: (unit axis r, half-angle rad, c = the
+        cosine of r to the plane's normal, sign towards the plane), 'far' when the light lights only the
+        plane's far side, None when nothing is proven (the light straddles the plane, an area light)."""
+        return None
+
+    def mirror_image_solid_angle(self, at, path_length):
+        """Solid angle (sr) of the light's mirror image seen over a path of ``path_length`` m that meets
+        the light from the mirror point ``at`` (m); 0 for a delta light (its highlight is the lobe alone)."""
+        return 0.0
+
+    def luminous_area_seen(self, eye, efficacy, weights, sides):
+        """What an eye at ``eye`` (3,) m sees of the light's luminous area, for glare (CIE 117):
+        ((luminance cd/m², solid angle sr, centre (3,) m, convex outline (K, 3) m holding it, round parts as
+        ``sides``-gons), None), or (None, reason). ``efficacy`` lm/W and RGB -> Y ``weights`` make the
+        photometric values."""
+        to_eye = np.asarray(eye, float) - np.asarray(self.position, float)
+        dist = float(np.linalg.norm(to_eye))
+        if dist == 0:
+            return None, "the observer is inside the light"
+        return self._seen_from(to_eye / dist, dist, np.asarray(eye, float), efficacy, weights, sides)
+
+    def _seen_from(self, d, dist, eye, efficacy, weights, sides):
+        return None, f"a {self.kind.lower()} light without a luminous area: its luminance is not defined"
+
+    def near_field_words(self):
+        """Why this light departs from I/d² close to it, in words."""
+        return f"the source ({light_class(self).describe(self)}) is not a point at these distances"
+
+    def inverse_square_causes(self, d):
+        """Causes ('light: ...') in the light itself of a departure from I/d² over distances ``d`` (m,
+        ascending) where its closed form departs."""
+        return []
+
+    def cosine_causes(self):
+        """Causes ('light: ...') in the light itself of a departure from cos θ beyond its extent."""
+        return []
 
     # The interface, in terms of each kind's per-unit-power models ----------------------------
     def _unit_irradiance(self, p, n):

@@ -13,16 +13,19 @@ or Mapping is not a similarity (d omega_world = |det B| / |B u|^3 d omega_table,
 Checked against closed forms: an isotropic table (4 pi I) and a cosine table (pi I_0).
 """
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..metrics import glare as glare_math
 from ..scene.geometry import unit as unit_vector
+from ..scene.visibility import circumscribed_polygon
 from ..units import as_finite_array, frozen_array
 from .base import EmitterFlags
 from .point import PointLight, delta_irradiance
 
-__all__ = ["Photometry", "PhotometricLight", "catmull_rom_table", "integrate_cells", "table_flux"]
+__all__ = ["Photometry", "PhotometricLight", "catmull_rom_table", "integrate_cells", "table_flux", "opening_outline"]
 
 _frozen = frozen_array
 #: A photometric file's table is luminous intensity; a Blender light's is radiant intensity per watt.
@@ -178,6 +181,11 @@ class Photometry:
     rgb_scale : (3,) a light's Emission colour x Emission strength x IES strength, folded into
         rgb_power by :func:`.cycles_light.from_blender_values`
     label : str, where a light's table came from (shown in notes)
+    luminous_opening : (width, length, height) m or None
+        A light's luminous opening as its photometric file gives it (LM-63 / EULUMDAT, read by the
+        capture layer with ``radiometry.metrics.glare.luminous_opening_m``; width < 0: a circle), None
+        when the file gives none or was not read.
+    opening_read : bool, whether the capture read the light's photometric file for its opening
     """
 
     vertical_angles_deg: np.ndarray
@@ -195,6 +203,8 @@ class Photometry:
     vector_map: np.ndarray = field(default_factory=lambda: np.eye(3))
     rgb_scale: np.ndarray = field(default_factory=lambda: np.ones(3))
     label: str = "IES"
+    luminous_opening: tuple = None
+    opening_read: bool = False
 
     def __post_init__(self):
         object.__setattr__(self, "vertical_angles_deg", _frozen(self.vertical_angles_deg))
@@ -214,10 +224,12 @@ class Photometry:
         object.__setattr__(self, "rgb_scale", _frozen(as_finite_array(self.rgb_scale, "rgb_scale", (3,))))
 
     @classmethod
-    def light_table(cls, h_deg, v_deg, values, vector_map=None, rgb_scale=(1.0, 1.0, 1.0), label="IES"):
+    def light_table(cls, h_deg, v_deg, values, vector_map=None, rgb_scale=(1.0, 1.0, 1.0), label="IES", *,
+                    luminous_opening=None, opening_read=False):
         """The table a Blender IES light renders: ``values`` (n_h, n_v) W/sr per W of rgb_power at C angles
         ``h_deg`` (0-360 for a wrapping table) and vertical angles ``v_deg``, used as stored (Cycles'
-        expansion already done, e.g. by ``photometric_files.cycles_ies_table``)."""
+        expansion already done, e.g. by ``photometric_files.cycles_ies_table``); ``luminous_opening`` and
+        ``opening_read`` as the class's attributes."""
         h = as_finite_array(h_deg, "h_deg")
         v = as_finite_array(v_deg, "v_deg")
         values = as_finite_array(values, "values")
@@ -229,7 +241,9 @@ class Photometry:
             raise ValueError("a light's table values must be >= 0")
         return cls(vertical_angles_deg=v, horizontal_angles_deg=h, candela=values, symmetry="none",
                    unit=LIGHT_UNIT, vector_map=np.eye(3) if vector_map is None else vector_map,
-                   rgb_scale=rgb_scale, label=label, source=label)
+                   rgb_scale=rgb_scale, label=label, source=label,
+                   luminous_opening=None if luminous_opening is None else tuple(map(float, luminous_opening)),
+                   opening_read=bool(opening_read))
 
     # --- as a light renders it: directions in the light's frame, the stored table ----------------------
     def lookup(self, local):
@@ -430,6 +444,39 @@ class PhotometricLight(PointLight, kind_key=("POINT", True)):
         g = self._unit_intensity(-w) * g
         return g, np.zeros_like(g)
 
+    def _seen_from(self, d, dist, eye, efficacy, weights, sides):
+        # CIE 117: luminance = I / projected area of the file's flat luminous opening, solid angle = that
+        # area / d².
+        table = self.intensity_table
+        if not table.opening_read:
+            return None, "photometric light whose file is not at hand: no luminous area to rate"
+        opening = table.luminous_opening
+        if opening is None:
+            return None, "its photometric file gives no luminous opening (a point source): no luminance to rate"
+        gamma = math.degrees(math.acos(float(np.clip(d @ self.emission_direction, -1.0, 1.0))))
+        projected = glare_math.projected_opening_area(*opening, gamma)
+        if projected is None:
+            return None, "a luminous opening with height or of another shape: not modelled (flat ones only)"
+        if projected <= 0:
+            return None, "seen from above its luminous opening"
+        intensity = float(self.intensity_towards(d) @ weights) * efficacy
+        return (intensity / projected, projected / dist**2, np.asarray(self.position, float),
+                opening_outline(self.axes, self.position, opening, sides)), None
+
     def exactness(self):
         return True, "photometric point", (f"{self.intensity_table.label}: I(theta, C) cos / r^2 with Cycles' IES "
                                            "interpolation, exact" + self._sign_note())
+
+
+def opening_outline(axes, position, opening, sides):
+    """World vertices (K, 3) m of a flat luminous opening (width, length, height) m at a light's photometric
+    centre ``position`` (3,) m, facing its emission direction (``axes`` (3, 3), columns local x, y, z):
+    LM-63 / EULUMDAT give the length along the C0-C180 axis (local +X) and the width along C90-C270 (local
+    +Y); a circle (negative width) as a circumscribed ``sides``-gon."""
+    width, length, _height = opening
+    x, y = (np.asarray(axes, float)[:, k] for k in (0, 1))
+    centre = np.asarray(position, float)
+    if width < 0:
+        return circumscribed_polygon(centre, np.cross(x, y), abs(width) / 2, sides)
+    corners = np.array([[-.5, -.5], [.5, -.5], [.5, .5], [-.5, .5]])
+    return centre + corners[:, :1] * length * x + corners[:, 1:] * width * y

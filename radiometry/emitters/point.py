@@ -11,11 +11,13 @@ Power: P per channel in every case (I = P/(4 pi) in every direction). Spots (:mo
 these models and multiply by their cone.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..scene.geometry import cap_projected_solid_angle, norm, unit
+from ..scene.visibility import circumscribed_polygon
 from .base import EmitterFlags
 from .cycles_light import CyclesLight
 
@@ -84,6 +86,80 @@ class PointLight(CyclesLight, kind_key=("POINT", False)):
         # Inside a sphere (soft falloff off) Cycles samples the receiver's hemisphere and applies no
         # spot attenuation (kernel/light/spot.h: attenuation only when d^2 > r^2): E = pi L.
         return np.where(inside, radiance * np.pi, g), bound
+
+    # What callers ask (see CyclesLight) ----------------------------------------------------------
+    @property
+    def size_m(self):
+        return 2.0 * self.radius
+
+    def describe(self):
+        if self.radius > 0:
+            return (f"{self.kind.lower()} light, radius {self.radius:.2g} m"
+                    + (", soft falloff" if self.soft_falloff else ""))
+        return CyclesLight.describe(self)
+
+    @property
+    def interior_radius_m(self):
+        return 0.0 if self.soft_falloff else self.radius
+
+    @property
+    def _reach(self):
+        return self.radius
+
+    def angular_radius(self, point_m, facing):
+        if self.radius > 0:
+            dist = float(np.linalg.norm(np.asarray(self.position) - point_m))
+            # soft falloff: a disk of radius R facing the receiver; otherwise a sphere of radius R
+            return float(math.atan2(self.radius, dist) if self.soft_falloff else math.asin(min(1.0, self.radius / dist)))
+        return 0.0
+
+    def occlusion_bases(self, points, scene_reach, sides):
+        if self.radius == 0.0:
+            return super().occlusion_bases(points, scene_reach, sides)
+        n = len(points)
+        axis = self.position - points
+        d = np.linalg.norm(axis, axis=1)
+        r = self.radius
+        inside = d <= r * (1 + 1e-9)
+        bases = np.zeros((n, sides, 3))
+        for k in np.flatnonzero(~inside):
+            # The cone from p tangent to the sphere, cut by the plane touching the sphere's far side,
+            # holds the sphere and so every segment from p to it.
+            tan_a = r / np.sqrt(d[k] ** 2 - r * r)
+            bases[k] = circumscribed_polygon(points[k] + axis[k] / d[k] * (d[k] + r), axis[k], (d[k] + r) * tan_a,
+                                             sides)
+        return "polytope", bases, inside
+
+    def mirror_cone(self, p, normal, plane_point, tol):
+        radius = float(self.radius)
+        hl = float(normal @ (np.asarray(self.position, float) - plane_point))
+        if hl < -(radius + tol):
+            return "far"
+        if hl <= radius + tol:
+            return None  # the light straddles its plane
+        d = np.asarray(self.position, float) - 2.0 * hl * normal - p
+        dist = float(np.linalg.norm(d))
+        r, half = d / dist, float(np.arcsin(min(1.0, radius / dist)))
+        return r, half, float(-(r @ normal))
+
+    def mirror_image_solid_angle(self, at, path_length):
+        if self.radius > 0.0:
+            return math.pi * float(self.radius) ** 2 / path_length ** 2
+        return 0.0
+
+    def near_field_words(self):
+        if self.soft_falloff:
+            return "Blender's soft falloff on a sphere light"
+        return CyclesLight.near_field_words(self)
+
+    def inverse_square_causes(self, d):
+        if not (self.radius > 0 and self.soft_falloff):
+            return []
+        r = self.radius
+        return [f"light: Blender's soft falloff on a {self.kind.lower()} light with radius {r:.3g} m: Cycles "
+                f"renders E = I/(R² + d²), a deviation of -R²/(R² + d²) (-{100 * r * r / (r * r + d[0] ** 2):.3g} "
+                f"% at {d[0]:.3g} m; under 1 % beyond {math.sqrt(99) * r:.3g} m); turn Soft Falloff off for an "
+                "inverse-square sphere"]
 
     def exactness(self):
         if self.radius == 0.0:

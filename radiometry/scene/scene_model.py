@@ -242,62 +242,6 @@ def receiver_offset(points, unit_length=1.0):
     return 2e-6 * np.maximum(np.max(np.abs(p), axis=-1), unit_length)
 
 
-def source_outline(spec, sides=ROUND_SIDES):
-    """World vertices (K, 3), metres, of a convex polygon holding an area light's emitting shape:
-    the parallelogram of its two edge vectors (Cycles' extentu/extentv) for squares and rectangles,
-    a circumscribed ``sides``-gon (its affine image) for disks and ellipses. Under shear Cycles
-    samples other shapes in the same plane, so a polygon circumscribing the circle of radius
-    (|u| + |v|) / 2 stands in: it holds every one of them."""
-    eu, ev = (np.asarray(e, float) for e in spec.edges)
-    centre = np.asarray(spec.position, float)
-    phi = 2 * np.pi * np.arange(sides) / sides
-    r = 1.0 / np.cos(np.pi / sides)
-    if getattr(spec, "is_sheared", False):
-        radius = 0.5 * (np.linalg.norm(eu) + np.linalg.norm(ev)) * r
-        uu = eu / np.linalg.norm(eu)
-        vv = np.cross(np.cross(eu, ev), uu)
-        vv /= np.linalg.norm(vv)
-        return centre + radius * (np.cos(phi)[:, None] * uu + np.sin(phi)[:, None] * vv)
-    if spec.shape in ("DISK", "ELLIPSE"):
-        return centre + 0.5 * r * (np.cos(phi)[:, None] * eu + np.sin(phi)[:, None] * ev)
-    corners = np.array([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
-    return centre + corners[:, :1] * eu + corners[:, 1:] * ev
-
-
-def _source_bases(spec, points, scene_reach):
-    """Per receiver: ('segment', ends (N, 3)) or ('polytope', bases (N, K, 3)) such that the pyramid
-    from the receiver over its base (or the segment to its end) holds every segment from the
-    receiver to the light; ``inside`` (N,) marks receivers with no such region (inside a
-    spherical light)."""
-    n = len(points)
-    inside = np.zeros(n, bool)
-    if spec.kind == "SUN":
-        to_sun = spec.axes[:, 2]
-        far = points + to_sun * scene_reach
-        half = 0.5 * spec.angle
-        if half == 0.0:
-            return "segment", far, inside
-        ring = visibility.circumscribed_polygon(np.zeros(3), to_sun, scene_reach * np.tan(min(half, 1.5)), ROUND_SIDES)
-        return "polytope", far[:, None, :] + ring[None, :, :], inside
-    if spec.kind == "AREA":
-        outline = source_outline(spec, sides=ROUND_SIDES)
-        return "polytope", np.broadcast_to(outline, (n,) + outline.shape), inside
-    if spec.radius == 0.0:
-        return "segment", np.broadcast_to(np.asarray(spec.position, float), (n, 3)), inside
-    axis = spec.position - points
-    d = np.linalg.norm(axis, axis=1)
-    r = spec.radius
-    inside = d <= r * (1 + 1e-9)
-    bases = np.zeros((n, ROUND_SIDES, 3))
-    for k in np.flatnonzero(~inside):
-        # The cone from p tangent to the sphere, cut by the plane touching the sphere's far side,
-        # holds the sphere and so every segment from p to it.
-        tan_a = r / np.sqrt(d[k] ** 2 - r * r)
-        bases[k] = visibility.circumscribed_polygon(points[k] + axis[k] / d[k] * (d[k] + r), axis[k],
-                                                    (d[k] + r) * tan_a, ROUND_SIDES)
-    return "polytope", bases, inside
-
-
 def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach, panes=None):
     """(status (N,), blocker object name or None (N,)) of the light as seen from every receiver;
     with ``panes`` (thin panes by object index) also the panes crossed whole on the way, per
@@ -315,7 +259,7 @@ def occlusion_statuses(spec, points, normals, geometry, tol, scene_reach, panes=
     crossings = [[] for _ in range(n)]
     if not geometry.count or not n:
         return (status, blocker, crossings) if panes is not None else (status, blocker)
-    kind, ends, inside = _source_bases(spec, points, scene_reach)
+    kind, ends, inside = spec.occlusion_bases(points, scene_reach, ROUND_SIDES)
     status[inside] = visibility.PARTIAL
     shadow = geometry.shadow_triangles()
     pane_tri = (geometry.pane_of >= 0) & np.isin(geometry.pane_of, list(panes or ()))
@@ -383,7 +327,7 @@ def _pane_crossing(geom, spec, kind, p, end, tol):
     ok, cmin, cmax = thin_glass.pyramid_crossing(geom, p, end, tol)
     if not ok:
         return None
-    centre = spec.axes[:, 2] if spec.kind == "SUN" else np.asarray(spec.position, float) - p
+    centre = spec.towards_centre(p)
     c = float(abs(centre @ geom.normal) / np.linalg.norm(centre))
     return c, min(cmin, c), max(cmax, c)
 
@@ -422,20 +366,6 @@ def interpane_fraction(model, crossings):
     return float(np.max(1.0 - single / np.maximum(T, 1e-300)))
 
 
-def _light_beyond(spec, normal, height, side, tol):
-    """True when the light ``spec`` lies wholly on the side of the plane ``normal . x = height``
-    opposite to ``side`` (+1 / -1): its mirror image in that plane then faces away from the meter."""
-    if spec.kind == "SUN":
-        towards = -spec.emission_direction
-        return bool(side * (normal @ towards) < -np.sin(0.5 * spec.angle) - 1e-12)
-    points = [spec.position]
-    if spec.kind == "AREA":
-        e1, e2 = spec.edges
-        points = [spec.position + a * e1 + b * e2 for a in (-0.5, 0.5) for b in (-0.5, 0.5)]
-    reach = spec.radius if spec.kind in ("POINT", "SPOT") else 0.0
-    return all(side * (normal @ x - height) + reach < -tol for x in points)
-
-
 def lone_panes(model):
     """The thin panes (key, Pane) that may be quiet at some point (``quiet_panes``), with the scene's
     emitting lights: none unless no object other than panes reflects or emits and every light has a
@@ -449,7 +379,7 @@ def lone_panes(model):
         emits[np.unique(g.object_index[np.asarray(g.emissive, bool)])] = True
     others = (np.asarray(g.reflects, bool) | emits) & ~np.isin(np.arange(len(g.object_names)), list(model.panes))
     lights = [lt for lt in model.lights if not lt.portal]
-    if others.any() or any(lt.spec is None or not hasattr(lt.spec, "kind") for lt in lights):
+    if others.any() or any(lt.spec is None or not hasattr(lt.spec, "beyond_plane") for lt in lights):
         return [], []
     panes = [(k, pane) for k, pane in model.panes.items() if pane.geometry is not None and not emits[k]
              and np.all(g.pane_of[g.object_index == k] == k)]
@@ -475,7 +405,7 @@ def quiet_panes(model, p, tol, lone=None):
             continue  # p inside the slab or on a face
         side = 1.0 if offsets[0] > 0 else -1.0
         height = min(pane.geometry.heights) if side > 0 else max(pane.geometry.heights)
-        near = [lt for lt in lights if not _light_beyond(lt.spec, normal, height, side, tol)]
+        near = [lt for lt in lights if not lt.spec.beyond_plane(normal, height, side, tol)]
         if near:
             others = np.asarray(g.triangles[(g.pane_of >= 0) & (g.pane_of != k)], float).reshape(-1, 3)
             if np.any(side * (others @ normal - height) > tol):
@@ -514,26 +444,12 @@ def mirror_misses(triangles, p, spec, tol):
         if abs(hp) <= tol:
             return False
         normal = normal * np.sign(hp)  # towards p
-        if spec.kind == "SUN":
-            s = np.asarray(spec.axes[:, 2], float)
-            half = 0.5 * float(spec.angle)
-            c = float(s @ normal)
-            if c < -np.sin(half) - 1e-12:
-                continue  # the sun lights only its far side
-            r = s - 2.0 * c * normal
-        elif spec.kind in ("POINT", "SPOT"):
-            radius = float(getattr(spec, "radius", 0.0))
-            hl = float(normal @ (np.asarray(spec.position, float) - tri[0]))
-            if hl < -(radius + tol):
-                continue
-            if hl <= radius + tol:
-                return False  # the light straddles its plane
-            d = np.asarray(spec.position, float) - 2.0 * hl * normal - p
-            dist = float(np.linalg.norm(d))
-            r, half = d / dist, float(np.arcsin(min(1.0, radius / dist)))
-            c = float(-(r @ normal))
-        else:
-            return False
+        cone = spec.mirror_cone(p, normal, tri[0], tol)
+        if cone is None:
+            return False  # nothing proven (the light straddles the plane, an area light)
+        if isinstance(cone, str):
+            continue  # the light lights only the plane's far side
+        r, half, c = cone
         height = abs(hp)
         # Every point of the triangle is seen from p at least this steeply against its plane; the mirrored
         # light leaves the plane no steeper than the light arrives (+ its half-angle): a grazing light misses.
@@ -571,7 +487,7 @@ def dark_planes(model):
     Light reaches a surface's side s only along rays from the open half-space on side s; an opaque
     surface (no transmission) sends light only back into the half-space it came from. So a planar
     object, opaque, emitting nothing, is dark on side s when every light lies wholly on the other side
-    (``_light_beyond``) and every other object that reflects or emits lies on or beyond its plane: then
+    (``beyond_plane`` of each emitter) and every other object that reflects or emits lies on or beyond its plane: then
     nothing on side s emits or scatters (none with a participating medium in the scene; the world's own
     light is rendered wherever a surface rises above the horizon: ``world_statuses``). A
     lamp with shadows off shining through a wall at a meter before it lights the meter (a closed
@@ -582,7 +498,7 @@ def dark_planes(model):
     g = model.geometry
     lights = [lt for lt in model.lights if not lt.portal]
     if (not g.count or model.volumes or model.world_volume
-            or any(lt.spec is None or not hasattr(lt.spec, "kind") for lt in lights)):
+            or any(lt.spec is None or not hasattr(lt.spec, "beyond_plane") for lt in lights)):
         return {}  # a medium anywhere may scatter light onto either side
     opaque = np.asarray(g.opaque, bool)
     emissive = np.asarray(g.emissive, bool) if len(g.emissive) else np.zeros(g.count, bool)
@@ -608,7 +524,7 @@ def dark_planes(model):
         others = g.triangles[relevant & (g.object_index != k)].reshape(-1, 3) @ normal - height
         sides = tuple(side for side in (1.0, -1.0)
                       if not np.any(side * others > tol)
-                      and all(_light_beyond(lt.spec, normal, height, side, tol) for lt in lights))
+                      and all(lt.spec.beyond_plane(normal, height, side, tol) for lt in lights))
         if sides:
             out[k] = (normal, height, sides, tol)
     return out
@@ -688,11 +604,8 @@ def plan_direct(model, points, normals, exact_model=None):
         if model_name == "unmodelled":
             status[i], reason[i] = RENDER, f"no closed form: {_note}"
             continue
-        if light.spec.kind == "AREA" and getattr(light.spec, "is_sheared", False):
-            # Measured: with MIS on (the default) Cycles' light sampler and the emission its BSDF
-            # rays hit disagree for a sheared area light (-3.3 % between the sum of single-light
-            # renders and the joint render): the converged answer is Cycles' own, so render it.
-            status[i], reason[i] = RENDER, "sheared area light: Cycles' MIS makes its answer its own; rendered"
+        if light.spec.render_reason:
+            status[i], reason[i] = RENDER, light.spec.render_reason
             continue
         closed = EXACT if exact else BOUNDED
         if not light.casts_shadow:
@@ -757,7 +670,7 @@ def boxes_on_paths(spec, points, boxes, tol, scene_reach):
     out = np.full(n, None, dtype=object)
     if not boxes or not n:
         return out
-    kind, ends, inside = _source_bases(spec, points, scene_reach)
+    kind, ends, inside = spec.occlusion_bases(points, scene_reach, ROUND_SIDES)
     for k in range(n):
         if inside[k]:
             out[k] = boxes[0][0]
