@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.radiometer-installed
 
-.PHONY: setup demo test test-fast test-bpy test-lts test-lts-ci bench zip validate clean
+.PHONY: setup demo test test-fast test-lts bench zip validate clean
 
 setup: $(STAMP)
 
@@ -49,15 +49,6 @@ $(STAMP_LTS): requirements.txt
 
 test-lts: $(STAMP_LTS)
 	$(PY_LTS) -m pytest -q tests/bpy
-
-# What CI runs on 4.5 LTS (the whole bpy tier twice does not fit CI's 15 minutes on 2 cores): the
-# files that exercise what differs between 4.5 and 5.0 (node trees of new worlds/materials, IES,
-# Cycles closures, registration, the installed extension). `make test-lts` runs everything.
-LTS_CI_TESTS := tests/bpy/test_registration.py tests/bpy/test_world.py tests/bpy/test_shading_assign.py \
-	tests/bpy/test_cycles_lights_render.py tests/bpy/test_luminaire.py tests/bpy/test_extension_install.py
-
-test-lts-ci: $(STAMP_LTS)
-	$(PY_LTS) -m pytest -q $(LTS_CI_TESTS)
 
 validate: setup
 	$(PY) -m radiometer.tools.extension validate
