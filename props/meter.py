@@ -31,10 +31,10 @@ _EFFICACY_VALUES = {"BLENDER_683": K_M_LM_PER_W, "RADIANCE_179": K_RADIANCE_WHIT
 
 
 def _live_changed(self, _context):
-    from ..measure.meter import live
+    from .. import api
 
     if self.live:
-        live.mark_dirty(self.id_data)  # measure every meter once the scene is still
+        api.live_mark_dirty(self.id_data)  # measure every meter once the scene is still
 
 
 def _convention_changed(self, _context):

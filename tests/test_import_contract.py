@@ -18,7 +18,8 @@ api         ``api``: the stable Python API over the host.
 ui / cli    ``operators/``, ``panels/``, ``props/``, ``registration`` / ``cli``, ``commands/``,
             ``__main__``. Two peers on top: neither imports the other; subcommands never import
             ``cli`` (shared helpers belong in ``commands/_io.py``); ``props/`` never imports
-            ``operators/`` or ``panels/``.
+            ``operators/`` or ``panels/``. Neither peer imports ``measure/``: they call the ``api``
+            (issue 30), so the host can change behind one boundary with its argument checks.
 ==========  ======================================================================================
 
 Why plots sit below the host (decided 2026-12-02, issue 17): ``plots/`` is pure like the core (it
@@ -67,8 +68,11 @@ MEASURE_ROOMS = ("blender", "capture", "render", "meter", "authoring", "analyses
 # Inside the UI layer: properties are data that operators and panels read, never the other way round.
 FORBIDDEN_WITHIN = {("props", "operators"), ("props", "panels"), ("operators", "panels")}
 PURE_LAYERS = {"core", "plots"}
+# The UI and the CLI reach measure/ only through the api (issue 30): kind "api" below.
+THROUGH_THE_API = {"ui", "cli"}
 
-# (kind, importer, imported or None): the reason, dated. Kinds: "layer", "blender", "circle", "private".
+# (kind, importer, imported or None): the reason, dated. Kinds: "layer", "blender", "circle", "private",
+# "room", "root", "api".
 # A circle is named by its sorted member modules joined with " <-> ".
 _TODAY = "2026-12-01"
 EXCEPTIONS = {
@@ -191,6 +195,8 @@ def violations(modules, graph):
                     found.add(("layer", module, target))
                 if (module.split(".")[0], target.split(".")[0]) in FORBIDDEN_WITHIN:
                     found.add(("layer", module, target))
+                if own in THROUGH_THE_API and target.split(".")[0] == "measure":
+                    found.add(("api", module, target))
             if target and module.startswith("measure.") and target.startswith("measure."):
                 if _room_rank(target) > _room_rank(module):
                     found.add(("room", module, target))
@@ -377,3 +383,27 @@ def test_every_package_folder_says_what_it_holds():
                if not os.path.isfile(os.path.join(f, "README.md"))
                or not open(os.path.join(f, "README.md"), encoding="utf-8").readline().strip()]
     assert not missing, f"add a README.md (one line: what lives here) to {missing}"
+
+
+def test_checker_sends_the_ui_and_the_cli_through_the_api(tmp_path):
+    modules, graph = _write(tmp_path, {
+        "__init__.py": "",
+        "measure/__init__.py": "",
+        "measure/meter/__init__.py": "",
+        "measure/meter/m.py": "",
+        "api.py": "def f():\n    from .measure.meter import m\n",
+        "operators/__init__.py": "",
+        "operators/o.py": "def run():\n    from ..measure.meter import m\n    from .. import api\n",
+        "props/__init__.py": "",
+        "props/p.py": "from ..measure.meter.m import x\n",
+        "commands/__init__.py": "",
+        "commands/c.py": "import radiometer.measure.meter.m\n",
+        "cli.py": "from .measure import meter\n",
+    })
+    found = violations(modules, graph)
+    assert ("api", "operators.o", "measure.meter.m") in found
+    assert ("api", "props.p", "measure.meter.m") in found
+    assert ("api", "commands.c", "measure.meter.m") in found
+    assert ("api", "cli", "measure.meter") in found
+    assert not any(a == "api" for _kind, a, _b in found)  # the api is where the host is called
+    assert not any(b == "api" for _kind, _a, b in found)  # calling the api is the way

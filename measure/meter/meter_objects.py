@@ -156,6 +156,29 @@ def step_weights(steps):
             for kind, objs in steps]
 
 
+def measurement_steps(scene, objects, *, quality=None, batch=None, time_budget_s=None):
+    """Steps of a measurement of meter ``objects`` for a progress bar: [(label, weight, run)], where
+    ``run(progress=None, cancelled=None)`` measures the step and returns [(object, reading)] (nothing
+    written: see :func:`write_reading`). ``time_budget_s`` caps each step (the target still ends it
+    early; with no target set, the ``quality`` preset's)."""
+    from ...quality import preset
+
+    settings = scene_settings(scene, quality)
+    if time_budget_s is not None:
+        settings["time_budget_s"] = time_budget_s
+        if settings["target_rel_error"] is None:
+            settings["target_rel_error"] = preset(settings["quality"])["target"]
+    steps = plan_steps(scene, objects, batch=batch)
+
+    def runner(step):
+        def run(progress=None, cancelled=None):
+            return run_step(scene, step, settings, progress=progress, cancelled=cancelled)
+        return run
+
+    return [(objs[0].name if len(objs) == 1 else f"{len(objs)} meters", weight, runner((kind, objs)))
+            for (kind, objs), weight in zip(steps, step_weights(steps))]
+
+
 class StepProgress:
     """Maps each step's own progress (done/total) onto the whole run: ``fraction`` 0..1 and an ETA (s).
 
