@@ -175,10 +175,70 @@ def measure_meters(objects=None, *, scene=None, quality=None, progress=None, can
         if isinstance(objects, (str, bytes)) or not hasattr(objects, "__iter__"):
             raise RadiometerError(f"objects must be a list of meter objects or None, got {objects!r:.60}")
         objects = [_b.blender_object(ob, "objects") for ob in objects]
+    import bpy
+
     from .measure.meter import meter_objects as meters
 
-    return meters.measure_meters(objects, scene=scene, quality=quality, progress=progress, cancelled=cancelled,
-                                 target_abs_error=target_abs_error)
+    scene = scene or bpy.context.scene
+    results = meters.measure_meters(_meters(scene, objects), dict(_scene_settings(scene, quality),
+                                                                  target_abs_error=target_abs_error),
+                                    scene=scene, progress=progress, cancelled=cancelled)
+    for obj, reading in results:  # only once every meter is measured: a failed run changes no reading
+        _store_reading(obj, reading)
+    return results
+
+
+# The UI's settings are read here and handed down as arguments (issue 30: host code does not read the
+# property groups): the scene's Radiometer settings and each meter object's.
+
+def _scene_settings(scene, quality=None):
+    """The scene's method, quality (``quality`` overrides it) and target error (fraction; None: the preset's)."""
+    s = getattr(scene, "radiometer", None)
+    if s is None:  # the add-on's properties are not registered (a bare bpy): the defaults
+        return {"method": "auto", "quality": quality or "standard", "target_rel_error": None}
+    return {"method": s.method, "quality": quality or s.quality,
+            "target_rel_error": s.target_rel_error if s.target_rel_error > 0 else None}
+
+
+def _is_meter(ob):
+    return getattr(getattr(ob, "radiometer_meter", None), "is_meter", False)
+
+
+def _meter_objects(scene, objects=None):
+    """``objects`` (each must be a meter) or every meter of ``scene``; none at all raises."""
+    if objects is None:
+        objects = [ob for ob in scene.objects if _is_meter(ob)]
+    else:
+        objects = list(objects)
+        bad = [ob.name for ob in objects if not _is_meter(ob)]
+        if bad:
+            raise RadiometerError(f"not light meters: {', '.join(bad)} (add one with Add > Light Meter)")
+    if not objects:
+        raise RadiometerError("no light meters to measure: add one with Add > Light Meter")
+    return objects
+
+
+def _meters(scene, objects=None, *, every=False):
+    """The meters (``measure.meter.meter_objects.Meter``: object and settings) of ``objects`` (or of the
+    scene); ``every``: the scene's meters, none being no error."""
+    from .measure.meter import meter_objects as meters
+
+    if every:
+        objects = [ob for ob in scene.objects if _is_meter(ob)]
+    else:
+        objects = _meter_objects(scene, objects)
+    return [meters.Meter(ob, ob.radiometer_meter.kind, float(ob.radiometer_meter.acceptance_deg),
+                         int(ob.radiometer_meter.map_resolution)) for ob in objects]
+
+
+def _store_reading(obj, reading):
+    """Store ``reading`` on the meter object: ID properties of its Radiometer properties (read-only
+    there), so they persist in the .blend and follow undo."""
+    from .measure.meter import meter_objects as meters
+
+    m = obj.radiometer_meter
+    for key, value in meters.reading_values(reading).items():
+        m[key] = value
 
 
 @_v.boundary
@@ -323,7 +383,8 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
                                       target_error=target_error, replicas=replicas,
                                       reference_samples=reference_samples, quality=quality,
                                       target_rel_error=target_rel_error, time_budget_s=time_budget_s,
-                                      targeted=targeted, seed=seed, plot=plot, cancelled=cancelled)
+                                      targeted=targeted, seed=seed, plot=plot, cancelled=cancelled,
+                                      meter_kind=target.radiometer_meter.kind if _is_meter(target) else None)
 
 
 @_v.boundary
@@ -348,7 +409,7 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
     _v.callable_or_none(phase, "phase")
     from .measure.reports import report
 
-    return report.export_report(out_dir, scene=scene, quality=quality, method=method,
+    return report.export_report(out_dir, **_report_scene(scene), scene=scene, quality=quality, method=method,
                                 target_rel_error=target_rel_error, time_budget_s=time_budget_s,
                                 convergence=convergence, client=client, project=project, task=task,
                                 maintenance_factor=maintenance_factor, observers=observers, ra=ra,
@@ -694,7 +755,20 @@ def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0
     from .measure.analyses import batch
 
     return batch.measure_batch(files, meters, quality=quality, method=method, seed=seed, client=client,
-                               progress=progress, cancelled=cancelled)
+                               progress=progress, cancelled=cancelled, read_meters=scene_meters)
+
+
+@_v.boundary
+def scene_meters(scene=None, objects=None):
+    """(meters, settings) of a scene as its Radiometer properties say: ``meters`` the
+    ``measure.meter.meter_objects.Meter`` of ``objects`` (each must be a meter; None: every meter of the
+    scene; none at all raises), ``settings`` its method, quality and target error (fraction or None).
+    The batch task reads an opened file's meters with it, on whichever worker opened the file."""
+    import bpy
+
+    _b.scene(scene)
+    scene = scene or bpy.context.scene
+    return _meters(scene, objects), _scene_settings(scene)
 
 
 @_v.boundary
@@ -931,7 +1005,10 @@ def add_meter(kind, location, *, acceptance_deg=1.0, rotation=None, context=None
     _v.choice(kind, "kind", ("ILLUMINANCE", "LUMINANCE", "RADIANCE_MAP"))
     from .measure.meter import meter_objects
 
-    return meter_objects.add_meter(context or bpy.context, kind, location, acceptance_deg, rotation=rotation)
+    obj = meter_objects.add_meter_object(context or bpy.context, kind, location, rotation=rotation)
+    settings = obj.radiometer_meter
+    settings.is_meter, settings.kind, settings.acceptance_deg = True, kind, acceptance_deg
+    return obj
 
 
 @_v.boundary
@@ -941,9 +1018,7 @@ def meter_objects(objects=None, *, scene=None):
     import bpy
 
     _b.scene(scene)
-    from .measure.meter import meter_objects as meters
-
-    return meters.meter_objects(scene or bpy.context.scene, objects)
+    return _meter_objects(scene or bpy.context.scene, objects)
 
 
 @_v.boundary
@@ -959,48 +1034,15 @@ def meter_steps(objects, *, scene=None, quality=None, batch=None, time_budget_s=
     _v.quality(quality, allow_none=True)
     from .measure.meter import meter_objects as meters
 
-    return meters.measurement_steps(scene or bpy.context.scene, objects, quality=quality, batch=batch,
+    scene = scene or bpy.context.scene
+    return meters.measurement_steps(scene, _meters(scene, objects), _scene_settings(scene, quality), batch=batch,
                                     time_budget_s=time_budget_s)
 
 
 @_v.boundary
 def store_reading(obj, reading):
     """Store ``reading`` on the meter object ``obj`` (its read-only reading properties)."""
-    from .measure.meter import meter_objects as meters
-
-    meters.write_reading(obj, reading)
-
-
-@_v.boundary
-def live_register():
-    """Start the live meter mode's depsgraph handler and timer (with the add-on's operators)."""
-    from .measure.meter import live
-
-    live.register_extra()
-
-
-@_v.boundary
-def live_unregister():
-    """Stop the live meter mode's handler and timer and forget its state."""
-    from .measure.meter import live
-
-    live.unregister_extra()
-
-
-@_v.boundary
-def live_status(scene):
-    """The live meter mode's one-line state for ``scene`` ("" when it has none)."""
-    from .measure.meter import live
-
-    return live.status(scene)
-
-
-@_v.boundary
-def live_mark_dirty(scene):
-    """Make every live meter of ``scene`` stale: the live mode measures them once the scene is still."""
-    from .measure.meter import live
-
-    live.mark_dirty(scene)
+    _store_reading(obj, reading)
 
 
 @_v.boundary
@@ -1145,7 +1187,15 @@ def iter_report(out_dir, **kwargs):
     _b.scene(kwargs.get("scene"))
     from .measure.reports import report
 
-    return report.iter_report(out_dir, **kwargs)
+    return report.iter_report(out_dir, **_report_scene(kwargs.get("scene")), **kwargs)
+
+
+def _report_scene(scene):
+    """What a report takes from the scene's Radiometer properties: its meters and its settings."""
+    import bpy
+
+    scene = scene or bpy.context.scene
+    return {"meters": _meters(scene, every=True), "settings": _scene_settings(scene)}
 
 
 @_v.boundary

@@ -70,15 +70,22 @@ FORBIDDEN_WITHIN = {("props", "operators"), ("props", "panels"), ("operators", "
 PURE_LAYERS = {"core", "plots"}
 # The UI and the CLI reach measure/ only through the api (issue 30): kind "api" below.
 THROUGH_THE_API = {"ui", "cli"}
+# Host code takes settings as arguments (issue 30): only the operators, the panels (and the api, which
+# builds the request) read the UI's property groups; measure/ reads none (kind "props": an attribute
+# of that name, or the name as a string, as in getattr(scene, "radiometer", None)).
+PROPERTY_GROUPS = {"radiometer", "radiometer_meter", "radiometer_analysis", "radiometer_daylight", "radiometer_brdf"}
 
 # (kind, importer, imported or None): the reason, dated. Kinds: "layer", "blender", "circle", "private",
-# "room", "root", "api".
+# "room", "root", "api", "props".
 # A circle is named by its sorted member modules joined with " <-> ".
 _TODAY = "2026-12-01"
 EXCEPTIONS = {
     ("blender", "outputs", "bpy"):
         "permanent: outputs.user_folder asks Blender for the extension's user folder inside a try, and falls "
         "back to a private temporary folder without bpy",
+    ("props", "measure.blender.efficacy", "radiometer"):
+        "2026-12-05: the scene's luminous efficacy, read in this one place until the request built at the api "
+        "carries it down (issue 30, 'one request object'; 17 callers of scene_photometry)",
     ("root", "commands._io", "register"):
         "permanent: with bpy as a module nothing enables the add-on, so the CLI registers it through the "
         "extension's own entry point (the function Blender calls); the root imports the CLI only inside it",
@@ -207,7 +214,22 @@ def violations(modules, graph):
                 found.add(("private", module, f"{target}.{imp.name}"))
     for members in circles(graph):
         found.add(("circle", " <-> ".join(sorted(members)), None))
+    for module, (path, _is_package) in modules.items():
+        if module.split(".")[0] == "measure":
+            found.update(("props", module, name) for name in property_groups_read(path))
     return found
+
+
+def property_groups_read(path):
+    """The UI property groups a file touches: ``x.radiometer_meter`` or the name as a string."""
+    tree = ast.parse(open(path, encoding="utf-8").read(), filename=path)
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and node.attr in PROPERTY_GROUPS:
+            names.add(node.attr)
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and node.value in PROPERTY_GROUPS:
+            names.add(node.value)
+    return names
 
 
 def _room_rank(module):
@@ -407,3 +429,20 @@ def test_checker_sends_the_ui_and_the_cli_through_the_api(tmp_path):
     assert ("api", "cli", "measure.meter") in found
     assert not any(a == "api" for _kind, a, _b in found)  # the api is where the host is called
     assert not any(b == "api" for _kind, _a, b in found)  # calling the api is the way
+
+
+def test_checker_sees_property_groups_read_in_measure(tmp_path):
+    modules, graph = _write(tmp_path, {
+        "__init__.py": "",
+        "measure/__init__.py": "",
+        "measure/meter/__init__.py": "",
+        "measure/meter/m.py": "def f(ob, scene):\n    return ob.radiometer_meter.kind, getattr(scene, 'radiometer')\n",
+        "measure/meter/n.py": "def g(settings):\n    return settings['quality']  # radiometer settings as arguments\n",
+        "operators/__init__.py": "",
+        "operators/o.py": "def run(context):\n    return context.scene.radiometer.quality\n",
+        "api.py": "def f(ob):\n    return ob.radiometer_meter.kind\n",
+    })
+    found = violations(modules, graph)
+    assert ("props", "measure.meter.m", "radiometer_meter") in found
+    assert ("props", "measure.meter.m", "radiometer") in found
+    assert not any(kind == "props" and a in ("measure.meter.n", "operators.o", "api") for kind, a, _b in found)
