@@ -840,6 +840,20 @@ def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolu
                                     low_light_correction=low_light_correction, hdr_path=hdr_path)
 
 
+#: The glare indices, by the name the CLI's ``glare --index`` takes: one function per index, each
+#: ``f(observer, view_direction, *, scene=None, quality=..., **its own options)`` returning a result with
+#: ``summary()``, ``sources`` (dicts with ``luminance`` cd/m², ``solid_angle`` sr, ``position_index``) and
+#: ``to_dict()``. How to add an index (e.g. VCP, DGI):
+#:
+#: 1. the formula, pure and cited, in ``radiometry/metrics/`` (as ``glare.py``, ``glare_dgp.py``), tested
+#:    against its source's worked example or an independent program (evalglare for DGP);
+#: 2. the measurement in ``measure/analyses/`` (as ``glare.glare_ugr``, ``daylight_glare.glare_dgp``):
+#:    the scene in, a result dataclass with the fields above out, every number SI with its error;
+#: 3. an api function here with ``@_v.boundary`` and its arguments checked, and one entry below;
+#: 4. in ``commands/glare.py``: its own options (``INDEX_OPTIONS``) and its source line (``SOURCE_LINE``).
+GLARE_INDICES = {"ugr": glare_ugr, "dgp": glare_dgp}
+
+
 @_v.boundary
 def en17037_table(*, illuminance=None, daylight_hours=None, daylight_factor=None, median_external_illuminance_lux=None,
                   sunlight_hours=None, dgp=None, view_out=None):
