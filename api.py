@@ -183,10 +183,70 @@ def measure_meters(objects=None, *, scene=None, quality=None, progress=None, can
         if isinstance(objects, (str, bytes)) or not hasattr(objects, "__iter__"):
             raise RadiometerError(f"objects must be a list of meter objects or None, got {objects!r:.60}")
         objects = [_b.blender_object(ob, "objects") for ob in objects]
+    import bpy
+
     from .measure.meter import meter_objects as meters
 
-    return meters.measure_meters(objects, scene=scene, quality=quality, progress=progress, cancelled=cancelled,
-                                 target_abs_error=target_abs_error)
+    scene = scene or bpy.context.scene
+    results = meters.measure_meters(_meters(scene, objects), dict(_scene_settings(scene, quality),
+                                                                  target_abs_error=target_abs_error),
+                                    scene=scene, progress=progress, cancelled=cancelled)
+    for obj, reading in results:  # only once every meter is measured: a failed run changes no reading
+        _store_reading(obj, reading)
+    return results
+
+
+# The UI's settings are read here and handed down as arguments (issue 30: host code does not read the
+# property groups): the scene's Radiometer settings and each meter object's.
+
+def _scene_settings(scene, quality=None):
+    """The scene's method, quality (``quality`` overrides it) and target error (fraction; None: the preset's)."""
+    s = getattr(scene, "radiometer", None)
+    if s is None:  # the add-on's properties are not registered (a bare bpy): the defaults
+        return {"method": "auto", "quality": quality or "standard", "target_rel_error": None}
+    return {"method": s.method, "quality": quality or s.quality,
+            "target_rel_error": s.target_rel_error if s.target_rel_error > 0 else None}
+
+
+def _is_meter(ob):
+    return getattr(getattr(ob, "radiometer_meter", None), "is_meter", False)
+
+
+def _meter_objects(scene, objects=None):
+    """``objects`` (each must be a meter) or every meter of ``scene``; none at all raises."""
+    if objects is None:
+        objects = [ob for ob in scene.objects if _is_meter(ob)]
+    else:
+        objects = list(objects)
+        bad = [ob.name for ob in objects if not _is_meter(ob)]
+        if bad:
+            raise RadiometerError(f"not light meters: {', '.join(bad)} (add one with Add > Light Meter)")
+    if not objects:
+        raise RadiometerError("no light meters to measure: add one with Add > Light Meter")
+    return objects
+
+
+def _meters(scene, objects=None, *, every=False):
+    """The meters (``measure.meter.meter_objects.Meter``: object and settings) of ``objects`` (or of the
+    scene); ``every``: the scene's meters, none being no error."""
+    from .measure.meter import meter_objects as meters
+
+    if every:
+        objects = [ob for ob in scene.objects if _is_meter(ob)]
+    else:
+        objects = _meter_objects(scene, objects)
+    return [meters.Meter(ob, ob.radiometer_meter.kind, float(ob.radiometer_meter.acceptance_deg),
+                         int(ob.radiometer_meter.map_resolution)) for ob in objects]
+
+
+def _store_reading(obj, reading):
+    """Store ``reading`` on the meter object: ID properties of its Radiometer properties (read-only
+    there), so they persist in the .blend and follow undo."""
+    from .measure.meter import meter_objects as meters
+
+    m = obj.radiometer_meter
+    for key, value in meters.reading_values(reading).items():
+        m[key] = value
 
 
 @_v.boundary
@@ -295,7 +355,7 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
 @_v.boundary
 def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.0, 1.0), samples=(4, 16, 64, 256),
                       target_error=0.01, replicas=8, reference_samples=None, quality=None, target_rel_error=None,
-                      time_budget_s=None, targeted=True, seed=0, plot=None):
+                      time_budget_s=None, targeted=True, seed=0, plot=None, cancelled=None):
     """Rendered error against samples AND wall time for a meter, a plane (4 x 4 grid) or a location.
 
     Fixed sample counts ``samples`` (per texel) give rows of samples per reading, seconds (one
@@ -307,7 +367,8 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     ``ConvergenceResult`` with ``rows``, ``fit`` (slope of log error vs log samples, time_slope vs
     log seconds, t0_s, c_s_per_sample), ``time_slope``, ``samples_for_target``,
     ``seconds_for_target`` (s, t0 + c N), ``seconds_for_target_by_time_fit`` (s) and ``targeted``
-    (samples, seconds, rel_std_error, rms_error).
+    (samples, seconds, rel_std_error, rms_error). ``cancelled()``: polled between renders, True raises
+    MeasurementCancelled.
     """
     _b.scene(scene)
     if target is not None:
@@ -322,6 +383,7 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     reference_samples = _v.samples(reference_samples, "reference_samples")
     _v.measurement(quality_=quality, target_rel_error=target_rel_error, time_budget_s=time_budget_s,
                    seed_=seed, allow_none_quality=True)
+    _v.callable_or_none(cancelled, "cancelled")
     plot = _v.optional_output(plot, "plot")
     from .measure.analyses import analysis
 
@@ -329,31 +391,38 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
                                       target_error=target_error, replicas=replicas,
                                       reference_samples=reference_samples, quality=quality,
                                       target_rel_error=target_rel_error, time_budget_s=time_budget_s,
-                                      targeted=targeted, seed=seed, plot=plot)
+                                      targeted=targeted, seed=seed, plot=plot, cancelled=cancelled,
+                                      meter_kind=target.radiometer_meter.kind if _is_meter(target) else None)
 
 
 @_v.boundary
 def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
                   convergence=True, client=True, project=None, task=None, maintenance_factor=0.8, observers=(),
-                  ra=None):
+                  ra=None, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None):
     """Write report.json, report.md and PNG plots for every meter, light and work plane into ``out_dir``.
 
     ``quality`` (preset name), ``method`` and ``target_rel_error`` (fraction) default to the
     scene's Radiometer settings; ``time_budget_s`` (s) bounds each measurement of the report.
     ``client``: also the client's report.html and report.pdf (``project`` data dict, EN 12464-1
     ``task`` with ``maintenance_factor``, UGR ``observers`` ((x, y, z), (dx, dy, dz)), rated ``ra``;
-    see docs/deliverables.md).
+    see docs/deliverables.md). ``convergence_samples``: the study's sample counts; ``progress(done,
+    total, seconds_left)`` in thousandths of the whole report, ``phase(label)`` the part being measured,
+    ``cancelled()`` polled by every measurement.
     """
     out_dir = _v.path(out_dir, "out_dir")
     _b.scene(scene)
     _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
-                   time_budget_s=time_budget_s, allow_none_quality=True, allow_none_method=True)
+                   time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, allow_none_quality=True,
+                   allow_none_method=True)
+    _v.callable_or_none(phase, "phase")
     from .measure.reports import report
 
-    return report.export_report(out_dir, scene=scene, quality=quality, method=method,
+    return report.export_report(out_dir, **_report_scene(scene), scene=scene, quality=quality, method=method,
                                 target_rel_error=target_rel_error, time_budget_s=time_budget_s,
                                 convergence=convergence, client=client, project=project, task=task,
-                                maintenance_factor=maintenance_factor, observers=observers, ra=ra)
+                                maintenance_factor=maintenance_factor, observers=observers, ra=ra,
+                                convergence_samples=convergence_samples, progress=progress, cancelled=cancelled,
+                                phase=phase)
 
 
 @_v.boundary
@@ -694,7 +763,20 @@ def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0
     from .measure.analyses import batch
 
     return batch.measure_batch(files, meters, quality=quality, method=method, seed=seed, client=client,
-                               progress=progress, cancelled=cancelled)
+                               progress=progress, cancelled=cancelled, read_meters=scene_meters)
+
+
+@_v.boundary
+def scene_meters(scene=None, objects=None):
+    """(meters, settings) of a scene as its Radiometer properties say: ``meters`` the
+    ``measure.meter.meter_objects.Meter`` of ``objects`` (each must be a meter; None: every meter of the
+    scene; none at all raises), ``settings`` its method, quality and target error (fraction or None).
+    The batch task reads an opened file's meters with it, on whichever worker opened the file."""
+    import bpy
+
+    _b.scene(scene)
+    scene = scene or bpy.context.scene
+    return _meters(scene, objects), _scene_settings(scene)
 
 
 @_v.boundary
@@ -764,6 +846,20 @@ def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolu
     return daylight_glare.glare_dgp(observer, view_direction, scene=scene, quality=quality, resolution=resolution,
                                     threshold_cd_m2=threshold_cd_m2, threshold_factor=threshold_factor,
                                     low_light_correction=low_light_correction, hdr_path=hdr_path)
+
+
+#: The glare indices, by the name the CLI's ``glare --index`` takes: one function per index, each
+#: ``f(observer, view_direction, *, scene=None, quality=..., **its own options)`` returning a result with
+#: ``summary()``, ``sources`` (dicts with ``luminance`` cd/m², ``solid_angle`` sr, ``position_index``) and
+#: ``to_dict()``. How to add an index (e.g. VCP, DGI):
+#:
+#: 1. the formula, pure and cited, in ``radiometry/metrics/`` (as ``glare.py``, ``glare_dgp.py``), tested
+#:    against its source's worked example or an independent program (evalglare for DGP);
+#: 2. the measurement in ``measure/analyses/`` (as ``glare.glare_ugr``, ``daylight_glare.glare_dgp``):
+#:    the scene in, a result dataclass with the fields above out, every number SI with its error;
+#: 3. an api function here with ``@_v.boundary`` and its arguments checked, and one entry below;
+#: 4. in ``commands/glare.py``: its own options (``INDEX_OPTIONS``) and its source line (``SOURCE_LINE``).
+GLARE_INDICES = {"ugr": glare_ugr, "dgp": glare_dgp}
 
 
 @_v.boundary
@@ -899,3 +995,272 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
 
     return images.illuminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
                                     scale=scale, range=range)
+
+
+# --- for the operators, panels and the CLI (issue 30): nothing above the api imports measure/ -----
+# Thin wrappers: the UI and the CLI call these, so measure/ can change behind one boundary.
+
+@_v.boundary
+def default_map_path(name):
+    """Where a radiance map named ``name`` goes (an .exr path in the extension's user folder, else a
+    private temporary folder); the file name is readable and distinct per name."""
+    from .measure.meter import camera
+
+    return camera.default_map_path(str(name))
+
+
+@_v.boundary
+def meter_default_rotation(kind):
+    """A new meter's rotation (Euler angles, rad) for ``kind``: a spot meter looks along +Y."""
+    from .measure.meter import meter_objects
+
+    return tuple(meter_objects.DEFAULT_ROTATION.get(kind, (0.0, 0.0, 0.0)))
+
+
+@_v.boundary
+def add_meter(kind, location, *, acceptance_deg=1.0, rotation=None, context=None):
+    """Create a meter object of ``kind`` ("ILLUMINANCE", "LUMINANCE", "RADIANCE_MAP") at ``location``
+    (scene coordinates) in the active collection, selected and active; ``acceptance_deg``: a spot
+    meter's full cone angle; ``rotation``: Euler angles (rad), None the kind's default. Returns it."""
+    import bpy
+
+    _v.choice(kind, "kind", ("ILLUMINANCE", "LUMINANCE", "RADIANCE_MAP"))
+    from .measure.meter import meter_objects
+
+    obj = meter_objects.add_meter_object(context or bpy.context, kind, location, rotation=rotation)
+    settings = obj.radiometer_meter
+    settings.is_meter, settings.kind, settings.acceptance_deg = True, kind, acceptance_deg
+    return obj
+
+
+@_v.boundary
+def meter_objects(objects=None, *, scene=None):
+    """The meter objects to measure: ``objects`` (each must be a meter) or every meter of ``scene``;
+    none raises RadiometerError."""
+    import bpy
+
+    _b.scene(scene)
+    return _meter_objects(scene or bpy.context.scene, objects)
+
+
+@_v.boundary
+def meter_steps(objects, *, scene=None, quality=None, batch=None, time_budget_s=None):
+    """A measurement of meter ``objects`` cut into steps for a progress bar (illuminance meters in
+    batches of ``batch``, None: one batch; then one step per other meter): a list of (label, weight,
+    run) where ``run(progress=None, cancelled=None)`` measures the step and returns [(object,
+    reading)] without storing anything (see :func:`store_reading`). Settings: the scene's, ``quality``
+    overriding its preset; ``time_budget_s`` caps each step (s)."""
+    import bpy
+
+    _b.scene(scene)
+    _v.quality(quality, allow_none=True)
+    from .measure.meter import meter_objects as meters
+
+    scene = scene or bpy.context.scene
+    return meters.measurement_steps(scene, _meters(scene, objects), _scene_settings(scene, quality), batch=batch,
+                                    time_budget_s=time_budget_s)
+
+
+@_v.boundary
+def store_reading(obj, reading):
+    """Store ``reading`` on the meter object ``obj`` (its read-only reading properties)."""
+    _store_reading(obj, reading)
+
+
+@_v.boundary
+def photometric_units(light_type):
+    """The photometric units that apply to a Blender light type: a list of (unit, label), e.g.
+    [("LUMEN", "lm"), ("CANDELA", "cd")] for "POINT"."""
+    from .measure.authoring import light_power
+
+    return [(unit, label) for unit, (types, label) in light_power.UNITS.items() if light_type in types]
+
+
+@_v.boundary
+def photometric_power(light, unit, *, scene=None):
+    """The light's power in ``unit`` (see :func:`photometric_units`: lm, cd, lx or cd/m²) at the scene's
+    luminous efficacy."""
+    from .measure.authoring import light_power
+
+    return light_power.photometric_power(light, unit, scene)
+
+
+@_v.boundary
+def set_photometric_power(light, unit, value, *, scene=None):
+    """Set the light's energy so that its power in ``unit`` is ``value``; returns the energy (W, a sun's
+    strength in W/m²)."""
+    from .measure.authoring import light_power
+
+    return light_power.set_photometric_power(light, unit, value, scene)
+
+
+@_v.boundary
+def photometric_table(light_data):
+    """(table, reason): the photometric table of a light's IES node tree, or None and why not."""
+    from .measure.capture import luminaires
+
+    return luminaires.photometric_table(light_data)
+
+
+@_v.boundary
+def luminaire_summary(light):
+    """The photometric summary of a photometric light (luminaire, lumens, max_candela, beam and field
+    angles, symmetry, ...), cached while the file behind it is unchanged."""
+    from .measure.capture import luminaires
+
+    return luminaires.luminaire_summary(light)
+
+
+@_v.boundary
+def false_colour(t):
+    """RGBA of the grids' colour map at ``t`` in [0, 1] (the isolux pictures' and the coloured plane's)."""
+    from .measure.analyses import grid
+
+    return grid.false_colour(t)
+
+
+@_v.boundary
+def colour_plane(result, *, scene=None, name=None):
+    """A viewport-only coloured copy of a ``GridResult`` (colour attribute 'lux_colour'); returns it."""
+    _b.scene(scene)
+    from .measure.analyses import grid
+
+    return grid.colour_plane(result, scene=scene, name=name)
+
+
+@_v.boundary
+def grid_lux_from_csv(path):
+    """The (ny, nx) illuminance (lx) of a grid CSV written by ``GridResult.write_csv``."""
+    from .measure.analyses import grid
+
+    return grid.lux_from_csv(path)
+
+
+@_v.boundary
+def work_planes(scene=None):
+    """The scene's work planes: meshes named "work plane" (any case) or marked ``radiometer_work_plane``."""
+    import bpy
+
+    _b.scene(scene)
+    from .measure.analyses import grid
+
+    return grid.work_planes(scene or bpy.context.scene)
+
+
+@_v.boundary
+def grid_points(target, *, scene=None, resolution=None, spacing=None):
+    """The cell centres (N, 3) and normals (N, 3) of the grid :func:`illuminance_grid` lays out on
+    ``target`` (EN 12464-1 spacing by default, at most 250 000 points)."""
+    import bpy
+    import numpy as np
+
+    _b.scene(scene)
+    from .measure.analyses import grid
+
+    layout = grid.grid_layout(scene or bpy.context.scene, target, resolution=resolution, spacing=spacing)
+    points = layout.points.reshape(-1, 3)
+    return points, np.broadcast_to(layout.normal, points.shape)
+
+
+@_v.boundary
+def light_object(name, *, scene=None):
+    """The light object named ``name`` in the scene (RadiometerError naming the lights when none)."""
+    import bpy
+
+    _b.scene(scene)
+    from .measure.analyses import light_isolation
+
+    return light_isolation.light_object(name, scene or bpy.context.scene)
+
+
+@_v.boundary
+def lights_to_check(scene=None):
+    """The scene's lights that the law checks (and the report) check."""
+    import bpy
+
+    _b.scene(scene)
+    from .measure.analyses import light_isolation
+
+    return light_isolation.scene_lights_to_check(scene or bpy.context.scene)
+
+
+@_v.boundary
+def report_file_stem(name, among=()):
+    """The report's file-name stem for an object ``name``: readable, unique ``among`` the names given."""
+    from .measure.reports import report
+
+    return report.plot_stem(name, among=among)
+
+
+@_v.boundary
+def report_fixed_files(client=True):
+    """The report set's files whatever the scene holds (no Blender needed)."""
+    from .measure.reports import report_files
+
+    return report_files.fixed_files(client)
+
+
+@_v.boundary
+def iter_report(out_dir, **kwargs):
+    """The report of :func:`export_report` as a generator of parts, for modal operators: the first
+    ``next()`` yields the plan [(label, weight)], each further one measures a part, the last ends with
+    the report dict (``StopIteration.value``). Keywords as ``measure.reports.report.iter_report``."""
+    out_dir = _v.path(out_dir, "out_dir")
+    _b.scene(kwargs.get("scene"))
+    from .measure.reports import report
+
+    return report.iter_report(out_dir, **_report_scene(kwargs.get("scene")), **kwargs)
+
+
+def _report_scene(scene):
+    """What a report takes from the scene's Radiometer properties: its meters and its settings."""
+    import bpy
+
+    scene = scene or bpy.context.scene
+    return {"meters": _meters(scene, every=True), "settings": _scene_settings(scene)}
+
+
+@_v.boundary
+def report_summary_table(report_dict):
+    """The text table of a report dict (or of the CLI's check result)."""
+    from .measure.reports import report
+
+    return report.summary_table(report_dict)
+
+
+@_v.boundary
+def save_copy(path, interrupt=None):
+    """Save the open file as a copy at ``path``, whole or not at all; the session keeps its own file."""
+    from .measure.blender import blend_file
+
+    return blend_file.save_copy(path, interrupt)
+
+
+@_v.boundary
+def operator_report_filter(out, err=None, *, drop=("Info: ",), to_stderr=("Warning: ", "Error: "),
+                           has_descriptor=True):
+    """A text stream for ``sys.stdout`` that drops Blender's operator reports (lines starting with one of
+    ``drop``) and sends those starting with one of ``to_stderr`` to ``err``; the API's own filter."""
+    from .measure.blender import op_reports
+
+    return op_reports.ReportFilter(out, err, drop=drop, to_stderr=to_stderr, has_descriptor=has_descriptor)
+
+
+@_v.boundary
+def keep_blender_reports(keep=True):
+    """Let Blender's own operator reports through (the CLI's ``--verbose``) or drop them again."""
+    from .measure.blender import op_reports
+
+    op_reports.keep_reports = bool(keep)
+
+
+@_v.boundary
+def write_law_plot(result, path):
+    """The PNG of a law check's result (an ``InverseSquareResult`` or a ``CosineResult``) at ``path``."""
+    from .measure.analyses import law_checks
+
+    if isinstance(result, law_checks.InverseSquareResult):
+        return law_checks.write_inverse_square_plot(result, path)
+    if isinstance(result, law_checks.CosineResult):
+        return law_checks.write_cosine_plot(result, path)
+    raise RadiometerError(f"result must be a law check's result, got {type(result).__name__}")

@@ -195,9 +195,9 @@ def main(argv=None, *, in_blender=False):
         if not in_blender:
             _scratch_inside_private_root()
         if args.verbose:
-            from .measure.blender import op_reports
+            from . import api
 
-            op_reports.keep_reports = True  # --verbose shows Blender's own reports too
+            api.keep_blender_reports(True)  # --verbose shows Blender's own reports too
         with interrupt, _io.blender_logs_silenced(enabled=not args.verbose, quiet=args.quiet) as err_fd, \
                 _quiet_numpy():
             args.progress = _io.Progress(err_fd, enabled=not args.quiet)

@@ -81,8 +81,6 @@ def main():
     ap.add_argument("--out", default=None)
     ap.add_argument("--kind", choices=("ies", "area"), default="ies", help="IES luminaires or Blender area lights")
     args = ap.parse_args()
-    from radiometer.measure.reports import report
-
     with tempfile.TemporaryDirectory() as tmp:
         scene = build(args.lights, tmp, args.kind)
         phases = []
@@ -95,7 +93,7 @@ def main():
             last[:] = [now, label]
 
         started = time.perf_counter()
-        rep = report.export_report(args.out or os.path.join(tmp, "report"), scene=scene, quality=args.quality,
+        rep = api.export_report(args.out or os.path.join(tmp, "report"), scene=scene, quality=args.quality,
                                    convergence=False, client=False, phase=phase)
         total = time.perf_counter() - started
         phase("end")

@@ -717,12 +717,12 @@ def _live_change_latency(scene, light, st, live_mod, repeats):
 def bench_live():
     """Live mode latency: a change to an exact reading (point lights, nothing else: closed forms) and to
     a preview reading in the demo room, then the refinement to the scene's quality while idle."""
-    from radiometer.measure.meter import live as live_mod
+    from radiometer.operators import live as live_mod
 
     repeats = 2 if QUICK else 4
     out = {"debounce_s": live_mod.DEBOUNCE_S, "tick_s": live_mod.TICK_S, "refine_idle_s": live_mod.REFINE_IDLE_S}
     scene = _delta_scene()
-    from radiometer.measure.meter.meter_objects import add_meter
+    from radiometer.operators.meter import add_meter
 
     for p in _three_points():
         add_meter(bpy.context, "ILLUMINANCE", tuple(p))

@@ -158,7 +158,7 @@ def edits_markdown(rows):
 def _live_latency(scene, edit, repeats):
     """Wall time from an edit (``edit(k)``) to the next live reading, ticking as Blender's timer would;
     also the measuring part alone (the tick that measured). Returns a dict of medians (s)."""
-    from radiometer.measure.meter import live as live_mod
+    from radiometer.operators import live as live_mod
 
     st = live_mod.state(scene)
     total, measuring, after_debounce = [], [], []
@@ -186,8 +186,8 @@ def bench_live_edits(quick=False):
     (a) three radius-0 point lights over a 130k-triangle floor 0.5 m below six meters (every reading a
     closed form, the floor's triangles in every proof), (b) the 130k-triangle room (interreflection:
     preview readings at 5 %)."""
-    from radiometer.measure.meter import live as live_mod
-    from radiometer.measure.meter.meter_objects import add_meter
+    from radiometer.operators import live as live_mod
+    from radiometer.operators.meter import add_meter
 
     repeats = 2 if quick else 5
     out = {"debounce_s": live_mod.DEBOUNCE_S, "tick_s": live_mod.TICK_S}

@@ -82,10 +82,10 @@ def blender_logs_silenced(enabled=True, quiet=False):
                 setattr(sys, name, mirror)
             os.dup2(null, fd)
         originals.setdefault("stdout", sys.stdout)
-        from ..measure.blender.op_reports import ReportFilter  # the one filter of operator reports (the API's too)
+        from ..api import operator_report_filter  # the one filter of operator reports (the API's too)
 
         out = open(os.devnull, "w") if quiet else sys.stdout
-        sys.stdout = ReportFilter(out, sys.stderr, drop=("Info: ", "Error: "), to_stderr=("Warning: ",),
+        sys.stdout = operator_report_filter(out, sys.stderr, drop=("Info: ", "Error: "), to_stderr=("Warning: ",),
                                   has_descriptor=False)
         opened.insert(0, sys.stdout)
         if quiet:

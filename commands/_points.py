@@ -59,10 +59,6 @@ def read_points(path):
 def plane_points(scene, name, spacing=None, resolution=None):
     """Cell centres (N, 3) and normals (N, 3) of the grid on a plane object, laid out as every grid is
     (``measure.analyses.grid.grid_layout``: EN 12464-1 spacing by default, at most 250 000 points)."""
-    import numpy as np
+    from .. import api
 
-    from ..measure.analyses.grid import grid_layout
-
-    layout = grid_layout(scene, name, resolution=resolution, spacing=spacing)
-    points = layout.points.reshape(-1, 3)
-    return points, np.broadcast_to(layout.normal, points.shape)
+    return api.grid_points(name, scene=scene, resolution=resolution, spacing=spacing)

@@ -34,12 +34,11 @@ def run(args):
     from .. import outputs
     from ._io import deliver, write_json
     from ..errors import MeasurementCancelled, RadiometerError
-    from ..measure.analyses import analysis
-    from ..measure.reports import report
+    from .. import api
     from . import _io
 
     scene = bpy.context.scene
-    lights = [analysis.light_object(args.light, scene)] if args.light else analysis.scene_lights_to_check(scene)
+    lights = [api.light_object(args.light, scene=scene)] if args.light else api.lights_to_check(scene)
     if not lights:
         raise RadiometerError(f"scene {scene.name!r} has no lights to check")
     if args.plots:
@@ -61,7 +60,7 @@ def run(args):
         if progress is not None:
             progress.label = f"laws {light.name}"
         try:
-            r = analysis.check_inverse_square(light, scene=scene, method=args.method, quality=args.quality,
+            r = api.check_inverse_square(light, scene=scene, method=args.method, quality=args.quality,
                                               progress=progress, **watch, **budget_kwargs(args))
             out["inverse_square"].append(r.to_dict())
             done.append(("inverse_square", light.name, r))
@@ -71,13 +70,13 @@ def run(args):
             if args.light and light.data.type != "SUN":
                 raise
             out["inverse_square"].append({"light": light.name, "kind": light.data.type, "error": str(exc)})
-        r = analysis.check_cosine_law(light, scene=scene, method=args.method, quality=args.quality,
+        r = api.check_cosine_law(light, scene=scene, method=args.method, quality=args.quality,
                                       progress=progress, **watch, **budget_kwargs(args))
         out["cosine"].append(r.to_dict())
         done.append(("cosine", light.name, r))
     if progress is not None:
         progress.clear()
-    print(report.summary_table(out))
+    print(api.report_summary_table(out))
     for r in out["inverse_square"] + out["cosine"]:
         if r.get("departure"):
             print(f"  {r['light']}: as expected: {r['departure']}")
@@ -87,12 +86,11 @@ def run(args):
             print(f"  {r['light']}: {r['error']}")
     deliver(args, out)  # the numbers are safe on disk before any plot is drawn
     if args.plots:
-        writers = {"inverse_square": analysis.write_inverse_square_plot, "cosine": analysis.write_cosine_plot}
         by_light = {}
         for kind, name, r in done:
             stem = by_light.setdefault(name, stems(name))
             path = os.path.join(args.plots, f"{kind}_{stem}.png")
-            writers[kind](r, path)
+            api.write_law_plot(r, path)
             next(d for d in out[kind] if d.get("light") == name)["plot"] = path
             print(f"wrote {path}")
         if getattr(args, "json", None):

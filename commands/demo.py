@@ -26,8 +26,8 @@ def add_arguments(parser):
 def run(args):
     import bpy
 
+    from .. import api
     from ..demo import scene as demo_scene
-    from ..measure.meter import meter_objects as meters
     from .measure import format_table
 
     from . import _io
@@ -62,7 +62,7 @@ def run(args):
     print(f"Luminous efficacy {scene.radiometer.efficacy:g} lm/W (Blender/glTF convention).\n")
     if progress is not None:
         progress.label = "measuring the meters"
-    results = meters.measure_meters(scene=scene, quality=args.quality, progress=progress, cancelled=cancelled)
+    results = api.measure_meters(scene=scene, quality=args.quality, progress=progress, cancelled=cancelled)
     if progress is not None:
         progress.clear()
     from .measure import format_settings, used_settings
@@ -71,14 +71,13 @@ def run(args):
     print(format_settings(used_settings(args, (s.method, s.quality, s.target_rel_error))))
     print(format_table(results))
     # Direct light alone, from the closed forms, for comparison with the rendered totals.
-    from ..measure.meter import point_meter as meter_mod
 
     print("\nDirect light at the meters from closed forms (no interreflection):")
     direct = {}
     for obj, r in results:
         if r.quantity != "illuminance":
             continue
-        rows = meter_mod.predict_illuminance(r.location, r.normal, scene=scene)
+        rows = api.predict_illuminance(r.location, r.normal, scene=scene)
         total = sum(row["illuminance"] or 0.0 for row in rows)
         direct[obj.name] = rows
         parts = ", ".join(f"{row['light']} {row['illuminance']:.4g} lx" for row in rows if row["illuminance"] is not None)
@@ -91,10 +90,8 @@ def run(args):
     deliver(args, result)
     print(f"\nWrote {os.path.join(out, 'demo.json')}")
     # The analysis report: law checks per light, the EN 12464-1 grid on the Work Plane, convergence.
-    from ..measure.reports import report
-
     print("\nAnalysis report (law checks per light, work-plane grid, convergence):")
-    rep = report.export_report(os.path.join(out, "report"), scene=scene, quality=args.quality,
+    rep = api.export_report(os.path.join(out, "report"), scene=scene, quality=args.quality,
                                convergence_samples=(4, 16, 64), progress=progress, cancelled=cancelled,
                                phase=None if progress is None else progress.step)
     if progress is not None:

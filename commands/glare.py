@@ -5,6 +5,28 @@ HELP = ("UGR (CIE 117) or DGP (--index dgp, daylight glare) at observer position
         "the camera's false-colour view (cd/m²)")
 NEEDS_SCENE = True
 
+#: Each glare index's own options (from the arguments) beside observer, direction, scene and quality; an
+#: index is rated by ``api.GLARE_INDICES[name]`` (how to add one: the checklist there).
+INDEX_OPTIONS = {
+    "ugr": lambda args: {},
+    "dgp": lambda args: {"resolution": args.resolution, "threshold_cd_m2": args.threshold, "hdr_path": args.hdr},
+}
+
+
+def _ugr_source(s, format_value):
+    return (f"  {s['name']:<24} L {format_value(s['luminance'], 1e-3)} cd/m²  ω {s['solid_angle']:.3g} sr  "
+            f"p {s['position_index']:.3g}"
+            + ("" if s.get("visible_fraction_bounds", (1.0, 1.0)) == (1.0, 1.0) else f"  ({s['visibility']})"))
+
+
+def _dgp_source(s, format_value):
+    return (f"  source L {format_value(s['luminance'], 1e-3)} cd/m²  ω {s['solid_angle']:.3g} sr  "
+            f"P {s['position_index']:.3g}  {s['sigma_deg']:.0f} deg off the line of sight")
+
+
+#: One printed line per glare source, per index.
+SOURCE_LINE = {"ugr": _ugr_source, "dgp": _dgp_source}
+
 
 def add_arguments(parser):
     parser.add_argument("--observer", type=float, nargs=6, action="append", metavar=("X", "Y", "Z", "DX", "DY", "DZ"),
@@ -13,7 +35,7 @@ def add_arguments(parser):
                         "32-bit EXR (cd/m²) and a false-colour PNG beside it")
     parser.add_argument("--scale", choices=("log", "linear"), default="log", help="colour scale of the PNG")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
-    parser.add_argument("--index", choices=("ugr", "dgp"), default="ugr",
+    parser.add_argument("--index", choices=tuple(INDEX_OPTIONS), default="ugr",
                         help="ugr: CIE 117 (electric light, rated from the lights); dgp: daylight glare probability "
                              "(Wienold & Christoffersen 2006) from a rendered 180 deg fisheye at each observer")
     parser.add_argument("--resolution", type=int, default=128, metavar="PX",
@@ -52,26 +74,16 @@ def run(args):
     _io.check_output_file(args.hdr, "--hdr file")
     scene = bpy.context.scene
     out = {"scene": scene.name, "observers": []}
-    if args.index == "dgp":
-        for o in args.observer:
-            g = api.glare_dgp(tuple(o[:3]), tuple(o[3:]), scene=scene, quality=args.quality,
-                              resolution=args.resolution, threshold_cd_m2=args.threshold, hdr_path=args.hdr)
-            print(f"observer ({o[0]:g}, {o[1]:g}, {o[2]:g}) looking ({o[3]:g}, {o[4]:g}, {o[5]:g}): {g.summary()}")
-            for s in g.sources:
-                print(f"  source L {format_value(s['luminance'], 1e-3)} cd/m²  ω {s['solid_angle']:.3g} sr  "
-                      f"P {s['position_index']:.3g}  {s['sigma_deg']:.0f} deg off the line of sight")
-            for path in g.paths.values():
-                print(f"wrote {path}")
-            out["observers"].append(g.to_dict())
-    for o in (args.observer or []) if args.index == "ugr" else []:
-        g = api.glare_ugr(tuple(o[:3]), tuple(o[3:]), scene=scene, quality=args.quality)
+    rate, options, line = api.GLARE_INDICES[args.index], INDEX_OPTIONS[args.index](args), SOURCE_LINE[args.index]
+    for o in args.observer or []:
+        g = rate(tuple(o[:3]), tuple(o[3:]), scene=scene, quality=args.quality, **options)
         print(f"observer ({o[0]:g}, {o[1]:g}, {o[2]:g}) looking ({o[3]:g}, {o[4]:g}, {o[5]:g}): {g.summary()}")
         for s in g.sources:
-            print(f"  {s['name']:<24} L {format_value(s['luminance'], 1e-3)} cd/m²  ω {s['solid_angle']:.3g} sr  "
-                  f"p {s['position_index']:.3g}"
-                  + ("" if s.get("visible_fraction_bounds", (1.0, 1.0)) == (1.0, 1.0) else f"  ({s['visibility']})"))
-        for d in g.left_out:
+            print(line(s, format_value))
+        for d in getattr(g, "left_out", ()):
             print(f"  {d['name']:<24} left out: {d['reason']}")
+        for path in getattr(g, "paths", {}).values():
+            print(f"wrote {path}")
         out["observers"].append(g.to_dict())
     if args.luminance_image:
         img = api.luminance_image(args.luminance_image, scene=scene, quality=args.quality, scale=args.scale)

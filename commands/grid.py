@@ -23,7 +23,7 @@ def run(args):
 
     from ._io import deliver
     from ..errors import RadiometerError
-    from ..measure.analyses import analysis, grid
+    from .. import api
     from . import _io
 
     if args.png:
@@ -38,14 +38,14 @@ def run(args):
         if plane is None:
             raise RadiometerError(f"no object named {args.plane!r} in scene {scene.name!r}")
     else:
-        planes = grid.work_planes(scene)
+        planes = api.work_planes(scene)
         if not planes:
             raise RadiometerError("no work plane in the scene: name one with --plane NAME")
         plane = planes[0]
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = f"grid {plane.name}"
-    g = analysis.illuminance_grid(plane, resolution=args.resolution, spacing=args.spacing, scene=scene,
+    g = api.illuminance_grid(plane, resolution=args.resolution, spacing=args.spacing, scene=scene,
                                   method=args.method, quality=args.quality, progress=progress,
                                   cancelled=getattr(args, "cancelled", None), **budget_kwargs(args))
     if progress is not None:

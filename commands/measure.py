@@ -119,7 +119,7 @@ def format_settings(used):
 def run(args):
     import bpy
 
-    from ..measure.meter import meter_objects as meters
+    from .. import api
 
     scene = bpy.context.scene
     if args.target is not None:
@@ -141,7 +141,7 @@ def run(args):
     before = (s.method, s.quality, s.target_rel_error)
     s.method, s.quality, s.target_rel_error = used["method"], used["quality"], used["target_rel_error"]
     try:
-        results = meters.measure_meters(scene=scene, quality=used["quality"], progress=progress,
+        results = api.measure_meters(scene=scene, quality=used["quality"], progress=progress,
                                         cancelled=getattr(args, "cancelled", None), target_abs_error=target_abs)
     finally:
         s.method, s.quality, s.target_rel_error = before

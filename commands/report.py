@@ -30,15 +30,15 @@ def implied_outputs(args):
     checks them once the scene is open, before measuring)."""
     import os
 
-    from ..measure.reports.report_files import fixed_files
+    from ..api import report_fixed_files
 
-    return [(f"the report's {name}", os.path.join(args.out, name)) for name in fixed_files(not args.no_client)]
+    return [(f"the report's {name}", os.path.join(args.out, name)) for name in report_fixed_files(not args.no_client)]
 
 
 def run(args):
     import bpy
 
-    from ..measure.reports import report
+    from .. import api
     from . import _io
 
     _io.check_output_dir(args.out, "--out folder")
@@ -53,7 +53,7 @@ def run(args):
             raise RadiometerError(f"unknown --task {args.task!r}; known: {', '.join(sorted(compliance.TASKS))}")
     observers = [((o[0], o[1], o[2]), (o[3], o[4], o[5])) for o in (args.observer or [])]
     progress = getattr(args, "progress", None)
-    result = report.export_report(args.out, scene=bpy.context.scene, quality=args.quality, method=args.method,
+    result = api.export_report(args.out, scene=bpy.context.scene, quality=args.quality, method=args.method,
                                   convergence=not args.no_convergence, progress=progress,
                                   phase=None if progress is None else progress.step,
                                   cancelled=getattr(args, "cancelled", None), client=not args.no_client,

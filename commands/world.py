@@ -68,9 +68,7 @@ def run(args):
             raise RadiometerError(f"--calibrate must be > 0 lux, got {args.calibrate}")
         cal = api.calibrate_world(scene, args.calibrate, normal)
         if args.out:
-            from ..measure.blender.blend_file import save_copy
-
-            save_copy(args.out, getattr(args, "interrupt", None))  # whole or not at all; the session keeps its path
+            api.save_copy(args.out, getattr(args, "interrupt", None))  # whole or not at all; the session keeps its path
             cal["notes"].append(f"saved the calibrated scene to {args.out}")
             cal["saved"] = args.out
         else:

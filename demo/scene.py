@@ -57,7 +57,13 @@ def build(scene=None, *, with_meters=True):
     scene.collection.objects.link(plane)
 
     if with_meters:
-        from ..measure.meter.meter_objects import add_meter
+        from ..measure.meter.meter_objects import add_meter_object
+
+        def add_meter(context, kind, location, acceptance_deg=1.0):
+            obj = add_meter_object(context, kind, location)
+            settings = obj.radiometer_meter  # the demo builds the user's scene: its meters, as Add > Light Meter
+            settings.is_meter, settings.kind, settings.acceptance_deg = True, kind, acceptance_deg
+            return obj
 
         meters = bpy.data.collections.new("Meters")
         scene.collection.children.link(meters)

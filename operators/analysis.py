@@ -123,14 +123,14 @@ def _measure_settings(context):
 
 def _slug(name):
     """The report's file-name stem for an object: readable, unique among the scene's objects."""
-    from ..measure.reports.report import plot_stem
+    from .. import api
 
-    return plot_stem(name, among=[ob.name for ob in bpy.context.scene.objects])
+    return api.report_file_stem(name, among=[ob.name for ob in bpy.context.scene.objects])
 
 
 def _law_task(self, context, kind):
     """A Task with one step per light: ``task.results`` maps light name -> result object."""
-    from ..measure.analyses import analysis
+    from .. import api
 
     out = output_dir(context)
     lights = _targets(self, context)
@@ -148,11 +148,11 @@ def _law_task(self, context, kind):
         def fn(progress, cancelled, light=light):
             plot = _plot_path(os.path.join(out, f"{kind}_{_slug(light.name)}.png"))
             if kind == "inverse_square":
-                results[light.name] = analysis.check_inverse_square(
+                results[light.name] = api.check_inverse_square(
                     light, scene=context.scene, plot=plot, progress=progress, cancelled=cancelled,
                     **_measure_settings(context))
             else:
-                results[light.name] = analysis.check_cosine_law(
+                results[light.name] = api.check_cosine_law(
                     light, scene=context.scene, location=location, plot=plot, progress=progress,
                     cancelled=cancelled, **_measure_settings(context))
 
@@ -284,7 +284,7 @@ class RADIOMETER_OT_illuminance_grid(TaskOperator, bpy.types.Operator):
         return cls.task_poll(context)
 
     def build_task(self, context):
-        from ..measure.analyses import analysis
+        from .. import api
 
         settings = context.scene.radiometer_analysis
         plane = settings.work_plane
@@ -299,9 +299,9 @@ class RADIOMETER_OT_illuminance_grid(TaskOperator, bpy.types.Operator):
         kwargs = {"resolution": (settings.resolution_x, settings.resolution_y)} if settings.use_resolution else \
             {"spacing": settings.spacing or None}
         def call(progress, cancelled):
-            return analysis.illuminance_grid(
+            return api.illuminance_grid(
                 plane, scene=context.scene, png=_plot_path(os.path.join(out, f"isolux_{slug}.png")),
-                csv_path=os.path.join(out, f"grid_{slug}.csv"), progress=progress, cancelled=cancelled, **kwargs,
+                csv=os.path.join(out, f"grid_{slug}.csv"), progress=progress, cancelled=cancelled, **kwargs,
                 **_measure_settings(context))
 
         return one_call_task("Illuminance Grid", plane.name, "grid", call)
@@ -316,10 +316,10 @@ class RADIOMETER_OT_illuminance_grid(TaskOperator, bpy.types.Operator):
         settings.grid_method, settings.grid_image, settings.grid_csv = g.method, g.image, g.csv
         load_image(context, g.image)
         if settings.colour_plane:
-            from ..measure.analyses import analysis
+            from .. import api
 
             try:
-                analysis.colour_plane(g, scene=context.scene)
+                api.colour_plane(g, scene=context.scene)
             except RadiometerError as exc:  # matplotlib missing: the grid numbers are still valid
                 self.report({"WARNING"}, str(exc))
         return (f"{g.target}: E_avg {s['avg']:.4g} lx, E_min {s['min']:.4g} lx, U0 {s['u0']:.3f} "
@@ -346,14 +346,14 @@ class RADIOMETER_OT_convergence_study(TaskOperator, bpy.types.Operator):
         return cls.task_poll(context)
 
     def build_task(self, context):
-        from ..measure.analyses import analysis
+        from .. import api
 
         settings = context.scene.radiometer_analysis
         out = output_dir(context)
         warn_without_plots(self)
         target = context.active_object
         def call(_progress, cancelled):  # the study reports no progress of its own (one step)
-            return analysis.convergence_study(
+            return api.convergence_study(
                 target, scene=context.scene, target_error=settings.target_error,
                 quality=context.scene.radiometer.quality, plot=_plot_path(os.path.join(out, "convergence.png")),
                 cancelled=cancelled)
@@ -400,11 +400,11 @@ class RADIOMETER_OT_export_report(TaskOperator, bpy.types.Operator):
 
 def report_task(context, convergence=True):
     """A Task with one step per part of the report (meters, each light's laws, each grid, convergence)."""
-    from ..measure.reports import report
+    from .. import api
 
     box = {}
     holder = {}
-    parts = report.iter_report(output_dir(context), scene=context.scene, convergence=convergence,
+    parts = api.iter_report(output_dir(context), scene=context.scene, convergence=convergence,
                                progress=lambda done, total, *_: "task" in holder and holder["task"]._set(done / total),
                                cancelled=lambda: "task" in holder and holder["task"].cancel_requested)
     try:

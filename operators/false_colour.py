@@ -40,7 +40,7 @@ def legend_layout(lo, hi, region_width, region_height, *, ui_scale=1.0, steps=32
     Returns {"bar": (x0, y0, x1, y1), "segments": [(y0, y1, rgba)], "ticks": [(y, value, label)],
     "title": (x, y, text)}. Pure: no GPU, usable in tests.
     """
-    from ..measure.analyses.grid import false_colour
+    from ..api import false_colour
 
     s = max(0.5, float(ui_scale))
     width, margin = 18 * s, 20 * s
@@ -128,7 +128,7 @@ def _material():
 
 def show(result, scene=None):
     """Show ``result`` (a GridResult, or anything with ``target`` and ``lux``) in false colour. Returns the object."""
-    from ..measure.analyses.grid import colour_plane
+    from ..api import colour_plane
 
     scene = scene or bpy.context.scene
     if scene.objects.get(result.target) is None:
@@ -191,7 +191,7 @@ def last_grid(scene):
     """The scene's last grid (target and lux read back from its CSV), or RadiometerError."""
     import os
 
-    from ..measure.analyses.grid import lux_from_csv
+    from ..api import grid_lux_from_csv as lux_from_csv
 
     s = scene.radiometer_analysis
     path = bpy.path.abspath(s.grid_csv) if s.grid_csv else ""

@@ -35,23 +35,23 @@ class RADIOMETER_OT_set_light_power(bpy.types.Operator):
         return True
 
     def invoke(self, context, event):
-        from ..measure.authoring import light_power
+        from .. import api
 
         ob = context.active_object
-        units = [u for u, (types, _label) in light_power.UNITS.items() if ob.data.type in types]
+        units = [u for u, _label in api.photometric_units(ob.data.type)]
         if units and self.unit not in units:
             self.unit = units[0]
         try:
-            self.value = light_power.photometric_power(ob, self.unit, context.scene)
+            self.value = api.photometric_power(ob, self.unit, scene=context.scene)
         except RadiometerError:
             pass  # keep the last value: the dialog still lets the user type one
         return context.window_manager.invoke_props_dialog(self, title=f"Set Photometric Power of {ob.name}")
 
     def execute(self, context):
-        from ..measure.authoring import light_power
+        from .. import api
 
         try:
-            energy = light_power.set_photometric_power(context.active_object, self.unit, self.value, context.scene)
+            energy = api.set_photometric_power(context.active_object, self.unit, self.value, scene=context.scene)
         except RadiometerError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -73,17 +73,16 @@ class RADIOMETER_PT_light_power(bpy.types.Panel):
         return context.light is not None and context.active_object is not None
 
     def draw(self, context):
-        from ..measure.authoring import light_power
+        from .. import api
 
         layout = self.layout
         ob = context.active_object
-        for unit, (types, label) in light_power.UNITS.items():
-            if ob.data.type in types:
-                try:
-                    value = light_power.photometric_power(ob, unit, context.scene)
-                    layout.label(text=f"{value:.6g} {label}")
-                except RadiometerError as exc:
-                    layout.label(text=str(exc), icon="ERROR")
+        for unit, label in api.photometric_units(ob.data.type):
+            try:
+                value = api.photometric_power(ob, unit, scene=context.scene)
+                layout.label(text=f"{value:.6g} {label}")
+            except RadiometerError as exc:
+                layout.label(text=str(exc), icon="ERROR")
         layout.label(text=f"K = {context.scene.radiometer.efficacy:g} lm/W")
         layout.operator("radiometer.set_light_power")
 

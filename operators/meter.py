@@ -4,8 +4,13 @@ import bpy
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty
 
 from ..props.meter import METER_KINDS
-from ..measure.meter.meter_objects import DEFAULT_ROTATION, add_meter
+from .. import api
 from .modal import Step, Task, TaskOperator
+
+
+def add_meter(context, kind, location, acceptance_deg=1.0, rotation=None):
+    """Create a meter at ``location`` in the active collection, selected and active (``api.add_meter``)."""
+    return api.add_meter(kind, location, acceptance_deg=acceptance_deg, rotation=rotation, context=context)
 
 ALIGN_ITEMS = [
     ("WORLD", "World", "Align the new meter to the world (an illuminance meter faces up, a spot meter along +Y)"),
@@ -62,7 +67,7 @@ class RADIOMETER_OT_add_meter(bpy.types.Operator):
             self.report({"WARNING"}, "no 3D view to align to: aligned to the world")
         if self.properties.is_property_set("rotation"):
             return tuple(self.rotation)
-        return DEFAULT_ROTATION.get(self.kind, (0.0, 0.0, 0.0))
+        return api.meter_default_rotation(self.kind)
 
     def execute(self, context):
         location = self.location if self.properties.is_property_set("location") else context.scene.cursor.location
@@ -226,19 +231,15 @@ class RADIOMETER_OT_measure(TaskOperator, bpy.types.Operator):
         return cls.task_poll(context)
 
     def _targets(self, context):
-        from ..measure.meter import meter_objects as meters
-
         selected = [ob for ob in context.selected_objects if ob.radiometer_meter.is_meter]
-        return meters.meter_objects(context.scene, selected if (self.only_selected and selected) else None)
+        return api.meter_objects(selected if (self.only_selected and selected) else None, scene=context.scene)
 
     def build_task(self, context):
         return measure_task(context.scene, self._targets(context), batch=None if bpy.app.background else UI_BATCH)
 
     def finish(self, context, task):
-        from ..measure.meter import meter_objects as meters
-
         for obj, reading in task.results:
-            meters.write_reading(obj, reading)
+            api.store_reading(obj, reading)
         context.scene.radiometer.last_summary = _summary(task.results)
         total = sum(1 for ob in context.scene.objects if ob.radiometer_meter.is_meter)
         return measured_line(len(task.results), total, context.scene.radiometer.last_summary)
@@ -246,22 +247,16 @@ class RADIOMETER_OT_measure(TaskOperator, bpy.types.Operator):
 
 def measure_task(scene, objects, batch=UI_BATCH):
     """A Task measuring ``objects``; ``task.results`` collects (object, reading) (written by finish)."""
-    from ..measure.meter import meter_objects as meters
-
-    settings = meters.scene_settings(scene)
-    steps = meters.plan_steps(scene, objects, batch=batch)
-    weights = meters.step_weights(steps)
     task_steps = []
     results = []
 
-    def runner(st):
+    def runner(run):
         def fn(progress, cancelled):
-            results.extend(meters.run_step(scene, st, settings, progress=progress, cancelled=cancelled))
+            results.extend(run(progress=progress, cancelled=cancelled))
         return fn
 
-    for st, w in zip(steps, weights):
-        label = st[1][0].name if len(st[1]) == 1 else f"{len(st[1])} meters"
-        task_steps.append(Step(label, runner(st), w))
+    for label, w, run in api.meter_steps(objects, scene=scene, batch=batch):
+        task_steps.append(Step(label, runner(run), w))
     task = Task("Measure", task_steps)
     task.results = results
     return task

@@ -90,9 +90,8 @@ class RADIOMETER_OT_world_irradiance_map(bpy.types.Operator):
         import os
 
         from .. import api
-        from ..measure.meter import camera
 
-        path = camera.default_map_path(f"{context.scene.name}_irradiance")
+        path = api.default_map_path(f"{context.scene.name}_irradiance")
         try:
             out = api.irradiance_environment_map("world", path, scene=context.scene)
         except RadiometerError as exc:

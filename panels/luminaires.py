@@ -17,17 +17,17 @@ class RADIOMETER_PT_luminaire(bpy.types.Panel):
 
     def draw(self, context):
         from ..errors import RadiometerError
-        from ..measure.capture import luminaires
+        from .. import api
 
         layout = self.layout
         ob = context.active_object
-        table, reason = luminaires.photometric_table(ob.data)
+        table, reason = api.photometric_table(ob.data)
         if table is None:
             layout.label(text="Not a photometric light" if reason == "has no node tree" else f"Light {reason}")
             layout.operator("radiometer.import_luminaire", icon="IMPORT")
             return
         try:
-            s = luminaires.luminaire_summary(ob)  # cached: not re-read on every redraw
+            s = api.luminaire_summary(ob)  # cached: not re-read on every redraw
         except RadiometerError as exc:
             layout.label(text=str(exc), icon="ERROR")
             return

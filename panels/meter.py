@@ -86,9 +86,9 @@ class RADIOMETER_PT_meters(bpy.types.Panel):
         col.prop(settings, "show_overlay")
         col.prop(settings, "live", icon="REC")
         if settings.live:
-            from ..measure.meter import live
+            from ..props import live_state
 
-            col.label(text=live.status(context.scene) or "Live: waiting for a change", icon="TIME")
+            col.label(text=live_state.status(context.scene) or "Live: waiting for a change", icon="TIME")
         row = layout.row(align=True)
         row.operator_menu_enum("radiometer.add_meter", "kind", text="Add Meter", icon="ADD")
         row.operator("radiometer.measure", icon="PLAY")
@@ -168,10 +168,10 @@ def _draw_overlay():
     scale = context.preferences.system.ui_scale if context.preferences else 1.0
     blf.size(font, 12 * scale)
     if scene.radiometer.live:
-        from ..measure.meter import live
+        from ..props import live_state
 
         blf.position(font, 20 * scale, 20 * scale, 0)
-        blf.draw(font, "Radiometer " + (live.status(scene) or "Live"))
+        blf.draw(font, "Radiometer " + (live_state.status(scene) or "Live"))
     for ob in scene.objects:
         m = ob.radiometer_meter
         if not m.is_meter or not ob.visible_get():

@@ -31,10 +31,10 @@ _EFFICACY_VALUES = {"BLENDER_683": K_M_LM_PER_W, "RADIANCE_179": K_RADIANCE_WHIT
 
 
 def _live_changed(self, _context):
-    from ..measure.meter import live
+    from . import live_state
 
     if self.live:
-        live.mark_dirty(self.id_data)  # measure every meter once the scene is still
+        live_state.mark_dirty(self.id_data)  # measure every meter once the scene is still
 
 
 def _convention_changed(self, _context):
@@ -62,7 +62,7 @@ class RadiometerMeterSettings(bpy.types.PropertyGroup):
                                   default=1.0, min=0.01, max=60.0, unit="NONE", subtype="NONE")
     map_resolution: IntProperty(name="Map Height", description="Radiance map height in pixels (width = 2x)",
                                 default=128, min=8, max=4096)
-    # Reading (SI); written by radiometer.measure (measure.meter.meter_objects.write_reading stores them as ID
+    # Reading (SI); written by radiometer.measure (the api stores them as ID
     # properties of the same names), persisted in the .blend. Read-only: a reading is a measurement,
     # not a setting, so neither the UI nor a script can edit it (getters without setters).
     has_reading: BoolProperty(name="Has Reading", get=_reading("has_reading", False),

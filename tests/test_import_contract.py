@@ -18,7 +18,8 @@ api         ``api``: the stable Python API over the host.
 ui / cli    ``operators/``, ``panels/``, ``props/``, ``registration`` / ``cli``, ``commands/``,
             ``__main__``. Two peers on top: neither imports the other; subcommands never import
             ``cli`` (shared helpers belong in ``commands/_io.py``); ``props/`` never imports
-            ``operators/`` or ``panels/``.
+            ``operators/`` or ``panels/``. Neither peer imports ``measure/``: they call the ``api``
+            (issue 30), so the host can change behind one boundary with its argument checks.
 ==========  ======================================================================================
 
 Why plots sit below the host (decided 2026-12-02, issue 17): ``plots/`` is pure like the core (it
@@ -67,14 +68,24 @@ MEASURE_ROOMS = ("blender", "capture", "render", "meter", "authoring", "analyses
 # Inside the UI layer: properties are data that operators and panels read, never the other way round.
 FORBIDDEN_WITHIN = {("props", "operators"), ("props", "panels"), ("operators", "panels")}
 PURE_LAYERS = {"core", "plots"}
+# The UI and the CLI reach measure/ only through the api (issue 30): kind "api" below.
+THROUGH_THE_API = {"ui", "cli"}
+# Host code takes settings as arguments (issue 30): only the operators, the panels (and the api, which
+# builds the request) read the UI's property groups; measure/ reads none (kind "props": an attribute
+# of that name, or the name as a string, as in getattr(scene, "radiometer", None)).
+PROPERTY_GROUPS = {"radiometer", "radiometer_meter", "radiometer_analysis", "radiometer_daylight", "radiometer_brdf"}
 
-# (kind, importer, imported or None): the reason, dated. Kinds: "layer", "blender", "circle", "private".
+# (kind, importer, imported or None): the reason, dated. Kinds: "layer", "blender", "circle", "private",
+# "room", "root", "api", "props".
 # A circle is named by its sorted member modules joined with " <-> ".
 _TODAY = "2026-12-01"
 EXCEPTIONS = {
     ("blender", "outputs", "bpy"):
         "permanent: outputs.user_folder asks Blender for the extension's user folder inside a try, and falls "
         "back to a private temporary folder without bpy",
+    ("props", "measure.blender.efficacy", "radiometer"):
+        "2026-12-05: the scene's luminous efficacy, read in this one place until the request built at the api "
+        "carries it down (issue 30, 'one request object'; 17 callers of scene_photometry)",
     ("root", "commands._io", "register"):
         "permanent: with bpy as a module nothing enables the add-on, so the CLI registers it through the "
         "extension's own entry point (the function Blender calls); the root imports the CLI only inside it",
@@ -191,6 +202,8 @@ def violations(modules, graph):
                     found.add(("layer", module, target))
                 if (module.split(".")[0], target.split(".")[0]) in FORBIDDEN_WITHIN:
                     found.add(("layer", module, target))
+                if own in THROUGH_THE_API and target.split(".")[0] == "measure":
+                    found.add(("api", module, target))
             if target and module.startswith("measure.") and target.startswith("measure."):
                 if _room_rank(target) > _room_rank(module):
                     found.add(("room", module, target))
@@ -201,7 +214,22 @@ def violations(modules, graph):
                 found.add(("private", module, f"{target}.{imp.name}"))
     for members in circles(graph):
         found.add(("circle", " <-> ".join(sorted(members)), None))
+    for module, (path, _is_package) in modules.items():
+        if module.split(".")[0] == "measure":
+            found.update(("props", module, name) for name in property_groups_read(path))
     return found
+
+
+def property_groups_read(path):
+    """The UI property groups a file touches: ``x.radiometer_meter`` or the name as a string."""
+    tree = ast.parse(open(path, encoding="utf-8").read(), filename=path)
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and node.attr in PROPERTY_GROUPS:
+            names.add(node.attr)
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and node.value in PROPERTY_GROUPS:
+            names.add(node.value)
+    return names
 
 
 def _room_rank(module):
@@ -377,3 +405,44 @@ def test_every_package_folder_says_what_it_holds():
                if not os.path.isfile(os.path.join(f, "README.md"))
                or not open(os.path.join(f, "README.md"), encoding="utf-8").readline().strip()]
     assert not missing, f"add a README.md (one line: what lives here) to {missing}"
+
+
+def test_checker_sends_the_ui_and_the_cli_through_the_api(tmp_path):
+    modules, graph = _write(tmp_path, {
+        "__init__.py": "",
+        "measure/__init__.py": "",
+        "measure/meter/__init__.py": "",
+        "measure/meter/m.py": "",
+        "api.py": "def f():\n    from .measure.meter import m\n",
+        "operators/__init__.py": "",
+        "operators/o.py": "def run():\n    from ..measure.meter import m\n    from .. import api\n",
+        "props/__init__.py": "",
+        "props/p.py": "from ..measure.meter.m import x\n",
+        "commands/__init__.py": "",
+        "commands/c.py": "import radiometer.measure.meter.m\n",
+        "cli.py": "from .measure import meter\n",
+    })
+    found = violations(modules, graph)
+    assert ("api", "operators.o", "measure.meter.m") in found
+    assert ("api", "props.p", "measure.meter.m") in found
+    assert ("api", "commands.c", "measure.meter.m") in found
+    assert ("api", "cli", "measure.meter") in found
+    assert not any(a == "api" for _kind, a, _b in found)  # the api is where the host is called
+    assert not any(b == "api" for _kind, _a, b in found)  # calling the api is the way
+
+
+def test_checker_sees_property_groups_read_in_measure(tmp_path):
+    modules, graph = _write(tmp_path, {
+        "__init__.py": "",
+        "measure/__init__.py": "",
+        "measure/meter/__init__.py": "",
+        "measure/meter/m.py": "def f(ob, scene):\n    return ob.radiometer_meter.kind, getattr(scene, 'radiometer')\n",
+        "measure/meter/n.py": "def g(settings):\n    return settings['quality']  # radiometer settings as arguments\n",
+        "operators/__init__.py": "",
+        "operators/o.py": "def run(context):\n    return context.scene.radiometer.quality\n",
+        "api.py": "def f(ob):\n    return ob.radiometer_meter.kind\n",
+    })
+    found = violations(modules, graph)
+    assert ("props", "measure.meter.m", "radiometer_meter") in found
+    assert ("props", "measure.meter.m", "radiometer") in found
+    assert not any(kind == "props" and a in ("measure.meter.n", "operators.o", "api") for kind, a, _b in found)

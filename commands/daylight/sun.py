@@ -93,9 +93,7 @@ def run(args):
         _io.check_output_file(args.out, "--out file")
         out = api.set_sun(bpy.context.scene, args.lat, args.lon, times[0], direct_normal_illuminance_lux=args.lux,
                           north_offset_deg=args.north, elevation_m=args.elevation)
-        from ...measure.blender.blend_file import save_copy
-
-        save_copy(args.out, getattr(args, "interrupt", None))
+        api.save_copy(args.out, getattr(args, "interrupt", None))
         print(f"sun {out['object']!r}: {out['direct_normal_illuminance_lux']:.6g} lx direct normal "
               f"({out['model']}), strength {out['strength_w_m2']:.6g} W/m²; wrote {args.out}")
         result["set"] = dict(out, blend=args.out)

@@ -49,7 +49,7 @@ def _as_points(meters):
     return points, directions
 
 
-def measure_file(scene, *, file="", meters=None, quality="standard", method=None, seed=0):
+def measure_file(scene, *, file="", meters=None, quality="standard", method=None, seed=0, read_meters=None):
     """Task: the readings of one opened file (worker side; ``scene`` is that file's scene).
 
     ``meters``: None (every light-meter object in the scene, with the scene's method), a list of
@@ -65,9 +65,12 @@ def measure_file(scene, *, file="", meters=None, quality="standard", method=None
             if missing:
                 raise RadiometerError(f"no object named {', '.join(repr(m) for m in missing)}")
             objects = [scene.objects[name] for name in meters]
-        if method:
-            scene.radiometer.method = method
-        pairs = meter_objects.measure_meters(objects, scene=scene, quality=quality)
+        if read_meters is None:
+            raise RadiometerError("measure_file: meter objects need read_meters (radiometer.api.scene_meters), "
+                                  "which reads their settings")
+        found, settings = read_meters(scene, objects)
+        settings = dict(settings, quality=quality, **({"method": method} if method else {}))
+        pairs = meter_objects.measure_meters(found, settings, scene=scene)
         return FileReadings(file, scene.name, [ob.name for ob, _ in pairs], [r for _, r in pairs])
     points, normals = _as_points(meters)
     readings = meter.measure_illuminance(points, normals, scene=scene, method=method or "auto", quality=quality,
@@ -76,8 +79,10 @@ def measure_file(scene, *, file="", meters=None, quality="standard", method=None
 
 
 def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0, client=None, progress=None,
-                  cancelled=None, stats=None, shared=False):
-    """Readings per file, in the order of ``files``; see ``radiometer.api.measure_batch``."""
+                  cancelled=None, stats=None, shared=False, read_meters=None):
+    """Readings per file, in the order of ``files``; see ``radiometer.api.measure_batch``. ``read_meters(scene,
+    objects)``: (meters, settings) of the opened file's meter objects (``radiometer.api.scene_meters``, which
+    reads their Radiometer properties); needed unless ``meters`` are points."""
     if isinstance(files, (str, bytes, os.PathLike)):
         files = [files]
     files = [os.fspath(f) for f in files]
@@ -89,6 +94,7 @@ def measure_batch(files, meters=None, *, quality="standard", method=None, seed=0
 
     quality_presets.preset(quality)  # an unknown preset is one line now, not one per task
     meters = None if meters is None else list(meters)
-    kwargs = [dict(file=os.path.abspath(f), meters=meters, quality=quality, method=method, seed=seed) for f in files]
+    kwargs = [dict(file=os.path.abspath(f), meters=meters, quality=quality, method=method, seed=seed,
+                   read_meters=read_meters) for f in files]
     return engine.run_file_tasks([os.path.abspath(f) for f in files], measure_file, kwargs, client=client,
                                  progress=progress, cancelled=cancelled, label="batch", stats=stats, shared=shared)

@@ -73,11 +73,12 @@ class ConvergenceResult(common.ToDict):
 def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.0, 1.0),
                       samples=(4, 16, 64, 256), texels=4, replicas=8, reference_samples=None, target_error=0.01,
                       bounces=None, quality=None, target_rel_error=None, time_budget_s=None, targeted=True,
-                      seed=0, plot=None, cancelled=None):
+                      seed=0, plot=None, cancelled=None, meter_kind=None):
     """Error and time of rendered readings at increasing samples per texel; fit and invert.
 
     ``target``: an illuminance meter object (or its name), a plane object (coarse 4 x 4 grid), or
-    None with ``location``/``normal`` (scene coordinates). For a meter the point is measured as
+    None with ``location``/``normal`` (scene coordinates); ``meter_kind``: the target's meter kind when
+    it is a meter object (the caller reads it from the object's Radiometer properties), else None. For a meter the point is measured as
     ``replicas`` independent copies in one bake, so the RMS error against the reference is an
     honest estimate; a separate bake of the target alone gives the time. Reference: the analytic
     value when it is exact for this scene, else a render with ``reference_samples`` per texel
@@ -100,7 +101,7 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
         raise RadiometerError(f"target_error must be in (0, 1), got {target_error}")
     preset = quality_presets.preset(quality or "standard")
     bounces = int(preset["bounces"] if bounces is None else bounces)
-    points, normals, label = _convergence_points(target, scene, location, normal)
+    points, normals, label = _convergence_points(target, scene, location, normal, meter_kind)
     samples = sorted({int(s) for s in samples})
     if len(samples) < 2 or samples[0] < 1:
         raise RadiometerError("samples must hold at least 2 different counts >= 1")
@@ -191,7 +192,7 @@ def _targeted_reading(scene, sensors, normals, reference, replicas, seed, cancel
         reached=bool(asked is None or np.all(stated <= asked * (1 + 1e-9))))
 
 
-def _convergence_points(target, scene, location, normal):
+def _convergence_points(target, scene, location, normal, meter_kind=None):
     if target is None:
         if location is None:
             raise RadiometerError("give a meter, a plane or a location for the convergence study")
@@ -200,10 +201,9 @@ def _convergence_points(target, scene, location, normal):
     obj = scene.objects.get(target) if isinstance(target, str) else target
     if obj is None:
         raise RadiometerError(f"no object named {target!r} in scene {scene.name!r}")
-    if getattr(obj, "radiometer_meter", None) is not None and obj.radiometer_meter.is_meter:
-        if obj.radiometer_meter.kind != "ILLUMINANCE":
-            raise RadiometerError(f"{obj.name!r} is a {obj.radiometer_meter.kind.lower()} meter: the study uses "
-                                  "illuminance meters")
+    if meter_kind is not None:
+        if meter_kind != "ILLUMINANCE":
+            raise RadiometerError(f"{obj.name!r} is a {meter_kind.lower()} meter: the study uses illuminance meters")
         mw = np.array(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).matrix_world, float)
         z = mw[:3, 2] / np.linalg.norm(mw[:3, 2])
         return mw[None, :3, 3], z[None, :], f"meter {obj.name}"

@@ -57,10 +57,9 @@ def temporary_scene(name, *, like=None):
         if like is not None:
             rig.scene.world = like.world
             rig.scene.unit_settings.scale_length = like.unit_settings.scale_length
-            src, dst = getattr(like, "radiometer", None), getattr(rig.scene, "radiometer", None)
-            if src is not None and dst is not None:
-                dst.efficacy_convention = src.efficacy_convention
-                dst.efficacy = src.efficacy
+            from .efficacy import copy_efficacy
+
+            copy_efficacy(like, rig.scene)
         yield rig
     finally:
         bpy.data.scenes.remove(rig.scene)

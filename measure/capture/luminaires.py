@@ -38,8 +38,9 @@ _MAPPING_SCALE = (1.0, -1.0, 1.0)
 
 
 def scene_efficacy(scene):
-    settings = getattr(scene, "radiometer", None)
-    value = float(getattr(settings, "efficacy", 0.0) or 0.0) if settings is not None else 0.0
+    from ..blender.efficacy import efficacy_setting
+
+    value = efficacy_setting(scene) or 0.0
     return value if value > 0.0 else K_M_LM_PER_W
 
 

@@ -1,9 +1,12 @@
-"""Measure meter objects and store their readings (the work behind ``radiometer.measure``).
+"""Measure meter objects (the work behind ``radiometer.measure``).
 
-Readings are computed first and written to the objects only when every step succeeded, so a
-failed or cancelled run leaves the previous readings (and the rest of the scene) as they were.
+A meter is an object and its settings, given as a :class:`Meter` by the caller (the api reads them from
+the object's Radiometer properties: host code takes settings as arguments, issue 30). Readings are
+computed first and handed back; the caller stores them only when every step succeeded, so a failed or
+cancelled run leaves the previous readings (and the rest of the scene) as they were.
 """
 
+import dataclasses
 import os
 import time
 
@@ -19,10 +22,21 @@ _DISPLAY = {"ILLUMINANCE": ("SINGLE_ARROW", 0.3), "LUMINANCE": ("CONE", 0.1), "R
 DEFAULT_ROTATION = {"LUMINANCE": (3.14159265358979 / 2, 0.0, 0.0)}  # a spot meter looks along +Y
 
 
-def add_meter(context, kind, location, acceptance_deg=1.0, rotation=None):
-    """Create a meter empty at ``location`` (linked to the active collection) and make it active.
+@dataclasses.dataclass(frozen=True)
+class Meter:
+    """One meter: its object (pose, name) and its settings. ``kind``: "ILLUMINANCE", "LUMINANCE" or
+    "RADIANCE_MAP"; ``acceptance_deg``: a spot meter's full cone angle (deg); ``map_resolution``: a
+    radiance map's height (px, width 2x)."""
 
-    Host data, shared by the Add operator, the demo and the bench (so the demo imports no UI).
+    obj: object
+    kind: str = "ILLUMINANCE"
+    acceptance_deg: float = 1.0
+    map_resolution: int = 128
+
+
+def add_meter_object(context, kind, location, rotation=None):
+    """Create the empty of a new meter of ``kind`` at ``location`` (linked to the active collection),
+    selected and active; the caller marks it a meter (its Radiometer properties). Returns it.
 
     ``rotation``: Euler angles (rad); None: the kind's default (a spot meter looks along +Y).
     """
@@ -31,8 +45,6 @@ def add_meter(context, kind, location, acceptance_deg=1.0, rotation=None):
     obj.empty_display_type, obj.empty_display_size = _DISPLAY[kind]
     obj.rotation_euler = DEFAULT_ROTATION.get(kind, (0.0, 0.0, 0.0)) if rotation is None else tuple(rotation)
     obj.location = location
-    settings = obj.radiometer_meter
-    settings.is_meter, settings.kind, settings.acceptance_deg = True, kind, acceptance_deg
     context.collection.objects.link(obj)
     for other in context.view_layer.objects:
         other.select_set(False)
@@ -62,19 +74,6 @@ def map_path(name):
     return os.path.join(outputs.user_folder("radiance_maps"), outputs.file_stem(name) + ".exr")
 
 
-def meter_objects(scene, objects=None):
-    if objects is None:
-        objects = [ob for ob in scene.objects if ob.radiometer_meter.is_meter]
-    else:
-        objects = list(objects)
-        bad = [ob.name for ob in objects if not ob.radiometer_meter.is_meter]
-        if bad:
-            raise RadiometerError(f"not light meters: {', '.join(bad)} (add one with Add > Light Meter)")
-    if not objects:
-        raise RadiometerError("no light meters to measure: add one with Add > Light Meter")
-    return objects
-
-
 def _pose(obj):
     """World location (scene units) and local +Z axis of a meter, from the evaluated depsgraph."""
     depsgraph = bpy.context.evaluated_depsgraph_get()
@@ -83,22 +82,26 @@ def _pose(obj):
     return np.array(mw.translation, float), z
 
 
-def plan_steps(scene, objects, batch=None):
-    """Steps of a measurement: illuminance meters in batches (one batch of all when ``batch`` is None:
-    cheapest; the UI uses smaller ones so a step is short), then one step per other meter."""
-    illum = [ob for ob in objects if ob.radiometer_meter.kind == "ILLUMINANCE"]
+def plan_steps(meters, batch=None):
+    """Steps of a measurement of ``meters`` (:class:`Meter`): illuminance meters in batches (one batch of
+    all when ``batch`` is None: cheapest; the UI uses smaller ones so a step is short), then one step per
+    other meter. A step is (kind, [Meter])."""
+    illum = [m for m in meters if m.kind == "ILLUMINANCE"]
     steps = []
     size = len(illum) if not batch else int(batch)
     for k in range(0, len(illum), max(size, 1)):
         steps.append(("ILLUMINANCE", illum[k:k + size]))
-    steps += [(ob.radiometer_meter.kind, [ob]) for ob in objects if ob.radiometer_meter.kind != "ILLUMINANCE"]
+    steps += [(m.kind, [m]) for m in meters if m.kind != "ILLUMINANCE"]
     return steps
 
 
 def run_step(scene, step, settings, *, progress=None, cancelled=None):
-    kind, objs = step
+    """Measure one step of :func:`plan_steps`; returns [(object, reading)]. ``settings``: "method",
+    "quality", "target_rel_error" (fraction or None), optional "time_budget_s" and "target_abs_error"."""
+    kind, group = step
     quality = settings["quality"]
     if kind == "ILLUMINANCE":
+        objs = [m.obj for m in group]
         poses = [_pose(ob) for ob in objs]
         readings = meter.measure_illuminance(
             np.array([p for p, _ in poses]), np.array([z for _, z in poses]), scene=scene,
@@ -106,10 +109,11 @@ def run_step(scene, step, settings, *, progress=None, cancelled=None):
             time_budget_s=settings.get("time_budget_s"), progress=progress, cancelled=cancelled,
             exclude={ob.name for ob in objs}, target_abs_error=settings.get("target_abs_error"))
         return list(zip(objs, readings))
-    ob = objs[0]
+    m = group[0]
+    ob = m.obj
     location, z = _pose(ob)
     if kind == "LUMINANCE":
-        reading = camera.measure_luminance(location, -z, acceptance_deg=ob.radiometer_meter.acceptance_deg,
+        reading = camera.measure_luminance(location, -z, acceptance_deg=m.acceptance_deg,
                                            scene=scene, quality=quality, cancelled=cancelled,
                                            progress=_two_args(progress),
                                            target_rel_error=settings["target_rel_error"])
@@ -117,43 +121,60 @@ def run_step(scene, step, settings, *, progress=None, cancelled=None):
     if cancelled is not None and cancelled():
         raise MeasurementCancelled("measurement cancelled; the scene was restored")
     path = map_path(ob.name)
-    result = camera.capture_radiance_map(location, path, resolution=ob.radiometer_meter.map_resolution,
-                                         scene=scene, quality=quality)
+    result = camera.capture_radiance_map(location, path, resolution=m.map_resolution, scene=scene, quality=quality)
     return [(ob, result)]
 
 
-def write_reading(obj, reading):
-    """Store ``reading`` on the meter object (read-only properties of ``obj.radiometer_meter``: the
-    values are ID properties of the same names, so they persist in the .blend and follow undo)."""
-    m = obj.radiometer_meter
+def reading_values(reading):
+    """The values a meter object stores for ``reading`` (ID properties of its reading, same names): a
+    dict of plain numbers and text."""
+    values = {}
     if reading.quantity == "illuminance":
         rgb, value, photometric = reading.irradiance_rgb, reading.irradiance, reading.illuminance
     elif reading.quantity == "luminance":
         rgb, value, photometric = reading.radiance_rgb, reading.radiance, reading.luminance
     else:  # radiance map: store the irradiance it implies for the meter's +Z normal
         rgb, value, photometric = reading.irradiance_rgb, reading.irradiance, reading.illuminance
-        m["map_path"] = reading.path
-    m["value_rgb"] = [float(v) for v in rgb]
-    m["value"], m["photometric"] = float(value), float(photometric)
+        values["map_path"] = reading.path
+    values["value_rgb"] = [float(v) for v in rgb]
+    values["value"], values["photometric"] = float(value), float(photometric)
     # inf is kept: a rendered reading that found no light yet has no error bound, and 0 would
     # show "0 lx ±0 %" (issue 18); the sidebar says "n/a" for it.
-    m["rel_std_error"] = float(reading.rel_std_error)
-    m["exact"], m["method"], m["samples"] = bool(reading.exact), str(reading.method), int(reading.samples)
-    m["seconds"], m["efficacy"] = float(reading.seconds), float(reading.efficacy)
-    m["notes"] = " | ".join(reading.notes)
-    m["has_reading"] = True
-
-
-def scene_settings(scene, quality=None):
-    s = scene.radiometer
-    return {"method": s.method, "quality": quality or s.quality,
-            "target_rel_error": s.target_rel_error if s.target_rel_error > 0 else None}
+    values["rel_std_error"] = float(reading.rel_std_error)
+    values["exact"], values["method"], values["samples"] = bool(reading.exact), str(reading.method), int(reading.samples)
+    values["seconds"], values["efficacy"] = float(reading.seconds), float(reading.efficacy)
+    values["notes"] = " | ".join(reading.notes)
+    values["has_reading"] = True
+    return values
 
 
 def step_weights(steps):
     """Relative cost of each step for a progress bar (a batch of n meters ~ n, a map ~ 4 meters)."""
     return [float(len(objs)) if kind == "ILLUMINANCE" else (4.0 if kind == "RADIANCE_MAP" else 1.0)
             for kind, objs in steps]
+
+
+def measurement_steps(scene, meters, settings, *, batch=None, time_budget_s=None):
+    """Steps of a measurement of ``meters`` (:class:`Meter`) for a progress bar: [(label, weight, run)],
+    where ``run(progress=None, cancelled=None)`` measures the step and returns [(object, reading)]
+    (nothing stored). ``settings`` as :func:`run_step`'s; ``time_budget_s`` caps each step (the target
+    still ends it early; with no target set, the quality preset's)."""
+    from ...quality import preset
+
+    settings = dict(settings)
+    if time_budget_s is not None:
+        settings["time_budget_s"] = time_budget_s
+        if settings["target_rel_error"] is None:
+            settings["target_rel_error"] = preset(settings["quality"])["target"]
+    steps = plan_steps(meters, batch=batch)
+
+    def runner(step):
+        def run(progress=None, cancelled=None):
+            return run_step(scene, step, settings, progress=progress, cancelled=cancelled)
+        return run
+
+    return [(group[0].obj.name if len(group) == 1 else f"{len(group)} meters", weight, runner((kind, group)))
+            for (kind, group), weight in zip(steps, step_weights(steps))]
 
 
 class StepProgress:
@@ -191,20 +212,20 @@ class StepProgress:
             self.report(self.fraction, self.seconds_left)
 
 
-def measure_meters(objects=None, *, scene=None, quality=None, progress=None, cancelled=None, target_abs_error=None):
-    """Measure meters (default: all in ``scene``) and write their readings; returns [(object, reading)].
-
-    ``target_abs_error``: the illuminance meters' absolute error floor, lux (None: the preset's).
+def measure_meters(meters, settings, *, scene=None, progress=None, cancelled=None):
+    """Measure ``meters`` (:class:`Meter`, at least one) with ``settings`` (as :func:`run_step`'s; its
+    "target_abs_error": the illuminance meters' absolute error floor, lux, None the preset's); returns
+    [(object, reading)], nothing stored.
 
     ``progress(done, total, seconds_left)``: done/total in thousandths of the whole run, with an
     ETA in s (None until known), called within every step. ``cancelled()``: polled before every
     allocation round; True raises MeasurementCancelled and leaves every reading as it was.
     """
     scene = scene or bpy.context.scene
-    objects = meter_objects(scene, objects)
-    settings = dict(scene_settings(scene, quality), target_abs_error=target_abs_error)
+    if not meters:
+        raise RadiometerError("no light meters to measure: add one with Add > Light Meter")
     results = []
-    steps = plan_steps(scene, objects)
+    steps = plan_steps(meters)
     tracker = StepProgress(steps, None if progress is None else
                            (lambda f, eta: _call(progress, int(round(1000 * f)), 1000, eta)))
     for i, step in enumerate(steps):
@@ -213,6 +234,4 @@ def measure_meters(objects=None, *, scene=None, quality=None, progress=None, can
         tracker.start(i)
         results += run_step(scene, step, settings, progress=tracker, cancelled=cancelled)
         tracker(1, 1)
-    for obj, reading in results:
-        write_reading(obj, reading)
     return results

@@ -58,10 +58,11 @@ def scene_photometry(scene):
     """(colour space name, luminance weights (3,), efficacy lm/W) for this scene."""
     from ...compat import working_colour_space
     from ...radiometry.photometry import efficacy as photometry
+    from ..blender.efficacy import efficacy_setting
 
     space = working_colour_space()
-    settings = getattr(scene, "radiometer", None)
-    efficacy = float(settings.efficacy) if settings is not None else DEFAULT_EFFICACY
+    efficacy = efficacy_setting(scene)
+    efficacy = DEFAULT_EFFICACY if efficacy is None else efficacy
     return space, np.asarray(photometry.luminance_weights(space), float), efficacy
 
 

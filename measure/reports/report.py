@@ -23,7 +23,7 @@ import bpy
 from ... import outputs, plots
 from ...errors import MeasurementCancelled, RadiometerError
 from ..analyses import analysis
-from ..meter import meter_objects as meters
+from ..meter import meter_objects
 from ..analyses.analysis_common import plain
 from .report_files import planned_files
 from ..analyses.grid import work_planes  # noqa: F401 - report.work_planes: the planes the report grids
@@ -155,7 +155,8 @@ def export_report(out_dir, **kwargs):
 
 def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
                 convergence=True, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None,
-                client=True, project=None, task=None, maintenance_factor=0.8, observers=(), ra=None):
+                client=True, project=None, task=None, maintenance_factor=0.8, observers=(), ra=None, meters=(),
+                settings=None):
     """The report as a generator of parts, for modal operators: one ``next()`` measures one part.
 
     The first ``next()`` measures nothing and yields the plan, a list of (label, weight); every
@@ -163,9 +164,10 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     ends the generator with the report dict (``StopIteration.value``). ``export_report`` runs it.
 
     ``quality`` (target 1-sigma relative error per reading: preview 5 %, standard 1 %, reference
-    0.2 %), ``method`` and ``target_rel_error`` (fraction) default to the scene's Radiometer
-    settings; ``time_budget_s`` (s) bounds each measurement of the report (a meter batch, a law
-    check, a grid). Every analysis measures with the meter's per-meter allocation. Returns the
+    0.2 %), ``method`` and ``target_rel_error`` (fraction) override ``settings`` (the scene's Radiometer
+    settings, read by the api: a dict of "method", "quality", "target_rel_error"; None: auto, standard,
+    the preset's); ``meters``: the scene's meters (``measure.meter.meter_objects.Meter``, the api's);
+    ``time_budget_s`` (s) bounds each measurement of the report (a meter batch, a law check, a grid). Every analysis measures with the meter's per-meter allocation. Returns the
     report dict (also written as report.json) with ``paths`` and ``summary`` (the text table).
 
     ``progress(done, total, seconds_left)``: done/total in thousandths of the whole report, ETA in
@@ -196,20 +198,21 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
                                          convergence=convergence, convergence_samples=convergence_samples,
                                          progress=progress, cancelled=cancelled, phase=phase, client=client,
                                          project=project, task=task, maintenance_factor=maintenance_factor,
-                                         observers=observers, ra=ra))
+                                         observers=observers, ra=ra, meters=meters, settings=settings))
 
 
 def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budget_s, convergence,
                   convergence_samples, progress, cancelled, phase, client, project, task, maintenance_factor,
-                  observers, ra):
+                  observers, ra, meters, settings):
     """:func:`iter_report`'s parts, written into ``stage`` (an ``outputs.FileSet``) and committed at the end."""
     scene = scene or bpy.context.scene
     from ..meter.point_meter import capture_model
 
     capture_model(scene)  # bad input (a light of non-finite power) is one error, as for `measure`
     out = stage.target
-    settings = meters.scene_settings(scene, quality) if hasattr(scene, "radiometer") else \
-        {"method": "auto", "quality": quality or "standard", "target_rel_error": None}
+    settings = dict(settings or {"method": "auto", "quality": "standard", "target_rel_error": None})
+    if quality:
+        settings["quality"] = quality
     if method:
         settings["method"] = method
     if target_rel_error is not None:
@@ -221,15 +224,14 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
               "target_rel_error": goal, "time_budget_s": time_budget_s,
               "meters": [], "inverse_square": [], "cosine": [], "grids": [], "convergence": None, "errors": []}
 
-    objs = [ob for ob in scene.objects if ob.radiometer_meter.is_meter] if hasattr(bpy.types.Object,
-                                                                                   "radiometer_meter") else []
+    objs = list(meters)
     types = light_types(analysis.scene_lights_to_check(scene))
     lights = [representative for representative, _same in types]  # one law check per luminaire type
     report["law_types"] = {rep.name: [ob.name for ob in same] for rep, same in types if same}
     planes = work_planes(scene)
     conv_target = None
     if convergence:
-        conv_target = next((ob for ob in objs if ob.radiometer_meter.kind == "ILLUMINANCE"), None)
+        conv_target = next((m.obj for m in objs if m.kind == "ILLUMINANCE"), None)
         conv_target = conv_target or next(iter(planes), None)
     # Rough relative costs for one progress bar: a law check ~ 2 measurements, a grid ~ 3, a study ~ 4.
     parts = [1.0] * bool(objs) + [2.0] * len(lights) + [3.0] * len(planes) + [4.0] * (conv_target is not None)
@@ -280,11 +282,11 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
     if objs:
         yield step("meters")
         try:
-            steps = [st for st in meters.plan_steps(scene, objs) if st[0] != "RADIANCE_MAP"]  # maps: images
-            tracker = meters.StepProgress(steps, lambda f, eta: part_progress(f, 1.0))
+            steps = [st for st in meter_objects.plan_steps(objs) if st[0] != "RADIANCE_MAP"]  # maps: images
+            tracker = meter_objects.StepProgress(steps, lambda f, eta: part_progress(f, 1.0))
             for i, st in enumerate(steps):
                 tracker.start(i)
-                for obj, reading in meters.run_step(scene, st, settings, progress=tracker, cancelled=cancelled):
+                for obj, reading in meter_objects.run_step(scene, st, settings, progress=tracker, cancelled=cancelled):
                     report["meters"].append(dict(name=obj.name, **reading.to_dict()))
         except MeasurementCancelled:
             raise
@@ -341,6 +343,7 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
         yield step("convergence")
         try:
             c = analysis.convergence_study(target, scene=scene, samples=convergence_samples, quality=q,
+                                           meter_kind=next((m.kind for m in objs if m.obj == target), None),
                                            target_rel_error=goal, time_budget_s=time_budget_s, cancelled=cancelled,
                                            plot=os.path.join(out, "convergence.png") if draw else None)
             report["convergence"] = c.to_dict()
@@ -370,7 +373,7 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
     return report
 
 
-def _room_point(planes, meter_objects):
+def _room_point(planes, meters):
     """Scene coordinates of the first work plane's centre, else of the first illuminance meter, else None."""
     for plane in planes:
         if plane.type == "MESH" and len(plane.data.vertices):
@@ -379,9 +382,9 @@ def _room_point(planes, meter_objects):
             co = np.array([v.co[:] for v in plane.data.vertices])
             centre = (co.min(axis=0) + co.max(axis=0)) / 2
             return tuple(plane.matrix_world @ __import__("mathutils").Vector(centre))
-    for ob in meter_objects:
-        if ob.radiometer_meter.kind == "ILLUMINANCE":
-            return tuple(ob.matrix_world.translation)
+    for m in meters:
+        if m.kind == "ILLUMINANCE":
+            return tuple(m.obj.matrix_world.translation)
     return None
 
 

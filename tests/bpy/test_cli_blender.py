@@ -70,8 +70,10 @@ def test_report_of_nan_convergence_writes_json_and_markdown(clean_blender, tmp_p
     bpy.context.scene.collection.objects.link(bpy.data.objects.new("Work Plane", mesh))
     monkeypatch.setattr(report, "work_planes", lambda scene: [])  # no grid, but the study's target below
     bpy.ops.radiometer.add_meter(kind="ILLUMINANCE")
-    monkeypatch.setattr(report.meters, "run_step", lambda *a, **k: [])
-    rep = report.export_report(str(tmp_path), scene=bpy.context.scene)
+    monkeypatch.setattr(report.meter_objects, "run_step", lambda *a, **k: [])
+    from radiometer import api
+
+    rep = api.export_report(str(tmp_path), scene=bpy.context.scene)
     assert json.loads((tmp_path / "report.json").read_text())["convergence"]["rows"][0]["std_error"] is None
     assert "## Convergence" in (tmp_path / "report.md").read_text() and rep["convergence"]["target"] == "meter M"
 

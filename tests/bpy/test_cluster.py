@@ -28,7 +28,7 @@ POINTS = [((0.3, 0.0, 0.5), (0.0, 0.0, 1.0)), ((-0.3, 0.2, 0.5), (0.0, 0.0, 1.0)
 def _variant(path, power_w, texture=None):
     """A point light over a floor with a wall that reflects light onto two meters (hybrid: rendered)."""
     import radiometer
-    from radiometer.measure.meter.meter_objects import add_meter
+    from radiometer.operators.meter import add_meter
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     radiometer.register()
@@ -89,7 +89,7 @@ def test_in_process_and_cluster_agree_and_every_worker_gets_tasks(clean_blender,
     client = request.getfixturevalue("client")  # after the in-process bakes (see the fixture)
     stats = {}
     seen = []
-    there = batch.measure_batch(files, quality="preview", client=client, stats=stats,
+    there = batch.measure_batch(files, quality="preview", client=client, stats=stats, read_meters=api.scene_meters,
                                 progress=lambda done, total, left: seen.append((done, total)))
     assert [f.file for f in there] == [os.path.abspath(f) for f in files]  # merged in order
     assert all(f.names == ["Illuminance Meter", "Illuminance Meter.001"] for f in there)

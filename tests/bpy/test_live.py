@@ -13,7 +13,7 @@ E_AT_2M = 683 * 100 / (4 * math.pi * 4)  # lux of a 100 W point light 2 m above
 
 
 def live():
-    from radiometer.measure.meter import live as mod
+    from radiometer.operators import live as mod
 
     return mod
 

@@ -19,17 +19,17 @@ def _reading(**overrides):
 
 
 def test_a_dark_rendered_reading_keeps_its_unknown_error(clean_blender):
-    from radiometer.measure.meter import meter_objects as meters
+    from radiometer import api
     from radiometer.panels.meter import format_reading
 
     ob = bpy.data.objects.new("meter", None)
     bpy.context.scene.collection.objects.link(ob)
     ob.radiometer_meter.is_meter = True
-    meters.write_reading(ob, _reading())
+    api.store_reading(ob, _reading())
     m = ob.radiometer_meter
     assert math.isinf(m.rel_std_error) and not m.exact
     text = format_reading(m)
     assert text.startswith("0 lx") and "±0" not in text and "n/a" in text
     # A converged reading still shows its error with two significant digits.
-    meters.write_reading(ob, _reading(illuminance=402.283, irradiance=402.283 / 683, rel_std_error=0.011))
+    api.store_reading(ob, _reading(illuminance=402.283, irradiance=402.283 / 683, rel_std_error=0.011))
     assert format_reading(ob.radiometer_meter) == "402 lx ±1.1 %"

@@ -48,7 +48,7 @@ def test_sidebar_shows_ev_and_cct(clean_blender, build):
     build.black_world(scene)
     lamp = build.light(scene, "POINT", (0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0)
     lamp.data.color = (1.0, 1.0, 1.0)
-    from radiometer.measure.meter.meter_objects import add_meter
+    from radiometer.operators.meter import add_meter
 
     meter = add_meter(bpy.context, "ILLUMINANCE", (0.0, 0.0, 0.0))
     api.measure_meters(scene=scene)

@@ -23,7 +23,8 @@ def _snapshot():
 
 def test_register_unregister_five_times_leaves_nothing_behind(tmp_path):
     import radiometer
-    from radiometer.measure.meter import live
+    from radiometer.operators import live
+    from radiometer.props import live_state
     from radiometer.operators import false_colour
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -38,7 +39,7 @@ def test_register_unregister_five_times_leaves_nothing_behind(tmp_path):
         assert bpy.app.handlers.depsgraph_update_post.count(live.on_depsgraph_update) == 1
         assert bpy.app.timers.is_registered(live.tick)
         bpy.context.scene.radiometer.live = True  # leaves live state behind, which unregister forgets
-        assert live._states
+        assert live_state._states
         # The false-colour overlay: a coloured copy and a draw handler, both gone after unregister.
         lux = tmp_path / "grid.csv"
         lux.write_text("row,col,x,y,z,illuminance_lx,irradiance_W_m2,rel_std_error\n0,0,0,0,0,10,0,0\n"
@@ -55,7 +56,7 @@ def test_register_unregister_five_times_leaves_nothing_behind(tmp_path):
         assert false_colour._on_load_pre not in bpy.app.handlers.load_pre
         assert live.on_depsgraph_update not in bpy.app.handlers.depsgraph_update_post
         assert not bpy.app.timers.is_registered(live.tick)
-        assert not live._states
+        assert not live_state._states
     assert not hasattr(bpy.types.Scene, "radiometer")
 
 

@@ -369,11 +369,11 @@ def test_failed_second_step_writes_no_reading(clean_blender, build, private_tmp,
     bpy.ops.radiometer.add_meter(kind="LUMINANCE")
     lum = bpy.context.active_object
     lum.location = (0, 0, 1.0)
-    from radiometer.measure.meter import meter_objects as meters
+    from radiometer import api
 
     patch_render(monkeypatch, lambda *a, **k: {"CANCELLED"})
     before = scene_fingerprint(scene)
     with pytest.raises(RadiometerError):
-        meters.measure_meters([illum, lum], scene=scene, quality="preview")
+        api.measure_meters([illum, lum], scene=scene, quality="preview")
     assert not illum.radiometer_meter.has_reading and not lum.radiometer_meter.has_reading
     assert_clean(scene, before, private_tmp)

@@ -42,9 +42,9 @@ def _scene(build):
 
 
 def _report(scene, out, cancelled=None, **kw):
-    from radiometer.measure.reports import report
+    from radiometer import api
 
-    return report.export_report(str(out), scene=scene, quality="preview", convergence=False, cancelled=cancelled,
+    return api.export_report(str(out), scene=scene, quality="preview", convergence=False, cancelled=cancelled,
                                 **kw)
 
 
