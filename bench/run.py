@@ -1097,12 +1097,7 @@ def main(argv=None):
             t, results[name] = timed(BENCHES[name])
         log(f"bench: {name} done in {t:.0f} s")
     results["total_seconds"] = time.perf_counter() - started
-    os.makedirs(args.out, exist_ok=True)
-    with open(os.path.join(args.out, "results.json"), "w", encoding="utf-8") as f:
-        json.dump(results, f, indent=2, default=float)
-        f.write("\n")
-    with open(os.path.join(args.out, "results.md"), "w", encoding="utf-8") as f:
-        f.write(markdown(results) + "\n")
+    scenes.write_results(args.out, "results", results, markdown(results))
     if "presets" in results:
         with open(os.path.join(args.out, "presets.md"), "w", encoding="utf-8") as f:
             f.write("# Quality presets, measured\n\nWritten by `make bench` (bench/run.py, section 5 of results.md) "
