@@ -6,6 +6,7 @@ scale 1; every function returns what it made."""
 import bpy
 
 from ..compat import ensure_node_tree
+from ..measure.blender.materials import shader_material
 
 
 def metric_cycles_scene(scene):
@@ -29,13 +30,7 @@ def black_world(scene, name="black"):
 def diffuse_material(name, albedo):
     """A Diffuse BSDF material of ``albedo``: one number (grey) or RGB; the viewport colour matches."""
     rgb = tuple(float(a) for a in albedo) if hasattr(albedo, "__len__") else (float(albedo),) * 3
-    mat = bpy.data.materials.new(name)
-    tree = ensure_node_tree(mat)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (*rgb, 1.0)
-    tree.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    mat, _bsdf = shader_material(name, "ShaderNodeBsdfDiffuse", {"Color": (*rgb, 1.0)})
     mat.diffuse_color = (*rgb, 1.0)
     return mat
 

@@ -178,7 +178,7 @@ def _build_dome(scene, view_layer, patches, centre, radius):
 
     from ...radiometry.skies import sky_patches
 
-    from ..blender.temporary_scene import shader_material
+    from ..blender.materials import shader_material
 
     mat, _emission = shader_material("radiometer_patch_emission", "ShaderNodeEmission",
                                      {"Color": (1.0, 1.0, 1.0, 1.0), "Strength": 1.0})

@@ -21,7 +21,7 @@ import bpy
 import numpy as np
 
 from ...errors import MeasurementCancelled, RadiometerError
-from ..blender.temporary_scene import shader_material
+from ..blender.materials import shader_material
 
 SENSOR_NAME = "radiometer_sensor"
 
