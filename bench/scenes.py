@@ -36,12 +36,7 @@ def quad_mesh(scene, name, quads, material):
     """One object from a list of quads (4 corner tuples each; winding sets the normal)."""
     verts = [v for q in quads for v in q]
     faces = [tuple(range(4 * i, 4 * i + 4)) for i in range(len(quads))]
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(verts, [], faces)
-    mesh.materials.append(material)
-    obj = bpy.data.objects.new(name, mesh)
-    scene.collection.objects.link(obj)
-    return obj
+    return builders.mesh_object(name, verts, faces, material, scene.collection)
 
 
 def delta_lit(energy=100.0, height=2.0):
