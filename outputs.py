@@ -15,6 +15,7 @@
   one of the two.
 """
 
+import contextlib as _contextlib
 import hashlib
 import os
 import re
@@ -217,7 +218,7 @@ def write_bytes(path, data):
             return path
         fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(full)}.", suffix=".tmp", dir=os.path.dirname(full))
         _temporaries.add(tmp)
-        try:
+        with _removed_on_failure(tmp):
             with os.fdopen(fd, "wb") as f:
                 f.write(data)
                 f.flush()
@@ -226,28 +227,39 @@ def write_bytes(path, data):
             if os.path.isfile(full):
                 with _contextlib.suppress(OSError):
                     mode = os.stat(full).st_mode & 0o7777
-            os.chmod(tmp, mode)
-            if os.path.islink(full):  # planted while we wrote
-                raise _error(path, "it is a symbolic link (refusing to follow it)")
-            os.replace(tmp, full)
-            _note_written(full)
-        except BaseException:
-            with _contextlib.suppress(OSError):
-                os.unlink(tmp)
-            raise
-        finally:
-            _temporaries.discard(tmp)
+            _put_in_place(tmp, full, path, mode)
     except OSError as exc:
         raise _error(path, exc) from None
     return path
 
 
+@_contextlib.contextmanager
+def _removed_on_failure(tmp):
+    """Run the block that finishes the temporary file ``tmp``: on any error (an interrupt too) ``tmp`` is
+    removed and the error goes on; either way it is no longer one of this process's temporaries."""
+    try:
+        yield
+    except BaseException:
+        with _contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    finally:
+        _temporaries.discard(tmp)
+
+
+def _put_in_place(tmp, full, path, mode):
+    """Give the finished temporary file ``tmp`` its permissions ``mode`` and rename it onto ``full``
+    (refused where a link was planted there while we wrote); record it as written."""
+    os.chmod(tmp, mode)
+    if os.path.islink(full):  # planted while we wrote
+        raise _error(path, "it is a symbolic link (refusing to follow it)")
+    os.replace(tmp, full)
+    _note_written(full)
+
+
 def write_text(path, text):
     """Write ``text`` (UTF-8) to ``path`` whole or not at all (see :func:`write_bytes`)."""
     return write_bytes(path, text.encode("utf-8", "surrogateescape"))
-
-
-import contextlib as _contextlib
 
 
 @_contextlib.contextmanager
@@ -271,31 +283,20 @@ def atomic_output(path):
     except OSError as exc:
         raise _error(path, exc) from None
     try:
-        yield tmp
-        if os.path.getsize(tmp) == 0:
-            raise _error(path, "the writer produced no data")
-        if special:
-            with open(tmp, "rb") as f:
-                write_bytes(full, f.read())
-            os.unlink(tmp)
-            return
-        with open(tmp, "rb+") as f:
-            os.fsync(f.fileno())
-        os.chmod(tmp, 0o666 & ~_umask())
-        if os.path.islink(full):  # planted while we wrote
-            raise _error(path, "it is a symbolic link (refusing to follow it)")
-        os.replace(tmp, full)
-        _note_written(full)
+        with _removed_on_failure(tmp):
+            yield tmp
+            if os.path.getsize(tmp) == 0:
+                raise _error(path, "the writer produced no data")
+            if special:
+                with open(tmp, "rb") as f:
+                    write_bytes(full, f.read())
+                os.unlink(tmp)
+                return
+            with open(tmp, "rb+") as f:
+                os.fsync(f.fileno())
+            _put_in_place(tmp, full, path, 0o666 & ~_umask())
     except OSError as exc:
-        with _contextlib.suppress(OSError):
-            os.unlink(tmp)
         raise _error(path, exc) from None
-    except BaseException:
-        with _contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-    finally:
-        _temporaries.discard(tmp)
 
 
 def check_writable(path, what="output file"):

@@ -12,7 +12,6 @@ year), Radiometer against Radiance, and the cost of the daylight coefficients be
 ``.venv/bin/python bench/annual.py`` writes bench/annual.json (a few minutes on two cores).
 """
 
-import importlib.util
 import json
 import os
 import tempfile
@@ -22,14 +21,6 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PER_PATCH_SAMPLE = [3, 40, 77, 120]  # low south-east, mid, high, near the zenith
-
-
-def _room():
-    path = os.path.join(HERE, "..", "tests", "bpy", "annual_room.py")
-    spec = importlib.util.spec_from_file_location("annual_room", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def bench_annual(quick=False):
@@ -57,8 +48,9 @@ def main(write=True, per_patch_sample=PER_PATCH_SAMPLE):
 
     import radiometer
     from radiometer.measure.analyses import annual
+    from scenes import load_test_module
 
-    room = _room()
+    room = load_test_module("annual_room")
     folder = tempfile.mkdtemp(prefix="radiometer-annual-")
     epw_path = room.write_epw(os.path.join(folder, "year.epw"))
     t0 = time.perf_counter()

@@ -381,12 +381,9 @@ def main(argv=None):
            "fit": {"n_small": len(small_pts), "n_big": len(points), "a": a, "b": b, "cost_from": cost_from,
                    "single_thread_factor": single_thread, "steps_small_s": step_small, "steps_big_s": step_big},
            "projection": proj}
-    os.makedirs(args.out, exist_ok=True)
-    with open(os.path.join(args.out, "cluster.json"), "w", encoding="utf-8") as f:
-        json.dump(res, f, indent=2, default=float)
-        f.write("\n")
-    with open(os.path.join(args.out, "cluster.md"), "w", encoding="utf-8") as f:
-        f.write(markdown(res) + "\n")
+    from scenes import write_results
+
+    write_results(args.out, "cluster", res, markdown(res))
     log(f"bench cluster: wrote {args.out}/cluster.json and cluster.md")
     return 0
 

@@ -7,19 +7,7 @@ ceiling, a black world. Daylight: the same grid under the CIE overcast sky (api.
 lights off, temporary overcast world).
 """
 
-import importlib.util
-import os
 import time
-
-HERE = os.path.dirname(os.path.abspath(__file__))
-
-
-def _room_module():
-    path = os.path.join(HERE, "..", "tests", "bpy", "daylight_room.py")
-    spec = importlib.util.spec_from_file_location("daylight_room", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def bench_daylight_factor(quick=False):
@@ -28,8 +16,9 @@ def bench_daylight_factor(quick=False):
 
     import radiometer
     from radiometer import api
+    from scenes import load_test_module
 
-    room = _room_module()
+    room = load_test_module("daylight_room")
     bpy.ops.wm.read_factory_settings(use_empty=True)
     if not hasattr(bpy.types.Scene, "radiometer"):
         radiometer.register()

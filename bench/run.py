@@ -982,20 +982,14 @@ def markdown(res):
                 f"Refinement of the demo room's preview to standard (1 %), spot meter included, while idle: "
                 f"{d['refine_to_standard_s']:.1f} s in {d['refine_ticks']} ticks (worst "
                 f"{100 * d['refined_worst_rel_error']:.2g} %); each tick blocks the UI for its batch.", ""]
-    if "capture" in res:
-        out += speed.capture_markdown(res["capture"])
-    if "live_edits" in res:
-        out += speed.live_edits_markdown(res["live_edits"])
-    if "batch_cost" in res:
-        out += speed.batch_cost_markdown(res["batch_cost"])
-    if "radiance" in res:
-        out += speed.radiance_markdown(res["radiance"])
-    if "allocation_coverage" in res:
-        out += speed.allocation_coverage_markdown(res["allocation_coverage"])
-    if "pooled_study" in res:
-        out += speed.pooled_study_markdown(res["pooled_study"])
-    if "pooled" in res:
-        out += __import__("pooled").markdown(res["pooled"])
+    # sections whose own module writes them, in this order
+    for key, section in (("capture", speed.capture_markdown), ("live_edits", speed.live_edits_markdown),
+                         ("batch_cost", speed.batch_cost_markdown), ("radiance", speed.radiance_markdown),
+                         ("allocation_coverage", speed.allocation_coverage_markdown),
+                         ("pooled_study", speed.pooled_study_markdown),
+                         ("pooled", lambda r: __import__("pooled").markdown(r))):
+        if key in res:
+            out += section(res[key])
     if "cluster" in res:
         c = res["cluster"]
         out += ["## Scale-out on Dask (issue 20)", "",
@@ -1004,16 +998,9 @@ def markdown(res):
                 f"(1000 points x 8760 h) on 16 / 64 / 256 cores: "
                 + " / ".join(f"{r['total_s'] / 60:.1f} min" for r in c["projection"])
                 + ". Overheads and the projection's model: bench/cluster.md (bench/cluster.py).", ""]
-    if "sun_study" in res:
-        import sun_study
-
-        out += sun_study.markdown(res["sun_study"])
-    if "daylight_factor" in res:
-        import daylight_factor
-
-        out += daylight_factor.markdown(res["daylight_factor"])
-    if "annual" in res:
-        out += __import__("annual").markdown(res["annual"])
+    for key in ("sun_study", "daylight_factor", "annual"):  # bench/<key>.py writes its own section
+        if key in res:
+            out += __import__(key).markdown(res[key])
     return "\n".join(out)
 
 
@@ -1097,12 +1084,7 @@ def main(argv=None):
             t, results[name] = timed(BENCHES[name])
         log(f"bench: {name} done in {t:.0f} s")
     results["total_seconds"] = time.perf_counter() - started
-    os.makedirs(args.out, exist_ok=True)
-    with open(os.path.join(args.out, "results.json"), "w", encoding="utf-8") as f:
-        json.dump(results, f, indent=2, default=float)
-        f.write("\n")
-    with open(os.path.join(args.out, "results.md"), "w", encoding="utf-8") as f:
-        f.write(markdown(results) + "\n")
+    scenes.write_results(args.out, "results", results, markdown(results))
     if "presets" in results:
         with open(os.path.join(args.out, "presets.md"), "w", encoding="utf-8") as f:
             f.write("# Quality presets, measured\n\nWritten by `make bench` (bench/run.py, section 5 of results.md) "

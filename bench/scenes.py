@@ -36,12 +36,7 @@ def quad_mesh(scene, name, quads, material):
     """One object from a list of quads (4 corner tuples each; winding sets the normal)."""
     verts = [v for q in quads for v in q]
     faces = [tuple(range(4 * i, 4 * i + 4)) for i in range(len(quads))]
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(verts, [], faces)
-    mesh.materials.append(material)
-    obj = bpy.data.objects.new(name, mesh)
-    scene.collection.objects.link(obj)
-    return obj
+    return builders.mesh_object(name, verts, faces, material, scene.collection)
 
 
 def delta_lit(energy=100.0, height=2.0):
@@ -90,19 +85,7 @@ def add_triangles(scene, count, z=-0.5, extent=20.0):
     i, j = np.meshgrid(np.arange(n), np.arange(n))
     a = (j * (n + 1) + i).ravel()
     tris = np.concatenate([np.c_[a, a + 1, a + n + 2], np.c_[a, a + n + 2, a + n + 1]]).astype(np.int32)
-    mesh = bpy.data.meshes.new("bench triangles")
-    mesh.vertices.add(len(verts))
-    mesh.vertices.foreach_set("co", verts.ravel())
-    mesh.loops.add(tris.size)
-    mesh.loops.foreach_set("vertex_index", tris.ravel())
-    mesh.polygons.add(len(tris))
-    mesh.polygons.foreach_set("loop_start", np.arange(0, tris.size, 3, dtype=np.int32))
-    mesh.polygons.foreach_set("loop_total", np.full(len(tris), 3, np.int32))
-    mesh.update()
-    mesh.materials.append(diffuse_material("bench grid", 0.5))
-    obj = bpy.data.objects.new("bench triangles", mesh)
-    scene.collection.objects.link(obj)
-    return obj, len(tris)
+    return _mesh_from_arrays(scene, "bench triangles", verts, tris, diffuse_material("bench grid", 0.5)), len(tris)
 
 
 def meter_points(n, half_width=0.8, z=0.0, seed=0):
@@ -245,6 +228,19 @@ def load_test_module(name):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def write_results(folder, stem, data, markdown_text):
+    """``folder/stem.json`` (``data``, numpy numbers as floats) and ``folder/stem.md`` (``markdown_text``),
+    each written whole or not at all; ``folder`` is made when missing."""
+    import json
+    import os
+
+    from radiometer.outputs import write_text
+
+    os.makedirs(folder, exist_ok=True)
+    write_text(os.path.join(folder, f"{stem}.json"), json.dumps(data, indent=2, default=float) + "\n")
+    write_text(os.path.join(folder, f"{stem}.md"), markdown_text + "\n")
 
 
 def pop_option(args, flag, default, kind=str):

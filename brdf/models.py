@@ -214,6 +214,45 @@ def _check_sum(p, a, b, model):
                          f"got {a}={p[a].tolist()}, {b}={p[b].tolist()}")
 
 
+class _CosineMixture(Model):
+    """A diffuse part and a glossy lobe, sampled as a mixture: cosine-weighted with probability
+    ``_diffuse_probability`` of the two reflectances named by ``diffuse`` and ``specular``, else by the
+    lobe's own scheme. By default the lobe draws a half vector h (``_h_sample``, density ``_h_pdf`` per
+    solid angle of h) and reflects wo about it, so the density of wi is _h_pdf / (4 |wo·h|); a lobe
+    sampled otherwise overrides ``_lobe_pdf`` and ``_lobe_sample``."""
+    diffuse, specular = "kd", "ks"
+
+    def _lobe_pdf(self, wi, wo, p):
+        h = half_vector(wi, wo)
+        with np.errstate(all="ignore"):
+            lobe = self._h_pdf(h, p) / (4.0 * np.abs(dot(wo, h)))
+        return np.where(np.isfinite(lobe), lobe, 0.0)
+
+    def _lobe_sample(self, wo, u1, u2, p):
+        return reflect_about(wo, self._h_sample(u1, u2, p))
+
+    def pdf(self, wi, wo, p):
+        pd = _diffuse_probability(p[self.diffuse], p[self.specular])
+        return pd * _cos_pdf(wi) + (1.0 - pd) * self._lobe_pdf(wi, wo, p)
+
+    def sample(self, wo, u1, u2, p):
+        pd = _diffuse_probability(p[self.diffuse], p[self.specular])
+        choose_d, u = _mixture_select(u1, pd)
+        wi = np.where(choose_d[..., None], sample_cosine_hemisphere(u, u2), self._lobe_sample(wo, u, u2, p))
+        return wi, self.pdf(wi, wo, p)
+
+
+class _DiffusePlusLobe(_CosineMixture):
+    """f = kd/π + ks · lobe (``_lobe``: the lobe's value for ks = 1, per steradian), kd + ks <= 1
+    enforced per channel."""
+
+    def check(self, p):
+        _check_sum(p, "kd", "ks", self.name)
+
+    def f(self, wi, wo, p):
+        return p["kd"] * INV_PI + _rgb(self._lobe(wi, wo, p), p["ks"])
+
+
 # -- diffuse models ----------------------------------------------------------------------------
 
 class Lambert(Model):
@@ -325,7 +364,7 @@ def _power_cosine_pdf(c, n):
     return (n + 1.0) / (2.0 * math.pi) * np.power(np.maximum(0.0, c), n)
 
 
-class Phong(Model):
+class Phong(_DiffusePlusLobe):
     name = "phong"
     doc = """
     Modified (reciprocal, energy-normalised) Phong: f = kd/π + ks (n+2)/(2π) cos^n α, α the angle
@@ -340,25 +379,16 @@ class Phong(Model):
         Param("n", 20.0, 0.0, 1e6, "float", "1", "Phong exponent (sharpness)."),
     )
 
-    def check(self, p):
-        _check_sum(p, "kd", "ks", self.name)
-
-    def f(self, wi, wo, p):
+    def _lobe(self, wi, wo, p):
         c = np.maximum(0.0, dot(wo, reflect(wi)))
-        lobe = (p["n"] + 2.0) / (2.0 * math.pi) * np.power(c, p["n"])
-        return p["kd"] * INV_PI + _rgb(lobe, p["ks"])
+        return (p["n"] + 2.0) / (2.0 * math.pi) * np.power(c, p["n"])
 
-    def pdf(self, wi, wo, p):
-        pd = _diffuse_probability(p["kd"], p["ks"])
-        return pd * _cos_pdf(wi) + (1.0 - pd) * _power_cosine_pdf(dot(wi, reflect(wo)), p["n"])
+    def _lobe_pdf(self, wi, wo, p):  # cos^n about the mirror direction of wo
+        return _power_cosine_pdf(dot(wi, reflect(wo)), p["n"])
 
-    def sample(self, wo, u1, u2, p):
-        pd = _diffuse_probability(p["kd"], p["ks"])
-        choose_d, u = _mixture_select(u1, pd)
-        axis = np.broadcast_to(reflect(wo), np.broadcast_shapes(np.shape(wo), np.shape(u) + (3,)))
-        wi = np.where(choose_d[..., None], sample_cosine_hemisphere(u, u2),
-                      _sample_power_cosine(axis, p["n"], u, u2))
-        return wi, self.pdf(wi, wo, p)
+    def _lobe_sample(self, wo, u1, u2, p):
+        axis = np.broadcast_to(reflect(wo), np.broadcast_shapes(np.shape(wo), np.shape(u1) + (3,)))
+        return _sample_power_cosine(axis, p["n"], u1, u2)
 
 
 def blinn_phong_normalization(n):
@@ -372,7 +402,7 @@ def blinn_phong_normalization(n):
     return (n + 2.0) * (n + 4.0) / (8.0 * math.pi * (np.power(2.0, -0.5 * n) + n))
 
 
-class BlinnPhong(Model):
+class BlinnPhong(_DiffusePlusLobe):
     name = "blinn_phong"
     doc = """
     Blinn-Phong with the EXACT normalisation: f = kd/π + ks c(n) cos^n θh,
@@ -387,29 +417,16 @@ class BlinnPhong(Model):
         Param("n", 50.0, 0.0, 1e6, "float", "1", "Blinn-Phong exponent on cos θh."),
     )
 
-    def check(self, p):
-        _check_sum(p, "kd", "ks", self.name)
-
-    def f(self, wi, wo, p):
+    def _lobe(self, wi, wo, p):
         h = half_vector(wi, wo)
-        lobe = blinn_phong_normalization(p["n"]) * np.power(np.maximum(0.0, h[..., 2]), p["n"])
-        return p["kd"] * INV_PI + _rgb(lobe, p["ks"])
+        return blinn_phong_normalization(p["n"]) * np.power(np.maximum(0.0, h[..., 2]), p["n"])
 
-    def pdf(self, wi, wo, p):
-        pd = _diffuse_probability(p["kd"], p["ks"])
-        h = half_vector(wi, wo)
-        with np.errstate(all="ignore"):
-            lobe = _power_cosine_pdf(h[..., 2], p["n"]) / (4.0 * np.abs(dot(wo, h)))
-        lobe = np.where(np.isfinite(lobe), lobe, 0.0)
-        return pd * _cos_pdf(wi) + (1.0 - pd) * lobe
+    def _h_pdf(self, h, p):
+        return _power_cosine_pdf(h[..., 2], p["n"])
 
-    def sample(self, wo, u1, u2, p):
-        pd = _diffuse_probability(p["kd"], p["ks"])
-        choose_d, u = _mixture_select(u1, pd)
-        z = np.broadcast_to(np.array([0.0, 0.0, 1.0]), np.shape(u) + (3,))
-        h = _sample_power_cosine(z, p["n"], u, u2)
-        wi = np.where(choose_d[..., None], sample_cosine_hemisphere(u, u2), reflect_about(wo, h))
-        return wi, self.pdf(wi, wo, p)
+    def _h_sample(self, u1, u2, p):
+        z = np.broadcast_to(np.array([0.0, 0.0, 1.0]), np.shape(u1) + (3,))
+        return _sample_power_cosine(z, p["n"], u1, u2)
 
 
 # -- microfacet models ---------------------------------------------------------------------------
@@ -496,7 +513,7 @@ class TorranceSparrow(_Microfacet):
         return mf.G_vcavity(wi, wo, h)
 
 
-class Ward(Model):
+class Ward(_DiffusePlusLobe):
     name = "ward"
     isotropic = False
     doc = """
@@ -516,34 +533,21 @@ class Ward(Model):
         Param("alpha_y", 0.35, 1e-4, 1.0, "float", "1", "RMS slope along the bitangent y."),
     )
 
-    def check(self, p):
-        _check_sum(p, "kd", "ks", self.name)
-
-    def f(self, wi, wo, p):
+    def _lobe(self, wi, wo, p):
         h = half_vector(wi, wo)
         d = mf.beckmann_D(h, p["alpha_x"], p["alpha_y"])
         with np.errstate(all="ignore"):
             lobe = d / (4.0 * dot(wi, h) ** 2)
-        lobe = np.where(np.isfinite(lobe), lobe, 0.0)
-        return p["kd"] * INV_PI + _rgb(lobe, p["ks"])
+        return np.where(np.isfinite(lobe), lobe, 0.0)
 
-    def pdf(self, wi, wo, p):
-        pd = _diffuse_probability(p["kd"], p["ks"])
-        h = half_vector(wi, wo)
-        with np.errstate(all="ignore"):
-            lobe = mf.pdf_D_cos("beckmann", h, p["alpha_x"], p["alpha_y"]) / (4.0 * np.abs(dot(wo, h)))
-        lobe = np.where(np.isfinite(lobe), lobe, 0.0)
-        return pd * _cos_pdf(wi) + (1.0 - pd) * lobe
+    def _h_pdf(self, h, p):
+        return mf.pdf_D_cos("beckmann", h, p["alpha_x"], p["alpha_y"])
 
-    def sample(self, wo, u1, u2, p):
-        pd = _diffuse_probability(p["kd"], p["ks"])
-        choose_d, u = _mixture_select(u1, pd)
-        m = mf.sample_slope_D("beckmann", p["alpha_x"], p["alpha_y"], u, u2)
-        wi = np.where(choose_d[..., None], sample_cosine_hemisphere(u, u2), reflect_about(wo, m))
-        return wi, self.pdf(wi, wo, p)
+    def _h_sample(self, u1, u2, p):
+        return mf.sample_slope_D("beckmann", p["alpha_x"], p["alpha_y"], u1, u2)
 
 
-class AshikhminShirley(Model):
+class AshikhminShirley(_CosineMixture):
     name = "ashikhmin_shirley"
     isotropic = False
     doc = """
@@ -555,6 +559,7 @@ class AshikhminShirley(Model):
     """
     references = ("M. Ashikhmin, P. Shirley, 'An Anisotropic Phong BRDF Model', "
                   "Journal of Graphics Tools 5(2), 2000",)
+    diffuse, specular = "Rd", "Rs"
     params = (
         Param("n_u", 100.0, 0.0, 1e6, "float", "1", "Phong exponent along the tangent x."),
         Param("n_v", 10.0, 0.0, 1e6, "float", "1", "Phong exponent along the bitangent y."),
@@ -570,7 +575,7 @@ class AshikhminShirley(Model):
             e = (nu * hx2 + nv * hy2) / s2
         return np.where(s2 > 0, e, nu)  # at h = n the base is 1, any exponent works
 
-    def _lobe_h_pdf(self, h, p):
+    def _h_pdf(self, h, p):
         e = self._exponent(h, p["n_u"], p["n_v"])
         return math.sqrt((p["n_u"] + 1) * (p["n_v"] + 1)) / (2 * math.pi) * np.power(np.maximum(0.0, h[..., 2]), e)
 
@@ -579,33 +584,21 @@ class AshikhminShirley(Model):
         h = half_vector(wi, wo)
         kh = np.clip(dot(wi, h), 0.0, 1.0)
         with np.errstate(all="ignore"):
-            spec = self._lobe_h_pdf(h, p) / (4.0 * kh * np.maximum(ci, co))
+            spec = self._h_pdf(h, p) / (4.0 * kh * np.maximum(ci, co))
         spec = np.where(np.isfinite(spec), spec, 0.0)
         fres = _fresnel.schlick(p["Rs"], kh[..., None])
         diff = 28.0 / (23.0 * math.pi) * (1.0 - (1.0 - ci / 2) ** 5) * (1.0 - (1.0 - co / 2) ** 5)
         return spec[..., None] * fres + _rgb(diff, p["Rd"] * (1.0 - p["Rs"]))
 
-    def pdf(self, wi, wo, p):
-        pd = _diffuse_probability(p["Rd"], p["Rs"])
-        h = half_vector(wi, wo)
-        with np.errstate(all="ignore"):
-            lobe = self._lobe_h_pdf(h, p) / (4.0 * np.abs(dot(wo, h)))
-        lobe = np.where(np.isfinite(lobe), lobe, 0.0)
-        return pd * _cos_pdf(wi) + (1.0 - pd) * lobe
-
-    def sample(self, wo, u1, u2, p):
-        pd = _diffuse_probability(p["Rd"], p["Rs"])
-        choose_d, u = _mixture_select(u1, pd)
+    def _h_sample(self, u1, u2, p):
         nu, nv = p["n_u"], p["n_v"]
         psi = 2.0 * math.pi * np.asarray(u2, dtype=float)
         # tan φ = sqrt((nu+1)/(nv+1)) tan ψ, quadrant-preserving (A&S 2000, eq. 9).
         phi = np.arctan2(math.sqrt(nu + 1) * np.sin(psi), math.sqrt(nv + 1) * np.cos(psi))
         e = nu * np.cos(phi) ** 2 + nv * np.sin(phi) ** 2
-        cos_t = np.power(1.0 - u, 1.0 / (e + 1.0))
+        cos_t = np.power(1.0 - u1, 1.0 / (e + 1.0))
         sin_t = np.sqrt(np.maximum(0.0, 1.0 - cos_t * cos_t))
-        h = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=-1)
-        wi = np.where(choose_d[..., None], sample_cosine_hemisphere(u, u2), reflect_about(wo, h))
-        return wi, self.pdf(wi, wo, p)
+        return np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=-1)
 
 
 class Mirror(Model):

@@ -1,11 +1,12 @@
 """Scene building blocks, the one home for them: a black world, a Diffuse BSDF material, a light, a
-square plane, a closed box. The demo rooms are built of them, and so are the benchmark scenes
+square plane, a mesh object, a closed box. The demo rooms are built of them, and so are the benchmark scenes
 (``bench/scenes.py``) and the tests' ``build`` fixture (``tests/bpy/conftest.py``). Metres at unit
 scale 1; every function returns what it made."""
 
 import bpy
 
 from ..compat import ensure_node_tree
+from ..measure.blender.materials import shader_material
 
 
 def metric_cycles_scene(scene):
@@ -29,13 +30,7 @@ def black_world(scene, name="black"):
 def diffuse_material(name, albedo):
     """A Diffuse BSDF material of ``albedo``: one number (grey) or RGB; the viewport colour matches."""
     rgb = tuple(float(a) for a in albedo) if hasattr(albedo, "__len__") else (float(albedo),) * 3
-    mat = bpy.data.materials.new(name)
-    tree = ensure_node_tree(mat)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (*rgb, 1.0)
-    tree.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    mat, _bsdf = shader_material(name, "ShaderNodeBsdfDiffuse", {"Color": (*rgb, 1.0)})
     mat.diffuse_color = (*rgb, 1.0)
     return mat
 
@@ -57,12 +52,20 @@ def add_light(scene, kind, location=(0.0, 0.0, 0.0), rotation=(0.0, 0.0, 0.0), *
 def add_plane(scene, size=1.0, location=(0.0, 0.0, 0.0), rotation=(0.0, 0.0, 0.0), albedo=0.8, name="plane"):
     """A square one-sided quad of side ``size`` (normal local +Z) with a diffuse material of ``albedo``."""
     h = size / 2
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata([(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)], [], [(0, 1, 2, 3)])
-    mesh.materials.append(diffuse_material(name, albedo))
-    obj = bpy.data.objects.new(name, mesh)
+    obj = mesh_object(name, [(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)], [(0, 1, 2, 3)],
+                      diffuse_material(name, albedo), scene.collection)
     obj.location, obj.rotation_euler = location, rotation
-    scene.collection.objects.link(obj)
+    return obj
+
+
+def mesh_object(name, verts, faces, material, collection):
+    """An object ``name`` in ``collection`` of a new mesh of ``verts`` (m) and ``faces`` (vertex indices;
+    winding sets the normal) with ``material``."""
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    mesh.materials.append(material)
+    obj = bpy.data.objects.new(name, mesh)
+    collection.objects.link(obj)
     return obj
 
 
@@ -73,9 +76,4 @@ def closed_box(name, centre, half, material, collection):
     hx, hy, hz = half
     verts = [(cx + sx * hx, cy + sy * hy, cz + sz * hz) for sz in (-1, 1) for sy in (-1, 1) for sx in (-1, 1)]
     faces = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(verts, [], faces)
-    mesh.materials.append(material)
-    obj = bpy.data.objects.new(name, mesh)
-    collection.objects.link(obj)
-    return obj
+    return mesh_object(name, verts, faces, material, collection)

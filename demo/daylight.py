@@ -19,7 +19,7 @@ import time
 
 import bpy
 
-from ..compat import ensure_node_tree
+from ..measure.blender.materials import shader_material
 from .builders import black_world, closed_box, diffuse_material, metric_cycles_scene
 
 ROOM = (4.0, 4.0, 3.0)
@@ -40,15 +40,7 @@ METERS = {
 
 
 def glass_material(name="Glass (IOR 1.5)", ior=1.5):
-    mat = bpy.data.materials.new(name)
-    tree = ensure_node_tree(mat)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    glass = tree.nodes.new("ShaderNodeBsdfGlass")
-    glass.inputs["IOR"].default_value = ior
-    glass.inputs["Roughness"].default_value = 0.0
-    tree.links.new(glass.outputs["BSDF"], out.inputs["Surface"])
-    return mat
+    return shader_material(name, "ShaderNodeBsdfGlass", {"IOR": ior, "Roughness": 0.0})[0]
 
 
 def build(scene=None, *, glass=True, pane_renders=True):

@@ -2,23 +2,19 @@
 
 import bpy
 
+from . import SceneSettingsPanel, SidebarPanel
+
 
 def _yes(ok, expected=False):
     """'ok', 'near field' (the light departs exactly as its shape's closed form predicts: physics) or 'departs'."""
     return "ok" if ok else "near field" if expected else "departs"
 
 
-class RADIOMETER_PT_analysis(bpy.types.Panel):
+class RADIOMETER_PT_analysis(SceneSettingsPanel, SidebarPanel, bpy.types.Panel):
     bl_label = "Analysis"
     bl_idname = "RADIOMETER_PT_analysis"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Radiometer"
     bl_options = {"DEFAULT_CLOSED"}
-
-    @classmethod
-    def poll(cls, context):
-        return context.scene is not None and hasattr(context.scene, "radiometer_analysis")
+    settings = "radiometer_analysis"
 
     def draw(self, context):
         from .meter import draw_progress
@@ -58,13 +54,15 @@ class RADIOMETER_PT_analysis(bpy.types.Panel):
                         table.label(text=f"   {label}: {cause[:110]}", icon="INFO")
 
 
-class RADIOMETER_PT_grid(bpy.types.Panel):
+class _AnalysisSubpanel(SidebarPanel):
+    """Mixin: a subpanel of the Analysis panel."""
+
+    bl_parent_id = "RADIOMETER_PT_analysis"
+
+
+class RADIOMETER_PT_grid(_AnalysisSubpanel, bpy.types.Panel):
     bl_label = "Work-Plane Grid"
     bl_idname = "RADIOMETER_PT_grid"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Radiometer"
-    bl_parent_id = "RADIOMETER_PT_analysis"
 
     def draw(self, context):
         s = context.scene.radiometer_analysis
@@ -97,13 +95,9 @@ class RADIOMETER_PT_grid(bpy.types.Panel):
                             text="Hide False Colour" if shown else "Show False Colour")
 
 
-class RADIOMETER_PT_convergence(bpy.types.Panel):
+class RADIOMETER_PT_convergence(_AnalysisSubpanel, bpy.types.Panel):
     bl_label = "Convergence and Report"
     bl_idname = "RADIOMETER_PT_convergence"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Radiometer"
-    bl_parent_id = "RADIOMETER_PT_analysis"
 
     def draw(self, context):
         s = context.scene.radiometer_analysis

@@ -10,6 +10,8 @@ library's defaults are visible and editable from the start.
 
 import bpy
 
+from . import PropertiesPanel
+
 #: readable labels of the library's parameter names (unknown names are title-cased)
 LABELS = {
     "albedo": "Albedo \u03c1",
@@ -130,11 +132,9 @@ def draw_params(layout, context, mat, settings, node):
                 col.prop(settings, "uv_map")
 
 
-class RADIOMETER_PT_brdf(bpy.types.Panel):
+class RADIOMETER_PT_brdf(PropertiesPanel, bpy.types.Panel):
     bl_label = "Radiometer BRDF"
     bl_idname = "RADIOMETER_PT_brdf"
-    bl_space_type = "PROPERTIES"
-    bl_region_type = "WINDOW"
     bl_context = "material"
 
     @classmethod

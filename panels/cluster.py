@@ -2,13 +2,12 @@
 
 import bpy
 
+from . import SidebarPanel
 
-class RADIOMETER_PT_cluster(bpy.types.Panel):
+
+class RADIOMETER_PT_cluster(SidebarPanel, bpy.types.Panel):
     bl_label = "Scale-out (Dask)"
     bl_idname = "RADIOMETER_PT_cluster"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Radiometer"
     bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context):

@@ -2,17 +2,13 @@
 
 import bpy
 
+from . import SceneSettingsPanel, WorldPanel
 
-class RADIOMETER_PT_daylight(bpy.types.Panel):
+
+class RADIOMETER_PT_daylight(SceneSettingsPanel, WorldPanel, bpy.types.Panel):
     bl_label = "Daylight"
     bl_idname = "RADIOMETER_PT_daylight"
-    bl_space_type = "PROPERTIES"
-    bl_region_type = "WINDOW"
-    bl_context = "world"
-
-    @classmethod
-    def poll(cls, context):
-        return context.scene is not None and hasattr(context.scene, "radiometer_daylight")
+    settings = "radiometer_daylight"
 
     def draw(self, context):
         from ..operators.daylight import LAST

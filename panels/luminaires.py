@@ -2,13 +2,12 @@
 
 import bpy
 
+from . import SidebarPanel
 
-class RADIOMETER_PT_luminaire(bpy.types.Panel):
+
+class RADIOMETER_PT_luminaire(SidebarPanel, bpy.types.Panel):
     bl_label = "Luminaire"
     bl_idname = "RADIOMETER_PT_luminaire"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Radiometer"
 
     @classmethod
     def poll(cls, context):

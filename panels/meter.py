@@ -4,6 +4,8 @@ import math
 
 import bpy
 
+from . import SidebarPanel
+
 from ..readings import format_error, format_value  # the one digits rule, shared with the CLI and the reports
 
 _draw_handle = None
@@ -64,12 +66,9 @@ def draw_progress(layout, settings):
         layout.label(text="Esc cancels", icon="CANCEL")
 
 
-class RADIOMETER_PT_meters(bpy.types.Panel):
+class RADIOMETER_PT_meters(SidebarPanel, bpy.types.Panel):
     bl_label = "Light Meters"
     bl_idname = "RADIOMETER_PT_meters"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Radiometer"
 
     def draw(self, context):
         layout = self.layout
@@ -101,12 +100,9 @@ class RADIOMETER_PT_meters(bpy.types.Panel):
             layout.label(text="Last: " + settings.last_summary[:120])
 
 
-class RADIOMETER_PT_active_meter(bpy.types.Panel):
+class RADIOMETER_PT_active_meter(SidebarPanel, bpy.types.Panel):
     bl_label = "Active Meter"
     bl_idname = "RADIOMETER_PT_active_meter"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Radiometer"
     bl_parent_id = "RADIOMETER_PT_meters"
 
     @classmethod

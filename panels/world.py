@@ -2,13 +2,12 @@
 
 import bpy
 
+from . import WorldPanel
 
-class RADIOMETER_PT_world(bpy.types.Panel):
+
+class RADIOMETER_PT_world(WorldPanel, bpy.types.Panel):
     bl_label = "Radiometer"
     bl_idname = "RADIOMETER_PT_world"
-    bl_space_type = "PROPERTIES"
-    bl_region_type = "WINDOW"
-    bl_context = "world"
 
     @classmethod
     def poll(cls, context):

@@ -172,29 +172,16 @@ def _compile_camera(source):
     return cam_data
 
 
-def _emission_material():
-    import bpy
-
-    from ...compat import ensure_node_tree
-
-    mat = bpy.data.materials.new("radiometer_patch_emission")
-    tree = ensure_node_tree(mat)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    em = tree.nodes.new("ShaderNodeEmission")
-    em.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    em.inputs["Strength"].default_value = 1.0
-    tree.links.new(em.outputs[0], out.inputs["Surface"])
-    return mat
-
-
 def _build_dome(scene, view_layer, patches, centre, radius):
     """One emitting object per patch, each in its own light group; returns the group names."""
     import bpy
 
     from ...radiometry.skies import sky_patches
 
-    mat = _emission_material()
+    from ..blender.materials import shader_material
+
+    mat, _emission = shader_material("radiometer_patch_emission", "ShaderNodeEmission",
+                                     {"Color": (1.0, 1.0, 1.0, 1.0), "Strength": 1.0})
     names = []
     for p, (verts, faces) in enumerate(sky_patches.dome_mesh(patches)):
         name = LIGHTGROUP.format(p)

@@ -1,1 +1,1 @@
-"""Blender plumbing for measurements: the scene guard, temporary scenes and folders, object identity, the render device, EXR reading, blend-file copies, operator reports and the API's Blender-argument checks."""
+"""Blender plumbing for measurements: the scene guard, temporary scenes and folders, object identity, the render device, EXR reading, blend-file copies, one-shader materials, operator reports and the API's Blender-argument checks."""

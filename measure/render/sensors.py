@@ -20,8 +20,8 @@ import time
 import bpy
 import numpy as np
 
-from ...compat import ensure_node_tree
 from ...errors import MeasurementCancelled, RadiometerError
+from ..blender.materials import shader_material
 
 SENSOR_NAME = "radiometer_sensor"
 
@@ -90,14 +90,9 @@ def build_sensor(scene, points, normals, texels):
     layer = mesh.uv_layers.new(name="sensor")
     layer.data.foreach_set("uv", uv.reshape(-1).astype(np.float32))
 
-    material = bpy.data.materials.new(SENSOR_NAME)
-    tree = ensure_node_tree(material)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    bsdf.inputs["Roughness"].default_value = 0.0
-    tree.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    material, bsdf = shader_material(SENSOR_NAME, "ShaderNodeBsdfDiffuse",
+                                     {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": 0.0})
+    tree = material.node_tree
     image = bpy.data.images.new(SENSOR_NAME, res, res, alpha=False, float_buffer=True)
     image.colorspace_settings.is_data = True  # store raw linear values, no view transform
     tex = tree.nodes.new("ShaderNodeTexImage")

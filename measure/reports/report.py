@@ -393,16 +393,10 @@ def summary_table(report):
     report = _robust(report)
     lines = []
     if report["meters"]:
-        from ...readings import format_error, format_value
-
         lines.append(f"{'meter':<24} {'reading':>12} {'unit':<6} {'± 1 s.e.':>9}  method")
         for r in report["meters"]:
-            lum = r.get("quantity") == "luminance"
-            value = r["luminance"] if lum else r["illuminance"]
-            se = r["rel_std_error"] if _given(r["rel_std_error"]) else None
-            # the digits the error supports, as the CLI's measure and the sidebar show them
-            lines.append(f"{r['name']:<24} {format_value(value, se, r['exact']):>12} {'cd/m²' if lum else 'lx':<6} "
-                         f"{format_error(se, r['exact']):>9}  {r['method']}")
+            value, unit, error = _meter_cells(r)
+            lines.append(f"{r['name']:<24} {value:>12} {unit:<6} {error:>9}  {r['method']}")
         lines.append("")
     lines.append(f"{'light':<18} {'kind':<6} {'1/d² exponent':>16} {'near field (m)':>15} {'1/d²':>11} "
                  f"{'scene':>7} {'cos max dev':>12} {'cos':>11} {'scene':>7}")
@@ -452,6 +446,30 @@ def summary_table(report):
             lines.append(f"  error-targeted reading: {_fmt(t['samples'], '.3g')} samples, {t['seconds']:.3g} s, "
                          f"stated {100 * t['rel_std_error']:.3g} %, RMS error {100 * t['rms_error']:.3g} %")
     return "\n".join(lines)
+
+
+def _law_opening(md, result, near_field, departs):
+    """Append one light's law-check section head to ``md`` ('### light (kind)', then why it was not checked, or
+    its expected departure); return None where it was not checked, else the heading of its verdict: 'Follows
+    the law', ``near_field`` (departs as its shape predicts) or ``departs``."""
+    md.append(f"### {result['light']} ({result['kind']})\n")
+    if "error" in result:
+        md.append(f"Not checked: {result['error']}\n")
+        return None
+    if result.get("departure"):
+        md.append(f"**As expected:** {result['departure']}.\n")
+    return "Follows the law" if result["passed"] else near_field if result.get("expected_departure") else departs
+
+
+def _meter_cells(result):
+    """A meter's reading, its unit ('lx' or 'cd/m²') and its error: the digits the error supports, as the
+    CLI's measure and the sidebar show them."""
+    from ...readings import format_error, format_value
+
+    lum = result.get("quantity") == "luminance"
+    value = result["luminance"] if lum else result["illuminance"]
+    se = result["rel_std_error"] if _given(result["rel_std_error"]) else None
+    return (format_value(value, se, result["exact"]), "cd/m²" if lum else "lx", format_error(se, result["exact"]))
 
 
 def _who_broke(result):
@@ -549,15 +567,10 @@ def markdown(report):
     if report["errors"]:
         md.append("**Errors:** " + "; ".join(report["errors"]) + "\n")
     if report["meters"]:
-        from ...readings import format_error, format_value
-
         md.append("## Meters\n\n| meter | value | unit | ± 1 s.e. | method |\n|---|---:|---|---:|---|")
         for r in report["meters"]:
-            lum = r.get("quantity") == "luminance"
-            value = r["luminance"] if lum else r["illuminance"]
-            se = r["rel_std_error"] if _given(r["rel_std_error"]) else None
-            md.append(f"| {r['name']} | {format_value(value, se, r['exact'])} | {'cd/m²' if lum else 'lx'} | "
-                      f"{format_error(se, r['exact'])} | {r['method']} |")
+            value, unit, error = _meter_cells(r)
+            md.append(f"| {r['name']} | {value} | {unit} | {error} | {r['method']} |")
         md.append("")
     md.append("## Inverse-square law\n")
     for name, others in (report.get("law_types") or {}).items():
@@ -565,14 +578,9 @@ def markdown(report):
                   "photometric file, scale), whose own laws are checked once.")
     md.append("")
     for r in report["inverse_square"]:
-        md.append(f"### {r['light']} ({r['kind']})\n")
-        if "error" in r:
-            md.append(f"Not checked: {r['error']}\n")
+        heading = _law_opening(md, r, "Near field, as its shape predicts", "Departs from I/d² (see causes)")
+        if heading is None:
             continue
-        if r.get("departure"):
-            md.append(f"**As expected:** {r['departure']}.\n")
-        heading = ("Follows the law" if r["passed"] else "Near field, as its shape predicts" if r.get("expected_departure")
-                   else "Departs from I/d² (see causes)")
         md.append(f"{heading}: exponent {_fmt(r['exponent'], '.4f')} ± "
                   f"{_fmt(r['exponent_se'], '.2g')} (fit from {_fmt(r['fit_from'], '.3g')} m), near-field limit "
                   f"{_near_field_text(r).replace('>', 'beyond').replace('not reached', 'beyond the sweep')} m, source size {r['source_size']:.3g} m (five-times rule "
@@ -601,14 +609,9 @@ def markdown(report):
         md.append(_img(r.get("plot")))
     md.append("## Cosine law\n")
     for c in report["cosine"]:
-        md.append(f"### {c['light']} ({c['kind']})\n")
-        if "error" in c:
-            md.append(f"Not checked: {c['error']}\n")
+        heading = _law_opening(md, c, "Extended source, as its shape predicts", "Departs from cos θ (see causes)")
+        if heading is None:
             continue
-        if c.get("departure"):
-            md.append(f"**As expected:** {c['departure']}.\n")
-        heading = ("Follows the law" if c["passed"] else "Extended source, as its shape predicts"
-                   if c.get("expected_departure") else "Departs from cos θ (see causes)")
         md.append(f"{heading} at {tuple(round(v, 3) for v in c['location'])}: max "
                   f"deviation {100 * c['max_rel_deviation']:.3g} % at {c['max_at_deg']:g} deg; onset "
                   f"{_fmt(c['onset_deg'], 'g')} deg; source reaches the horizon at {c['horizon_onset_deg']:.3g} deg. "
