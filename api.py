@@ -249,6 +249,16 @@ def _store_reading(obj, reading):
         m[key] = value
 
 
+def _law_check_inputs(light, scene, tolerance, plot, quality, method, target_rel_error, samples, time_budget_s,
+                      progress, cancelled, seed):
+    """The law checks' shared arguments, checked: (the light object, tolerance, plot path or None)."""
+    _b.scene(scene)
+    light = _b.blender_object(light, "light", scene_=scene, types=("LIGHT",))
+    _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
+                   samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
+    return light, _v.fraction(tolerance, "tolerance"), _v.optional_output(plot, "plot")
+
+
 @_v.boundary
 def check_inverse_square(light, *, scene=None, distances=None, method="auto", quality="standard",
                          tolerance=0.01, target_rel_error=None, samples=None, time_budget_s=None, seed=0, plot=None,
@@ -274,13 +284,9 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     scene W/m^2, direct_deviation, scene_share, shadowed, direct_rel_std_error, total_ok;
     deviations and shares as fractions). ``plot``: PNG path. A sun raises RadiometerError.
     """
-    _b.scene(scene)
-    light = _b.blender_object(light, "light", scene_=scene, types=("LIGHT",))
+    light, tolerance, plot = _law_check_inputs(light, scene, tolerance, plot, quality, method, target_rel_error,
+                                               samples, time_budget_s, progress, cancelled, seed)
     distances = _v.distances(distances)
-    _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
-                   samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
-    tolerance = _v.fraction(tolerance, "tolerance")
-    plot = _v.optional_output(plot, "plot")
     from .measure.analyses import analysis
 
     return analysis.check_inverse_square(light, scene=scene, distances=distances, method=method, quality=quality,
@@ -304,14 +310,10 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
     predicted cos, ratio, rel_deviation, ratio_rel_se, model_ratio, ok, direct W/m^2,
     direct_ratio, direct_deviation, scene W/m^2, scene_share, total_ok).
     """
-    _b.scene(scene)
-    light = _b.blender_object(light, "light", scene_=scene, types=("LIGHT",))
+    light, tolerance, plot = _law_check_inputs(light, scene, tolerance, plot, quality, method, target_rel_error,
+                                               samples, time_budget_s, progress, cancelled, seed)
     location = None if location is None else _v.points(location, "location", allow_many=False)
     angles_deg = _v.angles(angles_deg, "angles_deg", low=0.0, high=90.0)
-    _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
-                   samples_=samples, time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed_=seed)
-    tolerance = _v.fraction(tolerance, "tolerance")
-    plot = _v.optional_output(plot, "plot")
     from .measure.analyses import analysis
 
     return analysis.check_cosine_law(light, scene=scene, location=location, angles_deg=angles_deg, method=method,

@@ -14,6 +14,7 @@ from .. import api
 from .. import plots
 from ..errors import RadiometerError
 from .modal import Step, Task, TaskOperator, one_call_task
+from .polls import needs, registered
 
 _ALL = "__ALL__"
 _light_items_cache = []  # Blender needs the enum strings kept alive
@@ -73,13 +74,9 @@ def _plot_path(path):
 
 
 def _has_lights(cls, context):
-    if context.scene is None or not hasattr(context.scene, "radiometer_analysis"):
-        cls.poll_message_set("Radiometer is not registered for this scene")
-        return False
-    if not any(ob.type == "LIGHT" and not ob.hide_render for ob in context.scene.objects):
-        cls.poll_message_set("the scene has no lights that render: add a light")
-        return False
-    return True
+    return registered(cls, context, "radiometer_analysis") and needs(
+        cls, any(ob.type == "LIGHT" and not ob.hide_render for ob in context.scene.objects),
+        "the scene has no lights that render: add a light")
 
 
 def _law_item(settings, light):
@@ -278,10 +275,7 @@ class RADIOMETER_OT_illuminance_grid(TaskOperator, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.scene is None or not hasattr(context.scene, "radiometer_analysis"):
-            cls.poll_message_set("Radiometer is not registered for this scene")
-            return False
-        return cls.task_poll(context)
+        return registered(cls, context, "radiometer_analysis") and cls.task_poll(context)
 
     def build_task(self, context):
         from .. import api
@@ -336,14 +330,10 @@ class RADIOMETER_OT_convergence_study(TaskOperator, bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         ob = context.active_object
-        if context.scene is None or not hasattr(context.scene, "radiometer_analysis"):
-            cls.poll_message_set("Radiometer is not registered for this scene")
-            return False
-        if ob is None or not ((ob.radiometer_meter.is_meter and ob.radiometer_meter.kind == "ILLUMINANCE")
-                              or ob.type == "MESH"):
-            cls.poll_message_set("make an illuminance meter or a plane the active object")
-            return False
-        return cls.task_poll(context)
+        return registered(cls, context, "radiometer_analysis") and needs(
+            cls, ob is not None and ((ob.radiometer_meter.is_meter and ob.radiometer_meter.kind == "ILLUMINANCE")
+                                     or ob.type == "MESH"),
+            "make an illuminance meter or a plane the active object") and cls.task_poll(context)
 
     def build_task(self, context):
         from .. import api

@@ -5,6 +5,7 @@ import os
 import bpy
 
 from ..errors import RadiometerError
+from .polls import needs
 
 
 def _active_material(context):
@@ -15,25 +16,24 @@ def _active_material(context):
 
 
 def _poll_material(cls, context):
-    if _active_material(context) is None:
-        cls.poll_message_set("needs an active object with an active material")
-        return False
-    if not hasattr(bpy.types.Material, "radiometer_brdf"):
-        cls.poll_message_set("Radiometer is not registered")
-        return False
-    return True
+    return (needs(cls, _active_material(context) is not None, "needs an active object with an active material")
+            and needs(cls, hasattr(bpy.types.Material, "radiometer_brdf"), "Radiometer is not registered"))
 
 
-class RADIOMETER_OT_assign_brdf(bpy.types.Operator):
+class _OnActiveMaterial:
+    """Mixin: an operator on the active material's Radiometer BRDF (greyed out, saying why, without one)."""
+
+    @classmethod
+    def poll(cls, context):
+        return _poll_material(cls, context)
+
+
+class RADIOMETER_OT_assign_brdf(_OnActiveMaterial, bpy.types.Operator):
     """Realise the chosen BRDF on the active material (node group or OSL script)"""
 
     bl_idname = "radiometer.assign_brdf"
     bl_label = "Apply BRDF"
     bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context):
-        return _poll_material(cls, context)
 
     def execute(self, context):
         from ..props.brdf import input_links, params_dict, pull_from_node, restore_links
@@ -117,7 +117,7 @@ def write_lobe_plot(material, path):
                        photometry.luminance_weights(working_colour_space()))
 
 
-class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
+class RADIOMETER_OT_brdf_plot(_OnActiveMaterial, bpy.types.Operator):
     """Plot the material's BRDF (model vs Cycles closure lobes, or the library summary) in an Image Editor"""
 
     bl_idname = "radiometer.brdf_plot"
@@ -129,10 +129,6 @@ class RADIOMETER_OT_brdf_plot(bpy.types.Operator):
         items=[("LOBE", "Model vs Cycles", "In-plane lobes of the model and of the Cycles closure it renders as"),
                ("SUMMARY", "Library Summary", "The BRDF library's summary plot of the model")],
         description="What to plot")
-
-    @classmethod
-    def poll(cls, context):
-        return _poll_material(cls, context)
 
     def execute(self, context):
         from ..plots.brdf import write_summary
@@ -175,10 +171,8 @@ class RADIOMETER_OT_enable_osl(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.scene is None or not hasattr(context.scene, "cycles"):
-            cls.poll_message_set("needs a scene with Cycles available")
-            return False
-        return True
+        return needs(cls, context.scene is not None and hasattr(context.scene, "cycles"),
+                     "needs a scene with Cycles available")
 
     def execute(self, context):
         scene = context.scene
@@ -215,7 +209,7 @@ def _preset_items_cached(self, context):
     return _preset_cache
 
 
-class RADIOMETER_OT_brdf_preset(bpy.types.Operator):
+class RADIOMETER_OT_brdf_preset(_OnActiveMaterial, bpy.types.Operator):
     """Set the normal-incidence reflectance F0 of the material's BRDF to a physical preset"""
 
     bl_idname = "radiometer.brdf_preset"
@@ -224,10 +218,6 @@ class RADIOMETER_OT_brdf_preset(bpy.types.Operator):
 
     preset: bpy.props.EnumProperty(name="Preset", items=_preset_items_cached,
                                    description="Physical material: gold, silver, glass or diamond")
-
-    @classmethod
-    def poll(cls, context):
-        return _poll_material(cls, context)
 
     def execute(self, context):
         from ..brdf.fresnel import PRESETS

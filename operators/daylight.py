@@ -3,6 +3,7 @@
 import bpy
 
 from ..errors import RadiometerError
+from .polls import needs
 
 #: Last sun set per scene name (shown by panels/daylight.py; plain data, no maths).
 LAST = {}
@@ -28,10 +29,7 @@ class RADIOMETER_OT_set_sun(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.scene is None or not hasattr(context.scene, "radiometer_daylight"):
-            cls.poll_message_set("no scene")
-            return False
-        return True
+        return needs(cls, context.scene is not None and hasattr(context.scene, "radiometer_daylight"), "no scene")
 
     def execute(self, context):
         import math

@@ -5,6 +5,7 @@ import bpy
 from bpy.props import EnumProperty
 
 from ..errors import RadiometerError
+from .polls import needs
 
 
 class RADIOMETER_OT_luminance_image(bpy.types.Operator):
@@ -28,10 +29,7 @@ class RADIOMETER_OT_luminance_image(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.scene is None or context.scene.camera is None:
-            cls.poll_message_set("the scene has no camera")
-            return False
-        return True
+        return needs(cls, context.scene is not None and context.scene.camera is not None, "the scene has no camera")
 
     def execute(self, context):
         import os

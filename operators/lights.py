@@ -4,6 +4,7 @@ import bpy
 from bpy.props import EnumProperty, FloatProperty
 
 from ..errors import RadiometerError
+from .polls import needs
 
 _UNIT_ITEMS = [
     ("LUMEN", "Lumens (lm)", "Luminous flux (point, spot: of the equivalent point light; area: total)"),
@@ -29,10 +30,7 @@ class RADIOMETER_OT_set_light_power(bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         ob = context.active_object
-        if ob is None or ob.type != "LIGHT":
-            cls.poll_message_set("select a light")
-            return False
-        return True
+        return needs(cls, ob is not None and ob.type == "LIGHT", "select a light")
 
     def invoke(self, context, event):
         from .. import api

@@ -6,6 +6,7 @@ from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty
 from ..props.meter import METER_KINDS
 from .. import api
 from .modal import Step, Task, TaskOperator
+from .polls import needs, registered
 
 
 def add_meter(context, kind, location, acceptance_deg=1.0, rotation=None):
@@ -22,13 +23,19 @@ ALIGN_ITEMS = [
 
 def _poll_scene_collection(cls, context):
     """Adding objects needs a scene and an active collection (else say so in the tooltip)."""
-    if context.scene is None or context.collection is None:
-        cls.poll_message_set("needs a scene and an active collection")
-        return False
-    return True
+    return needs(cls, context.scene is not None and context.collection is not None,
+                 "needs a scene and an active collection")
 
 
-class RADIOMETER_OT_add_meter(bpy.types.Operator):
+class _AddsObjects:
+    """Mixin: an operator that adds objects to the active collection."""
+
+    @classmethod
+    def poll(cls, context):
+        return _poll_scene_collection(cls, context)
+
+
+class RADIOMETER_OT_add_meter(_AddsObjects, bpy.types.Operator):
     """Add a light meter at the 3D cursor"""
 
     bl_idname = "radiometer.add_meter"
@@ -45,10 +52,6 @@ class RADIOMETER_OT_add_meter(bpy.types.Operator):
     rotation: FloatVectorProperty(name="Rotation", size=3, subtype="EULER",
                                   description="The meter's rotation (with Align World; set from the view or the "
                                               "cursor otherwise)")
-
-    @classmethod
-    def poll(cls, context):
-        return _poll_scene_collection(cls, context)
 
     def invoke(self, context, event):
         if not self.properties.is_property_set("location"):
@@ -123,7 +126,7 @@ def view_ray(context, event):
     return None
 
 
-class RADIOMETER_OT_add_meter_on_surface(bpy.types.Operator):
+class RADIOMETER_OT_add_meter_on_surface(_AddsObjects, bpy.types.Operator):
     """Add an illuminance meter on the surface under the mouse, facing out of it (click a face; Esc cancels)"""
 
     bl_idname = "radiometer.add_meter_on_surface"
@@ -136,10 +139,6 @@ class RADIOMETER_OT_add_meter_on_surface(bpy.types.Operator):
                                        subtype="DIRECTION",
                                        description="Direction of the ray that picks the surface (set from the "
                                                    "mouse)")
-
-    @classmethod
-    def poll(cls, context):
-        return _poll_scene_collection(cls, context)
 
     def _status(self, context, text):
         if context.workspace is not None:
@@ -222,13 +221,9 @@ class RADIOMETER_OT_measure(TaskOperator, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.scene is None or not hasattr(context.scene, "radiometer"):
-            cls.poll_message_set("Radiometer is not registered for this scene")
-            return False
-        if not any(ob.radiometer_meter.is_meter for ob in context.scene.objects):
-            cls.poll_message_set("no light meters in the scene: add one with Add > Light Meter")
-            return False
-        return cls.task_poll(context)
+        return registered(cls, context) and needs(
+            cls, any(ob.radiometer_meter.is_meter for ob in context.scene.objects),
+            "no light meters in the scene: add one with Add > Light Meter") and cls.task_poll(context)
 
     def _targets(self, context):
         selected = [ob for ob in context.selected_objects if ob.radiometer_meter.is_meter]

@@ -4,6 +4,7 @@ import bpy
 from bpy.props import EnumProperty, FloatProperty
 
 from ..errors import RadiometerError
+from .polls import needs
 
 def _sky_items(_self, _context):
     from ..radiometry.skies import cie_sky
@@ -41,10 +42,7 @@ class RADIOMETER_OT_set_cie_sky(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.scene is None:
-            cls.poll_message_set("no scene")
-            return False
-        return True
+        return needs(cls, context.scene is not None, "no scene")
 
     def invoke(self, context, _event):
         return context.window_manager.invoke_props_dialog(self)

@@ -4,16 +4,14 @@ import bpy
 from bpy.props import FloatProperty, FloatVectorProperty
 
 from ..errors import RadiometerError
+from .polls import needs
 
 #: Last world reading per scene name (shown by panels/world.py; plain data, no maths).
 LAST = {}
 
 
 def _needs_world(cls, context):
-    if context.scene is None or context.scene.world is None:
-        cls.poll_message_set("the scene has no world")
-        return False
-    return True
+    return needs(cls, context.scene is not None and context.scene.world is not None, "the scene has no world")
 
 
 class RADIOMETER_OT_world_illuminance(bpy.types.Operator):

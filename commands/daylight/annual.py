@@ -32,7 +32,6 @@ def run(args):
     import bpy
     import numpy as np
 
-    from ... import api
     from ... import api, validation
     from ...radiometry.sun import epw
     from .. import _io
