@@ -5,7 +5,11 @@ is hidden in renders and the world is replaced by a temporary traditional CIE ov
 (``measure.authoring.sky``: L = Lz (1 + 2 cos Z) / 3, E_out,h = 10 000 lx, a uniform ground of luminance
 rho_g E_h / pi below a sharp horizon); the ordinary meter measures (exact where nothing lies above a
 meter's horizon, rendered with a stated error through windows); the guard then restores the
-user's world, lights and data-blocks. ``method="camera"`` measures through the meter camera of
+user's world, lights and data-blocks. With ``method="auto"``, where ``measure.analyses.sky_component``
+proves the sky component (SC: convex open openings in a closed opaque room, nothing outside in the
+way), the reading is the SC in closed form plus a render of the rest only (the sky's direct emission
+gated off, ``sky_component.gate_world``; the target counts the SC), and it reports ``sky_component``
+and ``reflected_component``; elsewhere the whole is rendered, and the notes say why. ``method="camera"`` measures through the meter camera of
 ``measure.analyses.daylight_coefficients`` instead of sensor bakes (cosine-weighted rays from each point, a
 fixed number per quality, the error stated; measured 7-80x less time per point for the same variance
 at 3 points of the side-lit test room, 2.2x on its 100-point bench grid: docs/daylight-sky.md). Emitting surfaces (emission shaders) are NOT switched off:
@@ -143,6 +147,7 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
                                 cancelled=cancelled, label="daylight factor")
         out = [r for part in parts for r in part]
         return out[0] if single else out
+    sky = None  # the proven sky component per point (lux), where ``_split_readings`` proved it
     if method == "camera":
         if target_rel_error is not None:
             raise RadiometerError("method='camera' takes quality (a fixed number of rays per point), not "
@@ -159,7 +164,6 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
                 readings, sky = _split_readings(scene, points, dirs, rho, seed, measure)
             else:
                 readings = meter.measure_illuminance(points, dirs, scene=scene, method=method, seed=seed, **measure)
-                sky = None
     readings = readings if isinstance(readings, list) else [readings]
     sky = [None] * len(readings) if sky is None else sky
     out = []
@@ -193,7 +197,7 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
                                              **measure)
         readings = readings if isinstance(readings, list) else [readings]
         for r, c in zip(readings, scs):
-            r.notes.append(f"sky component not proven ({c.reason}): the whole daylight factor is rendered")
+            r.notes.append(f"sky component not proven ({c.reason}): the daylight factor is measured whole")
         return readings, None
     out = [None] * len(points)
     rest = np.flatnonzero(~proven)
@@ -201,7 +205,7 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
         whole = meter.measure_illuminance(points[rest], dirs[rest], scene=scene, method="auto", seed=seed + 1,
                                           model=model, **measure)
         for k, r in zip(rest, whole if isinstance(whole, list) else [whole]):
-            r.notes.append(f"sky component not proven ({scs[k].reason}): the whole daylight factor is rendered")
+            r.notes.append(f"sky component not proven ({scs[k].reason}): the daylight factor is measured whole")
             out[k] = r
     factor = sky_component.gate_world(scene)
     ok, gate_note = sky_component.check_world_gate(scene, factor, model, horizontal_lux=SKY_HORIZONTAL_LUX)
@@ -364,8 +368,8 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
         if method == "auto":
             proven = int(np.sum(~np.isnan(sc)))
             notes.append(f"sky component proven in closed form at {proven} of {nx * ny} points (the rest of the "
-                         "light rendered there); " + ("every point rendered whole" if proven == 0 else
-                                                     f"{nx * ny - proven} point(s) rendered whole"))
+                         "light rendered there); " + ("every point measured whole" if proven == 0 else
+                                                     f"{nx * ny - proven} point(s) measured whole"))
             if proven < nx * ny:
                 notes.append("not proven at the first such point: " + next(
                     (x for x in readings[int(np.flatnonzero(np.isnan(sc))[0])].notes if "not proven" in x), "?"))

@@ -18,8 +18,12 @@ only when all of these are proven:
 Then SC = sum over apertures of the closed form (``aperture_illuminance``), and the world's ground
 seen directly through the apertures (its luminance rho_g E_h / pi below the sharp horizon) is stated
 too where the whole pyramid (below the horizontal plane as well) is proven clear. Otherwise the
-reading's SC is None with the reason. Nothing here changes a reading's value: the total daylight
-factor is measured as before, and the SC is an exact part of it.
+reading's SC is None with the reason.
+
+``daylight_factor`` (``method="auto"``) reads the SC from here where it is proven and renders only
+the rest: ``gate_world`` darkens the temporary sky where a sensor would see it straight (Light Path
+Ray Depth, the world's light sampling off), ``check_world_gate`` proves that gate once per Blender
+session and device (docs/daylight-sky.md).
 """
 
 import dataclasses
