@@ -96,3 +96,17 @@ def test_grid_reports_the_sky_component(clean_blender, build):
     assert any("proven in closed form at 6 of 6 points" in n for n in g.notes)
     d = g.to_dict()
     assert np.array(d["sky_component"]).shape == (2, 3)
+
+
+def test_a_gate_that_fails_its_check_is_not_used(clean_blender, monkeypatch):
+    # As if Cycles reported another Ray Depth for a sensor's direct world hits: the check sees the direct
+    # band read 0 instead of the sky, and the SC is not used (the whole is rendered, and said so).
+    monkeypatch.setattr(sky_component, "DIRECT_DEPTH", 1.0)
+    monkeypatch.setattr(sky_component, "_GATE_CHECKS", {})
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    before = _state(scene)
+    r = api.daylight_factor((2.0, 1.5, 0.85), quality="preview", seed=1)
+    assert r.sky_component is None and r.method == "render" and r.daylight_factor > 5.0
+    assert any("does NOT hold" in n for n in r.notes)
+    assert _state(scene) == before
