@@ -1012,6 +1012,8 @@ def markdown(res):
         import daylight_factor
 
         out += daylight_factor.markdown(res["daylight_factor"])
+    if "daylight_split" in res:
+        out += __import__("daylight_split").markdown(res["daylight_split"])
     if "annual" in res:
         out += __import__("annual").markdown(res["annual"])
     return "\n".join(out)
@@ -1049,6 +1051,9 @@ BENCHES["sun_study"] = lambda: __import__("sun_study").bench_sun_study(QUICK)
 
 # Issue 19 (bench/daylight_factor.py): 100-point daylight-factor grid vs electric-light grid at 1 %.
 BENCHES["daylight_factor"] = lambda: __import__("daylight_factor").bench_daylight_factor(QUICK)
+# Issue 31 (bench/daylight_split.py): the DF grid with the sky component proven vs rendered whole vs electric.
+BENCHES["daylight_split"] = lambda: __import__("daylight_split").bench_daylight_split(4 if QUICK else 10,
+                                                                                     0.05 if QUICK else 0.01)
 
 # Issue 19 (bench/annual.py): annual sDA/ASE vs Radiance on a room that does not saturate; dome vs per-patch cost.
 BENCHES["annual"] = lambda: __import__("annual").bench_annual(QUICK)
