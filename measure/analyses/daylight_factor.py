@@ -364,6 +364,8 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
         where = (f"on a Dask cluster in chunks of {int(chunk_points)} points" if client is not None
                  else "through the meter camera" if method == "camera" else "point by point")
         notes = [f"{nx} x {ny} points at cell centres on the plane, measured {where}"]
+        if obj.hide_render:
+            notes.append("the plane is hidden in renders: an imaginary work plane that neither blocks nor reflects")
         sc = np.array([np.nan if r.sky_component is None else r.sky_component for r in readings], float)
         if method == "auto":
             proven = int(np.sum(~np.isnan(sc)))
