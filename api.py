@@ -676,7 +676,11 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
     lights and data-blocks are restored afterwards. Returns a ``DaylightFactorReading`` (or a list):
     ``daylight_factor`` (%), ``rel_std_error``, ``illuminance`` (lux), ``exact``, ``method``, ``notes``.
     ``method``: the meter's ("auto", ...), or "camera": cosine-weighted rays from each point through a
-    custom camera, a fixed number per quality, the error stated (docs/daylight-sky.md).
+    custom camera, a fixed number per quality, the error stated (docs/daylight-sky.md). With "auto",
+    where the sky component is proven (convex open openings in a closed opaque room, nothing outside in
+    the way) it is read in closed form and only the rest is rendered: the reading's ``sky_component``
+    and ``reflected_component`` (%) say how much of each (None where not proven, with the reason in
+    ``notes``).
     ``client``: a Dask client: the points run in chunks of 256 on its workers (docs/cluster.md).
     ``target_abs_error``: the absolute error floor in daylight-factor points (None: the preset's, 0.025 /
     0.005 / 0.001 for preview / standard / reference; 0: none), beside the relative target.
@@ -702,6 +706,8 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
     site's ``median_external_illuminance_lux`` (E_v,d, EN 17037 Annex A) is given. ``client``: a Dask
     client: the grid's points run in chunks of 256 on its workers (docs/cluster.md).
     ``target_abs_error``: the absolute error floor in daylight-factor points (see :func:`daylight_factor`).
+    With ``method="auto"`` the grid's ``sky_component`` (ny, nx) % is the proven closed form (NaN where
+    not proven; see :func:`daylight_factor`).
     """
     from .measure.analyses import daylight_factor as df
 

@@ -10,13 +10,15 @@ lights off, temporary overcast world).
 import time
 
 
-def bench_daylight_factor(quick=False):
+def side_lit_scene():
+    """The room, a hidden 3.5 x 2.5 m work plane at 0.85 m, one 0.6 m area light, a black world:
+    (scene, plane)."""
     import bpy
-    import numpy as np
 
     import radiometer
     from radiometer import api
     from scenes import load_test_module
+    from radiometer.compat import ensure_node_tree
 
     room = load_test_module("daylight_room")
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -24,8 +26,6 @@ def bench_daylight_factor(quick=False):
         radiometer.register()
     scene = bpy.context.scene
     room.build_blender(scene)
-    from radiometer.compat import ensure_node_tree
-
     world = bpy.data.worlds.new("black")
     ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
@@ -40,6 +40,15 @@ def bench_daylight_factor(quick=False):
     lamp = bpy.data.objects.new("panel", light)
     lamp.location = (2.0, 1.5, 2.65)
     scene.collection.objects.link(lamp)
+    return scene, plane
+
+
+def bench_daylight_factor(quick=False):
+    import numpy as np
+
+    from radiometer import api
+
+    scene, plane = side_lit_scene()
     n = 4 if quick else 10
     target = 0.05 if quick else 0.01
     t0 = time.perf_counter()

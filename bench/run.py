@@ -998,7 +998,7 @@ def markdown(res):
                 f"(1000 points x 8760 h) on 16 / 64 / 256 cores: "
                 + " / ".join(f"{r['total_s'] / 60:.1f} min" for r in c["projection"])
                 + ". Overheads and the projection's model: bench/cluster.md (bench/cluster.py).", ""]
-    for key in ("sun_study", "daylight_factor", "annual"):  # bench/<key>.py writes its own section
+    for key in ("sun_study", "daylight_factor", "daylight_split", "annual"):  # bench/<key>.py writes its own section
         if key in res:
             out += __import__(key).markdown(res[key])
     return "\n".join(out)
@@ -1036,6 +1036,9 @@ BENCHES["sun_study"] = lambda: __import__("sun_study").bench_sun_study(QUICK)
 
 # Issue 19 (bench/daylight_factor.py): 100-point daylight-factor grid vs electric-light grid at 1 %.
 BENCHES["daylight_factor"] = lambda: __import__("daylight_factor").bench_daylight_factor(QUICK)
+# Issue 31 (bench/daylight_split.py): the DF grid with the sky component proven vs rendered whole vs electric.
+BENCHES["daylight_split"] = lambda: __import__("daylight_split").bench_daylight_split(4 if QUICK else 10,
+                                                                                     0.05 if QUICK else 0.01)
 
 # Issue 19 (bench/annual.py): annual sDA/ASE vs Radiance on a room that does not saturate; dome vs per-patch cost.
 BENCHES["annual"] = lambda: __import__("annual").bench_annual(QUICK)

@@ -5,7 +5,11 @@ is hidden in renders and the world is replaced by a temporary traditional CIE ov
 (``measure.authoring.sky``: L = Lz (1 + 2 cos Z) / 3, E_out,h = 10 000 lx, a uniform ground of luminance
 rho_g E_h / pi below a sharp horizon); the ordinary meter measures (exact where nothing lies above a
 meter's horizon, rendered with a stated error through windows); the guard then restores the
-user's world, lights and data-blocks. ``method="camera"`` measures through the meter camera of
+user's world, lights and data-blocks. With ``method="auto"``, where ``measure.analyses.sky_component``
+proves the sky component (SC: convex open openings in a closed opaque room, nothing outside in the
+way), the reading is the SC in closed form plus a render of the rest only (the sky's direct emission
+gated off, ``sky_component.gate_world``; the target counts the SC), and it reports ``sky_component``
+and ``reflected_component``; elsewhere the whole is rendered, and the notes say why. ``method="camera"`` measures through the meter camera of
 ``measure.analyses.daylight_coefficients`` instead of sensor bakes (cosine-weighted rays from each point, a
 fixed number per quality, the error stated; measured 7-80x less time per point for the same variance
 at 3 points of the side-lit test room, 2.2x on its 100-point bench grid: docs/daylight-sky.md). Emitting surfaces (emission shaders) are NOT switched off:
@@ -37,7 +41,10 @@ SKY_HORIZONTAL_LUX = 10_000.0
 @dataclasses.dataclass
 class DaylightFactorReading:
     """``daylight_factor`` (%) and its 1-sigma ``rel_std_error``; ``illuminance`` (lux) under an
-    overcast sky of ``sky_horizontal_lux``; ``exact``, ``method``, ``notes`` from the meter."""
+    overcast sky of ``sky_horizontal_lux``; ``exact``, ``method``, ``notes`` from the meter.
+    ``sky_component`` (%): the direct sky through the openings, proven in closed form (no error), and
+    ``reflected_component`` (%): the rest, rendered (externally + internally reflected light, the
+    ground seen through the openings); both None where the sky component was not proven."""
 
     location: tuple
     normal: tuple
@@ -48,6 +55,8 @@ class DaylightFactorReading:
     exact: bool
     method: str
     notes: list
+    sky_component: object = None
+    reflected_component: object = None
 
     def to_dict(self):
         return dataclasses.asdict(self)
@@ -138,6 +147,7 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
                                 cancelled=cancelled, label="daylight factor")
         out = [r for part in parts for r in part]
         return out[0] if single else out
+    sky = None  # the proven sky component per point (lux), where ``_split_readings`` proved it
     if method == "camera":
         if target_rel_error is not None:
             raise RadiometerError("method='camera' takes quality (a fixed number of rays per point), not "
@@ -148,16 +158,85 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
     else:
         with scene_guard.preserved_scene(scene) as snapshot:
             notes = overcast_only(scene, snapshot, rho)
-            readings = meter.measure_illuminance(points, dirs, scene=scene, method=method, quality=quality,
-                                                 target_rel_error=target_rel_error, seed=seed, progress=progress,
-                                                 cancelled=cancelled,
-                                                 target_abs_error=floor_lux(quality, target_abs_error))
+            measure = dict(quality=quality, target_rel_error=target_rel_error, progress=progress, cancelled=cancelled,
+                           target_abs_error=floor_lux(quality, target_abs_error))
+            if method == "auto":
+                readings, sky = _split_readings(scene, points, dirs, rho, seed, measure)
+            else:
+                readings = meter.measure_illuminance(points, dirs, scene=scene, method=method, seed=seed, **measure)
     readings = readings if isinstance(readings, list) else [readings]
-    out = [DaylightFactorReading(tuple(map(float, p)), tuple(map(float, n)), 100.0 * r.illuminance / SKY_HORIZONTAL_LUX,
-                                 float(r.rel_std_error), float(r.illuminance), SKY_HORIZONTAL_LUX, bool(r.exact),
-                                 r.method, notes + list(r.notes))
-           for p, n, r in zip(points, dirs, readings)]
+    sky = [None] * len(readings) if sky is None else sky
+    out = []
+    for p, n, r, sc in zip(points, dirs, readings, sky):
+        df = 100.0 * r.illuminance / SKY_HORIZONTAL_LUX
+        sc_df = None if sc is None else 100.0 * sc / SKY_HORIZONTAL_LUX
+        how = r.method if sc is None else r.method.replace("render", "hybrid", 1)  # closed-form SC + render
+        out.append(DaylightFactorReading(tuple(map(float, p)), tuple(map(float, n)), df, float(r.rel_std_error),
+                                         float(r.illuminance), SKY_HORIZONTAL_LUX, bool(r.exact), how,
+                                         notes + list(r.notes), sc_df, None if sc is None else df - sc_df))
     return out[0] if single else out
+
+
+def _split_readings(scene, points, dirs, rho, seed, measure):
+    """``method="auto"`` inside the caller's guard (the overcast sky set): where ``sky_component`` proves the
+    direct sky (SC), the reading is SC plus a render of the rest with the sky's direct emission gated
+    off (``sky_component.gate_world``); elsewhere the whole is rendered. Returns (readings, SC lux per
+    point or None)."""
+    from ..meter import point_meter as meter
+    from . import sky_component
+    from .analysis_common import view_layer_of
+
+    model = meter.capture_model(scene, view_layer_of(scene))  # the overcast sky as the meter knows it
+    scale = scene.unit_settings.scale_length
+    sensors, _eps = meter.sensor_points(points, dirs, scale, model)
+    scs = sky_component.sky_components(scene, sensors * scale, dirs, ground_reflectance=rho,
+                                       horizontal_lux=SKY_HORIZONTAL_LUX, model=model)
+    proven = np.array([c.sky_lux is not None for c in scs])
+    if not proven.any():
+        readings = meter.measure_illuminance(points, dirs, scene=scene, method="auto", seed=seed, model=model,
+                                             **measure)
+        readings = readings if isinstance(readings, list) else [readings]
+        for r, c in zip(readings, scs):
+            r.notes.append(f"sky component not proven ({c.reason}): the daylight factor is measured whole")
+        return readings, None
+    out = [None] * len(points)
+    rest = np.flatnonzero(~proven)
+    if rest.size:
+        whole = meter.measure_illuminance(points[rest], dirs[rest], scene=scene, method="auto", seed=seed + 1,
+                                          model=model, **measure)
+        for k, r in zip(rest, whole if isinstance(whole, list) else [whole]):
+            r.notes.append(f"sky component not proven ({scs[k].reason}): the daylight factor is measured whole")
+            out[k] = r
+    factor = sky_component.gate_world(scene)
+    ok, gate_note = sky_component.check_world_gate(scene, factor, model, horizontal_lux=SKY_HORIZONTAL_LUX)
+    take = np.flatnonzero(proven)
+    if not ok:  # the gate failed its check: render those points whole too, and say why
+        sky_component.set_gate_mode(factor, "off")
+        scene.world.cycles.sampling_method = "AUTOMATIC"  # the temporary sky's own setting again
+        view_layer_of(scene).update()
+        whole = meter.measure_illuminance(points[take], dirs[take], scene=scene, method="auto", seed=seed,
+                                          model=model, **measure)
+        for k, r in zip(take, whole if isinstance(whole, list) else [whole]):
+            r.notes += [gate_note, "so the sky component was not used: the whole daylight factor is rendered"]
+            out[k] = r
+        return out, None
+    view_layer_of(scene).update()
+    _space, weights, efficacy = meter.scene_photometry(scene)
+    sc_lux = np.array([scs[k].sky_lux for k in take], float)
+    grey = np.repeat((sc_lux / efficacy)[:, None], 3, axis=1)  # the sky is white: W/m^2 per channel
+    split = meter.measure_illuminance(points[take], dirs[take], scene=scene, method="auto", seed=seed, model=model,
+                                      proven=(grey, "sky component (closed form)"), **measure)
+    for k, r in zip(take, split if isinstance(split, list) else [split]):
+        r.notes += [f"sky component proven ({scs[k].apertures} convex open opening(s) in a closed opaque shell, "
+                    "nothing outside in the way): the CIE overcast sky through them in closed form "
+                    "(radiometry/skies/sky_aperture.py), exact; Cycles rendered only the rest (the sky's direct "
+                    "emission gated off by Light Path Ray Depth, the ground seen through the openings and every "
+                    "reflection kept)", gate_note]
+        out[k] = r
+    sky = [None] * len(points)
+    for j, k in enumerate(take):
+        sky[k] = float(sc_lux[j])
+    return out, sky
 
 
 def _camera_readings(scene, points, dirs, quality, seed, progress, cancelled):
@@ -215,7 +294,8 @@ def plane_statistics(df, *, target_percent=None, median_external_illuminance_lux
 @dataclasses.dataclass
 class DaylightFactorGrid:
     """``daylight_factor`` (ny, nx) %, ``rel_std_error`` (ny, nx), ``points`` (ny, nx, 3), ``stats``
-    (``plane_statistics``), ``target``, ``normal``, ``method``, ``exact``, ``notes``."""
+    (``plane_statistics``), ``target``, ``normal``, ``method``, ``exact``, ``notes``; ``sky_component``
+    (ny, nx) % proven in closed form, NaN where not proven (None: not sought)."""
 
     target: str
     nx: int
@@ -228,11 +308,14 @@ class DaylightFactorGrid:
     method: str
     exact: bool
     notes: list
+    sky_component: object = None
 
     def to_dict(self):
         d = dataclasses.asdict(self)
         for k in ("daylight_factor", "rel_std_error", "points"):
             d[k] = np.asarray(d[k]).tolist()
+        if self.sky_component is not None:  # JSON has no NaN: null where not proven
+            d["sky_component"] = [[None if math.isnan(v) else float(v) for v in row] for row in self.sky_component]
         return d
 
     def csv_text(self):
@@ -268,7 +351,7 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
 
     scene = scene or bpy.context.scene
     rho = _check_rho(ground_reflectance)
-    if client is not None or method == "camera":  # point by point (the meter camera has no grid form)
+    if client is not None or method in ("camera", "auto"):  # point by point (camera: no grid form; auto: the SC)
         obj, nx, ny, points, normal = _grid_layout(scene, target, resolution, spacing)
         readings = daylight_factor(points.reshape(-1, 3), np.broadcast_to(normal, (nx * ny, 3)), scene=scene,
                                    quality=quality, ground_reflectance=rho, target_rel_error=target_rel_error,
@@ -279,11 +362,24 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
         stats = plane_statistics(df, target_percent=target_percent,
                                  median_external_illuminance_lux=median_external_illuminance_lux)
         where = (f"on a Dask cluster in chunks of {int(chunk_points)} points" if client is not None
-                 else "through the meter camera")
-        notes = [f"{nx} x {ny} points at cell centres on the plane, measured {where}"] + list(readings[0].notes)
+                 else "through the meter camera" if method == "camera" else "point by point")
+        notes = [f"{nx} x {ny} points at cell centres on the plane, measured {where}"]
+        if obj.hide_render:
+            notes.append("the plane is hidden in renders: an imaginary work plane that neither blocks nor reflects")
+        sc = np.array([np.nan if r.sky_component is None else r.sky_component for r in readings], float)
+        if method == "auto":
+            proven = int(np.sum(~np.isnan(sc)))
+            notes.append(f"sky component proven in closed form at {proven} of {nx * ny} points (the rest of the "
+                         "light rendered there); " + ("every point measured whole" if proven == 0 else
+                                                     f"{nx * ny - proven} point(s) measured whole"))
+            if proven < nx * ny:
+                notes.append("not proven at the first such point: " + next(
+                    (x for x in readings[int(np.flatnonzero(np.isnan(sc))[0])].notes if "not proven" in x), "?"))
+        notes += list(readings[0].notes)
         methods = sorted({r.method for r in readings})
         return DaylightFactorGrid(obj.name, nx, ny, df, se, points, tuple(float(v) for v in normal), stats,
-                                  "/".join(methods), all(r.exact for r in readings), notes)
+                                  "/".join(methods), all(r.exact for r in readings), notes,
+                                  sc.reshape(ny, nx) if method == "auto" else None)
     with scene_guard.preserved_scene(scene) as snapshot:
         notes = overcast_only(scene, snapshot, rho)
         result = grid.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,

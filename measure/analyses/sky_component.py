@@ -18,8 +18,12 @@ only when all of these are proven:
 Then SC = sum over apertures of the closed form (``aperture_illuminance``), and the world's ground
 seen directly through the apertures (its luminance rho_g E_h / pi below the sharp horizon) is stated
 too where the whole pyramid (below the horizontal plane as well) is proven clear. Otherwise the
-reading's SC is None with the reason. Nothing here changes a reading's value: the total daylight
-factor is measured as before, and the SC is an exact part of it.
+reading's SC is None with the reason.
+
+``daylight_factor`` (``method="auto"``) reads the SC from here where it is proven and renders only
+the rest: ``gate_world`` darkens the temporary sky where a sensor would see it straight (Light Path
+Ray Depth, the world's light sampling off), ``check_world_gate`` proves that gate once per Blender
+session and device (docs/daylight-sky.md).
 """
 
 import dataclasses
@@ -115,3 +119,95 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
             why = "a surface outside may stand in front of the world's ground seen through an opening"
         out.append(SkyComponent(sky, ground, why, len(loops)))
     return out
+
+
+# --- rendering only the remainder (issue 31 item 2) --------------------------------------------------
+
+#: Cycles' Ray Depth of the world hits that reach a baked sensor straight (measured on bpy 5.0.1: 2 in
+#: the meter's bake for paths that hit the world; ``check_world_gate`` proves it again once per Blender
+#: session and device). The world's own light sampling (next-event estimation) evaluates the same
+#: shader at Ray Depth 1 from the sensor (measured: a gate on depth 1 read 4420 of 10 000 lx above the
+#: room), so a depth gate is only consistent with it off: ``gate_world`` switches it off.
+DIRECT_DEPTH = 2.0
+
+#: The verdicts of ``check_world_gate``: (Blender version, Cycles device) -> (ok, note).
+_GATE_CHECKS = {}
+
+
+def gate_world(scene):
+    """Inside the caller's guard, on the temporary sky world (``authoring.sky.set_cie_sky``): its
+    emission multiplied by 1 - (Ray Depth in the direct band) x (above the horizon), so that the sky
+    seen straight from a sensor is dark while the sky lighting any surface, and the ground below the
+    horizon, stay. The world's light sampling is switched off (the world is the guard's temporary one):
+    every world hit is then a BSDF-sampled ray whose depth says whether it left a sensor (2) or a
+    surface (3 or more); with it on, a depth gate is biased (measured: direct + rest read 13 460 lx where
+    the sky gives 10 000). Returns the gate's factor node (``set_gate_mode`` switches it)."""
+    scene.world.cycles.sampling_method = "NONE"
+    tree = scene.world.node_tree
+    bg = next(node for node in tree.nodes if node.bl_idname == "ShaderNodeBackground")
+    source = bg.inputs["Strength"].links[0].from_socket
+
+    def math_node(op, *inputs):
+        node = tree.nodes.new("ShaderNodeMath")
+        node.operation = op
+        for i, v in enumerate(inputs):
+            if isinstance(v, (int, float)):
+                node.inputs[i].default_value = float(v)
+            else:
+                tree.links.new(v, node.inputs[i])
+        return node
+
+    path = tree.nodes.new("ShaderNodeLightPath")
+    coord = tree.nodes.new("ShaderNodeTexCoord")
+    sep = tree.nodes.new("ShaderNodeSeparateXYZ")
+    tree.links.new(coord.outputs["Generated"], sep.inputs[0])
+    band = math_node("COMPARE", path.outputs["Ray Depth"], DIRECT_DEPTH, 0.5)  # 1 where |depth - 2| <= 0.5
+    above = math_node("GREATER_THAN", sep.outputs["Z"], 0.0)
+    mask = math_node("MULTIPLY", band.outputs[0], above.outputs[0])
+    factor = math_node("MULTIPLY_ADD", mask.outputs[0], -1.0, 1.0)  # 1 - mask (mode "remainder")
+    out = math_node("MULTIPLY", source, factor.outputs[0])
+    tree.links.new(out.outputs[0], bg.inputs["Strength"])
+    return factor
+
+
+def set_gate_mode(factor, mode):
+    """``remainder``: all but the direct sky; ``direct``: the direct sky alone (the check's band);
+    ``off``: the whole sky (the gate open)."""
+    mul, add = {"remainder": (-1.0, 1.0), "direct": (1.0, 0.0), "off": (0.0, 1.0)}[mode]
+    factor.inputs[1].default_value, factor.inputs[2].default_value = mul, add
+
+
+def check_world_gate(scene, factor, model, *, horizontal_lux, samples=1024):
+    """Prove the gate on this Blender and device (cached per session): a sensor facing up above every
+    surface sees only sky, so with the direct band alone it must read the unobstructed sky (all its
+    direct hits have Ray Depth 2, within 5 %: a wrong depth reads 0 or a fraction), and with the
+    remainder exactly 0 (no direct hit deeper than the band). A reflection adds one to the depth, so the
+    remainder keeps every reflected path. Returns (ok, note); leaves the gate in mode "remainder"."""
+    import bpy
+
+    from ..meter import point_meter as meter
+    from ..render import adaptive
+    from .analysis_common import view_layer_of
+
+    key = (bpy.app.version_string, str(getattr(scene.cycles, "device", "CPU")))
+    if key in _GATE_CHECKS:
+        set_gate_mode(factor, "remainder")
+        return _GATE_CHECKS[key]
+    scale = scene.unit_settings.scale_length
+    lo, hi = model.geometry.bounds()
+    top = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 1.0]) / scale
+    _space, weights, efficacy = meter.scene_photometry(scene)
+    read = {}
+    for mode in ("direct", "remainder"):
+        set_gate_mode(factor, mode)
+        view_layer_of(scene).update()
+        run = adaptive.render_hybrid(scene, view_layer_of(scene), top[None, :], np.array([[0.0, 0.0, 1.0]]),
+                                     needs=model.needs, bounces=4, weights=weights, fixed_samples=samples)
+        read[mode] = efficacy * float(run["mean_rgb"][0] @ weights)
+    set_gate_mode(factor, "remainder")
+    ok = abs(read["direct"] - horizontal_lux) <= 0.05 * horizontal_lux and read["remainder"] == 0.0
+    note = (f"the light-path gate was checked on this Blender ({key[0]}, {key[1]}): a sensor above every surface, "
+            f"facing up, read {read['direct']:.6g} lx from the direct band alone (the sky gives {horizontal_lux:g} lx) "
+            f"and {read['remainder']:.3g} lx from the rest" + ("" if ok else ": the gate does NOT hold here"))
+    _GATE_CHECKS[key] = (ok, note)
+    return ok, note

@@ -661,10 +661,12 @@ def _closed_form_part(model, decision, sensors_m, normals, direct_only):
 
 def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sensors_m, normals, *, preset,
                  method, direct_only, weights, target, budget, fixed, progress, cancelled, seed, scale, n_closed,
-                 target_abs=None, medium=None, pooling=False, stop_dark=False):
+                 target_abs=None, medium=None, pooling=False, stop_dark=False, proven=None):
     """Cycles (hybrid or render) at the meters that need it; ``direct`` is the plan cut to them
-    (``_plan_at``), as are the sensors and normals. Returns a dict: mean_rgb, bound_rgb, se_rgb (M, 3),
-    se, samples (M,), method, record, notes (common to these meters), parts (per meter)."""
+    (``_plan_at``), as are the sensors and normals. ``proven``: (rgb (M, 3) W/m^2, name) of a part
+    proven by the caller and already kept out of the render, added to it and counted in the target.
+    Returns a dict: mean_rgb, bound_rgb, se_rgb (M, 3), se, samples (M,), method, record, notes
+    (common to these meters), parts (per meter)."""
     from ..render import adaptive
 
     n = len(sensors_scene)
@@ -706,6 +708,8 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                 # specular chain to the light that no render finds: counted as a bound.
                 missing = ~take & (direct.interpane[i] > 0)
                 bound_rgb[missing] += np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
+    if proven is not None:
+        offset_rgb += np.asarray(proven[0], float)
     caustic = caustic_risk(model, direct, split, sensors_m)
     if caustic.any():
         per_light, _b, _i = analytic_irradiance(model, direct, sensors_m, normals)
@@ -736,7 +740,8 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                      f"region a pilot can miss, so up to {int(highlight.max()):,} samples per such meter (about "
                      f"{sample_floors.HIGHLIGHT_HITS} paths expected to find it) before the error is trusted "
                      "(issue 18: 512-sample pilots read a roughness-0.15 floor's highlight 25-29 % low)")
-    parts = [{"analytic": [lt.name for lt in model.lights if light_object_key(lt) in split[k]],
+    parts = [{"analytic": [lt.name for lt in model.lights if light_object_key(lt) in split[k]]
+              + ([proven[1]] if proven is not None else []),
               "rendered": ["everything else (reflected light, other lights, world, emitting surfaces)"]}
              for k in range(n)]
     run = adaptive.render_hybrid(scene, view_layer, sensors_scene, normals, needs=model.needs,
@@ -850,7 +855,7 @@ def pooled_notes(run, method, n):
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
                         exclude=(), seed=0, direct_only=False, model=None, pooling=True, target_abs_error=None,
-                        stop_dark=False):
+                        stop_dark=False, proven=None):
     """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``.
 
     ``direct_only``: light straight from the sources only (closed forms where proven, else Cycles
@@ -863,6 +868,10 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     ``target_abs_lux``); a meter stops where its error is below it or below the relative target.
     ``stop_dark``: a meter whose pilot finds no light stops there and states the rule-of-three bound
     (see ``radiometer.api.measure_illuminance``).
+    ``proven``: (rgb (N, 3) W/m^2 SI, name): a part of the light at every meter that the caller proved in
+    closed form and has kept out of what Cycles renders (issue 31: the daylight factor's sky component,
+    the world's direct emission gated off); it is added to the rendered rest, the relative target
+    counts it, and every meter is rendered (the meter's own closed forms would count that part again).
     """
     scene = scene or bpy.context.scene
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
@@ -896,6 +905,9 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     n = len(points_scene)
     direct = decision["direct"]
     closed = np.asarray(decision["closed_points"], bool)
+    if proven is not None:
+        closed = np.zeros(n, bool)
+        proven = (np.broadcast_to(np.asarray(proven[0], float), (n, 3)), str(proven[1]))
     mean_rgb, bound_rgb = np.zeros((n, 3)), np.zeros((n, 3))
     se_rgb, scalar_se, spent = np.zeros((n, 3)), np.zeros(n), np.zeros(n)
     upper = np.full(n, np.nan)  # one-sided 95 % bound (W/m^2) of a meter that found no light (issue 31)
@@ -915,7 +927,8 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                            method=method, direct_only=direct_only, weights=weights, target=target, budget=budget,
                            fixed=fixed, progress=progress, cancelled=cancelled, seed=seed, scale=scale,
                            n_closed=int(closed.sum()), medium=_world_medium(scene, model), pooling=pooling,
-                           target_abs=abs_floor, stop_dark=stop_dark)
+                           target_abs=abs_floor, stop_dark=stop_dark,
+                           proven=None if proven is None else (proven[0][rendered], proven[1]))
         mean_rgb[rendered], bound_rgb[rendered] = run["mean_rgb"], run["bound_rgb"]
         se_rgb[rendered], scalar_se[rendered], spent[rendered] = run["se_rgb"], run["se"], run["samples"]
         upper[rendered] = run["upper"]

@@ -1,0 +1,112 @@
+"""The daylight factor split (issue 31): where the sky component (SC) is proven in closed form
+(measure/analyses/sky_component.py), ``method="auto"`` reads SC + a render of the rest with the sky's
+direct emission gated off. Independent of that split: the render of everything (``method="render"``,
+another seed; Radiance against it in test_daylight_factor.py), and the closed form alone."""
+
+import importlib.util
+import math
+import pathlib
+
+import bpy
+import numpy as np
+
+from radiometer import api
+from radiometer.measure.analyses import sky_component
+from radiometer.measure.analyses.daylight_factor import SKY_HORIZONTAL_LUX
+
+
+def _room():
+    spec = importlib.util.spec_from_file_location("daylight_room", pathlib.Path(__file__).with_name("daylight_room.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+room = _room()
+
+
+def _state(scene):
+    ids = {name: sorted(b.name for b in getattr(bpy.data, name))
+           for name in ("objects", "worlds", "lights", "materials", "meshes", "images", "collections")}
+    return ids, scene.world, scene.cycles.samples
+
+
+def _se(r):
+    return r.rel_std_error * r.daylight_factor
+
+
+def test_split_agrees_with_the_whole_render(clean_blender):
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    user_world = bpy.data.worlds.new("user world")
+    scene.world = user_world
+    before = _state(scene)
+    points = room.POINTS + [(1.2, 0.4, 1.6)]
+    auto = api.daylight_factor(points, target_rel_error=0.01, seed=3)
+    assert _state(scene) == before
+    whole = api.daylight_factor(points, target_rel_error=0.01, seed=11, method="render")
+    pts = np.asarray(points, float)
+    closed = sky_component.sky_components(scene, pts, np.broadcast_to((0.0, 0.0, 1.0), pts.shape),
+                                          ground_reflectance=0.2, horizontal_lux=SKY_HORIZONTAL_LUX)
+    for a, w, c in zip(auto, whole, closed):
+        se = math.hypot(_se(a), _se(w))
+        print(f"split {a.daylight_factor:.4f} +- {_se(a):.4f} % (SC {a.sky_component:.4f}, reflected "
+              f"{a.reflected_component:.4f}); whole render {w.daylight_factor:.4f} +- {_se(w):.4f} %")
+        assert a.method.startswith("hybrid") and not a.exact and w.method == "render"
+        assert a.sky_component == 100.0 * c.sky_lux / SKY_HORIZONTAL_LUX  # the closed form, unchanged
+        assert a.reflected_component == a.daylight_factor - a.sky_component and a.reflected_component > 0
+        assert abs(a.daylight_factor - w.daylight_factor) <= 3.0 * se
+        assert 0 < a.rel_std_error <= 0.0101  # the target counts the proven part
+        assert any("sky component proven" in n for n in a.notes)
+        assert any("light-path gate was checked" in n and "does NOT" not in n for n in a.notes)
+        assert w.sky_component is None and w.reflected_component is None
+    assert _state(scene) == before
+
+
+def test_unproven_points_fall_back_and_say_why(clean_blender):
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    before = _state(scene)
+    # inside (proven) and outside the room in front of its wall (not proven: rendered whole)
+    inside, outside = api.daylight_factor([(2.0, 1.5, 0.85), (2.0, -2.0, 1.0)], seed=2)
+    assert inside.sky_component > 0 and inside.method.startswith("hybrid")
+    assert outside.sky_component is None and not outside.exact and outside.method == "render"
+    assert any("not proven (the point is outside" in n for n in outside.notes)
+    # an obstruction outside in front of the window: no proof, the whole is rendered
+    me = bpy.data.meshes.new("block")
+    me.from_pydata([(0.0, -3.0, 0.0), (4.0, -3.0, 0.0), (4.0, -3.0, 6.0), (0.0, -3.0, 6.0)], [], [(0, 1, 2, 3)])
+    scene.collection.objects.link(bpy.data.objects.new("block", me))
+    before = _state(scene)
+    blocked = api.daylight_factor((2.0, 1.5, 0.85), seed=2)
+    assert blocked.sky_component is None and blocked.reflected_component is None
+    assert blocked.method == "render" and not blocked.exact
+    assert any("not proven (a surface may stand between the point and the sky" in n for n in blocked.notes)
+    assert blocked.daylight_factor < inside.daylight_factor
+    assert _state(scene) == before
+
+
+def test_grid_reports_the_sky_component(clean_blender, build):
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    plane = build.plane(scene, size=2.0, location=(2.0, 1.5, 0.85), name="work plane")
+    plane.hide_render = True
+    g = api.daylight_factor_grid(plane, resolution=(3, 2), quality="preview", seed=4)
+    assert g.sky_component.shape == (2, 3) and np.all(g.sky_component > 0)
+    assert np.all(g.sky_component < g.daylight_factor) and g.method.startswith("hybrid") and not g.exact
+    assert any("proven in closed form at 6 of 6 points" in n for n in g.notes)
+    d = g.to_dict()
+    assert np.array(d["sky_component"]).shape == (2, 3)
+
+
+def test_a_gate_that_fails_its_check_is_not_used(clean_blender, monkeypatch):
+    # As if Cycles reported another Ray Depth for a sensor's direct world hits: the check sees the direct
+    # band read 0 instead of the sky, and the SC is not used (the whole is rendered, and said so).
+    monkeypatch.setattr(sky_component, "DIRECT_DEPTH", 1.0)
+    monkeypatch.setattr(sky_component, "_GATE_CHECKS", {})
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    before = _state(scene)
+    r = api.daylight_factor((2.0, 1.5, 0.85), quality="preview", seed=1)
+    assert r.sky_component is None and r.method == "render" and r.daylight_factor > 5.0
+    assert any("does NOT hold" in n for n in r.notes)
+    assert _state(scene) == before
