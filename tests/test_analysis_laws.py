@@ -123,6 +123,24 @@ def test_cell_centres_and_stats():
         grid.grid_stats([1.0, np.nan])
 
 
+def test_one_plane_statistics_for_illuminance_and_daylight_factor():
+    """Issue 30: one function; the illuminance grid's EN 12464-1 names and the daylight factor's are views
+    of it, and a dark plane has an undefined uniformity in both (NaN), never 0."""
+    from radiometer.measure.analyses.daylight_factor import plane_statistics as df_statistics
+
+    values = [[1.0, 2.0], [3.0, 6.0]]
+    s = grid.plane_statistics(values, target=2.5)
+    assert s == {"average": 3.0, "minimum": 1.0, "maximum": 6.0, "median": 2.5, "uniformity": pytest.approx(1 / 3),
+                 "points": 4, "target": 2.5, "share_at_or_above_target": 0.5}
+    e = grid.grid_stats(values)
+    assert (e["avg"], e["min"], e["max"], e["u0"], e["count"]) == (3.0, 1.0, 6.0, s["uniformity"], 4)
+    d = df_statistics(values, target_percent=2.5)
+    assert d["average"] == 3.0 and d["uniformity"] == s["uniformity"] and d["share_above_target"] == 0.5
+    dark = [0.0, 0.0, 0.0]
+    assert np.isnan(grid.plane_statistics(dark)["uniformity"]) and np.isnan(grid.grid_stats(dark)["u0"])
+    assert np.isnan(df_statistics(dark)["uniformity"])
+
+
 def test_convergence_fit_inverts_for_targets():
     n = np.array([16, 64, 256, 1024.0])
     err = 0.08 * n**-0.5

@@ -265,20 +265,21 @@ def _camera_readings(scene, points, dirs, quality, seed, progress, cancelled):
 def plane_statistics(df, *, target_percent=None, median_external_illuminance_lux=None):
     """Statistics of daylight factors ``df`` (%) over equal-area grid cells (pure numpy).
 
-    Returns a dict: average (BS 8206-2 average daylight factor), minimum, maximum, median,
-    uniformity (min / average), share_above_target (fraction of cells with DF >= target_percent),
+    Returns ``radiometry.metrics.grid.plane_statistics``' dict: average (BS 8206-2 average daylight
+    factor), minimum, maximum, median, uniformity (min / average; NaN on a dark plane), share_above_target (fraction of cells with DF >= target_percent),
     and ``en17037`` per level (minimum/medium/high): D_T, D_TM (%), share of the plane reaching each,
     and whether the level is met (D_T over >= 50 %, D_TM over >= 95 % of the plane).
     """
+    from ...radiometry.metrics.grid import plane_statistics as statistics
+
     v = np.asarray(df, float).ravel()
-    if v.size == 0 or not np.all(np.isfinite(v)):
-        raise RadiometerError("daylight factors must be finite numbers (got an empty or non-finite grid)")
-    avg = float(v.mean())
-    out = {"average": avg, "minimum": float(v.min()), "maximum": float(v.max()), "median": float(np.median(v)),
-           "uniformity": float(v.min() / avg) if avg > 0 else 0.0, "points": int(v.size)}
-    if target_percent is not None:
-        out["target_percent"] = float(target_percent)
-        out["share_above_target"] = float(np.mean(v >= float(target_percent)))
+    try:
+        out = statistics(v, target=target_percent)  # the one plane-statistics function (issue 30)
+    except ValueError:
+        raise RadiometerError("daylight factors must be finite numbers (got an empty or non-finite grid)") from None
+    if target_percent is not None:  # the daylight factor's own names for the target and its share
+        out["target_percent"] = out.pop("target")
+        out["share_above_target"] = out.pop("share_at_or_above_target")
     if median_external_illuminance_lux is not None:
         try:
             row = en17037.daylight_provision_daylight_factor(v, median_external_illuminance_lux)

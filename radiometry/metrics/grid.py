@@ -14,7 +14,7 @@ import numpy as np
 
 from ..units import as_finite_array
 
-__all__ = ["en12464_spacing", "grid_counts", "cell_centres", "grid_stats", "MAX_SPACING_M"]
+__all__ = ["en12464_spacing", "grid_counts", "cell_centres", "plane_statistics", "grid_stats", "MAX_SPACING_M"]
 
 #: EN 12464-1 caps the grid cell size at 10 m.
 MAX_SPACING_M = 10.0
@@ -58,13 +58,26 @@ def cell_centres(x_range, y_range, nx, ny):
     return np.stack([gx, gy], axis=-1)
 
 
-def grid_stats(values):
-    """avg, min, max, u0 = min/avg (and count) of a grid of illuminances (any unit; lux here).
-
-    Raises ValueError on NaN/inf or an empty grid; u0 is nan when avg is 0 (a dark grid).
-    """
-    v = as_finite_array(values, "grid values").ravel()
+def plane_statistics(values, *, target=None):
+    """The one set of statistics of a quantity over the equal-area cells of a plane (illuminance in lx,
+    a daylight factor in %, ...): a dict with ``average``, ``minimum``, ``maximum``, ``median``,
+    ``uniformity`` (minimum / average; NaN on a dark plane, where it is undefined) and ``points``;
+    with ``target``, also ``target`` and ``share_at_or_above_target`` (fraction of cells >= target).
+    Non-finite or no values raise ValueError."""
+    v = as_finite_array(values, "plane values").ravel()
     if v.size == 0:
-        raise ValueError("the grid is empty")
-    avg, lo, hi = float(v.mean()), float(v.min()), float(v.max())
-    return {"avg": avg, "min": lo, "max": hi, "u0": lo / avg if avg > 0 else float("nan"), "count": int(v.size)}
+        raise ValueError("the plane has no points")
+    avg = float(v.mean())
+    out = {"average": avg, "minimum": float(v.min()), "maximum": float(v.max()), "median": float(np.median(v)),
+           "uniformity": float(v.min()) / avg if avg > 0 else float("nan"), "points": int(v.size)}
+    if target is not None:
+        out["target"] = float(target)
+        out["share_at_or_above_target"] = float(np.mean(v >= float(target)))
+    return out
+
+
+def grid_stats(values):
+    """An illuminance grid's statistics under EN 12464-1's names (avg, min, max, u0 = min/avg, count),
+    from :func:`plane_statistics` (the names the grid's JSON, CSV and reports have always used)."""
+    s = plane_statistics(values)
+    return {"avg": s["average"], "min": s["minimum"], "max": s["maximum"], "u0": s["uniformity"], "count": s["points"]}
