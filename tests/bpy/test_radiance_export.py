@@ -1,0 +1,188 @@
+"""The Radiance export (api.export_radiance, `radiometer export-radiance`, measure/reports/radiance_export.py):
+the exported scene, run with Radiance's rtrace (pyradiance's binaries, test-only), reads the same daylight
+factor and illuminance as Radiometer in the side-lit room (6 mm pane) and the daylit demo room, within
+the combined standard errors; bad input gets one line and writes nothing; the scene is untouched.
+
+Radiance is run as a path tracer, so that its answer carries a stated standard error rather than the
+ambient cache's unstated bias: ``rtrace -I+ -h -ab 32 -aa 0 -ad 1 -as 0 -lw 1e-9 -lr 64 -u+`` (no
+ambient cache, one hemisphere ray per input line, uncorrelated sampling, up to 32 bounces with a 1e-9
+weight limit: converged in bounces for these rooms, whose highest reflectance is 0.7), each point
+repeated N times; the mean and the standard error of the mean over the repeats."""
+
+import importlib.util
+import json
+import math
+import os
+import pathlib
+import subprocess
+
+import bpy
+import numpy as np
+import pytest
+
+from radiometer import api
+from radiometer.errors import RadiometerError
+
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(name, pathlib.Path(__file__).with_name(f"{name}.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+room = _load("daylight_room")
+RTRACE = ["rtrace", "-h", "-I+", "-ab", "32", "-aa", "0", "-ad", "1", "-as", "0", "-lw", "1e-9", "-lr", "64", "-u+"]
+
+
+def rtrace_lux(folder, sky, points_file, samples, seed_lines=None):
+    """(illuminance lx (N,), its relative standard error (N,)) at the sensors of ``points_file`` from the
+    exported scene under ``sky`` (a file of the export), Radiance's path tracer (module docstring);
+    lux = 179 x (.265 R + .670 G + .065 B)."""
+    bindir, libdir = room.radiance_bin()
+    env = dict(os.environ, PATH=bindir + os.pathsep + os.environ.get("PATH", ""),
+               RAYPATH=os.pathsep.join([folder, libdir]))
+    with open(os.path.join(folder, "test.oct"), "wb") as f:
+        subprocess.run(["oconv", sky, "scene.rad"], cwd=folder, env=env, stdout=f, check=True)
+    lines = pathlib.Path(folder, points_file).read_text().splitlines()
+    rays = "".join((line + "\n") * samples for line in lines)
+    out = subprocess.run(RTRACE + ["test.oct"], cwd=folder, env=env, input=rays, capture_output=True, text=True,
+                         check=True)
+    rgb = np.array(out.stdout.split(), float).reshape(len(lines), samples, 3)
+    y = 179.0 * rgb @ np.array([0.265, 0.670, 0.065])
+    mean = y.mean(axis=1)
+    return mean, y.std(axis=1, ddof=1) / np.sqrt(samples) / mean
+
+
+def _state(scene):
+    ids = {name: sorted(b.name for b in getattr(bpy.data, name)) for name in ("objects", "worlds", "lights", "materials")}
+    return ids, scene.world, scene.render.engine, scene.render.resolution_x, scene.cycles.samples
+
+
+def _agree(name, ours, our_rel, ref, ref_rel):
+    se = math.hypot(our_rel * ours, ref_rel * ref)
+    print(f"{name}: Radiometer {ours:.5g} +- {100 * our_rel:.2f} %, Radiance {ref:.5g} +- {100 * ref_rel:.2f} % "
+          f"({(ours - ref) / se:+.2f} sigma)")
+    assert abs(ours - ref) <= 3 * se, name
+
+
+def _work_plane(scene, name, size, location):
+    import bmesh
+
+    me = bpy.data.meshes.new(name)
+    bm = bmesh.new()
+    bmesh.ops.create_grid(bm, x_segments=1, y_segments=1, size=0.5)
+    bm.to_mesh(me)
+    bm.free()
+    ob = bpy.data.objects.new(name, me)
+    ob.scale = (size[0], size[1], 1.0)
+    ob.location = location
+    ob.hide_render = True  # an imaginary plane
+    scene.collection.objects.link(ob)
+    return ob
+
+
+def test_side_lit_room_through_a_pane_reads_the_same_in_radiance(clean_blender, tmp_path):
+    """Daylight factor (the CIE overcast sky of sky_overcast.rad) and illuminance under the scene's own
+    CIE clear sky type 12 (sky.rad, its brightfunc with the sun's indicatrix) behind the 6 mm pane."""
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    room.add_pane_blender(scene)
+    sun = np.array([0.3, -0.8, 0.5])
+    sun /= np.linalg.norm(sun)
+    api.set_cie_sky(scene, 12, horizontal_illuminance_lux=20_000.0, sun_direction=sun, ground_reflectance=0.2)
+    plane = _work_plane(scene, "Work plane", (3.0, 2.0), (2.0, 1.5, 0.85))
+    before = _state(scene)
+    out = tmp_path / "rad"
+    result = api.export_radiance(str(out), resolution=(3, 1))
+    assert _state(scene) == before
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(["README.txt", "radiance_export.json", "radiometer_overcast.cal", "radiometer_sky.cal",
+                            "scene.rad", "sky.rad", "sky_gensky.rad", "sky_overcast.rad", "work_plane.pts"])
+    manifest = json.loads((out / "radiance_export.json").read_text())
+    assert manifest["summary"]["panes"] == 1 and manifest["summary"]["grids"][0]["plane"] == plane.name
+    assert "glass" in (out / "scene.rad").read_text() and "gensky -ang" in (out / "sky_gensky.rad").read_text()
+    assert "gensky" in (out / "sky.rad").read_text() and result["unmapped"] == []
+
+    points = np.loadtxt(out / "work_plane.pts")[:, :3]
+    assert np.allclose(points, [(1.0, 1.5, 0.85), (2.0, 1.5, 0.85), (3.0, 1.5, 0.85)])
+    ref, ref_rel = rtrace_lux(str(out), "sky_overcast.rad", "work_plane.pts", 300_000)
+    df = api.daylight_factor(points, quality="standard", seed=7, ground_reflectance=0.2)
+    for k, r in enumerate(df):
+        _agree(f"DF at {points[k]}", r.daylight_factor, r.rel_std_error, ref[k] / 100.0, ref_rel[k])
+    ref, ref_rel = rtrace_lux(str(out), "sky.rad", "work_plane.pts", 300_000)
+    e = api.measure_illuminance(points, quality="standard", seed=7)
+    for k, r in enumerate(e):
+        _agree(f"E under CIE sky 12 at {points[k]}", r.illuminance, r.rel_std_error, ref[k], ref_rel[k])
+    assert _state(scene) == before
+
+
+def test_daylit_demo_room_reads_the_same_in_radiance(clean_blender, tmp_path):
+    """The daylit demo room (separate closed boxes, a 6 mm Glass BSDF slab of IOR 1.5, the SPA sun of the
+    March equinox in London, a black world): illuminance from the sun through the pane (sky.rad's solar
+    source), and the daylight factor (sky_overcast.rad), at the demo's floor and desk meters."""
+    from radiometer.demo import daylight
+    from radiometer.measure.meter.meter_objects import add_meter
+
+    scene = daylight.build(bpy.context.scene)
+    api.set_sun(scene, daylight.SITE["latitude_deg"], daylight.SITE["longitude_deg"], daylight.local_time())
+    names = ["Floor in the sun patch", "Desk height near window", "Floor, back corner"]
+    for name in names:
+        add_meter(bpy.context, "ILLUMINANCE", daylight.METERS[name][0]).name = name
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(cam)
+    cam.location, cam.rotation_euler = (0.0, 1.8, 1.5), (math.radians(90), 0.0, math.radians(180))
+    scene.camera = cam
+    before = _state(scene)
+    out = tmp_path / "rad"
+    result = api.export_radiance(str(out))
+    assert _state(scene) == before
+    assert result["summary"]["meters"] == names and result["summary"]["sky"] == "none"
+    assert (out / "Camera.vf").read_text().startswith("rview -vtv -vp 0 1.8 1.5 -vd ")
+    sky = (out / "sky.rad").read_text()
+    assert "source" in sky and "light" in sky  # the sun
+    pts = np.loadtxt(out / "meters.pts")
+    assert np.allclose(pts[:, :3], [daylight.METERS[n][0] for n in names], atol=1e-6)
+
+    ref, ref_rel = rtrace_lux(str(out), "sky.rad", "meters.pts", 100_000)
+    readings = api.measure_illuminance(pts[:, :3], pts[:, 3:], quality="standard", seed=11)
+    for name, r, e_ref, rel in zip(names, readings, ref, ref_rel):
+        _agree(f"sun, {name}", r.illuminance, r.rel_std_error, e_ref, rel)
+    ref, ref_rel = rtrace_lux(str(out), "sky_overcast.rad", "meters.pts", 300_000)
+    df = api.daylight_factor(pts[:, :3], pts[:, 3:], quality="standard", seed=11, ground_reflectance=0.2)
+    for name, r, e_ref, rel in zip(names, df, ref, ref_rel):
+        _agree(f"DF, {name}", r.daylight_factor, r.rel_std_error, e_ref / 100.0, rel)
+    assert _state(scene) == before
+
+
+def test_bad_input_writes_nothing(clean_blender, build, tmp_path):
+    from radiometer import cli
+
+    scene = bpy.context.scene
+    build.plane(scene, size=2.0, location=(0, 0, 0), name="floor")
+    afile = tmp_path / "a_file"
+    afile.write_text("keep")
+    with pytest.raises(RadiometerError, match="not a folder"):
+        api.export_radiance(str(afile))
+    assert afile.read_text() == "keep"
+    with pytest.raises(RadiometerError, match="ground_reflectance"):
+        api.export_radiance(str(tmp_path / "x"), ground_reflectance=2.0)
+    with pytest.raises(RadiometerError, match="not both"):
+        api.export_radiance(str(tmp_path / "x"), resolution=(2, 2), spacing=0.5)
+    assert not (tmp_path / "x").exists()
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        if not os.access(locked, os.W_OK):  # root writes anywhere
+            with pytest.raises(RadiometerError):
+                api.export_radiance(str(locked))
+            assert list(locked.iterdir()) == []
+    finally:
+        locked.chmod(0o700)
+    assert cli._blender_cli(["export-radiance", str(afile)]) == 2
+    out = tmp_path / "cli"
+    assert cli._blender_cli(["export-radiance", str(out), "--json", str(tmp_path / "r.json")]) == 0
+    assert (out / "scene.rad").exists() and "floor" in (out / "scene.rad").read_text()
+    readme = (out / "README.txt").read_text()
+    assert "the world is black" in readme and "Not mapped" in readme
