@@ -138,7 +138,8 @@ def test_daylit_demo_room_reads_the_same_in_radiance(clean_blender, tmp_path):
     result = api.export_radiance(str(out))
     assert _state(scene) == before
     assert result["summary"]["meters"] == names and result["summary"]["sky"] == "none"
-    assert (out / "Camera.vf").read_text().startswith("rview -vtv -vp 0 1.8 1.5 -vd ")
+    assert result["summary"]["views"] == [{"camera": "Camera", "file": "camera.vf", "active": True}]
+    assert (out / "camera.vf").read_text().startswith("rview -vtv -vp 0 1.8 1.5 -vd ")
     sky = (out / "sky.rad").read_text()
     assert "source" in sky and "light" in sky  # the sun
     pts = np.loadtxt(out / "meters.pts")
