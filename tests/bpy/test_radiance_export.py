@@ -9,12 +9,12 @@ ambient cache, one hemisphere ray per input line, uncorrelated sampling, up to 3
 weight limit: converged in bounces for these rooms, whose highest reflectance is 0.7), each point
 repeated N times; the mean and the standard error of the mean over the repeats."""
 
-import importlib.util
 import json
 import math
 import os
 import pathlib
 import subprocess
+import sys
 
 import bpy
 import numpy as np
@@ -23,15 +23,9 @@ import pytest
 from radiometer import api
 from radiometer.errors import RadiometerError
 
+sys.path.insert(0, os.path.dirname(__file__))
+import daylight_room as room  # noqa: E402
 
-def _load(name):
-    spec = importlib.util.spec_from_file_location(name, pathlib.Path(__file__).with_name(f"{name}.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-room = _load("daylight_room")
 RTRACE = ["rtrace", "-h", "-I+", "-ab", "32", "-aa", "0", "-ad", "1", "-as", "0", "-lw", "1e-9", "-lr", "64", "-u+"]
 
 
@@ -187,3 +181,9 @@ def test_bad_input_writes_nothing(clean_blender, build, tmp_path):
     assert (out / "scene.rad").exists() and "floor" in (out / "scene.rad").read_text()
     readme = (out / "README.txt").read_text()
     assert "the world is black" in readme and "Not mapped" in readme
+    blend = tmp_path / "saved.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
+    out2 = tmp_path / "from_file"
+    assert cli.main(["export-radiance", str(blend), str(out2)]) == 0  # the documented form: scene.blend OUT/
+    assert (out2 / "scene.rad").read_text() == (out / "scene.rad").read_text()
+    assert cli.main(["export-radiance", str(blend), str(afile)]) == 2 and afile.read_text() == "keep"
