@@ -221,37 +221,50 @@ def _lights(ex, scene, model, efficacy):
             ex.unmapped.append(f"{lt.name}: shadow or diffuse-ray visibility switched off in Cycles; exported as a "
                                "plain light")
         ident = ex.name(lt.name)
+        mat = ex.name(f"{lt.name}_mat")
         power = np.asarray(spec.rgb_power, float)
         if spec.kind == "SUN":
             angle = math.degrees(spec.angle) if spec.angle > 0 else SUN_ANGLE_DEG
             if spec.angle == 0:
                 ex.notes.append(f"{lt.name}: a sun of angle 0 written as a {SUN_ANGLE_DEG} deg disc (same irradiance)")
             radiance = rad.to_radiance_units(rad.distant_radiance(power, math.radians(angle)), efficacy)
-            suns.append(rad.light(f"{ident}_mat", radiance)
-                        + rad.source(f"{ident}_mat", ident, -spec.emission_direction, angle))
+            suns.append(rad.light(mat, radiance)
+                        + rad.source(mat, ident, -spec.emission_direction, angle))
             continue
         if getattr(spec, "intensity_table", None) is not None:
-            ex.unmapped.append(f"{lt.name}: photometric (IES) light; not exported (convert its file with ies2rad)")
+            parts.append(_photometric(ex, lt, spec, ident, mat, efficacy))
             continue
         if spec.kind in ("POINT", "SPOT"):
             r = spec.radius if spec.radius > 0 else POINT_RADIUS_M
             intensity = power / (4.0 * math.pi)  # W/sr: Cycles' point and spot (on the cone's axis)
             radiance = rad.to_radiance_units(rad.sphere_light_radiance(intensity, r), efficacy)
             if spec.kind == "SPOT":
-                parts.append(rad.spotlight(f"{ident}_mat", radiance, math.degrees(spec.spot_size),
-                                           spec.emission_direction))
+                parts.append(rad.spotlight(mat, radiance, math.degrees(spec.spot_size),
+                                           spec.emission_direction, focus=0.01 * r))
                 if spec.spot_blend > 0:
                     ex.unmapped.append(f"{lt.name}: spot blend {spec.spot_blend:g} dropped (Radiance's spotlight has "
                                        "a hard edge)")
             else:
-                parts.append(rad.light(f"{ident}_mat", radiance))
-            parts.append(rad.sphere(f"{ident}_mat", ident, spec.position, r))
+                parts.append(rad.light(mat, radiance))
+            parts.append(rad.sphere(mat, ident, spec.position, r))
             if spec.radius == 0:
                 ex.notes.append(f"{lt.name}: a point of radius 0 written as a sphere of {1000 * POINT_RADIUS_M:g} mm")
             continue
         if spec.kind == "AREA":
             eu, ev = spec.edges
-            if spec.shape in ("DISK", "ELLIPSE"):
+            round_ = spec.shape in ("DISK", "ELLIPSE")
+            if round_ and abs(np.linalg.norm(eu) - np.linalg.norm(ev)) < 1e-9 * np.linalg.norm(eu) \
+                    and abs(np.dot(eu, ev)) < 1e-9 * np.dot(eu, eu):  # a circle: Radiance's ring
+                radius = 0.5 * float(np.linalg.norm(eu))
+                radiance = rad.to_radiance_units(np.asarray(spec.power_w(), float) / (math.pi * math.pi * radius**2),
+                                                 efficacy)
+                parts.append(rad.light(mat, radiance) + rad.ring(mat, ident, spec.position, spec.emission_direction,
+                                                                  radius))
+                _spread_note(ex, lt, spec)
+                continue
+            if round_:
+                ex.notes.append(f"{lt.name}: an ellipse written as an equal-area {DISK_SIDES}-gon (Radiance samples "
+                                "a many-sided polygon source less exactly than a ring)")
                 kk = math.sqrt((2 * math.pi / DISK_SIDES) / math.sin(2 * math.pi / DISK_SIDES))  # equal area
                 phi = np.arange(DISK_SIDES) * (2 * math.pi / DISK_SIDES)
                 ab = 0.5 * kk * np.stack([np.cos(phi), np.sin(phi)], axis=1)
@@ -263,10 +276,8 @@ def _lights(ex, scene, model, efficacy):
             if np.dot(np.cross(eu, ev), spec.emission_direction) < 0:
                 verts = verts[::-1]  # counter-clockwise seen from the side it lights
             radiance = rad.to_radiance_units(np.asarray(spec.power_w(), float) / (math.pi * area), efficacy)
-            parts.append(rad.light(f"{ident}_mat", radiance) + rad.polygon(f"{ident}_mat", ident, verts))
-            if spec.spread < math.pi:
-                ex.unmapped.append(f"{lt.name}: area light spread {math.degrees(spec.spread):g} deg dropped "
-                                   "(written Lambertian)")
+            parts.append(rad.light(mat, radiance) + rad.polygon(mat, ident, verts))
+            _spread_note(ex, lt, spec)
             continue
         ex.unmapped.append(f"{lt.name}: light kind {spec.kind} not mapped")
     for mesh in model.emissive_meshes:
@@ -277,13 +288,55 @@ def _lights(ex, scene, model, efficacy):
         values = np.unique(mesh.radiance, axis=0)
         for j, value in enumerate(values):
             sel = np.all(mesh.radiance == value, axis=1)
-            mat = f"{ident}_light{j}"
+            mat = ex.name(f"{mesh.name}_light{j}")
             parts.append(rad.light(mat, rad.to_radiance_units(value, efficacy)))
             parts.append(rad.triangles(mat, f"{ident}.{j}", mesh.triangles[sel]))
         ex.unmapped.append(f"{mesh.name}: emitting surface written as Radiance light, which emits from the front "
                            "of each face only (Cycles emits from both sides)")
     ex.summary["lights"] = len(model.lights)
     return parts, suns
+
+
+def _spread_note(ex, lt, spec):
+    if spec.spread < math.pi:
+        ex.unmapped.append(f"{lt.name}: area light spread {math.degrees(spec.spread):g} deg dropped (written Lambertian)")
+
+
+def _photometric(ex, lt, spec, ident, mat, efficacy):
+    """A photometric (IES) light: its world-space intensity (the emitter's own, Cycles' interpolation of
+    the file) tabulated on ies2rad's angles (``source.cal``: src_theta from the nadir, src_phi from +X
+    towards +Y, both of the direction leaving the light) into ``<ident>.dat``, read by ``brightdata`` with
+    ``corr`` on a 5 mm sphere of ``light`` (a sphere's projected area is pi r^2 from every side, so
+    L = I / (pi r^2)). The resampling's error (bilinear on the 1 x 2.5 deg grid against the emitter at the
+    cells' centres) goes to the notes."""
+    theta = np.linspace(0.0, 180.0, 181)
+    phi = np.linspace(0.0, 360.0, 145)
+    t, p = np.meshgrid(np.radians(theta), np.radians(phi), indexing="ij")
+    dirs = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), -np.cos(t)], axis=-1)
+    values = np.asarray(spec.intensity_towards(dirs), float)  # (181, 145, 3) W/sr per channel
+    totals = values.reshape(-1, 3).sum(axis=0)
+    c = int(np.argmax(totals))
+    table = values[..., c]
+    colour = totals / totals[c] if totals[c] > 0 else np.ones(3)
+    tc, pc = np.radians(theta[:-1] + 0.5), np.radians(phi[:-1] + 1.25)
+    tt, pp = np.meshgrid(tc, pc, indexing="ij")
+    mid = np.asarray(spec.intensity_towards(np.stack([np.sin(tt) * np.cos(pp), np.sin(tt) * np.sin(pp),
+                                                      -np.cos(tt)], axis=-1)), float)[..., c]
+    bilinear = 0.25 * (table[:-1, :-1] + table[1:, :-1] + table[:-1, 1:] + table[1:, 1:])
+    peak = float(table.max())
+    error = float(np.abs(bilinear - mid).max()) / peak if peak > 0 else 0.0
+    r = POINT_RADIUS_M
+    data = f"2\n0 180 {len(theta)}\n0 360 {len(phi)}\n" + "".join(
+        " ".join(f"{v:.7g}" for v in row) + "\n" for row in table)
+    ex.files[f"{ident}.dat"] = data
+    ex.notes.append(f"{lt.name}: photometric light tabulated from its intensity on 1 x 2.5 deg ({ident}.dat, "
+                    f"source.cal's src_theta/src_phi); resampling error <= {100 * error:.2g} % of the peak intensity")
+    ex.summary.setdefault("photometric_resampling_error", {})[lt.name] = error
+    dist = ex.name(f"{lt.name}_dist")
+    multiplier = float(efficacy) / rad.RADIANCE_EFFICACY / (math.pi * r * r)
+    return (rad.primitive("void", "brightdata", dist, (multiplier,),
+                          ("corr", f"{ident}.dat", "source.cal", "src_theta", "src_phi"))
+            + rad.light(mat, colour, modifier=dist) + rad.sphere(mat, ident, spec.position, r))
 
 
 # --- sky -----------------------------------------------------------------------------------------------

@@ -57,7 +57,7 @@ def _reals(values):
     values = [float(v) for v in values]
     if not all(math.isfinite(v) for v in values):
         raise ValueError(f"a Radiance argument must be finite, got {values}")
-    return " ".join([str(len(values))] + [f"{v:.8g}" for v in values])
+    return " ".join([str(len(values))] + [f"{v + 0.0:.8g}" for v in values])  # + 0.0: no "-0"
 
 
 def primitive(modifier, kind, name, reals=(), strings=()):
@@ -116,10 +116,14 @@ def light(name, radiance_rgb, modifier="void"):
     return primitive(modifier, "light", name, _rgb(radiance_rgb))
 
 
-def spotlight(name, radiance_rgb, cone_deg, direction):
+def spotlight(name, radiance_rgb, cone_deg, direction, focus=1e-4):
     """``spotlight``: a ``light`` that emits only within a cone of full angle ``cone_deg`` about
-    ``direction`` (a hard edge: Radiance has no blend)."""
-    return primitive("void", "spotlight", name, _rgb(radiance_rgb) + (float(cone_deg),) + tuple(_unit(direction)))
+    ``direction`` (a hard edge: Radiance has no blend). The orientation vector's length is the distance
+    (m) of the cone's focus behind the source's centre, and Radiance's inverse square counts from that
+    focus (measured: a unit vector at 3 m reads (3/4)^2 of the intensity); ``focus`` m, small for a spot
+    whose cone starts at its centre as Cycles' does."""
+    return primitive("void", "spotlight", name,
+                     _rgb(radiance_rgb) + (float(cone_deg),) + tuple(_unit(direction) * float(focus)))
 
 
 def glow(name, radiance_rgb, max_radius=0.0, modifier="void"):
@@ -168,6 +172,14 @@ def triangles(modifier, prefix, tris):
 def sphere(modifier, name, centre, radius):
     """``sphere`` of ``radius`` m about ``centre``."""
     return primitive(modifier, "sphere", name, tuple(np.asarray(centre, float)) + (float(radius),))
+
+
+def ring(modifier, name, centre, normal, outer_radius, inner_radius=0.0):
+    """``ring``: a disc (annulus) of ``outer_radius`` m about ``centre`` facing ``normal`` (its front);
+    Radiance samples a ring source exactly where a many-sided polygon source loses its rim ("aiming
+    failure", measured 6 % low for a 64-gon at -ds 0.002)."""
+    return primitive(modifier, "ring", name, tuple(np.asarray(centre, float)) + tuple(_unit(normal))
+                     + (float(inner_radius), float(outer_radius)))
 
 
 def source(modifier, name, direction, angle_deg):
