@@ -11,7 +11,8 @@ Files (``OUT/``): scene.rad (materials, geometry, panes, electric lights), sky.r
 the scene's world exactly and its sun lights, sky_gensky.rad the nearest gensky line when one exists,
 sky_overcast.rad (+ radiometer_overcast.cal) the CIE overcast sky of the daylight factor (E_h 10 000 lx:
 DF in % = 179 x rtrace -I's Y / 100), one .pts per work plane and meters.pts, one .vf per camera,
-README.txt (how to run it, and one line per thing not mapped) and radiance_export.json (the manifest).
+a ``<light>.dat`` intensity table per IES light, README.txt (how to run it, and one line per thing not mapped)
+and radiance_export.json (the manifest). docs/radiance-export.md has the mapping and the measured agreement.
 """
 
 import json
@@ -477,7 +478,9 @@ def _readme(ex, scene):
         "",
         "Mapping: Diffuse BSDF -> plastic; Principled BSDF -> plastic (specular = Fresnel at its IOR, roughness^2) or "
         "metal (Metallic 1); Glossy/Metallic BSDF -> metal; thin panes -> one glass polygon with the pane's "
-        "transmissivity; area/point/spot/sun lights -> light/spotlight/source; emitting surfaces -> light.",
+        "transmissivity; area lights -> light polygons (disks: rings), point/spot lights -> light/spotlight spheres, "
+        "IES lights -> brightdata (source.cal's corr, src_theta, src_phi) on a sphere, suns -> source; emitting "
+        "surfaces -> light.",
         "Colour: Radiance weighs R, G, B as .265/.670/.065, Radiometer as the working colour space's Y: grey light "
         "reads the same, coloured light differs.",
         "",

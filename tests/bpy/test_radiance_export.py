@@ -111,6 +111,25 @@ def test_side_lit_room_through_a_pane_reads_the_same_in_radiance(clean_blender, 
     assert _state(scene) == before
 
 
+def _view_matches_the_camera(scene, cam, vf):
+    """Radiance's rays of the view (vwrays, 4 x 3 pixel centres, top row first) land where Blender's own
+    projection of the camera (world_to_camera_view: sensor fit, lens, shift, render aspect) puts those
+    pixel centres."""
+    from bpy_extras.object_utils import world_to_camera_view
+    from mathutils import Vector
+
+    bindir, _libdir = room.radiance_bin()
+    out = subprocess.run([os.path.join(bindir, "vwrays"), "-vf", vf, "-x", "4", "-y", "3", "-pa", "0"],
+                         capture_output=True, text=True, check=True)
+    rays = np.array(out.stdout.split(), float).reshape(-1, 6)
+    assert len(rays) == 12
+    axis = -np.array(cam.matrix_world.to_3x3().col[2], float)
+    for k, (o, d) in enumerate(zip(rays[:, :3], rays[:, 3:])):
+        u, v = (k % 4 + 0.5) / 4, 1 - (k // 4 + 0.5) / 3
+        x, y, z = world_to_camera_view(scene, cam, Vector(o + 2.0 * d))
+        assert (x, y, z) == pytest.approx((u, v, 2.0 * float(d @ axis)), abs=1e-5)
+
+
 def test_daylit_demo_room_reads_the_same_in_radiance(clean_blender, tmp_path):
     """The daylit demo room (separate closed boxes, a 6 mm Glass BSDF slab of IOR 1.5, the SPA sun of the
     March equinox in London, a black world): illuminance from the sun through the pane (sky.rad's solar
@@ -125,7 +144,8 @@ def test_daylit_demo_room_reads_the_same_in_radiance(clean_blender, tmp_path):
         add_meter(bpy.context, "ILLUMINANCE", daylight.METERS[name][0]).name = name
     cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     scene.collection.objects.link(cam)
-    cam.location, cam.rotation_euler = (0.0, 1.8, 1.5), (math.radians(90), 0.0, math.radians(180))
+    cam.location, cam.rotation_euler = (0.0, 1.8, 1.5), (math.radians(80), 0.0, math.radians(170))
+    cam.data.lens, cam.data.shift_x, cam.data.shift_y = 24.0, 0.1, -0.05
     scene.camera = cam
     before = _state(scene)
     out = tmp_path / "rad"
@@ -134,6 +154,7 @@ def test_daylit_demo_room_reads_the_same_in_radiance(clean_blender, tmp_path):
     assert result["summary"]["meters"] == names and result["summary"]["sky"] == "none"
     assert result["summary"]["views"] == [{"camera": "Camera", "file": "camera.vf", "active": True}]
     assert (out / "camera.vf").read_text().startswith("rview -vtv -vp 0 1.8 1.5 -vd ")
+    _view_matches_the_camera(scene, cam, str(out / "camera.vf"))
     sky = (out / "sky.rad").read_text()
     assert "source" in sky and "light" in sky  # the sun
     pts = np.loadtxt(out / "meters.pts")
@@ -240,3 +261,56 @@ def test_lights_read_the_same_in_radiance(clean_blender, build, tmp_path):
     for p, r, e in zip(points, ours, ref):
         print(f"lights at {p}: Radiometer {r.illuminance:.6g} lx, Radiance {e:.6g} lx ({r.illuminance / e - 1:+.2e})")
         assert r.illuminance == pytest.approx(e, rel=0.005 + error)
+
+
+def _material(name, kind, **inputs):
+    from radiometer.compat import ensure_node_tree
+
+    m = bpy.data.materials.new(name)
+    tree = ensure_node_tree(m)
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    node = tree.nodes.new(kind)
+    for key, value in inputs.items():
+        node.inputs[key].default_value = value
+    tree.links.new(node.outputs[0], out.inputs["Surface"])
+    return m, tree, node
+
+
+def test_materials_are_mapped_or_listed(clean_blender, build, tmp_path):
+    """Principled dielectric -> plastic with the Fresnel reflectance of its IOR and roughness^2; Metallic 1
+    -> metal; Glossy -> metal; a textured Diffuse -> grey plastic 0.5, listed with its name; an emitting
+    plane -> light of its radiance x K / 179."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    specs = {"paint": ("ShaderNodeBsdfPrincipled", {"Base Color": (0.6, 0.5, 0.4, 1), "Roughness": 0.3, "IOR": 1.5}),
+             "steel": ("ShaderNodeBsdfPrincipled", {"Base Color": (0.7, 0.7, 0.7, 1), "Metallic": 1.0,
+                                                    "Roughness": 0.2}),
+             "chrome": ("ShaderNodeBsdfGlossy", {"Color": (0.9, 0.9, 0.9, 1), "Roughness": 0.1}),
+             "wood": ("ShaderNodeBsdfDiffuse", {}),
+             "lamp": ("ShaderNodeEmission", {"Color": (1, 1, 1, 1), "Strength": 10.0})}
+    for k, (name, (kind, inputs)) in enumerate(specs.items()):
+        plane = build.plane(scene, size=1.0, location=(2.0 * k, 0, 0), name=f"{name} plane")
+        m, tree, node = _material(name, kind, **inputs)
+        if name == "wood":
+            tex = tree.nodes.new("ShaderNodeTexNoise")
+            tree.links.new(tex.outputs["Color"], node.inputs["Color"])
+        plane.data.materials.clear()
+        plane.data.materials.append(m)
+    result = api.export_radiance(str(tmp_path / "rad"))
+    text = (tmp_path / "rad" / "scene.rad").read_text()
+
+    def args(kind, name):
+        block = text.split(f"void {kind} {name}\n", 1)[1].split("\n")
+        return [float(v) for v in block[2].split()[1:]]
+
+    f0 = ((1.5 - 1) / 2.5) ** 2
+    assert args("plastic", "paint") == pytest.approx([0.6, 0.5, 0.4, f0, 0.09], abs=1e-6)
+    assert args("metal", "steel") == pytest.approx([0.7, 0.7, 0.7, 1.0, 0.04], abs=1e-6)
+    assert args("metal", "chrome") == pytest.approx([0.9, 0.9, 0.9, 1.0, 0.01], abs=1e-6)
+    assert args("plastic", "wood") == pytest.approx([0.5, 0.5, 0.5, 0, 0])
+    assert [u for u in result["unmapped"] if u.startswith("wood")] == [
+        "wood (material): Diffuse BSDF with a linked Color (texture); written as grey plastic 0.5"]
+    assert args("light", "lamp_plane__lamp__light0") == pytest.approx([10.0 * 683 / 179] * 3, rel=1e-6)
+    assert "lamp plane [lamp]: emitting surface written as Radiance light" in "\n".join(result["unmapped"])
+    assert "wood (material)" in (tmp_path / "rad" / "README.txt").read_text()
