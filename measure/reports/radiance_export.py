@@ -193,6 +193,9 @@ def _geometry(ex, scene, model):
         tn = rad.glass_transmissivity(np.clip(t, 0, 1), p.ior)
         ex.notes.append(f"pane {p.name}: {p.model}; normal transmittance {float(np.mean(t)):.4f} -> Radiance glass "
                         f"transmissivity {float(np.mean(tn)):.4f}, one polygon at the pane's mid-plane")
+        if p.trick:
+            ex.unmapped.append(f"{p.name}: the 'Is Shadow Ray -> Transparent' glass trick lets Cycles' direct light "
+                               "through unfiltered; Radiance's glass filters it")
         if abs(p.ior - 1.52) > 1e-6:
             ex.notes.append(f"pane {p.name}: index {p.ior:g} written as glass's 4th argument")
     ex.summary["triangles"] = written

@@ -226,7 +226,7 @@ def _ies(folder):
 
 def test_lights_read_the_same_in_radiance(clean_blender, build, tmp_path):
     """Area (rectangle, disk), point, spot (blend 0) and a rotated IES light over a black world and no
-    geometry: Radiometer's closed forms (exact) against rtrace's direct calculation (-ab 0, -ds 0.002 -dj 0:
+    geometry, in a scene of 0.5 m units: Radiometer's closed forms (exact) against rtrace's direct calculation (-ab 0, -ds 0.002 -dj 0:
     area sources subdivided until a piece is 1/500 of its distance). Agreement within 0.5 % (the sources'
     subdivision and the 5 mm spheres standing in for points: (r/d)^2 < 1e-4) plus, for the IES light, the
     export's stated resampling error of its table."""
@@ -240,8 +240,9 @@ def test_lights_read_the_same_in_radiance(clean_blender, build, tmp_path):
                 spot_blend=0.0, name="spot")
     api.import_luminaire(str(_ies(tmp_path)), location=(0.0, 0.0, 2.2), rotation_euler=(0.4, 0.0, 0.7),
                          name="lobed")
+    scene.unit_settings.scale_length = 0.5  # 1 scene unit = 0.5 m: the export writes metres
     rng = np.random.default_rng(5)
-    points = np.c_[rng.uniform(-2.5, 2.5, (12, 2)), np.zeros(12)]
+    points = np.c_[rng.uniform(-2.5, 2.5, (12, 2)), np.zeros(12)]  # scene units
     result = api.export_radiance(str(tmp_path / "rad"))
     folder = str(tmp_path / "rad")
     assert [u for u in result["unmapped"] if "lobed" in u or "panel" in u] == []
@@ -252,7 +253,7 @@ def test_lights_read_the_same_in_radiance(clean_blender, build, tmp_path):
                RAYPATH=os.pathsep.join([folder, libdir]))
     with open(os.path.join(folder, "lights.oct"), "wb") as f:
         subprocess.run(["oconv", "scene.rad"], cwd=folder, env=env, stdout=f, check=True)
-    rays = "".join(f"{x} {y} {z} 0 0 1\n" for x, y, z in points)
+    rays = "".join(f"{x} {y} {z} 0 0 1\n" for x, y, z in 0.5 * points)
     out = subprocess.run(["rtrace", "-h", "-I+", "-ab", "0", "-ds", "0.002", "-dj", "0", "-dc", "1", "-dt", "0",
                           "lights.oct"], cwd=folder, env=env, input=rays, capture_output=True, text=True, check=True)
     ref = 179.0 * np.array(out.stdout.split(), float).reshape(-1, 3) @ np.array([0.265, 0.670, 0.065])
