@@ -29,10 +29,10 @@ import re
 
 import numpy as np
 
+from ..constants import K_RADIANCE_WHITE_LM_PER_W
+
 #: Radiance's luminous efficacy of its "watts" (lm/W): rtrace's irradiance x 179 = illuminance (lux).
-RADIANCE_EFFICACY = 179.0
-#: Radiance's luminance weights of (R, G, B) (rlux, pcomb: 0.265, 0.670, 0.065).
-RADIANCE_Y_WEIGHTS = (0.265, 0.670, 0.065)
+RADIANCE_EFFICACY = K_RADIANCE_WHITE_LM_PER_W
 
 _ID = re.compile(r"[^A-Za-z0-9_.\-]")
 
@@ -131,8 +131,9 @@ def glow(name, radiance_rgb, max_radius=0.0, modifier="void"):
     return primitive(modifier, "glow", name, _rgb(radiance_rgb) + (float(max_radius),))
 
 
-def to_radiance_units(radiance_w, efficacy=683.0):
-    """Scene radiance (W/(m^2 sr) at ``efficacy`` lm/W, per channel) in Radiance's 179 lm/W watts."""
+def to_radiance_units(radiance_w, efficacy):
+    """Scene radiance (W/(m^2 sr) at the scene's ``efficacy`` lm/W, per channel) in Radiance's 179 lm/W
+    watts: the same luminance."""
     return np.asarray(radiance_w, float) * (float(efficacy) / RADIANCE_EFFICACY)
 
 
