@@ -3,16 +3,12 @@ the exported scene, run with Radiance's rtrace (pyradiance's binaries, test-only
 factor and illuminance as Radiometer in the side-lit room (6 mm pane) and the daylit demo room, within
 the combined standard errors; bad input gets one line and writes nothing; the scene is untouched.
 
-Radiance is run as a path tracer, so that its answer carries a stated standard error rather than the
-ambient cache's unstated bias: ``rtrace -I+ -h -ab 32 -aa 0 -ad 1 -as 0 -lw 1e-9 -lr 64 -u+`` (no
-ambient cache, one hemisphere ray per input line, uncorrelated sampling, up to 32 bounces with a 1e-9
-weight limit: converged in bounces for these rooms, whose highest reflectance is 0.7), each point
-repeated N times; the mean and the standard error of the mean over the repeats."""
+Radiance runs as a path tracer with a stated standard error (tests/bpy/radiance_run.py: -ab 32 with a
+1e-9 weight limit, converged in bounces for these rooms, whose highest reflectance is 0.7)."""
 
 import json
 import math
 import os
-import pathlib
 import subprocess
 import sys
 
@@ -25,28 +21,7 @@ from radiometer.errors import RadiometerError
 
 sys.path.insert(0, os.path.dirname(__file__))
 import daylight_room as room  # noqa: E402
-
-RTRACE = ["rtrace", "-h", "-I+", "-ab", "32", "-aa", "0", "-ad", "1", "-as", "0", "-lw", "1e-9", "-lr", "64", "-u+"]
-
-
-def rtrace_lux(folder, sky, points_file, samples, seed_lines=None):
-    """(illuminance lx (N,), its relative standard error (N,)) at the sensors of ``points_file`` from the
-    exported scene under ``sky`` (a file of the export), Radiance's path tracer (module docstring);
-    lux = 179 x (.265 R + .670 G + .065 B)."""
-    bindir, libdir = room.radiance_bin()
-    env = dict(os.environ, PATH=bindir + os.pathsep + os.environ.get("PATH", ""),
-               RAYPATH=os.pathsep.join([folder, libdir]))
-    with open(os.path.join(folder, "test.oct"), "wb") as f:
-        subprocess.run(["oconv", sky, "scene.rad"], cwd=folder, env=env, stdout=f, check=True)
-    lines = pathlib.Path(folder, points_file).read_text().splitlines()
-    rays = "".join((line + "\n") * samples for line in lines)
-    out = subprocess.run(RTRACE + ["test.oct"], cwd=folder, env=env, input=rays, capture_output=True, text=True,
-                         check=True)
-    rgb = np.array(out.stdout.split(), float).reshape(len(lines), samples, 3)
-    y = 179.0 * rgb @ np.array([0.265, 0.670, 0.065])
-    mean = y.mean(axis=1)
-    return mean, y.std(axis=1, ddof=1) / np.sqrt(samples) / mean
-
+from radiance_run import radiance_env, rtrace_lux  # noqa: E402
 
 def _state(scene):
     ids = {name: sorted(b.name for b in getattr(bpy.data, name)) for name in ("objects", "worlds", "lights", "materials")}
@@ -248,9 +223,7 @@ def test_lights_read_the_same_in_radiance(clean_blender, build, tmp_path):
     assert [u for u in result["unmapped"] if "lobed" in u or "panel" in u] == []
     error = result["summary"]["photometric_resampling_error"]["lobed"]
     assert 0 <= error < 0.005
-    bindir, libdir = room.radiance_bin()
-    env = dict(os.environ, PATH=bindir + os.pathsep + os.environ.get("PATH", ""),
-               RAYPATH=os.pathsep.join([folder, libdir]))
+    env = radiance_env(folder)
     with open(os.path.join(folder, "lights.oct"), "wb") as f:
         subprocess.run(["oconv", "scene.rad"], cwd=folder, env=env, stdout=f, check=True)
     rays = "".join(f"{x} {y} {z} 0 0 1\n" for x, y, z in 0.5 * points)
