@@ -428,6 +428,27 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
 
 
 @_v.boundary
+def export_radiance(out_dir, *, scene=None, resolution=None, spacing=None, ground_reflectance=0.2):
+    """Write the scene for Radiance into ``out_dir`` (created): scene.rad (materials, geometry, thin panes
+    as glass, lights), sky.rad (the world exactly, its suns; sky_gensky.rad the nearest gensky line),
+    sky_overcast.rad (the daylight factor's CIE overcast sky, E_h 10 000 lx, ``ground_reflectance``), one
+    .pts per work plane (grid ``resolution`` (nx, ny) or ``spacing`` m, default EN 12464-1's) and
+    meters.pts, one .vf per camera, README.txt (how to run it; one line per thing not mapped) and
+    radiance_export.json. All files together or none; the scene is only read. Returns a dict with
+    ``files``, ``unmapped``, ``notes`` and ``summary``.
+    """
+    out_dir = _v.path(out_dir, "out_dir")
+    _b.scene(scene)
+    _v.real(ground_reflectance, "ground_reflectance", low=0.0, high=1.0)
+    if resolution is not None and spacing is not None:
+        raise RadiometerError("give a resolution or a spacing, not both")
+    from .measure.reports import radiance_export
+
+    return radiance_export.export_radiance(out_dir, scene=scene, resolution=resolution, spacing=spacing,
+                                           ground_reflectance=ground_reflectance)
+
+
+@_v.boundary
 def assign_brdf(material, model, method="nodes", **params):
     """Give ``material`` the parametric BRDF ``model`` (a name from ``radiometer.brdf.names()``).
 

@@ -22,4 +22,5 @@ SUBCOMMANDS = {
     "daylight-factor": "daylight.daylight_factor",
     "annual": "daylight.annual",
     "glare": "glare",
+    "export-radiance": "export_radiance",
 }

@@ -165,7 +165,7 @@ def _collect(depsgraph):
     ids = []  # per geometry object: its original's identity (measure.blender.identity.object_identity)
     panes, refractors, pane_chunks, meshes = {}, [], [], []
     rough = set()  # refractors rough enough that light sampling finds small lights through them (issue 18)
-    tri_chunks, obj_chunks, opaque_chunks, emissive_chunks = [], [], [], []
+    tri_chunks, obj_chunks, opaque_chunks, emissive_chunks, slot_chunks = [], [], [], [], []
     bound_chunks = []  # per geometry object: its triangles' (min, max) corners (scene_model.triangle_bounds)
     needs = {"geometry": False, "glossy": False, "transmission": False, "volume": False, "emissive_surfaces": False}
     material_cache, local_cache, instance_count = {}, {}, {}
@@ -268,13 +268,14 @@ def _collect(depsgraph):
         obj_chunks.append(np.full(len(world), index))
         opaque_chunks.append(traits[slot, 0])
         emissive_chunks.append(traits[slot, 1])
+        slot_chunks.append(slot)
     cat = (lambda chunks, shape: np.concatenate(chunks) if chunks else np.zeros(shape))
     geometry = scene_model.SceneGeometry(
         triangles=cat(tri_chunks, (0, 3, 3)), object_index=cat(obj_chunks, (0,)).astype(int), object_names=names,
         object_ids=ids,
         casts_shadow=np.array(shadow, bool), opaque=cat(opaque_chunks, (0,)).astype(bool),
         reflects=np.array(reflects, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled,
-        pane_of=cat(pane_chunks, (0,)).astype(int),
+        pane_of=cat(pane_chunks, (0,)).astype(int), material_slot=cat(slot_chunks, (0,)).astype(int),
         tri_bounds=(cat([b[0] for b in bound_chunks], (0, 3)), cat([b[1] for b in bound_chunks], (0, 3))))
     needs["volumes"] = volumes
     needs["panes"], needs["refractors"] = panes, refractors

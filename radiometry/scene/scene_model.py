@@ -72,6 +72,9 @@ class SceneGeometry:
     unmodelled: list = field(default_factory=list)  # render-visible geometry not triangulated
     #: (T,) per triangle: the object index of the thin pane it belongs to, or -1 (issue 18).
     pane_of: np.ndarray = None
+    #: (T,) per triangle: its material slot index in its object (``Object.material_slots``), or None when
+    #: the geometry was built by hand (the Radiance export maps each slot's material).
+    material_slot: np.ndarray = None
     #: optional (tri_min, tri_max) already computed with :func:`triangle_bounds` (a capture keeps them per
     #: object, so a partial capture does not compute them again); not kept after construction
     tri_bounds: tuple = field(default=None, repr=False, compare=False)
@@ -81,6 +84,8 @@ class SceneGeometry:
         self.object_index = np.asarray(self.object_index, int)
         if self.pane_of is None or len(self.pane_of) != len(self.triangles):
             self.pane_of = np.full(len(self.triangles), -1, int)
+        if self.material_slot is not None and len(self.material_slot) != len(self.triangles):
+            self.material_slot = None
         given = self.tri_bounds
         if given is not None and all(np.shape(x) == (len(self.triangles), 3) for x in given):
             self.tri_min, self.tri_max = (np.asarray(x, float) for x in given)
