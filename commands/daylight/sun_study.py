@@ -1,7 +1,7 @@
 """`sun-study`: illuminance from the sun over a day (or any span) at points from a CSV or a grid."""
 
 HELP = ("sun study: illuminance from the sun at points (--points CSV or --plane NAME) from --start to --end "
-        "every --step minutes; sunlit flags and sunlight hours; --csv and --json")
+        "every --step minutes; sunlit flags and sunlight hours; --csv, --json and --png (a plan-view map of sunlight hours)")
 NEEDS_SCENE = True
 
 from .. import _cluster, _points  # noqa: E402
@@ -24,6 +24,8 @@ def add_arguments(parser):
                         help="seconds per time step at most: it stops at the quality's target or the budget, "
                              "whichever comes first (a low sun gives small, costly readings)")
     parser.add_argument("--csv", metavar="FILE", help="write one row per time and point")
+    parser.add_argument("--png", metavar="FILE", help="write a plan-view map of the sunlight hours per point (points "
+                        "on one horizontal plane)")
     _cluster.add_arguments(parser)
 
 
@@ -57,6 +59,7 @@ def run(args):
     from .. import _io
 
     _io.check_output_file(args.csv, "--csv file")
+    _io.check_output_file(args.png, "--png file")
     if args.lux is not None and not (args.lux >= 0 and np.isfinite(args.lux)):
         raise RadiometerError(f"--lux must be >= 0, got {args.lux}")
     scene = bpy.context.scene
@@ -84,5 +87,7 @@ def run(args):
           f"(worst stated error {100 * float(np.max(r.rel_std_error)):.2g} %)")
     result = r.to_dict()
     result.update(latitude_deg=args.lat, longitude_deg=args.lon, north_offset_deg=args.north)
+    if args.png:
+        print(f"map: {api.daylight_map(r, args.png, scene=scene)}")
     _io.deliver_with_csv(args, result, r.csv_text())
     return result
