@@ -42,6 +42,17 @@ def _pct(fraction):
     return f"{v:.2g}" if v < 10 else f"{v:.0f}"
 
 
+#: Characters per title line at the map's width (longer lines are wrapped, never run into the scale).
+TITLE_WIDTH = 66
+
+
+def wrapped_title(*lines, width=TITLE_WIDTH):
+    """The non-empty ``lines`` joined, each wrapped at ``width`` characters on word boundaries."""
+    import textwrap
+
+    return "\n".join("\n".join(textwrap.wrap(t, width, break_on_hyphens=False)) for t in lines if t)
+
+
 def _points(n):
     return f"{n} point" + ("" if n == 1 else "s")
 
@@ -181,7 +192,7 @@ def daylight_map_figure(values, points, *, quantity, unit, title="", error_text=
     ax.set_aspect("equal")
     ax.set_xlabel(axis_labels[0])
     ax.set_ylabel(axis_labels[1])
-    ax.set_title("\n".join(t for t in (title, error_text) if t), fontsize=9)
+    ax.set_title(wrapped_title(title, error_text), fontsize=9)
     fig.tight_layout()
     return fig
 

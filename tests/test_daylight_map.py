@@ -3,8 +3,9 @@ height and the shell's openings, checked against the room's own closed-form dime
 map (plots/daylight_map.py: unit on the scale, stated error in the title, unmeasured points drawn and
 counted as such, never as a colour; the PNG written whole or not at all). Pure (matplotlib Agg)."""
 
-import importlib.util
 import pathlib
+import runpy
+import types
 
 import numpy as np
 import pytest
@@ -13,10 +14,8 @@ from radiometer.radiometry.scene import plan_section
 
 
 def _room():
-    spec = importlib.util.spec_from_file_location("daylight_room", pathlib.Path(__file__).parent / "bpy" / "daylight_room.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    """tests/bpy/daylight_room.py as a namespace (its names run as a script)."""
+    return types.SimpleNamespace(**runpy.run_path(str(pathlib.Path(__file__).parent / "bpy" / "daylight_room.py")))
 
 
 def _triangles(quads):

@@ -84,8 +84,8 @@ def map_content(result, metric=None):
             text += f", rendered ones relative 1 s.e. <= {100 * float(np.nanmax(rendered)):.2g} %"
         return dict(values=np.asarray(result.sunlight_hours, float), points=result.locations,
                     quantity="sunlight hours", unit="h",
-                    title=f"Sunlight hours, {len(result.times)} times from {result.times[0].isoformat()} to "
-                          f"{result.times[-1].isoformat()}", error_text=text)
+                    title=f"Sunlight hours, {len(result.times)} times from {result.times[0].isoformat(timespec='minutes')} to "
+                          f"{result.times[-1].isoformat(timespec='minutes')}", error_text=text)
     raise RadiometerError(f"no daylight map for a {type(result).__name__}: give a daylight factor grid, an "
                           "annual result or a sun study result")
 
