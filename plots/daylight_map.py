@@ -53,6 +53,25 @@ def wrapped_title(*lines, width=TITLE_WIDTH):
     return "\n".join("\n".join(textwrap.wrap(t, width, break_on_hyphens=False)) for t in lines if t)
 
 
+#: Points further from one height than this (m) are not one horizontal plane.
+LEVEL_TOLERANCE_M = 1e-4
+
+
+def plan_height(z_m):
+    """The one height (m) of points on a horizontal plane (a map is a plan view), or a one-line
+    RadiometerError naming their span."""
+    from ..errors import RadiometerError
+
+    z = np.asarray(z_m, float).ravel()
+    if not z.size or not np.all(np.isfinite(z)):
+        raise RadiometerError("a daylight map needs points with finite locations")
+    h = float(np.median(z))
+    if np.max(np.abs(z - h)) > LEVEL_TOLERANCE_M:
+        raise RadiometerError(f"a daylight map is a plan view: the points lie between z = {z.min():.3f} m and "
+                              f"{z.max():.3f} m, not on one horizontal plane")
+    return h
+
+
 def _points(n):
     return f"{n} point" + ("" if n == 1 else "s")
 

@@ -165,3 +165,14 @@ def test_png_whole_or_not_at_all(tmp_path, monkeypatch):
     with pytest.raises(RadiometerError, match="disk full"):
         daylight_map_png(str(path), df, pts, quantity="daylight factor", unit="%")
     assert path.read_bytes() == before and [p.name for p in tmp_path.iterdir()] == ["df.png"]
+
+
+def test_plan_height():
+    from radiometer.errors import RadiometerError
+    from radiometer.plots.daylight_map import plan_height
+
+    assert plan_height([0.85, 0.85, 0.85 + 5e-5]) == pytest.approx(0.85)
+    with pytest.raises(RadiometerError, match="between z = 0.850 m and 1.200 m"):
+        plan_height([0.85, 1.2, 0.85])
+    with pytest.raises(RadiometerError, match="finite"):
+        plan_height([0.85, np.nan])

@@ -48,6 +48,10 @@ def run(args):
     validation.check_input_file(args.epw, "weather", max_bytes=epw.MAX_FILE_BYTES)
     scene = bpy.context.scene
     locations, normals = _points.from_args(args, scene)
+    if args.png:  # a map is a plan view: say so before the work, not after it
+        from ...plots.daylight_map import plan_height
+
+        plan_height(np.asarray(locations, float)[:, 2] * scene.unit_settings.scale_length)
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = f"annual daylight, {len(locations)} points"
@@ -66,7 +70,7 @@ def run(args):
     for note in r.notes:
         print(note)
     result = r.to_dict()
-    if args.png:
-        print(f"map ({args.map}): {api.daylight_map(r, args.png, metric=args.map, scene=scene)}")
     _io.deliver_with_csv(args, result, r.csv_text())
+    if args.png:
+        print(f"wrote {api.daylight_map(r, args.png, metric=args.map, scene=scene)}")
     return result

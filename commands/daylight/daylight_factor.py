@@ -87,7 +87,7 @@ def run(args):
                       f"{'met' if lv['met'] else 'not met'}")
         result = g.to_dict()
         csv = g.csv_text()
-        if args.png:
-            print(f"map: {api.daylight_map(g, args.png, scene=scene)}")
     _io.deliver_with_csv(args, result, csv)
+    if args.png:  # after the numbers are saved: a failed picture loses no measurement
+        print(f"wrote {api.daylight_map(g, args.png, scene=scene)}")
     return result

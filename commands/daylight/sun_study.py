@@ -65,6 +65,10 @@ def run(args):
     scene = bpy.context.scene
     times = time_range(args.start, args.end, args.step, args.tz)
     locations, normals = _points.from_args(args, scene)
+    if args.png:  # a map is a plan view: say so before the work, not after it
+        from ...plots.daylight_map import plan_height
+
+        plan_height(np.asarray(locations, float)[:, 2] * scene.unit_settings.scale_length)
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = f"sun study, {len(times)} times x {len(locations)} points"
@@ -87,7 +91,7 @@ def run(args):
           f"(worst stated error {100 * float(np.max(r.rel_std_error)):.2g} %)")
     result = r.to_dict()
     result.update(latitude_deg=args.lat, longitude_deg=args.lon, north_offset_deg=args.north)
-    if args.png:
-        print(f"map: {api.daylight_map(r, args.png, scene=scene)}")
     _io.deliver_with_csv(args, result, r.csv_text())
+    if args.png:
+        print(f"wrote {api.daylight_map(r, args.png, scene=scene)}")
     return result

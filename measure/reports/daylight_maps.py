@@ -20,10 +20,6 @@ from ..analyses.sun_study import SunStudyResult
 #: hours of direct sun at 1000 lx (ASE), and the useful daylight share (UDI 100-2000 lx).
 ANNUAL_METRICS = ("sda", "ase", "udi")
 
-#: Points further from one height than this (m) are not one horizontal plane.
-LEVEL_TOLERANCE_M = 1e-4
-
-
 def room_plan(scene, height_m):
     """(walls (S, 2, 2), openings [(K, 2)]) in metres: the plan of the scene as Cycles renders it
     (``measure.capture.capture_cache``) cut at ``height_m``."""
@@ -102,12 +98,7 @@ def daylight_map(result, path, *, metric=None, scene=None, outline=True):
     values = np.asarray(content.pop("values"), float).ravel()
     if len(pts) != len(values) or not len(pts):
         raise RadiometerError(f"{len(values)} values for {len(pts)} points: nothing to map")
-    if not np.all(np.isfinite(pts)):
-        raise RadiometerError("a point's location is not finite: nothing to map")
-    z = float(np.median(pts[:, 2]))
-    if np.max(np.abs(pts[:, 2] - z)) > LEVEL_TOLERANCE_M:
-        raise RadiometerError(f"a daylight map is a plan view: the points lie between z = {pts[:, 2].min():.3f} m "
-                              f"and {pts[:, 2].max():.3f} m, not on one horizontal plane")
+    z = plot.plan_height(pts[:, 2])
     walls, openings = room_plan(scene, z) if outline else (None, ())
     shape = plot.lattice_shape(pts[:, :2])
     flagged = content.pop("flagged", None)

@@ -50,7 +50,7 @@ def test_daylight_factor_map_cli_and_api(clean_blender, build, tmp_path, capsys)
     assert "--png goes with --plane" in capsys.readouterr().err
     assert cli._blender_cli(["daylight-factor", "--plane", "Work plane", "--resolution", "5", "4", "--quality",
                              "preview", "--png", str(png)]) == 0
-    assert f"map: {png}" in capsys.readouterr().out
+    assert f"wrote {png}" in capsys.readouterr().out
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert [p.name for p in tmp_path.iterdir()] == ["df.png"]
     # the API: the same map from a result; other results and bad metrics are one-line errors
@@ -63,3 +63,15 @@ def test_daylight_factor_map_cli_and_api(clean_blender, build, tmp_path, capsys)
     with pytest.raises(RadiometerError, match="no daylight map for a dict"):
         api.daylight_map({}, str(tmp_path / "z.png"))
     assert not (tmp_path / "y.png").exists() and not (tmp_path / "z.png").exists()
+
+
+def test_map_of_points_off_one_plane_refused_before_the_work(clean_blender, build, tmp_path, capsys):
+    _side_lit_room(build)
+    points = tmp_path / "p.csv"
+    points.write_text("2,0.75,0.85\n2,1.5,1.2\n", encoding="utf-8")
+    png = tmp_path / "sun.png"
+    assert cli._blender_cli(["sun-study", "--start", "2026-03-21T12:00+00:00", "--end", "2026-03-21T12:00+00:00",
+                             "--lat", "51.5", "--lon", "0", "--points", str(points), "--png", str(png)]) == 2
+    err = capsys.readouterr()
+    assert "not on one horizontal plane" in err.err and "sun study:" not in err.out  # nothing measured
+    assert not png.exists()
