@@ -64,7 +64,7 @@ def map_content(result, metric=None):
             hours = np.asarray(result.ase_hours, float)
             return dict(values=hours, points=result.locations, quantity="hours of direct sun at 1000 lx or more",
                         unit="h", title=f"ASE1000/250h: {100 * result.ase:.1f} % of {n} points over 250 h{period}",
-                        error_text="direct sun alone, closed form (LM-83): no sampling error",
+                        error_text="direct sun alone in closed form (LM-83; the sun's centre ray tested): no sampling error",
                         flagged=hours > 250.0, flagged_label="over 250 h")
         return dict(values=100.0 * np.asarray(result.udi[1], float), points=result.locations,
                     quantity="occupied hours at 100-2000 lx", unit="%", vmin=0.0, vmax=100.0,
