@@ -1,7 +1,8 @@
 """`annual`: climate-based daylight (sDA, ASE, UDI) from an EPW file at points or on a work plane."""
 
 HELP = ("annual daylight from an EPW weather file by daylight coefficients (all sky patches in one render): "
-        "sDA300/50%, ASE1000/250h, UDI 100-2000 lx at points (--points CSV) or on a plane's grid; --csv, --json and --png (a plan-view map)")
+        "sDA300/50%, ASE1000/250h, UDI 100-2000 lx at points (--points CSV) or on a plane's grid; --csv, --json "
+        "and --png (a plan-view map)")
 NEEDS_SCENE = True
 
 from .. import _cluster, _points  # noqa: E402

@@ -22,8 +22,8 @@ def add_arguments(parser):
                         help="auto: sensor bakes to the quality's target error; camera: cosine-weighted rays from "
                         "each point through a custom camera, a fixed number per quality (cheaper per unit of error)")
     parser.add_argument("--csv", metavar="FILE", help="write one row per point")
-    parser.add_argument("--png", metavar="FILE", help="with --plane: write a plan-view daylight factor map (the room cut "
-                        "at the plane's height, its openings, the stated error in the title)")
+    parser.add_argument("--png", metavar="FILE", help="with --plane: write a plan-view daylight factor map (the "
+                        "room cut at the plane's height, its openings, the stated error in the title)")
     _cluster.add_arguments(parser)
 
 

@@ -1,7 +1,8 @@
 """`sun-study`: illuminance from the sun over a day (or any span) at points from a CSV or a grid."""
 
 HELP = ("sun study: illuminance from the sun at points (--points CSV or --plane NAME) from --start to --end "
-        "every --step minutes; sunlit flags and sunlight hours; --csv, --json and --png (a plan-view map of sunlight hours)")
+        "every --step minutes; sunlit flags and sunlight hours; --csv, --json and --png "
+        "(a plan-view map of sunlight hours)")
 NEEDS_SCENE = True
 
 from .. import _cluster, _points  # noqa: E402

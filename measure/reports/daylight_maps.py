@@ -50,7 +50,8 @@ def map_content(result, metric=None):
             raise RadiometerError(f"annual map {metric!r}: choose one of {', '.join(ANNUAL_METRICS)}")
         n = len(result.locations)
         period = "" if result.whole_year else f" (PARTIAL PERIOD: {result.weather_period})"
-        hourly = f"hourly relative 1 s.e. <= {100 * result.max_rel_std_error:.2g} % (occupied hours at 100 lx or more)"
+        hourly = (f"hourly relative 1 s.e. <= {100 * result.max_rel_std_error:.2g} % (occupied hours at 100 lx "
+                  "or more)")
         if metric == "sda":
             k = int(np.sum(result.sda_uncertain))
             return dict(values=100.0 * np.asarray(result.sda_point_fraction, float), points=result.locations,
@@ -64,15 +65,18 @@ def map_content(result, metric=None):
             hours = np.asarray(result.ase_hours, float)
             return dict(values=hours, points=result.locations, quantity="hours of direct sun at 1000 lx or more",
                         unit="h", title=f"ASE1000/250h: {100 * result.ase:.1f} % of {n} points over 250 h{period}",
-                        error_text="direct sun alone in closed form (LM-83; the sun's centre ray tested): no sampling error",
+                        error_text=("direct sun alone in closed form (LM-83; the sun's centre ray tested): "
+                                    "no sampling error"),
                         flagged=hours > 250.0, flagged_label="over 250 h")
         return dict(values=100.0 * np.asarray(result.udi[1], float), points=result.locations,
                     quantity="occupied hours at 100-2000 lx", unit="%", vmin=0.0, vmax=100.0,
-                    title=f"UDI 100-2000 lx: mean {100 * float(np.mean(result.udi[1])):.1f} % of occupied hours{period}",
+                    title=(f"UDI 100-2000 lx: mean {100 * float(np.mean(result.udi[1])):.1f} % of occupied "
+                           f"hours{period}"),
                     error_text=hourly)
     if isinstance(result, SunStudyResult):
         if metric not in (None, "sunlight_hours"):
             raise RadiometerError(f"a sun study maps only its sunlight hours, not {metric!r}")
+        first, last = (t.isoformat(timespec="minutes") for t in (result.times[0], result.times[-1]))
         exact = np.asarray(result.exact, bool)
         rendered = np.asarray(result.rel_std_error, float)[~exact & np.asarray(result.sunlit, bool)]
         text = f"{100 * float(np.mean(exact)):.0f} % of {exact.size} samples exact"
@@ -80,8 +84,7 @@ def map_content(result, metric=None):
             text += f", rendered ones relative 1 s.e. <= {100 * float(np.nanmax(rendered)):.2g} %"
         return dict(values=np.asarray(result.sunlight_hours, float), points=result.locations,
                     quantity="sunlight hours", unit="h",
-                    title=f"Sunlight hours, {len(result.times)} times from {result.times[0].isoformat(timespec='minutes')} to "
-                          f"{result.times[-1].isoformat(timespec='minutes')}", error_text=text)
+                    title=f"Sunlight hours, {len(result.times)} times from {first} to {last}", error_text=text)
     raise RadiometerError(f"no daylight map for a {type(result).__name__}: give a daylight factor grid, an "
                           "annual result or a sun study result")
 
