@@ -741,6 +741,23 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
 
 
 @_v.boundary
+def daylight_map(result, path, *, metric=None, scene=None, outline=True):
+    """A plan-view daylight map PNG at ``path`` (whole or not at all; checked before any work) of a
+    :func:`daylight_factor_grid` result (DF %), an :func:`annual_daylight` result (``metric``: "sda", the
+    share of occupied hours at 300 lx per point, ringed where its pass/fail is uncertain at 2 s.e.
+    (default); "ase", hours of direct sun at 1000 lx; "udi", the share of hours at 100-2000 lx) or a
+    :func:`sun_study` result (sunlight hours). Points not measured (not finite) are drawn hatched, never
+    as a colour; the title states the error. ``outline``: draw the room cut at the points' height and its
+    openings (from the scene as Cycles renders it). The points must lie on one horizontal plane.
+    Returns ``path``. For other per-point numbers: ``plots.daylight_map.daylight_map_png``."""
+    _b.scene(scene)
+    path = _v.output_file(path, "png")
+    from .measure.reports import daylight_maps
+
+    return daylight_maps.daylight_map(result, path, metric=metric, scene=scene, outline=bool(outline))
+
+
+@_v.boundary
 def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=None, m=1, quality="preview",
                     samples=None, target_rel_error=None, ground_reflectance=0.2, north_offset_deg=0.0,
                     occupied_from=8.0, occupied_to=18.0, seed=0, progress=None, cancelled=None, client=None,

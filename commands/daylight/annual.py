@@ -1,7 +1,8 @@
 """`annual`: climate-based daylight (sDA, ASE, UDI) from an EPW file at points or on a work plane."""
 
 HELP = ("annual daylight from an EPW weather file by daylight coefficients (all sky patches in one render): "
-        "sDA300/50%, ASE1000/250h, UDI 100-2000 lx at points (--points CSV) or on a plane's grid; --csv and --json")
+        "sDA300/50%, ASE1000/250h, UDI 100-2000 lx at points (--points CSV) or on a plane's grid; --csv, --json "
+        "and --png (a plan-view map)")
 NEEDS_SCENE = True
 
 from .. import _cluster, _points  # noqa: E402
@@ -25,6 +26,12 @@ def add_arguments(parser):
                         help="accept a weather file that is not a whole year (8760 or 8784 hourly records): the "
                         "metrics cover its period and the notes say which; without it such a file is refused")
     parser.add_argument("--csv", metavar="FILE", help="write one row per point")
+    parser.add_argument("--png", metavar="FILE", help="write a plan-view map of --map per point (points on one "
+                        "horizontal plane)")
+    parser.add_argument("--map", choices=("sda", "ase", "udi"), default="sda",
+                        help="the --png map: sda, the share of occupied hours at 300 lx (points whose pass/fail is "
+                        "uncertain at 2 s.e. ringed; default); ase, hours of direct sun at 1000 lx; udi, the share "
+                        "of occupied hours at 100-2000 lx")
     _cluster.add_arguments(parser)
 
 
@@ -37,10 +44,15 @@ def run(args):
     from .. import _io
 
     _io.check_output_file(args.csv, "--csv file")
+    _io.check_output_file(args.png, "--png file")
     # a folder, a FIFO or a device is named as such (read_epw checks again when it opens the file)
     validation.check_input_file(args.epw, "weather", max_bytes=epw.MAX_FILE_BYTES)
     scene = bpy.context.scene
     locations, normals = _points.from_args(args, scene)
+    if args.png:  # a map is a plan view: say so before the work, not after it
+        from ...plots.daylight_map import plan_height
+
+        plan_height(np.asarray(locations, float)[:, 2] * scene.unit_settings.scale_length)
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = f"annual daylight, {len(locations)} points"
@@ -60,4 +72,6 @@ def run(args):
         print(note)
     result = r.to_dict()
     _io.deliver_with_csv(args, result, r.csv_text())
+    if args.png:
+        print(f"wrote {api.daylight_map(r, args.png, metric=args.map, scene=scene)}")
     return result

@@ -2,7 +2,7 @@
 
 HELP = ("daylight factor under the CIE overcast sky (lights off, the world replaced for the run) at points "
         "(--points CSV) or on a work plane's grid (--plane NAME, with average/min/uniformity and EN 17037); "
-        "--csv and --json")
+        "--csv, --json and --png (a plan-view map)")
 NEEDS_SCENE = True
 
 from .. import _cluster, _points  # noqa: E402
@@ -22,6 +22,8 @@ def add_arguments(parser):
                         help="auto: sensor bakes to the quality's target error; camera: cosine-weighted rays from "
                         "each point through a custom camera, a fixed number per quality (cheaper per unit of error)")
     parser.add_argument("--csv", metavar="FILE", help="write one row per point")
+    parser.add_argument("--png", metavar="FILE", help="with --plane: write a plan-view daylight factor map (the "
+                        "room cut at the plane's height, its openings, the stated error in the title)")
     _cluster.add_arguments(parser)
 
 
@@ -34,11 +36,12 @@ def run(args):
     from .. import _io
 
     _io.check_output_file(args.csv, "--csv file")
+    _io.check_output_file(args.png, "--png file")
     scene = bpy.context.scene
     progress = getattr(args, "progress", None)
     cancelled = getattr(args, "cancelled", None)
     if args.points:
-        for name in ("spacing", "resolution", "target", "median_external_lux"):
+        for name in ("spacing", "resolution", "target", "median_external_lux", "png"):
             if getattr(args, name) is not None:
                 raise RadiometerError(f"--{name.replace('_', '-')} goes with --plane, not --points")
         locations, normals = _points.read_points(args.points)
@@ -85,4 +88,6 @@ def run(args):
         result = g.to_dict()
         csv = g.csv_text()
     _io.deliver_with_csv(args, result, csv)
+    if args.png:  # after the numbers are saved: a failed picture loses no measurement
+        print(f"wrote {api.daylight_map(g, args.png, scene=scene)}")
     return result

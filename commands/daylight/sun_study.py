@@ -1,7 +1,8 @@
 """`sun-study`: illuminance from the sun over a day (or any span) at points from a CSV or a grid."""
 
 HELP = ("sun study: illuminance from the sun at points (--points CSV or --plane NAME) from --start to --end "
-        "every --step minutes; sunlit flags and sunlight hours; --csv and --json")
+        "every --step minutes; sunlit flags and sunlight hours; --csv, --json and --png "
+        "(a plan-view map of sunlight hours)")
 NEEDS_SCENE = True
 
 from .. import _cluster, _points  # noqa: E402
@@ -24,6 +25,8 @@ def add_arguments(parser):
                         help="seconds per time step at most: it stops at the quality's target or the budget, "
                              "whichever comes first (a low sun gives small, costly readings)")
     parser.add_argument("--csv", metavar="FILE", help="write one row per time and point")
+    parser.add_argument("--png", metavar="FILE", help="write a plan-view map of the sunlight hours per point (points "
+                        "on one horizontal plane)")
     _cluster.add_arguments(parser)
 
 
@@ -57,11 +60,16 @@ def run(args):
     from .. import _io
 
     _io.check_output_file(args.csv, "--csv file")
+    _io.check_output_file(args.png, "--png file")
     if args.lux is not None and not (args.lux >= 0 and np.isfinite(args.lux)):
         raise RadiometerError(f"--lux must be >= 0, got {args.lux}")
     scene = bpy.context.scene
     times = time_range(args.start, args.end, args.step, args.tz)
     locations, normals = _points.from_args(args, scene)
+    if args.png:  # a map is a plan view: say so before the work, not after it
+        from ...plots.daylight_map import plan_height
+
+        plan_height(np.asarray(locations, float)[:, 2] * scene.unit_settings.scale_length)
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = f"sun study, {len(times)} times x {len(locations)} points"
@@ -85,4 +93,6 @@ def run(args):
     result = r.to_dict()
     result.update(latitude_deg=args.lat, longitude_deg=args.lon, north_offset_deg=args.north)
     _io.deliver_with_csv(args, result, r.csv_text())
+    if args.png:
+        print(f"wrote {api.daylight_map(r, args.png, scene=scene)}")
     return result
