@@ -442,10 +442,13 @@ def export_radiance(out_dir, *, scene=None, resolution=None, spacing=None, groun
     _v.real(ground_reflectance, "ground_reflectance", low=0.0, high=1.0)
     if resolution is not None and spacing is not None:
         raise RadiometerError("give a resolution or a spacing, not both")
+    import bpy
+
     from .measure.reports import radiance_export
 
+    meters = _meters(scene or bpy.context.scene, every=True)  # the UI's meter settings, read here
     return radiance_export.export_radiance(out_dir, scene=scene, resolution=resolution, spacing=spacing,
-                                           ground_reflectance=ground_reflectance)
+                                           ground_reflectance=ground_reflectance, meters=meters)
 
 
 @_v.boundary

@@ -400,7 +400,7 @@ def _sky(ex, scene, model, efficacy, suns, ground_reflectance):
 
 # --- sensors and views ---------------------------------------------------------------------------------
 
-def _sensors(ex, scene, resolution, spacing):
+def _sensors(ex, scene, resolution, spacing, meter_list):
     scale = scene.unit_settings.scale_length
     stems = outputs.Stems(["scene", "sky", "sky_gensky", "sky_overcast", "meters", "readme"])
     grids = []
@@ -415,12 +415,10 @@ def _sensors(ex, scene, resolution, spacing):
         ex.files[name] = rad.points(pts, layout.normal)
         grids.append({"plane": obj.name, "file": name, "nx": layout.nx, "ny": layout.ny})
     meters, depsgraph = [], bpy.context.evaluated_depsgraph_get()
-    for ob in scene.objects:
-        settings = getattr(ob, "radiometer_meter", None)
-        if settings is None or not settings.is_meter:
-            continue
-        if settings.kind != "ILLUMINANCE":
-            ex.unmapped.append(f"{ob.name}: {settings.kind.lower()} meter; only illuminance meters go to meters.pts")
+    for meter in meter_list or ():
+        ob = meter.obj
+        if meter.kind != "ILLUMINANCE":
+            ex.unmapped.append(f"{ob.name}: {meter.kind.lower()} meter; only illuminance meters go to meters.pts")
             continue
         mw = ob.evaluated_get(depsgraph).matrix_world
         meters.append((ob.name, np.array(mw.translation, float) * scale, np.array(mw.to_3x3().col[2], float)))
@@ -498,8 +496,10 @@ def _readme(ex, scene):
     return "\n".join(lines) + "\n"
 
 
-def export_radiance(out_dir, *, scene=None, resolution=None, spacing=None, ground_reflectance=0.2):
+def export_radiance(out_dir, *, scene=None, resolution=None, spacing=None, ground_reflectance=0.2, meters=None):
     """Write the Radiance export of ``scene`` into ``out_dir`` (created; see the module docstring).
+    ``meters``: the scene's meters (``measure.meter.meter_objects.Meter``, from the caller: host code reads
+    no UI settings); their illuminance meters go to meters.pts.
     ``resolution`` (nx, ny) or ``spacing`` (m) of the work planes' grids (default: EN 12464-1's, as
     ``grid`` uses); ``ground_reflectance`` of the daylight factor's overcast sky. Returns a dict: the
     written paths, what was not mapped, and a summary."""
@@ -522,7 +522,7 @@ def export_radiance(out_dir, *, scene=None, resolution=None, spacing=None, groun
     light_parts, suns = _lights(ex, scene, model, efficacy)
     ex.files["scene.rad"] = "".join(geometry_parts + ["# lights\n"] + light_parts)
     _sky(ex, scene, model, efficacy, suns, rho)
-    stems = _sensors(ex, scene, resolution, spacing)
+    stems = _sensors(ex, scene, resolution, spacing, meters)
     _views(ex, scene, stems)
     ex.files["README.txt"] = _readme(ex, scene)
     try:

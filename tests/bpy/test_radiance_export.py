@@ -110,7 +110,7 @@ def test_daylit_demo_room_reads_the_same_in_radiance(clean_blender, tmp_path):
     March equinox in London, a black world): illuminance from the sun through the pane (sky.rad's solar
     source), and the daylight factor (sky_overcast.rad), at the demo's floor and desk meters."""
     from radiometer.demo import daylight
-    from radiometer.measure.meter.meter_objects import add_meter
+    from radiometer.operators.meter import add_meter
 
     scene = daylight.build(bpy.context.scene)
     api.set_sun(scene, daylight.SITE["latitude_deg"], daylight.SITE["longitude_deg"], daylight.local_time())
