@@ -174,12 +174,14 @@ def test_every_worker_killed_mid_run_loses_nothing(clean_blender, variants, requ
 
 
 def test_bad_file_on_the_cluster_is_one_line_naming_file_and_task(clean_blender, variants, client, tmp_path):
+    from radiometer import api
     from radiometer.measure.analyses import batch
 
     broken = tmp_path / "broken.blend"
     broken.write_bytes(b"BLENDER-v500" + os.urandom(300))  # a .blend header, then garbage
     with pytest.raises(RadiometerError) as info:
-        batch.measure_batch([variants[0], str(broken)], quality="preview", client=client)
+        batch.measure_batch([variants[0], str(broken)], quality="preview", client=client,
+                            read_meters=api.scene_meters)  # the good file measures; the broken one fails
     message = str(info.value)
     assert "\n" not in message and "batch task 2" in message and "broken.blend" in message, message
 
