@@ -230,7 +230,8 @@ def _lights(ex, scene, model, efficacy):
         ident = ex.name(lt.name)
         mat = ex.name(f"{lt.name}_mat")
         power = np.asarray(spec.rgb_power, float)
-        if spec.kind == "SUN":
+        shape = spec.luminous_shape()
+        if shape == "distant":
             angle = math.degrees(spec.angle) if spec.angle > 0 else SUN_ANGLE_DEG
             if spec.angle == 0:
                 ex.notes.append(f"{lt.name}: a sun of angle 0 written as a {SUN_ANGLE_DEG} deg disc (same irradiance)")
@@ -241,11 +242,11 @@ def _lights(ex, scene, model, efficacy):
         if getattr(spec, "intensity_table", None) is not None:
             parts.append(_photometric(ex, lt, spec, ident, mat, efficacy))
             continue
-        if spec.kind in ("POINT", "SPOT"):
+        if shape == "sphere":
             r = spec.radius if spec.radius > 0 else POINT_RADIUS_M
             intensity = power / (4.0 * math.pi)  # W/sr: Cycles' point and spot (on the cone's axis)
             radiance = rad.to_radiance_units(rad.sphere_light_radiance(intensity, r), efficacy)
-            if spec.kind == "SPOT":
+            if spec.has_cone:
                 parts.append(rad.spotlight(mat, radiance, math.degrees(spec.spot_size),
                                            spec.emission_direction, focus=0.01 * r))
                 if spec.spot_blend > 0:
@@ -257,9 +258,9 @@ def _lights(ex, scene, model, efficacy):
             if spec.radius == 0:
                 ex.notes.append(f"{lt.name}: a point of radius 0 written as a sphere of {1000 * POINT_RADIUS_M:g} mm")
             continue
-        if spec.kind == "AREA":
+        if shape in ("round", "polygon"):
             eu, ev = spec.edges
-            round_ = spec.shape in ("DISK", "ELLIPSE")
+            round_ = shape == "round"
             if round_ and abs(np.linalg.norm(eu) - np.linalg.norm(ev)) < 1e-9 * np.linalg.norm(eu) \
                     and abs(np.dot(eu, ev)) < 1e-9 * np.dot(eu, eu):  # a circle: Radiance's ring
                 radius = 0.5 * float(np.linalg.norm(eu))
@@ -286,7 +287,7 @@ def _lights(ex, scene, model, efficacy):
             parts.append(rad.light(mat, radiance) + rad.polygon(mat, ident, verts))
             _spread_note(ex, lt, spec)
             continue
-        ex.unmapped.append(f"{lt.name}: light kind {spec.kind} not mapped")
+        ex.unmapped.append(f"{lt.name}: {spec.describe()} not mapped")
     for mesh in model.emissive_meshes:
         if mesh.radiance is None:
             ex.unmapped.append(f"{mesh.name}: emission not a plain value (linked or mixed); not exported")

@@ -199,6 +199,25 @@ class CyclesLight(Emitter):
         """The light in a designer's words: 'area light 0.6 x 0.6 m', 'point light, radius 0.1 m, soft falloff'."""
         return f"{self.kind.lower()} light"
 
+    def luminous_shape(self):
+        """What emits, as a shape a file format can write (issue 30: an exporter asks this, never the kind):
+        "distant" (a sun: a disc of ``angle`` rad seen along ``emission_direction``), "sphere" (point and spot:
+        ``radius`` m at ``position``; a spot also has a cone of ``spot_size`` rad about
+        ``emission_direction``), "round" (a disk or ellipse area light) or "polygon" (a square or rectangle
+        area light: ``edges`` about ``position``)."""
+        if self.kind == "SUN":
+            return "distant"
+        if self.kind in ("POINT", "SPOT"):
+            return "sphere"
+        if self.kind == "AREA":
+            return "round" if self.shape in ("DISK", "ELLIPSE") else "polygon"
+        return self.kind.lower()
+
+    @property
+    def has_cone(self):
+        """True for a spot light (its emission is cut to a cone of ``spot_size`` rad)."""
+        return self.kind == "SPOT"
+
     @property
     def interior_radius_m(self):
         """Radius, m, of the region around the centre where a receiver is inside the emitter (a sphere
