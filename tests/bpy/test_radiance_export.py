@@ -238,17 +238,10 @@ def test_lights_read_the_same_in_radiance(clean_blender, build, tmp_path):
 
 
 def _material(name, kind, **inputs):
-    from radiometer.compat import ensure_node_tree
+    from radiometer.measure.blender.materials import shader_material
 
-    m = bpy.data.materials.new(name)
-    tree = ensure_node_tree(m)
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    node = tree.nodes.new(kind)
-    for key, value in inputs.items():
-        node.inputs[key].default_value = value
-    tree.links.new(node.outputs[0], out.inputs["Surface"])
-    return m, tree, node
+    m, node = shader_material(name, kind, inputs)
+    return m, m.node_tree, node
 
 
 def test_materials_are_mapped_or_listed(clean_blender, build, tmp_path):
