@@ -322,6 +322,14 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
                                      progress=progress, cancelled=cancelled)
 
 
+from .radiometry.metrics.grid import PLANE_METRICS  # noqa: E402  (re-exported)
+
+#: ``PLANE_METRICS``: every statistic over a plane's cells by name (average, minimum, maximum, median,
+#: uniformity, points), the numbers of ``illuminance_grid``'s ``stats`` (EN 12464-1 names: avg, min, max,
+#: u0, count), ``daylight_factor_grid``'s ``stats`` and the compliance check. How to add one: the
+#: checklist in ``radiometry/metrics/grid.py``.
+
+
 @_v.boundary
 def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, method="auto", quality="standard",
                      target_rel_error=None, samples=None, time_budget_s=None, seed=0, png=None, csv=None,
@@ -666,13 +674,33 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
 
 # --- daylight: CIE skies and the daylight factor (issue 19) ---------------------------------------
 
+from .radiometry.skies.sky_models import SKY_MODELS  # noqa: E402  (re-exported)
+
+#: ``SKY_MODELS``: every sky model by name ("overcast", "cie:1" .. "cie:15"), the names ``set_cie_sky``,
+#: ``sun_study(sky=...)``, the CLI's ``sun-study --sky`` and the *Set CIE Sky* operator take. How to add
+#: one: the checklist in ``radiometry/skies/sky_models.py``.
+
+
+@_v.boundary
+def sky_model(name):
+    """The sky model called ``name`` (a key of ``SKY_MODELS``, any case; a CIE type also as 7, "7",
+    "cie7"): its ``name``, ``label``, ``description``, ``needs_sun``, ``relative_luminance``,
+    ``sky_integral`` and ``world``. An unknown name raises ``RadiometerError`` naming every model."""
+    from .radiometry.skies import sky_models
+
+    try:
+        return sky_models.sky_model(name)
+    except ValueError as exc:
+        raise RadiometerError(str(exc)) from None
+
+
 @_v.boundary
 def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_direction=None, ground_reflectance=0.2):
     """Make the scene's world a CIE sky whose shader evaluates the sky's luminance formula on the ray
     direction (a new World; the old one stays in the file).
 
-    ``sky_type``: "overcast" (the traditional CIE overcast sky, L = Lz (1 + 2 cos Z) / 3) or an ISO
-    15469 / CIE S 011 general sky type 1..15 (int, or "cie:12"). ``horizontal_illuminance_lux``:
+    ``sky_type``: a sky model's name (``SKY_MODELS``): "overcast" (the traditional CIE overcast sky,
+    L = Lz (1 + 2 cos Z) / 3) or an ISO 15469 / CIE S 011 general sky type 1..15 (int, or "cie:12"). ``horizontal_illuminance_lux``:
     the unobstructed horizontal illuminance from the sky (default 10 000 lx); ``sun_direction``:
     unit vector towards the sun (+X east, +Y north, +Z up; needed by the types that depend on the
     sun, e.g. from :func:`sun_position`); the uniform ground below a sharp horizon has luminance
@@ -839,7 +867,7 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
     datetimes; the site's latitude/longitude (deg, north/east +) and ``north_offset_deg`` as in
     :func:`sun_position`. Per time the sun is set (0.53 deg; ``direct_normal_illuminance_lux``: one
     value, one per time, or None for the IES clear-day model), every other light and the world are
-    switched off (``sky="overcast" | "cie:<type>"``: that CIE sky instead, with the sun's direction
+    switched off (``sky``: a ``SKY_MODELS`` name, "overcast" | "cie:<type>": that sky instead, with the sun's direction
     and ``sky_horizontal_illuminance_lux`` (the same at every time; None: set_cie_sky's default)),
     and the meter measures (exact where nothing can block the sun, rendered to ``quality``
     elsewhere; ``time_budget_s``: at most about that many seconds per time step, whichever of target

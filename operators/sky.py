@@ -7,12 +7,12 @@ from ..errors import RadiometerError
 from .polls import needs
 
 def _sky_items(_self, _context):
-    from ..radiometry.skies import cie_sky
+    """One item per ``api.SKY_MODELS`` entry. The identifiers predate the mapping ("overcast", "12": its
+    name less the "cie:" prefix) so that remembered operator settings still work; ``api.sky_model``
+    reads both spellings."""
+    from .. import api
 
-    items = [("overcast", "CIE Overcast (traditional)", "L = Lz (1 + 2 cos Z) / 3 (Moon & Spencer), the daylight-factor sky")]
-    for t, row in cie_sky.CIE_GENERAL_SKIES.items():
-        items.append((str(t), f"Type {t}", f"ISO 15469 type {t}: {row[7]}"))
-    return items
+    return [(name.removeprefix("cie:"), model.label, model.description) for name, model in api.SKY_MODELS.items()]
 
 
 def scene_sun_direction(scene):
@@ -31,7 +31,7 @@ class RADIOMETER_OT_set_cie_sky(bpy.types.Operator):
     bl_label = "Set CIE Sky"
     bl_options = {"REGISTER", "UNDO"}
 
-    sky_type: EnumProperty(name="Sky", description="CIE overcast sky or ISO 15469 general sky type 1-15",
+    sky_type: EnumProperty(name="Sky", description="The sky model (api.SKY_MODELS): CIE overcast sky or ISO 15469 general sky type 1-15",
                            items=_sky_items)
     horizontal_illuminance: FloatProperty(
         name="Horizontal Illuminance (lx)", description="Unobstructed horizontal illuminance from the sky alone, lux",
@@ -49,16 +49,15 @@ class RADIOMETER_OT_set_cie_sky(bpy.types.Operator):
 
     def execute(self, context):
         from .. import api
-        from ..radiometry.skies import cie_sky
 
-        sky = self.sky_type if self.sky_type == "overcast" else int(self.sky_type)
+        model = api.sky_model(self.sky_type)
         sun = scene_sun_direction(context.scene)
-        if cie_sky.needs_sun(sky) and sun is None:
-            self.report({"ERROR"}, f"CIE sky type {sky} depends on the sun: add a Sun light (Daylight panel: Set Sun)")
+        if model.needs_sun and sun is None:
+            self.report({"ERROR"}, f"{model.label} depends on the sun: add a Sun light (Daylight panel: Set Sun)")
             return {"CANCELLED"}
         try:
-            out = api.set_cie_sky(context.scene, sky, horizontal_illuminance_lux=self.horizontal_illuminance,
-                                  sun_direction=sun if cie_sky.needs_sun(sky) else None,
+            out = api.set_cie_sky(context.scene, model.name, horizontal_illuminance_lux=self.horizontal_illuminance,
+                                  sun_direction=sun if model.needs_sun else None,
                                   ground_reflectance=self.ground_reflectance)
         except RadiometerError as exc:
             self.report({"ERROR"}, str(exc))

@@ -16,17 +16,20 @@ class RADIOMETER_PT_cie_sky(WorldPanel, bpy.types.Panel):
     def draw(self, context):
         import json
 
+        from .. import api
+        from ..errors import RadiometerError
+
         layout = self.layout
         world = context.scene.world
         tag = world.get("radiometer_cie_sky") if world is not None else None
         if tag:
             try:
                 info = json.loads(tag)
-                name = "CIE overcast" if info["sky_type"] == "overcast" else f"CIE type {info['sky_type']}"
+                name = api.sky_model(info["sky_type"]).label
                 col = layout.column(align=True)
                 col.label(text=f"{name}: {info['horizontal_illuminance_lux']:.0f} lx horizontal", icon="WORLD")
                 col.label(text=f"Zenith {info['zenith_luminance']:.0f} cd/m², ground {info['ground_luminance']:.0f} cd/m²")
-            except (ValueError, KeyError, TypeError):
+            except (ValueError, KeyError, TypeError, RadiometerError):
                 layout.label(text="CIE sky tag unreadable", icon="ERROR")
         layout.operator("radiometer.set_cie_sky", icon="LIGHT_SUN")
 

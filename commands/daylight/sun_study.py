@@ -1,6 +1,6 @@
 """`sun-study`: illuminance from the sun over a day (or any span) at points from a CSV or a grid."""
 
-HELP = ("sun study: illuminance from the sun at points (--points CSV or --plane NAME) from --start to --end "
+HELP = ("sun study: illuminance from the sun (and --sky NAME) at points (--points CSV or --plane NAME) from --start to --end "
         "every --step minutes; sunlit flags and sunlight hours; --csv, --json and --png "
         "(a plan-view map of sunlight hours)")
 NEEDS_SCENE = True
@@ -9,6 +9,7 @@ from .. import _cluster, _points  # noqa: E402
 
 
 def add_arguments(parser):
+    from ...radiometry.skies.sky_models import SKY_MODELS  # the same mapping as api.SKY_MODELS
     from .sun import add_place_arguments
 
     parser.add_argument("--start", required=True, metavar="ISO", help="first time, ISO 8601 (local with --tz)")
@@ -18,6 +19,11 @@ def add_arguments(parser):
     _points.add_arguments(parser)
     parser.add_argument("--lux", type=float, default=None, metavar="LX",
                         help="direct normal illuminance of the sun (default: the IES clear-day model)")
+    parser.add_argument("--sky", choices=tuple(SKY_MODELS), default=None, metavar="NAME",
+                        help="add this sky (the world is off otherwise): " + ", ".join(SKY_MODELS)
+                             + " (the types that depend on the sun follow it)")
+    parser.add_argument("--sky-lux", type=float, default=None, metavar="LX",
+                        help="with --sky: the sky's unobstructed horizontal illuminance (default 10 000 lx)")
     parser.add_argument("--min-elevation", type=float, default=0.0, metavar="DEG",
                         help="sun altitude below which a sample adds no sunlight hours (EN 17037 site minimum)")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
@@ -63,6 +69,8 @@ def run(args):
     _io.check_output_file(args.png, "--png file")
     if args.lux is not None and not (args.lux >= 0 and np.isfinite(args.lux)):
         raise RadiometerError(f"--lux must be >= 0, got {args.lux}")
+    if args.sky_lux is not None and (args.sky is None or not (args.sky_lux > 0 and np.isfinite(args.sky_lux))):
+        raise RadiometerError(f"--sky-lux goes with --sky and must be > 0, got {args.sky_lux}")
     scene = bpy.context.scene
     times = time_range(args.start, args.end, args.step, args.tz)
     locations, normals = _points.from_args(args, scene)
@@ -75,7 +83,8 @@ def run(args):
         progress.label = f"sun study, {len(times)} times x {len(locations)} points"
     with _cluster.client(args) as client:
         r = api.sun_study(locations, normals, times, latitude_deg=args.lat, longitude_deg=args.lon,
-                          elevation_m=args.elevation, direct_normal_illuminance_lux=args.lux, scene=scene,
+                          elevation_m=args.elevation, direct_normal_illuminance_lux=args.lux, sky=args.sky,
+                          sky_horizontal_illuminance_lux=args.sky_lux, scene=scene,
                           quality=args.quality, north_offset_deg=args.north, min_elevation_deg=args.min_elevation,
                           time_budget_s=args.time_budget, client=client, progress=progress, cancelled=getattr(args, "cancelled", None))
     if progress is not None:

@@ -265,8 +265,9 @@ def _camera_readings(scene, points, dirs, quality, seed, progress, cancelled):
 def plane_statistics(df, *, target_percent=None, median_external_illuminance_lux=None):
     """Statistics of daylight factors ``df`` (%) over equal-area grid cells (pure numpy).
 
-    Returns ``radiometry.metrics.grid.plane_statistics``' dict: average (BS 8206-2 average daylight
-    factor), minimum, maximum, median, uniformity (min / average; NaN on a dark plane), share_above_target (fraction of cells with DF >= target_percent),
+    Returns ``radiometry.metrics.grid.plane_statistics``' dict (every ``PLANE_METRICS`` entry): average
+    (BS 8206-2 average daylight factor), minimum, maximum, median, uniformity (min / average; NaN on a
+    dark plane), points; share_above_target (fraction of cells with DF >= target_percent),
     and ``en17037`` per level (minimum/medium/high): D_T, D_TM (%), share of the plane reaching each,
     and whether the level is met (D_T over >= 50 %, D_TM over >= 95 % of the plane).
     """

@@ -110,16 +110,14 @@ def sample_hours(unix_s):
 # --- one time step (runs here or on a worker) ------------------------------------------------------
 
 def _set_sky(scene, sky, direction, horizontal_illuminance_lux=None):
-    """Put a temporary world with the CIE sky ``sky`` on ``scene`` (inside the caller's guard)."""
+    """Put a temporary world with the sky model ``sky`` (a ``SKY_MODELS`` name) on ``scene`` (inside the
+    caller's guard)."""
     import bpy
 
     from ..authoring import sky as cie_sky_world
 
     scene.world = bpy.data.worlds.new("Radiometer sun-study sky")  # the guard removes it and restores the world
-    sky_type = "overcast" if sky == "overcast" else sky.split(":", 1)[1]
-    if sky_type.isdigit():
-        sky_type = int(sky_type)
-    cie_sky_world.set_cie_sky(scene, sky_type, horizontal_illuminance_lux=horizontal_illuminance_lux,
+    cie_sky_world.set_cie_sky(scene, sky, horizontal_illuminance_lux=horizontal_illuminance_lux,
                               sun_direction=tuple(float(x) for x in direction))
 
 
@@ -284,8 +282,13 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
         if not np.all(np.isfinite(dni)) or np.any(dni < 0):
             raise RadiometerError("direct normal illuminance must be finite and >= 0 lux (one value or one per time)")
         dni = [float(v) for v in dni]
-    if sky is not None and not (sky == "overcast" or (isinstance(sky, str) and sky.startswith("cie:"))):
-        raise RadiometerError(f"sky must be None, 'overcast' or 'cie:<type>', got {sky!r}")
+    if sky is not None:
+        from ...radiometry.skies import sky_models
+
+        try:
+            sky = sky_models.sky_model(sky).name  # the workers get the mapping's name
+        except ValueError as exc:
+            raise RadiometerError(f"sky must be None or a sky model: {exc}") from None
     if quality not in ("preview", "standard", "reference"):
         raise RadiometerError(f"unknown quality {quality!r}; choose preview, standard or reference")
     if time_budget_s is not None and not (float(time_budget_s) > 0 and math.isfinite(float(time_budget_s))):

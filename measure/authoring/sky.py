@@ -15,7 +15,7 @@ import json
 import math
 
 from ...errors import RadiometerError
-from ...radiometry.skies import cie_sky
+from ...radiometry.skies import cie_sky, sky_models
 from ..capture.world_capture import CIE_SKY_SCHEMA, CIE_SKY_TAG, sky_fingerprint
 
 
@@ -96,9 +96,10 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
     from ..meter import point_meter as meter
 
     try:
-        t = cie_sky.parse_sky_type(sky_type)
+        model = sky_models.sky_model(sky_type)
     except ValueError as exc:
         raise RadiometerError(str(exc)) from None
+    t = model.sky_type
     e_h = cie_sky.TYPICAL_HORIZONTAL_ILLUMINANCE if horizontal_illuminance_lux is None else horizontal_illuminance_lux
     try:
         e_h = float(e_h)
@@ -112,14 +113,14 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
         raise RadiometerError(f"ground_reflectance must be within 0..1, got {ground_reflectance!r}")
     try:
         sun = cie_sky.sun_for_sky(t, sun_direction)
-        lz = float(cie_sky.zenith_luminance(e_h, t, sun))
+        lz = e_h / float(model.sky_integral([0.0, 0.0, 1.0], sun)[0])  # Lz for E_h, any model
     except ValueError as exc:
         raise RadiometerError(str(exc)) from None
     _space, _weights, efficacy = meter.scene_photometry(scene)
     unit = scene.unit_settings.scale_length ** 2
     lg = float(cie_sky.ground_luminance(e_h, rho))
     zr, gr = lz / efficacy * unit, lg / efficacy * unit
-    name = "CIE overcast sky" if t == "overcast" else f"CIE sky type {t}"
+    name = model.label
     if world is None:
         world = bpy.data.worlds.new(name)
     tree = ensure_node_tree(world)

@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from ...errors import RadiometerError
-from ...radiometry.skies import cie_sky, environment
+from ...radiometry.skies import environment, sky_models
 
 #: The custom property on a World that ``measure.authoring.sky.set_cie_sky`` writes (JSON parameters + fingerprint).
 CIE_SKY_TAG = "radiometer_cie_sky"
@@ -254,15 +254,15 @@ def read_sky_world(world, tree):
         if info.get("schema") != CIE_SKY_SCHEMA:
             return f"the CIE sky tag has schema {info.get('schema')!r}, not {CIE_SKY_SCHEMA}"
         fingerprint = info["fingerprint"]
-        sky = cie_sky.CIESkyWorld(info["sky_type"], np.array(info["sun_direction"], float), info["zenith_radiance"],
-                                  info["ground_radiance"], node="")
+        model = sky_models.sky_model(info["sky_type"])
+        sky = model.world(np.array(info["sun_direction"], float), info["zenith_radiance"], info["ground_radiance"],
+                          node="")
     except (KeyError, TypeError, ValueError) as exc:
         return f"the world's CIE sky tag cannot be read ({exc})"
     if tree is None or sky_fingerprint(tree) != fingerprint:
         return "the CIE sky world's nodes were edited after it was made (set the sky again to read it exactly)"
     bg = next((n for n in tree.nodes if n.bl_idname == "ShaderNodeBackground"), None)
     sky.node = bg.name if bg is not None else ""
-    name = "CIE overcast sky" if sky.sky_type == "overcast" else f"CIE sky type {sky.sky_type}"
-    sky.notes.append(f"{name}, E_h {info['horizontal_illuminance_lux']:g} lx, ground rho {info['ground_reflectance']:g}: "
+    sky.notes.append(f"{model.label}, E_h {info['horizontal_illuminance_lux']:g} lx, ground rho {info['ground_reflectance']:g}: "
                      "integrated exactly (radiometry/skies/cie_sky.py)")
     return sky

@@ -6,15 +6,38 @@ References
   annex / sec. 4.4 (grid): maximum grid cell size p = 0.2 x 5^log10(d) m, d the longer dimension of
   the area in m (p <= 10 m); number of points in a dimension = d / p rounded up; points at the
   centres of the cells; uniformity U0 = E_min / E_avg (EN 12464-1 sec. 3.2, also CIE S 008/E:2001).
+
+Plane metrics
+-------------
+``PLANE_METRICS`` holds every statistic of a quantity over a plane's equal-area cells, by name: one
+:class:`PlaneMetric` each (its function of the values, and its key in the grid's EN 12464-1 names).
+:func:`plane_statistics` computes every entry; the illuminance grid (``grid_stats``: ``api.grid``,
+``grid`` command, reports, compliance), the daylight factor's grid (``api.daylight_factor_grid``) and
+``bench/`` read their numbers from it.
+
+How to add a plane metric
+-------------------------
+1. A pure function of the values ``v`` (N,), finite and not empty, returning one number; cited where
+   a standard defines it (as ``_uniformity``: EN 12464-1 sec. 3.2), with its behaviour on a dark
+   plane stated (a ratio over an average of 0 is NaN, not 0);
+2. one entry in ``PLANE_METRICS`` below: ``PlaneMetric(function, grid_name, description)``; a
+   ``grid_name`` puts it in the illuminance grid's stats (JSON, CSV header, report tables that list
+   them) under that key, None keeps it in ``plane_statistics`` only;
+3. a test against a hand-worked plane in ``tests/test_plane_metrics.py`` (every entry is also checked
+   to reach ``plane_statistics``, ``grid_stats`` and the daylight factor's statistics).
+A metric that needs more than the values (a target, a threshold) is an argument of
+``plane_statistics`` (as ``target``), not an entry.
 """
 
+import dataclasses
 import math
 
 import numpy as np
 
 from ..units import as_finite_array
 
-__all__ = ["en12464_spacing", "grid_counts", "cell_centres", "plane_statistics", "grid_stats", "MAX_SPACING_M"]
+__all__ = ["en12464_spacing", "grid_counts", "cell_centres", "PlaneMetric", "PLANE_METRICS", "plane_statistics",
+           "grid_stats", "MAX_SPACING_M"]
 
 #: EN 12464-1 caps the grid cell size at 10 m.
 MAX_SPACING_M = 10.0
@@ -58,18 +81,45 @@ def cell_centres(x_range, y_range, nx, ny):
     return np.stack([gx, gy], axis=-1)
 
 
+@dataclasses.dataclass(frozen=True)
+class PlaneMetric:
+    """One statistic over a plane's cells: ``of(v)`` -> a number for the values ``v`` (N,) (finite, not
+    empty); ``grid_name``: its key in the illuminance grid's stats (None: not there); ``description``."""
+
+    of: object
+    grid_name: str = None
+    description: str = ""
+
+
+def _uniformity(v):
+    """U0 = minimum / average (EN 12464-1 sec. 3.2); NaN on a dark plane (average 0), where it is undefined."""
+    avg = float(v.mean())
+    return float(v.min()) / avg if avg > 0 else float("nan")
+
+
+#: Every plane metric by name, in the order the statistics list them (module docstring: how to add one).
+PLANE_METRICS = {
+    "average": PlaneMetric(lambda v: float(v.mean()), "avg",
+                           "mean over equal-area cells (E_avg; BS 8206-2's average daylight factor)"),
+    "minimum": PlaneMetric(lambda v: float(v.min()), "min", "smallest cell value (E_min)"),
+    "maximum": PlaneMetric(lambda v: float(v.max()), "max", "largest cell value (E_max)"),
+    "median": PlaneMetric(lambda v: float(np.median(v)), None,
+                          "median cell value (EN 17037's 50 % of the plane for the daylight factor)"),
+    "uniformity": PlaneMetric(_uniformity, "u0", "minimum / average (U0, EN 12464-1); NaN on a dark plane"),
+    "points": PlaneMetric(lambda v: int(v.size), "count", "number of cells"),
+}
+
+
 def plane_statistics(values, *, target=None):
     """The one set of statistics of a quantity over the equal-area cells of a plane (illuminance in lx,
-    a daylight factor in %, ...): a dict with ``average``, ``minimum``, ``maximum``, ``median``,
-    ``uniformity`` (minimum / average; NaN on a dark plane, where it is undefined) and ``points``;
-    with ``target``, also ``target`` and ``share_at_or_above_target`` (fraction of cells >= target).
-    Non-finite or no values raise ValueError."""
+    a daylight factor in %, ...): a dict with every ``PLANE_METRICS`` entry (``average``, ``minimum``,
+    ``maximum``, ``median``, ``uniformity`` (minimum / average; NaN on a dark plane, where it is
+    undefined), ``points``); with ``target``, also ``target`` and ``share_at_or_above_target``
+    (fraction of cells >= target). Non-finite or no values raise ValueError."""
     v = as_finite_array(values, "plane values").ravel()
     if v.size == 0:
         raise ValueError("the plane has no points")
-    avg = float(v.mean())
-    out = {"average": avg, "minimum": float(v.min()), "maximum": float(v.max()), "median": float(np.median(v)),
-           "uniformity": float(v.min()) / avg if avg > 0 else float("nan"), "points": int(v.size)}
+    out = {name: metric.of(v) for name, metric in PLANE_METRICS.items()}
     if target is not None:
         out["target"] = float(target)
         out["share_at_or_above_target"] = float(np.mean(v >= float(target)))
@@ -77,7 +127,8 @@ def plane_statistics(values, *, target=None):
 
 
 def grid_stats(values):
-    """An illuminance grid's statistics under EN 12464-1's names (avg, min, max, u0 = min/avg, count),
-    from :func:`plane_statistics` (the names the grid's JSON, CSV and reports have always used)."""
+    """An illuminance grid's statistics under EN 12464-1's names (avg, min, max, u0 = min/avg, count: each
+    ``PLANE_METRICS`` entry's ``grid_name``), from :func:`plane_statistics` (the names the grid's JSON,
+    CSV and reports have always used)."""
     s = plane_statistics(values)
-    return {"avg": s["average"], "min": s["minimum"], "max": s["maximum"], "u0": s["uniformity"], "count": s["points"]}
+    return {m.grid_name: s[name] for name, m in PLANE_METRICS.items() if m.grid_name is not None}

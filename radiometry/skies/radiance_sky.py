@@ -18,7 +18,7 @@ This module never imports bpy.
 
 import numpy as np
 
-from . import cie_sky
+from . import cie_sky, sky_models
 from ..scene import radiance_format as rad
 
 SKY_CAL = "radiometer_sky.cal"
@@ -57,8 +57,8 @@ def gensky_command(sky_type, sun_direction, horizontal_illuminance_lux, ground_r
     the sun as well, so -s is the nearest line, not the same sky. The sun's altitude and azimuth are gensky's -ang (degrees; azimuth measured
     from south towards west, Radiance's convention, with +Y north and +X east as in Radiometer);
     -B the horizontal diffuse irradiance in Radiance watts (E_h / 179)."""
-    t = cie_sky.parse_sky_type(sky_type)
-    flag = {"overcast": "-c", 12: "-s"}.get(t)
+    model = sky_models.sky_model(sky_type)
+    t, flag = model.sky_type, model.gensky_flag
     if flag is None:
         return None
     sun = np.asarray(cie_sky.sun_for_sky(t, sun_direction), float)

@@ -113,3 +113,23 @@ def test_set_cie_sky_operator_is_undoable_and_uses_the_scene_sun(clean_blender, 
     w = api.world_model(scene)
     np.testing.assert_allclose(w.sun_direction, np.array(sun.matrix_world.to_3x3().col[2]), atol=1e-6)
     assert api.measure_illuminance((0, 0, 0), (0, 0, 1)).illuminance == pytest.approx(9000.0, rel=1e-9)
+
+
+def test_the_operator_and_the_sun_study_take_the_mapped_skies(clean_blender, monkeypatch):
+    """``api.SKY_MODELS`` drives the *Set CIE Sky* list and the sun study's check (tests/test_sky_models.py
+    the CLI's): an entry added to the mapping is offered and accepted, a name outside it is refused."""
+    import dataclasses
+    import datetime as dt
+
+    from radiometer.operators import sky as sky_operator
+    from radiometer.radiometry.skies import sky_models
+
+    items = sky_operator._sky_items(None, None)
+    assert [api.sky_model(ident) for ident, _label, _d in items] == list(api.SKY_MODELS.values())
+    assert [label for _i, label, _d in items] == [m.label for m in api.SKY_MODELS.values()]
+    uniform = dataclasses.replace(api.SKY_MODELS["cie:5"], name="test:uniform", label="test uniform sky")
+    monkeypatch.setitem(sky_models.SKY_MODELS, "test:uniform", uniform)
+    assert ("test:uniform", "test uniform sky") in [(i, label) for i, label, _d in sky_operator._sky_items(None, None)]
+    when = [dt.datetime(2026, 6, 21, 12, tzinfo=dt.timezone.utc)]
+    with pytest.raises(RadiometerError, match="sky model.*test:uniform"):
+        api.sun_study([(0, 0, 0)], (0, 0, 1), when, latitude_deg=51.5, longitude_deg=0.0, sky="cie:16")
