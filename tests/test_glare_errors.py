@@ -12,12 +12,18 @@ from radiometer.measure.analyses import glare
 
 
 class StubMeter:
-    """measure_illuminance returning given (E lx, rel s.e., exact, notes) per (direct_only, seed)."""
+    """measure_illuminance returning given (E lx, rel s.e., exact, notes) per (direct_only, seed); with
+    ``parts`` (the meter's one run for both, issue 30) one reading per part, each part recorded as a call
+    (total, then direct) with its own target."""
 
     def __init__(self, table):
         self.table, self.calls = table, []
 
-    def measure_illuminance(self, *_a, seed=0, target_rel_error=None, direct_only=False, **_k):
+    def measure_illuminance(self, *_a, seed=0, target_rel_error=None, direct_only=False, parts=None, **_k):
+        if parts is not None:
+            targets = target_rel_error if isinstance(target_rel_error, dict) else {}
+            return {part: self.measure_illuminance(seed=seed, target_rel_error=targets.get(part),
+                                                   direct_only=part == "direct") for part in parts}
         self.calls.append((direct_only, seed, target_rel_error))
         e, rel, exact, notes = self.table[(direct_only, seed)]
         return SimpleNamespace(illuminance=e, rel_std_error=rel, exact=exact, notes=notes)

@@ -281,7 +281,7 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0
     if odd:
         notes.append(f"outside CIE 117's range of source sizes ({lo:g}-{hi:g} sr): {', '.join(odd)}; UGR is given "
                      "but CIE 147 treats such sources separately")
-    background = _background(eye_scene, view, scene, quality, meter)
+    background = _background(eye_scene, view, scene, quality, meter, model)
     notes += background["notes"]
     e_ind, rel, lb = background["e_ind"], background["rel"], background["e_ind"] / math.pi
     args = ([s["luminance"] for s in sources], [s["position_index"] for s in sources])
@@ -314,7 +314,7 @@ def _unknown_cause(reading, which):
     return f"the {which} reading: " + (said[0] if said else "it states no finite standard error")
 
 
-def _background(eye_scene, view, scene, quality, meter):
+def _background(eye_scene, view, scene, quality, meter, model=None):
     """E_ind = E_vertical - E_direct at the eye with its own target (the preset's, on E_ind: both readings
     share the allowed variance; a pilot at the preset decides the targets, independent readings (seed 1)
     are kept). Returns a dict: e_total, e_ind (lx), rel (1 s.e. of E_ind, relative; nan when unknown),
@@ -324,12 +324,13 @@ def _background(eye_scene, view, scene, quality, meter):
     target = float(quality_presets.preset(quality)["target"])
 
     def read(seed, t_total=None, t_direct=None):
-        total = meter.measure_illuminance(eye_scene, view, scene=scene, quality=quality, seed=seed,
-                                          target_rel_error=t_total)
-        # direct_only: light straight from every source, emitting surfaces included (rendered at 0 bounces)
-        direct = meter.measure_illuminance(eye_scene, view, scene=scene, quality=quality, seed=seed,
-                                           target_rel_error=t_direct, direct_only=True)
-        return total, direct
+        # One meter run for both parts: one capture, one visibility proof (meter.measure_parts says why
+        # each part that needs Cycles still has its own bakes). "direct": light straight from every
+        # source, emitting surfaces included (rendered at 0 bounces).
+        got = meter.measure_illuminance(eye_scene, view, scene=scene, quality=quality, seed=seed,
+                                        parts=("total", "direct"), model=model,
+                                        target_rel_error={"total": t_total, "direct": t_direct})
+        return got["total"], got["direct"]
 
     def combine(total, direct):
         e_total, e_direct = float(total.illuminance), float(direct.illuminance)

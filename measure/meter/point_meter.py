@@ -75,7 +75,7 @@ def capture_model(scene, view_layer=None, exclude=()):
     return capture_cache.capture(scene, view_layer, exclude=exclude)
 
 
-def plan(scene, model, points_m, normals, method, direct_only=False):
+def plan(scene, model, points_m, normals, method, direct_only=False, proofs=None):
     """Decide how every reading is obtained and say why. Returns a dict (pure data inside).
 
     ``direct``: the per-light, per-point :class:`~radiometer.radiometry.scene.scene_model.DirectPlan`;
@@ -83,6 +83,8 @@ def plan(scene, model, points_m, normals, method, direct_only=False):
     bound) and no light can arrive by reflection, else "render" (``auto``), or as requested.
     ``direct_only``: only light straight from the sources is wanted (reflections do not count;
     light from the world or emitting surfaces still needs a render).
+    ``proofs``: the ``DirectPlan`` of these points on this model when the caller has it (the parts of one
+    ``measure_illuminance(parts=...)``), else proved here.
     """
     from ...radiometry.scene import scene_model
 
@@ -91,7 +93,7 @@ def plan(scene, model, points_m, normals, method, direct_only=False):
     emitting = [lt for lt in model.lights if not lt.portal]
     if not emitting and not model.world_emits and not model.emissive_surfaces:
         raise RadiometerError("the scene has no light sources (no lights, a black world, no emitting surfaces)")
-    direct = _plan_direct(model, points_m, normals)
+    direct = _plan_direct(model, points_m, normals) if proofs is None else _copy_plan(proofs)
     world_render = _world_rendered(direct)
     unmodelled = (world_render or bool(model.emissive_surfaces)) if direct_only else direct.indirect.any()
     analytic_ok = np.isin(direct.status, (scene_model.EXACT, scene_model.ZERO, scene_model.BOUNDED)).all() \
@@ -165,7 +167,11 @@ def _plan_direct(model, points_m, normals):
            normals.tobytes())
     if _LAST_PLAN[0] != key:
         _LAST_PLAN[:] = [key, parts, scene_model.plan_direct(model, points_m, normals)]
-    kept = _LAST_PLAN[2]
+    return _copy_plan(_LAST_PLAN[2])
+
+
+def _copy_plan(kept):
+    """A copy of a ``DirectPlan`` whose arrays are the caller's own."""
     return dataclasses.replace(kept, **{f.name: value.copy() for f in dataclasses.fields(kept)
                                         if isinstance(value := getattr(kept, f.name), np.ndarray)})
 
@@ -855,7 +861,7 @@ def pooled_notes(run, method, n):
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
                         exclude=(), seed=0, direct_only=False, model=None, pooling=True, target_abs_error=None,
-                        stop_dark=False, proven=None):
+                        stop_dark=False, proven=None, parts=None, proofs=None):
     """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``.
 
     ``direct_only``: light straight from the sources only (closed forms where proven, else Cycles
@@ -872,7 +878,17 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     closed form and has kept out of what Cycles renders (issue 31: the daylight factor's sky component,
     the world's direct emission gated off); it is added to the rendered rest, the relative target
     counts it, and every meter is rendered (the meter's own closed forms would count that part again).
+    ``parts``: names from ``PARTS`` ("total": all the light, "direct": light straight from the sources, as
+    ``direct_only``); returns {part: readings} from one capture and one visibility proof
+    (:func:`measure_parts`); ``target_rel_error`` may then be a dict by part. ``proofs``: the points'
+    ``DirectPlan`` on ``model`` (``measure_parts`` hands it down).
     """
+    if parts is not None:
+        return measure_parts(location, normal, parts, scene=scene, method=method, quality=quality,
+                             target_rel_error=target_rel_error, samples=samples, time_budget_s=time_budget_s,
+                             progress=progress, cancelled=cancelled, exclude=exclude, seed=seed, model=model,
+                             pooling=pooling, target_abs_error=target_abs_error, stop_dark=stop_dark,
+                             proven=proven, direct_only=direct_only)
     scene = scene or bpy.context.scene
     view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     points_scene, single = as_points(location)
@@ -888,7 +904,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     progress, cancelled = watch.wrap(progress), watch.wrap(cancelled)
     sensors_scene, eps = sensor_points(points_scene, normals, scale, model)
     sensors_m, eps_m = sensors_scene * scale, eps * scale
-    decision = plan(scene, model, sensors_m, normals, method, direct_only=direct_only)
+    decision = plan(scene, model, sensors_m, normals, method, direct_only=direct_only, proofs=proofs)
     space, weights, efficacy = scene_photometry(scene)
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"]
     floor_lux = preset["target_abs_lux"] if target_abs_error is None else float(target_abs_error)
@@ -962,6 +978,49 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
             upper_bound_lux=None if np.isnan(upper[k]) else float(efficacy * (e + upper[k]))))
     watch.done()  # only on success, after the guard restored the scene
     return readings[0] if single else readings
+
+
+#: The parts of the light one ``measure_illuminance(parts=...)`` call reads: "total" (everything the
+#: meter sees) and "direct" (straight from the sources: what ``direct_only=True`` reads).
+PARTS = ("total", "direct")
+
+
+def measure_parts(location, normal, parts, *, scene=None, target_rel_error=None, exclude=(), model=None,
+                  direct_only=False, **options):
+    """{part: readings} for ``parts`` (names from ``PARTS``) at the same meters, from ONE capture of the
+    scene and ONE visibility proof (the lights' and the world's status at every sensor), shared by the
+    parts; ``target_rel_error``: one value or a dict by part. The other options are
+    ``measure_illuminance``'s; a part's readings are what ``measure_illuminance`` alone gives (with
+    ``direct_only`` for "direct") on the same seed.
+
+    Why each rendered part still has its own Cycles bakes: a bake writes one pass combination per call
+    (``type='DIFFUSE'`` with ``pass_filter`` {DIRECT, INDIRECT} for the total, {DIRECT} would be the
+    direct part) into one image per object, and bpy gives no way to keep both of one path-tracing run's
+    passes; the direct part is also rendered at 0 bounces (its closed forms, hybrid exclusions and
+    sample floors differ from the total's: ``plan(direct_only=True)``). What the parts share is
+    everything before the bake."""
+    if direct_only:
+        raise RadiometerError("direct_only and parts go separately: ask for parts=('direct',)")
+    names = tuple(parts) if not isinstance(parts, str) else (parts,)
+    if not names or len(set(names)) != len(names) or not set(names) <= set(PARTS):
+        raise RadiometerError(f"parts must be distinct names from {PARTS}, got {parts!r}")
+    targets = dict(target_rel_error) if isinstance(target_rel_error, dict) else \
+        {name: target_rel_error for name in names}
+    if not set(targets) <= set(names):
+        raise RadiometerError("target_rel_error names parts that were not asked for: "
+                              f"{sorted(set(targets) - set(names))}")
+    scene = scene or bpy.context.scene
+    view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
+    model = capture_model(scene, view_layer, exclude=exclude) if model is None else model
+    points_scene, _single = as_points(location)
+    normals = as_directions(normal, len(points_scene))
+    scale = scene.unit_settings.scale_length
+    sensors_scene, _eps = sensor_points(points_scene, normals, scale, model)  # as measure_illuminance places them
+    proofs = _plan_direct(model, sensors_scene * scale, normals)
+    return {name: measure_illuminance(location, normal, scene=scene, target_rel_error=targets.get(name),
+                                      exclude=exclude, model=model, direct_only=name == "direct", proofs=proofs,
+                                      **options)
+            for name in names}
 
 
 def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
