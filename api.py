@@ -9,6 +9,18 @@ message and leaves the scene untouched; so does a failed or cancelled measuremen
 from . import validation as _v
 from .measure.blender import arguments as _b  # the Blender arguments' checks (host: bpy inside)
 from .errors import MeasurementCancelled, RadiometerError  # noqa: F401  (re-exported)
+from .measure.blender import efficacy as _efficacy
+
+
+def _efficacy_setting(scene):
+    """K (lm/W) of ``scene``'s Radiometer settings, or None where the add-on's properties are not
+    registered: the api reads the UI setting and hands it down (issue 30); measure/ asks
+    ``measure.blender.efficacy.of`` and reads no property group."""
+    settings = getattr(scene, "radiometer", None)
+    return None if settings is None else float(getattr(settings, "efficacy", 0.0) or 0.0)
+
+
+_efficacy.install(_efficacy_setting)
 
 
 @_v.boundary(finite=True)

@@ -123,6 +123,10 @@ classes = (RadiometerMeterSettings, RadiometerSceneSettings)
 def register_extra():
     bpy.types.Object.radiometer_meter = PointerProperty(type=RadiometerMeterSettings)
     bpy.types.Scene.radiometer = PointerProperty(type=RadiometerSceneSettings)
+    # The api reads the scene's efficacy setting and hands it down to measure/ (issue 30): importing it
+    # installs its reader, so a session that measures without calling the api first (a cluster worker
+    # running a measurement task on the file it opened) reads the file's setting too.
+    from .. import api  # noqa: F401
 
 
 def unregister_extra():

@@ -83,9 +83,6 @@ EXCEPTIONS = {
     ("blender", "outputs", "bpy"):
         "permanent: outputs.user_folder asks Blender for the extension's user folder inside a try, and falls "
         "back to a private temporary folder without bpy",
-    ("props", "measure.blender.efficacy", "radiometer"):
-        "2026-12-05: the scene's luminous efficacy, read in this one place until the request built at the api "
-        "carries it down (issue 30, 'one request object'; 17 callers of scene_photometry)",
     ("root", "commands._io", "register"):
         "permanent: with bpy as a module nothing enables the add-on, so the CLI registers it through the "
         "extension's own entry point (the function Blender calls); the root imports the CLI only inside it",

@@ -47,20 +47,22 @@ class TemporaryScene:
 
 @contextlib.contextmanager
 def temporary_scene(name, *, like=None):
-    """A new Cycles scene named ``name``; with ``like`` (the user's scene) it shares its world and copies
-    its unit scale and Radiometer luminous-efficacy settings, so that readings in it mean the same."""
+    """A new Cycles scene named ``name``; with ``like`` (the user's scene) it shares its world, copies its
+    unit scale and reads its luminous efficacy (``efficacy.follow``), so that readings in it mean the same."""
     import bpy
+
+    from . import efficacy
 
     rig = TemporaryScene(bpy.data.scenes.new(name))
     try:
         rig.scene.render.engine = "CYCLES"
-        if like is not None:
+        if like is None:
+            yield rig
+        else:
             rig.scene.world = like.world
             rig.scene.unit_settings.scale_length = like.unit_settings.scale_length
-            from .efficacy import copy_efficacy
-
-            copy_efficacy(like, rig.scene)
-        yield rig
+            with efficacy.follow(rig.scene, like):
+                yield rig
     finally:
         bpy.data.scenes.remove(rig.scene)
         if rig.created:

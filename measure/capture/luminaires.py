@@ -38,9 +38,9 @@ _MAPPING_SCALE = (1.0, -1.0, 1.0)
 
 
 def scene_efficacy(scene):
-    from ..blender.efficacy import efficacy_setting
+    from ..blender import efficacy
 
-    value = efficacy_setting(scene) or 0.0
+    value = efficacy.of(scene) or 0.0
     return value if value > 0.0 else K_M_LM_PER_W
 
 

@@ -58,10 +58,10 @@ def scene_photometry(scene):
     """(colour space name, luminance weights (3,), efficacy lm/W) for this scene."""
     from ...compat import working_colour_space
     from ...radiometry.photometry import efficacy as photometry
-    from ..blender.efficacy import efficacy_setting
+    from ..blender import efficacy as scene_efficacy  # as the api reads it (no property group here)
 
     space = working_colour_space()
-    efficacy = efficacy_setting(scene)
+    efficacy = scene_efficacy.of(scene)
     efficacy = DEFAULT_EFFICACY if efficacy is None else efficacy
     return space, np.asarray(photometry.luminance_weights(space), float), efficacy
 

@@ -6,6 +6,8 @@ import os
 import bpy
 import pytest
 
+from radiometer import api  # noqa: F401  (installs the efficacy reader, as in every session)
+from radiometer.measure.blender import efficacy
 from radiometer.measure.blender.temporary_scene import temporary_scene
 
 
@@ -20,7 +22,7 @@ def test_everything_made_is_removed_even_after_an_error(clean_blender, build):
         with temporary_scene("radiometer_test_rig", like=user) as rig:
             assert rig.scene.world == user.world
             assert rig.scene.unit_settings.scale_length == user.unit_settings.scale_length
-            assert rig.scene.radiometer.efficacy_convention == "CUSTOM" and rig.scene.radiometer.efficacy == 250.0
+            assert efficacy.of(rig.scene) == 250.0  # the rig reads the user's efficacy (issue 30: no copied props)
             mesh = rig.keep(bpy.data.meshes.new("radiometer_test_mesh"))
             rig.link(bpy.data.objects.new("radiometer_test_object", mesh))
             rig.keep(bpy.data.cameras.new("radiometer_test_camera"))
