@@ -1,6 +1,6 @@
 """Where a subcommand measures: points from a CSV file (``--points``) or the grid on a plane object
 (``--plane`` with ``--spacing`` or ``--resolution``, laid out like every grid). Shared by
-``sun-study``, ``daylight-factor`` and ``annual``."""
+``sun-study``, ``daylight-factor`` and ``annual``, with the outputs they all take (``add_study_outputs``)."""
 
 
 def add_arguments(parser):
@@ -12,6 +12,18 @@ def add_arguments(parser):
     size = parser.add_mutually_exclusive_group()
     size.add_argument("--spacing", type=float, metavar="M", help="with --plane: cell size in m (default EN 12464-1)")
     size.add_argument("--resolution", type=int, nargs=2, metavar=("NX", "NY"), help="with --plane: points along x, y")
+
+
+def add_study_outputs(parser, *, csv_help, png_help, quality_default="standard", quality_help=None):
+    """What every daylight study takes after its own options: ``--quality``, ``--csv FILE``, ``--png FILE``
+    and the cluster's ``--workers`` / ``--scheduler`` (``_cluster``)."""
+    from . import _cluster
+
+    parser.add_argument("--quality", choices=("preview", "standard", "reference"), default=quality_default,
+                        help=quality_help)
+    parser.add_argument("--csv", metavar="FILE", help=csv_help)
+    parser.add_argument("--png", metavar="FILE", help=png_help)
+    _cluster.add_arguments(parser)
 
 
 def from_args(args, scene):

@@ -17,22 +17,20 @@ def add_arguments(parser):
                         help="reflectance of the ground (default 0.2)")
     parser.add_argument("--north", type=float, default=0.0, metavar="DEG",
                         help="angle from the scene's +Y axis to true north, counter-clockwise seen from above")
-    parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="preview",
-                        help="rays per point for the daylight coefficients (default preview: 8 rounds x 8 samples x "
-                        "16 x 16 pixels); the errors reached are stated")
     parser.add_argument("--method", choices=("dome", "per_patch"), default="dome",
                         help="dome: every sky patch in one render (default); per_patch: one render per patch (slow)")
     parser.add_argument("--partial-period", action="store_true",
                         help="accept a weather file that is not a whole year (8760 or 8784 hourly records): the "
                         "metrics cover its period and the notes say which; without it such a file is refused")
-    parser.add_argument("--csv", metavar="FILE", help="write one row per point")
-    parser.add_argument("--png", metavar="FILE", help="write a plan-view map of --map per point (points on one "
-                        "horizontal plane)")
     parser.add_argument("--map", choices=("sda", "ase", "udi"), default="sda",
                         help="the --png map: sda, the share of occupied hours at 300 lx (points whose pass/fail is "
                         "uncertain at 2 s.e. ringed; default); ase, hours of direct sun at 1000 lx; udi, the share "
                         "of occupied hours at 100-2000 lx")
-    _cluster.add_arguments(parser)
+    _points.add_study_outputs(parser, quality_default="preview",
+                              quality_help="rays per point for the daylight coefficients (default preview: 8 rounds "
+                                           "x 8 samples x 16 x 16 pixels); the errors reached are stated",
+                              csv_help="write one row per point",
+                              png_help="write a plan-view map of --map per point (points on one horizontal plane)")
 
 
 def run(args):

@@ -17,14 +17,12 @@ def add_arguments(parser):
     parser.add_argument("--median-external-lux", type=float, default=None, metavar="LX",
                         help="with --plane: the site's median external diffuse illuminance E_v,d (EN 17037 "
                              "Annex A) for the D_T / D_TM checks")
-    parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
     parser.add_argument("--method", choices=("auto", "camera"), default="auto",
                         help="auto: sensor bakes to the quality's target error; camera: cosine-weighted rays from "
                         "each point through a custom camera, a fixed number per quality (cheaper per unit of error)")
-    parser.add_argument("--csv", metavar="FILE", help="write one row per point")
-    parser.add_argument("--png", metavar="FILE", help="with --plane: write a plan-view daylight factor map (the "
-                        "room cut at the plane's height, its openings, the stated error in the title)")
-    _cluster.add_arguments(parser)
+    _points.add_study_outputs(parser, csv_help="write one row per point",
+                              png_help="with --plane: write a plan-view daylight factor map (the room cut at the "
+                                       "plane's height, its openings, the stated error in the title)")
 
 
 def run(args):

@@ -1,7 +1,7 @@
 """`sun-study`: illuminance from the sun over a day (or any span) at points from a CSV or a grid."""
 
-HELP = ("sun study: illuminance from the sun (and --sky NAME) at points (--points CSV or --plane NAME) from --start to --end "
-        "every --step minutes; sunlit flags and sunlight hours; --csv, --json and --png "
+HELP = ("sun study: illuminance from the sun (and --sky NAME) at points (--points CSV or --plane NAME) from "
+        "--start to --end every --step minutes; sunlit flags and sunlight hours; --csv, --json and --png "
         "(a plan-view map of sunlight hours)")
 NEEDS_SCENE = True
 
@@ -26,14 +26,12 @@ def add_arguments(parser):
                         help="with --sky: the sky's unobstructed horizontal illuminance (default 10 000 lx)")
     parser.add_argument("--min-elevation", type=float, default=0.0, metavar="DEG",
                         help="sun altitude below which a sample adds no sunlight hours (EN 17037 site minimum)")
-    parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
     parser.add_argument("--time-budget", type=float, default=None, metavar="S",
                         help="seconds per time step at most: it stops at the quality's target or the budget, "
                              "whichever comes first (a low sun gives small, costly readings)")
-    parser.add_argument("--csv", metavar="FILE", help="write one row per time and point")
-    parser.add_argument("--png", metavar="FILE", help="write a plan-view map of the sunlight hours per point (points "
-                        "on one horizontal plane)")
-    _cluster.add_arguments(parser)
+    _points.add_study_outputs(parser, csv_help="write one row per time and point",
+                              png_help="write a plan-view map of the sunlight hours per point (points on one "
+                                       "horizontal plane)")
 
 
 def time_range(start, end, step_min, tz):

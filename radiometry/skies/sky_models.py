@@ -67,7 +67,8 @@ class CIESky:
 #: skies. gensky's -c is the overcast sky, its -s the nearest line to type 12 (``radiance_sky``).
 SKY_MODELS = {
     "overcast": CIESky("overcast", "overcast", "CIE overcast sky",
-                       "traditional CIE overcast sky, L = Lz (1 + 2 cos Z) / 3 (Moon & Spencer), the daylight-factor sky",
+                       "traditional CIE overcast sky, L = Lz (1 + 2 cos Z) / 3 (Moon & Spencer), the daylight-factor "
+                       "sky",
                        gensky_flag="-c"),
     **{f"cie:{t}": CIESky(f"cie:{t}", t, f"CIE sky type {t}", f"ISO 15469 type {t}: {row[7]}",
                           gensky_flag="-s" if t == 12 else None)
