@@ -5,6 +5,13 @@ import math
 from typing import Optional
 
 
+class AsDict:
+    """Gives a result dataclass ``to_dict()``: its fields as plain data (``dataclasses.asdict``)."""
+
+    def to_dict(self):
+        return dataclasses.asdict(self)
+
+
 def format_value(value, rel_std_error=0.0, exact=False):
     """``value`` with as many significant digits as its standard error supports (2 to 6).
 

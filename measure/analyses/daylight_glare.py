@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from ...errors import RadiometerError
+from ...readings import AsDict
 from ...radiometry.metrics import glare_dgp as dgp_math
 from ...radiometry.metrics.glare import view_frame
 
@@ -33,7 +34,7 @@ MAX_SPP = {"preview": 64, "standard": 256, "reference": 1024}
 
 
 @dataclasses.dataclass
-class DaylightGlareResult:
+class DaylightGlareResult(AsDict):
     """DGP at one observer. Luminances cd/m², solid angles sr, illuminances lx."""
 
     dgp: float
@@ -51,9 +52,6 @@ class DaylightGlareResult:
     resolution: int
     notes: list
     paths: dict = dataclasses.field(default_factory=dict)
-
-    def to_dict(self):
-        return dataclasses.asdict(self)
 
     def summary(self):
         return (f"DGP {self.dgp:.3f} ±{self.dgp_std_error:.3f} (noise) ±{self.dgp_resolution_error:.3f} (pixels) "

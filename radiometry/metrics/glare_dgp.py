@@ -45,6 +45,7 @@ import math
 
 import numpy as np
 
+from ...readings import AsDict
 from . import glare
 
 __all__ = ["dgp", "dgp_simplified", "low_light_factor", "dgp_class", "position_index_dgp", "angular_fisheye",
@@ -292,7 +293,7 @@ def find_glare_sources(luminance, directions, solid_angles, valid, view_directio
 
 
 @dataclasses.dataclass
-class DGPResult:
+class DGPResult(AsDict):
     """DGP of one picture. Luminances cd/m², solid angles sr, illuminances lx."""
 
     dgp: float
@@ -305,9 +306,6 @@ class DGPResult:
     sources: list
     low_light_correction: bool
     notes: list = dataclasses.field(default_factory=list)
-
-    def to_dict(self):
-        return dataclasses.asdict(self)
 
 
 def dgp_from_picture(luminance, directions, solid_angles, valid, view_direction, up=(0.0, 0.0, 1.0), *,
