@@ -19,7 +19,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 LIMIT = 5
 #: Names a light or emitter goes by in the add-on; the record is the last name before ``.kind``.
 LIGHT_NAMES = {"spec", "emitter", "light", "lt", "lamp", "source", "src"}
-SKIP_DIRS = {"tests", ".venv", ".git", "__pycache__", "build", "dist"}
+SKIP_DIRS = {"tests", ".venv", ".venv-lts", ".git", "__pycache__", "build", "dist"}
 
 
 def _last_name(node):

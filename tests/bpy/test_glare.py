@@ -5,6 +5,7 @@ along the line of sight; tau = atan(T/H), sigma = atan(sqrt(H² + T²)/R)), the 
 reference patch render of the total vertical illuminance (tests/bpy/reference.py) minus the integrated
 direct part. And against Radiance's evalglare on a fisheye render of the same office (test-only)."""
 
+import importlib.util
 import math
 import os
 import subprocess
@@ -129,8 +130,9 @@ def test_ugr_left_out_sources_are_named(clean_blender):
         api.glare_ugr(office.EYE, (0, 0, 1), scene=scene)
 
 
-RADIANCE = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), ".venv",
-                        "lib", "python3.11", "site-packages", "pyradiance")
+# pyradiance where this interpreter finds it (a worktree or the LTS venv has no .venv of its own)
+_PYRADIANCE = importlib.util.find_spec("pyradiance")
+RADIANCE = os.path.dirname(_PYRADIANCE.origin) if _PYRADIANCE and _PYRADIANCE.origin else ""
 
 
 @pytest.mark.slow
