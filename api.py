@@ -112,9 +112,11 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="
     if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
         raise RadiometerError(f"seed must be a whole number >= 0, got {seed!r}")
     _b.scene(scene)
-    from .measure.meter import spectra
+    from .measure.meter import spectra, spectral_reflected
 
-    return spectra.spectral_reading(location, normal, scene=scene, reflected=reflected, quality=quality, seed=seed)
+    if reflected:
+        return spectral_reflected.spectral_reading(location, normal, scene=scene, quality=quality, seed=seed)
+    return spectra.spectral_reading(location, normal, scene=scene)
 
 
 @_v.boundary

@@ -13,8 +13,8 @@ Which spectrum an emitter has, first match wins:
 
 The reading (:func:`spectral_reading`) covers the **direct** light of the scene's lights, from the
 meter's closed forms (``meter.predict_illuminance``): per light mel-EDI = E_v x mel-DER of its spectrum,
-and so for every alpha-opic quantity. Light reflected by surfaces, the world and emitting surfaces
-are not in it (docs/spectral.md).
+and so for every alpha-opic quantity. Light reflected by surfaces is added by ``spectral_reflected``
+(band renders); the world and emitting surfaces are not in it (docs/spectral.md).
 """
 
 import bpy
@@ -93,7 +93,7 @@ def _light_row(row, spectra):
     return out
 
 
-def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, reflected=False, quality="preview", seed=0):
+def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     """The alpha-opic (CIE S 026) reading of the direct light at one meter, SI units (a plain dict).
 
     Keys: ``part`` ("direct"), ``illuminance_lx`` (E_v of the lights in closed form), ``illuminance_known_spectrum_lx``
@@ -102,12 +102,7 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, reflected=
     ``sp_ratio``, ``exact`` (every light's direct part a proven closed form and its spectrum known),
     ``complete`` (every light's spectrum known; else the sums are lower bounds of the lights that have
     one), ``lights`` (per light), ``not_included`` (what this reading leaves out), ``units``.
-
-    ``reflected``: also the rendered part (reflected light) in spectral bands with its stated error
-    (``spectral_reflected``): then ``part`` is "direct+reflected", ``illuminance_lx``, ``mel_edi_lx`` and
-    ``alpha_opic_edi_lx`` are the totals (direct exact + reflected estimate), ``interval_95`` holds their
-    95 % intervals (lx), ``direct`` the direct-only figures, ``reflected`` the band reading, ``rgb_only`` the
-    RGB-only estimate of the reflected part (no proven bound), and ``exact`` is False.
+    (``spectral_reflected.spectral_reading`` adds the reflected part.)
     """
     from . import point_meter as meter
 
@@ -149,44 +144,4 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, reflected=
         "complete": not missing, "lights": lights, "not_included": not_included, "notes": notes,
         "units": UNITS,
     }
-    if reflected:
-        _add_reflected(out, location, normal, scene, quality, seed)
     return out
-
-
-def _add_reflected(out, location, normal, scene, quality, seed):
-    """Adds the band-rendered part (``spectral_reflected``) to a direct reading, in place."""
-    from . import spectral_reflected
-
-    if not out["complete"]:
-        out["notes"].append("reflected part not added: every light needs a spectrum and a closed form here")
-        return
-    try:
-        band = spectral_reflected.reflected_reading(location, normal, scene=scene, quality=quality, seed=seed)
-        rgb = spectral_reflected.rgb_only_reading(location, normal, scene=scene, quality=quality, seed=seed + 1)
-    except RadiometerError as exc:
-        out["notes"].append(f"reflected part not added: {exc}")
-        return
-    direct = {k: out[k] for k in ("illuminance_lx", "mel_edi_lx", "alpha_opic_edi_lx", "alpha_opic_irradiance_w_m2",
-                                  "mel_der", "sp_ratio", "exact")}
-    ev_d = out["illuminance_lx"]
-
-    def total(d_value, part):
-        return {"estimate": d_value + part["estimate"], "low_95": d_value + part["low_95"],
-                "high_95": d_value + part["high_95"], "std_error": part["std_error"],
-                "band_bound": max(part["estimate"] - part["lower"], part["upper"] - part["estimate"])}
-
-    ev = total(ev_d, band["illuminance_lx"])
-    edi = {a: total(direct["alpha_opic_edi_lx"][a], band["alpha_opic_edi_lx"][a]) for a in action_spectra.ALPHA}
-    irr = {a: total(direct["alpha_opic_irradiance_w_m2"][a], band["alpha_opic_irradiance_w_m2"][a])
-           for a in action_spectra.ALPHA}
-    out.update(part="direct+reflected", direct=direct, reflected=band, rgb_only=rgb, exact=False,
-               illuminance_lx=ev["estimate"], illuminance_known_spectrum_lx=ev["estimate"],
-               mel_edi_lx=edi["melanopic"]["estimate"], mel_der=edi["melanopic"]["estimate"] / ev["estimate"],
-               alpha_opic_edi_lx={a: v["estimate"] for a, v in edi.items()},
-               alpha_opic_irradiance_w_m2={a: v["estimate"] for a, v in irr.items()},
-               interval_95={"illuminance_lx": ev, "mel_edi_lx": edi["melanopic"],
-                            "alpha_opic_edi_lx": edi, "alpha_opic_irradiance_w_m2": irr},
-               sp_ratio=None, not_included=[x for x in out["not_included"] if not x.startswith("light reflected")])
-    out["notes"] += band["notes"] + ["S/P of the total is not given with the reflected part (the bands bound "
-                                     "the scotopic and photopic sums separately)"]

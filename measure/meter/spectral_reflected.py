@@ -40,7 +40,7 @@ def _material_sockets(mat):
     """The colour sockets that carry ``mat``'s reflectance, or raise naming what is not supported."""
     if mat is None:
         return []
-    tree = mat.node_tree if getattr(mat, "use_nodes", True) else None
+    tree = mat.node_tree
     if tree is None:
         raise RadiometerError(f"material {mat.name!r} has no node tree")
     sockets = []
@@ -255,3 +255,50 @@ def rgb_only_reading(location, normal, *, scene, quality="preview", seed=0, samp
             "assumption": "the room's gain in each box band (B 380-489, G 490-589, R 590-780 nm) is the RGB "
                           "render's gain in that channel; bound measured over a family of coloured rooms, not proven",
             "units": {"illuminance_lx": "lx", "mel_edi_lx": "lx", "alpha_opic_edi_lx": "lx", "rel_error_bound": "1"}}
+
+
+def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quality="preview", seed=0):
+    """``spectra.spectral_reading`` (the direct part) with the rendered part added in bands.
+
+    Then ``part`` is "direct+reflected"; ``illuminance_lx``, ``mel_edi_lx``, ``alpha_opic_edi_lx`` and
+    ``alpha_opic_irradiance_w_m2`` are totals (direct exact + reflected estimate); ``interval_95`` holds each
+    one's estimate, 95 % interval, standard error and band bound; ``direct`` the direct-only figures;
+    ``reflected`` the band reading (:func:`reflected_reading`); ``rgb_only`` the RGB-only estimate of the
+    reflected part; ``exact`` is False. Where the band render is refused, the direct reading comes back with
+    the reason in ``notes`` and the reflected light still in ``not_included``.
+    """
+    scene = scene or bpy.context.scene
+    out = spectra.spectral_reading(location, normal, scene=scene)
+    if not out["complete"]:
+        out["notes"].append("reflected part not added: every light needs a spectrum and a closed form here")
+        return out
+    try:
+        band = reflected_reading(location, normal, scene=scene, quality=quality, seed=seed)
+        rgb = rgb_only_reading(location, normal, scene=scene, quality=quality, seed=seed + 1)
+    except RadiometerError as exc:
+        out["notes"].append(f"reflected part not added: {exc}")
+        return out
+    direct = {k: out[k] for k in ("illuminance_lx", "mel_edi_lx", "alpha_opic_edi_lx", "alpha_opic_irradiance_w_m2",
+                                  "mel_der", "sp_ratio", "exact")}
+    ev_d = out["illuminance_lx"]
+
+    def total(d_value, part):
+        return {"estimate": d_value + part["estimate"], "low_95": d_value + part["low_95"],
+                "high_95": d_value + part["high_95"], "std_error": part["std_error"],
+                "band_bound": max(part["estimate"] - part["lower"], part["upper"] - part["estimate"])}
+
+    ev = total(ev_d, band["illuminance_lx"])
+    edi = {a: total(direct["alpha_opic_edi_lx"][a], band["alpha_opic_edi_lx"][a]) for a in action_spectra.ALPHA}
+    irr = {a: total(direct["alpha_opic_irradiance_w_m2"][a], band["alpha_opic_irradiance_w_m2"][a])
+           for a in action_spectra.ALPHA}
+    out.update(part="direct+reflected", direct=direct, reflected=band, rgb_only=rgb, exact=False,
+               illuminance_lx=ev["estimate"], illuminance_known_spectrum_lx=ev["estimate"],
+               mel_edi_lx=edi["melanopic"]["estimate"], mel_der=edi["melanopic"]["estimate"] / ev["estimate"],
+               alpha_opic_edi_lx={a: v["estimate"] for a, v in edi.items()},
+               alpha_opic_irradiance_w_m2={a: v["estimate"] for a, v in irr.items()},
+               interval_95={"illuminance_lx": ev, "mel_edi_lx": edi["melanopic"],
+                            "alpha_opic_edi_lx": edi, "alpha_opic_irradiance_w_m2": irr},
+               sp_ratio=None, not_included=[x for x in out["not_included"] if not x.startswith("light reflected")])
+    out["notes"] += band["notes"] + ["S/P of the total is not given with the reflected part (the bands bound "
+                                     "the scotopic and photopic sums separately)"]
+    return out
