@@ -67,8 +67,62 @@ def run_seeds(n, quality):
     print(json.dumps({k: v for k, v in summary.items() if k != "rows"}, indent=1))
 
 
+def write_md():
+    """bench/spectral_room.md from bench/spectral_room.json (and the RGB-only bound in the product)."""
+    from radiometer.radiometry.photometry import spectral_bands
+
+    d = json.loads((HERE / "spectral_room.json").read_text())
+    ref = d["reference"]
+    rows = d["rows"]
+    n = len(rows)
+    bound = spectral_bands.RGB_ONLY_REL_BOUND
+    rgb_in = {"ev": 0, "mel": 0}
+    for r in rows:
+        for key, q, se in (("ev", "illuminance_lx", "rgb_ev_se"), ("mel", "mel_edi_lx", "rgb_mel_se")):
+            est = r[f"rgb_{key}_reflected"]
+            rgb_in[key] += abs(est - ref[f"reflected {q}"]) <= bound[q] * abs(est) + 1.96 * r[se]
+    mean = lambda k: sum(r[k] for r in rows) / n  # noqa: E731
+    lines = [
+        "# Issue 35: the spectral reading of a red room against a numpy spectral radiosity",
+        "",
+        "`bench/spectral_room.py seeds 50 preview` (bpy 5.0.1, the 2-core shared machine); the reference",
+        "`tests/spectral_radiosity.py` (5 nm, patches of 0.2 m, h = 0.4 m for its uncertainty),",
+        "`tests/bpy/spectral_room_reference.json`. Box 4 x 3 x 2.7 m, ColorChecker red walls, white 9.5 ceiling,",
+        "neutral 8 floor, a 100 W point light of 4000 K at (1.6, 1.4, 2.1) m, a vertical meter at (3.2, 1.1, 1.2) m",
+        "facing -x. `api.spectral_reading(reflected=True, quality='preview', seed=s)`, s = 0..%d." % (n - 1),
+        "",
+        "| quantity | reference (lx) | its discretisation (lx) | mean reading (lx) | mean s.e. (lx) | mean band bound (lx) | 95 %% intervals covering |" ,
+        "|---|---|---|---|---|---|---|",
+        f"| E_v total | {ref['total illuminance_lx']:.1f} | {d['reference_discretisation']['total illuminance_lx']:.1f} | "
+        f"{mean('ev'):.1f} | {mean('ev_se'):.1f} | {mean('ev_band'):.1f} | {d['covered_ev']}/{n} |",
+        f"| mel-EDI total | {ref['total mel_edi_lx']:.1f} | {d['reference_discretisation']['total mel_edi_lx']:.1f} | "
+        f"{mean('mel'):.1f} | {mean('mel_se'):.1f} | {mean('mel_band'):.1f} | {d['covered_mel']}/{n} |",
+        f"| E_v direct (exact) | {ref['direct illuminance_lx']:.2f} | 0 | {mean('ev_direct'):.2f} | 0 | 0 | |",
+        f"| mel-EDI direct (exact) | {ref['direct mel_edi_lx']:.2f} | 0 | {mean('mel_direct'):.2f} | 0 | 0 | |",
+        f"| E_v reflected, bands | {ref['reflected illuminance_lx']:.1f} | | {mean('ev_reflected'):.1f} | | | |",
+        f"| mel-EDI reflected, bands | {ref['reflected mel_edi_lx']:.1f} | | {mean('mel_reflected'):.1f} | | | |",
+        f"| E_v reflected, RGB-only | {ref['reflected illuminance_lx']:.1f} | | {mean('rgb_ev_reflected'):.1f} | "
+        f"{mean('rgb_ev_se'):.1f} | bound {100 * bound['illuminance_lx']:.1f} %% | {rgb_in['ev']}/{n} within bound + 1.96 s.e. |",
+        f"| mel-EDI reflected, RGB-only | {ref['reflected mel_edi_lx']:.1f} | | {mean('rgb_mel_reflected'):.1f} | "
+        f"{mean('rgb_mel_se'):.1f} | bound {100 * bound['mel_edi_lx']:.1f} %% | {rgb_in['mel']}/{n} within bound + 1.96 s.e. |",
+        "",
+        f"Time per reading (bands + RGB-only, preview): mean {mean('seconds'):.1f} s on the loaded 2-core machine.",
+        "",
+        "| seed | E_v (lx) | 95 % interval | mel-EDI (lx) | 95 % interval | RGB-only reflected E_v / mel-EDI (lx) |",
+        "|---|---|---|---|---|---|",
+    ]
+    lines = [x.replace("%%", "%") for x in lines]
+    for k, r in enumerate(rows):
+        lines.append(f"| {k} | {r['ev']:.1f} | {r['ev_lo']:.1f}-{r['ev_hi']:.1f} | {r['mel']:.1f} | "
+                     f"{r['mel_lo']:.1f}-{r['mel_hi']:.1f} | {r['rgb_ev_reflected']:.1f} / {r['rgb_mel_reflected']:.1f} |")
+    (HERE / "spectral_room.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines[:20]))
+
+
 if __name__ == "__main__":
     if sys.argv[1] == "reference":
         make_reference(fine="--fine" in sys.argv)
+    elif sys.argv[1] == "md":
+        write_md()
     else:
         run_seeds(int(sys.argv[2]), sys.argv[3] if len(sys.argv) > 3 else "preview")

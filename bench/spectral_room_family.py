@@ -91,5 +91,40 @@ def main():
     print(json.dumps({k: v for k, v in out.items() if k != "rows"}, indent=1))
 
 
+def write_md():
+    d = json.loads((HERE / "spectral_room_family.json").read_text())
+    rows = d["rows"]
+    lines = [
+        "# Issue 35: the RGB-only estimate of the reflected part over coloured rooms",
+        "",
+        "`bench/spectral_room_family.py`: tests/spectral_radiosity.py's box (h = %.1f m), walls one ColorChecker" % d["h_m"],
+        "colour (Ohta, colour-science 0.4.6), ceiling white 9.5, floor neutral 8; each room solved at 5 nm with the",
+        "spectra (truth) and in RGB with the materials' Rec.709 colours under D65 (what an RGB renderer computes).",
+        "Relative errors of the reflected part at the two meters (eye: vertical at 1.2 m; desk: up at 0.8 m):",
+        "`rgb-only` is `spectral_bands.rgb_only_estimate` (the product's conversion), `RGB render E_v` is Cycles'",
+        "own Y-weighted E_v of the RGB render, `grey world mel` is that E_v x the light's mel-DER (for comparison).",
+        "",
+        f"**Bound** (largest |error| over the family without `{d['held_out']}`): E_v "
+        f"{100 * d['bound_rel']['illuminance_lx']:.1f} %, mel-EDI {100 * d['bound_rel']['alpha_opic_edi_lx (melanopic)']:.1f} %. "
+        f"Held-out `{d['held_out']}` rooms: E_v errors "
+        + ", ".join(f"{100 * v:+.1f} %" for v in d["held_out_rel"]["ev"]) + "; mel-EDI "
+        + ", ".join(f"{100 * v:+.1f} %" for v in d["held_out_rel"]["mel"]) + ". For comparison over the family: "
+        f"RGB render E_v up to {100 * d['rgb_render_ev_max_rel']:.1f} % off, grey world mel-EDI up to "
+        f"{100 * d['grey_world_max_rel']:.1f} %.",
+        "",
+        "| wall | light | meter | E_v true (lx per cd) | mel-EDI true | rgb-only E_v | rgb-only mel-EDI | RGB render E_v | grey world mel |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(f"| {r['wall']} | {r['light']} | {r['meter']} | {r['ev_true']:.4f} | {r['mel_true']:.4f} | "
+                     f"{100 * r['ev_rel']:+.1f} % | {100 * r['mel_rel']:+.1f} % | {100 * r['ev_rgb_rel']:+.1f} % | "
+                     f"{100 * r['mel_grey_rel']:+.1f} % |")
+    (HERE / "spectral_room_family.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines[:12]))
+
+
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:] == ["md"]:
+        write_md()
+    else:
+        main()

@@ -80,6 +80,10 @@ def material_reflectance(mat, sockets):
             raise RadiometerError(f"material {mat.name!r}: {PROP_REFLECTANCE} {path}: a reflectance must be <= 1, "
                                   f"got {np.max(refl):g}")
         return f"file {os.path.basename(path)}", spectral.resample(wl, refl)
+    colours = {tuple(round(float(c), 6) for c in tuple(sock.default_value)[:3]) for sock in sockets}
+    if len(colours) > 1:
+        raise RadiometerError(f"material {mat.name!r} mixes BSDFs of different colours: give it its "
+                              f"{PROP_REFLECTANCE} (a spectral file)")
     rgb = tuple(sockets[0].default_value)[:3]
     return f"RGB {tuple(round(c, 3) for c in rgb)} upsampled (box, stated)", spectral_bands.box_reflectance(rgb)
 

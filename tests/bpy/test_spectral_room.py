@@ -105,3 +105,30 @@ def test_refused_scenes_keep_the_direct_reading(room, tmp_path):
     with pytest.raises(api.RadiometerError, match="quality"):
         api.spectral_reading(loc, nrm, reflected=True, quality="draft")
     assert math.isfinite(r["mel_edi_lx"])
+
+
+def test_cli_measure_melanopic_reflected(room, tmp_path, capsys):
+    import json
+
+    from radiometer import cli
+
+    scene, light = room
+    loc, nrm = spectral_room.ref.METERS["eye"]
+    bpy.ops.radiometer.add_meter(kind="ILLUMINANCE")
+    meter = bpy.context.active_object
+    meter.location = loc
+    meter.rotation_euler = (0.0, -math.pi / 2, 0.0)  # local +Z (the meter's normal) to -x
+    out = tmp_path / "r.json"
+    assert cli._blender_cli(["measure", "--quantity", "melanopic", "--reflected", "--quality", "preview",
+                             "--json", str(out)]) == 0
+    (m,) = json.loads(out.read_text())["meters"]
+    sr = m["spectral"]
+    assert sr["part"] == "direct+reflected", sr["notes"]
+    value, _ = spectral_room.expected(scene, light)
+    iv = sr["interval_95"]["mel_edi_lx"]
+    assert iv["low_95"] < sr["mel_edi_lx"] < iv["high_95"]
+    assert sr["direct"]["mel_edi_lx"] == pytest.approx(value[("direct", "mel_edi_lx")], rel=1e-3)
+    text = capsys.readouterr().out
+    assert "direct + reflected" in text and "95 % interval" in text
+    assert cli._blender_cli(["measure", "--reflected"]) == 2
+    assert "--reflected needs --quantity melanopic" in capsys.readouterr().err
