@@ -63,7 +63,8 @@ def run_seeds(n, quality):
     summary = {"quality": quality, "seeds": n, "reference": {f"{p} {q}": v for (p, q), v in value.items()},
                "reference_discretisation": {f"{p} {q}": v for (p, q), v in error.items()},
                "covered_ev": cover_ev, "covered_mel": cover_mel, "rows": rows}
-    (HERE / "spectral_room.json").write_text(json.dumps(summary, indent=1) + "\n")
+    name = "spectral_room.json" if quality == "preview" else f"spectral_room_{quality}.json"
+    (HERE / name).write_text(json.dumps(summary, indent=1) + "\n")
     print(json.dumps({k: v for k, v in summary.items() if k != "rows"}, indent=1))
 
 
