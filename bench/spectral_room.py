@@ -112,6 +112,16 @@ def write_md():
         "| seed | E_v (lx) | 95 % interval | mel-EDI (lx) | 95 % interval | RGB-only reflected E_v / mel-EDI (lx) |",
         "|---|---|---|---|---|---|",
     ]
+    std = HERE / "spectral_room_standard.json"
+    if std.exists():  # `seeds 20 standard`: the same check at standard quality (64 bands, 16384 samples per render)
+        e = json.loads(std.read_text())
+        m = lambda k: sum(r[k] for r in e["rows"]) / len(e["rows"])  # noqa: E731
+        lines[-3:-3] = [
+            "", f"Standard quality (`seeds {e['seeds']} standard`, bench/spectral_room_standard.json): E_v {m('ev'):.1f} lx "
+            f"(s.e. {m('ev_se'):.1f}, band bound {m('ev_band'):.1f}), covering {e['covered_ev']}/{e['seeds']}; mel-EDI "
+            f"{m('mel'):.1f} lx (s.e. {m('mel_se'):.1f}, band bound {m('mel_band'):.1f}), covering "
+            f"{e['covered_mel']}/{e['seeds']}; reflected part E_v {m('ev_reflected'):.1f} lx, mel-EDI "
+            f"{m('mel_reflected'):.1f} lx; {m('seconds'):.1f} s per reading."]
     lines = [x.replace("%%", "%") for x in lines]
     for k, r in enumerate(rows):
         lines.append(f"| {k} | {r['ev']:.1f} | {r['ev_lo']:.1f}-{r['ev_hi']:.1f} | {r['mel']:.1f} | "
