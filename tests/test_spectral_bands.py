@@ -121,3 +121,16 @@ def test_grey_box_radiosity_conserves_energy():
     b = np.linalg.solve(np.eye(len(areas)) - rho * f, rho * e0)
     assert np.sum(areas * b) == pytest.approx(rho * 4 * math.pi * intensity / (1 - rho), rel=1e-3)
     assert np.allclose(f.sum(axis=1), 1.0, atol=1e-9) and np.all(f >= 0)
+
+
+def test_a_channel_bound_widens_the_range_by_its_weight():
+    edges = [0, 200, 401]
+    p, w, t = np.ones((1, 401)), np.ones((1, 401)), np.full(401, 0.5)
+    values = {(b, e): 1.0 for b in (0, 1) for e in (0, 1)}
+    ses = {k: 0.0 for k in values}
+    layout = spectral_bands.channel_layout(2)
+    plain = spectral_bands.combine(edges, p, w, t, values, ses, layout)
+    wide = spectral_bands.combine(edges, p, w, t, values, ses, layout, channel_bound={(0, 0): 0.1, (1, 1): 0.2})
+    assert wide["lower"][0] == pytest.approx(plain["lower"][0] - 0.1, rel=1e-12)
+    assert wide["upper"][0] == pytest.approx(plain["upper"][0] + 0.2, rel=1e-12)
+    assert wide["estimate"][0] == plain["estimate"][0]

@@ -15,6 +15,7 @@ grey 0.8). Anything else (textures, other shaders, emitting surfaces, a world th
 the reason: the reading then has no spectral reflected part.
 """
 
+import math
 import os
 
 import bpy
@@ -159,7 +160,7 @@ def reflected_reading(location, normal, *, scene, quality="preview", seed=0, sam
     edges = spectral_bands.plan_bands(refl, n_bands)
     rmin, rmax, t_all = spectral_bands.band_table(refl, edges)
     layout = spectral_bands.channel_layout(len(edges) - 1)
-    values, ses = {}, {}
+    values, ses, bounds = {}, {}, {}
     saved = []
     try:
         for mat, sockets in materials.items():
@@ -187,14 +188,18 @@ def reflected_reading(location, normal, *, scene, quality="preview", seed=0, sam
                       if row["irradiance_rgb"] is not None}
             rendered = np.asarray(reading.irradiance_rgb, float) - sum(
                 (direct[name] for name in reading.parts.get("analytic", []) if name in direct), np.zeros(3))
+            # the meter's deterministic bound (a caustic's or mirror image's closed form, a bounded closed form),
+            # stated on its Y-weighted reading: shared across the channels in proportion to their readings
+            rel = float(reading.rel_error_bound or 0.0)
             for j, key in enumerate(render):
                 values[key], ses[key] = float(rendered[j]), float(reading.std_error_rgb[j])
+                bounds[key] = rel * abs(float(reading.irradiance_rgb[j])) if math.isfinite(rel) else math.inf
     finally:
         _restore(saved)
     w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.ACTION_SPECTRA])
     varying = np.ptp(refl, axis=1) > 0
     t = t_all[varying].mean(axis=0) if varying.any() else np.full(refl.shape[1], 0.5)
-    out = spectral_bands.combine(edges, np.array(power), w, t, values, ses, layout)
+    out = spectral_bands.combine(edges, np.array(power), w, t, values, ses, layout, channel_bound=bounds)
     # E_v: efficacy x the V-weighted band sum; alpha-opic as the direct part's: (efficacy / K_m,S026) x sum E s
     scale = np.array([efficacy] + [efficacy / action_spectra.K_M_S026_LM_PER_W] * 5)
 

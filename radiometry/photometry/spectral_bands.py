@@ -99,15 +99,16 @@ def band_sums(values, edges):
     return np.stack([values[..., edges[k]:edges[k + 1]].sum(axis=-1) for k in range(len(edges) - 1)], axis=-1)
 
 
-def combine(edges, light_power, weights, t, channel_values, channel_se, layout):
+def combine(edges, light_power, weights, t, channel_values, channel_se, layout, channel_bound=None):
     """Band renders -> a weighted quantity with its bounds.
 
     ``light_power`` (L, 401): each light's radiant power per 1 nm sample, in the units the renders used
     for light colour x strength (its band sums are what the light's colour channels held);
     ``weights`` (Q, 401): the weightings (V, s_alpha ...); ``t`` (401,): where the materials' reflectances
     lie in their band range (mean over materials); ``channel_values`` / ``channel_se`` {(band, end): R, s.e.}
-    of the rendered band irradiance. Returns dict of arrays (Q,): ``estimate``, ``lower``, ``upper`` (the
-    proven band range, before noise), ``std_error`` (stochastic, 1 sigma).
+    of the rendered band irradiance; ``channel_bound`` {(band, end): b}: a deterministic bound on a channel's
+    value (the meter's own, e.g. a caustic's), widening the range. Returns dict of arrays (Q,): ``estimate``,
+    ``lower``, ``upper`` (the band range, before noise), ``std_error`` (stochastic, 1 sigma).
     """
     p = np.asarray(light_power, float)
     w = np.atleast_2d(np.asarray(weights, float))
@@ -126,6 +127,9 @@ def combine(edges, light_power, weights, t, channel_values, channel_se, layout):
     est = np.sum(r_mean * (lo_v + tw * (hi_v - lo_v)), axis=1)
     lower = np.sum(rmin_ratio * lo_v, axis=1)
     upper = np.sum(rmax_ratio * hi_v, axis=1)
+    if channel_bound:
+        lower -= np.sum(rmin_ratio * np.array([channel_bound.get((b, 0), 0.0) for b in range(nb)]), axis=1)
+        upper += np.sum(rmax_ratio * np.array([channel_bound.get((b, 1), 0.0) for b in range(nb)]), axis=1)
     var = np.zeros(w.shape[0])
     for render in layout:
         s = np.zeros(w.shape[0])
