@@ -87,10 +87,15 @@ def write_md():
         "# Issue 35: the spectral reading of a red room against a numpy spectral radiosity",
         "",
         "`bench/spectral_room.py seeds 50 preview` (bpy 5.0.1, the 2-core shared machine); the reference",
-        "`tests/spectral_radiosity.py` (5 nm, patches of 0.2 m, h = 0.4 m for its uncertainty),",
+        "`tests/spectral_radiosity.py` (5 nm; patches of 0.1 m, its change from 0.2 m counted as its uncertainty),",
         "`tests/bpy/spectral_room_reference.json`. Box 4 x 3 x 2.7 m, ColorChecker red walls, white 9.5 ceiling,",
         "neutral 8 floor, a 100 W point light of 4000 K at (1.6, 1.4, 2.1) m, a vertical meter at (3.2, 1.1, 1.2) m",
         "facing -x. `api.spectral_reading(reflected=True, quality='preview', seed=s)`, s = 0..%d." % (n - 1),
+        "",
+        "Reference refinement, eye meter, reflected part per cd (patch side m: E_v, mel-EDI lx): " + "; ".join(
+            f"{h}: {v['reflected']['illuminance_lx']:.5f}, {v['reflected']['mel_edi_lx']:.5f}" for h, v in
+            sorted(json.loads((HERE.parent / "tests" / "bpy" / "spectral_room_reference.json").read_text())["eye"].items(),
+                   key=lambda kv: -float(kv[0]))) + ".",
         "",
         "| quantity | reference (lx) | its discretisation (lx) | mean reading (lx) | mean s.e. (lx) | mean band bound (lx) | 95 %% intervals covering |" ,
         "|---|---|---|---|---|---|---|",

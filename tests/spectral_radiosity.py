@@ -20,7 +20,8 @@ Method (everything at 5 nm, 380-780 nm, 81 wavelengths):
 E_v = K sum E V 5 nm (K = the scene's efficacy, 683 lm/W), alpha-opic irradiance sum E s_alpha 5 nm (W/m^2),
 alpha-opic EDI = K sum E s_alpha 5 nm x (sum D65 V / sum D65 s_alpha) (lx), with CIE S 026's action
 spectra and V(lambda) sampled at 5 nm. The only approximation is the piecewise-constant radiosity: it is
-shown to converge by refinement (``bench/spectral_room.md``; ``tests/test_spectral_radiosity.py``).
+shown to converge by refinement (docs/spectral.md, ``bench/spectral_room.md``); the pure checks are in
+``tests/test_spectral_bands.py``.
 """
 
 import numpy as np

@@ -40,7 +40,7 @@ from .spectral import WAVELENGTHS_NM
 
 __all__ = ["plan_bands", "band_table", "channel_layout", "combine"]
 
-#: At most this many bands (two channels each: 2 bands per 3-channel render... see :func:`channel_layout`).
+#: Default largest number of bands; each takes two channels (its low and high end), 3 channels a render.
 MAX_BANDS = 24
 
 
