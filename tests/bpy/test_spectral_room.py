@@ -132,3 +132,24 @@ def test_cli_measure_melanopic_reflected(room, tmp_path, capsys):
     assert "direct + reflected" in text and "95 % interval" in text
     assert cli._blender_cli(["measure", "--reflected"]) == 2
     assert "--reflected needs --quantity melanopic" in capsys.readouterr().err
+
+
+def test_a_failed_band_render_leaves_every_colour_as_it_was(room, monkeypatch):
+    """A render that fails half-way (here the third one) still puts back every colour, temperature and power."""
+    from radiometer.measure.meter import point_meter, spectral_reflected
+
+    scene, _light = room
+    before = _state(scene)
+    real, calls = point_meter.measure_illuminance, []
+
+    def failing(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 3:
+            raise api.RadiometerError("stopped on purpose")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(point_meter, "measure_illuminance", failing)
+    loc, nrm = spectral_room.ref.METERS["eye"]
+    with pytest.raises(api.RadiometerError, match="on purpose"):
+        spectral_reflected.reflected_reading(loc, nrm, scene=scene, samples=64)
+    assert len(calls) == 3 and _state(scene) == before
