@@ -37,6 +37,11 @@ _COLOUR_INPUT = {"BSDF_DIFFUSE": "Color", "BSDF_PRINCIPLED": "Base Color"}
 _PASSIVE = {"OUTPUT_MATERIAL", "MIX_SHADER", "ADD_SHADER", "REROUTE", "FRAME"}
 
 
+def _emission_off(node):
+    strength = node.inputs.get("Emission Strength")
+    return strength is not None and not strength.is_linked and float(strength.default_value) == 0.0
+
+
 def _material_sockets(mat):
     """The colour sockets that carry ``mat``'s reflectance, or raise naming what is not supported."""
     if mat is None:
@@ -51,6 +56,15 @@ def _material_sockets(mat):
             if sock.is_linked:
                 raise RadiometerError(f"material {mat.name!r}: its {node.name!r} colour is linked (a texture)")
             sockets.append(sock)
+            for other in node.inputs:  # other colours (Principled tints, emission) would act as RGB in every band
+                if other.type != "RGBA" or other.identifier == sock.identifier or not other.enabled:
+                    continue
+                if other.name == "Emission Color" and not _emission_off(node):
+                    raise RadiometerError(f"material {mat.name!r} emits light (its band render is not built)")
+                grey = len({round(float(c), 6) for c in tuple(other.default_value)[:3]}) == 1
+                if other.name != "Emission Color" and (other.is_linked or not grey):
+                    raise RadiometerError(f"material {mat.name!r}: its {node.name!r} {other.name} is not a plain "
+                                          "grey (a tint acts as RGB in every band)")
         elif node.type not in _PASSIVE:
             raise RadiometerError(f"material {mat.name!r}: node {node.name!r} ({node.type}) is not a plain "
                                   "diffuse or Principled colour")

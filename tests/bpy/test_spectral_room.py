@@ -102,6 +102,18 @@ def test_refused_scenes_keep_the_direct_reading(room, tmp_path):
     r = api.spectral_reading(loc, nrm, reflected=True)
     assert r["part"] == "direct" and any("linked (a texture)" in n for n in r["notes"])
     assert any(x.startswith("light reflected") for x in r["not_included"])
+    # a Principled BSDF whose specular tint is red: a tint would act as the same RGB in every band
+    mat = bpy.data.materials["ceiling"]
+    tree = mat.node_tree
+    principled = tree.nodes.new("ShaderNodeBsdfPrincipled")
+    principled.inputs["Specular Tint"].default_value = (1.0, 0.2, 0.2, 1.0)
+    tree.links.new(principled.outputs["BSDF"], tree.nodes["Material Output"].inputs["Surface"])
+    from radiometer.measure.meter import spectral_reflected
+
+    with pytest.raises(api.RadiometerError, match="Specular Tint is not a plain grey"):
+        spectral_reflected._material_sockets(mat)
+    principled.inputs["Specular Tint"].default_value = (0.5, 0.5, 0.5, 1.0)
+    assert len(spectral_reflected._material_sockets(mat)) == 2  # the Diffuse BSDF left in the tree, the Principled
     with pytest.raises(api.RadiometerError, match="quality"):
         api.spectral_reading(loc, nrm, reflected=True, quality="draft")
     assert math.isfinite(r["mel_edi_lx"])
