@@ -90,8 +90,10 @@ def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
 
 
 @_v.boundary
-def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="melanopic"):
-    """CIE S 026 alpha-opic reading of the **direct** light at one meter (a plain, JSON-ready dict, SI).
+def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="melanopic", reflected=False,
+                     quality="preview", seed=0):
+    """CIE S 026 alpha-opic reading of the light at one meter (a plain, JSON-ready dict, SI): the **direct**
+    light, and with ``reflected=True`` the reflected light too.
 
     Per light, mel-EDI = E_v x mel-DER of the light's spectrum (and likewise for the S/M/L cone-opic and
     rhodopic quantities): E_v from the meter's closed forms, the spectrum from the light's setting
@@ -99,15 +101,33 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="
     spectral .csv) or its blackbody temperature. Keys: ``illuminance_lx``, ``mel_edi_lx``, ``mel_der``,
     ``alpha_opic_edi_lx``, ``alpha_opic_irradiance_w_m2`` (W/m²), ``sp_ratio``, ``exact``, ``complete``
     (False: a light with no known spectrum or no closed form, named in ``notes``, and the sums are lower
-    bounds), ``lights``, ``not_included`` (reflected light, the world and emitting surfaces: not yet
-    spectral, docs/spectral.md), ``units``. ``quantity``: "melanopic" (all alpha-opic quantities).
+    bounds), ``lights``, ``not_included`` (reflected light unless ``reflected``, the world and emitting
+    surfaces: not spectral, docs/spectral.md), ``units``. ``quantity``: "melanopic" (all alpha-opic quantities).
+
+    ``reflected=True``: the reflected (rendered) part by band renders (Cycles' three channels carry the
+    materials' reflectances at the two ends of spectral bands; materials give their spectrum in the custom
+    property ``radiometer_reflectance``, a spectral file or a number, else their colour is upsampled and the
+    notes say so). The totals ``illuminance_lx``, ``mel_edi_lx``, ``alpha_opic_edi_lx`` are then direct (exact) +
+    reflected (estimate); ``interval_95`` gives each one's ``estimate``, ``low_95``, ``high_95`` (lx: the proven
+    band range widened by 1.96 standard errors of the renders), ``std_error`` and ``band_bound``; ``direct``
+    the direct-only figures; ``rgb_only`` the estimate from today's RGB render (no proven bound); ``exact``
+    False. Refused scenes (an emitting world or surface, textured or non-diffuse materials, a light without a
+    spectrum) keep the direct reading and say why in ``notes``. ``quality``: "preview", "standard" or
+    "reference" (samples per band render and the number of bands); ``seed``: the first Cycles seed.
     """
     location = _v.points(location, "location", allow_many=False)
     normal = _v.directions(normal, "normal", allow_many=False)
     _v.choice(quantity, "quantity", ("melanopic",))
+    _v.choice(quality, "quality", ("preview", "standard", "reference"))
+    if not isinstance(reflected, bool):
+        raise RadiometerError(f"reflected must be True or False, got {reflected!r}")
+    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
+        raise RadiometerError(f"seed must be a whole number >= 0, got {seed!r}")
     _b.scene(scene)
-    from .measure.meter import spectra
+    from .measure.meter import spectra, spectral_reflected
 
+    if reflected:
+        return spectral_reflected.spectral_reading(location, normal, scene=scene, quality=quality, seed=seed)
     return spectra.spectral_reading(location, normal, scene=scene)
 
 

@@ -17,6 +17,10 @@ def add_arguments(parser):
                         help="photopic: lux and cd/m² only; melanopic: also the CIE S 026 reading of each "
                              "illuminance meter's direct light (mel-EDI lx, mel-DER, alpha-opic W/m², S/P) from "
                              "each light's spectrum (docs/spectral.md) (default: photopic)")
+    parser.add_argument("--reflected", action="store_true",
+                        help="with --quantity melanopic: add the light reflected by the room's surfaces, by band renders "
+                             "with a stated 95 %% interval (materials' spectra: their radiometer_reflectance property; "
+                             "docs/spectral.md)")
     parser.add_argument("--target-abs", type=float, default=None, metavar="LX",
                         help="absolute floor of an illuminance meter's error (1 sigma, lux): a meter stops where its "
                              "error is below it or below --target (default: the quality preset's: preview 2, "
@@ -78,11 +82,33 @@ def format_spectral(rows):
     return "\n".join(lines)
 
 
-def spectral_rows(results, scene):
+def format_spectral_total(rows):
+    """One line per illuminance meter: E_v and mel-EDI of direct + reflected light with their 95 % intervals
+    (band renders), or why the reflected part was not added."""
+    lines = ["spectral (CIE S 026), direct + reflected light (band renders; 95 % intervals):",
+             f"{'meter':<22} {'E_v':>10} {'95 % interval':>21} {'mel-EDI':>10} {'95 % interval':>21}  direct mel-EDI"]
+    for name, sr in rows:
+        if sr is None:
+            lines.append(f"{name:<22} luminance meter: not spectral yet")
+            continue
+        if "interval_95" not in sr:
+            why = next((n for n in sr["notes"] if n.startswith("reflected part not added")), "direct only")
+            lines.append(f"{name:<22} direct only: E_v {sr['illuminance_lx']:.4g} lx, mel-EDI {sr['mel_edi_lx']:.4g} lx; "
+                         f"{why}")
+            continue
+        ev, mel = sr["interval_95"]["illuminance_lx"], sr["interval_95"]["mel_edi_lx"]
+        direct = f"{sr['direct']['mel_edi_lx']:.4g} lx" + (" (exact)" if sr["direct"]["exact"] else "")
+        lines.append(f"{name:<22} {ev['estimate']:>7.4g} lx {ev['low_95']:>8.4g}-{ev['high_95']:<8.4g} lx "
+                     f"{mel['estimate']:>7.4g} lx {mel['low_95']:>8.4g}-{mel['high_95']:<8.4g} lx  {direct}")
+    return "\n".join(lines)
+
+
+def spectral_rows(results, scene, reflected=False, quality="preview"):
     """(meter name, ``api.spectral_reading`` dict or None for a luminance meter) for every reading."""
     from .. import api
 
-    return [(obj.name, None if r.quantity == "luminance" else api.spectral_reading(r.location, r.normal, scene=scene))
+    return [(obj.name, None if r.quantity == "luminance" else
+             api.spectral_reading(r.location, r.normal, scene=scene, reflected=reflected, quality=quality))
             for obj, r in results]
 
 
@@ -122,6 +148,10 @@ def run(args):
     from .. import api
 
     scene = bpy.context.scene
+    if getattr(args, "reflected", False) and getattr(args, "quantity", "photopic") != "melanopic":
+        from ..errors import RadiometerError
+
+        raise RadiometerError("--reflected needs --quantity melanopic")
     if args.target is not None:
         from ..errors import RadiometerError
 
@@ -147,12 +177,13 @@ def run(args):
         s.method, s.quality, s.target_rel_error = before
     if progress is not None:
         progress.clear()
-    spectral = spectral_rows(results, scene) if getattr(args, "quantity", "photopic") == "melanopic" else None
+    spectral = spectral_rows(results, scene, reflected=bool(getattr(args, "reflected", False)),
+                             quality=used["quality"]) if getattr(args, "quantity", "photopic") == "melanopic" else None
     print(format_settings(used))
     print(format_table(results))
     meters_out = [dict(name=obj.name, **r.to_dict()) for obj, r in results]
     if spectral is not None:
-        print(format_spectral(spectral))
+        print(format_spectral_total(spectral) if getattr(args, "reflected", False) else format_spectral(spectral))
         for d, (_, sr) in zip(meters_out, spectral):
             d["spectral"] = sr
     return {"scene": scene.name, "file": bpy.data.filepath, "settings": used, "meters": meters_out}

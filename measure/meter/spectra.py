@@ -13,8 +13,8 @@ Which spectrum an emitter has, first match wins:
 
 The reading (:func:`spectral_reading`) covers the **direct** light of the scene's lights, from the
 meter's closed forms (``meter.predict_illuminance``): per light mel-EDI = E_v x mel-DER of its spectrum,
-and so for every alpha-opic quantity. Light reflected by surfaces, the world and emitting surfaces
-are not in it (docs/spectral.md).
+and so for every alpha-opic quantity. Light reflected by surfaces is added by ``spectral_reflected``
+(band renders); the world and emitting surfaces are not in it (docs/spectral.md).
 """
 
 import bpy
@@ -102,6 +102,7 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     ``sp_ratio``, ``exact`` (every light's direct part a proven closed form and its spectrum known),
     ``complete`` (every light's spectrum known; else the sums are lower bounds of the lights that have
     one), ``lights`` (per light), ``not_included`` (what this reading leaves out), ``units``.
+    (``spectral_reflected.spectral_reading`` adds the reflected part.)
     """
     from . import point_meter as meter
 
@@ -132,7 +133,7 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
         notes.append("lower bound: no spectrum or no closed form for " + "; ".join(
             f"{r['light']} ({r.get('note')})" for r in missing))
     mel_der = edi["melanopic"] / ev_known if ev_known > 0 else None
-    return {
+    out = {
         "quantity": "alpha-opic (CIE S 026/E:2018)", "part": "direct",
         "location": tuple(map(float, location)), "normal": tuple(map(float, normal)),
         "illuminance_lx": float(sum(r["illuminance_lx"] for r in lights if r["illuminance_lx"] is not None)),
@@ -143,3 +144,4 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
         "complete": not missing, "lights": lights, "not_included": not_included, "notes": notes,
         "units": UNITS,
     }
+    return out

@@ -1,0 +1,327 @@
+"""The rendered (reflected) part of a spectral reading, by band renders (host side; issue 35).
+
+Cycles renders RGB. Here its three channels carry three spectral samples instead
+(``radiometry.photometry.spectral_bands``: the bands, the proven band bound, the conversion): for every
+render, each material's colour holds its reflectance at the low or high end of a band and each light's
+colour its radiant power in that band; the meter's hybrid reading (closed forms for the proven direct
+light, Cycles for the rest) then reads, per channel, that band's rendered light. Every colour and light
+setting is put back after each render, also on error.
+
+Materials need a reflectance spectrum: the custom property ``radiometer_reflectance`` on the material
+(a spectral file, nm and reflectance in [0, 1], or one number for a flat spectrum), else the stated box
+upsampling of its RGB colour (``spectral_bands.box_reflectance``; the reading says which materials).
+Supported: Diffuse BSDF and Principled BSDF with an unlinked colour, objects without material (Cycles'
+grey 0.8). Anything else (textures, other shaders, emitting surfaces, a world that emits) is refused with
+the reason: the reading then has no spectral reflected part.
+"""
+
+import math
+import os
+
+import bpy
+import numpy as np
+
+from ...errors import RadiometerError
+from ...radiometry.photometry import action_spectra, spectral, spectral_bands
+from . import spectra
+
+#: Custom property holding a material's reflectance spectrum (a spectral file or one number).
+PROP_REFLECTANCE = "radiometer_reflectance"
+
+#: Per quality: (samples per meter of each band render, at most this many bands). Fixed samples: every
+#: channel gets them, not only the Y-weighted sum a relative target watches. Measured in issue 35's red room
+#: (bench/spectral_room.md): a render of one meter takes ~0.1 s at 4096 samples.
+BAND_PLAN = {"preview": (4096, 32), "standard": (16384, 64), "reference": (65536, 128)}
+
+_COLOUR_INPUT = {"BSDF_DIFFUSE": "Color", "BSDF_PRINCIPLED": "Base Color"}
+_PASSIVE = {"OUTPUT_MATERIAL", "MIX_SHADER", "ADD_SHADER", "REROUTE", "FRAME"}
+
+
+def _emission_off(node):
+    strength = node.inputs.get("Emission Strength")
+    return strength is not None and not strength.is_linked and float(strength.default_value) == 0.0
+
+
+def _material_sockets(mat):
+    """The colour sockets that carry ``mat``'s reflectance, or raise naming what is not supported."""
+    if mat is None:
+        return []
+    tree = mat.node_tree
+    if tree is None:
+        raise RadiometerError(f"material {mat.name!r} has no node tree")
+    sockets = []
+    for node in tree.nodes:
+        if node.type in _COLOUR_INPUT:
+            sock = node.inputs[_COLOUR_INPUT[node.type]]
+            if sock.is_linked:
+                raise RadiometerError(f"material {mat.name!r}: its {node.name!r} colour is linked (a texture)")
+            sockets.append(sock)
+            for other in node.inputs:  # other colours (Principled tints, emission) would act as RGB in every band
+                if other.type != "RGBA" or other.identifier == sock.identifier or not other.enabled:
+                    continue
+                if other.name == "Emission Color" and not _emission_off(node):
+                    raise RadiometerError(f"material {mat.name!r} emits light (its band render is not built)")
+                grey = len({round(float(c), 6) for c in tuple(other.default_value)[:3]}) == 1
+                if other.name != "Emission Color" and (other.is_linked or not grey):
+                    raise RadiometerError(f"material {mat.name!r}: its {node.name!r} {other.name} is not a plain "
+                                          "grey (a tint acts as RGB in every band)")
+        elif node.type not in _PASSIVE:
+            raise RadiometerError(f"material {mat.name!r}: node {node.name!r} ({node.type}) is not a plain "
+                                  "diffuse or Principled colour")
+    if not sockets:
+        raise RadiometerError(f"material {mat.name!r} has no Diffuse or Principled BSDF")
+    return sockets
+
+
+def material_reflectance(mat, sockets):
+    """(label, reflectance on the 1 nm grid) of a material: its ``radiometer_reflectance``, else the box
+    upsampling of its colour (label says so)."""
+    if mat is None:
+        return "no material (Cycles' grey 0.8)", np.full(spectral.WAVELENGTHS_NM.shape, 0.8)
+    if PROP_REFLECTANCE in mat.keys():
+        value = mat[PROP_REFLECTANCE]
+        if isinstance(value, (int, float)):
+            if not 0.0 <= float(value) <= 1.0:
+                raise RadiometerError(f"material {mat.name!r}: {PROP_REFLECTANCE} {value!r} is not in [0, 1]")
+            return f"flat {float(value):g}", np.full(spectral.WAVELENGTHS_NM.shape, float(value))
+        base = bpy.path.abspath("//") if bpy.data.filepath else None
+        path = bpy.path.abspath(value) if str(value).startswith("//") else str(value)
+        path = path if os.path.isabs(path) or base is None else os.path.join(base, path)
+        try:
+            wl, refl = spectral.read_spectrum_csv(path)
+        except RadiometerError as exc:
+            raise RadiometerError(f"material {mat.name!r}: {PROP_REFLECTANCE}: {exc}") from None
+        if np.max(refl) > 1.0:
+            raise RadiometerError(f"material {mat.name!r}: {PROP_REFLECTANCE} {path}: a reflectance must be <= 1, "
+                                  f"got {np.max(refl):g}")
+        return f"file {os.path.basename(path)}", spectral.resample(wl, refl)
+    colours = {tuple(round(float(c), 6) for c in tuple(sock.default_value)[:3]) for sock in sockets}
+    if len(colours) > 1:
+        raise RadiometerError(f"material {mat.name!r} mixes BSDFs of different colours: give it its "
+                              f"{PROP_REFLECTANCE} (a spectral file)")
+    rgb = tuple(sockets[0].default_value)[:3]
+    return f"RGB {tuple(round(c, 3) for c in rgb)} upsampled (box, stated)", spectral_bands.box_reflectance(rgb)
+
+
+def _scene_materials(scene):
+    """{material or None: sockets} of every rendered mesh object."""
+    found = {}
+    for obj in scene.objects:
+        if obj.type not in ("MESH", "CURVE", "SURFACE", "META", "FONT") or obj.hide_render:
+            continue
+        slots = [s.material for s in obj.material_slots] or [None]
+        for mat in slots:
+            if mat not in found:
+                found[mat] = _material_sockets(mat)
+    return found
+
+
+def _light_colour(data):
+    c = np.array(tuple(data.color)[:3], float)
+    if getattr(data, "use_temperature", False):
+        c = c * np.array(tuple(data.temperature_color)[:3], float)
+    return c
+
+
+def _restore(saved):
+    for struct, attr, value in reversed(saved):
+        current = getattr(struct, attr)
+        if (tuple(current) if hasattr(current, "__len__") else current) != value:
+            setattr(struct, attr, value)
+
+
+def _remember(saved, struct, attr):
+    value = getattr(struct, attr)
+    saved.append((struct, attr, tuple(value) if hasattr(value, "__len__") else value))
+
+
+def reflected_reading(location, normal, *, scene, quality="preview", seed=0, samples=None, max_bands=None):
+    """The rendered part of the light at one meter, in bands: a dict (SI) or raise ``RadiometerError`` why not.
+
+    Keys: ``illuminance_lx``, ``alpha_opic_irradiance_w_m2``, ``alpha_opic_edi_lx`` (each a dict of
+    ``estimate``, ``lower`` and ``upper`` (the proven band range), ``std_error`` (1 sigma, stochastic),
+    ``low_95`` and ``high_95`` (the range widened by 1.96 sigma)), ``bands_nm``, ``renders``, ``materials``,
+    ``notes``."""
+    from . import point_meter as meter
+
+    model = meter.capture_model(scene)
+    if model.world_emits:
+        raise RadiometerError("the world emits light (its spectral band render is not built)")
+    if model.emissive_surfaces:
+        raise RadiometerError("surfaces emit light (their spectral band render is not built)")
+    lights = [obj for obj in scene.objects if obj.type == "LIGHT" and not obj.hide_render]
+    space, weights, efficacy = meter.scene_photometry(scene)
+    power = []
+    for obj in lights:
+        if getattr(obj.data, "use_nodes", False):
+            raise RadiometerError(f"light {obj.name!r} uses a node tree (its colour is not the light's spectrum)")
+        label, spd = spectra.light_spectrum(obj)
+        if label is None:
+            raise RadiometerError(f"light {obj.name!r} has no known spectrum: {spd}")
+        y = float(_light_colour(obj.data) @ weights)
+        # radiant power per 1 nm sample, per watt of the light, scaled so that sum P V = Y(colour): the
+        # photometric amount Cycles' RGB light carries (E_v = efficacy x Y-weighted irradiance)
+        power.append(float(obj.data.energy) * spd * y / float(spd @ action_spectra.PHOTOPIC_V))
+    materials = _scene_materials(scene)
+    labels, refl = {}, []
+    for mat, sockets in materials.items():
+        label, r = material_reflectance(mat, sockets)
+        labels[mat.name if mat is not None else "(none)"] = label
+        refl.append(r)
+    refl = np.array(refl)
+    n_samples, n_bands = BAND_PLAN[quality]
+    n_samples, n_bands = samples or n_samples, max_bands or n_bands
+    edges = spectral_bands.plan_bands(refl, n_bands)
+    rmin, rmax, t_all = spectral_bands.band_table(refl, edges)
+    layout = spectral_bands.channel_layout(len(edges) - 1)
+    values, ses, bounds = {}, {}, {}
+    saved = []
+    try:
+        for mat, sockets in materials.items():
+            for sock in sockets:
+                _remember(saved, sock, "default_value")
+        for obj in lights:
+            for attr in ("color", "use_temperature", "energy"):
+                _remember(saved, obj.data, attr)
+        for k, render in enumerate(layout):
+            for m, (mat, sockets) in enumerate(materials.items()):
+                colour = [rmax[b, m] if end else rmin[b, m] for b, end in render] + [0.0] * (3 - len(render))
+                for sock in sockets:
+                    sock.default_value = (*colour, 1.0)
+            for obj, p in zip(lights, power):
+                band = spectral_bands.band_sums(p, edges)
+                colour = [band[b] for b, _end in render] + [0.0] * (3 - len(render))
+                top = max(colour) or 1.0
+                obj.data.use_temperature = False
+                obj.data.color = tuple(c / top for c in colour)
+                obj.data.energy = top
+            reading = meter.measure_illuminance(location, normal, scene=scene, method="hybrid", samples=n_samples,
+                                                seed=seed + 104729 * k, pooling=False)
+            direct = {row["light"]: np.asarray(row["irradiance_rgb"], float)
+                      for row in meter.predict_illuminance(location, normal, scene=scene)
+                      if row["irradiance_rgb"] is not None}
+            rendered = np.asarray(reading.irradiance_rgb, float) - sum(
+                (direct[name] for name in reading.parts.get("analytic", []) if name in direct), np.zeros(3))
+            # the meter's deterministic bound (a caustic's or mirror image's closed form, a bounded closed form),
+            # stated on its Y-weighted reading: shared across the channels in proportion to their readings
+            rel = float(reading.rel_error_bound or 0.0)
+            for j, key in enumerate(render):
+                values[key], ses[key] = float(rendered[j]), float(reading.std_error_rgb[j])
+                bounds[key] = rel * abs(float(reading.irradiance_rgb[j])) if math.isfinite(rel) else math.inf
+    finally:
+        _restore(saved)
+    w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.ACTION_SPECTRA])
+    varying = np.ptp(refl, axis=1) > 0
+    t = t_all[varying].mean(axis=0) if varying.any() else np.full(refl.shape[1], 0.5)
+    out = spectral_bands.combine(edges, np.array(power), w, t, values, ses, layout, channel_bound=bounds)
+    # E_v: efficacy x the V-weighted band sum; alpha-opic as the direct part's: (efficacy / K_m,S026) x sum E s
+    scale = np.array([efficacy] + [efficacy / action_spectra.K_M_S026_LM_PER_W] * 5)
+
+    def part(q, factor=1.0):
+        d = {key: float(out[key][q] * scale[q] * factor) for key in ("estimate", "lower", "upper", "std_error")}
+        d["low_95"] = d["lower"] - 1.96 * d["std_error"]
+        d["high_95"] = d["upper"] + 1.96 * d["std_error"]
+        return d
+
+    wl = spectral.WAVELENGTHS_NM
+    return {
+        "illuminance_lx": part(0),
+        "alpha_opic_irradiance_w_m2": {a: part(i + 1) for i, a in enumerate(action_spectra.ALPHA)},
+        "alpha_opic_edi_lx": {a: part(i + 1, 1.0 / float(action_spectra.D65_ELR_W_PER_LM[i]))
+                              for i, a in enumerate(action_spectra.ALPHA)},
+        "bands_nm": [(float(wl[edges[k]]), float(wl[edges[k + 1] - 1])) for k in range(len(edges) - 1)],
+        "renders": len(layout), "samples_per_render": int(n_samples), "materials": labels,
+        "notes": [f"rendered part in {len(edges) - 1} bands ({len(layout)} Cycles renders of {n_samples:,} samples "
+                  "per meter): every material's reflectance at each band's low and high end, so the band's light "
+                  "lies between the two (proven: paths are products of reflectances); the estimate interpolates",
+                  "not counted: light beyond Cycles' bounce limit (as for every rendered reading)"]
+        + [f"material {name!r}: reflectance {label}" for name, label in labels.items() if "upsampled" in label],
+    }
+
+
+def rgb_only_reading(location, normal, *, scene, quality="preview", seed=0, samples=None):
+    """Today's RGB render of the rendered part, converted with a stated assumption (no band renders).
+
+    ``spectral_bands.rgb_only_estimate``: the room's gain in each box band (B 380-489, G 490-589, R 590-780
+    nm) is the RGB render's gain in that channel. Its error is not proven: ``rel_error_bound`` is the largest
+    relative error measured over a family of coloured rooms (``spectral_bands.RGB_ONLY_REL_BOUND``,
+    bench/spectral_room_family.md)."""
+    from . import point_meter as meter
+
+    _space, weights, efficacy = meter.scene_photometry(scene)
+    lights = [obj for obj in scene.objects if obj.type == "LIGHT" and not obj.hide_render]
+    power, rgb_sum = np.zeros(spectral.WAVELENGTHS_NM.shape), np.zeros(3)
+    for obj in lights:
+        label, spd = spectra.light_spectrum(obj)
+        if label is None:
+            raise RadiometerError(f"light {obj.name!r} has no known spectrum: {spd}")
+        colour = _light_colour(obj.data)
+        power += float(obj.data.energy) * spd * float(colour @ weights) / float(spd @ action_spectra.PHOTOPIC_V)
+        rgb_sum += float(obj.data.energy) * colour
+    reading = meter.measure_illuminance(location, normal, scene=scene, method="hybrid", quality=quality,
+                                        samples=samples, seed=seed, pooling=False)
+    direct = {row["light"]: np.asarray(row["irradiance_rgb"], float)
+              for row in meter.predict_illuminance(location, normal, scene=scene) if row["irradiance_rgb"] is not None}
+    rendered = np.asarray(reading.irradiance_rgb, float) - sum(
+        (direct[name] for name in reading.parts.get("analytic", []) if name in direct), np.zeros(3))
+    w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.ACTION_SPECTRA])
+    scale = np.array([efficacy] + [efficacy / action_spectra.K_M_S026_LM_PER_W
+                                   / float(action_spectra.D65_ELR_W_PER_LM[i]) for i in range(5)])
+    est = spectral_bands.rgb_only_estimate(rendered, rgb_sum, power, w) * scale
+    # its standard error: the channels' (correlated: added linearly) through the same linear map
+    se = spectral_bands.rgb_only_estimate(np.abs(np.asarray(reading.std_error_rgb, float)), rgb_sum, power, w) * scale
+    bound = spectral_bands.RGB_ONLY_REL_BOUND
+    return {"illuminance_lx": float(est[0]), "illuminance_std_error_lx": float(se[0]),
+            "alpha_opic_edi_lx": {a: float(v) for a, v in zip(action_spectra.ALPHA, est[1:])},
+            "mel_edi_lx": float(est[5]), "mel_edi_std_error_lx": float(se[5]),
+            "rel_error_bound": {"illuminance_lx": bound["illuminance_lx"], "mel_edi_lx": bound["mel_edi_lx"]},
+            "assumption": "the room's gain in each box band (B 380-489, G 490-589, R 590-780 nm) is the RGB "
+                          "render's gain in that channel; bound measured over a family of coloured rooms, not proven",
+            "units": {"illuminance_lx": "lx", "mel_edi_lx": "lx", "alpha_opic_edi_lx": "lx", "rel_error_bound": "1"}}
+
+
+def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quality="preview", seed=0):
+    """``spectra.spectral_reading`` (the direct part) with the rendered part added in bands.
+
+    Then ``part`` is "direct+reflected"; ``illuminance_lx``, ``mel_edi_lx``, ``alpha_opic_edi_lx`` and
+    ``alpha_opic_irradiance_w_m2`` are totals (direct exact + reflected estimate); ``interval_95`` holds each
+    one's estimate, 95 % interval, standard error and band bound; ``direct`` the direct-only figures;
+    ``reflected`` the band reading (:func:`reflected_reading`); ``rgb_only`` the RGB-only estimate of the
+    reflected part; ``exact`` is False. Where the band render is refused, the direct reading comes back with
+    the reason in ``notes`` and the reflected light still in ``not_included``.
+    """
+    scene = scene or bpy.context.scene
+    out = spectra.spectral_reading(location, normal, scene=scene)
+    if not out["complete"]:
+        out["notes"].append("reflected part not added: every light needs a spectrum and a closed form here")
+        return out
+    try:
+        band = reflected_reading(location, normal, scene=scene, quality=quality, seed=seed)
+        rgb = rgb_only_reading(location, normal, scene=scene, quality=quality, seed=seed + 1)
+    except RadiometerError as exc:
+        out["notes"].append(f"reflected part not added: {exc}")
+        return out
+    direct = {k: out[k] for k in ("illuminance_lx", "mel_edi_lx", "alpha_opic_edi_lx", "alpha_opic_irradiance_w_m2",
+                                  "mel_der", "sp_ratio", "exact")}
+    ev_d = out["illuminance_lx"]
+
+    def total(d_value, part):
+        return {"estimate": d_value + part["estimate"], "low_95": d_value + part["low_95"],
+                "high_95": d_value + part["high_95"], "std_error": part["std_error"],
+                "band_bound": max(part["estimate"] - part["lower"], part["upper"] - part["estimate"])}
+
+    ev = total(ev_d, band["illuminance_lx"])
+    edi = {a: total(direct["alpha_opic_edi_lx"][a], band["alpha_opic_edi_lx"][a]) for a in action_spectra.ALPHA}
+    irr = {a: total(direct["alpha_opic_irradiance_w_m2"][a], band["alpha_opic_irradiance_w_m2"][a])
+           for a in action_spectra.ALPHA}
+    out.update(part="direct+reflected", direct=direct, reflected=band, rgb_only=rgb, exact=False,
+               illuminance_lx=ev["estimate"], illuminance_known_spectrum_lx=ev["estimate"],
+               mel_edi_lx=edi["melanopic"]["estimate"], mel_der=edi["melanopic"]["estimate"] / ev["estimate"],
+               alpha_opic_edi_lx={a: v["estimate"] for a, v in edi.items()},
+               alpha_opic_irradiance_w_m2={a: v["estimate"] for a, v in irr.items()},
+               interval_95={"illuminance_lx": ev, "mel_edi_lx": edi["melanopic"],
+                            "alpha_opic_edi_lx": edi, "alpha_opic_irradiance_w_m2": irr},
+               sp_ratio=None, not_included=[x for x in out["not_included"] if not x.startswith("light reflected")])
+    out["notes"] += band["notes"] + ["S/P of the total is not given with the reflected part (the bands bound "
+                                     "the scotopic and photopic sums separately)"]
+    return out

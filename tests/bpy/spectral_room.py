@@ -1,0 +1,86 @@
+"""The coloured room of issue 35 in Blender: the box of ``tests/spectral_radiosity.py`` (4 x 3 x 2.7 m,
+saturated red walls, white ceiling, light-grey floor; the reflectance spectra of the ColorChecker as
+colour-science 0.4.6 ships Ohta's data) lit by one point light of known spectrum. Test/bench code only.
+"""
+
+import bpy
+
+from radiometer.demo import builders
+
+import spectral_radiosity as ref  # tests/ is on sys.path (tests/bpy/conftest.py or the bench script)
+
+
+def build(scene, csv_dir, *, temperature_k=4000.0, power_w=ref.LIGHT_POWER_W):
+    """The box, its materials (``radiometer_reflectance`` = a CSV per material written to ``csv_dir``, the
+    base colour its Rec.709 RGB under D65) and the light; returns the light object."""
+    builders.black_world(scene)
+    (x1, y1, z1) = ref.BOX_M
+    for name, faces in ref.FACE_GROUPS.items():
+        refl = ref.reflectance(ref.MATERIAL_OF[name])
+        path = csv_dir / f"{ref.MATERIAL_OF[name].replace(' ', '_')}.csv"
+        path.write_text("nm,reflectance\n" + "".join(f"{w:g},{v:.6g}\n" for w, v in
+                                                      zip(ref.WAVELENGTHS_NM, refl)))
+        mat = builders.diffuse_material(name, ref.rec709_of_reflectance(refl))
+        mat["radiometer_reflectance"] = str(path)
+        verts, quads = [], []
+        for face in faces:
+            quads.append(tuple(range(len(verts), len(verts) + 4)))
+            verts += [tuple(map(float, c)) for c in ref.FACES[face]]
+        builders.mesh_object(name, verts, quads, mat, scene.collection)
+    # a white light with Temperature on: a blackbody (measure/meter/spectra.py), Cycles' colour temperature_color
+    return builders.add_light(scene, "POINT", ref.LIGHT_M, name="lamp", energy=power_w, shadow_soft_size=0.0,
+                              use_temperature=True, temperature=temperature_k)
+
+
+REFERENCE_JSON = __file__.rpartition("/")[0] + "/spectral_room_reference.json"
+
+
+def reference():
+    """The numpy radiosity of the box per 1 cd of luminous intensity (``bench/spectral_room.py`` wrote it):
+    {meter: {h: {"direct"|"reflected"|"total": quantities}}}."""
+    import json
+
+    with open(REFERENCE_JSON) as f:
+        return json.load(f)
+
+
+def luminous_intensity_cd(scene, light):
+    """I_v of the Blender light as the meter counts it: efficacy x Y(Cycles' colour) x P / (4 pi)."""
+    import math
+
+    import numpy as np
+
+    from radiometer.measure.meter import point_meter
+
+    _space, weights, efficacy = point_meter.scene_photometry(scene)
+    colour = np.asarray(tuple(light.data.color), float) * np.asarray(tuple(light.data.temperature_color), float)
+    return efficacy * float(colour @ weights) * light.data.energy / (4.0 * math.pi)
+
+
+def expected(scene, light, meter="eye"):
+    """(reference (the finest h), its discretisation uncertainty |finest - next coarser|), per 1 cd scaled to the
+    light: dicts of E_v and mel-EDI (lx) for the total and reflected light."""
+    ref = reference()[meter]
+    hs = sorted(ref, key=float)
+    fine, coarse = ref[hs[0]], ref[hs[1]]
+    iv = luminous_intensity_cd(scene, light)
+    value = {(p, q): iv * fine[p][q] for p in ("total", "reflected", "direct") for q in ("illuminance_lx", "mel_edi_lx")}
+    error = {(p, q): iv * abs(fine[p][q] - coarse[p][q]) for p in ("total", "reflected", "direct")
+             for q in ("illuminance_lx", "mel_edi_lx")}
+    return value, error
+
+
+def reading_row(r):
+    """The figures of one ``api.spectral_reading(..., reflected=True)`` a comparison needs (lx)."""
+    iv = r["interval_95"]
+    return {"ev": iv["illuminance_lx"]["estimate"], "ev_lo": iv["illuminance_lx"]["low_95"],
+            "ev_hi": iv["illuminance_lx"]["high_95"], "ev_se": iv["illuminance_lx"]["std_error"],
+            "ev_band": iv["illuminance_lx"]["band_bound"],
+            "mel": iv["mel_edi_lx"]["estimate"], "mel_lo": iv["mel_edi_lx"]["low_95"],
+            "mel_hi": iv["mel_edi_lx"]["high_95"], "mel_se": iv["mel_edi_lx"]["std_error"],
+            "mel_band": iv["mel_edi_lx"]["band_bound"],
+            "ev_direct": r["direct"]["illuminance_lx"], "mel_direct": r["direct"]["mel_edi_lx"],
+            "rgb_ev_reflected": r["rgb_only"]["illuminance_lx"], "rgb_mel_reflected": r["rgb_only"]["mel_edi_lx"],
+            "rgb_mel_se": r["rgb_only"]["mel_edi_std_error_lx"], "rgb_ev_se": r["rgb_only"]["illuminance_std_error_lx"],
+            "ev_reflected": r["reflected"]["illuminance_lx"]["estimate"],
+            "mel_reflected": r["reflected"]["alpha_opic_edi_lx"]["melanopic"]["estimate"]}
