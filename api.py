@@ -1034,16 +1034,43 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
 
 
 @_v.boundary
-def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None):  # noqa: A002
+def en12464_tasks():
+    """The EN 12464-1 tasks :func:`en12464_compliance` knows: key -> dict (task, maintained_lx lx,
+    uniformity, ugr_limit, ra, source, indicative), values as ``radiometry.metrics.compliance.TASKS`` cites them."""
+    import dataclasses
+
+    from .radiometry.metrics import compliance
+
+    return {key: dataclasses.asdict(req) for key, req in compliance.TASKS.items()}
+
+
+@_v.boundary
+def compliance_to_dict(result):
+    """The dict of :func:`en12464_compliance` as plain JSON-ready data: the grid and the glare ratings
+    by their ``to_dict()`` (numbers, not reprs); everything else as it is."""
+    out = dict(result)
+    grid = out.get("grid")
+    if grid is not None and hasattr(grid, "to_dict"):
+        out["grid"] = grid.to_dict()
+    out["glare"] = [g.to_dict() if hasattr(g, "to_dict") else g for g in out.get("glare") or ()]
+    return out
+
+
+@_v.boundary
+def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None,  # noqa: A002
+                      max_spp=1024):
     """Illuminance (lx) on the surfaces the camera sees, from Cycles' diffuse light passes:
     E = pi x (Diffuse Direct + Diffuse Indirect), exact for Lambertian surfaces (Diffuse BSDF, roughness 0);
     0 where nothing diffuse is seen (see ``measure.analyses.luminance_image.illuminance_image`` for where it does
     not hold). Writes ``path`` (32-bit EXR, lx) and a false-colour PNG beside it; returns an
-    ``IlluminanceImage``: ``illuminance`` (H, W) lx, ``rel_std_error`` (H, W), ``paths``, ``notes``."""
+    ``IlluminanceImage``: ``illuminance`` (H, W) lx, ``rel_std_error`` (H, W), ``paths``, ``notes``.
+    ``max_spp``: samples per pixel per render at most (16-1024): the rounds stop there even where the
+    quality's target is not reached (``share_on_target`` says how many pixels reached it)."""
+    _v.integer(max_spp, "max_spp", low=16, high=1024)
     from .measure.analyses import luminance_image as images
 
     return images.illuminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
-                                    scale=scale, range=range)
+                                    scale=scale, range=range, max_spp=max_spp)
 
 
 # --- for the operators, panels and the CLI (issue 30): nothing above the api imports measure/ -----

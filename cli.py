@@ -121,7 +121,8 @@ def _open_blend(path):
 
 #: Options that name files or folders a subcommand writes, and arguments naming files it reads.
 OUTPUT_OPTIONS = {"json": "--json", "csv": "--csv", "png": "--png", "plot": "--plot", "plots": "--plots",
-                  "irradiance_map": "--irradiance-map", "luminance_image": "--luminance-image", "out": "--out"}
+                  "irradiance_map": "--irradiance-map", "luminance_image": "--luminance-image", "out": "--out",
+                  "exr": "--exr", "hdr": "--hdr"}
 INPUT_ARGUMENTS = {"blend": "scene", "file": "file"}
 
 
