@@ -400,7 +400,8 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
 @_v.boundary
 def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
                   convergence=True, client=True, project=None, task=None, maintenance_factor=0.8, observers=(),
-                  ra=None, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None):
+                  ra=None, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None,
+                  daylight=False, epw=None, median_external_illuminance_lux=None, daylight_resolution=None):
     """Write report.json, report.md and PNG plots for every meter, light and work plane into ``out_dir``.
 
     ``quality`` (preset name), ``method`` and ``target_rel_error`` (fraction) default to the
@@ -409,10 +410,20 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
     ``task`` with ``maintenance_factor``, UGR ``observers`` ((x, y, z), (dx, dy, dz)), rated ``ra``;
     see docs/deliverables.md). ``convergence_samples``: the study's sample counts; ``progress(done,
     total, seconds_left)`` in thousandths of the whole report, ``phase(label)`` the part being measured,
-    ``cancelled()`` polled by every measurement.
+    ``cancelled()`` polled by every measurement. ``daylight``: True adds the daylight section (daylight
+    factor, with the weather file ``epw`` sDA/ASE/UDI and sunlight hours, DGP at the scene camera, the EN
+    17037 table with the site's ``median_external_illuminance_lux`` for the DF method, the maps; grids of
+    ``daylight_resolution`` (nx, ny), default EN 12464-1's spacing); "auto": when the scene has a sun or an
+    emitting world; False: none (docs/deliverables.md).
     """
     out_dir = _v.path(out_dir, "out_dir")
     _b.scene(scene)
+    if daylight not in (True, False, "auto"):
+        raise RadiometerError(f"daylight must be True, False or 'auto', got {daylight!r}")
+    _v.real(median_external_illuminance_lux, "median_external_illuminance_lux", low=0.0, low_open=True,
+            allow_none=True)
+    if epw is not None:
+        epw = _v.path(epw, "epw")
     _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
                    time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, allow_none_quality=True,
                    allow_none_method=True)
@@ -424,7 +435,9 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
                                 convergence=convergence, client=client, project=project, task=task,
                                 maintenance_factor=maintenance_factor, observers=observers, ra=ra,
                                 convergence_samples=convergence_samples, progress=progress, cancelled=cancelled,
-                                phase=phase)
+                                phase=phase, daylight=daylight, epw=epw,
+                                median_external_illuminance_lux=median_external_illuminance_lux,
+                                daylight_resolution=daylight_resolution)
 
 
 @_v.boundary

@@ -123,7 +123,7 @@ def _open_blend(path):
 OUTPUT_OPTIONS = {"json": "--json", "csv": "--csv", "png": "--png", "plot": "--plot", "plots": "--plots",
                   "irradiance_map": "--irradiance-map", "luminance_image": "--luminance-image", "out": "--out",
                   "exr": "--exr", "hdr": "--hdr"}
-INPUT_ARGUMENTS = {"blend": "scene", "file": "file"}
+INPUT_ARGUMENTS = {"blend": "scene", "file": "file", "epw": "weather file"}
 
 
 def _check_paths(args, in_blender, module=None):

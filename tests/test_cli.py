@@ -396,3 +396,23 @@ def test_illuminance_image_bad_input_is_one_line(room, camera_room, tmp_path):
     _one_error_line(run_cli("illuminance-image", camera_room, "--exr", str(tmp_path / "e.exr"), "--range", "5", "1"),
                     "--range")
     assert list(tmp_path.iterdir()) == []  # nothing written, whole or half
+
+
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
+def test_report_daylight_bad_input_is_one_line(room, camera_room, tmp_path):
+    """The report's daylight section (issue 34): a room without a work plane, a weather file with records
+    missing their fields, a bad E_v,d: one line each before any measurement, no report file written."""
+    out = tmp_path / "rep"
+    _one_error_line(run_cli("report", camera_room, "--out", str(out), "--daylight"), "needs a work plane")
+    from radiometer.radiometry.sun import synthetic_weather
+
+    lines = synthetic_weather.synthetic_epw_text().splitlines()
+    lines[30] = ",".join(lines[30].split(",")[:12])  # line 31: a record cut short before its radiation fields
+    bad = tmp_path / "bad.epw"
+    bad.write_text("\n".join(lines) + "\n", encoding="latin-1")
+    _one_error_line(run_cli("report", room, "--out", str(out), "--daylight", "--epw", str(bad)), "line 31")
+    _one_error_line(run_cli("report", room, "--out", str(out), "--daylight", "--median-external-lux", "-5"),
+                    "--median-external-lux")
+    _one_error_line(run_cli("report", room, "--out", str(out), "--daylight", "--epw", str(tmp_path / "none.epw")),
+                    "none.epw")
+    assert not out.exists() or list(out.iterdir()) == []
