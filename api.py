@@ -440,7 +440,8 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
 @_v.boundary
 def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
                   convergence=True, client=True, project=None, task=None, maintenance_factor=0.8, observers=(),
-                  ra=None, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None):
+                  ra=None, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None,
+                  daylight=False, epw=None, median_external_illuminance_lux=None, daylight_resolution=None):
     """Write report.json, report.md and PNG plots for every meter, light and work plane into ``out_dir``.
 
     ``quality`` (preset name), ``method`` and ``target_rel_error`` (fraction) default to the
@@ -449,10 +450,20 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
     ``task`` with ``maintenance_factor``, UGR ``observers`` ((x, y, z), (dx, dy, dz)), rated ``ra``;
     see docs/deliverables.md). ``convergence_samples``: the study's sample counts; ``progress(done,
     total, seconds_left)`` in thousandths of the whole report, ``phase(label)`` the part being measured,
-    ``cancelled()`` polled by every measurement.
+    ``cancelled()`` polled by every measurement. ``daylight``: True adds the daylight section (daylight
+    factor, with the weather file ``epw`` sDA/ASE/UDI and sunlight hours, DGP at the scene camera, the EN
+    17037 table with the site's ``median_external_illuminance_lux`` for the DF method, the maps; grids of
+    ``daylight_resolution`` (nx, ny), default EN 12464-1's spacing); "auto": when the scene has a sun or an
+    emitting world; False: none (docs/deliverables.md).
     """
     out_dir = _v.path(out_dir, "out_dir")
     _b.scene(scene)
+    if daylight not in (True, False, "auto"):
+        raise RadiometerError(f"daylight must be True, False or 'auto', got {daylight!r}")
+    _v.real(median_external_illuminance_lux, "median_external_illuminance_lux", low=0.0, low_open=True,
+            allow_none=True)
+    if epw is not None:
+        epw = _v.path(epw, "epw")
     _v.measurement(quality_=quality, method_=method, target_rel_error=target_rel_error,
                    time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, allow_none_quality=True,
                    allow_none_method=True)
@@ -464,7 +475,9 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
                                 convergence=convergence, client=client, project=project, task=task,
                                 maintenance_factor=maintenance_factor, observers=observers, ra=ra,
                                 convergence_samples=convergence_samples, progress=progress, cancelled=cancelled,
-                                phase=phase)
+                                phase=phase, daylight=daylight, epw=epw,
+                                median_external_illuminance_lux=median_external_illuminance_lux,
+                                daylight_resolution=daylight_resolution)
 
 
 @_v.boundary
@@ -1094,16 +1107,43 @@ def en12464_compliance(plane, task=None, *, maintained_lx=None, uniformity=None,
 
 
 @_v.boundary
-def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None):  # noqa: A002
+def en12464_tasks():
+    """The EN 12464-1 tasks :func:`en12464_compliance` knows: key -> dict (task, maintained_lx lx,
+    uniformity, ugr_limit, ra, source, indicative), values as ``radiometry.metrics.compliance.TASKS`` cites them."""
+    import dataclasses
+
+    from .radiometry.metrics import compliance
+
+    return {key: dataclasses.asdict(req) for key, req in compliance.TASKS.items()}
+
+
+@_v.boundary
+def compliance_to_dict(result):
+    """The dict of :func:`en12464_compliance` as plain JSON-ready data: the grid and the glare ratings
+    by their ``to_dict()`` (numbers, not reprs); everything else as it is."""
+    out = dict(result)
+    grid = out.get("grid")
+    if grid is not None and hasattr(grid, "to_dict"):
+        out["grid"] = grid.to_dict()
+    out["glare"] = [g.to_dict() if hasattr(g, "to_dict") else g for g in out.get("glare") or ()]
+    return out
+
+
+@_v.boundary
+def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None,  # noqa: A002
+                      max_spp=1024):
     """Illuminance (lx) on the surfaces the camera sees, from Cycles' diffuse light passes:
     E = pi x (Diffuse Direct + Diffuse Indirect), exact for Lambertian surfaces (Diffuse BSDF, roughness 0);
     0 where nothing diffuse is seen (see ``measure.analyses.luminance_image.illuminance_image`` for where it does
     not hold). Writes ``path`` (32-bit EXR, lx) and a false-colour PNG beside it; returns an
-    ``IlluminanceImage``: ``illuminance`` (H, W) lx, ``rel_std_error`` (H, W), ``paths``, ``notes``."""
+    ``IlluminanceImage``: ``illuminance`` (H, W) lx, ``rel_std_error`` (H, W), ``paths``, ``notes``.
+    ``max_spp``: samples per pixel per render at most (16-1024): the rounds stop there even where the
+    quality's target is not reached (``share_on_target`` says how many pixels reached it)."""
+    _v.integer(max_spp, "max_spp", low=16, high=1024)
     from .measure.analyses import luminance_image as images
 
     return images.illuminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
-                                    scale=scale, range=range)
+                                    scale=scale, range=range, max_spp=max_spp)
 
 
 # --- for the operators, panels and the CLI (issue 30): nothing above the api imports measure/ -----

@@ -121,8 +121,9 @@ def _open_blend(path):
 
 #: Options that name files or folders a subcommand writes, and arguments naming files it reads.
 OUTPUT_OPTIONS = {"json": "--json", "csv": "--csv", "png": "--png", "plot": "--plot", "plots": "--plots",
-                  "irradiance_map": "--irradiance-map", "luminance_image": "--luminance-image", "out": "--out"}
-INPUT_ARGUMENTS = {"blend": "scene", "file": "file"}
+                  "irradiance_map": "--irradiance-map", "luminance_image": "--luminance-image", "out": "--out",
+                  "exr": "--exr", "hdr": "--hdr"}
+INPUT_ARGUMENTS = {"blend": "scene", "file": "file", "epw": "weather file"}
 
 
 def _check_paths(args, in_blender, module=None):

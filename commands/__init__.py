@@ -22,5 +22,7 @@ SUBCOMMANDS = {
     "daylight-factor": "daylight.daylight_factor",
     "annual": "daylight.annual",
     "glare": "glare",
+    "compliance": "deliverables.compliance",
+    "illuminance-image": "deliverables.illuminance_image",
     "export-radiance": "export_radiance",
 }

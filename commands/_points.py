@@ -1,14 +1,17 @@
 """Where a subcommand measures: points from a CSV file (``--points``) or the grid on a plane object
-(``--plane`` with ``--spacing`` or ``--resolution``, laid out like every grid). Shared by
+(``--plane`` with ``--spacing`` or ``--resolution``, laid out like every grid); with neither, the
+scene's first work plane (a mesh named "Work Plane", as ``grid`` and ``report`` find it). Shared by
 ``sun-study``, ``daylight-factor`` and ``annual``, with the outputs they all take (``add_study_outputs``)."""
 
 
 def add_arguments(parser):
-    """``--points CSV`` | ``--plane NAME`` (one required), and ``--spacing M`` | ``--resolution NX NY``."""
-    where = parser.add_mutually_exclusive_group(required=True)
+    """``--points CSV`` | ``--plane NAME`` (default: the first work plane), and ``--spacing M`` |
+    ``--resolution NX NY``."""
+    where = parser.add_mutually_exclusive_group()
     where.add_argument("--points", metavar="CSV", help="points as CSV rows x,y,z[,nx,ny,nz] (scene units; a "
                        "header line is skipped; normal default +Z)")
-    where.add_argument("--plane", metavar="NAME", help="a grid over this plane object's local XY (its +Z side)")
+    where.add_argument("--plane", metavar="NAME", help="a grid over this plane object's local XY (its +Z side); "
+                       "default with neither: the scene's first work plane (a mesh named 'Work Plane')")
     size = parser.add_mutually_exclusive_group()
     size.add_argument("--spacing", type=float, metavar="M", help="with --plane: cell size in m (default EN 12464-1)")
     size.add_argument("--resolution", type=int, nargs=2, metavar=("NX", "NY"), help="with --plane: points along x, y")
@@ -30,11 +33,27 @@ def from_args(args, scene):
     """(locations (N, 3), normals (N, 3)) that ``--points`` or ``--plane`` name; one-line errors."""
     from ..errors import RadiometerError
 
+    default_plane(args, scene)
     if args.points:
         if args.spacing is not None or args.resolution is not None:
             raise RadiometerError("--spacing/--resolution go with --plane, not --points")
         return read_points(args.points)
     return plane_points(scene, args.plane, args.spacing, args.resolution)
+
+
+def default_plane(args, scene):
+    """Neither ``--points`` nor ``--plane``: set ``args.plane`` to the scene's first work plane, or say
+    in one line that there is none (before any work)."""
+    from .. import api
+    from ..errors import RadiometerError
+
+    if args.points or args.plane:
+        return
+    planes = api.work_planes(scene)
+    if not planes:
+        raise RadiometerError(f"no work plane in scene {scene.name!r}: give --plane NAME (a plane object) or "
+                              "--points CSV, or add a mesh named 'Work Plane'")
+    args.plane = planes[0].name
 
 
 def read_points(path):

@@ -23,6 +23,17 @@ def add_arguments(parser):
                         help="eye position (m) and view direction for a UGR rating (repeatable)")
     parser.add_argument("--ra", type=float, default=None, help="the luminaires' rated colour rendering index Ra")
     parser.add_argument("--no-client", action="store_true", help="skip the client's report.html and report.pdf")
+    day = parser.add_mutually_exclusive_group()
+    day.add_argument("--daylight", action="store_true", help="add the daylight section (daylight factor, sDA/ASE/UDI "
+                     "and sunlight hours with --epw, DGP at the camera, EN 17037, maps); default: when the scene has "
+                     "a sun or an emitting world")
+    day.add_argument("--no-daylight", action="store_true", help="no daylight section, even in a daylit scene")
+    parser.add_argument("--epw", metavar="FILE", help="weather file (.epw) for the daylight section's annual metrics "
+                        "and sunlight hours (its site and 21 March)")
+    parser.add_argument("--median-external-lux", type=float, default=None, metavar="LX",
+                        help="the site's median external diffuse illuminance E_v,d (lx) for EN 17037's DF method")
+    parser.add_argument("--daylight-resolution", type=int, nargs=2, metavar=("NX", "NY"),
+                        help="the daylight section's grid on each work plane (default: EN 12464-1's spacing)")
 
 
 def implied_outputs(args):
@@ -51,6 +62,14 @@ def run(args):
 
         if args.task not in compliance.TASKS:
             raise RadiometerError(f"unknown --task {args.task!r}; known: {', '.join(sorted(compliance.TASKS))}")
+    if args.median_external_lux is not None and not args.median_external_lux > 0:
+        raise RadiometerError(f"--median-external-lux must be > 0 lx, got {args.median_external_lux}")
+    if args.daylight_resolution is not None and not all(1 <= n <= 500 for n in args.daylight_resolution):
+        raise RadiometerError("--daylight-resolution needs 1-500 points along x and y")
+    if args.epw:
+        from .. import validation
+
+        validation.check_input_file(args.epw, "weather")
     observers = [((o[0], o[1], o[2]), (o[3], o[4], o[5])) for o in (args.observer or [])]
     progress = getattr(args, "progress", None)
     result = api.export_report(args.out, scene=bpy.context.scene, quality=args.quality, method=args.method,
@@ -59,6 +78,10 @@ def run(args):
                                   cancelled=getattr(args, "cancelled", None), client=not args.no_client,
                                   project={"name": args.project} if args.project else None, task=args.task,
                                   maintenance_factor=args.maintenance_factor, observers=observers, ra=args.ra,
+                                  daylight=True if args.daylight else False if args.no_daylight else "auto",
+                                  epw=args.epw, median_external_illuminance_lux=args.median_external_lux,
+                                  daylight_resolution=tuple(args.daylight_resolution) if args.daylight_resolution
+                                  else None,
                                   **budget_kwargs(args))
     if progress is not None:
         progress.clear()

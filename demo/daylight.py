@@ -11,6 +11,13 @@ the origin; the window (2.0 x 1.2 m, sill 0.9 m) faces south so the northern-hem
 The room is built of separate closed boxes (floor, roof, four walls, the south wall in four pieces
 around the opening), the way an architect's model arrives; the pane is a closed 6 mm slab with a
 Glass BSDF (IOR 1.5).
+
+The saved room is ready for every daylight command (docs/daylight-sky.md, "Getting started"): a
+"Work Plane" (3 x 3 m at 0.85 m, EN 17037's reference plane, 0.5 m in from the walls; hidden in renders)
+that ``daylight-factor``, ``annual``, ``grid`` and ``report`` find by its name, a camera looking at the
+window from the back of the room (``illuminance-image``, ``glare --luminance-image``), the meters above
+as meter objects (``measure``), and beside the .blend a SYNTHETIC weather year for London,
+``daylight_room_synthetic.epw`` (``radiometry/sun/synthetic_weather.py``: generated, not measured).
 """
 
 import os
@@ -28,6 +35,12 @@ WINDOW = {"width": 2.0, "sill": 0.9, "head": 2.1}
 PANE_THICKNESS = 0.006
 SITE = {"name": "London", "latitude_deg": 51.5074, "longitude_deg": -0.1278, "time_zone": "Europe/London"}
 WHEN = (2026, 3, 20, 12, 0)  # local wall-clock time on the March equinox
+#: EN 17037's reference plane: 0.85 m above the floor, 0.5 m in from the walls (a 3 x 3 m square here).
+WORK_PLANE = {"height": 0.85, "margin": 0.5}
+#: The camera: at the back of the room at a seated eye height, looking at the window (south, -Y).
+CAMERA = {"location": (0.0, 1.6, 1.2), "look": (0.0, -1.0, 0.0), "lens_mm": 16.0, "resolution": (320, 240)}
+#: The synthetic weather file written beside the .blend.
+WEATHER_FILE = "daylight_room_synthetic.epw"
 
 #: Meter name -> (location, normal): scene coordinates, m.
 METERS = {
@@ -74,7 +87,76 @@ def build(scene=None, *, glass=True, pane_renders=True):
         pane = box("Window Pane", (-w, yc - PANE_THICKNESS / 2, sill), (w, yc + PANE_THICKNESS / 2, head),
                    glass_material())
         pane.hide_render = not pane_renders
+    _work_plane(scene)
+    _camera(scene)
     return scene
+
+
+def _work_plane(scene):
+    a = ROOM[0] / 2 - WORK_PLANE["margin"]
+    mesh = bpy.data.meshes.new("Work Plane")
+    mesh.from_pydata([(-a, -a, 0), (a, -a, 0), (a, a, 0), (-a, a, 0)], [], [(0, 1, 2, 3)])
+    plane = bpy.data.objects.new("Work Plane", mesh)
+    plane.location = (0.0, 0.0, WORK_PLANE["height"])
+    plane.hide_render = True  # a reference surface: it must not block or reflect light
+    plane.display_type = "WIRE"
+    scene.collection.objects.link(plane)
+    return plane
+
+
+def _camera(scene):
+    import mathutils
+
+    data = bpy.data.cameras.new("Camera")
+    data.lens = CAMERA["lens_mm"]
+    cam = bpy.data.objects.new("Camera", data)
+    cam.location = CAMERA["location"]
+    # a camera looks along its local -Z with +Y up: point -Z along the view, keep the horizon level
+    cam.rotation_euler = mathutils.Vector(CAMERA["look"]).to_track_quat("-Z", "Y").to_euler()
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    scene.render.resolution_x, scene.render.resolution_y = CAMERA["resolution"]
+    scene.render.resolution_percentage = 100
+    return cam
+
+
+def add_meters(scene):
+    """The meters of ``METERS`` as meter objects (illuminance, facing their normals) in a "Meters" collection."""
+    import mathutils
+
+    from ..measure.meter.meter_objects import add_meter_object
+
+    meters = bpy.data.collections.new("Meters")
+    scene.collection.children.link(meters)
+    out = []
+    with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0], collection=meters):
+        for name, (location, normal) in METERS.items():
+            obj = add_meter_object(bpy.context, "ILLUMINANCE", location,
+                                   rotation=tuple(mathutils.Vector((0.0, 0.0, 1.0)).rotation_difference(
+                                       mathutils.Vector(normal)).to_euler()))
+            settings = obj.radiometer_meter  # the demo builds the user's scene: its meters, as Add > Light Meter
+            settings.is_meter, settings.kind = True, "ILLUMINANCE"
+            obj.name = name
+            out.append(obj)
+    return out
+
+
+def write_weather(out_dir, interrupt=None):
+    """Write the SYNTHETIC London year (``radiometry.sun.synthetic_weather``) as ``out_dir``/WEATHER_FILE,
+    whole or not at all. Returns its path."""
+    import contextlib
+
+    from ..errors import RadiometerError
+    from ..outputs import write_text
+    from ..radiometry.sun import synthetic_weather
+
+    path = os.path.join(os.path.abspath(out_dir), WEATHER_FILE)
+    with interrupt.critical() if interrupt is not None else contextlib.nullcontext():
+        try:
+            write_text(path, synthetic_weather.synthetic_epw_text())
+        except OSError as exc:
+            raise RadiometerError(f"cannot write {path}: {exc.strerror or exc}") from None
+    return path
 
 
 def local_time(when=WHEN, time_zone=SITE["time_zone"]):
@@ -99,6 +181,7 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
 
         radiometer.register()
     scene = build(bpy.context.scene, glass=True, pane_renders=glass)
+    add_meters(scene)
     t = local_time(when)
     sun = sun_light.set_sun(scene, SITE["latitude_deg"], SITE["longitude_deg"], t)
     p = lambda *a: print(*a, file=stream)  # noqa: E731
@@ -133,7 +216,7 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
                       "unobstructed_direct_lx": direct}
     p("(E_dn max(0, n.s): the sun's direct light on an unobstructed meter; sunlit: share of the sun's disc "
       "the meter sees, glass counted as clear)")
-    blend = None
+    blend = weather = None
     if out_dir:
         from ..errors import RadiometerError
         from ..measure.blender.blend_file import save_copy
@@ -143,7 +226,11 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
         except OSError as exc:
             raise RadiometerError(f"cannot create the output folder {out_dir}: {exc.strerror or exc}") from None
         blend = save_copy(os.path.join(os.path.abspath(out_dir), "daylight_room.blend"), interrupt)
-        p(f"\nWrote {blend}")
+        weather = write_weather(out_dir, interrupt)
+        p(f"\nWrote {blend} (work plane 'Work Plane' at {WORK_PLANE['height']:g} m, camera 'Camera', "
+          f"{len(METERS)} meters)")
+        p(f"Wrote {weather} (a SYNTHETIC weather year for London: generated, not measured)")
     seconds = time.perf_counter() - started
     p(f"({seconds:.1f} s)")
-    return {"sun": sun, "time": t.isoformat(), "meters": rows, "blend": blend, "seconds": seconds}
+    return {"sun": sun, "time": t.isoformat(), "meters": rows, "blend": blend,
+            "weather": weather, "seconds": seconds}

@@ -266,3 +266,157 @@ def test_write_text_is_whole_or_nothing(tmp_path):
         outputs.write_text("/dev/full", "x" * 10000)
     outputs.write_text(str(target), "new")
     assert target.read_text() == "new" and [p.name for p in tmp_path.iterdir()] == ["r.json"]
+
+
+# --- compliance and illuminance-image (issue 34) ------------------------------------------------------
+
+_CAMERA_SCENE = r"""
+import json, sys, bpy, radiometer
+sys.path.insert(0, {tests!r})
+from conftest import make_black_world, add_light, add_plane
+bpy.ops.wm.read_factory_settings(use_empty=True)
+radiometer.register()
+from radiometer import api
+s = bpy.context.scene
+s.render.engine = "CYCLES"
+make_black_world(s)
+add_light(s, "AREA", (0, 0, 2), energy=100.0, size=0.5)
+add_plane(s, size=4, location=(0, 0, 0), name="Floor", albedo=0.8)
+cam = bpy.data.objects.new("Top", bpy.data.cameras.new("Top"))
+cam.data.type, cam.data.ortho_scale = "ORTHO", 1.0
+cam.location = (0.0, 0.0, 1.0)  # looks down its local -Z: at the floor
+s.collection.objects.link(cam)
+s.camera = cam
+s.render.resolution_x = s.render.resolution_y = 15
+bpy.ops.wm.save_as_mainfile(filepath={path!r})
+# the closed form averaged over each of the 3 x 3 pixels in the middle (pixels 1/15 m wide; the image's
+# pixel filter is a box of one pixel): the mean of 5 x 5 midpoints per pixel
+e = lambda x, y: sum(r["illuminance"] for r in api.predict_illuminance((x, y, 0.0), (0, 0, 1), scene=s))
+sub = [(k + 0.5) / 5 - 0.5 for k in range(5)]
+block = [[sum(e((i + a) / 15, (-j + b) / 15) for a in sub for b in sub) / 25 for i in (-1, 0, 1)] for j in (-1, 0, 1)]
+json.dump({{"block_lx": block}}, open({path!r} + ".json", "w"))
+"""
+
+
+@pytest.fixture(scope="module")
+def camera_room(tmp_path_factory):
+    """A floor under an area light seen straight down by an orthographic camera (15 x 15 px over 1 m);
+    no work plane. Beside it the closed-form illuminance at the floor's centre (api.predict_illuminance)."""
+    pytest.importorskip("bpy")
+    path = str(tmp_path_factory.mktemp("camera_room") / "camera_room.blend")
+    tests = os.path.join(os.path.dirname(os.path.abspath(__file__)), "bpy")
+    subprocess.run([sys.executable, "-c", _CAMERA_SCENE.format(tests=tests, path=path)], check=True,
+                   capture_output=True, timeout=300)
+    return path
+
+
+def test_compliance_and_illuminance_image_help():
+    for name, fragment in (("compliance", "--maintained-lx LX"), ("illuminance-image", "--exr FILE")):
+        out = run_cli(name, "--help")
+        assert out.returncode == 0 and fragment in out.stdout and "lx" in out.stdout, out.stderr
+    assert "compliance" in run_cli("--help").stdout and "illuminance-image" in run_cli("--help").stdout
+
+
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
+def test_compliance_table_with_units_and_json(room, tmp_path):
+    """Ēm = MF x the grid's average (the grid in the same JSON), U0 = E_min / Ē; units on the lines."""
+    out = run_cli("compliance", room, "--maintained-lx", "50", "--uniformity", "0.1", "--maintenance-factor", "0.7",
+                  "--quality", "preview", "--json", str(tmp_path / "c.json"))
+    assert out.returncode == 0, out.stderr
+    assert "Ēm" in out.stdout and " lx" in out.stdout and "overall:" in out.stdout
+    data = json.loads((tmp_path / "c.json").read_text())
+    checks = {c["quantity"]: c for c in data["checks"]}
+    stats = data["grid"]["stats"]
+    assert checks["Ēm"]["unit"] == "lx" and checks["Ēm"]["achieved"] == pytest.approx(0.7 * stats["avg"], rel=1e-9)
+    assert checks["U0"]["achieved"] == pytest.approx(stats["min"] / stats["avg"], rel=1e-9)
+    assert data["overall"] in ("pass", "fail", "marginal", "not assessed", "error unknown")
+
+
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
+def test_compliance_bad_input_is_one_line(room, camera_room, tmp_path):
+    _one_error_line(run_cli("compliance", room), "give --task KEY")
+    _one_error_line(run_cli("compliance", room, "--task", "spaceship"), "unknown task 'spaceship'")
+    _one_error_line(run_cli("compliance", room, "--task", "office_writing", "--plane", "Nope"), "no object named 'Nope'")
+    _one_error_line(run_cli("compliance", room, "--task", "office_writing", "--maintenance-factor", "1.5"),
+                    "--maintenance-factor")
+    _one_error_line(run_cli("compliance", camera_room, "--task", "office_writing"), "no work plane")
+    _one_error_line(run_cli("compliance", room, "--task", "corridor", "--json", str(tmp_path / "no" / "c.json")),
+                    "does not exist")
+    assert not (tmp_path / "no").exists()
+
+
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
+def test_daylight_commands_without_a_work_plane_say_so(camera_room, tmp_path):
+    _one_error_line(run_cli("daylight-factor", camera_room, "--quality", "preview"), "no work plane")
+    epw = tmp_path / "w.epw"
+    from radiometer.radiometry.sun import synthetic_weather
+
+    epw.write_text(synthetic_weather.synthetic_epw_text(), encoding="latin-1")
+    _one_error_line(run_cli("annual", camera_room, "--epw", str(epw), "--csv", str(tmp_path / "a.csv")),
+                    "no work plane")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["w.epw"]  # nothing half-written
+
+
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
+def test_illuminance_image_reads_the_closed_form_at_the_centre(camera_room, tmp_path):
+    """The 3 x 3 pixels in the middle see the floor under the light: E from the rendered diffuse passes
+    equals the closed form averaged over each pixel (api.predict_illuminance; only direct light reaches
+    a lone floor). The pixels' noise is independent: their mean relative departure is within 4 standard
+    errors of the mean (from the 9 departures' spread) plus 3e-5 (the 5 x 5 midpoint average of the
+    closed form: a 25th of the 2.8e-4 by which a pixel's mean falls below its centre's value). Measured:
+    +3e-5 +- 7e-5 with the pixel average; -3.1e-4 against the centres' values (the footprint seen)."""
+    import numpy as np
+    import OpenEXR
+
+    import bpy
+
+    if bpy.app.version < (5, 0, 0):
+        pytest.skip("illuminance images need Blender 5.0's compositor node groups (api.illuminance_image)")
+    exr = tmp_path / "e.exr"
+    out = run_cli("illuminance-image", camera_room, "--exr", str(exr), "--max-samples", "64", "--json",
+                  str(tmp_path / "e.json"))
+    assert out.returncode == 0, out.stderr
+    assert " lx" in out.stdout and f"wrote {exr}" in out.stdout and (tmp_path / "e.png").exists()
+    data = json.loads((tmp_path / "e.json").read_text())
+    assert data["resolution"] == [15, 15] and data["paths"]["exr"] == str(exr)
+    with OpenEXR.File(str(exr)) as f:
+        rgba = f.channels()["RGBA"].pixels
+    expected = np.array(json.loads(open(camera_room + ".json").read())["block_lx"])
+    assert expected.min() > 10
+    departure = (rgba[6:9, 6:9, 0].astype(float) / expected - 1.0).ravel()
+    se_mean = float(np.std(departure, ddof=1)) / 3.0
+    assert abs(float(np.mean(departure))) <= 4 * se_mean + 3e-5, (departure, se_mean)
+
+
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
+def test_illuminance_image_bad_input_is_one_line(room, camera_room, tmp_path):
+    _one_error_line(run_cli("illuminance-image", room, "--exr", str(tmp_path / "e.exr")), "has no camera")
+    _one_error_line(run_cli("illuminance-image", camera_room, "--exr", str(tmp_path / "e.png")), "must name an .exr")
+    _one_error_line(run_cli("illuminance-image", camera_room, "--exr", str(tmp_path / "e.exr"), "--camera", "Floor"),
+                    "no camera named 'Floor'")
+    _one_error_line(run_cli("illuminance-image", camera_room, "--exr", str(tmp_path / "no" / "e.exr")), "--exr file")
+    _one_error_line(run_cli("illuminance-image", camera_room, "--exr", str(tmp_path / "e.exr"), "--max-samples", "4"),
+                    "--max-samples")
+    _one_error_line(run_cli("illuminance-image", camera_room, "--exr", str(tmp_path / "e.exr"), "--range", "5", "1"),
+                    "--range")
+    assert list(tmp_path.iterdir()) == []  # nothing written, whole or half
+
+
+@pytest.mark.subprocess  # runs the Blender-backed CLI in a child process
+def test_report_daylight_bad_input_is_one_line(room, camera_room, tmp_path):
+    """The report's daylight section (issue 34): a room without a work plane, a weather file with records
+    missing their fields, a bad E_v,d: one line each before any measurement, no report file written."""
+    out = tmp_path / "rep"
+    _one_error_line(run_cli("report", camera_room, "--out", str(out), "--daylight"), "needs a work plane")
+    from radiometer.radiometry.sun import synthetic_weather
+
+    lines = synthetic_weather.synthetic_epw_text().splitlines()
+    lines[30] = ",".join(lines[30].split(",")[:12])  # line 31: a record cut short before its radiation fields
+    bad = tmp_path / "bad.epw"
+    bad.write_text("\n".join(lines) + "\n", encoding="latin-1")
+    _one_error_line(run_cli("report", room, "--out", str(out), "--daylight", "--epw", str(bad)), "line 31")
+    _one_error_line(run_cli("report", room, "--out", str(out), "--daylight", "--median-external-lux", "-5"),
+                    "--median-external-lux")
+    _one_error_line(run_cli("report", room, "--out", str(out), "--daylight", "--epw", str(tmp_path / "none.epw")),
+                    "none.epw")
+    assert not out.exists() or list(out.iterdir()) == []

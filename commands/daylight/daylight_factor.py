@@ -38,6 +38,7 @@ def run(args):
     scene = bpy.context.scene
     progress = getattr(args, "progress", None)
     cancelled = getattr(args, "cancelled", None)
+    _points.default_plane(args, scene)
     if args.points:
         for name in ("spacing", "resolution", "target", "median_external_lux", "png"):
             if getattr(args, name) is not None:

@@ -195,6 +195,15 @@ class IlluminanceImage:
     notes: list
     paths: dict = dataclasses.field(default_factory=dict)
 
+    def to_dict(self):
+        d = {k: v for k, v in dataclasses.asdict(self).items() if k not in ("illuminance", "rel_std_error")}
+        e = self.illuminance
+        seen = e > 0
+        d["illuminance_stats_lx"] = {"min": float(np.min(e)), "max": float(np.max(e)), "mean": float(np.mean(e)),
+                                     "mean_seen": float(np.mean(e[seen])) if seen.any() else 0.0,
+                                     "share_seen": float(np.mean(seen))}
+        return d
+
 
 def _light_pass_compositor(scene):
     """A compositor node group whose output is Diffuse Direct + Diffuse Indirect; returns it."""

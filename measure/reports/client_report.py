@@ -7,6 +7,20 @@ compliance checks (UGR at the given observers), a false-colour luminance image o
 and writes ``report.html`` (pictures linked by relative file names) and ``report.pdf`` (matplotlib's
 PDF backend, pictures embedded). Paths shown are file names only (no absolute paths). Numbers carry
 the digits their standard error supports and their units.
+
+How to add a section (``REPORT_SECTIONS``: one function plus one mapping entry, as colour-science adds a
+method):
+
+1. measure what it needs in ``report._report_parts`` as one part (a ``yield step(label)``, its weight in
+   ``parts``, any files it writes in the planned set before the first measurement), into
+   ``report[name]`` as plain numbers with their units in the keys (it is written to report.json);
+2. write ``_name_section(report, client)`` returning its tables as (title, header, rows), every number
+   with its unit and the digits its error supports, and add it to ``REPORT_SECTIONS`` where it belongs
+   in the page order;
+3. pictures: (caption, file name) in ``client["section_images"][name]``, laid out two to a page under
+   the section's heading (``write_pdf``), inline in the HTML;
+4. a markdown form for report.md (as ``daylight_section.markdown_lines``) and a test that reads the
+   section's numbers back from report.json and its heading from the HTML.
 """
 
 import datetime
@@ -151,20 +165,27 @@ def _html_table(header, rows):
     return "\n".join(out) + "</table>"
 
 
-def _tables(report, client):
-    """(title, header, rows) of every table, shared by HTML and PDF."""
-    project = client["project"]
-    tables = [("Project", ["item", "value"], [[k, v] for k, v in project.items()])]
+def _project_section(report, client):
+    return [("Project", ["item", "value"], [[k, v] for k, v in client["project"].items()])]
+
+
+def _work_planes_section(report, client):
     rooms = [[g["target"], f"{g['size'][0]:.3g} m x {g['size'][1]:.3g} m", f"{g['nx']} x {g['ny']}",
               f"{g['spacing'][0]:.2g} m"] for g in report.get("grids", []) if "error" not in g]
-    if rooms:
-        tables.append(("Work planes", ["work plane", "size", "grid points", "cell"], rooms))
-    tables.append(("Luminaire schedule", ["type", "file", "count", "flux per luminaire", "power", "efficacy"],
-                   [[s["type"], s["file"] or "-", s["count"],
-                     "n/a" if not math.isfinite(s["flux_lm"]) else f"{_plain(s['flux_lm'])} lm",
-                     "n/a" if not math.isfinite(s["power_w"]) else f"{_plain(s['power_w'])} W",
-                     "n/a" if not math.isfinite(s["efficacy_lm_w"]) else f"{s['efficacy_lm_w']:.3g} lm/W"]
-                    for s in client["schedule"]]))
+    return [("Work planes", ["work plane", "size", "grid points", "cell"], rooms)] if rooms else []
+
+
+def _luminaires_section(report, client):
+    return [("Luminaire schedule", ["type", "file", "count", "flux per luminaire", "power", "efficacy"],
+             [[s["type"], s["file"] or "-", s["count"],
+               "n/a" if not math.isfinite(s["flux_lm"]) else f"{_plain(s['flux_lm'])} lm",
+               "n/a" if not math.isfinite(s["power_w"]) else f"{_plain(s['power_w'])} W",
+               "n/a" if not math.isfinite(s["efficacy_lm_w"]) else f"{s['efficacy_lm_w']:.3g} lm/W"]
+              for s in client["schedule"]])]
+
+
+def _compliance_section(report, client):
+    tables = []
     for comp in client["compliance"]:
         req = comp["requirement"]
         rows = []
@@ -196,10 +217,17 @@ def _tables(report, client):
         tables.append((f"EN 12464-1 compliance: {comp['plane']} ({req['task']}; {source}; maintenance "
                        f"factor {comp['maintenance_factor']:g}) - overall: {comp['overall']}",
                        ["quantity", "required", "achieved", "result", "margin", "how"], rows))
+    return tables
+
+
+def _meters_section(report, client):
     meters = _meter_rows(report)
-    if meters:
-        tables.append(("Meter readings (± 1 standard error)", ["meter", "reading", "photographic", "method"],
-                       [[m["name"], m["reading"], m["photo"] or "-", m["method"]] for m in meters]))
+    return [("Meter readings (± 1 standard error)", ["meter", "reading", "photographic", "method"],
+             [[m["name"], m["reading"], m["photo"] or "-", m["method"]] for m in meters])] if meters else []
+
+
+def _glare_section(report, client):
+    tables = []
     for g in client["glare"]:
         tables.append((f"Glare at {g['label']} (CIE 117 UGR {g['ugr_text']}, background {g['lb_text']})",
                        ["source", "luminance", "solid angle", "position index"],
@@ -209,6 +237,32 @@ def _tables(report, client):
             tables.append((f"Lights not rated at {g['label']} (CIE 117 counts only sources in its field)",
                            ["light", "why"], [[d["name"], d["reason"]] for d in g["left_out"]]))
     return tables
+
+
+def _daylight_section(report, client):
+    from .daylight_section import daylight_tables
+
+    return daylight_tables(report.get("daylight"))
+
+
+#: The client report's sections in page order: name -> ``f(report, client)`` returning its tables, each
+#: (title, header, rows), shared by the HTML and the PDF (pictures are ``client["images"]``, a section's
+#: own under ``client["section_images"][name]``). How to add a section (module docstring):
+#: one function here and one entry below.
+REPORT_SECTIONS = {
+    "project": _project_section,
+    "work planes": _work_planes_section,
+    "luminaire schedule": _luminaires_section,
+    "compliance": _compliance_section,
+    "meter readings": _meters_section,
+    "glare": _glare_section,
+    "daylight": _daylight_section,
+}
+
+
+def _tables(report, client):
+    """(title, header, rows) of every table, shared by HTML and PDF: the sections of ``REPORT_SECTIONS``."""
+    return [table for section in REPORT_SECTIONS.values() for table in section(report, client)]
 
 
 def _appendix(report):
@@ -250,6 +304,12 @@ def write_html(path, report, client):
         for caption, name in client["images"]:
             parts.append(f"<figure><img src='{html.escape(name)}' alt='{html.escape(caption)}'>"
                          f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+    for section, pictures in client.get("section_images", {}).items():
+        if pictures:
+            parts.append(f"<h2>{html.escape(section.capitalize())}: maps</h2>")
+            for caption, name in pictures:
+                parts.append(f"<figure><img src='{html.escape(name)}' alt='{html.escape(caption)}' "
+                             f"style='max-width:48%'><figcaption>{html.escape(caption)}</figcaption></figure>")
     appendix = _appendix(report)
     if appendix:
         parts.append("<h2>Engineering appendix: the physics checks</h2>")
@@ -302,7 +362,8 @@ def write_pdf(path, out_dir, report, client):
             img = plt.imread(os.path.join(out_dir, file_name))
             lines = _wrap(caption, 110)
             height = 0.88 * a4[0] * img.shape[0] / img.shape[1] / a4[1]  # page fraction at 88 % of the width
-            height = min(height, 0.4)  # two pictures to a page
+            # two pictures to a page with captions of up to 2 lines: 0.915 - 2 x (0.36 + 0.046) - 0.025 > 0.04
+            height = min(height, 0.36)
             need = height + 0.02 + 0.013 * len(lines)
             if fig is None or y - need < 0.04:
                 if fig is not None:
@@ -335,6 +396,8 @@ def write_pdf(path, out_dir, report, client):
         if page:
             table_page(pdf, page, (client["title"], client["subtitle"]) if first else None)
         image_pages(pdf, client["images"], "Pictures")
+        for section, pictures in client.get("section_images", {}).items():
+            image_pages(pdf, pictures, f"{section.capitalize()}: maps")
         image_pages(pdf, [(f"{title}: {sentence}.", os.path.basename(plot)) for title, sentence, plot in _appendix(report)
                           if plot and os.path.exists(plot)], "Engineering appendix: the physics checks")
     return path
@@ -466,6 +529,10 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
             s = grid["stats"]
             client["images"].append((f"Isolux lines on {grid['target']} (lx): Ē {_plain(s['avg'], 3)} lx, E_min "
                                      f"{_plain(s['min'], 3)} lx, U0 {s['u0']:.2f}", os.path.basename(grid["image"])))
+    if report.get("daylight"):
+        client["section_images"] = {"daylight": [tuple(p) for p in report["daylight"].get("images", [])]}
+        client["subtitle"] += (" Daylight: the daylight factor under the CIE overcast sky, the annual metrics "
+                               "from the weather file named, sunlight hours and daylight glare (DGP).")
     report["client"] = client
     html_path = os.path.join(out_dir, "report.html")
     write_html(html_path, report, client)

@@ -156,7 +156,8 @@ def export_report(out_dir, **kwargs):
 def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
                 convergence=True, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None,
                 client=True, project=None, task=None, maintenance_factor=0.8, observers=(), ra=None, meters=(),
-                settings=None):
+                settings=None, daylight=False, epw=None, median_external_illuminance_lux=None,
+                daylight_resolution=None):
     """The report as a generator of parts, for modal operators: one ``next()`` measures one part.
 
     The first ``next()`` measures nothing and yields the plan, a list of (label, weight); every
@@ -186,6 +187,12 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     ``maintenance_factor``, UGR at ``observers`` ((x, y, z), (dx, dy, dz)), the luminaires' rated
     ``ra``, a false-colour luminance image of the scene camera, the isolux plots, the readings, and the
     law checks as an engineering appendix).
+
+    ``daylight``: True adds the daylight section (``measure.reports.daylight_section``: daylight factor,
+    with the weather file ``epw`` sDA/ASE/UDI and sunlight hours, DGP at the camera, the EN 17037 table
+    and the maps; ``median_external_illuminance_lux`` the site's E_v,d for the DF method;
+    ``daylight_resolution`` (nx, ny) the grids, default EN 12464-1's spacing); "auto": when the scene has
+    a sky (a sun or an emitting world); False (default): none.
     """
     out = os.path.abspath(out_dir)
     try:
@@ -198,12 +205,16 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
                                          convergence=convergence, convergence_samples=convergence_samples,
                                          progress=progress, cancelled=cancelled, phase=phase, client=client,
                                          project=project, task=task, maintenance_factor=maintenance_factor,
-                                         observers=observers, ra=ra, meters=meters, settings=settings))
+                                         observers=observers, ra=ra, meters=meters, settings=settings,
+                                         daylight=daylight, epw=epw,
+                                         median_external_illuminance_lux=median_external_illuminance_lux,
+                                         daylight_resolution=daylight_resolution))
 
 
 def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budget_s, convergence,
                   convergence_samples, progress, cancelled, phase, client, project, task, maintenance_factor,
-                  observers, ra, meters, settings):
+                  observers, ra, meters, settings, daylight=False, epw=None, median_external_illuminance_lux=None,
+                  daylight_resolution=None):
     """:func:`iter_report`'s parts, written into ``stage`` (an ``outputs.FileSet``) and committed at the end."""
     scene = scene or bpy.context.scene
     from ..meter.point_meter import capture_model
@@ -233,8 +244,23 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
     if convergence:
         conv_target = next((m.obj for m in objs if m.kind == "ILLUMINANCE"), None)
         conv_target = conv_target or next(iter(planes), None)
-    # Rough relative costs for one progress bar: a law check ~ 2 measurements, a grid ~ 3, a study ~ 4.
-    parts = [1.0] * bool(objs) + [2.0] * len(lights) + [3.0] * len(planes) + [4.0] * (conv_target is not None)
+    if daylight == "auto":
+        from .daylight_section import sky_words
+
+        daylight = bool(sky_words(scene))
+    if daylight and not planes:
+        raise RadiometerError("the report's daylight section needs a work plane: add a mesh named 'Work Plane'")
+    if daylight and epw:
+        from ...radiometry.sun import epw as epw_mod
+
+        try:  # a bad weather file is one line before any measurement, not after the grids
+            epw_mod.read_epw(epw)
+        except (OSError, ValueError) as exc:
+            raise RadiometerError(f"weather file: {exc}") from None
+    # Rough relative costs for one progress bar: a law check ~ 2 measurements, a grid ~ 3, a study ~ 4,
+    # the daylight section ~ 8 per plane.
+    parts = [1.0] * bool(objs) + [2.0] * len(lights) + [3.0] * len(planes) + [4.0] * (conv_target is not None) \
+        + [8.0] * bool(daylight)
     bounds = [0.0]
     for w in parts:
         bounds.append(bounds[-1] + w / max(sum(parts), 1e-12))
@@ -255,7 +281,8 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
         _overall(lo + (hi - lo) * (min(max(done / total, 0.0), 1.0) if total else 0.0))
 
     labels = (["meters"] * bool(objs) + [f"laws {light.name}" for light in lights]
-              + [f"grid {plane.name}" for plane in planes] + ["convergence"] * (conv_target is not None))
+              + [f"grid {plane.name}" for plane in planes] + ["convergence"] * (conv_target is not None)
+              + ["daylight"] * bool(daylight))
     plan = list(zip(labels, parts))
 
     def step(label):
@@ -276,6 +303,10 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
     # Every target before any work (issue 33: a report.html that is a folder was refused after 20 s).
     planned = planned_files([stems(ob.name) for ob in lights], [stems(ob.name) for ob in planes], draw,
                             conv_target is not None, client)
+    if daylight and draw:
+        from .daylight_section import map_files
+
+        planned += map_files([stems(ob.name) for ob in planes], annual=bool(epw), sun=bool(epw))
     outputs.check_set(out, planned, "report file")
     out, final = stage.folder, stage.target  # written into the staging folder, moved into `final` at the end
     # Meters (readings are not written to the objects: a report leaves the scene as it was).
@@ -351,6 +382,14 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
             raise
         except RadiometerError as exc:
             report["convergence"] = {"target": target.name, "error": str(exc)}
+    if daylight:
+        yield step("daylight")
+        from .daylight_section import measure_daylight
+
+        report["daylight"] = measure_daylight(scene, planes, out, stems, quality=q, epw_path=epw,
+                                              median_external_illuminance_lux=median_external_illuminance_lux,
+                                              resolution=daylight_resolution, draw=draw, cancelled=cancelled)
+        report["errors"] += [f"daylight: {e}" for e in report["daylight"]["errors"]]
     if client:
         from . import client_report
 
@@ -644,6 +683,9 @@ def markdown(report):
             md.append(_img(g.get("image")))
             if g.get("csv"):
                 md.append(f"Data: [{os.path.basename(g['csv'])}]({os.path.basename(g['csv'])})\n")
+    from .daylight_section import markdown_lines
+
+    md += markdown_lines(report.get("daylight"))
     c = report.get("convergence")
     if c:
         md.append("## Convergence\n")

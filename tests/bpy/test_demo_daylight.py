@@ -65,9 +65,58 @@ def test_daylit_demo_from_the_command_line(clean_blender, tmp_path, capsys):
     result = json.loads((tmp_path / "d.json").read_text())
     assert result["time"] == "2026-06-21T15:00:00+01:00"  # London summer time
     assert result["blend"] == str(out / "daylight_room.blend") and os.path.exists(result["blend"])
-    assert sorted(p.name for p in out.iterdir()) == ["daylight_room.blend"]  # no temp file, no .blend1
+    # no temp file, no .blend1; the synthetic weather year beside the room
+    assert sorted(p.name for p in out.iterdir()) == ["daylight_room.blend", "daylight_room_synthetic.epw"]
     bpy.ops.wm.open_mainfile(filepath=result["blend"])
     assert bpy.data.objects["Window Pane"].hide_render  # --open: the pane is hidden in renders
     capsys.readouterr()
     assert cli.main(["demo", "--open", "--out", str(out)]) == 2
     assert "--open and --time go with --daylight" in capsys.readouterr().err
+
+
+def test_saved_daylit_room_is_ready_for_the_daylight_commands(clean_blender, tmp_path, capsys):
+    """Issue 34, getting started: the saved room has a work plane, a camera and meter objects, the
+    synthetic EPW beside it reads as a whole SYNTHETIC year, and `annual` runs on the saved room with
+    neither --points nor --plane (the work plane found by its name) and that weather file."""
+    import json
+
+    from radiometer import cli
+    from radiometer.radiometry.sun import epw
+
+    out = daylight.run(str(tmp_path / "demo"), quality="preview", stream=open(os.devnull, "w"))
+    weather = epw.read_epw(out["weather"])
+    assert weather.is_full_year and weather.notes == [] and "SYNTHETIC" in weather.city
+    bpy.ops.wm.open_mainfile(filepath=out["blend"])
+    scene = bpy.context.scene
+    assert [p.name for p in api.work_planes(scene)] == ["Work Plane"]
+    plane = bpy.data.objects["Work Plane"]
+    assert plane.hide_render and plane.location.z == pytest.approx(daylight.WORK_PLANE["height"])
+    assert scene.camera is not None and scene.camera.name == "Camera"
+    # the camera looks at the window: its view axis (local -Z) is the room's -Y (south)
+    view = scene.camera.matrix_world.to_3x3() @ __import__("mathutils").Vector((0.0, 0.0, -1.0))
+    assert tuple(view) == pytest.approx((0.0, -1.0, 0.0), abs=1e-6)
+    meters = {ob.name: ob for ob in api.meter_objects(scene=scene)}
+    assert sorted(meters) == sorted(daylight.METERS)
+    for name, (location, normal) in daylight.METERS.items():
+        ob = meters[name]
+        assert tuple(ob.location) == pytest.approx(location)
+        axis = ob.matrix_world.to_3x3() @ __import__("mathutils").Vector((0.0, 0.0, 1.0))
+        assert tuple(axis) == pytest.approx(normal, abs=1e-6)
+    capsys.readouterr()
+    if bpy.app.version < (5, 0, 0):  # annual's one-render sky dome needs 5.0: the sun study runs on 4.5
+        result_path = tmp_path / "sun.json"
+        assert cli.main(["sun-study", out["blend"], "--start", "2026-03-20T10:00", "--end", "2026-03-20T14:00",
+                         "--step", "120", "--lat", "51.5074", "--lon", "-0.1278", "--tz", "Europe/London",
+                         "--resolution", "2", "2", "--quality", "preview", "--json", str(result_path)]) == 0, \
+            capsys.readouterr().err
+        result = json.loads(result_path.read_text())
+        assert len(result["locations"]) == 4 and all(p[2] == pytest.approx(0.85) for p in result["locations"])
+        assert len(result["sunlight_hours"]) == 4 and max(result["sunlight_hours"]) > 0  # the sun patch
+        return
+    result_path = tmp_path / "annual.json"
+    assert cli.main(["annual", out["blend"], "--epw", out["weather"], "--resolution", "2", "2", "--quality", "preview",
+                     "--json", str(result_path)]) == 0, capsys.readouterr().err
+    result = json.loads(result_path.read_text())
+    assert len(result["locations"]) == 4 and all(p[2] == pytest.approx(0.85) for p in result["locations"])
+    assert result["whole_year"] and 0.0 <= result["sda_300_50"] <= 1.0
+    assert "London (SYNTHETIC)" in capsys.readouterr().out

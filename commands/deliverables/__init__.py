@@ -1,0 +1,1 @@
+"""Deliverable subcommands beside the report: compliance (EN 12464-1), illuminance-image."""
