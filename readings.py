@@ -44,6 +44,16 @@ def format_error(rel_std_error, exact=False):
     return f"±{100 * rel_std_error:.2g} %"
 
 
+def format_abs_error(value, rel_std_error, unit, exact=False):
+    """The 1-s.e. error in the quantity's own unit, two significant digits: '±0.024 DF points', '±4.4 lx',
+    'exact' or 'n/a' (issue 34: tables print absolute errors with the digits the error supports)."""
+    if exact:
+        return "exact"
+    if value is None or rel_std_error is None or not (math.isfinite(value) and math.isfinite(rel_std_error)):
+        return "n/a"
+    return f"±{abs(value) * rel_std_error:.2g} {unit}"
+
+
 def format_quantity(value, unit, rel_std_error=0.0, exact=False):
     """'402 lx ±1.1 %': the value with the digits its error supports, its unit and its error."""
     return f"{format_value(value, rel_std_error, exact)} {unit} {format_error(rel_std_error, exact)}"

@@ -26,10 +26,13 @@ def add_arguments(parser):
 
 
 def run(args):
+    import math
+
     import bpy
     import numpy as np
 
     from ... import api
+    from ...readings import format_abs_error, format_value
     from ...errors import RadiometerError
     from .. import _io
 
@@ -53,10 +56,13 @@ def run(args):
         if progress is not None:
             progress.clear()
         print(f"daylight factor at {len(rs)} points (CIE overcast sky, ground reflectance {args.ground_reflectance:g})")
-        print(f"{'x':>9} {'y':>9} {'z':>9} {'DF %':>9} {'+- %':>7} method")
+        # the DF with the digits its error supports, the error in DF points (absolute, 1 s.e.)
+        print(f"{'x (m)':>9} {'y (m)':>9} {'z (m)':>9} {'DF (%)':>9} {'1 s.e. (DF points)':>20} method")
         for r in rs:
-            print(f"{r.location[0]:9.3f} {r.location[1]:9.3f} {r.location[2]:9.3f} {r.daylight_factor:9.3f} "
-                  f"{100 * r.rel_std_error:7.2f} {r.method}{' exact' if r.exact else ''}")
+            print(f"{r.location[0]:9.3f} {r.location[1]:9.3f} {r.location[2]:9.3f} "
+                  f"{format_value(r.daylight_factor, r.rel_std_error, r.exact):>9} "
+                  f"{format_abs_error(r.daylight_factor, r.rel_std_error, 'DF points', r.exact):>20} "
+                  f"{r.method}{' exact' if r.exact else ''}")
         result = {"daylight_factor": [r.to_dict() for r in rs]}
         csv = "x,y,z,nx,ny,nz,daylight_factor_percent,rel_std_error,exact\n" + "".join(
             f"{r.location[0]:.6g},{r.location[1]:.6g},{r.location[2]:.6g},{r.normal[0]:.6g},{r.normal[1]:.6g},"
@@ -74,9 +80,17 @@ def run(args):
         if progress is not None:
             progress.clear()
         s = g.stats
-        print(f"daylight factor on {g.target!r}: {g.nx} x {g.ny} points, average {s['average']:.3f} % "
-              f"(BS 8206-2), min {s['minimum']:.3f} %, max {s['maximum']:.3f} %, median {s['median']:.3f} %, "
-              f"uniformity {s['uniformity']:.3f} (worst stated error {100 * float(np.max(g.rel_std_error)):.2g} %)")
+        # absolute errors in DF points: the worst point's 1 s.e. sets the digits of every statistic
+        abs_se = np.asarray(g.daylight_factor, float) * np.asarray(g.rel_std_error, float)
+        worst = float(np.nanmax(abs_se)) if np.isfinite(abs_se).any() else float("nan")
+
+        def df(v):
+            return format_value(v, worst / v if v and math.isfinite(worst) else None, g.exact)
+
+        error = "every point exact" if g.exact else f"worst stated error ±{worst:.2g} DF points, 1 s.e."
+        print(f"daylight factor on {g.target!r}: {g.nx} x {g.ny} points, average {df(s['average'])} % "
+              f"(BS 8206-2), min {df(s['minimum'])} %, max {df(s['maximum'])} %, median {df(s['median'])} %, "
+              f"uniformity {s['uniformity']:.3f} ({error})")
         if "share_above_target" in s:
             print(f"share of the plane with DF >= {s['target_percent']:g} %: {100 * s['share_above_target']:.1f} %")
         if "en17037" in s:

@@ -110,12 +110,18 @@ def test_cli_daylight_factor(clean_blender, build, tmp_path, capsys):
     rows = json.loads(js.read_text())["daylight_factor"]
     assert [r["daylight_factor"] for r in rows] == pytest.approx([100.0, 10.0], rel=1e-9)
     assert table.read_text().count("\n") == 3
+    # issue 34: the table states errors in DF points (absolute) and the digits a proof supports
+    out = capsys.readouterr().out
+    assert "1 s.e. (DF points)" in out and "+- %" not in out
+    rows_out = [t.split() for t in out.splitlines() if t.strip().startswith("0.000") or t.strip().startswith("1.000")]
+    assert [r[3] for r in rows_out] == ["100.00", "10.000"] and all(r[4] == "exact" for r in rows_out)
     js2 = tmp_path / "grid.json"
     assert cli._blender_cli(["daylight-factor", "--plane", "Work plane", "--resolution", "2", "2", "--target", "2",
                              "--median-external-lux", "15000", "--json", str(js2)]) == 0
     grid = json.loads(js2.read_text())
     assert np.array(grid["daylight_factor"]).shape == (2, 2) and grid["stats"]["average"] == pytest.approx(100.0)
-    assert "EN 17037 minimum" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "EN 17037 minimum" in out and ("DF points, 1 s.e." in out or "every point exact" in out)
     assert cli._blender_cli(["daylight-factor", "--plane", "Nope"]) == 2
     assert "no object named" in capsys.readouterr().err
     assert cli._blender_cli(["daylight-factor", "--points", str(points), "--target", "2"]) == 2
