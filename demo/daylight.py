@@ -18,6 +18,8 @@ that ``daylight-factor``, ``annual``, ``grid`` and ``report`` find by its name, 
 window from the back of the room (``illuminance-image``, ``glare --luminance-image``), the meters above
 as meter objects (``measure``), and beside the .blend a SYNTHETIC weather year for London,
 ``daylight_room_synthetic.epw`` (``radiometry/sun/synthetic_weather.py``: generated, not measured).
+Its world is the sunny day's sky (``CLEAR_SKY``: a CIE clear sky around the sun), so the window seen by the
+camera or a DGP view shows sky and ground; the meters printed by the demo read the sun alone.
 """
 
 import os
@@ -39,6 +41,12 @@ WHEN = (2026, 3, 20, 12, 0)  # local wall-clock time on the March equinox
 WORK_PLANE = {"height": 0.85, "margin": 0.5}
 #: The camera: at the back of the room at a seated eye height, looking at the window (south, -Y).
 CAMERA = {"location": (0.0, 1.6, 1.2), "look": (0.0, -1.0, 0.0), "lens_mm": 16.0, "resolution": (320, 240)}
+#: The saved room's world on its sunny day: the CIE standard clear sky (ISO 15469 type 12) around the sun,
+#: its unobstructed horizontal illuminance from the IES clear-day model E_kh = A + B sin(alpha)^C, A = 0.8 klx,
+#: B = 15.5 klx, C = 0.5 (IES Lighting Handbook daylight chapter, IES RP-21; alpha the sun's elevation), over
+#: a ground of reflectance 0.2. Without it the window of a sunny room shows a black sky (a camera or a DGP
+#: view sees tens of cd/m² of reflections in the pane instead of kilo-candelas of sky and ground).
+CLEAR_SKY = {"sky_type": "cie:12", "a_lux": 800.0, "b_lux": 15500.0, "c": 0.5, "ground_reflectance": 0.2}
 #: The synthetic weather file written beside the .blend.
 WEATHER_FILE = "daylight_room_synthetic.epw"
 
@@ -159,6 +167,27 @@ def write_weather(out_dir, interrupt=None):
     return path
 
 
+def clear_sky_horizontal_illuminance(elevation_deg):
+    """The IES clear-day sky's unobstructed horizontal illuminance (lx) at a sun elevation (deg); 0 below
+    the horizon (``CLEAR_SKY``)."""
+    import math
+
+    s = math.sin(math.radians(float(elevation_deg)))
+    return CLEAR_SKY["a_lux"] + CLEAR_SKY["b_lux"] * s ** CLEAR_SKY["c"] if s > 0.0 else 0.0
+
+
+def set_clear_sky(scene, sun):
+    """Make ``scene``'s world the clear sky around ``sun`` (``set_sun``'s dict); returns ``set_cie_sky``'s dict,
+    or None with the sun below the horizon (the world stays black)."""
+    from ..measure.authoring import sky
+
+    e_h = clear_sky_horizontal_illuminance(sun["elevation_deg"])
+    if e_h <= 0.0:
+        return None
+    return sky.set_cie_sky(scene, CLEAR_SKY["sky_type"], horizontal_illuminance_lux=e_h,
+                           sun_direction=tuple(sun["direction"]), ground_reflectance=CLEAR_SKY["ground_reflectance"])
+
+
 def local_time(when=WHEN, time_zone=SITE["time_zone"]):
     from ..radiometry.sun import solar_position
 
@@ -193,7 +222,7 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
       f"Blender sun strength {sun['strength_w_m2']:.4g} W/m² at {scene.radiometer.efficacy:g} lm/W")
     p(f"Room 4 x 4 x 3 m, window {WINDOW['width']:.1f} x {WINDOW['head'] - WINDOW['sill']:.1f} m facing south"
       + (", 6 mm clear glass pane (Glass BSDF, IOR 1.5)" if glass else
-         ", its 6 mm glass pane hidden in renders (an open window)") + "; black sky")
+         ", its 6 mm glass pane hidden in renders (an open window)"))
     names = list(METERS)
     study = sun_study.sun_study([METERS[n][0] for n in names], [METERS[n][1] for n in names], [t],
                                 latitude_deg=SITE["latitude_deg"], longitude_deg=SITE["longitude_deg"],
@@ -216,6 +245,11 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
                       "unobstructed_direct_lx": direct}
     p("(E_dn max(0, n.s): the sun's direct light on an unobstructed meter; sunlit: share of the sun's disc "
       "the meter sees, glass counted as clear)")
+    p("(the meters read the sun alone: the sun study takes the world away)")
+    clear = set_clear_sky(scene, sun)  # after the sun study: the saved room's sunny-day world
+    p(f"Saved world: CIE clear sky (ISO 15469 type 12), {clear['horizontal_illuminance_lux']:.0f} lx on the "
+      f"unobstructed horizontal from the sky (IES clear day), ground reflectance {CLEAR_SKY['ground_reflectance']:g}"
+      if clear else "Saved world: black (the sun is below the horizon)")
     blend = weather = None
     if out_dir:
         from ..errors import RadiometerError

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from radiometer.radiometry.scene import plan_section
+from radiometer.radiometry.skies import sky_aperture
 
 
 def _room():
@@ -63,6 +64,46 @@ def test_openings_in_plan_window_and_roof_light():
     assert area == pytest.approx(1.0, rel=1e-12)
     # opaque=False triangles (a glass pane) are left out of the section
     assert len(plan_section.room_plan(tris, np.zeros(len(tris), bool), 0.85)[0]) == 0
+
+
+def _box(lo, hi):
+    """12 outward-facing triangles of an axis-aligned box (m)."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    v = np.array([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0],
+                  [x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]], float)
+    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    return np.array([[v[a], v[b], v[c]] for a, b, c, d in quads] + [[v[a], v[c], v[d]] for a, b, c, d in quads])
+
+
+def test_room_of_boxes_has_only_its_window_as_opening():
+    """The demo's daylit room (demo/daylight.py: 4 x 4 x 3 m of separate 0.1 m boxes, a 2 x 1.2 m window,
+    sill 0.9 m, in the south wall y = -2.1..-2.0 m). The walls' bottom faces at z = 0 form a ring around the
+    floor's top face and their top faces one around the roof's bottom face: coplanar faces, no opening.
+    Before the fix both rings were drawn as openings along the four inner walls."""
+    hx, hy, h, t, w, sill, head = 2.0, 2.0, 3.0, 0.1, 1.0, 0.9, 2.1
+    y0, y1 = -hy - t, -hy
+    boxes = [((-hx - t, -hy - t, -t), (hx + t, hy + t, 0.0)), ((-hx - t, -hy - t, h), (hx + t, hy + t, h + t)),
+             ((-hx - t, hy, 0.0), (hx + t, hy + t, h)), ((hx, -hy, 0.0), (hx + t, hy, h)),
+             ((-hx - t, -hy, 0.0), (-hx, hy, h)), ((-hx - t, y0, 0.0), (hx + t, y1, sill)),
+             ((-hx - t, y0, head), (hx + t, y1, h)), ((-hx - t, y0, sill), (-w, y1, head)),
+             ((w, y0, sill), (hx + t, y1, head))]
+    tris = np.concatenate([_box(lo, hi) for lo, hi in boxes])
+    found = sky_aperture.find_apertures(tris, 1e-6)
+    assert len(found) == 2  # the window's outer (y = -2.1 m) and inner (y = -2.0 m) outlines
+    for loop, normal in found:
+        assert np.allclose(np.abs(normal), (0, 1, 0))
+        assert np.allclose(loop.min(axis=0)[[0, 2]], (-w, sill)) and np.allclose(loop.max(axis=0)[[0, 2]], (w, head))
+    segs = sorted(plan_section.plan_openings(tris), key=lambda s: s[0, 1])
+    assert [sorted(map(tuple, np.round(s, 9))) for s in segs] == [[(-1.0, -2.1), (1.0, -2.1)],
+                                                                 [(-1.0, -2.0), (1.0, -2.0)]]
+    # a real hole beside a coplanar face is still one: cut a 1 x 1 m roof light (x 0..1, y 0..1) in the roof
+    # box's bottom face, whose plane the walls' top faces share
+    roof_light = [((-hx - t, -hy - t, h), (hx + t, 0.0, h + t)), ((-hx - t, 1.0, h), (hx + t, hy + t, h + t)),
+                  ((-hx - t, 0.0, h), (0.0, 1.0, h + t)), ((1.0, 0.0, h), (hx + t, 1.0, h + t))]
+    tris = np.concatenate([_box(lo, hi) for lo, hi in boxes[:1] + roof_light + boxes[2:]])
+    holes = [loop for loop, normal in sky_aperture.find_apertures(tris, 1e-6) if abs(normal[2]) > 0.5]
+    assert len(holes) == 2 and all(np.allclose(loop.min(axis=0), (0, 0, z)) and np.allclose(loop.max(axis=0), (1, 1, z))
+                                   for loop, z in zip(sorted(holes, key=lambda s: s[0, 2]), (h, h + t)))
 
 
 def test_error_share_text():

@@ -433,9 +433,49 @@ def _holes(tris, normal, tol):
                 keep.append(loop[k])
         ring = xy[keep]
         signed = 0.5 * np.sum(ring[:, 0] * np.roll(ring[:, 1], -1) - np.roll(ring[:, 0], -1) * ring[:, 1])
-        if len(keep) >= 3 and signed < 0:  # winds against the faces: a hole
-            loops.append(pts[keep])
+        if len(keep) >= 3 and signed < 0 and not _filled(ring[::-1], tris, e1, e2, tol):
+            loops.append(pts[keep])  # winds against the faces and nothing of the plane fills it: a hole
     return loops
+
+
+def _ear_triangles(ring):
+    """Triangles (M, 3, 2) of the simple counter-clockwise polygon ``ring`` (K, 2), by ear clipping."""
+    idx, out = list(range(len(ring))), []
+    while len(idx) > 3:
+        for k in range(len(idx)):
+            a, b, c = ring[idx[k - 1]], ring[idx[k]], ring[idx[(k + 1) % len(idx)]]
+            if (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) <= 0:
+                continue  # a reflex (or straight) corner is no ear
+            others = ring[[i for i in idx if i not in (idx[k - 1], idx[k], idx[(k + 1) % len(idx)])]]
+            d = [(q[0] - p[0]) * (others[:, 1] - p[1]) - (q[1] - p[1]) * (others[:, 0] - p[0])
+                 for p, q in ((a, b), (b, c), (c, a))]
+            if np.any((d[0] >= 0) & (d[1] >= 0) & (d[2] >= 0)):
+                continue  # another corner lies in it
+            out.append((a, b, c))
+            del idx[k]
+            break
+        else:
+            break  # degenerate ring: keep what was clipped
+    out.append(tuple(ring[i] for i in idx[:3]))
+    return np.array(out, float)
+
+
+def _filled(ring, tris, e1, e2, tol):
+    """True when a triangle of the plane's group (either facing) overlaps the inside of the
+    counter-clockwise loop ``ring`` (K, 2) by more than ``tol``: the loop is then no opening but the
+    edge of a face lying on another one. Boxes standing on a floor make this: the walls' bottom faces
+    form a ring around the floor's top face, coplanar with it (2D separating axes, per ear of the loop)."""
+    t2 = np.stack([tris @ e1, tris @ e2], axis=-1)                          # (T, 3, 2)
+    for ear in _ear_triangles(ring):
+        d = np.concatenate([np.broadcast_to(np.roll(ear, -1, axis=0) - ear, t2.shape), np.roll(t2, -1, axis=1) - t2],
+                           axis=1)                                         # (T, 6, 2): the ear's edges, the triangle's
+        axes = _unit(np.stack([-d[..., 1], d[..., 0]], axis=-1))          # (T, 6, 2)
+        pe = np.einsum("tak,vk->tav", axes, ear)
+        pt = np.einsum("tak,tvk->tav", axes, t2)
+        gap = np.maximum(pt.min(axis=2) - pe.max(axis=2), pe.min(axis=2) - pt.max(axis=2))
+        if np.any(np.all(gap < -tol, axis=1)):
+            return True
+    return False
 
 
 def is_convex(vertices, tol=1e-9):

@@ -120,3 +120,39 @@ def test_saved_daylit_room_is_ready_for_the_daylight_commands(clean_blender, tmp
     assert len(result["locations"]) == 4 and all(p[2] == pytest.approx(0.85) for p in result["locations"])
     assert result["whole_year"] and 0.0 <= result["sda_300_50"] <= 1.0
     assert "London (SYNTHETIC)" in capsys.readouterr().out
+
+
+def test_saved_daylit_room_window_shows_the_clear_sky(clean_blender, tmp_path):
+    """The saved sunny room's window shows the sky (before: a black world, so the camera saw 10-100 cd/m² of
+    the room reflected in the pane). The world is the CIE clear sky (type 12) of the IES clear day, and a
+    1 deg luminance reading from the camera through the pane, above the horizon, is the sky model's
+    luminance in that direction times the thin pane's Fresnel transmittance (n = 1.5, two faces, multiple
+    reflections; closed form here). What the estimate leaves out: the room reflected in the pane (r ~ 0.08
+    of a ~400 cd/m² room, ~0.3 %)."""
+    import json
+
+    from radiometer.measure.authoring import sky
+    from radiometer.measure.meter import camera
+    from radiometer.radiometry.skies import cie_sky
+
+    out = daylight.run(str(tmp_path / "demo"), quality="preview", stream=open(os.devnull, "w"))
+    bpy.ops.wm.open_mainfile(filepath=out["blend"])
+    scene = bpy.context.scene
+    info = json.loads(scene.world[sky.CIE_SKY_TAG])
+    elevation = out["sun"]["elevation_deg"]
+    e_h = 800.0 + 15500.0 * math.sin(math.radians(elevation)) ** 0.5  # IES clear day, lx
+    assert info["sky_type"] == 12 and info["horizontal_illuminance_lux"] == pytest.approx(e_h, rel=1e-12)
+    eye = np.array(daylight.CAMERA["location"])
+    through = np.array([0.0, -daylight.ROOM[1] / 2 - daylight.WALL, 1.6])  # the window's middle, 0.1 m above
+    d = (through - eye) / np.linalg.norm(through - eye)
+    reading = camera.measure_luminance(tuple(eye), tuple(d), acceptance_deg=1.0, scene=scene, quality="preview")
+    sun = np.asarray(out["sun"]["direction"], float)
+    lz = float(cie_sky.zenith_luminance(e_h, 12, sun))
+    l_sky = lz * float(cie_sky.relative_luminance(d, 12, sun))
+    ci = abs(d[1])
+    ct = math.sqrt(1.0 - (1.0 - ci * ci) / 1.5 ** 2)
+    rs, rp = ((ci - 1.5 * ct) / (ci + 1.5 * ct)) ** 2, ((1.5 * ci - ct) / (1.5 * ci + ct)) ** 2
+    t_pane = 0.5 * ((1 - rs) / (1 + rs) + (1 - rp) / (1 + rp))
+    expected = t_pane * l_sky
+    assert expected > 5000.0  # a sunny day's sky through the window: kilo-candelas (black world: tens)
+    assert reading.luminance == pytest.approx(expected, rel=0.01 + 3 * reading.rel_std_error)
