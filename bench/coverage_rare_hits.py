@@ -26,6 +26,7 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 OUT = ROOT / "bench" / "coverage_rare_hits.json"
+COST = ROOT / "bench" / "coverage_rare_hits_cost.json"  # what rotating the table costs (``cost``)
 MEAN_Z_LIMIT = 0.3
 COVERAGE_LIMIT = 0.90
 
@@ -104,6 +105,41 @@ def refs():
     write_text(OUT, json.dumps(data, indent=1) + "\n")
 
 
+def cost(api, quality, seeds):
+    """Issue 32: what rotating the table costs, in one run. The fin scene's 97 %-hidden meter (floor off)
+    read with the rotated table (the product's) and the fixed table (as before), alternately on the same
+    seeds; samples and this process's CPU seconds (Cycles' threads included: wall time on the shared
+    machine depends on the other jobs)."""
+    import resource
+
+    sys.path.insert(0, str(ROOT / "bench"))
+    from coverage_rare_paths_fin import _with_pattern
+
+    fin = Fin()
+    scene = fin.build()
+    import radiometer
+
+    radiometer.register()
+    point, normal = fin.METERS["97 % hidden"]
+    got = {"rotated": [], "tabulated": []}
+    try:
+        for seed in range(seeds):
+            for pattern in got:
+                with _with_pattern(pattern):
+                    use = resource.getrusage(resource.RUSAGE_SELF)
+                    value, rel, n, _exact, sec = fin.measure(api, scene, point, normal, quality, 1000 * seed + 1)
+                    after = resource.getrusage(resource.RUSAGE_SELF)
+                cpu = after.ru_utime + after.ru_stime - use.ru_utime - use.ru_stime
+                got[pattern].append({"samples": float(np.mean(n)), "cpu_s": cpu, "wall_s": sec, "rel": rel})
+                print(pattern, quality, seed, n, round(cpu, 2), round(sec, 2), flush=True)
+    finally:
+        radiometer.unregister()
+    out = {p: {k: float(np.mean([g[k] for g in rows])) for k in ("samples", "cpu_s", "wall_s", "rel")}
+           for p, rows in got.items()}
+    out["seeds"], out["quality"] = seeds, quality
+    return out
+
+
 def run_row(api, scene_obj, scene, label, quality, seeds, partial=None):
     """One row over ``seeds`` seeds; ``partial(row)`` every 10 seeds (a long run keeps what it has)."""
     point, normal = scene_obj.METERS[label]
@@ -158,6 +194,18 @@ def markdown(data, scenes):
     if ref:
         lines += [f"- spot reference: {ref['lux']:.2f} lx ± {100 * ref['rel_std_error']:.3f} % "
                   f"({ref['samples']} samples, {ref['seconds']} s)."]
+    costs = json.loads(COST.read_text()) if COST.exists() else {}
+    if costs:
+        lines += ["", "What rotating the table costs (`coverage_rare_hits.py cost`: the fin scene's 97 %-hidden meter, "
+                  "floor off, rotated and fixed table alternately on the same seeds in one process; CPU seconds of "
+                  "the process, Cycles' threads included):", "",
+                  "| quality | seeds | samples rotated / fixed | CPU s rotated / fixed | ratio samples | ratio CPU | "
+                  "stated rotated / fixed |", "|---|---:|---:|---:|---:|---:|---:|"]
+        for quality, c in costs.items():
+            a, b = c["rotated"], c["tabulated"]
+            lines.append(f"| {quality} | {c['seeds']} | {a['samples']:.0f} / {b['samples']:.0f} | {a['cpu_s']:.2f} / "
+                         f"{b['cpu_s']:.2f} | {a['samples'] / b['samples']:.2f} | {a['cpu_s'] / b['cpu_s']:.2f} | "
+                         f"{100 * a['rel']:.2f} % / {100 * b['rel']:.2f} % |")
     lines += ["", "| scene | quality | rule | seeds | reference | mean z | coverage of 95 % | within 3 s.e. | sd(z) | "
               "mean error | worst error | stated (mean) | samples (mean) | s per reading | acceptance |",
               "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
@@ -177,13 +225,19 @@ def markdown(data, scenes):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("what", choices=["refs", "run", "table"])
+    parser.add_argument("what", choices=["refs", "run", "table", "cost"])
     parser.add_argument("--scenes", nargs="+", default=["slit sky", "fin", "glossy highlight", "spot metal"])
     parser.add_argument("--quality", nargs="+", default=["preview", "standard"])
     parser.add_argument("--seeds", type=int, default=50)
     parser.add_argument("--rule", default="sequential", choices=["sequential", "staged"],
                         help="stopping rule: the product's (sequential) or staged (an experiment, issue 32)")
+    parser.add_argument("--store", default=None, help="json to write the rows to (default bench/coverage_rare_hits.json; "
+                        "its .md beside it); the spot reference is read from the default's")
     args = parser.parse_args(argv)
+    global OUT
+    spot_ref = _data()["references"].get("spot metal")
+    if args.store:
+        OUT = pathlib.Path(args.store)
     if args.what == "refs":
         return refs()
     import radiometer
@@ -192,9 +246,13 @@ def main(argv=None):
 
     scenes = _scenes()
     data = _data()
-    if "spot metal" in data["references"]:
-        ref = data["references"]["spot metal"]
-        scenes["spot metal"].stored = (ref["lux"], ref["rel_std_error"])
+    if spot_ref:
+        scenes["spot metal"].stored = (spot_ref["lux"], spot_ref["rel_std_error"])
+    if args.what == "cost":
+        costs = json.loads(COST.read_text()) if COST.exists() else {}
+        for quality in args.quality:
+            costs[quality] = cost(api, quality, args.seeds)
+            write_text(COST, json.dumps(costs, indent=1) + "\n")
     if args.what == "run":
         for key in args.scenes:
             obj = scenes[key]

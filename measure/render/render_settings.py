@@ -155,7 +155,7 @@ def read_back(items):
 #: (preview 128, standard 512, reference 1024 = Cycles' largest). Why so many: ``_apply``.
 VOLUME_BOUNCE_FACTOR = 8
 
-#: Scrambling distance for scenes with a medium: below 1 by 2^-20 (exact in float32), so Cycles rotates
+#: Scrambling distance of every measurement (issue 32; scenes with a medium since issue 18): below 1 by 2^-20 (exact in float32), so Cycles rotates
 #: each texel's table by a uniform shift of [0, 1 - 2^-20) per dimension (unbiased to ~1e-6). Why: ``_apply``.
 ROTATED_TABLE = 1.0 - 2.0 ** -20
 
@@ -220,10 +220,10 @@ def _apply(scene, *, samples, bounces, needs, seed, snapshot, writes):
     # texels stay independent (independent shifts). Measured there: -0.16 ... +0.03 %, 95-97.5 %
     # coverage (bench/volume_floor.md).
     # Issue 32: the same holds for rare paths without a medium. With the fixed table (distance 1) the fin
-    # scene's 97 %-hidden meter read -0.82 +- 0.15 z (86 % coverage) at preview and 80 % at standard
-    # over 50 seeds (staged rule), the table's floor stated or not; Sobol-Burley (debug-only, independent
-    # per pixel) and the rotated table both cover (bench/coverage_rare_paths_fin_stopping.md). So every
-    # measurement rotates the table, and the allocator states no table floor (``table_patterns``).
+    # scene's 97 %-hidden meter read mean z -0.52 / -0.82 (sequential / staged rule, 92 / 86 % coverage) at
+    # preview over 50 seeds, its table floor stated; rotated, the same seeds read -0.03 / -0.23 (98 / 92 %)
+    # (bench/coverage_rare_paths_fin_stopping.md). So every measurement rotates the table, and the
+    # allocator states no table floor (``adaptive.table_patterns_of``). Same CPU time per sample.
     _set(cy, "sampling_pattern", "TABULATED_SOBOL")
     cy.scrambling_distance = ROTATED_TABLE
     cy.auto_scrambling_distance = False
