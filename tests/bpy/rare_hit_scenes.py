@@ -118,7 +118,13 @@ class SlitSky:
         return r.daylight_factor, r.rel_std_error, (found[0] if found else None), r.exact, time.perf_counter() - t0
 
 
-def slit_sky_df(meter, window, street_x, roof, n=400):
+def cie_overcast(sin_e):
+    """CIE standard overcast sky (CIE S 011 type 1) luminance / zenith luminance at elevation sin e, and
+    the horizontal illuminance it gives / zenith luminance (7 pi / 9)."""
+    return (1 + 2 * sin_e) / 3, 7.0 * math.pi / 9.0
+
+
+def slit_sky_df(meter, window, street_x, roof, n=400, sky=cie_overcast):
     """DF (%) at ``meter`` (facing up, in front of a window in the plane x = 0 spanning ``window`` = (y
     range, z range)) lit by the CIE standard overcast sky seen over a block whose face is at x =
     ``street_x`` and whose roof is at z = ``roof``; also the share of cosine-weighted directions that
@@ -138,9 +144,10 @@ def slit_sky_df(meter, window, street_x, roof, n=400):
     r = np.sqrt(d * d + Y ** 2 + Z ** 2)
     sin_e = Z / r  # elevation of the direction = cosine at the up-facing meter
     domega = d / r ** 3  # solid angle per window area (cos at the window / r^2)
-    e_over_lz = float(np.sum(W * (1 + 2 * sin_e) / 3 * sin_e * domega))
+    relative, horizontal = sky(sin_e)
+    e_over_lz = float(np.sum(W * relative * sin_e * domega))
     share = float(np.sum(W * sin_e * domega)) / math.pi
-    return 100.0 * e_over_lz / (7.0 * math.pi / 9.0), 0.0, share
+    return 100.0 * e_over_lz / horizontal, 0.0, share
 
 
 class GlossyWall:
