@@ -186,8 +186,9 @@ UNFINISHED = [
     "sensor bake's, not the sampler's: without the table floor the planner ends this meter with a round at "
     "128 spp of ~700 co-located 4 x 4 blocks, and a bake's CPU time per sample grows with the number of "
     "co-located blocks (`bench/sensor_block_cost.md`).",
-    "**metal floor in a spot's beam, standard**: 1 seed (then stopped): 659.7 lx stating 0.93 % (z +0.30), "
-    "3.16 M samples, 161 s; 50 seeds would have taken over 2 hours on the shared machine.",
+    "**metal floor in a spot's beam, standard**: 4 seeds (then stopped; seeds 1, 1001, 2001, 3001): z +0.49, "
+    "+0.30, +0.03, -0.93 (all 4 within 1.96), stated 0.89-0.94 %, 3.16-4.19 M samples (the last at the "
+    "per-meter cap of 4 M), 84-813 s a reading; 50 seeds would have taken hours on the shared machine.",
 ]
 
 
