@@ -30,6 +30,13 @@ from ..blender import scene_guard
 CHUNK_SECONDS = 1.0
 
 
+def table_patterns_of(record):
+    """The fixed sample table whose floor the allocator must state (``MeterTally.table_patterns``): none
+    where each texel's table is rotated by its own uniform shift (scrambling distance below 1, issue 32:
+    every sample uniform, texels independent, the mean unbiased), Cycles' 256 patterns otherwise."""
+    return 0 if record.get("scrambling_distance", 1.0) < 1.0 else allocation.TABLE_PATTERNS
+
+
 def _call_progress(progress, fraction, seconds_left):
     if progress is not None:
         from ...progress import reporter  # one adapter for both callback forms
@@ -89,6 +96,7 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
 
     with scene_guard.preserved_scene(scene) as snapshot:
         record = render_settings.apply(scene, samples=allocation.PILOT_SPP, bounces=bounces, needs=needs)
+        table_patterns = table_patterns_of(record)
         if panes:  # issue 18: a pane refracting a small light is a caustic; thin glass converges
             from ..capture import glass
 
@@ -183,13 +191,13 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
             result = pooled_field.allocate_pooled(bake, n, points_m=points_scene * scale, normals=normals,
                                                   target=target, keys=exclusions, offset=offset, seed=seed,
                                                   progress=report, may_be_lit=may_be_lit, min_samples=min_samples,
-                                                  max_samples=max_samples, table_patterns=allocation.TABLE_PATTERNS,
+                                                  max_samples=max_samples, table_patterns=table_patterns,
                                                   target_abs=target_abs, stop_dark=stop_dark)
         else:
             result = allocation.allocate(bake, n, target=target, time_budget=time_budget,
                                          fixed_samples=fixed_samples, offset=offset, max_samples=max_samples,
                                          progress=report, may_be_lit=may_be_lit, min_samples=min_samples,
-                                         table_patterns=allocation.TABLE_PATTERNS,  # Cycles' tabulated Sobol
+                                         table_patterns=table_patterns,
                                          target_abs=target_abs, stop_dark=stop_dark)
     tally = result.tally
     record = dict(record, samples=None, rounds=result.rounds, bakes=state["bakes"])

@@ -77,7 +77,8 @@ MAX_SAMPLES_PER_METER = 1 << 22
 #: bright region seen past an obstruction is a rare path, and a pilot that missed it reads 0 +- 0
 #: (issue 18: 58.5 lx read as 0 lx with a stated error of 0).
 DARK_FLOOR = 1 << 16
-#: Cycles' Tabulated Sobol sampler (the one ``measure/render/render_settings.py`` sets): every texel draws its
+#: Cycles' Tabulated Sobol sampler with scrambling distance 1 (what ``measure/render/render_settings.py`` set
+#: before issue 32; it now rotates each texel's table, and passes ``table_patterns=0``): every texel draws its
 #: samples of a dimension from ONE of 256 fixed patterns of S points (S = the round's spp rounded up to
 #: a power of two, 256..8192; blender/cycles scene/integrator.cpp, kernel/sample/tabulated_sobol.h),
 #: so a mean over any number of texels converges to the table's mean, not to the integral. Over the
