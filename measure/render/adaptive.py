@@ -30,13 +30,6 @@ from ..blender import scene_guard
 CHUNK_SECONDS = 1.0
 
 
-def table_patterns_of(record):
-    """The fixed sample table whose floor the allocator must state (``MeterTally.table_patterns``): none
-    where each texel's table is rotated by its own uniform shift (scrambling distance below 1, issue 32:
-    every sample uniform, texels independent, the mean unbiased), Cycles' 256 patterns otherwise."""
-    return 0 if record.get("scrambling_distance", 1.0) < 1.0 else allocation.TABLE_PATTERNS
-
-
 def _call_progress(progress, fraction, seconds_left):
     if progress is not None:
         from ...progress import reporter  # one adapter for both callback forms
@@ -96,7 +89,12 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
 
     with scene_guard.preserved_scene(scene) as snapshot:
         record = render_settings.apply(scene, samples=allocation.PILOT_SPP, bounces=bounces, needs=needs)
-        table_patterns = table_patterns_of(record)
+        # The table is rotated per texel (render_settings.ROTATED_TABLE, issue 32): unbiased, texels
+        # independent, so the fixed table's floor is no longer a bias. The allocator still plans and states
+        # it: it moves rare-path meters to large tables in few sensor blocks, and a bake's CPU per sample
+        # grows with co-located blocks (without it: 128 spp in ~700 blocks, 15x the CPU per reading at
+        # standard, bench/sensor_block_cost.md). The stated error is then conservative by that floor.
+        table_patterns = allocation.TABLE_PATTERNS
         if panes:  # issue 18: a pane refracting a small light is a caustic; thin glass converges
             from ..capture import glass
 

@@ -223,7 +223,7 @@ def _apply(scene, *, samples, bounces, needs, seed, snapshot, writes):
     # scene's 97 %-hidden meter read mean z -0.52 / -0.82 (sequential / staged rule, 92 / 86 % coverage) at
     # preview over 50 seeds, its table floor stated; rotated, the same seeds read -0.03 / -0.23 (98 / 92 %)
     # (bench/coverage_rare_paths_fin_stopping.md). So every measurement rotates the table, and the
-    # allocator states no table floor (``adaptive.table_patterns_of``). Same CPU time per sample.
+    # allocator still plans the fixed table's floor for speed (``adaptive.render_hybrid``). Same CPU per sample.
     _set(cy, "sampling_pattern", "TABULATED_SOBOL")
     cy.scrambling_distance = ROTATED_TABLE
     cy.auto_scrambling_distance = False

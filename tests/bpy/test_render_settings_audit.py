@@ -271,16 +271,6 @@ def test_rotated_table_is_unbiased_with_independent_texels(clean_blender, build,
     assert abs(rho) < 4 / math.sqrt(pairs.size), rho
 
 
-def test_rotated_table_states_no_table_floor():
-    """Issue 32: the allocator states the fixed table's floor only where the table is not rotated (the
-    record's scrambling distance says which)."""
-    from radiometer.measure.render import adaptive
-    from radiometer.radiometry.sampling import allocation
-
-    assert adaptive.table_patterns_of({"scrambling_distance": render_settings.ROTATED_TABLE}) == 0
-    assert adaptive.table_patterns_of({"scrambling_distance": 1.0}) == allocation.TABLE_PATTERNS
-
-
 @pytest.mark.parametrize("pattern", ["BLUE_NOISE", "AUTOMATIC"])
 def test_neighbouring_texels_are_uncorrelated(clean_blender, build, pattern):
     """Blue noise (also what AUTOMATIC chose here) anti-correlates neighbours (measured rho ~ -0.1):
