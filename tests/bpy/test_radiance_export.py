@@ -117,8 +117,7 @@ def test_daylit_demo_room_reads_the_same_in_radiance(clean_blender, tmp_path):
     names = ["Floor in the sun patch", "Desk height near window", "Floor, back corner"]
     for name in names:
         add_meter(bpy.context, "ILLUMINANCE", daylight.METERS[name][0]).name = name
-    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    scene.collection.objects.link(cam)
+    cam = scene.objects["Camera"]  # the demo room's own camera (issue 34), set to a view with a shift here
     cam.location, cam.rotation_euler = (0.0, 1.8, 1.5), (math.radians(80), 0.0, math.radians(170))
     cam.data.lens, cam.data.shift_x, cam.data.shift_y = 24.0, 0.1, -0.05
     scene.camera = cam
