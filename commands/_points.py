@@ -44,16 +44,27 @@ def from_args(args, scene):
 def default_plane(args, scene):
     """Neither ``--points`` nor ``--plane``: set ``args.plane`` to the scene's first work plane, or say
     in one line that there is none (before any work)."""
+    if args.points or args.plane:
+        return
+    args.plane = plane_object(scene, None, instead="--plane NAME (a plane object) or --points CSV").name
+
+
+def plane_object(scene, name, *, instead="--plane NAME"):
+    """The object ``name`` (``--plane``) or, without a name, the scene's first work plane (``api.work_planes``);
+    one-line errors that say what to give ``instead``."""
     from .. import api
     from ..errors import RadiometerError
 
-    if args.points or args.plane:
-        return
+    if name:
+        ob = scene.objects.get(name)
+        if ob is None:
+            raise RadiometerError(f"no object named {name!r} in scene {scene.name!r}")
+        return ob
     planes = api.work_planes(scene)
     if not planes:
-        raise RadiometerError(f"no work plane in scene {scene.name!r}: give --plane NAME (a plane object) or "
-                              "--points CSV, or add a mesh named 'Work Plane'")
-    args.plane = planes[0].name
+        raise RadiometerError(f"no work plane in scene {scene.name!r}: give {instead}, or add a mesh named "
+                              "'Work Plane'")
+    return planes[0]
 
 
 def read_points(path):

@@ -22,9 +22,8 @@ def run(args):
     import bpy
 
     from ._io import deliver
-    from ..errors import RadiometerError
     from .. import api
-    from . import _io
+    from . import _io, _points
 
     if args.png:
         from ..plots import require_matplotlib
@@ -33,15 +32,7 @@ def run(args):
     _io.check_output_file(args.csv, "--csv file")
     _io.check_output_file(args.png, "--png file")
     scene = bpy.context.scene
-    if args.plane:
-        plane = scene.objects.get(args.plane)
-        if plane is None:
-            raise RadiometerError(f"no object named {args.plane!r} in scene {scene.name!r}")
-    else:
-        planes = api.work_planes(scene)
-        if not planes:
-            raise RadiometerError("no work plane in the scene: name one with --plane NAME")
-        plane = planes[0]
+    plane = _points.plane_object(scene, args.plane)
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = f"grid {plane.name}"

@@ -64,6 +64,7 @@ def run(args):
 
     from ... import api
     from ...errors import RadiometerError
+    from .. import _points
 
     if args.list_tasks:
         for line in _task_lines():
@@ -74,16 +75,7 @@ def run(args):
     if not 0 < args.maintenance_factor <= 1:
         raise RadiometerError(f"--maintenance-factor must be in (0, 1], got {args.maintenance_factor}")
     scene = bpy.context.scene
-    if args.plane:
-        plane = scene.objects.get(args.plane)
-        if plane is None:
-            raise RadiometerError(f"no object named {args.plane!r} in scene {scene.name!r}")
-    else:
-        planes = api.work_planes(scene)
-        if not planes:
-            raise RadiometerError(f"no work plane in scene {scene.name!r}: name one with --plane NAME or add a mesh "
-                                  "named 'Work Plane'")
-        plane = planes[0]
+    plane = _points.plane_object(scene, args.plane)
     observers = [((o[0], o[1], o[2]), (o[3], o[4], o[5])) for o in (args.observer or [])]
     progress = getattr(args, "progress", None)
     if progress is not None:
