@@ -44,7 +44,11 @@ class DaylightFactorReading:
     overcast sky of ``sky_horizontal_lux``; ``exact``, ``method``, ``notes`` from the meter.
     ``sky_component`` (%): the direct sky through the openings, proven in closed form (no error), and
     ``reflected_component`` (%): the rest, rendered (externally + internally reflected light, the
-    ground seen through the openings); both None where the sky component was not proven."""
+    ground seen through the openings); both None where the sky component was not proven.
+    The BRE split-flux parts where the openings were made emitters (nothing outside them): the
+    ``externally_reflected_component`` (%, ERC: the ground seen straight through the openings, closed
+    form, exact) and the ``internally_reflected_component`` (%, IRC: the rest, rendered; it carries the
+    reading's whole error); None otherwise (then the reflected component holds both)."""
 
     location: tuple
     normal: tuple
@@ -57,6 +61,8 @@ class DaylightFactorReading:
     notes: list
     sky_component: object = None
     reflected_component: object = None
+    externally_reflected_component: object = None
+    internally_reflected_component: object = None
 
     def to_dict(self):
         return dataclasses.asdict(self)
@@ -147,7 +153,7 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
                                 cancelled=cancelled, label="daylight factor")
         out = [r for part in parts for r in part]
         return out[0] if single else out
-    sky = None  # the proven sky component per point (lux), where ``_split_readings`` proved it
+    sky = ground = None  # the proven sky component and ground seen straight (lux), where proven
     if method == "camera":
         if target_rel_error is not None:
             raise RadiometerError("method='camera' takes quality (a fixed number of rays per point), not "
@@ -161,19 +167,22 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
             measure = dict(quality=quality, target_rel_error=target_rel_error, progress=progress, cancelled=cancelled,
                            target_abs_error=floor_lux(quality, target_abs_error))
             if method == "auto":
-                readings, sky = _split_readings(scene, points, dirs, rho, seed, measure)
+                readings, sky, ground = _split_readings(scene, points, dirs, rho, seed, measure)
             else:
                 readings = meter.measure_illuminance(points, dirs, scene=scene, method=method, seed=seed, **measure)
     readings = readings if isinstance(readings, list) else [readings]
     sky = [None] * len(readings) if sky is None else sky
+    ground = [None] * len(readings) if ground is None else ground
     out = []
-    for p, n, r, sc in zip(points, dirs, readings, sky):
+    for p, n, r, sc, gr in zip(points, dirs, readings, sky, ground):
         df = 100.0 * r.illuminance / SKY_HORIZONTAL_LUX
         sc_df = None if sc is None else 100.0 * sc / SKY_HORIZONTAL_LUX
+        erc = None if gr is None else 100.0 * gr / SKY_HORIZONTAL_LUX
         how = r.method if sc is None else r.method.replace("render", "hybrid", 1)  # closed-form SC + render
         out.append(DaylightFactorReading(tuple(map(float, p)), tuple(map(float, n)), df, float(r.rel_std_error),
                                          float(r.illuminance), SKY_HORIZONTAL_LUX, bool(r.exact), how,
-                                         notes + list(r.notes), sc_df, None if sc is None else df - sc_df))
+                                         notes + list(r.notes), sc_df, None if sc is None else df - sc_df,
+                                         erc, None if erc is None else df - sc_df - erc))
     return out[0] if single else out
 
 
@@ -198,7 +207,7 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
         readings = readings if isinstance(readings, list) else [readings]
         for r, c in zip(readings, scs):
             r.notes.append(f"sky component not proven ({c.reason}): the daylight factor is measured whole")
-        return readings, None
+        return readings, None, None
     out = [None] * len(points)
     rest = np.flatnonzero(~proven)
     if rest.size:
@@ -207,9 +216,33 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
         for k, r in zip(rest, whole if isinstance(whole, list) else [whole]):
             r.notes.append(f"sky component not proven ({scs[k].reason}): the daylight factor is measured whole")
             out[k] = r
+    take = np.flatnonzero(proven)
+    _space, weights, efficacy = meter.scene_photometry(scene)
+    sc_lux = np.array([scs[k].sky_lux for k in take], float)
+    ground = np.array([np.nan if scs[k].ground_lux is None else scs[k].ground_lux for k in take], float)
+    openings = sky_component.openings_to_world(model)
+    if openings.loops and np.isfinite(ground).all():
+        emitted = _emitter_readings(scene, model, points[take], dirs[take], sensors[take], sc_lux + ground, seed,
+                                    measure, openings)
+        if emitted is not None:
+            readings, note = emitted
+            for k, r in zip(take, readings):
+                r.notes += [f"sky component proven ({scs[k].apertures} convex open opening(s) in a closed opaque "
+                            "shell, nothing outside in the way): the CIE sky and the ground seen straight through "
+                            "them in closed form (radiometry/skies/sky_aperture.py), exact; the openings then "
+                            "emitted the sky's and ground's radiance into the room (nothing lies in front of them: "
+                            "sky_component.openings_to_world), linked out of the meters, and Cycles rendered only "
+                            "the light the room's surfaces reflect, sampling the openings as lights", note]
+                out[k] = r
+            sky, grd = [None] * len(points), [None] * len(points)
+            for j, k in enumerate(take):
+                sky[k], grd[k] = float(sc_lux[j]), float(ground[j])
+            return out, sky, grd
     factor = sky_component.gate_world(scene)
     ok, gate_note = sky_component.check_world_gate(scene, factor, model, horizontal_lux=SKY_HORIZONTAL_LUX)
-    take = np.flatnonzero(proven)
+    why_gate = openings.reason or ("" if openings.loops else "?")
+    if openings.loops:
+        why_gate = "the ground seen through an opening is not proven at every point"
     if not ok:  # the gate failed its check: render those points whole too, and say why
         sky_component.set_gate_mode(factor, "off")
         scene.world.cycles.sampling_method = "AUTOMATIC"  # the temporary sky's own setting again
@@ -219,10 +252,8 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
         for k, r in zip(take, whole if isinstance(whole, list) else [whole]):
             r.notes += [gate_note, "so the sky component was not used: the whole daylight factor is rendered"]
             out[k] = r
-        return out, None
+        return out, None, None
     view_layer_of(scene).update()
-    _space, weights, efficacy = meter.scene_photometry(scene)
-    sc_lux = np.array([scs[k].sky_lux for k in take], float)
     grey = np.repeat((sc_lux / efficacy)[:, None], 3, axis=1)  # the sky is white: W/m^2 per channel
     split = meter.measure_illuminance(points[take], dirs[take], scene=scene, method="auto", seed=seed, model=model,
                                       proven=(grey, "sky component (closed form)"), **measure)
@@ -231,12 +262,47 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
                     "nothing outside in the way): the CIE overcast sky through them in closed form "
                     "(radiometry/skies/sky_aperture.py), exact; Cycles rendered only the rest (the sky's direct "
                     "emission gated off by Light Path Ray Depth, the ground seen through the openings and every "
-                    "reflection kept)", gate_note]
+                    f"reflection kept; the openings were not made emitters: {why_gate})", gate_note]
         out[k] = r
     sky = [None] * len(points)
     for j, k in enumerate(take):
         sky[k] = float(sc_lux[j])
-    return out, sky
+    return out, sky, None
+
+
+def _emitter_readings(scene, model, points, dirs, sensors, proven_lux, seed, measure, openings):
+    """The rest of the light at proven points with the openings as emitters (inside the caller's guard,
+    the temporary CIE sky set): ``sky_component.add_opening_emitters``, the meters linked out of them and
+    ``proven_lux`` (the sky and ground seen straight through the openings, closed form) added.
+    Returns (readings, the linking check's note), or None where the check fails (the emitters then
+    hidden and the sky world back, for the light-path gate to take over)."""
+    import json
+
+    from ..meter import point_meter as meter
+    from ..capture.world_capture import CIE_SKY_TAG
+    from . import sky_component
+    from .analysis_common import view_layer_of
+
+    sky_world = scene.world
+    info = json.loads(sky_world[CIE_SKY_TAG])
+    keys = sky_component.add_opening_emitters(scene, openings, info)
+    view_layer_of(scene).update()
+    brightest = int(np.argmax(proven_lux))
+    ok, note = sky_component.check_emitter_linking(scene, keys, sensors[brightest], dirs[brightest], model)
+    if not ok:
+        from ..blender import identity
+
+        for obj in identity.source_objects(keys).values():
+            obj.hide_render = True
+        scene.world = sky_world
+        view_layer_of(scene).update()
+        return None
+    _space, _weights, efficacy = meter.scene_photometry(scene)
+    grey = np.repeat((np.asarray(proven_lux, float) / efficacy)[:, None], 3, axis=1)  # white sky and ground
+    readings = meter.measure_illuminance(points, dirs, scene=scene, method="auto", seed=seed, model=model,
+                                         proven=(grey, "sky and ground through the openings (closed form)", keys),
+                                         **measure)
+    return (readings if isinstance(readings, list) else [readings]), note
 
 
 def _camera_readings(scene, points, dirs, quality, seed, progress, cancelled):

@@ -58,6 +58,35 @@ def _scene_refusal(model):
     return ""
 
 
+def opaque_mask(model):
+    """The captured triangles that are opaque and cast shadows (what closes a room and blocks the sky)."""
+    return np.asarray(model.geometry.opaque, bool) & model.geometry.shadow_triangles()
+
+
+def _closed_shell(model, points_m=()):
+    """(loops, shell triangles, all triangles, tol, reach) of the model's convex openings in a closed
+    opaque shell (conditions 1-2 of the module's docstring), or the reason (str) why not."""
+    why = _scene_refusal(model)
+    if why:
+        return why
+    g = model.geometry
+    tris = g.triangles
+    lo, hi = g.bounds()
+    tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, np.asarray(points_m, float).ravel()])
+    opaque = opaque_mask(model)
+    found = sky_aperture.find_apertures(tris[opaque], tol)  # a pane's faces do not close an opening
+    if not found:
+        return "no opening found in the scene's surfaces"
+    loops = [poly for poly, _normal in found]
+    bent = [k for k, poly in enumerate(loops) if not sky_aperture.is_convex(poly, tol)]
+    if bent:
+        return f"{len(bent)} opening(s) are not convex (the closed form needs convex ones)"
+    closed, comp, why = sky_aperture.enclosure_closed(tris[opaque], loops, tol)
+    if not closed:
+        return why
+    return loops, tris[opaque][comp], tris, tol, float(np.linalg.norm(hi - lo)) + 1.0
+
+
 def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_lux, model=None):
     """One :class:`SkyComponent` per point (``points_m`` (N, 3) in metres, unit ``normals`` (N, 3)) for the
     CIE overcast sky of unobstructed horizontal illuminance ``horizontal_lux`` over a ground of
@@ -71,26 +100,10 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     def refuse(why):
         return [SkyComponent(None, None, why, 0) for _ in range(len(points_m))]
 
-    why = _scene_refusal(model)
-    if why:
-        return refuse(why)
-    g = model.geometry
-    tris = g.triangles
-    lo, hi = g.bounds()
-    tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, points_m.ravel()])
-    opaque = np.asarray(g.opaque, bool) & g.shadow_triangles()
-    found = sky_aperture.find_apertures(tris[opaque], tol)  # a pane's faces do not close an opening
-    if not found:
-        return refuse("no opening found in the scene's surfaces")
-    loops = [poly for poly, _normal in found]
-    bent = [k for k, poly in enumerate(loops) if not sky_aperture.is_convex(poly, tol)]
-    if bent:
-        return refuse(f"{len(bent)} opening(s) are not convex (the closed form needs convex ones)")
-    closed, comp, why = sky_aperture.enclosure_closed(tris[opaque], loops, tol)
-    if not closed:
-        return refuse(why)
-    shell = tris[opaque][comp]
-    reach = float(np.linalg.norm(hi - lo)) + 1.0
+    shell = _closed_shell(model, points_m)
+    if isinstance(shell, str):
+        return refuse(shell)
+    loops, shell, tris, tol, reach = shell
     lz = 9.0 * horizontal_lux / (7.0 * math.pi)            # overcast: E_h = 7 pi Lz / 9
     lg = ground_reflectance * horizontal_lux / math.pi
     out = []
@@ -105,7 +118,7 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
             s, gr = sky_aperture.aperture_illuminance(poly, [p], n, zenith_luminance=lz, ground_luminance=lg)
             if s[0] > 0.0 and not sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=True):
                 sky, why = None, "a surface may stand between the point and the sky through an opening"
-                if sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=True, ignore=~opaque):
+                if sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=True, ignore=~opaque_mask(model)):
                     why = ("a pane or other see-through surface is in an opening (its T(theta) weighting, "
                            "sky_aperture.pane_bounded_illuminance, is not wired into readings yet)")
                 break
@@ -119,6 +132,111 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
             why = "a surface outside may stand in front of the world's ground seen through an opening"
         out.append(SkyComponent(sky, ground, why, len(loops)))
     return out
+
+
+# --- the openings as emitters (issue 31 item 1) -------------------------------------------------------
+
+@dataclasses.dataclass
+class Openings:
+    """The openings of a closed opaque shell that look out on the world alone: ``loops`` (K, 3) in
+    metres and ``outward`` unit normals; ``reason`` why not (then both are empty)."""
+
+    loops: list
+    outward: list
+    reason: str = ""
+
+
+def openings_to_world(model):
+    """:class:`Openings` where a ray leaving the room through any opening meets nothing but the world.
+
+    Proof: the openings are convex holes of a closed opaque shell (``_closed_shell``), and no vertex of
+    any render-visible triangle of the scene (the shell, furniture, panes, anything outside) lies in
+    front of an opening's plane (beyond ``tol`` on its outward side). A ray through an opening then runs
+    on in that open half-space, which holds no triangle. The outward side is the one every shell vertex
+    lies behind; where neither side is (something of the building stands in front) it is refused."""
+    found = _closed_shell(model)
+    if isinstance(found, str):
+        return Openings([], [], found)
+    loops, shell, tris, tol, _reach = found
+    everything = np.asarray(tris, float).reshape(-1, 3)
+    shell_vertices = np.asarray(shell, float).reshape(-1, 3)
+    outward = []
+    for k, poly in enumerate(loops):
+        centre = poly.mean(axis=0)
+        normal = np.cross(poly[1] - poly[0], poly[2] - poly[0])
+        for j in range(2, len(poly) - 1):  # a robust normal of the convex loop: its vector area
+            normal = normal + np.cross(poly[j] - poly[0], poly[j + 1] - poly[0])
+        normal = normal / np.linalg.norm(normal)
+        if np.max((shell_vertices - centre) @ normal) > tol:
+            normal = -normal
+        if np.max((shell_vertices - centre) @ normal) > tol:
+            return Openings([], [], f"the room's own surfaces stand in front of opening {k + 1} (e.g. a wing of "
+                                    "the building or a reveal): its view out is not the world alone")
+        if np.max((everything - centre) @ normal) > tol:
+            return Openings([], [], f"a surface of the scene lies in front of opening {k + 1} (outside the room): "
+                                    "what the opening looks out on is rendered")
+        outward.append(normal)
+    return Openings(list(loops), outward)
+
+
+def add_opening_emitters(scene, openings, info):
+    """Inside the caller's guard: one emitting polygon per opening (``sky.opening_emitter_material``: the
+    sky and ground of the CIE sky ``info`` that a ray leaving through it meets), and a black world
+    whose light sampling is off (the openings now carry all of the sky's light into the room).
+    Returns the emitters' object identities (session uid, library) for light linking."""
+    import bpy
+
+    from ..authoring import sky
+    from ..blender import identity
+    from ...compat import ensure_node_tree
+
+    scale = scene.unit_settings.scale_length
+    keys = []
+    for k, (poly, normal) in enumerate(zip(openings.loops, openings.outward)):
+        mesh = bpy.data.meshes.new(f"radiometer_opening {k + 1}")
+        mesh.from_pydata([tuple(float(c) / scale for c in v) for v in poly], [], [tuple(range(len(poly)))])
+        mesh.materials.append(sky.opening_emitter_material(f"radiometer_opening {k + 1}", info, normal))
+        obj = bpy.data.objects.new(f"radiometer_opening {k + 1}", mesh)
+        scene.collection.objects.link(obj)
+        keys.append(identity.object_identity(obj))
+    world = bpy.data.worlds.new("radiometer_black")
+    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
+    world.cycles.sampling_method = "NONE"
+    scene.world = world
+    return frozenset(keys)
+
+
+#: The verdicts of ``check_emitter_linking``: (Blender version, Cycles device) -> (ok, note).
+_LINK_CHECKS = {}
+
+
+def check_emitter_linking(scene, keys, sensor, normal, model, *, samples=256):
+    """Prove on this Blender and device (cached per session) that light linking keeps an emitting mesh's
+    light out of a baked sensor entirely, by next-event estimation and by rays that hit it: at a point
+    lit by the openings, a direct-only bake (0 bounces) must read more than 0 without the exclusion and
+    exactly 0 with it. Returns (ok, note)."""
+    import bpy
+
+    from ..meter import point_meter as meter
+    from ..render import adaptive
+    from .analysis_common import view_layer_of
+
+    key = (bpy.app.version_string, str(getattr(scene.cycles, "device", "CPU")))
+    if key in _LINK_CHECKS:
+        return _LINK_CHECKS[key]
+    _space, weights, efficacy = meter.scene_photometry(scene)
+    read = {}
+    for name, ex in (("open", frozenset()), ("linked out", frozenset(keys))):
+        run = adaptive.render_hybrid(scene, view_layer_of(scene), np.asarray(sensor, float)[None, :],
+                                     np.asarray(normal, float)[None, :], needs=model.needs, bounces=0,
+                                     weights=weights, fixed_samples=samples, exclusions=[ex])
+        read[name] = efficacy * float(run["mean_rgb"][0] @ weights)
+    ok = read["open"] > 0.0 and read["linked out"] == 0.0
+    note = (f"light linking was checked on this Blender ({key[0]}, {key[1]}): direct light from the openings' "
+            f"emitters read {read['open']:.6g} lx at a meter and {read['linked out']:.3g} lx with the meter linked "
+            "out" + ("" if ok else ": linking does NOT keep them out here"))
+    _LINK_CHECKS[key] = (ok, note)
+    return ok, note
 
 
 # --- rendering only the remainder (issue 31 item 2) --------------------------------------------------

@@ -33,6 +33,39 @@ def _math(tree, op, a=None, b=None, c=None, x=0):
     return node.outputs[0]
 
 
+def sky_radiance(tree, direction, cos_z, sky_type, sun, zenith_radiance, ground_radiance):
+    """Math nodes in ``tree`` giving the sky's radiance for the unit ``direction`` socket (its Z in
+    ``cos_z``): zenith_radiance x L/Lz above the horizon, ground_radiance below. Returns the socket.
+    Shared by the world (``build_sky_tree``) and the openings' emitters (``opening_emitter_material``)
+    so that both evaluate one formula; the world's nodes come out as before (its fingerprint)."""
+    params = cie_sky.parameters(sky_type)
+    if params is None:  # traditional overcast: Lz (1 + 2 cos Z) / 3
+        sky = _math(tree, "MULTIPLY_ADD", cos_z, 2.0 * zenith_radiance / 3.0, zenith_radiance / 3.0)
+    else:
+        a, b, c, d, e = params
+        zeta = float(cie_sky.zenith_shape(cie_sky.parse_sky_type(sky_type), sun))
+        k = zenith_radiance / zeta
+        cz = _math(tree, "MAXIMUM", cos_z, 1e-6)
+        phi = _math(tree, "MULTIPLY_ADD", _math(tree, "EXPONENT", _math(tree, "DIVIDE", b, cz)), a, 1.0)
+        if c == 0.0 and e == 0.0:
+            sky = _math(tree, "MULTIPLY", phi, k)
+        else:
+            dot = tree.nodes.new("ShaderNodeVectorMath")
+            dot.operation = "DOT_PRODUCT"
+            dot.location = (-500, -300)
+            tree.links.new(direction, dot.inputs[0])
+            dot.inputs[1].default_value = tuple(float(v) for v in sun)
+            cos_chi = _math(tree, "MAXIMUM", _math(tree, "MINIMUM", dot.outputs["Value"], 1.0), -1.0)
+            chi = _math(tree, "ARCCOSINE", cos_chi)
+            ind = _math(tree, "MULTIPLY_ADD", _math(tree, "EXPONENT", _math(tree, "MULTIPLY", chi, d)), c,
+                        1.0 - c * math.exp(d * math.pi / 2))
+            f = _math(tree, "MULTIPLY_ADD", _math(tree, "MULTIPLY", cos_chi, cos_chi), e, ind)
+            sky = _math(tree, "MULTIPLY", _math(tree, "MULTIPLY", f, phi), k)
+    above = _math(tree, "GREATER_THAN", cos_z, 0.0)
+    value = _math(tree, "MULTIPLY_ADD", above, _math(tree, "SUBTRACT", sky, ground_radiance), ground_radiance)
+    return value
+
+
 def build_sky_tree(tree, sky_type, sun, zenith_radiance, ground_radiance):
     """Fill ``tree`` (cleared) with the sky: radiance zenith_radiance x L/Lz above, ground_radiance below."""
     tree.nodes.clear()
@@ -51,34 +84,48 @@ def build_sky_tree(tree, sky_type, sun, zenith_radiance, ground_radiance):
     sep = tree.nodes.new("ShaderNodeSeparateXYZ")
     sep.location = (-500, 0)
     tree.links.new(norm.outputs["Vector"], sep.inputs[0])
-    cos_z = sep.outputs["Z"]
-    params = cie_sky.parameters(sky_type)
-    if params is None:  # traditional overcast: Lz (1 + 2 cos Z) / 3
-        sky = _math(tree, "MULTIPLY_ADD", cos_z, 2.0 * zenith_radiance / 3.0, zenith_radiance / 3.0)
-    else:
-        a, b, c, d, e = params
-        zeta = float(cie_sky.zenith_shape(cie_sky.parse_sky_type(sky_type), sun))
-        k = zenith_radiance / zeta
-        cz = _math(tree, "MAXIMUM", cos_z, 1e-6)
-        phi = _math(tree, "MULTIPLY_ADD", _math(tree, "EXPONENT", _math(tree, "DIVIDE", b, cz)), a, 1.0)
-        if c == 0.0 and e == 0.0:
-            sky = _math(tree, "MULTIPLY", phi, k)
-        else:
-            dot = tree.nodes.new("ShaderNodeVectorMath")
-            dot.operation = "DOT_PRODUCT"
-            dot.location = (-500, -300)
-            tree.links.new(norm.outputs["Vector"], dot.inputs[0])
-            dot.inputs[1].default_value = tuple(float(v) for v in sun)
-            cos_chi = _math(tree, "MAXIMUM", _math(tree, "MINIMUM", dot.outputs["Value"], 1.0), -1.0)
-            chi = _math(tree, "ARCCOSINE", cos_chi)
-            ind = _math(tree, "MULTIPLY_ADD", _math(tree, "EXPONENT", _math(tree, "MULTIPLY", chi, d)), c,
-                        1.0 - c * math.exp(d * math.pi / 2))
-            f = _math(tree, "MULTIPLY_ADD", _math(tree, "MULTIPLY", cos_chi, cos_chi), e, ind)
-            sky = _math(tree, "MULTIPLY", _math(tree, "MULTIPLY", f, phi), k)
-    above = _math(tree, "GREATER_THAN", cos_z, 0.0)
-    value = _math(tree, "MULTIPLY_ADD", above, _math(tree, "SUBTRACT", sky, ground_radiance), ground_radiance)
+    value = sky_radiance(tree, norm.outputs["Vector"], sep.outputs["Z"], sky_type, sun, zenith_radiance, ground_radiance)
     tree.links.new(value, bg.inputs["Strength"])
     return bg
+
+
+def opening_emitter_material(name, info, outward):
+    """A new material that emits, towards the room, the radiance of the CIE sky ``info`` (the world's
+    tag as ``set_cie_sky`` wrote it) that a ray leaving through an opening would meet: the sky above the
+    horizon, the ground below, in the ray's direction (-Incoming, world space; the same formula as the
+    world, ``sky_radiance``), and nothing for rays arriving from outside (``outward``: the opening's
+    outward unit normal). Issue 31: an opening becomes a light source whose light Cycles samples by
+    next-event estimation, as Radiance's mkillum does for windows."""
+    import bpy
+
+    from ...compat import ensure_node_tree
+
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    emission = tree.nodes.new("ShaderNodeEmission")
+    emission.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    tree.links.new(emission.outputs["Emission"], out.inputs["Surface"])
+    geometry = tree.nodes.new("ShaderNodeNewGeometry")
+    leaving = tree.nodes.new("ShaderNodeVectorMath")
+    leaving.operation = "SCALE"
+    leaving.inputs["Scale"].default_value = -1.0
+    tree.links.new(geometry.outputs["Incoming"], leaving.inputs[0])
+    norm = tree.nodes.new("ShaderNodeVectorMath")
+    norm.operation = "NORMALIZE"
+    tree.links.new(leaving.outputs["Vector"], norm.inputs[0])
+    sep = tree.nodes.new("ShaderNodeSeparateXYZ")
+    tree.links.new(norm.outputs["Vector"], sep.inputs[0])
+    value = sky_radiance(tree, norm.outputs["Vector"], sep.outputs["Z"], info["sky_type"],
+                         [float(v) for v in info["sun_direction"]], info["zenith_radiance"], info["ground_radiance"])
+    facing = tree.nodes.new("ShaderNodeVectorMath")
+    facing.operation = "DOT_PRODUCT"
+    tree.links.new(norm.outputs["Vector"], facing.inputs[0])
+    facing.inputs[1].default_value = tuple(float(v) for v in outward)
+    leaves = _math(tree, "GREATER_THAN", facing.outputs["Value"], 0.0)  # rays from inside only
+    tree.links.new(_math(tree, "MULTIPLY", value, leaves), emission.inputs["Strength"])
+    return mat
 
 
 def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_direction=None, ground_reflectance=0.2,

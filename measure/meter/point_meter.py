@@ -669,8 +669,9 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                  method, direct_only, weights, target, budget, fixed, progress, cancelled, seed, scale, n_closed,
                  target_abs=None, medium=None, pooling=False, stop_dark=False, proven=None):
     """Cycles (hybrid or render) at the meters that need it; ``direct`` is the plan cut to them
-    (``_plan_at``), as are the sensors and normals. ``proven``: (rgb (M, 3) W/m^2, name) of a part
-    proven by the caller and already kept out of the render, added to it and counted in the target.
+    (``_plan_at``), as are the sensors and normals. ``proven``: (rgb (M, 3) W/m^2, name[, object
+    identities linked out of every sensor]) of a part proven by the caller and kept out of the render,
+    added to it and counted in the target.
     Returns a dict: mean_rgb, bound_rgb, se_rgb (M, 3), se, samples (M,), method, record, notes
     (common to these meters), parts (per meter)."""
     from ..render import adaptive
@@ -687,6 +688,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
     hybrid = method in ("auto", "hybrid")
     through = through_medium(model, direct, medium) if hybrid else np.zeros(direct.status.shape, bool)
     split = hybrid_split(model, direct, n, also=through) if hybrid else [frozenset()] * n
+    linked_out = frozenset(proven[2]) if proven is not None and len(proven) > 2 else frozenset()
     offset_rgb = np.zeros((n, 3))
     # Light bouncing between the panes of multiple glazing: a stand-in pane renders it (glass.stand_in_stacks);
     # separate thin panes do not, so where any stack stays separate a rendered light's share is a bound.
@@ -752,7 +754,8 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
              for k in range(n)]
     run = adaptive.render_hybrid(scene, view_layer, sensors_scene, normals, needs=model.needs,
                                  bounces=0 if direct_only else preset["bounces"], weights=weights, target=target,
-                                 time_budget=budget, fixed_samples=fixed, exclusions=split,
+                                 time_budget=budget, fixed_samples=fixed,
+                                 exclusions=[ex | linked_out for ex in split] if linked_out else split,
                                  offset=offset_rgb @ weights, progress=progress, cancelled=cancelled, seed=seed,
                                  panes=model.panes, may_be_lit=may_be_lit(direct, direct_only),
                                  min_samples=floor, pooled=pooling, target_abs=target_abs,
@@ -874,10 +877,12 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     ``target_abs_lux``); a meter stops where its error is below it or below the relative target.
     ``stop_dark``: a meter whose pilot finds no light stops there and states the rule-of-three bound
     (see ``radiometer.api.measure_illuminance``).
-    ``proven``: (rgb (N, 3) W/m^2 SI, name): a part of the light at every meter that the caller proved in
-    closed form and has kept out of what Cycles renders (issue 31: the daylight factor's sky component,
-    the world's direct emission gated off); it is added to the rendered rest, the relative target
-    counts it, and every meter is rendered (the meter's own closed forms would count that part again).
+    ``proven``: (rgb (N, 3) W/m^2 SI, name[, object identities]): a part of the light at every meter that
+    the caller proved in closed form and keeps out of what Cycles renders (issue 31: the daylight factor's
+    sky component, the world's direct emission gated off, or the openings' emitters: their identities,
+    session uid and library, are linked out of every sensor); it is added to the rendered rest, the
+    relative target counts it, and every meter is rendered (the meter's own closed forms would count
+    that part again).
     ``parts``: names from ``PARTS`` ("total": all the light, "direct": light straight from the sources, as
     ``direct_only``); returns {part: readings} from one capture and one visibility proof
     (:func:`measure_parts`); ``target_rel_error`` may then be a dict by part. ``proofs``: the points'
@@ -923,7 +928,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     closed = np.asarray(decision["closed_points"], bool)
     if proven is not None:
         closed = np.zeros(n, bool)
-        proven = (np.broadcast_to(np.asarray(proven[0], float), (n, 3)), str(proven[1]))
+        proven = (np.broadcast_to(np.asarray(proven[0], float), (n, 3)), str(proven[1])) + tuple(proven[2:3])
     mean_rgb, bound_rgb = np.zeros((n, 3)), np.zeros((n, 3))
     se_rgb, scalar_se, spent = np.zeros((n, 3)), np.zeros(n), np.zeros(n)
     upper = np.full(n, np.nan)  # one-sided 95 % bound (W/m^2) of a meter that found no light (issue 31)
@@ -944,7 +949,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                            fixed=fixed, progress=progress, cancelled=cancelled, seed=seed, scale=scale,
                            n_closed=int(closed.sum()), medium=_world_medium(scene, model), pooling=pooling,
                            target_abs=abs_floor, stop_dark=stop_dark,
-                           proven=None if proven is None else (proven[0][rendered], proven[1]))
+                           proven=None if proven is None else (proven[0][rendered],) + tuple(proven[1:]))
         mean_rgb[rendered], bound_rgb[rendered] = run["mean_rgb"], run["bound_rgb"]
         se_rgb[rendered], scalar_se[rendered], spent[rendered] = run["se_rgb"], run["se"], run["samples"]
         upper[rendered] = run["upper"]

@@ -1,7 +1,8 @@
 """The daylight factor split (issue 31): where the sky component (SC) is proven in closed form
-(measure/analyses/sky_component.py), ``method="auto"`` reads SC + a render of the rest with the sky's
-direct emission gated off. Independent of that split: the render of everything (``method="render"``,
-another seed; Radiance against it in test_daylight_factor.py), and the closed form alone."""
+(measure/analyses/sky_component.py), ``method="auto"`` reads SC + a render of the rest: with the openings
+as emitters linked out of the meters where nothing lies outside them, else with the sky's direct
+emission gated off. Independent of that split: the render of everything (``method="render"``, another
+seed; Radiance against it in test_daylight_factor.py), and the closed form alone."""
 
 import importlib.util
 import math
@@ -9,6 +10,7 @@ import pathlib
 
 import bpy
 import numpy as np
+import pytest
 
 from radiometer import api
 from radiometer.measure.analyses import sky_component
@@ -35,9 +37,21 @@ def _se(r):
     return r.rel_std_error * r.daylight_factor
 
 
-def test_split_agrees_with_the_whole_render(clean_blender):
+def _ground_mesh(scene):
+    """A ground plane outside the room, just below its floor: nothing of it stands between a point in the
+    room and the sky, but it lies in front of the window, so the openings are not made emitters."""
+    me = bpy.data.meshes.new("ground")
+    me.from_pydata([(-20.0, -20.0, -0.01), (24.0, -20.0, -0.01), (24.0, 23.0, -0.01), (-20.0, 23.0, -0.01)], [],
+                   [(0, 1, 2, 3)])
+    scene.collection.objects.link(bpy.data.objects.new("ground", me))
+
+
+@pytest.mark.parametrize("outside", ["nothing", "ground"])
+def test_split_agrees_with_the_whole_render(clean_blender, outside):
     scene = bpy.context.scene
     room.build_blender(scene)
+    if outside == "ground":
+        _ground_mesh(scene)
     user_world = bpy.data.worlds.new("user world")
     scene.world = user_world
     before = _state(scene)
@@ -58,7 +72,16 @@ def test_split_agrees_with_the_whole_render(clean_blender):
         assert abs(a.daylight_factor - w.daylight_factor) <= 3.0 * se
         assert 0 < a.rel_std_error <= 0.0101  # the target counts the proven part
         assert any("sky component proven" in n for n in a.notes)
-        assert any("light-path gate was checked" in n and "does NOT" not in n for n in a.notes)
+        if outside == "nothing":  # the openings as emitters: the ground seen straight is the ERC, exact
+            assert any("light linking was checked" in n and "does NOT" not in n for n in a.notes)
+            assert a.externally_reflected_component == 100.0 * c.ground_lux / SKY_HORIZONTAL_LUX
+            assert math.isclose(a.internally_reflected_component,
+                                a.reflected_component - a.externally_reflected_component, rel_tol=1e-12)
+            assert a.internally_reflected_component > 0
+        else:
+            assert any("light-path gate was checked" in n and "does NOT" not in n for n in a.notes)
+            assert any("not made emitters: a surface of the scene lies in front of opening 1" in n for n in a.notes)
+            assert a.externally_reflected_component is None and a.internally_reflected_component is None
         assert w.sky_component is None and w.reflected_component is None
     assert _state(scene) == before
 
@@ -105,8 +128,69 @@ def test_a_gate_that_fails_its_check_is_not_used(clean_blender, monkeypatch):
     monkeypatch.setattr(sky_component, "_GATE_CHECKS", {})
     scene = bpy.context.scene
     room.build_blender(scene)
+    _ground_mesh(scene)  # the gate, not the openings' emitters
     before = _state(scene)
     r = api.daylight_factor((2.0, 1.5, 0.85), quality="preview", seed=1)
     assert r.sky_component is None and r.method == "render" and r.daylight_factor > 5.0
     assert any("does NOT hold" in n for n in r.notes)
     assert _state(scene) == before
+
+
+def test_linking_that_fails_its_check_falls_back_to_the_gate(clean_blender, monkeypatch):
+    # As if light linking let an emitting mesh's light reach a linked-out sensor: the check sees it, the
+    # emitters are not used and the light-path gate takes over (said so), the scene untouched.
+    monkeypatch.setattr(sky_component, "_LINK_CHECKS", {("x", "y"): None})
+    real = sky_component.check_emitter_linking
+    seen = []
+
+    def failing(*args, **kwargs):
+        ok, note = real(*args, **kwargs)
+        seen.append(ok)
+        return False, note + ": linking does NOT keep them out here"
+
+    monkeypatch.setattr(sky_component, "check_emitter_linking", failing)
+    monkeypatch.setattr(sky_component, "_LINK_CHECKS", {})
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    before = _state(scene)
+    r = api.daylight_factor((2.0, 1.5, 0.85), quality="preview", seed=1)
+    assert seen == [True]  # the real check passed on this Blender
+    assert r.sky_component > 0 and r.externally_reflected_component is None
+    assert any("light-path gate was checked" in n for n in r.notes)
+    assert _state(scene) == before
+
+
+def test_opening_emitters_carry_the_closed_form(clean_blender):
+    # The openings' emitters, rendered straight (0 bounces, nothing linked out), against the closed form
+    # of the sky and ground through the opening (radiometry/skies/sky_aperture.py): the same radiance by
+    # direction, so the same illuminance at points facing up, sideways and at the window.
+    import json
+
+    from radiometer.measure.analyses import daylight_factor as dfm
+    from radiometer.measure.blender import scene_guard
+    from radiometer.measure.capture.world_capture import CIE_SKY_TAG
+    from radiometer.measure.meter import point_meter as meter
+    from radiometer.measure.render import adaptive
+
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    pts = np.array([(2.0, 1.5, 0.85), (2.0, 0.75, 1.2), (0.5, 2.0, 1.5)])
+    dirs = np.array([(0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (1.0, 0.0, 0.0)])
+    with scene_guard.preserved_scene(scene) as snapshot:
+        dfm.overcast_only(scene, snapshot, 0.2)
+        model = meter.capture_model(scene)
+        closed = sky_component.sky_components(scene, pts, dirs, ground_reflectance=0.2,
+                                              horizontal_lux=SKY_HORIZONTAL_LUX, model=model)
+        openings = sky_component.openings_to_world(model)
+        assert len(openings.loops) == 1 and np.allclose(openings.outward[0], (0.0, -1.0, 0.0))
+        sky_component.add_opening_emitters(scene, openings, json.loads(scene.world[CIE_SKY_TAG]))
+        bpy.context.view_layer.update()
+        _space, weights, efficacy = meter.scene_photometry(scene)
+        run = adaptive.render_hybrid(scene, bpy.context.view_layer, pts, dirs, needs=model.needs, bounces=0,
+                                     weights=weights, fixed_samples=65536)
+    lux = efficacy * (run["mean_rgb"] @ weights)
+    se = efficacy * run["se"]
+    for k, c in enumerate(closed):
+        expected = c.sky_lux + c.ground_lux
+        print(f"emitters {lux[k]:.3f} +- {se[k]:.3f} lx; closed form {expected:.3f} lx")
+        assert expected > 50.0 and abs(lux[k] - expected) <= 4.0 * se[k] + 1e-3 * expected
