@@ -187,10 +187,15 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
 
 
 def _split_readings(scene, points, dirs, rho, seed, measure):
-    """``method="auto"`` inside the caller's guard (the overcast sky set): where ``sky_component`` proves the
-    direct sky (SC), the reading is SC plus a render of the rest with the sky's direct emission gated
-    off (``sky_component.gate_world``); elsewhere the whole is rendered. Returns (readings, SC lux per
-    point or None)."""
+    """``method="auto"`` inside the caller's guard (the overcast sky set). Where the openings look out on the
+    world alone (``sky_component.openings_to_world``) they become emitters of its radiance: at points
+    where the sky and ground seen straight through them are proven (``sky_component``) the reading is
+    that closed form plus a render of the rest, the meters linked out of the emitters; at the other
+    points inside the room (a pane in the opening, something inside in the way) the whole is rendered,
+    sampling the emitters as lights. Otherwise, where the sky component (SC) alone is proven, the
+    reading is SC plus a render of the rest with the sky's direct emission gated off
+    (``sky_component.gate_world``). Elsewhere the whole is rendered under the sky. Returns (readings,
+    SC lux per point or None, ground seen straight lux per point or None)."""
     from ..meter import point_meter as meter
     from . import sky_component
     from .analysis_common import view_layer_of
@@ -201,108 +206,87 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
     scs = sky_component.sky_components(scene, sensors * scale, dirs, ground_reflectance=rho,
                                        horizontal_lux=SKY_HORIZONTAL_LUX, model=model)
     proven = np.array([c.sky_lux is not None for c in scs])
-    if not proven.any():
-        readings = meter.measure_illuminance(points, dirs, scene=scene, method="auto", seed=seed, model=model,
-                                             **measure)
-        readings = readings if isinstance(readings, list) else [readings]
-        for r, c in zip(readings, scs):
-            r.notes.append(f"sky component not proven ({c.reason}): the daylight factor is measured whole")
-        return readings, None, None
-    out = [None] * len(points)
-    rest = np.flatnonzero(~proven)
-    if rest.size:
-        whole = meter.measure_illuminance(points[rest], dirs[rest], scene=scene, method="auto", seed=seed + 1,
-                                          model=model, **measure)
-        for k, r in zip(rest, whole if isinstance(whole, list) else [whole]):
-            r.notes.append(f"sky component not proven ({scs[k].reason}): the daylight factor is measured whole")
-            out[k] = r
-    take = np.flatnonzero(proven)
-    _space, weights, efficacy = meter.scene_photometry(scene)
-    sc_lux = np.array([scs[k].sky_lux for k in take], float)
-    ground = np.array([np.nan if scs[k].ground_lux is None else scs[k].ground_lux for k in take], float)
+    full = np.array([c.sky_lux is not None and c.ground_lux is not None for c in scs])
     openings = sky_component.openings_to_world(model)
-    if openings.loops and np.isfinite(ground).all():
-        emitted = _emitter_readings(scene, model, points[take], dirs[take], sensors[take], sc_lux + ground, seed,
-                                    measure, openings)
-        if emitted is not None:
-            readings, note = emitted
-            for k, r in zip(take, readings):
-                r.notes += [f"sky component proven ({scs[k].apertures} convex open opening(s) in a closed opaque "
-                            "shell, nothing outside in the way): the CIE sky and the ground seen straight through "
-                            "them in closed form (radiometry/skies/sky_aperture.py), exact; the openings then "
-                            "emitted the sky's and ground's radiance into the room (nothing lies in front of them: "
-                            "sky_component.openings_to_world), linked out of the meters, and Cycles rendered only "
-                            "the light the room's surfaces reflect, sampling the openings as lights", note]
-                out[k] = r
-            sky, grd = [None] * len(points), [None] * len(points)
-            for j, k in enumerate(take):
-                sky[k], grd[k] = float(sc_lux[j]), float(ground[j])
-            return out, sky, grd
+    emitting = np.array([c.inside for c in scs]) if openings.loops else np.zeros(len(points), bool)
+    under_sky = ~emitting & ~proven  # measured whole under the sky itself, before anything is changed
+    out = [None] * len(points)
+    sky, grd = [None] * len(points), [None] * len(points)
+
+    def measure_at(idx, note, **kwargs):
+        if not idx.size:
+            return
+        readings = meter.measure_illuminance(points[idx], dirs[idx], scene=scene, method="auto", model=model,
+                                             **kwargs, **measure)
+        for k, r in zip(idx, readings if isinstance(readings, list) else [readings]):
+            r.notes += note(k)
+            out[k] = r
+
+    measure_at(np.flatnonzero(under_sky), lambda k: [f"sky component not proven ({scs[k].reason}): the daylight "
+                                                      "factor is measured whole"], seed=seed + 1)
+    _space, weights, efficacy = meter.scene_photometry(scene)
+    if emitting.any():
+        import json
+
+        from ..capture.world_capture import CIE_SKY_TAG
+
+        keys = sky_component.add_opening_emitters(scene, openings, json.loads(scene.world[CIE_SKY_TAG]))
+        view_layer_of(scene).update()
+        glazed = sum(d > 0.0 for d in openings.depth)
+        how = (f"the {len(openings.loops)} opening(s) emitted the sky's and ground's radiance into the room "
+               + (f"({glazed} from just outside its pane) " if glazed else "")
+               + "(nothing else lies in front of them: sky_component.openings_to_world)")
+        linked = np.flatnonzero(emitting & full)
+        link_note = ""
+        if linked.size:
+            lux = np.array([scs[k].sky_lux + scs[k].ground_lux for k in linked])
+            brightest = linked[int(np.argmax(lux))]
+            ok, link_note = sky_component.check_emitter_linking(scene, keys, sensors[brightest], dirs[brightest],
+                                                                model)
+            if not ok:  # render those points whole too, through the emitters, and say why
+                linked = linked[:0]
+        whole = np.flatnonzero(emitting & ~np.isin(np.arange(len(points)), linked))
+        if linked.size:
+            lux = np.array([scs[k].sky_lux + scs[k].ground_lux for k in linked])
+            grey = np.repeat((lux / efficacy)[:, None], 3, axis=1)  # a white sky and ground: W/m^2 per channel
+            measure_at(linked, lambda k: [
+                f"sky component proven ({scs[k].apertures} convex open opening(s) in a closed opaque shell, nothing "
+                "outside in the way): the CIE sky and the ground seen straight through them in closed form "
+                f"(radiometry/skies/sky_aperture.py), exact; {how}, linked out of the meters, and Cycles rendered "
+                "only the light the room's surfaces reflect, sampling the openings as lights", link_note],
+                seed=seed, proven=(grey, "sky and ground through the openings (closed form)", keys))
+            for k in linked:
+                sky[k], grd[k] = float(scs[k].sky_lux), float(scs[k].ground_lux)
+        measure_at(whole, lambda k: [
+            f"{how}; Cycles rendered all the light here, sampling the openings as lights (the sky and ground seen "
+            "straight are not proven here: " + (scs[k].reason or "the meters could not be linked out of the "
+                                                "emitters: " + link_note) + ")"], seed=seed + 2)
+        return out, sky, grd
+    take = np.flatnonzero(proven)
+    if not take.size:
+        return out, sky, grd
     factor = sky_component.gate_world(scene)
     ok, gate_note = sky_component.check_world_gate(scene, factor, model, horizontal_lux=SKY_HORIZONTAL_LUX)
-    why_gate = openings.reason or ("" if openings.loops else "?")
-    if openings.loops:
-        why_gate = "the ground seen through an opening is not proven at every point"
+    why_gate = openings.reason
     if not ok:  # the gate failed its check: render those points whole too, and say why
         sky_component.set_gate_mode(factor, "off")
         scene.world.cycles.sampling_method = "AUTOMATIC"  # the temporary sky's own setting again
         view_layer_of(scene).update()
-        whole = meter.measure_illuminance(points[take], dirs[take], scene=scene, method="auto", seed=seed,
-                                          model=model, **measure)
-        for k, r in zip(take, whole if isinstance(whole, list) else [whole]):
-            r.notes += [gate_note, "so the sky component was not used: the whole daylight factor is rendered"]
-            out[k] = r
-        return out, None, None
+        measure_at(take, lambda k: [gate_note, "so the sky component was not used: the whole daylight factor is "
+                                               "rendered"], seed=seed)
+        return out, sky, grd
     view_layer_of(scene).update()
+    sc_lux = np.array([scs[k].sky_lux for k in take], float)
     grey = np.repeat((sc_lux / efficacy)[:, None], 3, axis=1)  # the sky is white: W/m^2 per channel
-    split = meter.measure_illuminance(points[take], dirs[take], scene=scene, method="auto", seed=seed, model=model,
-                                      proven=(grey, "sky component (closed form)"), **measure)
-    for k, r in zip(take, split if isinstance(split, list) else [split]):
-        r.notes += [f"sky component proven ({scs[k].apertures} convex open opening(s) in a closed opaque shell, "
-                    "nothing outside in the way): the CIE overcast sky through them in closed form "
-                    "(radiometry/skies/sky_aperture.py), exact; Cycles rendered only the rest (the sky's direct "
-                    "emission gated off by Light Path Ray Depth, the ground seen through the openings and every "
-                    f"reflection kept; the openings were not made emitters: {why_gate})", gate_note]
-        out[k] = r
-    sky = [None] * len(points)
-    for j, k in enumerate(take):
-        sky[k] = float(sc_lux[j])
-    return out, sky, None
-
-
-def _emitter_readings(scene, model, points, dirs, sensors, proven_lux, seed, measure, openings):
-    """The rest of the light at proven points with the openings as emitters (inside the caller's guard,
-    the temporary CIE sky set): ``sky_component.add_opening_emitters``, the meters linked out of them and
-    ``proven_lux`` (the sky and ground seen straight through the openings, closed form) added.
-    Returns (readings, the linking check's note), or None where the check fails (the emitters then
-    hidden and the sky world back, for the light-path gate to take over)."""
-    import json
-
-    from ..meter import point_meter as meter
-    from ..capture.world_capture import CIE_SKY_TAG
-    from . import sky_component
-    from .analysis_common import view_layer_of
-
-    sky_world = scene.world
-    info = json.loads(sky_world[CIE_SKY_TAG])
-    keys = sky_component.add_opening_emitters(scene, openings, info)
-    view_layer_of(scene).update()
-    brightest = int(np.argmax(proven_lux))
-    ok, note = sky_component.check_emitter_linking(scene, keys, sensors[brightest], dirs[brightest], model)
-    if not ok:
-        from ..blender import identity
-
-        for obj in identity.source_objects(keys).values():
-            obj.hide_render = True
-        scene.world = sky_world
-        view_layer_of(scene).update()
-        return None
-    _space, _weights, efficacy = meter.scene_photometry(scene)
-    grey = np.repeat((np.asarray(proven_lux, float) / efficacy)[:, None], 3, axis=1)  # white sky and ground
-    readings = meter.measure_illuminance(points, dirs, scene=scene, method="auto", seed=seed, model=model,
-                                         proven=(grey, "sky and ground through the openings (closed form)", keys),
-                                         **measure)
-    return (readings if isinstance(readings, list) else [readings]), note
+    measure_at(take, lambda k: [
+        f"sky component proven ({scs[k].apertures} convex open opening(s) in a closed opaque shell, nothing outside "
+        "in the way): the CIE overcast sky through them in closed form (radiometry/skies/sky_aperture.py), exact; "
+        "Cycles rendered only the rest (the sky's direct emission gated off by Light Path Ray Depth, the ground seen "
+        "through the openings and every reflection kept; the openings were not made emitters: "
+        f"{why_gate})", gate_note], seed=seed, proven=(grey, "sky component (closed form)"))
+    for k in take:
+        sky[k] = float(scs[k].sky_lux)
+    return out, sky, grd
 
 
 def _camera_readings(scene, points, dirs, quality, seed, progress, cancelled):

@@ -39,12 +39,14 @@ from ...radiometry.skies import sky_aperture
 class SkyComponent:
     """``sky_lux``: the direct illuminance from the sky through the openings (lux; None when not
     proven), ``ground_lux``: from the world's ground seen directly through them (None when not
-    proven), ``reason``: why not (empty when both are proven), ``apertures``: how many were used."""
+    proven), ``reason``: why not (empty when both are proven), ``apertures``: how many were used,
+    ``inside``: the point is proven inside the closed room holding the openings."""
 
     sky_lux: object
     ground_lux: object
     reason: str
     apertures: int
+    inside: bool = False
 
 
 def _scene_refusal(model):
@@ -130,7 +132,7 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
             ground = None
         elif ground is None:
             why = "a surface outside may stand in front of the world's ground seen through an opening"
-        out.append(SkyComponent(sky, ground, why, len(loops)))
+        out.append(SkyComponent(sky, ground, why, len(loops), True))
     return out
 
 
@@ -139,50 +141,79 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
 @dataclasses.dataclass
 class Openings:
     """The openings of a closed opaque shell that look out on the world alone: ``loops`` (K, 3) in
-    metres and ``outward`` unit normals; ``reason`` why not (then both are empty)."""
+    metres, ``outward`` unit normals and ``depth`` (m): how far see-through surfaces in an opening (a
+    pane) stand out in front of its plane (0 for an open hole); ``reason`` why not (then all empty)."""
 
     loops: list
     outward: list
+    depth: list = dataclasses.field(default_factory=list)
     reason: str = ""
 
 
-def openings_to_world(model):
-    """:class:`Openings` where a ray leaving the room through any opening meets nothing but the world.
+def _inside_prism(vertices, poly, centre, normal, tol):
+    """(V,) bool: ``vertices`` whose projection on the convex loop's plane lies inside it (within ``tol``)."""
+    rel = vertices - centre
+    flat = rel - np.outer(rel @ normal, normal)
+    ok = np.ones(len(vertices), bool)
+    for j in range(len(poly)):
+        edge = poly[(j + 1) % len(poly)] - poly[j]
+        inward = np.cross(normal, edge)
+        if inward @ (centre - poly[j]) < 0.0:
+            inward = -inward
+        inward = inward / np.linalg.norm(inward)
+        ok &= (flat + centre - poly[j]) @ inward >= -tol
+    return ok
 
-    Proof: the openings are convex holes of a closed opaque shell (``_closed_shell``), and no vertex of
-    any render-visible triangle of the scene (the shell, furniture, panes, anything outside) lies in
-    front of an opening's plane (beyond ``tol`` on its outward side). A ray through an opening then runs
-    on in that open half-space, which holds no triangle. The outward side is the one every shell vertex
+
+def openings_to_world(model):
+    """:class:`Openings` where a ray leaving the room through any opening meets nothing but the world,
+    or a see-through surface standing in the opening (a pane) and then the world.
+
+    Proof: the openings are convex holes of a closed opaque shell (``_closed_shell``), and every vertex
+    of every render-visible triangle of the scene (the shell, furniture, anything outside) lies behind
+    each opening's plane (within ``tol``), except see-through triangles lying wholly inside the opening's
+    prism (a pane in the opening, up to ``depth`` in front of it). A ray through an opening then runs on
+    in that open half-space, which holds nothing else. The outward side is the one every shell vertex
     lies behind; where neither side is (something of the building stands in front) it is refused."""
     found = _closed_shell(model)
     if isinstance(found, str):
-        return Openings([], [], found)
+        return Openings([], [], [], found)
     loops, shell, tris, tol, _reach = found
-    everything = np.asarray(tris, float).reshape(-1, 3)
+    tris = np.asarray(tris, float)
+    see_through = ~np.asarray(model.geometry.opaque, bool)
     shell_vertices = np.asarray(shell, float).reshape(-1, 3)
-    outward = []
+    outward, depth = [], []
     for k, poly in enumerate(loops):
         centre = poly.mean(axis=0)
-        normal = np.cross(poly[1] - poly[0], poly[2] - poly[0])
-        for j in range(2, len(poly) - 1):  # a robust normal of the convex loop: its vector area
+        normal = np.zeros(3)
+        for j in range(1, len(poly) - 1):  # the convex loop's vector area: a robust normal
             normal = normal + np.cross(poly[j] - poly[0], poly[j + 1] - poly[0])
         normal = normal / np.linalg.norm(normal)
         if np.max((shell_vertices - centre) @ normal) > tol:
             normal = -normal
         if np.max((shell_vertices - centre) @ normal) > tol:
-            return Openings([], [], f"the room's own surfaces stand in front of opening {k + 1} (e.g. a wing of "
-                                    "the building or a reveal): its view out is not the world alone")
-        if np.max((everything - centre) @ normal) > tol:
-            return Openings([], [], f"a surface of the scene lies in front of opening {k + 1} (outside the room): "
-                                    "what the opening looks out on is rendered")
+            return Openings([], [], [], f"the room's own surfaces stand in front of opening {k + 1} (e.g. a wing "
+                                        "of the building or a deep reveal): its view out is not the world alone")
+        ahead = (tris - centre) @ normal                                   # (T, 3) m in front of the plane
+        front = np.any(ahead > tol, axis=1)
+        held = see_through & front
+        if np.any(front & ~see_through):
+            return Openings([], [], [], f"a surface of the scene lies in front of opening {k + 1} (outside the "
+                                        "room): what the opening looks out on is rendered")
+        if held.any() and not np.all(_inside_prism(tris[held].reshape(-1, 3), poly, centre, normal, tol)):
+            return Openings([], [], [], f"a see-through surface in front of opening {k + 1} reaches beyond it: "
+                                        "what the opening looks out on is rendered")
         outward.append(normal)
-    return Openings(list(loops), outward)
+        depth.append(float(ahead[held].max()) if held.any() else 0.0)
+    return Openings(list(loops), outward, depth)
 
 
 def add_opening_emitters(scene, openings, info):
-    """Inside the caller's guard: one emitting polygon per opening (``sky.opening_emitter_material``: the
-    sky and ground of the CIE sky ``info`` that a ray leaving through it meets), and a black world
-    whose light sampling is off (the openings now carry all of the sky's light into the room).
+    """Inside the caller's guard: one emitter per opening (``sky.opening_emitter_material``: the sky and
+    ground of the CIE sky ``info`` that a ray leaving through it meets), and a black world whose light
+    sampling is off (the openings now carry all of the sky's light into the room). An open opening
+    gets its own polygon; a glazed one a shallow cup around its pane (the polygon moved out past the
+    pane, with sides back to the opening's rim), so that every ray through the pane meets the emitter.
     Returns the emitters' object identities (session uid, library) for light linking."""
     import bpy
 
@@ -192,11 +223,19 @@ def add_opening_emitters(scene, openings, info):
 
     scale = scene.unit_settings.scale_length
     keys = []
-    for k, (poly, normal) in enumerate(zip(openings.loops, openings.outward)):
-        mesh = bpy.data.meshes.new(f"radiometer_opening {k + 1}")
-        mesh.from_pydata([tuple(float(c) / scale for c in v) for v in poly], [], [tuple(range(len(poly)))])
-        mesh.materials.append(sky.opening_emitter_material(f"radiometer_opening {k + 1}", info, normal))
-        obj = bpy.data.objects.new(f"radiometer_opening {k + 1}", mesh)
+    for k, (poly, normal, depth) in enumerate(zip(openings.loops, openings.outward, openings.depth)):
+        n = len(poly)
+        if depth > 0.0:
+            out = poly + (depth + max(1e-3, 0.1 * depth)) * normal  # 1 mm past the pane at least
+            verts = np.r_[poly, out]
+            faces = [tuple(range(n, 2 * n))] + [(j, (j + 1) % n, n + (j + 1) % n, n + j) for j in range(n)]
+        else:
+            verts, faces = poly, [tuple(range(n))]
+        name = f"radiometer_opening {k + 1}"
+        mesh = bpy.data.meshes.new(name)
+        mesh.from_pydata([tuple(float(c) / scale for c in v) for v in verts], [], faces)
+        mesh.materials.append(sky.opening_emitter_material(name, info, normal))
+        obj = bpy.data.objects.new(name, mesh)
         scene.collection.objects.link(obj)
         keys.append(identity.object_identity(obj))
     world = bpy.data.worlds.new("radiometer_black")
