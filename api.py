@@ -1034,16 +1034,23 @@ def cluster_info(scheduler):
 
 
 @_v.boundary
-def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None):  # noqa: A002
+def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None,  # noqa: A002
+                    max_spp=None, time_budget_s=None):
     """False-colour luminance image of the camera view (issue 23): renders the scene camera (or
     ``camera``) at ``resolution`` (width, height; default the scene's, at most 320 px a side), writes
     ``path`` (32-bit EXR, cd/m² in every channel) and a false-colour PNG with a legend in cd/m² beside
     it (``scale`` "log" | "linear", ``range`` (lo, hi) cd/m² or automatic). Returns a ``LuminanceImage``:
-    ``luminance`` (H, W) cd/m², ``rel_std_error`` (H, W), ``paths``, ``notes``."""
+    ``luminance`` (H, W) cd/m², ``rel_std_error`` (H, W), ``paths``, ``notes``.
+    ``max_spp``: samples per pixel per render at most (16-1024; None: 1024, at quality "preview" 16, one
+    round of renders as the report's pictures); ``time_budget_s``: no round of renders starts that would
+    end past it (issue 31). Where they stop the rounds, ``share_on_target`` and the notes say how many
+    pixels reached the quality's target; every pixel states its own error."""
+    _v.integer(max_spp, "max_spp", low=16, high=1024, allow_none=True)
+    _v.time_budget(time_budget_s)
     from .measure.analyses import luminance_image as images
 
     return images.luminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
-                                  scale=scale, range=range)
+                                  scale=scale, range=range, max_spp=max_spp, time_budget_s=time_budget_s)
 
 
 @_v.boundary
@@ -1131,19 +1138,21 @@ def compliance_to_dict(result):
 
 @_v.boundary
 def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log", range=None,  # noqa: A002
-                      max_spp=1024):
+                      max_spp=1024, time_budget_s=None):
     """Illuminance (lx) on the surfaces the camera sees, from Cycles' diffuse light passes:
     E = pi x (Diffuse Direct + Diffuse Indirect), exact for Lambertian surfaces (Diffuse BSDF, roughness 0);
     0 where nothing diffuse is seen (see ``measure.analyses.luminance_image.illuminance_image`` for where it does
     not hold). Writes ``path`` (32-bit EXR, lx) and a false-colour PNG beside it; returns an
     ``IlluminanceImage``: ``illuminance`` (H, W) lx, ``rel_std_error`` (H, W), ``paths``, ``notes``.
     ``max_spp``: samples per pixel per render at most (16-1024): the rounds stop there even where the
-    quality's target is not reached (``share_on_target`` says how many pixels reached it)."""
+    quality's target is not reached (``share_on_target`` says how many pixels reached it);
+    ``time_budget_s``: no round of renders starts that would end past it."""
     _v.integer(max_spp, "max_spp", low=16, high=1024)
+    _v.time_budget(time_budget_s)
     from .measure.analyses import luminance_image as images
 
     return images.illuminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
-                                    scale=scale, range=range, max_spp=max_spp)
+                                    scale=scale, range=range, max_spp=max_spp, time_budget_s=time_budget_s)
 
 
 # --- for the operators, panels and the CLI (issue 30): nothing above the api imports measure/ -----

@@ -42,6 +42,12 @@ def add_arguments(parser):
                         help="with --index dgp: the fisheye's side in pixels (16-512; default 128)")
     parser.add_argument("--threshold", type=float, default=2000.0, metavar="CD_M2",
                         help="with --index dgp: glare-source luminance threshold in cd/m² (evalglare's default 2000)")
+    parser.add_argument("--max-samples", type=int, default=None, metavar="SPP",
+                        help="with --luminance-image: samples per pixel per render at most (16-1024; default 1024, "
+                        "at --quality preview 16: one round, as the report's picture)")
+    parser.add_argument("--time-budget", type=float, default=None, metavar="S",
+                        help="with --luminance-image: start no round of renders that would end past S seconds; "
+                        "the result says how many pixels reached the quality's target")
     parser.add_argument("--hdr", metavar="HDR", help="with --index dgp and one observer: also write the fisheye as a "
                         "Radiance HDR (angular fisheye view in its header) for evalglare")
 
@@ -70,6 +76,12 @@ def run(args):
         raise RadiometerError("give --observer X Y Z DX DY DZ (and/or --luminance-image FILE.exr)")
     if args.hdr and (args.index != "dgp" or len(args.observer or []) != 1):
         raise RadiometerError("--hdr needs --index dgp and exactly one --observer")
+    if args.max_samples is not None and not 16 <= args.max_samples <= 1024:
+        raise RadiometerError(f"--max-samples must be 16-1024 samples per pixel, got {args.max_samples}")
+    if args.time_budget is not None and not (args.time_budget > 0 and args.time_budget < float("inf")):
+        raise RadiometerError(f"--time-budget must be a number of seconds > 0, got {args.time_budget:g}")
+    if (args.max_samples is not None or args.time_budget is not None) and not args.luminance_image:
+        raise RadiometerError("--max-samples and --time-budget bound the --luminance-image picture: give it too")
     _io.check_output_file(args.luminance_image, "--luminance-image file")
     _io.check_output_file(args.hdr, "--hdr file")
     scene = bpy.context.scene
@@ -86,7 +98,11 @@ def run(args):
             print(f"wrote {path}")
         out["observers"].append(g.to_dict())
     if args.luminance_image:
-        img = api.luminance_image(args.luminance_image, scene=scene, quality=args.quality, scale=args.scale)
+        img = api.luminance_image(args.luminance_image, scene=scene, quality=args.quality, scale=args.scale,
+                                  max_spp=args.max_samples, time_budget_s=args.time_budget)
+        print(f"luminance picture: {img.resolution[0]} x {img.resolution[1]} px, {img.samples} samples per pixel, "
+              f"{100 * img.share_on_target:.0f} % of the lit pixels within {100 * img.target_rel_error:g} % "
+              f"({img.seconds:.0f} s)")
         for path in img.paths.values():
             print(f"wrote {path}")
         out["luminance_image"] = img.to_dict()

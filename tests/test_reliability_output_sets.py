@@ -156,6 +156,19 @@ def test_png_beside_the_luminance_exr_and_json_of_the_same_name_refused(blend, t
     assert os.listdir(tmp_path) == [] and time.monotonic() - started < 60
 
 
+@pytest.mark.parametrize("args, line", [
+    (["--max-samples", "8"], "--max-samples must be 16-1024 samples per pixel, got 8"),
+    (["--time-budget", "0"], "--time-budget must be a number of seconds > 0, got 0"),
+    (["--time-budget", "nan"], "--time-budget must be a number of seconds > 0, got nan"),
+])
+def test_glare_picture_bounds_refused_in_one_line(blend, tmp_path, args, line):
+    # Issue 31: the glare picture takes the report's caps (--max-samples, --time-budget); nonsense is one line
+    # before any render, and nothing is written.
+    out = run_cli("glare", blend, "--luminance-image", tmp_path / "v.exr", *args)
+    one_error_line(out, line)
+    assert os.listdir(tmp_path) == []
+
+
 def test_report_targets_checked_before_any_work(blend, tmp_path):
     # Issue 33: a report.html that is a folder (or a symlink) was refused only after 20 s of work and
     # after the PNG/CSV/EXR files had been written. Now one line before the scene is measured, for

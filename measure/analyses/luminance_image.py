@@ -29,6 +29,12 @@ from ..render.rounds import RenderRounds, relative_errors
 RENDERS = 8            #: independent renders per round (7 degrees of freedom per pixel error)
 MAX_SPP = 1024
 FIRST_SPP = 16         #: samples per pixel of the first round
+#: Cap on the samples per pixel per render at quality "preview" where the caller gives none: a picture
+#: at preview is one round (as the report's pictures, ``client_report.PICTURE_SPP``). Issue 31: a glare
+#: picture of a sunlit room took 9 min 49 s at preview, 160 x 120 px, rounds of 16, 64, 256 and 1024 spp,
+#: its walls lit by the sun patch's reflection (found by BSDF rays) never reaching 5 % at the 90th
+#: percentile; the notes say how many pixels reached the target.
+PREVIEW_MAX_SPP = 16
 MAX_PIXELS = 1024 * 1024
 
 
@@ -74,29 +80,49 @@ def _resolution(scene, resolution):
     return w, h
 
 
-def _rounds_to_target(scene, render, weights, target, cap, cancelled, progress=None):
+def _cap(quality, max_spp):
+    """Samples per pixel per render at most: ``max_spp`` (16..MAX_SPP), or by default MAX_SPP, and
+    PREVIEW_MAX_SPP at quality "preview"."""
+    if max_spp is None:
+        max_spp = PREVIEW_MAX_SPP if quality == "preview" else MAX_SPP
+    return int(min(max(int(max_spp), FIRST_SPP), MAX_SPP))
+
+
+def _rounds_to_target(scene, render, weights, target, cap, cancelled, progress=None, time_budget_s=None):
     """Rounds of :data:`RENDERS` renders from 16 samples per pixel, 4x per round up to ``cap``, until the
     90th percentile of the lit pixels' relative error is on ``target``; only the last round is kept.
+    ``time_budget_s``: no round is started that would end past the budget (its time predicted from the
+    last round's, in proportion to the samples); the first round always runs.
     Returns (the last round's renders (R, H, W, 3), (mean Y, relative s.e.) per pixel, the finite
-    relative errors, samples per pixel)."""
+    relative errors, samples per pixel, why it stopped)."""
     rounds = RenderRounds(scene, cancelled=cancelled, progress=progress)
     spp = FIRST_SPP
+    started = time.perf_counter()
     while True:
+        t0 = time.perf_counter()
         stack = rounds.round(RENDERS, spp, render)            # (R, H, W, 3)
+        took = time.perf_counter() - t0
         mean_y, rel = relative_errors(stack @ weights)
         lit = rel[np.isfinite(rel)]
         p90 = float(np.percentile(lit, 90)) if lit.size else 0.0
-        if p90 <= target or spp >= cap:
-            return stack, (mean_y, rel), lit, spp
-        spp = min(cap, spp * 4)
+        if p90 <= target:
+            return stack, (mean_y, rel), lit, spp, "target"
+        if spp >= cap:
+            return stack, (mean_y, rel), lit, spp, f"the cap of {cap} samples per pixel per render"
+        nxt = min(cap, spp * 4)
+        if time_budget_s is not None and time.perf_counter() - started + took * nxt / spp > time_budget_s:
+            return stack, (mean_y, rel), lit, spp, (f"the time budget of {time_budget_s:g} s (a round at {nxt} "
+                                                    f"samples per pixel would take about {took * nxt / spp:.0f} s)")
+        spp = nxt
 
 
 def render_luminance(*, scene=None, camera=None, resolution=None, quality="standard", target_rel_error=None,
-                     progress=None, cancelled=None, max_spp=MAX_SPP):
+                     progress=None, cancelled=None, max_spp=None, time_budget_s=None):
     """:class:`LuminanceImage` of ``camera`` (an object or its name; default the scene camera).
 
-    ``max_spp``: cap on the samples per pixel of one render (16..1024); the notes say how many pixels
-    reached the target."""
+    ``max_spp``: cap on the samples per pixel of one render (16..1024; None: 1024, at preview
+    ``PREVIEW_MAX_SPP``); ``time_budget_s``: no round of renders starts that would end past it; the
+    notes say how many pixels reached the target and what stopped the rounds."""
     scene = scene or bpy.context.scene
     cam = scene.camera if camera is None else (scene.objects.get(camera) if isinstance(camera, str) else camera)
     if cam is None or getattr(cam, "type", None) != "CAMERA":
@@ -108,7 +134,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
     unit_area = scene.unit_settings.scale_length ** 2
     folder = camera_mod.scratch_folder()
     started = time.perf_counter()
-    cap = int(min(max(int(max_spp), 16), MAX_SPP))
+    cap = _cap(quality, max_spp)
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
             camera_mod.prepare_render(scene, dict(preset, samples=FIRST_SPP), snapshot)
@@ -117,8 +143,8 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
             def render(k):
                 return camera_mod.render_exr(scene, folder, f"img{k}", width, height) / unit_area
 
-            stack, (mean_y, rel), lit, spp = _rounds_to_target(scene, render, weights, target, cap, cancelled,
-                                                                progress)
+            stack, (mean_y, rel), lit, spp, stopped = _rounds_to_target(scene, render, weights, target, cap,
+                                                                         cancelled, progress, time_budget_s)
             mean_rgb = stack.mean(axis=0)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
@@ -128,7 +154,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
              "delta lights (radius 0) are invisible to camera rays: they light the scene but are not seen"]
     if share < 0.9:
         notes.append(f"only {100 * share:.0f} % of the lit pixels reached the {100 * target:g} % target at "
-                     f"{spp} samples per pixel")
+                     f"{spp} samples per pixel (stopped by {stopped}); each pixel's error is in rel_std_error")
     return LuminanceImage(luminance=efficacy * mean_y, rel_std_error=rel, radiance_rgb=mean_rgb, camera=cam.name,
                           resolution=(width, height), samples=spp * RENDERS, target_rel_error=target,
                           share_on_target=share, efficacy=efficacy, colour_space=space,
@@ -136,7 +162,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
 
 
 def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log",
-                    range=None, progress=None, cancelled=None, max_spp=MAX_SPP):  # noqa: A002 - the API's name
+                    range=None, progress=None, cancelled=None, max_spp=None, time_budget_s=None):  # noqa: A002
     """Render :func:`render_luminance` and write ``path`` (.exr: 32-bit, luminance in cd/m² in R, G and
     B) and the false-colour PNG beside it (same stem, .png; legend in cd/m², ``scale`` 'log' | 'linear',
     ``range`` (lo, hi) cd/m² or automatic). Returns the :class:`LuminanceImage` with ``paths``."""
@@ -157,7 +183,7 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
         except ValueError as exc:
             raise RadiometerError(str(exc)) from None
     result = render_luminance(scene=scene, camera=camera, resolution=resolution, quality=quality,
-                              progress=progress, cancelled=cancelled, max_spp=max_spp)
+                              progress=progress, cancelled=cancelled, max_spp=max_spp, time_budget_s=time_budget_s)
     world.write_exr(path, np.repeat(result.luminance[..., None], 3, axis=-1))
     result.paths["exr"] = path
     from ...plots import matplotlib_available
@@ -221,7 +247,7 @@ def _light_pass_compositor(scene):
 
 
 def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log",
-                      range=None, max_spp=MAX_SPP, cancelled=None):  # noqa: A002 - the API's name
+                      range=None, max_spp=None, cancelled=None, time_budget_s=None):  # noqa: A002 - the API's name
     """Illuminance (lx) on the surfaces the camera sees: E = pi x (Diffuse Direct + Diffuse Indirect).
 
     Why it holds: Cycles writes a BSDF's light passes divided by its colour pass (Combined = (Direct +
@@ -253,7 +279,7 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
     target = float(preset["target"])
     space, weights, efficacy = meter.scene_photometry(scene)
     unit_area = scene.unit_settings.scale_length ** 2
-    cap = int(min(max(int(max_spp), 16), MAX_SPP))
+    cap = _cap(quality, max_spp)
     folder = camera_mod.scratch_folder()
     started = time.perf_counter()
     old_group = scene.compositing_node_group
@@ -272,7 +298,8 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
                 img = camera_mod.render_exr(scene, folder, f"e{k}", width, height, compositing=True)
                 return math.pi * img / unit_area
 
-            _stack, (mean_y, rel), lit, spp = _rounds_to_target(scene, render, weights, target, cap, cancelled)
+            _stack, (mean_y, rel), lit, spp, stopped = _rounds_to_target(scene, render, weights, target, cap,
+                                                                          cancelled, time_budget_s=time_budget_s)
     finally:
         # the scene guard removes the node group it saw created; put the user's compositor back
         scene.compositing_node_group = old_group
@@ -282,6 +309,9 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
              "0 where nothing diffuse is seen (metal, glass, emitters, the world)",
              f"{RENDERS} independent renders of {spp} samples per pixel; error per pixel by batch means",
              f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"]
+    if share < 0.9:
+        notes.append(f"only {100 * share:.0f} % of the lit pixels reached the {100 * target:g} % target at "
+                     f"{spp} samples per pixel (stopped by {stopped}); each pixel's error is in rel_std_error")
     result = IlluminanceImage(illuminance=efficacy * mean_y, rel_std_error=rel, camera=cam.name,
                               resolution=(width, height), samples=spp * RENDERS, target_rel_error=target,
                               share_on_target=share, efficacy=efficacy, colour_space=space,

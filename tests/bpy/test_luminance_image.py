@@ -115,3 +115,70 @@ def test_illuminance_image_of_a_lit_wall(clean_blender, build, tmp_path):
         pixel_se = img.rel_std_error[row, col] * pixel
         assert abs(pixel - expected) <= 3 * math.hypot(pixel_se, se * expected) + 1e-5 * expected, \
             (pixel, expected, pixel_se, se)
+
+
+class _Clock:
+    """A fake perf_counter: each render advances it by ``cost`` s per sample per pixel."""
+
+    def __init__(self):
+        self.now = 0.0
+
+    def __call__(self):
+        return self.now
+
+
+def _noisy_rounds(monkeypatch, *, cap, budget, cost=0.01, spread=2.0):
+    """``_rounds_to_target`` on renders of pure noise (relative spread ``spread`` per sample), whose
+    error never reaches a 5 % target below 1024 x 8 samples: what stops the rounds is the cap or the budget."""
+    import types
+
+    from radiometer.measure.analyses import luminance_image as li
+
+    clock = _Clock()
+    monkeypatch.setattr(li.time, "perf_counter", clock)
+    rng = np.random.default_rng(5)
+    scene = types.SimpleNamespace(cycles=types.SimpleNamespace(seed=0, samples=0))
+    rendered = []
+
+    def render(_k):
+        spp = scene.cycles.samples
+        rendered.append(spp)
+        clock.now += cost * spp
+        return 1.0 + spread / math.sqrt(spp) * rng.standard_normal((6, 8, 3))
+
+    out = li._rounds_to_target(scene, render, np.array([0.2126, 0.7152, 0.0722]), 0.05, cap, None,
+                               time_budget_s=budget)
+    return out, rendered
+
+
+def test_picture_rounds_stop_at_the_cap_and_the_time_budget(monkeypatch):
+    from radiometer.measure.analyses import luminance_image as li
+
+    (_stack, _m, lit, spp, stopped), rendered = _noisy_rounds(monkeypatch, cap=li._cap("preview", None), budget=None)
+    assert li._cap("preview", None) == li.PREVIEW_MAX_SPP == 16 and li._cap("standard", None) == 1024
+    assert spp == 16 and rendered == [16] * li.RENDERS and "cap of 16" in stopped
+    assert np.percentile(lit, 90) > 0.05  # the picture did not reach the target: the caller says so
+    # Budget: rounds of 8 renders cost 0.01 s per sample per pixel (16 spp: 1.28 s; 64: 5.12 s; 256: 20.5 s).
+    # With 10 s the 64-spp round (predicted 5.12 s, ending at 6.4 s) runs; the 256 one (ending at 26.9 s) does not.
+    (_stack, _m, _lit, spp, stopped), rendered = _noisy_rounds(monkeypatch, cap=1024, budget=10.0)
+    assert spp == 64 and rendered == [16] * li.RENDERS + [64] * li.RENDERS and "time budget of 10 s" in stopped
+    # the first round always runs, whatever the budget
+    (_stack, _m, _lit, spp, stopped), rendered = _noisy_rounds(monkeypatch, cap=1024, budget=0.001)
+    assert spp == 16 and len(rendered) == li.RENDERS and "time budget" in stopped
+
+
+def test_api_luminance_image_takes_a_cap_and_a_budget(clean_blender, build, tmp_path):
+    from radiometer.errors import RadiometerError
+
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "AREA", (0.0, 0.0, 2.0), energy=20.0, shape="SQUARE", size=1.0)
+    _ortho_camera(scene, (0.0, 0.0, 1.0), (math.pi, 0.0, 0.0), 0.3)
+    before = scene_fingerprint(scene)
+    img = api.luminance_image(str(tmp_path / "l.exr"), scene=scene, resolution=(8, 6), quality="preview",
+                              time_budget_s=60.0)
+    assert img.samples <= 8 * 16 and os.path.exists(img.paths["exr"])
+    assert scene_fingerprint(scene) == before
+    for bad in ({"max_spp": 8}, {"max_spp": 2000}, {"time_budget_s": -1.0}, {"time_budget_s": "x"}):
+        with pytest.raises(RadiometerError):
+            api.luminance_image(str(tmp_path / "m.exr"), scene=scene, resolution=(8, 6), quality="preview", **bad)
