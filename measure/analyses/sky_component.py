@@ -109,6 +109,10 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     lz = 9.0 * horizontal_lux / (7.0 * math.pi)            # overcast: E_h = 7 pi Lz / 9
     lg = ground_reflectance * horizontal_lux / math.pi
     out = []
+    # The wall around each opening, coplanar with it, cannot block a direction through it: found once per
+    # opening, not per point (``aperture_clear``'s ``ignore``).
+    around = [sky_aperture.coplanar_outside(tris, poly, tol) for poly in loops]
+    see_through = ~opaque_mask(model)
     for p, n in zip(points_m, normals):
         inside = sky_aperture.inside_enclosure(p, shell, loops, tol)
         if inside is not True:
@@ -116,18 +120,24 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
                                     if inside is None else "the point is outside the room holding the openings", 0))
             continue
         sky, ground, why = 0.0, 0.0, ""
-        for poly in loops:
+        for poly, wall in zip(loops, around):
             s, gr = sky_aperture.aperture_illuminance(poly, [p], n, zenith_luminance=lz, ground_luminance=lg)
-            if s[0] > 0.0 and not sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=True):
+
+            def clear(sky_only, ignore=wall):
+                return sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=sky_only, ignore=ignore,
+                                                   coplanar_checked=True)
+
+            # the whole pyramid clear proves its part above the horizon clear too: one test where it holds
+            whole = clear(False) if gr[0] > 0.0 and ground is not None else None
+            if s[0] > 0.0 and not whole and not clear(True):
                 sky, why = None, "a surface may stand between the point and the sky through an opening"
-                if sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=True, ignore=~opaque_mask(model)):
+                if clear(True, wall | see_through):
                     why = ("a pane or other see-through surface is in an opening (its T(theta) weighting, "
                            "sky_aperture.pane_bounded_illuminance, is not wired into readings yet)")
                 break
             sky += float(s[0])
             if ground is not None and gr[0] > 0.0:
-                ground = (ground + float(gr[0]) if sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=False)
-                          else None)
+                ground = ground + float(gr[0]) if whole else None
         if sky is None:
             ground = None
         elif ground is None:

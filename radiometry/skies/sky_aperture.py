@@ -59,7 +59,7 @@ import numpy as np
 from ..scene import visibility
 
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
-           "polygon_plane", "aperture_clear", "find_apertures", "is_convex", "enclosure_closed", "inside_enclosure", "SKIES"]
+           "polygon_plane", "aperture_clear", "coplanar_outside", "find_apertures", "is_convex", "enclosure_closed", "inside_enclosure", "SKIES"]
 
 #: Sky models with a closed form over a polygon: name -> (constant, z-coefficient) of L / Lz = c0 + c1 u_z.
 SKIES = {"uniform": (1.0, 0.0), "overcast": (1.0 / 3.0, 2.0 / 3.0)}
@@ -286,7 +286,7 @@ def _frame(normal):
     return e1, np.cross(normal, e1)
 
 
-def _coplanar_outside(triangles, poly, tol):
+def coplanar_outside(triangles, poly, tol):
     """(T,) bool: triangles lying in the aperture's plane (within ``tol`` m) whose interiors do not
     overlap the convex polygon's interior (2D separating axes; touching along an edge is allowed)."""
     normal, offset = polygon_plane(poly)
@@ -315,7 +315,7 @@ def _coplanar_outside(triangles, poly, tol):
     return out
 
 
-def aperture_clear(point, vertices, triangles, tol, reach, *, sky_only=True, ignore=None):
+def aperture_clear(point, vertices, triangles, tol, reach, *, sky_only=True, ignore=None, coplanar_checked=False):
     """Proof that nothing stands in the directions from ``point`` through the convex aperture
     ``vertices`` (K, 3), from the point out to ``reach`` metres beyond it (past every triangle of the
     scene): True is a proof, False means "not proven".
@@ -325,7 +325,8 @@ def aperture_clear(point, vertices, triangles, tol, reach, *, sky_only=True, ign
     that sees the sky; below it the world's ground or the scene's ground meshes are seen). Triangles
     in the aperture's plane that only touch it along its edges (the wall around a hole) cannot block
     a direction through its interior and are set aside; ``ignore`` (T,) bool sets others aside (the
-    caller's own proof, e.g. a pane's faces that are weighted by T(theta)).
+    caller's own proof, e.g. a pane's faces that are weighted by T(theta)). ``coplanar_checked``: ``ignore``
+    already holds ``coplanar_outside`` (a caller testing many points through one aperture finds it once).
     """
     p = np.asarray(point, float)
     poly = np.asarray(vertices, float)
@@ -339,7 +340,7 @@ def aperture_clear(point, vertices, triangles, tol, reach, *, sky_only=True, ign
     if np.any(dist <= tol):
         return False
     far = p + rel * ((dist + reach) / dist)[:, None]
-    skip = _coplanar_outside(tris, poly, tol)
+    skip = np.zeros(len(tris), bool) if coplanar_checked else coplanar_outside(tris, poly, tol)
     if ignore is not None:
         skip |= np.asarray(ignore, bool)
     rest = tris[~skip]
