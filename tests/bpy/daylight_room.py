@@ -116,7 +116,9 @@ def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000,
     (1 + 2 Dz) / 3 above the horizon and the ground rho x 7/9 below it (sharp horizon; gensky's
     blended ground glow is NOT used). DF = 100 E / (7 pi / 9), the overcast sky's E_h for Lz = 1.
     ``glass``: the 6 mm pane as a closed box of Radiance ``dielectric`` (n = 1.52, no absorption,
-    outward normals), the same solid as the Blender pane (not Radiance's thin ``glass``)."""
+    outward normals), the same solid as the Blender pane (not Radiance's thin ``glass``). Radiance's answer
+    on the same scene.rad, sky.cal, rays and command comes from the committed cache when it has one
+    (tests/bpy/radiance_run.py; RADIOMETER_RADIANCE_RERUN=1 runs rtrace every time)."""
     bindir, libdir = radiance_bin()
     env = dict(os.environ, PATH=bindir + os.pathsep + os.environ.get("PATH", ""),
                RAYPATH=os.pathsep.join([folder, libdir]))
@@ -134,13 +136,35 @@ def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000,
             lines.append(f"pane_glass polygon g{k}\n0\n0\n12 " + " ".join(f"{c:g}" for v in q for c in v) + "\n")
     with open(os.path.join(folder, "scene.rad"), "w") as f:
         f.write("".join(lines))
-    with open(os.path.join(folder, "scene.oct"), "wb") as f:
-        subprocess.run(["oconv", "scene.rad"], cwd=folder, env=env, stdout=f, check=True)
     normals = np.broadcast_to(np.asarray(normals, float), (len(points), 3))
-    rays = "".join(f"{p[0]} {p[1]} {p[2]} {n[0]} {n[1]} {n[2]}\n" * samples for p, n in zip(points, normals))
-    out = subprocess.run(["rtrace", "-h", "-I", "-ab", "32", "-aa", "0", "-ad", "1", "-as", "0", "-lw", "1e-9",
-                          "-lr", "64", "-u+",
-                          "scene.oct"], cwd=folder, env=env, input=rays, capture_output=True, text=True, check=True)
-    y = np.array(out.stdout.split(), float).reshape(len(points), samples, 3)[..., 1]  # equal RGB: channel G
-    mean = y.mean(axis=1)
-    return 100.0 * mean / (7 * np.pi / 9), y.std(axis=1, ddof=1) / np.sqrt(samples) / mean
+    sensors = [f"{p[0]} {p[1]} {p[2]} {n[0]} {n[1]} {n[2]}\n" for p, n in zip(points, normals)]
+    command = ["rtrace", "-h", "-I", "-ab", "32", "-aa", "0", "-ad", "1", "-as", "0", "-lw", "1e-9", "-lr", "64",
+               "-u+", "scene.oct"]
+
+    def run():
+        with open(os.path.join(folder, "scene.oct"), "wb") as f:
+            subprocess.run(["oconv", "scene.rad"], cwd=folder, env=env, stdout=f, check=True)
+        rays = "".join(line * samples for line in sensors)
+        out = subprocess.run(command, cwd=folder, env=env, input=rays, capture_output=True, text=True, check=True)
+        y = np.array(out.stdout.split(), float).reshape(len(points), samples, 3)[..., 1]  # equal RGB: channel G
+        return {"mean": y.mean(axis=1).tolist(), "std": y.std(axis=1, ddof=1).tolist()}
+
+    # Radiance's answer on these same files and rays is cached (tests/bpy/radiance_run.py: cached_radiance)
+    inputs = {name: open(os.path.join(folder, name), "rb").read() for name in ("scene.rad", "sky.cal")}
+    params = {"function": "radiance_daylight_factor", "oconv": ["oconv", "scene.rad"], "rtrace": command,
+              "sensors": sensors, "samples": samples}
+    result = _radiance_run().cached_radiance("tests/bpy/daylight_room.py radiance_daylight_factor", env, inputs,
+                                             params, run)
+    mean, std = np.array(result["mean"], float), np.array(result["std"], float)
+    return 100.0 * mean / (7 * np.pi / 9), std / np.sqrt(samples) / mean
+
+
+def _radiance_run():
+    """tests/bpy/radiance_run.py by its path (this file is also loaded by path and run as a script)."""
+    import importlib.util
+
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "radiance_run.py")
+    spec = importlib.util.spec_from_file_location("radiance_run", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

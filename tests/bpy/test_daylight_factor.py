@@ -1,6 +1,10 @@
 """Daylight factor (api.daylight_factor / daylight_factor_grid, measure/analyses/daylight_factor.py): exact
 outdoors, a side-lit room against Radiance's rtrace run as a path tracer under the same sharp-horizon
-overcast sky, the user's world, lights and data-blocks unchanged afterwards."""
+overcast sky, the user's world, lights and data-blocks unchanged afterwards.
+
+Radiance's results come from tests/data/radiance_cache/ when an earlier rtrace run had the same scene.rad,
+sky.cal, rays, command and Radiance build (tests/bpy/daylight_room.py radiance_daylight_factor; a new key
+runs rtrace and writes the entry, to be committed). RADIOMETER_RADIANCE_RERUN=1 runs rtrace every time."""
 
 import importlib.util
 import math

@@ -4,7 +4,13 @@ factor and illuminance as Radiometer in the side-lit room (6 mm pane) and the da
 the combined standard errors; bad input gets one line and writes nothing; the scene is untouched.
 
 Radiance runs as a path tracer with a stated standard error (tests/bpy/radiance_run.py: -ab 32 with a
-1e-9 weight limit, converged in bounces for these rooms, whose highest reflectance is 0.7)."""
+1e-9 weight limit, converged in bounces for these rooms, whose highest reflectance is 0.7).
+
+Radiance's results are cached: an earlier rtrace run on byte-identical exported files (every file Radiance
+reads, SHA-256), the same command line and sample counts and the same Radiance build is taken from
+tests/data/radiance_cache/<key>.json (tests/bpy/radiance_run.py, cached_rtrace_lux). A change of the export
+changes the key: rtrace runs again and the test writes the new entry, to be committed. Set
+RADIOMETER_RADIANCE_RERUN=1 to run rtrace every time (the cache is then neither read nor overwritten)."""
 
 import json
 import math
@@ -21,7 +27,7 @@ from radiometer.errors import RadiometerError
 
 sys.path.insert(0, os.path.dirname(__file__))
 import daylight_room as room  # noqa: E402
-from radiance_run import radiance_env, rtrace_lux  # noqa: E402
+from radiance_run import cached_rtrace_lux, radiance_env  # noqa: E402
 
 def _state(scene):
     ids = {name: sorted(b.name for b in getattr(bpy.data, name)) for name in ("objects", "worlds", "lights", "materials")}
@@ -75,11 +81,11 @@ def test_side_lit_room_through_a_pane_reads_the_same_in_radiance(clean_blender, 
 
     points = np.loadtxt(out / "work_plane.pts")[:, :3]
     assert np.allclose(points, [(1.0, 1.5, 0.85), (2.0, 1.5, 0.85), (3.0, 1.5, 0.85)])
-    ref, ref_rel = rtrace_lux(str(out), "sky_overcast.rad", "work_plane.pts", 300_000)
+    ref, ref_rel = cached_rtrace_lux(str(out), "sky_overcast.rad", "work_plane.pts", 300_000)
     df = api.daylight_factor(points, quality="standard", seed=7, ground_reflectance=0.2)
     for k, r in enumerate(df):
         _agree(f"DF at {points[k]}", r.daylight_factor, r.rel_std_error, ref[k] / 100.0, ref_rel[k])
-    ref, ref_rel = rtrace_lux(str(out), "sky.rad", "work_plane.pts", 300_000)
+    ref, ref_rel = cached_rtrace_lux(str(out), "sky.rad", "work_plane.pts", 300_000)
     e = api.measure_illuminance(points, quality="standard", seed=7)
     for k, r in enumerate(e):
         _agree(f"E under CIE sky 12 at {points[k]}", r.illuminance, r.rel_std_error, ref[k], ref_rel[k])
@@ -134,11 +140,11 @@ def test_daylit_demo_room_reads_the_same_in_radiance(clean_blender, tmp_path):
     pts = np.loadtxt(out / "meters.pts")
     assert np.allclose(pts[:, :3], [daylight.METERS[n][0] for n in names], atol=1e-6)
 
-    ref, ref_rel = rtrace_lux(str(out), "sky.rad", "meters.pts", 100_000)
+    ref, ref_rel = cached_rtrace_lux(str(out), "sky.rad", "meters.pts", 100_000)
     readings = api.measure_illuminance(pts[:, :3], pts[:, 3:], quality="standard", seed=11)
     for name, r, e_ref, rel in zip(names, readings, ref, ref_rel):
         _agree(f"sun, {name}", r.illuminance, r.rel_std_error, e_ref, rel)
-    ref, ref_rel = rtrace_lux(str(out), "sky_overcast.rad", "meters.pts", 300_000)
+    ref, ref_rel = cached_rtrace_lux(str(out), "sky_overcast.rad", "meters.pts", 300_000)
     df = api.daylight_factor(pts[:, :3], pts[:, 3:], quality="standard", seed=11, ground_reflectance=0.2)
     for name, r, e_ref, rel in zip(names, df, ref, ref_rel):
         _agree(f"DF, {name}", r.daylight_factor, r.rel_std_error, e_ref / 100.0, rel)
