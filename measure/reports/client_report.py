@@ -38,6 +38,8 @@ from ...readings import format_error, format_quantity, format_value, photographi
 
 #: Samples per pixel per render (cap) of the report's false-colour picture, by the report's quality.
 PICTURE_SPP = {"preview": 16, "standard": 64, "reference": 256}
+#: Pixels on the longer side of the report's false-colour picture (the camera's aspect kept).
+PICTURE_LONGEST_PX = 240
 
 
 def _num(value, rel_se=0.0, exact=False):
@@ -409,8 +411,9 @@ def _wrap(text, width):
     return textwrap.wrap(text, width) or [""]
 
 
-def _picture_size(scene, longest=240):
-    """The camera's aspect at ``longest`` pixels on the longer side."""
+def _picture_size(scene, longest=None):
+    """The camera's aspect at ``longest`` pixels (default PICTURE_LONGEST_PX) on the longer side."""
+    longest = PICTURE_LONGEST_PX if longest is None else longest
     r = scene.render
     w, h = max(r.resolution_x, 1), max(r.resolution_y, 1)
     k = longest / max(w, h)

@@ -12,7 +12,7 @@ import pytest
 from radiometer import api
 from radiometer.demo import daylight
 from radiometer.errors import RadiometerError
-from radiometer.measure.reports import daylight_section
+from radiometer.measure.reports import client_report, daylight_section
 from radiometer.radiometry.metrics import en17037
 
 
@@ -26,6 +26,7 @@ def _daylit_room(tmp_path):
 def test_daylight_section_in_every_report_file(clean_blender, tmp_path, monkeypatch):
     monkeypatch.setattr(daylight_section, "SUN_STEP_MIN", 120)  # a cheap sun study: 12 times on 21 March
     monkeypatch.setattr(daylight_section, "DGP_RESOLUTION", 32)
+    monkeypatch.setattr(client_report, "PICTURE_LONGEST_PX", 32)  # the camera's picture at 32 x 24 px, not 240
     scene, epw = _daylit_room(tmp_path)
     assert not [ob for ob in scene.objects if ob.type == "LIGHT" and ob.data.type != "SUN"]  # no electric light
     out = tmp_path / "report"

@@ -7,7 +7,8 @@ and a 0-byte .report.*.tmp.pdf. Here the report is cancelled at evenly spread po
 report), and once by a MeasurementCancelled raised from the picture itself; after each the folder
 is byte for byte the previous set. Then a finished run replaces the set whole.
 
-One point light over a 'Work Plane' (analytic grid, preview), a 32 x 24 px camera: ~5 s a run.
+One point light over a 'Work Plane' (analytic grid, preview), a 32 x 24 px camera whose report picture is
+rendered at 32 x 24 px too (client_report.PICTURE_LONGEST_PX, 240 by default): ~2 s a run.
 """
 
 import hashlib
@@ -50,6 +51,9 @@ def _report(scene, out, cancelled=None, **kw):
 
 @pytest.mark.slow
 def test_cancel_at_any_point_keeps_the_previous_set(clean_blender, build, tmp_path, monkeypatch):
+    from radiometer.measure.reports import client_report
+
+    monkeypatch.setattr(client_report, "PICTURE_LONGEST_PX", 32)  # the camera's own 32 x 24 px
     scene = _scene(build)
     out = tmp_path / "report"
     polls = []
