@@ -108,7 +108,7 @@ def radiance_bin():
 
 
 def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000, ground_reflectance=0.2, seed=1,
-                             glass=False):
+                             glass=False, cache=False):
     """DF (%) and its relative standard error per point, from ``rtrace -I`` used as a path tracer:
     -aa 0 (no ambient cache), -ad 1 -as 0 (one hemisphere ray per input line), -ab 32 -lr 64 -lw 1e-9,
     -u+ (uncorrelated sampling), each point repeated ``samples`` times; the mean and its standard
@@ -116,8 +116,9 @@ def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000,
     (1 + 2 Dz) / 3 above the horizon and the ground rho x 7/9 below it (sharp horizon; gensky's
     blended ground glow is NOT used). DF = 100 E / (7 pi / 9), the overcast sky's E_h for Lz = 1.
     ``glass``: the 6 mm pane as a closed box of Radiance ``dielectric`` (n = 1.52, no absorption,
-    outward normals), the same solid as the Blender pane (not Radiance's thin ``glass``). Radiance's answer
-    on the same scene.rad, sky.cal, rays and command comes from the committed cache when it has one
+    outward normals), the same solid as the Blender pane (not Radiance's thin ``glass``). ``cache`` (the
+    tests; never the benches, which time rtrace and want fresh draws): Radiance's answer on the same
+    scene.rad, sky.cal, rays and command comes from the committed cache when it has one
     (tests/bpy/radiance_run.py; RADIOMETER_RADIANCE_RERUN=1 runs rtrace every time)."""
     bindir, libdir = radiance_bin()
     env = dict(os.environ, PATH=bindir + os.pathsep + os.environ.get("PATH", ""),
@@ -149,12 +150,18 @@ def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000,
         y = np.array(out.stdout.split(), float).reshape(len(points), samples, 3)[..., 1]  # equal RGB: channel G
         return {"mean": y.mean(axis=1).tolist(), "std": y.std(axis=1, ddof=1).tolist()}
 
+    if not cache:
+        return _df(run(), samples)
     # Radiance's answer on these same files and rays is cached (tests/bpy/radiance_run.py: cached_radiance)
     inputs = {name: open(os.path.join(folder, name), "rb").read() for name in ("scene.rad", "sky.cal")}
     params = {"function": "radiance_daylight_factor", "oconv": ["oconv", "scene.rad"], "rtrace": command,
               "sensors": sensors, "samples": samples}
-    result = _radiance_run().cached_radiance("tests/bpy/daylight_room.py radiance_daylight_factor", env, inputs,
-                                             params, run)
+    return _df(_radiance_run().cached_radiance("tests/bpy/daylight_room.py radiance_daylight_factor", env, inputs,
+                                               params, run), samples)
+
+
+def _df(result, samples):
+    """DF (%) and its relative standard error from rtrace's mean and standard deviation per point."""
     mean, std = np.array(result["mean"], float), np.array(result["std"], float)
     return 100.0 * mean / (7 * np.pi / 9), std / np.sqrt(samples) / mean
 
