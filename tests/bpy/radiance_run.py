@@ -32,6 +32,7 @@ import json
 import os
 import pathlib
 import subprocess
+import time
 
 import numpy as np
 
@@ -66,13 +67,22 @@ def rtrace_means(folder, sky, points_file, samples, runs=RUNS):
     per_run = max(1, samples // runs)
     rays = "".join((line + "\n") * per_run for line in lines)
     means = []
+    started = None
     for _ in range(runs):
+        # rtrace -u+ seeds its random numbers from the clock's second (measured: two processes started in
+        # one second returned identical numbers), so each process starts in a new second.
+        while started is not None and int(time.time()) == started:
+            time.sleep(0.05)
+        started = int(time.time())
         out = subprocess.run(RTRACE + ["second_opinion.oct"], cwd=folder, env=env, input=rays, capture_output=True,
                              text=True, check=True)
         rgb = np.array(out.stdout.split(), float).reshape(len(lines), per_run, 3)
         means.append((179.0 * rgb @ np.array([0.265, 0.670, 0.065])).mean(axis=1))
     os.unlink(os.path.join(folder, "second_opinion.oct"))
-    return np.array(means)  # (runs, N)
+    means = np.array(means)  # (runs, N)
+    if len({row.tobytes() for row in means}) < len(means):
+        raise AssertionError("two rtrace processes returned the same numbers: their seeds were not independent")
+    return means
 
 
 def _mean_and_rel(means, runs):
