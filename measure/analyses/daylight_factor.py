@@ -203,10 +203,17 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
     model = meter.capture_model(scene, view_layer_of(scene))  # the overcast sky as the meter knows it
     scale = scene.unit_settings.scale_length
     sensors, _eps = meter.sensor_points(points, dirs, scale, model)
+    from ...quality import preset
+
+    target = measure.get("target_rel_error") or preset(measure.get("quality", "standard"))["target"]
     scs = sky_component.sky_components(scene, sensors * scale, dirs, ground_reflectance=rho,
-                                       horizontal_lux=SKY_HORIZONTAL_LUX, model=model)
+                                       horizontal_lux=SKY_HORIZONTAL_LUX, model=model, target_rel_error=target)
     proven = np.array([c.sky_lux is not None for c in scs])
-    full = np.array([c.sky_lux is not None and c.ground_lux is not None for c in scs])
+    # A pane's bound must leave room for the target: where it is over half the target (of the proven part,
+    # a lower bound on the reading) the point is rendered whole through the emitters instead (measured
+    # behind a 6 mm pane the size of its opening: the rim where rays cross the pane's edge took up to 1.7 %).
+    full = np.array([c.sky_lux is not None and c.ground_lux is not None
+                     and c.bound_lux <= 0.5 * target * (c.sky_lux + c.ground_lux) for c in scs])
     openings = sky_component.openings_to_world(model)
     emitting = np.array([c.inside for c in scs]) if openings.loops else np.zeros(len(points), bool)
     under_sky = ~emitting & ~proven  # measured whole under the sky itself, before anything is changed
@@ -239,7 +246,8 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
         linked = np.flatnonzero(emitting & full)
         link_note = ""
         if linked.size:
-            lux = np.array([scs[k].sky_lux + scs[k].ground_lux for k in linked])
+            # the check's meter: the brightest, preferring one that sees an opening without glass
+            lux = np.array([(scs[k].sky_lux + scs[k].ground_lux) * (1.0 if scs[k].glazed else 1e6) for k in linked])
             brightest = linked[int(np.argmax(lux))]
             ok, link_note = sky_component.check_emitter_linking(scene, keys, sensors[brightest], dirs[brightest],
                                                                 model)
@@ -249,18 +257,29 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
         if linked.size:
             lux = np.array([scs[k].sky_lux + scs[k].ground_lux for k in linked])
             grey = np.repeat((lux / efficacy)[:, None], 3, axis=1)  # a white sky and ground: W/m^2 per channel
-            measure_at(linked, lambda k: [
-                f"sky component proven ({scs[k].apertures} convex open opening(s) in a closed opaque shell, nothing "
-                "outside in the way): the CIE sky and the ground seen straight through them in closed form "
-                f"(radiometry/skies/sky_aperture.py), exact; {how}, linked out of the meters, and Cycles rendered "
-                "only the light the room's surfaces reflect, sampling the openings as lights", link_note],
-                seed=seed, proven=(grey, "sky and ground through the openings (closed form)", keys))
+            bound = np.repeat((np.array([scs[k].bound_lux for k in linked]) / efficacy)[:, None], 3, axis=1)
+
+            def linked_note(k):
+                c = scs[k]
+                through = (f"{c.apertures} convex opening(s) in a closed opaque shell, nothing outside in the way"
+                           + (f"; {c.glazed} seen through a colour-neutral thin pane, its T(theta) integrated with a "
+                              f"hard bound of {c.bound_lux:.3g} lx (sky_aperture.pane_bounded_illuminance)"
+                              if c.glazed else ""))
+                return [f"sky component proven ({through}): the CIE sky and the ground seen straight through them "
+                        "in closed form (radiometry/skies/sky_aperture.py)" + (", bounded" if c.glazed else ", exact")
+                        + f"; {how}, linked out of the meters, and Cycles rendered only the light the room's "
+                        "surfaces reflect, sampling the openings as lights", link_note]
+
+            measure_at(linked, linked_note, seed=seed,
+                       proven=(grey, "sky and ground through the openings (closed form)", keys, bound))
             for k in linked:
                 sky[k], grd[k] = float(scs[k].sky_lux), float(scs[k].ground_lux)
         measure_at(whole, lambda k: [
             f"{how}; Cycles rendered all the light here, sampling the openings as lights (the sky and ground seen "
-            "straight are not proven here: " + (scs[k].reason or "the meters could not be linked out of the "
-                                                "emitters: " + link_note) + ")"], seed=seed + 2)
+            "straight are not proven here: " + (scs[k].reason or (
+                f"the bound on the light through a pane ({scs[k].bound_lux:.3g} lx) exceeds half the target"
+                if scs[k].bound_lux > 0.5 * target * ((scs[k].sky_lux or 0.0) + (scs[k].ground_lux or 0.0))
+                else "the meters could not be linked out of the emitters: " + link_note)) + ")"], seed=seed + 2)
         return out, sky, grd
     take = np.flatnonzero(proven)
     if not take.size:

@@ -718,6 +718,8 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                 bound_rgb[missing] += np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
     if proven is not None:
         offset_rgb += np.asarray(proven[0], float)
+        if len(proven) > 3:  # the proven part's own hard bound (e.g. a pane's T(theta) by subdivision)
+            bound_rgb += np.abs(np.asarray(proven[3], float))
     caustic = caustic_risk(model, direct, split, sensors_m)
     if caustic.any():
         per_light, _b, _i = analytic_irradiance(model, direct, sensors_m, normals)
@@ -877,12 +879,13 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     ``target_abs_lux``); a meter stops where its error is below it or below the relative target.
     ``stop_dark``: a meter whose pilot finds no light stops there and states the rule-of-three bound
     (see ``radiometer.api.measure_illuminance``).
-    ``proven``: (rgb (N, 3) W/m^2 SI, name[, object identities]): a part of the light at every meter that
-    the caller proved in closed form and keeps out of what Cycles renders (issue 31: the daylight factor's
-    sky component, the world's direct emission gated off, or the openings' emitters: their identities,
-    session uid and library, are linked out of every sensor); it is added to the rendered rest, the
-    relative target counts it, and every meter is rendered (the meter's own closed forms would count
-    that part again).
+    ``proven``: (rgb (N, 3) W/m^2 SI, name[, object identities[, bound rgb (N, 3) W/m^2]]): a part of the
+    light at every meter that the caller proved in closed form (or bounded: its hard bound, counted in the
+    error as the meter's other bounds) and keeps out of what Cycles renders (issue 31: the daylight
+    factor's sky component, the world's direct emission gated off, or the openings' emitters: their
+    identities, session uid and library, are linked out of every sensor); it is added to the rendered
+    rest, the relative target counts it, and every meter is rendered (the meter's own closed forms would
+    count that part again).
     ``parts``: names from ``PARTS`` ("total": all the light, "direct": light straight from the sources, as
     ``direct_only``); returns {part: readings} from one capture and one visibility proof
     (:func:`measure_parts`); ``target_rel_error`` may then be a dict by part. ``proofs``: the points'
@@ -928,7 +931,9 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     closed = np.asarray(decision["closed_points"], bool)
     if proven is not None:
         closed = np.zeros(n, bool)
-        proven = (np.broadcast_to(np.asarray(proven[0], float), (n, 3)), str(proven[1])) + tuple(proven[2:3])
+        proven = ((np.broadcast_to(np.asarray(proven[0], float), (n, 3)), str(proven[1]))
+                  + (frozenset(proven[2]) if len(proven) > 2 else frozenset(),)
+                  + (np.broadcast_to(np.asarray(proven[3] if len(proven) > 3 else 0.0, float), (n, 3)),))
     mean_rgb, bound_rgb = np.zeros((n, 3)), np.zeros((n, 3))
     se_rgb, scalar_se, spent = np.zeros((n, 3)), np.zeros(n), np.zeros(n)
     upper = np.full(n, np.nan)  # one-sided 95 % bound (W/m^2) of a meter that found no light (issue 31)
@@ -949,7 +954,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                            fixed=fixed, progress=progress, cancelled=cancelled, seed=seed, scale=scale,
                            n_closed=int(closed.sum()), medium=_world_medium(scene, model), pooling=pooling,
                            target_abs=abs_floor, stop_dark=stop_dark,
-                           proven=None if proven is None else (proven[0][rendered],) + tuple(proven[1:]))
+                           proven=None if proven is None else (proven[0][rendered], proven[1], proven[2], proven[3][rendered]))
         mean_rgb[rendered], bound_rgb[rendered] = run["mean_rgb"], run["bound_rgb"]
         se_rgb[rendered], scalar_se[rendered], spent[rendered] = run["se_rgb"], run["se"], run["samples"]
         upper[rendered] = run["upper"]

@@ -59,8 +59,17 @@ def test_refusals_say_why(clean_blender):
     scene.collection.objects.link(bpy.data.objects.new("block", me))
     blocked = _components(scene, [(2.0, 1.5, 0.85)])[0]
     assert blocked.sky_lux is None and "between the point and the sky" in blocked.reason
-    # a pane in the opening: not wired yet, and said so
+    # a colour-neutral pane in the opening: its T(theta) weighs the sky, with a hard bound (issue 31); the
+    # open window's closed form times the pane's T at normal incidence bounds it from above, and times its
+    # T at the steepest incidence the point sees from below (T falls with the angle)
     bpy.data.objects.remove(bpy.data.objects["block"])
+    open_sky = _components(scene, [(2.0, 1.5, 0.85)])[0].sky_lux
     room.add_pane_blender(scene)
     glazed = _components(scene, [(2.0, 1.5, 0.85)])[0]
-    assert glazed.sky_lux is None and "pane" in glazed.reason and glazed.apertures == 1
+    from radiometer.radiometry.scene import thin_glass
+
+    x0, x1, z0, z1 = room.WINDOW
+    steepest = min(abs(1.5) / np.linalg.norm(np.array([x, 1.5, z - 0.85])) for x in (x0, x1) for z in (z0, z1))
+    t_lo, t_hi = (float(thin_glass.slab(c, room.IOR, room.PANE)[0][..., 1]) for c in (steepest, 1.0))
+    assert glazed.glazed == 1 and glazed.apertures == 1 and 0 < glazed.bound_lux < 0.01 * glazed.sky_lux
+    assert t_lo * open_sky - glazed.bound_lux <= glazed.sky_lux <= t_hi * open_sky + glazed.bound_lux
