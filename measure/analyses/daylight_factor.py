@@ -366,7 +366,10 @@ def plane_statistics(df, *, target_percent=None, median_external_illuminance_lux
 class DaylightFactorGrid:
     """``daylight_factor`` (ny, nx) %, ``rel_std_error`` (ny, nx), ``points`` (ny, nx, 3), ``stats``
     (``plane_statistics``), ``target``, ``normal``, ``method``, ``exact``, ``notes``; ``sky_component``
-    (ny, nx) % proven in closed form, NaN where not proven (None: not sought)."""
+    (ny, nx) % proven in closed form, NaN where not proven (None: not sought); the BRE split-flux parts
+    ``externally_reflected_component`` (the ground seen straight, closed form) and
+    ``internally_reflected_component`` (the rendered rest) (ny, nx) %, NaN where the openings were not
+    made emitters or the point was not proven (None: not sought)."""
 
     target: str
     nx: int
@@ -380,19 +383,32 @@ class DaylightFactorGrid:
     exact: bool
     notes: list
     sky_component: object = None
+    externally_reflected_component: object = None
+    internally_reflected_component: object = None
+
+    _PARTS = ("sky_component", "externally_reflected_component", "internally_reflected_component")
 
     def to_dict(self):
         d = dataclasses.asdict(self)
         for k in ("daylight_factor", "rel_std_error", "points"):
             d[k] = np.asarray(d[k]).tolist()
-        if self.sky_component is not None:  # JSON has no NaN: null where not proven
-            d["sky_component"] = [[None if math.isnan(v) else float(v) for v in row] for row in self.sky_component]
+        for k in self._PARTS:  # JSON has no NaN: null where not proven
+            if getattr(self, k) is not None:
+                d[k] = [[None if math.isnan(v) else float(v) for v in row] for row in getattr(self, k)]
         return d
 
     def csv_text(self):
-        lines = ["x,y,z,daylight_factor_percent,rel_std_error"]
-        for p, v, e in zip(self.points.reshape(-1, 3), self.daylight_factor.ravel(), self.rel_std_error.ravel()):
-            lines.append(f"{p[0]:.6g},{p[1]:.6g},{p[2]:.6g},{v:.6g},{e:.4g}")
+        """One row per point: x, y, z (scene units), DF (%), its relative error, and where sought the SC,
+        ERC and IRC (%; empty where not proven)."""
+        parts = [k for k in self._PARTS if getattr(self, k) is not None]
+        head = {"sky_component": "sky_component_percent", "externally_reflected_component": "erc_percent",
+                "internally_reflected_component": "irc_percent"}
+        lines = [",".join(["x,y,z,daylight_factor_percent,rel_std_error"] + [head[k] for k in parts])]
+        columns = [np.asarray(getattr(self, k), float).ravel() for k in parts]
+        for i, (p, v, e) in enumerate(zip(self.points.reshape(-1, 3), self.daylight_factor.ravel(),
+                                          self.rel_std_error.ravel())):
+            extra = ["" if math.isnan(c[i]) else f"{c[i]:.6g}" for c in columns]
+            lines.append(",".join([f"{p[0]:.6g},{p[1]:.6g},{p[2]:.6g},{v:.6g},{e:.4g}"] + extra))
         return "\n".join(lines) + "\n"
 
 
@@ -438,6 +454,10 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
         if obj.hide_render:
             notes.append("the plane is hidden in renders: an imaginary work plane that neither blocks nor reflects")
         sc = np.array([np.nan if r.sky_component is None else r.sky_component for r in readings], float)
+        erc = np.array([np.nan if r.externally_reflected_component is None else r.externally_reflected_component
+                        for r in readings], float)
+        irc = np.array([np.nan if r.internally_reflected_component is None else r.internally_reflected_component
+                        for r in readings], float)
         if method == "auto":
             proven = int(np.sum(~np.isnan(sc)))
             notes.append(f"sky component proven in closed form at {proven} of {nx * ny} points (the rest of the "
@@ -450,7 +470,8 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
         methods = sorted({r.method for r in readings})
         return DaylightFactorGrid(obj.name, nx, ny, df, se, points, tuple(float(v) for v in normal), stats,
                                   "/".join(methods), all(r.exact for r in readings), notes,
-                                  sc.reshape(ny, nx) if method == "auto" else None)
+                                  *((sc.reshape(ny, nx), erc.reshape(ny, nx), irc.reshape(ny, nx)) if method == "auto"
+                                    else (None, None, None)))
     with scene_guard.preserved_scene(scene) as snapshot:
         notes = overcast_only(scene, snapshot, rho)
         result = grid.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,

@@ -119,6 +119,12 @@ def test_grid_reports_the_sky_component(clean_blender, build):
     assert any("proven in closed form at 6 of 6 points" in n for n in g.notes)
     d = g.to_dict()
     assert np.array(d["sky_component"]).shape == (2, 3)
+    # the openings as emitters: the BRE parts add up to the DF at every point (ERC: ground seen straight)
+    assert np.allclose(g.sky_component + g.externally_reflected_component + g.internally_reflected_component,
+                       g.daylight_factor, rtol=1e-12) and np.all(g.internally_reflected_component > 0)
+    rows = g.csv_text().splitlines()
+    assert rows[0].endswith("sky_component_percent,erc_percent,irc_percent") and len(rows) == 7
+    assert float(rows[1].split(",")[-1]) == pytest.approx(g.internally_reflected_component.ravel()[0], rel=1e-5)
 
 
 def test_a_gate_that_fails_its_check_is_not_used(clean_blender, monkeypatch):
