@@ -310,23 +310,34 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
 
 def _camera_readings(scene, points, dirs, quality, seed, progress, cancelled):
     """Illuminance at the points through the meter camera (``measure.analyses.daylight_coefficients``: cosine-
-    weighted rays from each point, no sensor bake) under the world as it is; plain reading objects."""
-    import types
+    weighted rays from each point, no sensor bake) under the world as it is: one ``IlluminanceReading``
+    per point, as the meter's (issue 30: one reading type per quantity)."""
+    import time
 
     from . import daylight_coefficients
     from ..meter import point_meter as meter
+    from ...readings import IlluminanceReading
 
-    _space, weights, efficacy = meter.scene_photometry(scene)
+    started = time.perf_counter()
+    space, weights, efficacy = meter.scene_photometry(scene)
     e_rgb, cov, record = daylight_coefficients.render_irradiance(points, dirs, scene=scene, quality=quality,
                                                                  seed=seed, progress=progress, cancelled=cancelled)
     scale2 = scene.unit_settings.scale_length ** 2  # Cycles renders W per scene-unit^2
-    e = efficacy * (e_rgb @ weights) / scale2
-    sd = efficacy * np.sqrt(np.maximum(np.einsum("c,ncd,d->n", weights, cov, weights), 0.0)) / scale2
+    e_rgb = e_rgb / scale2
+    e = e_rgb @ weights
+    sd = np.sqrt(np.maximum(np.einsum("c,ncd,d->n", weights, cov, weights), 0.0)) / scale2
     sd = np.hypot(sd, meter.FLOAT32_FLOOR * np.abs(e))  # a rendered value: never below float32 rounding (issue 32)
+    sd_rgb = np.sqrt(np.maximum(np.einsum("ncc->nc", cov), 0.0)) / scale2
     note = (f"meter camera: {record['rays_per_meter']} cosine-weighted rays per point from the point itself "
             f"(8 rounds; stratified per-pixel error), {record.get('engine', 'Cycles')}")
-    return [types.SimpleNamespace(illuminance=float(v), rel_std_error=float(s / v) if v > 0 else math.inf,
-                                  exact=False, method="camera", notes=[note]) for v, s in zip(e, sd)]
+    seconds = (time.perf_counter() - started) / max(len(points), 1)
+    return [IlluminanceReading(irradiance_rgb=tuple(float(v) for v in rgb), irradiance=float(v),
+                               illuminance=float(efficacy * v), rel_std_error=float(s / v) if v > 0 else math.inf,
+                               method="camera", samples=int(record["rays_per_meter"]), seconds=seconds,
+                               efficacy=efficacy, colour_space=space, location=tuple(float(c) for c in p),
+                               normal=tuple(float(c) for c in n), exact=False,
+                               std_error_rgb=tuple(float(c) for c in srgb), notes=[note])
+            for rgb, v, s, srgb, p, n in zip(e_rgb, e, sd, sd_rgb, points, dirs)]
 
 
 # --- the grid form ---------------------------------------------------------------------------------
