@@ -5,8 +5,9 @@ triangles in metres), finds its apertures (``radiometry.sky_aperture.find_apertu
 planar groups of triangles) and states the direct light of the CIE overcast sky through them, exact,
 only when all of these are proven:
 
-1. every aperture is convex and open (no pane or other surface in it: a pane's T(theta) weighting
-   exists in ``sky_aperture.pane_bounded_illuminance`` but is not wired here yet);
+1. every aperture is convex, and open or glazed with one recognised colour-neutral thin pane (then its
+   T(theta) weighs the directions entering the pane's near face, ``_pane_in_opening``, with a hard
+   bound from ``sky_aperture.pane_bounded_illuminance``: ``bound_lux``);
 2. the opaque, shadow-casting triangles connected to the apertures (found among those triangles
    only, so that a pane does not close its opening) form a surface closed apart from them
    (``enclosure_closed``), the point is inside it (``inside_enclosure``), and the scene has no geometry
