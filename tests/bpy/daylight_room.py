@@ -26,6 +26,21 @@ def quads(W=W, D=D, H=H, WINDOW=WINDOW):  # noqa: N803 - the module's names for 
             ("walls", [(x0, 0, z1), (x1, 0, z1), (x1, 0, H), (x0, 0, H)])]
 
 
+def skylight_quads(W=4.0, D=4.0, H=3.0, SKYLIGHT=(1.5, 2.5, 1.5, 2.5)):  # noqa: N803 - as quads()
+    """A closed W x D x H room (no window) with a convex opening x0..x1, y0..y1 (m) in its ceiling: the
+    ceiling as 4 quads around the hole, thin like ``quads()``; inward normals."""
+    x0, x1, y0, y1 = SKYLIGHT
+    return [("floor", [(0, 0, 0), (W, 0, 0), (W, D, 0), (0, D, 0)]),
+            ("ceiling", [(0, 0, H), (0, y0, H), (W, y0, H), (W, 0, H)]),
+            ("ceiling", [(0, y1, H), (0, D, H), (W, D, H), (W, y1, H)]),
+            ("ceiling", [(0, y0, H), (0, y1, H), (x0, y1, H), (x0, y0, H)]),
+            ("ceiling", [(x1, y0, H), (x1, y1, H), (W, y1, H), (W, y0, H)]),
+            ("walls", [(0, 0, 0), (0, 0, H), (W, 0, H), (W, 0, 0)]),
+            ("walls", [(0, D, 0), (W, D, 0), (W, D, H), (0, D, H)]),
+            ("walls", [(0, 0, 0), (0, D, 0), (0, D, H), (0, 0, H)]),
+            ("walls", [(W, 0, 0), (W, 0, H), (W, D, H), (W, D, 0)])]
+
+
 PANE = 0.006  # m: a 6 mm clear pane filling the opening, outside the wall plane (y from -PANE to 0)
 IOR = 1.52
 
@@ -108,7 +123,7 @@ def radiance_bin():
 
 
 def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000, ground_reflectance=0.2, seed=1,
-                             glass=False, cache=False):
+                             glass=False, cache=False, room_quads=None):
     """DF (%) and its relative standard error per point, from ``rtrace -I`` used as a path tracer:
     -aa 0 (no ambient cache), -ad 1 -as 0 (one hemisphere ray per input line), -ab 32 -lr 64 -lw 1e-9,
     -u+ (uncorrelated sampling), each point repeated ``samples`` times; the mean and its standard
@@ -116,8 +131,14 @@ def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000,
     (1 + 2 Dz) / 3 above the horizon and the ground rho x 7/9 below it (sharp horizon; gensky's
     blended ground glow is NOT used). DF = 100 E / (7 pi / 9), the overcast sky's E_h for Lz = 1.
     ``glass``: the 6 mm pane as a closed box of Radiance ``dielectric`` (n = 1.52, no absorption,
-    outward normals), the same solid as the Blender pane (not Radiance's thin ``glass``). ``cache`` (the
-    tests; never the benches, which time rtrace and want fresh draws): Radiance's answer on the same
+    outward normals), the same solid as the Blender pane (not Radiance's thin ``glass``). NOTE: Radiance's
+    dielectric averages the Fresnel reflectance over s and p at each interface (src/rt/dielectric.c), so its
+    slab passes less at oblique incidence than a slab whose polarisations are followed apart (1.3 % less
+    sky at (2, 0.4, 0.85); bench/coverage_daylight_emitters.md). ``glass="thin"``: Radiance's thin ``glass``
+    instead (one polygon in the pane's mid-plane, transmissivity 1, n = 1.52: s and p summed separately
+    over the internal reflections, no lateral shift; the thin-pane model Radiometer measures with).
+    ``room_quads``: the room's named quads (default ``quads()``), as ``build_blender`` takes them. ``cache``
+    (the tests; never the benches, which time rtrace and want fresh draws): Radiance's answer on the same
     scene.rad, sky.cal, rays and command comes from the committed cache when it has one
     (tests/bpy/radiance_run.py; RADIOMETER_RADIANCE_RERUN=1 runs rtrace every time)."""
     bindir, libdir = radiance_bin()
@@ -129,9 +150,15 @@ def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000,
              "skyglow source sky\n0\n0\n4 0 0 1 360\n"]
     for name, r in RHO.items():
         lines.append(f"void plastic {name}\n0\n0\n5 {r} {r} {r} 0 0\n")
-    for k, (name, q) in enumerate(quads()):
+    for k, (name, q) in enumerate(room_quads if room_quads is not None else quads()):
         lines.append(f"{name} polygon p{k}\n0\n0\n12 " + " ".join(f"{c:g}" for v in q for c in v) + "\n")
-    if glass:
+    if glass == "thin":
+        x0, x1, z0, z1 = WINDOW
+        y = -PANE / 2
+        lines.append(f"void glass pane_glass\n0\n0\n4 1 1 1 {IOR}\n")
+        q = [(x0, y, z0), (x1, y, z0), (x1, y, z1), (x0, y, z1)]
+        lines.append("pane_glass polygon g0\n0\n0\n12 " + " ".join(f"{c:g}" for v in q for c in v) + "\n")
+    elif glass:
         lines.append(f"void dielectric pane_glass\n0\n0\n5 1 1 1 {IOR} 0\n")
         for k, q in enumerate(pane_quads()):
             lines.append(f"pane_glass polygon g{k}\n0\n0\n12 " + " ".join(f"{c:g}" for v in q for c in v) + "\n")
