@@ -34,9 +34,12 @@ def sky_cal(sky_type, sun_direction, zenith_radiance, ground_radiance):
             f"rm_Lz = {lz:.12g};\nrm_Lg = {lg:.12g};\n")
     if t == "overcast":
         return head + "rm_skybr = if(Dz, rm_Lz*(1 + 2*Dz)/3, rm_Lg);\n"
-    a, b, c, d, e = cie_sky.parameters(t)
-    sun = np.asarray(cie_sky.sun_for_sky(t, sun_direction), float)
-    zeta = float(cie_sky.zenith_shape(t, sun))
+    # Python floats' repr (the shortest that round-trips), never numpy's: a numpy scalar's repr follows the
+    # process's print options, which a library can change (measured: 17 digits in one test run, 16 in
+    # another), and the file must be the same bytes for the same sky.
+    a, b, c, d, e = (float(v) for v in cie_sky.parameters(t))
+    sun = [float(v) for v in np.asarray(cie_sky.sun_for_sky(t, sun_direction), float)]
+    zeta = float(cie_sky.zenith_shape(t, np.asarray(sun)))
     return head + (
         f"rm_a = {a!r}; rm_b = {b!r}; rm_c = {c!r}; rm_d = {d!r}; rm_e = {e!r};\n"
         f"rm_sx = {sun[0]!r}; rm_sy = {sun[1]!r}; rm_sz = {sun[2]!r};\n"
