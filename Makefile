@@ -23,7 +23,7 @@ demo: setup
 	$(PY) -m radiometer demo --daylight --out out
 
 test: setup
-	$(PY) -m pytest -q -n 2 tests
+	$(PY) -m pytest -q -n 2 --dist loadfile tests
 
 # Blender-free: bpy is shadowed (tests/blender_free/bpy refuses to import, in this process and in every
 # child), the bpy tier is left out and so are tests marked `subprocess` (they run the Blender-backed CLI).
@@ -48,7 +48,7 @@ $(STAMP_LTS): requirements.txt
 	touch $(STAMP_LTS)
 
 test-lts: $(STAMP_LTS)
-	$(PY_LTS) -m pytest -q -n 2 tests/bpy
+	$(PY_LTS) -m pytest -q -n 2 --dist loadfile tests/bpy
 
 validate: setup
 	$(PY) -m radiometer.tools.extension validate
