@@ -138,7 +138,7 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
             whole = clear(False) if gr[0] > 0.0 and ground is not None else None
             if s[0] > 0.0 and not whole and not clear(True):
                 if clear(True, wall | see_through):
-                    pane = _pane_in_opening(model, p, poly, tol, reach, clear, wall, sky_only=gr[0] <= 0.0)
+                    pane = _pane_in_opening(model, p, poly, tol, clear, wall, sky_only=gr[0] <= 0.0)
                     if isinstance(pane, str):
                         sky, why = None, pane
                         break
@@ -200,15 +200,14 @@ def _pane_core(geom, point, poly, margin):
     ahead = (np.asarray(poly, float) - p) @ geom.normal
     if not np.all(np.sign(ahead) == np.sign(near - float(p @ geom.normal))) or near == float(p @ geom.normal):
         return None  # the pane's near face is not between the point and the opening's far side
-    for h in (near,):
-        base = geom.origin + (h - float(geom.origin @ geom.normal)) * geom.normal
-        face = base + hull[:, :1] * geom.u + hull[:, 1:] * geom.v - p
-        centre = face.mean(axis=0)
-        for j in range(len(face)):
-            nrm = np.cross(face[j], face[(j + 1) % len(face)])
-            core = sky_aperture.clip_polygon(core, nrm, 1.0 if nrm @ centre >= 0.0 else -1.0)
-            if len(core) < 3:
-                return None
+    base = geom.origin + (near - float(geom.origin @ geom.normal)) * geom.normal
+    face = base + hull[:, :1] * geom.u + hull[:, 1:] * geom.v - p
+    centre = face.mean(axis=0)
+    for j in range(len(face)):
+        nrm = np.cross(face[j], face[(j + 1) % len(face)])
+        core = sky_aperture.clip_polygon(core, nrm, 1.0 if nrm @ centre >= 0.0 else -1.0)
+        if len(core) < 3:
+            return None
     return core + p
 
 
@@ -219,7 +218,7 @@ def _pane_core(geom, point, poly, margin):
 PANE_TOL_SHARE = 0.25
 
 
-def _pane_in_opening(model, point, poly, tol, reach, clear, wall, sky_only):
+def _pane_in_opening(model, point, poly, tol, clear, wall, sky_only):
     """The :class:`_Glazing` of an opening whose view from ``point`` is clear but for one recognised,
     colour-neutral thin pane whose near face the directions through it enter (``_pane_core``), or the
     reason (str) why not."""
@@ -317,10 +316,7 @@ def openings_to_world(model):
     outward, depth = [], []
     for k, poly in enumerate(loops):
         centre = poly.mean(axis=0)
-        normal = np.zeros(3)
-        for j in range(1, len(poly) - 1):  # the convex loop's vector area: a robust normal
-            normal = normal + np.cross(poly[j] - poly[0], poly[j + 1] - poly[0])
-        normal = normal / np.linalg.norm(normal)
+        normal, _offset = sky_aperture.polygon_plane(poly)  # Newell's normal of the loop
         if np.max((shell_vertices - centre) @ normal) > tol:
             normal = -normal
         if np.max((shell_vertices - centre) @ normal) > tol:
