@@ -212,8 +212,8 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
     # A pane's bound must leave room for the target: where it is over half the target (of the proven part,
     # a lower bound on the reading) the point is rendered whole through the emitters instead (measured
     # behind a 6 mm pane the size of its opening: the rim where rays cross the pane's edge took up to 1.7 %).
-    full = np.array([c.sky_lux is not None and c.ground_lux is not None
-                     and c.bound_lux <= 0.5 * target * (c.sky_lux + c.ground_lux) for c in scs])
+    wide = np.array([c.bound_lux > 0.5 * target * ((c.sky_lux or 0.0) + (c.ground_lux or 0.0)) for c in scs])
+    full = np.array([c.sky_lux is not None and c.ground_lux is not None for c in scs]) & ~wide
     openings = sky_component.openings_to_world(model)
     emitting = np.array([c.inside for c in scs]) if openings.loops else np.zeros(len(points), bool)
     under_sky = ~emitting & ~proven  # measured whole under the sky itself, before anything is changed
@@ -278,8 +278,8 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
             f"{how}; Cycles rendered all the light here, sampling the openings as lights (the sky and ground seen "
             "straight are not proven here: " + (scs[k].reason or (
                 f"the bound on the light through a pane ({scs[k].bound_lux:.3g} lx) exceeds half the target"
-                if scs[k].bound_lux > 0.5 * target * ((scs[k].sky_lux or 0.0) + (scs[k].ground_lux or 0.0))
-                else "the meters could not be linked out of the emitters: " + link_note)) + ")"], seed=seed + 2)
+                if wide[k] else "the meters could not be linked out of the emitters: " + link_note)) + ")"],
+                   seed=seed + 2)
         return out, sky, grd
     take = np.flatnonzero(proven)
     if not take.size:
@@ -464,11 +464,8 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
         notes = [f"{nx} x {ny} points at cell centres on the plane, measured {where}"]
         if obj.hide_render:
             notes.append("the plane is hidden in renders: an imaginary work plane that neither blocks nor reflects")
-        sc = np.array([np.nan if r.sky_component is None else r.sky_component for r in readings], float)
-        erc = np.array([np.nan if r.externally_reflected_component is None else r.externally_reflected_component
-                        for r in readings], float)
-        irc = np.array([np.nan if r.internally_reflected_component is None else r.internally_reflected_component
-                        for r in readings], float)
+        sc, erc, irc = (np.array([np.nan if getattr(r, part) is None else getattr(r, part) for r in readings], float)
+                        for part in DaylightFactorGrid._PARTS)
         if method == "auto":
             proven = int(np.sum(~np.isnan(sc)))
             notes.append(f"sky component proven in closed form at {proven} of {nx * ny} points (the rest of the "
