@@ -271,7 +271,7 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
                         "surfaces reflect, sampling the openings as lights", link_note]
 
             measure_at(linked, linked_note, seed=seed,
-                       proven=(grey, "sky and ground through the openings (closed form)", keys, bound))
+                       proven=meter.ProvenPart(grey, "sky and ground through the openings (closed form)", keys, bound))
             for k in linked:
                 sky[k], grd[k] = float(scs[k].sky_lux), float(scs[k].ground_lux)
         measure_at(whole, lambda k: [
@@ -302,7 +302,7 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
         "in the way): the CIE overcast sky through them in closed form (radiometry/skies/sky_aperture.py), exact; "
         "Cycles rendered only the rest (the sky's direct emission gated off by Light Path Ray Depth, the ground seen "
         "through the openings and every reflection kept; the openings were not made emitters: "
-        f"{why_gate})", gate_note], seed=seed, proven=(grey, "sky component (closed form)"))
+        f"{why_gate})", gate_note], seed=seed, proven=meter.ProvenPart(grey, "sky component (closed form)"))
     for k in take:
         sky[k] = float(scs[k].sky_lux)
     return out, sky, grd

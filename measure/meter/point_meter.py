@@ -665,13 +665,37 @@ def _closed_form_part(model, decision, sensors_m, normals, direct_only):
     return per_light.sum(axis=0) + world_rgb, bounds.sum(axis=0) + world_bound, notes, parts
 
 
+@dataclasses.dataclass
+class ProvenPart:
+    """A part of the light at every meter that the caller proved in closed form (or bounded) and keeps out
+    of what Cycles renders (issue 31: the daylight factor's sky component, the world's direct emission
+    gated off, or the openings' emitters). ``rgb`` (N, 3) W/m^2 SI, ``name`` for the reading's parts,
+    ``linked_out``: identities (session uid, library) of the objects linked out of every sensor (the
+    openings' emitters), ``bound_rgb`` (N, 3) W/m^2: the part's own hard bound (a pane's T(theta) by
+    subdivision), counted in the error as the meter's other bounds."""
+
+    rgb: object
+    name: str
+    linked_out: frozenset = frozenset()
+    bound_rgb: object = 0.0
+
+    def per_meter(self, n):
+        """This part with ``rgb`` and ``bound_rgb`` as (n, 3) arrays."""
+        return dataclasses.replace(self, rgb=np.broadcast_to(np.asarray(self.rgb, float), (n, 3)),
+                                   bound_rgb=np.broadcast_to(np.asarray(self.bound_rgb, float), (n, 3)),
+                                   linked_out=frozenset(self.linked_out))
+
+    def at(self, idx):
+        """This part at the meters ``idx`` (after ``per_meter``)."""
+        return dataclasses.replace(self, rgb=self.rgb[idx], bound_rgb=self.bound_rgb[idx])
+
+
 def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sensors_m, normals, *, preset,
                  method, direct_only, weights, target, budget, fixed, progress, cancelled, seed, scale, n_closed,
                  target_abs=None, medium=None, pooling=False, stop_dark=False, proven=None):
     """Cycles (hybrid or render) at the meters that need it; ``direct`` is the plan cut to them
-    (``_plan_at``), as are the sensors and normals. ``proven``: (rgb (M, 3) W/m^2, name[, object
-    identities linked out of every sensor]) of a part proven by the caller and kept out of the render,
-    added to it and counted in the target.
+    (``_plan_at``), as are the sensors and normals. ``proven``: a :class:`ProvenPart` cut to them, kept
+    out of the render, added to it and counted in the target.
     Returns a dict: mean_rgb, bound_rgb, se_rgb (M, 3), se, samples (M,), method, record, notes
     (common to these meters), parts (per meter)."""
     from ..render import adaptive
@@ -688,7 +712,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
     hybrid = method in ("auto", "hybrid")
     through = through_medium(model, direct, medium) if hybrid else np.zeros(direct.status.shape, bool)
     split = hybrid_split(model, direct, n, also=through) if hybrid else [frozenset()] * n
-    linked_out = frozenset(proven[2]) if proven is not None and len(proven) > 2 else frozenset()
+    linked_out = proven.linked_out if proven is not None else frozenset()
     offset_rgb = np.zeros((n, 3))
     # Light bouncing between the panes of multiple glazing: a stand-in pane renders it (glass.stand_in_stacks);
     # separate thin panes do not, so where any stack stays separate a rendered light's share is a bound.
@@ -717,9 +741,8 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                 missing = ~take & (direct.interpane[i] > 0)
                 bound_rgb[missing] += np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
     if proven is not None:
-        offset_rgb += np.asarray(proven[0], float)
-        if len(proven) > 3:  # the proven part's own hard bound (e.g. a pane's T(theta) by subdivision)
-            bound_rgb += np.abs(np.asarray(proven[3], float))
+        offset_rgb += proven.rgb
+        bound_rgb += np.abs(proven.bound_rgb)  # the proven part's own hard bound (a pane's T(theta))
     caustic = caustic_risk(model, direct, split, sensors_m)
     if caustic.any():
         per_light, _b, _i = analytic_irradiance(model, direct, sensors_m, normals)
@@ -751,7 +774,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                      f"{sample_floors.HIGHLIGHT_HITS} paths expected to find it) before the error is trusted "
                      "(issue 18: 512-sample pilots read a roughness-0.15 floor's highlight 25-29 % low)")
     parts = [{"analytic": [lt.name for lt in model.lights if light_object_key(lt) in split[k]]
-              + ([proven[1]] if proven is not None else []),
+              + ([proven.name] if proven is not None else []),
               "rendered": ["everything else (reflected light, other lights, world, emitting surfaces)"]}
              for k in range(n)]
     run = adaptive.render_hybrid(scene, view_layer, sensors_scene, normals, needs=model.needs,
@@ -879,13 +902,9 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     ``target_abs_lux``); a meter stops where its error is below it or below the relative target.
     ``stop_dark``: a meter whose pilot finds no light stops there and states the rule-of-three bound
     (see ``radiometer.api.measure_illuminance``).
-    ``proven``: (rgb (N, 3) W/m^2 SI, name[, object identities[, bound rgb (N, 3) W/m^2]]): a part of the
-    light at every meter that the caller proved in closed form (or bounded: its hard bound, counted in the
-    error as the meter's other bounds) and keeps out of what Cycles renders (issue 31: the daylight
-    factor's sky component, the world's direct emission gated off, or the openings' emitters: their
-    identities, session uid and library, are linked out of every sensor); it is added to the rendered
-    rest, the relative target counts it, and every meter is rendered (the meter's own closed forms would
-    count that part again).
+    ``proven``: a :class:`ProvenPart` the caller proved (or bounded) and keeps out of what Cycles renders;
+    it is added to the rendered rest, the relative target counts it, and every meter is rendered (the
+    meter's own closed forms would count that part again).
     ``parts``: names from ``PARTS`` ("total": all the light, "direct": light straight from the sources, as
     ``direct_only``); returns {part: readings} from one capture and one visibility proof
     (:func:`measure_parts`); ``target_rel_error`` may then be a dict by part. ``proofs``: the points'
@@ -931,9 +950,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     closed = np.asarray(decision["closed_points"], bool)
     if proven is not None:
         closed = np.zeros(n, bool)
-        proven = ((np.broadcast_to(np.asarray(proven[0], float), (n, 3)), str(proven[1]))
-                  + (frozenset(proven[2]) if len(proven) > 2 else frozenset(),)
-                  + (np.broadcast_to(np.asarray(proven[3] if len(proven) > 3 else 0.0, float), (n, 3)),))
+        proven = proven.per_meter(n)
     mean_rgb, bound_rgb = np.zeros((n, 3)), np.zeros((n, 3))
     se_rgb, scalar_se, spent = np.zeros((n, 3)), np.zeros(n), np.zeros(n)
     upper = np.full(n, np.nan)  # one-sided 95 % bound (W/m^2) of a meter that found no light (issue 31)
@@ -954,7 +971,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
                            fixed=fixed, progress=progress, cancelled=cancelled, seed=seed, scale=scale,
                            n_closed=int(closed.sum()), medium=_world_medium(scene, model), pooling=pooling,
                            target_abs=abs_floor, stop_dark=stop_dark,
-                           proven=None if proven is None else (proven[0][rendered], proven[1], proven[2], proven[3][rendered]))
+                           proven=None if proven is None else proven.at(rendered))
         mean_rgb[rendered], bound_rgb[rendered] = run["mean_rgb"], run["bound_rgb"]
         se_rgb[rendered], scalar_se[rendered], spent[rendered] = run["se_rgb"], run["se"], run["samples"]
         upper[rendered] = run["upper"]
