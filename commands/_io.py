@@ -285,6 +285,12 @@ def _describe(exc):
     return exc.strerror or str(exc)
 
 
+def check_picture_samples(spp):
+    """--max-samples of a picture (samples per pixel per render): None, or 16-1024; one line if not."""
+    if spp is not None and not 16 <= spp <= 1024:
+        raise RadiometerError(f"--max-samples must be 16-1024 samples per pixel, got {spp}")
+
+
 def check_output_file(path, what="output file"):
     """RadiometerError now if ``path`` cannot be written later (missing folder, a directory, a planted
     link, a folder where no file can be created): ``outputs.check_writable``, which tries instead of

@@ -76,8 +76,7 @@ def run(args):
         raise RadiometerError("give --observer X Y Z DX DY DZ (and/or --luminance-image FILE.exr)")
     if args.hdr and (args.index != "dgp" or len(args.observer or []) != 1):
         raise RadiometerError("--hdr needs --index dgp and exactly one --observer")
-    if args.max_samples is not None and not 16 <= args.max_samples <= 1024:
-        raise RadiometerError(f"--max-samples must be 16-1024 samples per pixel, got {args.max_samples}")
+    _io.check_picture_samples(args.max_samples)
     if args.time_budget is not None and not (args.time_budget > 0 and args.time_budget < float("inf")):
         raise RadiometerError(f"--time-budget must be a number of seconds > 0, got {args.time_budget:g}")
     if (args.max_samples is not None or args.time_budget is not None) and not args.luminance_image:

@@ -47,8 +47,7 @@ def run(args):
         raise RadiometerError(f"--resolution must be 1-4096 px a side, got {args.resolution[0]} {args.resolution[1]}")
     if args.range is not None and not (0 <= args.range[0] < args.range[1] and math.isfinite(args.range[1])):
         raise RadiometerError(f"--range needs 0 <= LO < HI (lx), got {args.range[0]:g} {args.range[1]:g}")
-    if not 16 <= args.max_samples <= 1024:
-        raise RadiometerError(f"--max-samples must be 16-1024 samples per pixel, got {args.max_samples}")
+    _io.check_picture_samples(args.max_samples)
     _io.check_output_file(args.exr, "--exr file")
     scene = bpy.context.scene
     if args.camera is not None:

@@ -116,6 +116,14 @@ def _rounds_to_target(scene, render, weights, target, cap, cancelled, progress=N
         spp = nxt
 
 
+def _short_of_target(share, target, spp, stopped):
+    """The note of a picture whose rounds stopped with under 90 % of its lit pixels on the target."""
+    if share >= 0.9:
+        return []
+    return [f"only {100 * share:.0f} % of the lit pixels reached the {100 * target:g} % target at {spp} samples per "
+            f"pixel (stopped by {stopped}); each pixel's error is in rel_std_error"]
+
+
 def render_luminance(*, scene=None, camera=None, resolution=None, quality="standard", target_rel_error=None,
                      progress=None, cancelled=None, max_spp=None, time_budget_s=None):
     """:class:`LuminanceImage` of ``camera`` (an object or its name; default the scene camera).
@@ -152,9 +160,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
     notes = [f"{RENDERS} independent renders of {spp} samples per pixel; error per pixel by batch means",
              f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}",
              "delta lights (radius 0) are invisible to camera rays: they light the scene but are not seen"]
-    if share < 0.9:
-        notes.append(f"only {100 * share:.0f} % of the lit pixels reached the {100 * target:g} % target at "
-                     f"{spp} samples per pixel (stopped by {stopped}); each pixel's error is in rel_std_error")
+    notes += _short_of_target(share, target, spp, stopped)
     return LuminanceImage(luminance=efficacy * mean_y, rel_std_error=rel, radiance_rgb=mean_rgb, camera=cam.name,
                           resolution=(width, height), samples=spp * RENDERS, target_rel_error=target,
                           share_on_target=share, efficacy=efficacy, colour_space=space,
@@ -309,9 +315,7 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
              "0 where nothing diffuse is seen (metal, glass, emitters, the world)",
              f"{RENDERS} independent renders of {spp} samples per pixel; error per pixel by batch means",
              f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"]
-    if share < 0.9:
-        notes.append(f"only {100 * share:.0f} % of the lit pixels reached the {100 * target:g} % target at "
-                     f"{spp} samples per pixel (stopped by {stopped}); each pixel's error is in rel_std_error")
+    notes += _short_of_target(share, target, spp, stopped)
     result = IlluminanceImage(illuminance=efficacy * mean_y, rel_std_error=rel, camera=cam.name,
                               resolution=(width, height), samples=spp * RENDERS, target_rel_error=target,
                               share_on_target=share, efficacy=efficacy, colour_space=space,
