@@ -33,11 +33,20 @@ def _math(tree, op, a=None, b=None, c=None, x=0):
     return node.outputs[0]
 
 
-def sky_radiance(tree, direction, cos_z, sky_type, sun, zenith_radiance, ground_radiance):
-    """Math nodes in ``tree`` giving the sky's radiance for the unit ``direction`` socket (its Z in
-    ``cos_z``): zenith_radiance x L/Lz above the horizon, ground_radiance below. Returns the socket.
-    Shared by the world (``build_sky_tree``) and the openings' emitters (``opening_emitter_material``)
-    so that both evaluate one formula; the world's nodes come out as before (its fingerprint)."""
+def sky_radiance(tree, direction, sky_type, sun, zenith_radiance, ground_radiance):
+    """Nodes in ``tree`` giving the sky's radiance for the ``direction`` socket (any length; normalised
+    here): zenith_radiance x L/Lz above the horizon, ground_radiance below. Returns (the radiance socket,
+    the unit direction socket). Shared by the world (``build_sky_tree``) and the openings' emitters
+    (``opening_emitter_material``) so that both evaluate one formula; the world's nodes come out as
+    before (names, order and links: its fingerprint, measured equal for overcast and types 1, 5, 12, 15)."""
+    norm = tree.nodes.new("ShaderNodeVectorMath")
+    norm.operation = "NORMALIZE"
+    norm.location = (-700, 0)
+    tree.links.new(direction, norm.inputs[0])
+    sep = tree.nodes.new("ShaderNodeSeparateXYZ")
+    sep.location = (-500, 0)
+    tree.links.new(norm.outputs["Vector"], sep.inputs[0])
+    direction, cos_z = norm.outputs["Vector"], sep.outputs["Z"]
     params = cie_sky.parameters(sky_type)
     if params is None:  # traditional overcast: Lz (1 + 2 cos Z) / 3
         sky = _math(tree, "MULTIPLY_ADD", cos_z, 2.0 * zenith_radiance / 3.0, zenith_radiance / 3.0)
@@ -63,7 +72,7 @@ def sky_radiance(tree, direction, cos_z, sky_type, sun, zenith_radiance, ground_
             sky = _math(tree, "MULTIPLY", _math(tree, "MULTIPLY", f, phi), k)
     above = _math(tree, "GREATER_THAN", cos_z, 0.0)
     value = _math(tree, "MULTIPLY_ADD", above, _math(tree, "SUBTRACT", sky, ground_radiance), ground_radiance)
-    return value
+    return value, direction
 
 
 def build_sky_tree(tree, sky_type, sun, zenith_radiance, ground_radiance):
@@ -77,14 +86,7 @@ def build_sky_tree(tree, sky_type, sun, zenith_radiance, ground_radiance):
     tree.links.new(bg.outputs["Background"], out.inputs["Surface"])
     coord = tree.nodes.new("ShaderNodeTexCoord")
     coord.location = (-900, 0)
-    norm = tree.nodes.new("ShaderNodeVectorMath")
-    norm.operation = "NORMALIZE"
-    norm.location = (-700, 0)
-    tree.links.new(coord.outputs["Generated"], norm.inputs[0])
-    sep = tree.nodes.new("ShaderNodeSeparateXYZ")
-    sep.location = (-500, 0)
-    tree.links.new(norm.outputs["Vector"], sep.inputs[0])
-    value = sky_radiance(tree, norm.outputs["Vector"], sep.outputs["Z"], sky_type, sun, zenith_radiance, ground_radiance)
+    value, _unit = sky_radiance(tree, coord.outputs["Generated"], sky_type, sun, zenith_radiance, ground_radiance)
     tree.links.new(value, bg.inputs["Strength"])
     return bg
 
@@ -112,16 +114,11 @@ def opening_emitter_material(name, info, outward):
     leaving.operation = "SCALE"
     leaving.inputs["Scale"].default_value = -1.0
     tree.links.new(geometry.outputs["Incoming"], leaving.inputs[0])
-    norm = tree.nodes.new("ShaderNodeVectorMath")
-    norm.operation = "NORMALIZE"
-    tree.links.new(leaving.outputs["Vector"], norm.inputs[0])
-    sep = tree.nodes.new("ShaderNodeSeparateXYZ")
-    tree.links.new(norm.outputs["Vector"], sep.inputs[0])
-    value = sky_radiance(tree, norm.outputs["Vector"], sep.outputs["Z"], info["sky_type"],
-                         [float(v) for v in info["sun_direction"]], info["zenith_radiance"], info["ground_radiance"])
+    value, unit = sky_radiance(tree, leaving.outputs["Vector"], info["sky_type"],
+                               [float(v) for v in info["sun_direction"]], info["zenith_radiance"], info["ground_radiance"])
     facing = tree.nodes.new("ShaderNodeVectorMath")
     facing.operation = "DOT_PRODUCT"
-    tree.links.new(norm.outputs["Vector"], facing.inputs[0])
+    tree.links.new(unit, facing.inputs[0])
     facing.inputs[1].default_value = tuple(float(v) for v in outward)
     leaves = _math(tree, "GREATER_THAN", facing.outputs["Value"], 0.0)  # rays from inside only
     tree.links.new(_math(tree, "MULTIPLY", value, leaves), emission.inputs["Strength"])
