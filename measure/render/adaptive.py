@@ -107,7 +107,7 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
         for ident in sorted(light_keys, key=str):
             obj = found.get(tuple(ident))
             if obj is None or obj.type not in ("LIGHT", "MESH"):
-                raise RadiometerError(f"a light of the scene (session uid {ident[0]}) vanished during the measurement")
+                raise RadiometerError(f"a light or emitter of the scene (session uid {ident[0]}) vanished during the measurement")
             linking[ident] = _linking_collection(snapshot, obj, f"radiometer_exclude {obj.name}")
         previous = []
 
