@@ -120,6 +120,27 @@ def test_pane_bounds_hold_against_area_integration(p, n):
     assert flat[0] == pytest.approx(0.8 * (s[0] + g[0]), rel=1e-12) and flat[1] == 0.0
 
 
+def test_pane_bounds_of_many_points_are_each_points_own():
+    """A grid's points refine together (one numpy call per round) but each by its own rule: the batch
+    gives every point exactly the subdivision it gets alone (different apertures, normals and sizes)."""
+    pts = [np.asarray(p, float) for p, _n in CASES[:4]]
+    nrm = [np.asarray(n, float) / np.linalg.norm(n) for _p, n in CASES[:4]]
+    polys = [WINDOW, WINDOW[[0, 1, 2]], WINDOW, WINDOW[[0, 2, 3]]]
+    est, half, pieces = sa.pane_bounded_illuminances(polys, pts, nrm, _fresnel_t, [0, 1, 0], ground_luminance=0.35,
+                                                     rel_tol=2e-3)
+    for k in range(4):
+        one = sa.pane_bounded_illuminance(polys[k], pts[k], nrm[k], _fresnel_t, [0, 1, 0], ground_luminance=0.35,
+                                          rel_tol=2e-3)
+        assert pieces[k] == one[2]
+        assert est[k] == pytest.approx(one[0], rel=1e-12) and half[k] == pytest.approx(one[1], rel=1e-9)
+    assert len(set(pieces.tolist())) > 2 and max(pieces) > 1000  # the points did stop at different rounds
+    # and the closed form batched over apertures equals it point by point
+    s, g = sa.aperture_illuminance(polys, pts, nrm, ground_luminance=0.35)
+    for k in range(4):
+        s1, g1 = sa.aperture_illuminance(polys[k], [pts[k]], nrm[k], ground_luminance=0.35)
+        assert (s[k], g[k]) == (pytest.approx(s1[0], rel=1e-12), pytest.approx(g1[0], rel=1e-12, abs=1e-15))
+
+
 def test_pane_bound_refuses_a_non_monotone_transmittance():
     with pytest.raises(ValueError, match="non-decreasing"):
         sa.pane_bounded_illuminance(WINDOW, (2, 1, 0.85), (0, 0, 1), lambda c: np.sin(6 * np.asarray(c)) ** 2, (0, 1, 0))

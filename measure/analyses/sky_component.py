@@ -114,44 +114,60 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     loops, shell, tris, tol, reach = shell
     lz = 9.0 * horizontal_lux / (7.0 * math.pi)            # overcast: E_h = 7 pi Lz / 9
     lg = ground_reflectance * horizontal_lux / math.pi
-    out = []
     # The wall around each opening, coplanar with it, cannot block a direction through it: found once per
     # opening, not per point (``aperture_clear``'s ``ignore``).
     around = [sky_aperture.coplanar_outside(tris, poly, tol) for poly in loops]
     pane_tol = PANE_TOL_SHARE * float(target_rel_error or 0.01)  # a pane's T(theta) bound, relative
     see_through = ~opaque_mask(model)
-    for p, n in zip(points_m, normals):
+    # the open openings' closed forms, every point at once (used where the view through is proven clear)
+    open_lux = [sky_aperture.aperture_illuminance(poly, points_m, normals, zenith_luminance=lz, ground_luminance=lg)
+                for poly in loops]
+    states, jobs = [], []  # per point [sky, ground, why, bound, glazed, pane jobs]; jobs (point, glazing, opening)
+    for i, (p, n) in enumerate(zip(points_m, normals)):
         inside = sky_aperture.inside_enclosure(p, shell, loops, tol)
         if inside is not True:
-            out.append(SkyComponent(None, None, "the point is not proven inside the room holding the openings"
-                                    if inside is None else "the point is outside the room holding the openings", 0))
+            states.append(SkyComponent(None, None, "the point is not proven inside the room holding the openings"
+                                       if inside is None else "the point is outside the room holding the openings", 0))
             continue
-        sky, ground, why, bound, glazed = 0.0, 0.0, "", 0.0, 0
-        for poly, wall in zip(loops, around):
-            s, gr = sky_aperture.aperture_illuminance(poly, [p], n, zenith_luminance=lz, ground_luminance=lg)
+        sky, ground, why, pending = 0.0, 0.0, "", []
+        for (poly, wall), (s_all, g_all) in zip(zip(loops, around), open_lux):
+            s, gr = float(s_all[i]), float(g_all[i])
 
             def clear(sky_only, ignore=wall):
                 return sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=sky_only, ignore=ignore,
                                                    coplanar_checked=True)
 
             # the whole pyramid clear proves its part above the horizon clear too: one test where it holds
-            whole = clear(False) if gr[0] > 0.0 and ground is not None else None
-            if s[0] > 0.0 and not whole and not clear(True):
+            whole = clear(False) if gr > 0.0 and ground is not None else None
+            if s > 0.0 and not whole and not clear(True):
                 if clear(True, wall | see_through):
-                    pane = _pane_in_opening(model, p, poly, tol, clear, wall, sky_only=gr[0] <= 0.0)
+                    pane = _pane_in_opening(model, p, poly, tol, clear, wall, sky_only=gr <= 0.0)
                     if isinstance(pane, str):
                         sky, why = None, pane
                         break
-                    (e_sky, h_sky), (e_ground, h_ground) = _through_pane(pane, p, n, poly, lz, lg, pane_tol)
-                    sky, bound, glazed = sky + e_sky, bound + h_sky + h_ground, glazed + 1
-                    if ground is not None and gr[0] > 0.0:
-                        ground = ground + e_ground if pane.whole else None
+                    pending.append((len(jobs), gr > 0.0))  # its T(theta) bound: all points' together, below
+                    jobs.append((i, pane, poly))
                     continue
                 sky, why = None, "a surface may stand between the point and the sky through an opening"
                 break
-            sky += float(s[0])
-            if ground is not None and gr[0] > 0.0:
-                ground = ground + float(gr[0]) if whole else None
+            sky += s
+            if ground is not None and gr > 0.0:
+                ground = ground + gr if whole else None
+        states.append([sky, ground, why, 0.0, 0, pending if sky is not None else []])
+    wanted = sorted({j for st in states if isinstance(st, list) for j, _g in st[5]})
+    through = _through_panes([jobs[j] for j in wanted], points_m, normals, lz, lg, pane_tol)
+    through = dict(zip(wanted, through))
+    out = []
+    for st in states:
+        if isinstance(st, SkyComponent):
+            out.append(st)
+            continue
+        sky, ground, why, bound, glazed, pending = st
+        for j, ground_seen in pending:
+            (e_sky, h_sky), (e_ground, h_ground) = through[j]
+            sky, bound, glazed = sky + e_sky, bound + h_sky + h_ground, glazed + 1
+            if ground is not None and ground_seen:
+                ground = ground + e_ground if jobs[j][1].whole else None
         if sky is None:
             ground = None
         elif ground is None:
@@ -241,30 +257,45 @@ def _pane_in_opening(model, point, poly, tol, clear, wall, sky_only):
     return "a see-through surface in an opening is not a recognised thin pane (rendered)"
 
 
-def _through_pane(glazing, point, normal, poly, lz, lg, rel_tol):
-    """((sky lux, its bound), (ground lux, its bound)) through the opening ``poly`` weighted by the pane's
-    T(cos i) (the thin-pane closed form the render's stand-in uses too)."""
-    pane = glazing.pane
+def _through_panes(jobs, points_m, normals, lz, lg, rel_tol):
+    """For each job (point index, :class:`_Glazing`, opening ``poly``): ((sky lux, its bound), (ground lux,
+    its bound)) through the opening weighted by the pane's T(cos i) (the thin-pane closed form the render's
+    stand-in uses too). The jobs behind one pane are bounded together (``pane_bounded_illuminances``), each
+    point by its own subdivision."""
+    results = [None] * len(jobs)
+    groups = {}
+    for k, (_i, glazing, _poly) in enumerate(jobs):
+        groups.setdefault(id(glazing.pane), []).append(k)
+    for ks in groups.values():
+        pane = jobs[ks[0]][1].pane
 
-    def transmittance(c):
-        return pane.optics(np.asarray(c, float))[0][..., 1]  # colour-neutral: every channel alike
+        def transmittance(c, pane=pane):
+            return pane.optics(np.asarray(c, float))[0][..., 1]  # colour-neutral: every channel alike
 
-    out = []
-    for zenith, ground in ((lz, 0.0), (0.0, lg)):
-        if zenith == 0.0 and (ground == 0.0 or not glazing.whole):
-            out.append((0.0, 0.0))
-            continue
-        est, half, _pieces = sky_aperture.pane_bounded_illuminance(glazing.core, point, normal, transmittance,
-                                                                   pane.geometry.normal, zenith_luminance=zenith,
-                                                                   ground_luminance=ground, rel_tol=rel_tol)
+        pts = points_m[[jobs[k][0] for k in ks]]
+        nrm = normals[[jobs[k][0] for k in ks]]
+        cores = [jobs[k][1].core for k in ks]
+        whole = np.array([jobs[k][1].whole for k in ks], bool)
+        sky_est, sky_half, _pieces = sky_aperture.pane_bounded_illuminances(
+            cores, pts, nrm, transmittance, pane.geometry.normal, zenith_luminance=lz, ground_luminance=0.0,
+            rel_tol=rel_tol)
+        ground_est, ground_half = np.zeros(len(ks)), np.zeros(len(ks))
+        if lg != 0.0 and whole.any():
+            sel = np.flatnonzero(whole)
+            e, h, _pieces = sky_aperture.pane_bounded_illuminances(
+                [cores[j] for j in sel], pts[sel], nrm[sel], transmittance, pane.geometry.normal,
+                zenith_luminance=0.0, ground_luminance=lg, rel_tol=rel_tol)
+            ground_est[sel], ground_half[sel] = e, h
         # the rim of the opening outside the core: its rays cross the pane's edge; between 0 and the open sky
-        rim = sum(float(v[0]) for v in sky_aperture.aperture_illuminance(poly, [point], normal, zenith_luminance=zenith,
-                                                                         ground_luminance=ground))
-        core = sum(float(v[0]) for v in sky_aperture.aperture_illuminance(glazing.core, [point], normal,
-                                                                          zenith_luminance=zenith, ground_luminance=ground))
-        band = max(rim - core, 0.0)
-        out.append((est + 0.5 * band, half + 0.5 * band))
-    return out[0], out[1]
+        rim = sky_aperture.aperture_illuminance([jobs[k][2] for k in ks], pts, nrm, zenith_luminance=lz,
+                                                ground_luminance=lg)
+        core = sky_aperture.aperture_illuminance(cores, pts, nrm, zenith_luminance=lz, ground_luminance=lg)
+        band_sky = np.maximum(rim[0] - core[0], 0.0)
+        band_ground = np.where(whole & (lg != 0.0), np.maximum(rim[1] - core[1], 0.0), 0.0)
+        for j, k in enumerate(ks):
+            results[k] = ((float(sky_est[j] + 0.5 * band_sky[j]), float(sky_half[j] + 0.5 * band_sky[j])),
+                          (float(ground_est[j] + 0.5 * band_ground[j]), float(ground_half[j] + 0.5 * band_ground[j])))
+    return results
 
 
 # --- the openings as emitters (issue 31 item 1) -------------------------------------------------------
