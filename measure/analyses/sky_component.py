@@ -78,9 +78,16 @@ def _closed_shell(model, points_m=()):
     if why:
         return why
     g = model.geometry
-    tris = g.triangles
     lo, hi = g.bounds()
     tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, np.asarray(points_m, float).ravel()])
+    key = ("closed_shell", tol)
+    if key not in model.derived:
+        model.derived[key] = _find_shell(model, tol, float(np.linalg.norm(hi - lo)) + 1.0)
+    return model.derived[key]
+
+
+def _find_shell(model, tol, reach):
+    tris = model.geometry.triangles
     opaque = opaque_mask(model)
     found = sky_aperture.find_apertures(tris[opaque], tol)  # a pane's faces do not close an opening
     if not found:
@@ -92,7 +99,7 @@ def _closed_shell(model, points_m=()):
     closed, comp, why = sky_aperture.enclosure_closed(tris[opaque], loops, tol)
     if not closed:
         return why
-    return loops, tris[opaque][comp], tris, tol, float(np.linalg.norm(hi - lo)) + 1.0
+    return loops, tris[opaque][comp], tris, tol, reach
 
 
 def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_lux, model=None, target_rel_error=0.01):
@@ -123,19 +130,30 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     open_lux = [sky_aperture.aperture_illuminance(poly, points_m, normals, zenith_luminance=lz, ground_luminance=lg)
                 for poly in loops]
     states, jobs = [], []  # per point [sky, ground, why, bound, glazed, pane jobs]; jobs (point, glazing, opening)
+    insides = sky_aperture.inside_enclosures(points_m, shell, loops, tol)
+    inner = np.flatnonzero([v is True for v in insides])
+    proofs = {}  # (opening, sky_only, what is set aside) -> (P,) the proof at every point inside, found at once
+
+    def clear_at(i, k, sky_only, ignore):
+        key = (k, bool(sky_only), np.packbits(ignore).tobytes())
+        if key not in proofs:
+            proofs[key] = np.zeros(len(points_m), bool)
+            proofs[key][inner] = sky_aperture.apertures_clear(points_m[inner], loops[k], tris, tol, reach,
+                                                              sky_only=sky_only, ignore=ignore, coplanar_checked=True)
+        return bool(proofs[key][i])
+
     for i, (p, n) in enumerate(zip(points_m, normals)):
-        inside = sky_aperture.inside_enclosure(p, shell, loops, tol)
+        inside = insides[i]
         if inside is not True:
             states.append(SkyComponent(None, None, "the point is not proven inside the room holding the openings"
                                        if inside is None else "the point is outside the room holding the openings", 0))
             continue
         sky, ground, why, pending = 0.0, 0.0, "", []
-        for (poly, wall), (s_all, g_all) in zip(zip(loops, around), open_lux):
+        for k, ((poly, wall), (s_all, g_all)) in enumerate(zip(zip(loops, around), open_lux)):
             s, gr = float(s_all[i]), float(g_all[i])
 
-            def clear(sky_only, ignore=wall):
-                return sky_aperture.aperture_clear(p, poly, tris, tol, reach, sky_only=sky_only, ignore=ignore,
-                                                   coplanar_checked=True)
+            def clear(sky_only, ignore=wall, i=i, k=k):
+                return clear_at(i, k, sky_only, ignore)
 
             # the whole pyramid clear proves its part above the horizon clear too: one test where it holds
             whole = clear(False) if gr > 0.0 and ground is not None else None

@@ -182,6 +182,9 @@ class SceneModel:
     refractors: list = field(default_factory=list)
     #: Surfaces with an Emission shader as emitters (:class:`.emitters.EmissiveMesh`, rendered only).
     emissive_meshes: list = field(default_factory=list)
+    #: What analyses derive from the captured model alone (e.g. its closed shell and openings), kept by key:
+    #: a captured model is not changed afterwards, so one daylight request finds them once, not per step.
+    derived: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def emissive_surfaces(self):

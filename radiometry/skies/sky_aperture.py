@@ -59,7 +59,8 @@ import numpy as np
 from ..scene import visibility
 
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
-           "pane_bounded_illuminances", "polygon_plane", "aperture_clear", "coplanar_outside", "find_apertures", "is_convex", "enclosure_closed", "inside_enclosure", "SKIES"]
+           "pane_bounded_illuminances", "polygon_plane", "aperture_clear", "apertures_clear", "coplanar_outside",
+           "find_apertures", "is_convex", "enclosure_closed", "inside_enclosure", "inside_enclosures", "SKIES"]
 
 #: Sky models with a closed form over a polygon: name -> (constant, z-coefficient) of L / Lz = c0 + c1 u_z.
 SKIES = {"uniform": (1.0, 0.0), "overcast": (1.0 / 3.0, 2.0 / 3.0)}
@@ -416,31 +417,55 @@ def aperture_clear(point, vertices, triangles, tol, reach, *, sky_only=True, ign
     caller's own proof, e.g. a pane's faces that are weighted by T(theta)). ``coplanar_checked``: ``ignore``
     already holds ``coplanar_outside`` (a caller testing many points through one aperture finds it once).
     """
-    p = np.asarray(point, float)
+    return bool(apertures_clear([point], vertices, triangles, tol, reach, sky_only=sky_only, ignore=ignore,
+                                coplanar_checked=coplanar_checked)[0])
+
+
+def apertures_clear(points, vertices, triangles, tol, reach, *, sky_only=True, ignore=None, coplanar_checked=False):
+    """:func:`aperture_clear` for many points (P, 3) through one aperture: (P,) bool, True a proof for that
+    point. The points' pyramids meet the scene's triangles in one batched separating-axis test."""
+    pts = np.atleast_2d(np.asarray(points, float))
     poly = np.asarray(vertices, float)
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
-    rel = poly - p
-    if sky_only:
-        rel = clip_polygon(rel, np.array([0.0, 0.0, 1.0]))
-        if len(rel) < 3:
-            return True
-    dist = np.linalg.norm(rel, axis=1)
-    if np.any(dist <= tol):
-        return False
-    far = p + rel * ((dist + reach) / dist)[:, None]
     skip = np.zeros(len(tris), bool) if coplanar_checked else coplanar_outside(tris, poly, tol)
     if ignore is not None:
         skip |= np.asarray(ignore, bool)
     rest = tris[~skip]
-    if not len(rest):
-        return True
-    lo, hi = np.minimum(far.min(axis=0), p), np.maximum(far.max(axis=0), p)
+    out = np.ones(len(pts), bool)
     rmin, rmax = rest.min(axis=1), rest.max(axis=1)
-    near = visibility.aabb_overlap(rmin, rmax, lo, hi, tol)
-    if not np.any(near):
-        return True
-    meets = visibility.triangles_meet_polytope(rest[near], visibility.pyramid(p, far), tol)
-    return not bool(np.any(meets))
+    apexes, bases, pairs_point, pairs_tri = [], [], [], []
+    for i, p in enumerate(pts):
+        rel = poly - p
+        if sky_only:
+            rel = clip_polygon(rel, np.array([0.0, 0.0, 1.0]))
+            if len(rel) < 3:
+                continue
+        dist = np.linalg.norm(rel, axis=1)
+        if np.any(dist <= tol):
+            out[i] = False
+            continue
+        if not len(rest):
+            continue
+        far = p + rel * ((dist + reach) / dist)[:, None]
+        near = np.flatnonzero(visibility.aabb_overlap(rmin, rmax, np.minimum(far.min(axis=0), p),
+                                                      np.maximum(far.max(axis=0), p), tol))
+        if near.size:
+            pairs_point.append(np.full(near.size, len(apexes)))
+            pairs_tri.append(near)
+            apexes.append((i, p))
+            bases.append(far)
+    if not apexes:
+        return out
+    # pyramids of different base sizes (a clipped aperture gains a vertex) padded by repeating the last
+    # vertex: the polytope is the same, the repeated vertex's zero edges and normals are skipped as axes
+    k = max(len(f) for f in bases)
+    bases = np.stack([np.concatenate([f, np.repeat(f[-1:], k - len(f), axis=0)]) for f in bases])
+    verts, normals, edges = visibility.pyramids(np.array([p for _i, p in apexes]), bases)
+    which, tri = np.concatenate(pairs_point), np.concatenate(pairs_tri)
+    meets = visibility.triangles_meet_polytopes(rest[tri], verts[which], normals[which], edges[which], tol)
+    hit = np.bincount(which[meets], minlength=len(apexes)) > 0
+    out[[i for i, _p in apexes]] &= ~hit
+    return out
 
 
 def find_apertures(triangles, tol=1e-6):
@@ -676,32 +701,43 @@ def inside_enclosure(point, triangles, loops, tol):
     """True / False / None (undecided): whether ``point`` lies inside the closed surface made of
     ``triangles`` and the apertures' ``loops`` as caps: the parity of a ray's crossings, for the first
     of a few fixed directions whose every crossing is clear of edges by ``tol`` m."""
+    return inside_enclosures([point], triangles, loops, tol)[0]
+
+
+def inside_enclosures(points, triangles, loops, tol):
+    """:func:`inside_enclosure` for many points (P, 3) at once: a list of True / False / None."""
     caps = [fan_triangles(poly) for poly in loops]
     tris = np.concatenate([np.asarray(triangles, float).reshape(-1, 3, 3)] + caps)
-    p = np.asarray(point, float)
+    pts = np.atleast_2d(np.asarray(points, float))
+    out = [None] * len(pts)
+    todo = np.arange(len(pts))
     dirs = _unit(np.array([[0.5358, 0.2672, 0.8010], [-0.3111, 0.8409, 0.4427], [0.7071, -0.6124, -0.3536],
                            [-0.6, -0.48, 0.64], [0.1, -0.2, -0.97468]]))
+    v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    scale = np.maximum(np.linalg.norm(e1, axis=1), np.linalg.norm(e2, axis=1))
+    m = tol / np.maximum(scale, 1e-300)
     for d in dirs:
-        v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+        if not todo.size:
+            break
         h = np.cross(d, e2)
         det = np.einsum("tk,tk->t", e1, h)
+        s = pts[todo, None, :] - v0[None]                                      # (P, T, 3)
         with np.errstate(divide="ignore", invalid="ignore"):
             f = 1.0 / det
-            s = p - v0
-            u = f * np.einsum("tk,tk->t", s, h)
-            q = np.cross(s, e1)
+            u = f * np.einsum("ptk,tk->pt", s, h)
+            q = np.cross(s, e1[None])
             v = f * (q @ d)
-            t = f * np.einsum("tk,tk->t", q, e2)
-        scale = np.maximum(np.linalg.norm(e1, axis=1), np.linalg.norm(e2, axis=1))
-        m = tol / np.maximum(scale, 1e-300)
-        ok = np.isfinite(f) & (np.abs(det) > 1e-12 * scale ** 2)
+            t = f * np.einsum("ptk,tk->pt", q, e2)
+        ok = np.isfinite(f) & (np.abs(det) > 1e-12 * scale ** 2)              # (T,)
         w = 1.0 - u - v
         hit = ok & (u > m) & (v > m) & (w > m) & (t > tol)
         miss = ~ok | (u < -m) | (v < -m) | (w < -m) | (t < -tol)
         # a parallel triangle is missed only if the ray's line stays off its plane
         if np.any(~ok):
             nrm = _unit(np.cross(e1[~ok], e2[~ok]))
-            miss[~ok] = np.abs(np.einsum("tk,tk->t", p - v0[~ok], nrm)) > tol
-        if np.all(hit | miss):
-            return bool(np.count_nonzero(hit) % 2)
-    return None
+            miss[:, ~ok] = np.abs(np.einsum("ptk,tk->pt", s[:, ~ok], nrm)) > tol
+        decided = np.all(hit | miss, axis=1)
+        for j in np.flatnonzero(decided):
+            out[todo[j]] = bool(np.count_nonzero(hit[j]) % 2)
+        todo = todo[~decided]
+    return out
