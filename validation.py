@@ -281,6 +281,9 @@ def boundary(func=None, *, finite=False):
             except RecursionError as exc:
                 raise RadiometerError(f"{f.__name__}: the input is nested too deeply ({_first_line(exc)})") from None
             except Exception as exc:  # noqa: BLE001 - the boundary: one error type for the caller
+                if isinstance(exc, TypeError) and exc.__traceback__.tb_next is None:
+                    # raised by the call itself, not below it: the arguments do not fit the signature
+                    raise RadiometerError(f"{_first_line(exc)} (see help(radiometer.api.{f.__name__}))") from None
                 if isinstance(exc, _user_errors()):
                     raise RadiometerError(_first_line(exc)) from None
                 raise RadiometerError(f"{f.__name__}: unexpected {type(exc).__name__}: {_first_line(exc)}"
