@@ -196,3 +196,60 @@ def test_cli_annual_dgp_and_its_bad_input(clean_blender, tmp_path, capsys):
     assert data["en17037_glare_protection"]["criterion"] == "protection from glare"
     rows = out_csv.read_text(encoding="utf-8").splitlines()
     assert rows[0].startswith("record,local_hour,occupied,dgp") and len(rows) == 1 + 24 * DAYS
+
+
+def _fresnel_slab(cos_i, n):
+    """Transmittance of a clear, non-absorbing slab (both faces, every inter-reflection), unpolarised:
+    the mean over s and p of (1 - R) / (1 + R), R the single-face Fresnel reflectance."""
+    sin_t = math.sqrt(max(0.0, 1 - cos_i ** 2)) / n
+    cos_t = math.sqrt(1 - sin_t ** 2)
+    rs = ((cos_i - n * cos_t) / (cos_i + n * cos_t)) ** 2
+    rp = ((cos_t - n * cos_i) / (cos_t + n * cos_i)) ** 2
+    return 0.5 * ((1 - rs) / (1 + rs) + (1 - rp) / (1 + rp))
+
+
+def test_annual_dgp_sees_the_sun_through_the_pane_only_when_its_ray_crosses_it(clean_blender, tmp_path):
+    """The side-lit room of tests/bpy/daylight_room.py (window 1-3 m x 0.9-2.1 m in the south wall y = 0, a
+    6 mm clear pane in it), an eye at (2, 1, 0.8) looking south: at each clear occupied hour, the sun is a
+    glare source exactly when the ray from the eye to the SPA sun crosses the window rectangle (found here by
+    a ray-plane intersection), with L = E_dn T(theta) / omega_sun, T the clear slab's Fresnel transmittance
+    (closed form above); otherwise the hour is rated by DGPs."""
+    from radiometer import api
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+    from radiometer.radiometry.sun import epw
+
+    spec = importlib.util.spec_from_file_location("daylight_room", HERE / "daylight_room.py")
+    room = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(room)
+    scene = bpy.context.scene
+    room.build_blender(scene)
+    room.add_pane_blender(scene)
+    if not dcm.supported(scene):
+        pytest.skip("the dome coefficients need Blender 5.0")
+    eye = np.array([2.0, 1.0, 0.8])
+    path = write_march(tmp_path / "march.epw")
+    r = api.annual_dgp(tuple(eye), VIEW, str(path), scene=scene, samples=2, seed=2, partial_period=True)
+    _ev, e_dn, sun = continuous_sky(epw.read_epw(path), np.array(VIEW))
+    x0, x1, z0, z1 = room.WINDOW
+    sunny = r.occupied & (np.arange(24 * DAYS) >= 24 * OVERCAST_DAYS)
+    crossed = []
+    for t in np.flatnonzero(sunny):
+        s = sun[t]
+        k = -eye[1] / s[1]                      # the ray eye + k s meets the wall plane y = 0
+        x, z = eye[0] + k * s[0], eye[2] + k * s[2]
+        margin = min(x - x0, x1 - x, z - z0, z1 - z)
+        if abs(margin) < 0.01:
+            continue                            # within 1 cm of the window's edge: either answer is fair
+        inside = margin > 0
+        crossed.append(inside)
+        assert r.sun_seen[t] == inside, (t, x, z)
+        if inside:
+            cos_i = -s[1]                       # the pane's normal is -Y
+            expected = e_dn[t] * _fresnel_slab(cos_i, room.IOR) / glare_dgp.SUN_SOLID_ANGLE_SR
+            assert r.sun_luminance[t] == pytest.approx(expected, rel=1e-3), t
+        else:
+            assert r.sun_luminance[t] == 0.0
+            assert r.dgp[t] == pytest.approx(min(1.0, 6.22e-5 * r.vertical_illuminance[t] + 0.184), abs=1e-12)
+    print(r.summary())
+    print("sunny hours with the sun's ray through the window:", int(sum(crossed)), "of", len(crossed))
+    assert 3 <= sum(crossed) <= len(crossed) - 3   # both kinds of hour are tested
