@@ -294,8 +294,6 @@ def annual_dgp(observer, view_direction, epw_path=None, *, scene=None, m=1, qual
                method="dome", partial_period=False):
     """Hourly DGP for an eye at ``observer`` (scene coordinates) looking along ``view_direction`` (module
     docstring). Returns :class:`AnnualDGPResult`."""
-    import dataclasses as dc
-
     import bpy
 
     from ..meter import point_meter as meter
@@ -321,7 +319,7 @@ def annual_dgp(observer, view_direction, epw_path=None, *, scene=None, m=1, qual
     if not occupied.any():
         raise RadiometerError("annual DGP: no occupied hour with a usable weather record")
     above, rng, share = class_counts(value, se, occupied)
-    row = dc.asdict(en17037.glare_protection(value[occupied]))
+    row = dataclasses.asdict(en17037.glare_protection(value[occupied]))
     model = meter.capture_model(scene, view_layer_of(scene))
     n_sun = int((seen & occupied).sum())
     notes = [f"eye at ({eye[0]:g}, {eye[1]:g}, {eye[2]:g}) looking ({view[0]:.3g}, {view[1]:.3g}, {view[2]:.3g}); "
