@@ -970,6 +970,35 @@ def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolu
                                     low_light_correction=low_light_correction, hdr_path=hdr_path)
 
 
+@_v.boundary
+def annual_dgp(observer, view_direction, epw_path=None, *, scene=None, m=1, quality="preview", samples=None,
+               ground_reflectance=0.2, north_offset_deg=0.0, occupied_from=8.0, occupied_to=18.0, seed=0,
+               low_light_correction=False, client=None, partial_period=False, progress=None, cancelled=None):
+    """Annual daylight glare probability, imageless (Wienold 2009), for an eye at ``observer`` (scene
+    coordinates) looking along ``view_direction`` (+Z up; not vertical), from an EPW weather file.
+
+    E_v per hour from the daylight coefficients of a meter at the eye facing the view (as
+    :func:`annual_daylight`, with its hourly standard error); at the hours where the sun is in the view's
+    hemisphere and its centre ray reaches the eye, full DGP with the sun's disc (6.8e-5 sr, luminance
+    E_dn / omega x the panes' transmittance) as the glare source; at the others the simplified DGPs =
+    6.22e-5 E_v + 0.184 (no contrast term: the lower envelope where no sun is seen). Returns an
+    ``AnnualDGPResult``: ``dgp`` (T,) and ``dgp_std_error``, ``vertical_illuminance`` (lx), ``sun_seen``,
+    ``occupied``, ``hours_above`` / ``hours_above_range`` / ``share_above`` at 0.35, 0.40, 0.45,
+    ``en17037`` (the protection-from-glare row; :func:`en17037_table` takes ``dgp=r.occupied_dgp()``),
+    ``notes``, ``to_dict()``, ``csv_text()``. See ``measure.analyses.daylight_glare``."""
+    if not isinstance(partial_period, bool):
+        _v.fail("partial_period", "True or False", partial_period)
+    if not isinstance(low_light_correction, bool):
+        _v.fail("low_light_correction", "True or False", low_light_correction)
+    from .measure.analyses import daylight_glare as adgp
+
+    return adgp.annual_dgp(observer, view_direction, epw_path, scene=scene, m=m, quality=quality, samples=samples,
+                           ground_reflectance=ground_reflectance, north_offset_deg=north_offset_deg,
+                           occupied_from=occupied_from, occupied_to=occupied_to, seed=seed,
+                           low_light_correction=low_light_correction, client=client, partial_period=partial_period,
+                           progress=progress, cancelled=cancelled)
+
+
 #: The glare indices, by the name the CLI's ``glare --index`` takes: one function per index, each
 #: ``f(observer, view_direction, *, scene=None, quality=..., **its own options)`` returning a result with
 #: ``summary()``, ``sources`` (dicts with ``luminance`` cd/m², ``solid_angle`` sr, ``position_index``) and

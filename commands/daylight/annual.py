@@ -2,7 +2,7 @@
 
 HELP = ("annual daylight from an EPW weather file by daylight coefficients (all sky patches in one render): "
         "sDA300/50%, ASE1000/250h, UDI 100-2000 lx at points (--points CSV) or on a plane's grid; --csv, --json "
-        "and --png (a plan-view map)")
+        "and --png (a plan-view map); or, with --dgp-observer, the hourly daylight glare probability at one eye")
 NEEDS_SCENE = True
 
 from .. import _cluster, _points  # noqa: E402
@@ -26,6 +26,13 @@ def add_arguments(parser):
                         help="the --png map: sda, the share of occupied hours at 300 lx (points whose pass/fail is "
                         "uncertain at 2 s.e. ringed; default); ase, hours of direct sun at 1000 lx; udi, the share "
                         "of occupied hours at 100-2000 lx")
+    parser.add_argument("--dgp-observer", type=float, nargs=6, metavar=("X", "Y", "Z", "DX", "DY", "DZ"),
+                        help="instead of points: the annual daylight glare probability at this eye (scene "
+                        "coordinates) looking along DX DY DZ (not vertical): full DGP with the sun's disc where it is "
+                        "seen, the simplified DGPs elsewhere; hours above 0.35/0.40/0.45 and EN 17037's glare row "
+                        "(--csv: one row per hour)")
+    parser.add_argument("--low-light-correction", action="store_true",
+                        help="with --dgp-observer: Wienold's low-light correction below 1000 lx")
     _points.add_study_outputs(parser, quality_default="preview",
                               quality_help="rays per point for the daylight coefficients (default preview: 8 rounds "
                                            "x 8 samples x 16 x 16 pixels); the errors reached are stated",
@@ -46,6 +53,12 @@ def run(args):
     # a folder, a FIFO or a device is named as such (read_epw checks again when it opens the file)
     validation.check_input_file(args.epw, "weather", max_bytes=epw.MAX_FILE_BYTES)
     scene = bpy.context.scene
+    if args.dgp_observer is not None:
+        return _run_dgp(args, scene)
+    if args.low_light_correction:
+        from ...errors import RadiometerError
+
+        raise RadiometerError("--low-light-correction goes with --dgp-observer")
     locations, normals = _points.from_args(args, scene)
     if args.png:  # a map is a plan view: say so before the work, not after it
         from ...plots.daylight_map import plan_height
@@ -72,4 +85,37 @@ def run(args):
     _io.deliver_with_csv(args, result, r.csv_text())
     if args.png:
         print(f"wrote {api.daylight_map(r, args.png, metric=args.map, scene=scene)}")
+    return result
+
+
+def _run_dgp(args, scene):
+    """``--dgp-observer``: the annual DGP at one eye (``api.annual_dgp``)."""
+    from ... import api
+    from ...errors import RadiometerError
+    from .. import _io
+
+    given = [name for name, v in (("--points", args.points), ("--plane", args.plane), ("--spacing", args.spacing),
+                                  ("--resolution", args.resolution), ("--png", args.png)) if v is not None]
+    if given:
+        raise RadiometerError(f"--dgp-observer rates one eye: {', '.join(given)} go with points, not with it")
+    if args.method != "dome":
+        raise RadiometerError("--dgp-observer takes the dome method only")
+    o = args.dgp_observer
+    progress = getattr(args, "progress", None)
+    if progress is not None:
+        progress.label = "annual DGP"
+    with _cluster.client(args) as client:
+        r = api.annual_dgp(tuple(o[:3]), tuple(o[3:]), args.epw, scene=scene, m=args.subdivision,
+                           quality=args.quality, ground_reflectance=args.ground_reflectance,
+                           north_offset_deg=args.north, low_light_correction=args.low_light_correction,
+                           client=client, partial_period=args.partial_period, progress=progress,
+                           cancelled=getattr(args, "cancelled", None))
+    if progress is not None:
+        progress.clear()
+    what = "" if r.whole_year else f" over a PARTIAL PERIOD ({r.weather_period})"
+    print(f"observer ({o[0]:g}, {o[1]:g}, {o[2]:g}) looking ({o[3]:g}, {o[4]:g}, {o[5]:g}){what}: {r.summary()}")
+    for note in r.notes:
+        print(note)
+    result = r.to_dict()
+    _io.deliver_with_csv(args, result, r.csv_text())
     return result

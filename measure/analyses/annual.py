@@ -322,7 +322,9 @@ class AnnualResult:
     at 300 lx with every hour 2 standard errors lower / higher), ``ase``, ``ase_hours`` (N,), ``udi``
     (fell_short, useful, exceeded: (N,) each), ``max_rel_std_error`` of the hourly values over occupied
     hours at 100 lx or more, ``seconds_coefficients``, ``notes``, ``weather_period`` (the EPW records'
-    span) and ``whole_year`` (False: the metrics cover only that period, asked for explicitly)."""
+    span) and ``whole_year`` (False: the metrics cover only that period, asked for explicitly);
+    ``sun_direction`` (T, 3), ``direct_normal_lux`` (T,) and ``hours`` (T,) of the sky matrix (the annual
+    DGP's sun)."""
 
     locations: np.ndarray
     illuminance: np.ndarray
@@ -342,6 +344,9 @@ class AnnualResult:
     notes: list
     weather_period: str = ""
     whole_year: bool = True
+    sun_direction: np.ndarray = None
+    direct_normal_lux: np.ndarray = None
+    hours: np.ndarray = None
 
     def to_dict(self):
         return {"locations": np.asarray(self.locations).tolist(), "sda_300_50": self.sda,
@@ -485,4 +490,5 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
     lit = occupied[:, None] & (e >= 100.0)  # dimmer hours count as "fell short" whatever their error
     return AnnualResult(points, e, se, e_sun, occupied, sda, sda_range, frac, uncertain, (frac_lo, frac_hi), ase,
                         ase_h, udi, float(np.max(rel[lit])) if lit.any() else 0.0, seconds_dc, notes,
-                        weather.period, weather.is_full_year)
+                        weather.period, weather.is_full_year, sky.sun_direction, sky.direct_normal_lux,
+                        sky.hours)

@@ -15,6 +15,9 @@ sources' luminance errors (first order); pixelation is stated apart: a source's 
 partly covered (a pixel's mean luminance), so half their solid angle is counted as uncertain
 (``radiometry.glare_dgp``'s ``dgp_pixel_error``); it shrinks as 1 / resolution. Delta lights (point/spot of radius 0, sun of angle 0) are not
 seen by camera rays: they light the eye (E_v) but are no glare source (a note says so).
+
+:func:`annual_dgp` (below): the hourly DGP at one eye over a weather file, imageless, from the daylight
+coefficients (DGP with the sun's disc where it is seen, the simplified DGPs elsewhere; Wienold 2009).
 """
 
 import dataclasses
@@ -175,3 +178,173 @@ def write_angular_hdr(path, luminance, view, up, eye):
 
     outputs.write_bytes(path, dgp_math.radiance_picture(luminance, view, up, eye))
     return str(path)
+
+
+# --- annual DGP at one eye, imageless, from the daylight coefficients (issue 34) ---------------------------------
+#
+# The way Radiance's and Honeybee's imageless annual glare go (Wienold 2009, "Dynamic daylight glare
+# evaluation", Building Simulation 2009, Glasgow, 944-951), with the sun's disc added where it is seen:
+#
+# 1. E_v per hour: the daylight coefficients of ONE meter at the eye whose normal is the line of sight
+#    (``measure.analyses.annual.annual_daylight``, the same renders, sky matrix and hourly standard
+#    error as for points), sky + ground + sun (the sun spread over its 4 nearest patches: two-phase).
+# 2. The sun as a glare source: at the hours where it stands in the view's front hemisphere AND its
+#    centre ray reaches the eye (``annual.direct_sun`` with the eye's normal: 0 when an opaque triangle
+#    blocks it, the panes' luminance-weighted transmittance through glass), its disc (0.533 deg,
+#    omega = 6.80e-5 sr) has the luminance E_dn / omega x (what reaches the eye); its position index
+#    at the disc's centre (``radiometry.metrics.glare_dgp.position_index_dgp``); full DGP
+#    (Wienold & Christoffersen 2006) with that one source and E_v.
+# 3. Every other hour: the simplified DGPs = 6.22e-5 E_v + 0.184 (Wienold 2007). DGPs has no contrast
+#    term: a bright sky or pane seen from the eye is not a glare source there, so where no sun is seen
+#    it is the lower envelope of DGP (a window of bright overcast sky beside a dark wall rates higher
+#    in a rendered picture: :func:`glare_dgp` above).
+#
+# The DGP's standard error is first order from E_v's (the coefficients' covariance); the sun's
+# luminance is a closed form (no render noise). Counts over the occupied hours: hours at or above 0.35 /
+# 0.40 / 0.45 (perceptible / disturbing / intolerable), with the hours whose class changes within 2
+# standard errors counted apart; EN 17037's protection-from-glare row from the occupied hours' DGP.
+
+#: the class limits counted (perceptible, disturbing, intolerable from these up)
+LIMITS = (0.35, 0.40, 0.45)
+
+
+@dataclasses.dataclass
+class AnnualDGPResult:
+    """Hourly DGP at one eye. Arrays are (T,) over the weather file's records; illuminances lx,
+    luminances cd/m^2. ``hours_above`` {limit: occupied hours with DGP >= limit}, ``hours_above_range``
+    {limit: (hours with every DGP 2 s.e. lower, 2 s.e. higher)}, ``share_above`` {limit: share of the
+    occupied hours}, ``en17037`` the protection-from-glare row (dict)."""
+
+    observer: tuple
+    view_direction: tuple
+    dgp: np.ndarray
+    dgp_std_error: np.ndarray
+    vertical_illuminance: np.ndarray
+    vertical_illuminance_std_error: np.ndarray
+    sun_seen: np.ndarray
+    sun_luminance: np.ndarray
+    sun_position_index: np.ndarray
+    occupied: np.ndarray
+    hours: np.ndarray
+    hours_above: dict
+    hours_above_range: dict
+    share_above: dict
+    en17037: dict
+    low_light_correction: bool
+    notes: list
+    weather_period: str = ""
+    whole_year: bool = True
+
+    def occupied_dgp(self):
+        """The occupied hours' DGP (what ``api.en17037_table(dgp=...)`` takes)."""
+        return self.dgp[self.occupied]
+
+    def summary(self):
+        n = int(self.occupied.sum())
+        parts = [f"DGP >= {lim:.2f}: {self.hours_above[lim]} h ({100 * self.share_above[lim]:.1f} %"
+                 + (f", {self.hours_above_range[lim][0]}-{self.hours_above_range[lim][1]} h within 2 s.e."
+                    if self.hours_above_range[lim][0] != self.hours_above_range[lim][1] else "") + ")"
+                 for lim in LIMITS]
+        return (f"annual DGP over {n} occupied hours ({int((self.sun_seen & self.occupied).sum())} with the sun "
+                f"in view): " + "; ".join(parts) + f"; EN 17037 glare protection: {self.en17037['level']}")
+
+    def to_dict(self):
+        def arr(a):
+            return [None if not np.isfinite(v) else float(v) for v in np.asarray(a, float)]
+
+        return {"observer": list(self.observer), "view_direction": list(self.view_direction),
+                "occupied_hours": int(self.occupied.sum()),
+                "sun_in_view_occupied_hours": int((self.sun_seen & self.occupied).sum()),
+                "hours_above": {f"{k:.2f}": v for k, v in self.hours_above.items()},
+                "hours_above_within_2_std_error": {f"{k:.2f}": list(v) for k, v in self.hours_above_range.items()},
+                "share_of_occupied_hours_above": {f"{k:.2f}": v for k, v in self.share_above.items()},
+                "en17037_glare_protection": self.en17037, "low_light_correction": self.low_light_correction,
+                "weather_period": self.weather_period, "whole_year": self.whole_year, "notes": list(self.notes),
+                "hourly": {"hour": arr(self.hours), "occupied": [bool(v) for v in self.occupied],
+                           "dgp": arr(self.dgp), "dgp_std_error": arr(self.dgp_std_error),
+                           "vertical_illuminance_lux": arr(self.vertical_illuminance),
+                           "vertical_illuminance_std_error_lux": arr(self.vertical_illuminance_std_error),
+                           "sun_in_view": [bool(v) for v in self.sun_seen],
+                           "sun_luminance_cd_m2": arr(self.sun_luminance)}}
+
+    def csv_text(self):
+        lines = ["record,local_hour,occupied,dgp,dgp_std_error,vertical_illuminance_lux,"
+                 "vertical_illuminance_std_error_lux,sun_in_view,sun_luminance_cd_m2"]
+        for t in range(len(self.dgp)):
+            lines.append(f"{t},{self.hours[t]:.2f},{int(self.occupied[t])},{self.dgp[t]:.4f},"
+                         f"{self.dgp_std_error[t]:.2g},{self.vertical_illuminance[t]:.6g},"
+                         f"{self.vertical_illuminance_std_error[t]:.3g},{int(self.sun_seen[t])},"
+                         f"{self.sun_luminance[t]:.4g}")
+        return "\n".join(lines) + "\n"
+
+
+def class_counts(dgp, std_error, occupied):
+    """({limit: hours >= limit}, {limit: (hours with DGP - 2 s.e., with DGP + 2 s.e.)}, {limit: share})
+    over the occupied hours."""
+    d, se = np.asarray(dgp, float)[occupied], np.asarray(std_error, float)[occupied]
+    n = max(len(d), 1)
+    above = {lim: int(np.sum(d >= lim)) for lim in LIMITS}
+    rng = {lim: (int(np.sum(d - 2 * se >= lim)), int(np.sum(d + 2 * se >= lim))) for lim in LIMITS}
+    return above, rng, {lim: above[lim] / n for lim in LIMITS}
+
+
+def annual_dgp(observer, view_direction, epw_path=None, *, scene=None, m=1, quality="preview", samples=None,
+               ground_reflectance=0.2, north_offset_deg=0.0, occupied_from=8.0, occupied_to=18.0, seed=0,
+               low_light_correction=False, up=(0.0, 0.0, 1.0), progress=None, cancelled=None, client=None,
+               method="dome", partial_period=False):
+    """Hourly DGP for an eye at ``observer`` (scene coordinates) looking along ``view_direction`` (module
+    docstring). Returns :class:`AnnualDGPResult`."""
+    import bpy
+
+    from ..meter import point_meter as meter
+    from . import annual, glare
+    from .analysis_common import view_layer_of
+    from ...radiometry.metrics import en17037
+
+    if not isinstance(low_light_correction, (bool, np.bool_)):
+        raise RadiometerError(f"low_light_correction must be True or False, got {low_light_correction!r}")
+    eye, view = glare.observer_and_view(observer, view_direction, up)
+    scene = scene or bpy.context.scene
+    r = annual.annual_daylight([eye], [view], epw_path, scene=scene, m=m, quality=quality, samples=samples,
+                               ground_reflectance=ground_reflectance, north_offset_deg=north_offset_deg,
+                               occupied_from=occupied_from, occupied_to=occupied_to, seed=seed, progress=progress,
+                               cancelled=cancelled, client=client, method=method, partial_period=partial_period)
+    ev = r.illuminance[:, 0]
+    se_ev = r.illuminance_std_error[:, 0]  # stated at the occupied hours (0 elsewhere), as annual states it
+    e_sun = r.sun_illuminance[:, 0]
+    seen, lum, p = dgp_math.sun_glare_source(view, r.sun_direction, r.direct_normal_lux, np.nan_to_num(e_sun), up)
+    value, se = dgp_math.hourly_dgp(ev, lum, p, vertical_illuminance_std_error=se_ev,
+                                    low_light_correction=bool(low_light_correction))
+    occupied = r.occupied & np.isfinite(value)
+    if not occupied.any():
+        raise RadiometerError("annual DGP: no occupied hour with a usable weather record")
+    above, rng, share = class_counts(value, se, occupied)
+    row = dataclasses.asdict(en17037.glare_protection(value[occupied]))
+    model = meter.capture_model(scene, view_layer_of(scene))
+    n_sun = int((seen & occupied).sum())
+    notes = [f"eye at ({eye[0]:g}, {eye[1]:g}, {eye[2]:g}) looking ({view[0]:.3g}, {view[1]:.3g}, {view[2]:.3g}); "
+             "E_v from the daylight coefficients of a meter at the eye facing the line of sight"]
+    notes += [n for n in r.notes if not n.startswith("ASE") and "sDA verdict" not in n]  # the points' metrics
+    notes.append(f"DGP (Wienold & Christoffersen 2006) with the sun's disc as the one glare source at the "
+                 f"{n_sun} occupied hours the sun is in the view's hemisphere and its centre ray reaches the eye "
+                 f"(L = E_dn / {dgp_math.SUN_SOLID_ANGLE_SR:.3g} sr x the panes' transmittance); the simplified "
+                 "DGPs = 6.22e-5 E_v + 0.184 at the other hours (Wienold 2009, imageless as Radiance/Honeybee)")
+    notes.append("DGPs ignores the contrast of the sky or a bright pane seen from the eye: where no sun is seen it "
+                 "is the lower envelope of DGP (a rendered view, glare --index dgp, rates such hours in full)")
+    notes.append("E_v holds the sun spread over its 4 nearest sky patches (two-phase), not the disc's exact "
+                 "direct part; the sun's luminance and position are exact (the SPA sun, centre ray)")
+    if model.refractors:
+        notes.append("transmitting objects that are not thin panes let the sun through unchanged in the sun's "
+                     "glare term: " + ", ".join(name for name, _why in model.refractors))
+    dim = int(np.sum(occupied & (ev < 380.0)))
+    if dim:
+        notes.append(f"{dim} occupied hours have E_v below 380 lx, where DGP was not fitted (it may underestimate "
+                     "glare there)" + ("; the low-light correction applies" if low_light_correction else ""))
+    return AnnualDGPResult(observer=tuple(map(float, eye)), view_direction=tuple(map(float, view)), dgp=value,
+                           dgp_std_error=se, vertical_illuminance=ev, vertical_illuminance_std_error=se_ev,
+                           sun_seen=seen, sun_luminance=lum, sun_position_index=p, occupied=occupied,
+                           hours=np.asarray(r.hours, float), hours_above=above,
+                           hours_above_range=rng, share_above=share, en17037=row,
+                           low_light_correction=bool(low_light_correction), notes=notes,
+                           weather_period=r.weather_period, whole_year=r.whole_year)
+

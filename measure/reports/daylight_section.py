@@ -5,10 +5,11 @@ Per work plane: the daylight factor grid (CIE overcast sky, the average by BS 82
 with a weather file (EPW) the annual metrics (sDA300/50%, ASE1000/250h, UDI 100-2000 lx) on the same
 points, the weather file's name and period, and the sDA map; the sunlight hours on the reference day
 (21 March of the weather file's year, at its site, every ``SUN_STEP_MIN`` minutes) and their map;
-daylight glare (DGP) at the scene camera; and the EN 17037 table (``radiometry.metrics.en17037``):
-daylight provision from the annual hours (else the DF method with the site's E_v,d when given), exposure
-to sunlight at the plane's sunniest point (the standard assesses a point on the window: noted), glare
-protection not assessed from one DGP (it needs the occupied hours' DGP).
+daylight glare (DGP) at the scene camera, and with a weather file its annual DGP there (imageless:
+``daylight_glare.annual_dgp``); and the EN 17037 table (``radiometry.metrics.en17037``): daylight provision
+from the annual hours (else the DF method with the site's E_v,d when given), exposure to sunlight at the
+plane's sunniest point (the standard assesses a point on the window: noted), protection from glare from
+the camera's annual DGP over the occupied hours (not assessed without a weather file or a camera).
 
 Everything lands in ``report["daylight"]`` (numbers with units in the keys, map file names) and the
 maps in the report's folder; a part that fails is one line in ``errors`` and the rest goes on.
@@ -66,8 +67,8 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
     from ..analyses import daylight_factor, daylight_glare, sun_study
     from . import daylight_maps
 
-    section = {"sky": sky_words(scene), "quality": quality, "planes": [], "dgp": None, "weather": None,
-               "en17037": [], "images": [], "errors": []}
+    section = {"sky": sky_words(scene), "quality": quality, "planes": [], "dgp": None, "annual_dgp": None,
+               "weather": None, "en17037": [], "images": [], "errors": []}
     weather = None
     if epw_path:
         from ...radiometry.sun import epw
@@ -86,6 +87,24 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
     def failed(what, exc):
         section["errors"].append(f"{what}: {exc}")
 
+    view = _camera_view(scene)
+    glare_row = None
+    if weather is not None and view is not None:
+        try:
+            a = daylight_glare.annual_dgp(view[0], view[1], epw_path, scene=scene, quality="preview",
+                                          cancelled=cancelled, partial_period=not weather.is_full_year)
+            glare_row = en17037.glare_protection(a.occupied_dgp())
+            glare_row.note = "annual DGP at the camera"
+            section["annual_dgp"] = {
+                "camera": scene.camera.name, "observer": list(a.observer), "direction": list(a.view_direction),
+                "occupied_hours": int(a.occupied.sum()), "sun_in_view_hours": int((a.sun_seen & a.occupied).sum()),
+                "hours_at_or_above": {f"{k:.2f}": v for k, v in a.hours_above.items()},
+                "hours_at_or_above_within_2se": {f"{k:.2f}": list(v) for k, v in a.hours_above_range.items()},
+                "en17037_level": glare_row.level, "summary": a.summary(), "notes": list(a.notes)}
+        except MeasurementCancelled:
+            raise
+        except (RadiometerError, ValueError) as exc:
+            failed("annual daylight glare at the camera", exc)
     for plane in planes:
         stem = stems(plane.name)
         entry = {"plane": plane.name}
@@ -170,9 +189,8 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
                 failed(f"sunlight hours on {plane.name}", exc)
         import dataclasses
 
-        rows = en17037.table(provision=provision, sunlight=sunlight)
+        rows = en17037.table(provision=provision, sunlight=sunlight, glare=glare_row)
         entry["en17037"] = [dataclasses.asdict(row) for row in rows]
-    view = _camera_view(scene)
     if view is not None:
         try:
             d = daylight_glare.glare_dgp(view[0], view[1], scene=scene, quality="preview",
@@ -260,6 +278,17 @@ def daylight_tables(section):
                          f"{_plain(d['vertical_illuminance_lx'])} lx", str(d["sources"])]]))
         how += [["daylight glare", "DGP (Wienold & Christoffersen 2006), 180 deg fisheye at the camera"],
                 ["DGP classes", "imperceptible < 0.35 <= perceptible < 0.40 <= disturbing < 0.45"]]
+    a = section.get("annual_dgp")
+    if a:
+        def hours(k):
+            lo, hi = a["hours_at_or_above_within_2se"][k]
+            return f"{a['hours_at_or_above'][k]} h" + (f" ({lo}-{hi})" if lo != hi else "")
+
+        tables.append((f"Annual daylight glare at the camera {a['camera']}",
+                       ["occupied hours", "sun in view", "DGP >= 0.35", "DGP >= 0.40", "DGP >= 0.45", "EN 17037"],
+                       [[f"{a['occupied_hours']} h", f"{a['sun_in_view_hours']} h", hours("0.35"), hours("0.40"),
+                         hours("0.45"), a["en17037_level"]]]))
+        how += [["annual glare", "the sun's disc as source where seen, else DGPs (a lower envelope); Wienold 2009"]]
     return tables
 
 

@@ -18,7 +18,7 @@ DGP is capped at 1 (a probability). The *low-light correction* (Wienold 2009, in
 v1.03): for E_v < 1000 lx, DGP x exp(0.024 E_v - 4) / (1 + exp(0.024 E_v - 4)). evalglare applies it
 only when asked (``-C l+``) since v2.14; here ``low_light_correction=False`` by default, as there.
 The *simplified* DGPs = 6.22e-5 E_v + 0.184 (Wienold 2007) stands for DGP where no source is in
-view (the annual method's hours without the sun in the field).
+view (the annual method's hours without the sun in the field: :func:`hourly_dgp`, Wienold 2009).
 Classes (Wienold 2009; EN 17037:2018 Annex C's glare-protection levels use the same limits):
 imperceptible < 0.35 <= perceptible < 0.40 <= disturbing < 0.45 <= intolerable.
 
@@ -49,7 +49,8 @@ from ...readings import AsDict
 from . import glare
 
 __all__ = ["dgp", "dgp_simplified", "low_light_factor", "dgp_class", "position_index_dgp", "angular_fisheye",
-           "find_glare_sources", "dgp_from_picture", "DGPResult", "CLASS_LIMITS", "radiance_picture"]
+           "find_glare_sources", "dgp_from_picture", "DGPResult", "CLASS_LIMITS", "radiance_picture",
+           "SUN_SOLID_ANGLE_SR", "sun_glare_source", "hourly_dgp"]
 
 C_EV, C_LOG, C_0, EV_EXPONENT = 5.87e-5, 9.18e-2, 0.16, 1.87   #: Wienold & Christoffersen 2006
 SIMPLIFIED_SLOPE, SIMPLIFIED_OFFSET = 6.22e-5, 0.184            #: DGPs, Wienold 2007
@@ -363,3 +364,73 @@ def radiance_picture(luminance, view_direction, up=(0.0, 0.0, 1.0), eye=(0.0, 0.
     head = (f"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\nVIEW= -vta -vp {vp} -vd {vd} -vu {vu} -vh {fov_deg:g} "
             f"-vv {fov_deg:g}\n\n-Y {h} +X {w}\n").encode()
     return head + np.stack([mant, mant, mant, ex], axis=-1).tobytes()
+
+
+# --- annual DGP from hourly eye illuminances (imageless; measure/analyses/annual_dgp.py) -----------------------
+
+#: Solid angle of the sun's disc (sr): 0.533 deg across, 2 pi (1 - cos 0.2665 deg) = 6.80e-5 sr.
+SUN_SOLID_ANGLE_SR = 2.0 * math.pi * (1.0 - math.cos(math.radians(0.533 / 2)))
+
+
+def sun_glare_source(view_direction, sun_direction, direct_normal_lux, sun_at_eye_lux, up=(0.0, 0.0, 1.0)):
+    """The sun's disc as the glare source of each hour, from the direct sun at the eye.
+
+    ``sun_direction`` (T, 3) unit vectors towards the sun, ``direct_normal_lux`` (T,) E_dn, ``sun_at_eye_lux``
+    (T,) the direct sun's illuminance on the eye's plane (E_dn cos x what reaches the eye: 0 when
+    blocked, the panes' transmittance when seen through glass; ``measure.analyses.annual.direct_sun``).
+    Returns (seen (T,) bool, luminance (T,) cd/m^2, position index (T,)): seen where the sun is in the
+    front hemisphere and its direct light reaches the eye; L = E_dn / omega_sun x (E_sun / (E_dn cos)),
+    the disc's luminance as transmitted; P (:func:`position_index_dgp`) at the disc's centre, 1 where
+    not seen (unused there).
+    """
+    s = np.asarray(sun_direction, float).reshape(-1, 3)
+    e_dn = np.asarray(direct_normal_lux, float).reshape(-1)
+    e_eye = np.asarray(sun_at_eye_lux, float).reshape(-1)
+    f, _u, _r = glare.view_frame(view_direction, up)
+    cos = s @ f
+    seen = (cos > 0) & (e_dn > 0) & (e_eye > 0) & np.isfinite(e_eye)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        reach = np.where(seen, e_eye / np.where(seen, e_dn * cos, 1.0), 0.0)  # 1 in the open, T through a pane
+    luminance = np.where(seen, e_dn * reach / SUN_SOLID_ANGLE_SR, 0.0)
+    p = np.ones(len(s))
+    if seen.any():
+        sigma, tau, elev = glare.view_angles(f, s[seen], up)
+        p[seen] = position_index_dgp(sigma, tau, elev)
+    return seen, luminance, p
+
+
+def hourly_dgp(vertical_illuminance, sun_luminance, sun_position_index, *, vertical_illuminance_std_error=None,
+               sun_solid_angle=SUN_SOLID_ANGLE_SR, low_light_correction=False):
+    """Hourly DGP, the imageless annual way (Wienold 2009, "Dynamic daylight glare evaluation", Building
+    Simulation 2009, 944-951): full DGP (:func:`dgp`) with the sun's disc as the one glare source at the
+    hours where it is seen (``sun_luminance`` > 0), the simplified DGPs (:func:`dgp_simplified`) at the
+    others. DGPs has no contrast term: the sky or a bright pane seen from the eye is not a source there,
+    so it is the lower envelope of DGP where no sun is seen.
+
+    Arrays (T,): E_v (lx, the sun included), L_sun (cd/m^2, 0 where not seen), P. Returns (DGP (T,),
+    standard error (T,)): first order from ``vertical_illuminance_std_error`` (0 where not given); where
+    the value is capped at 1 and stays there 2 standard errors lower, 0. NaN E_v gives NaN.
+    ``low_light_correction``: :func:`low_light_factor` on both (as :func:`dgp` takes it).
+    """
+    ev = np.asarray(vertical_illuminance, float).reshape(-1)
+    L = np.broadcast_to(np.asarray(sun_luminance, float), ev.shape)
+    p = np.broadcast_to(np.asarray(sun_position_index, float), ev.shape)
+    se_ev = np.zeros_like(ev) if vertical_illuminance_std_error is None else \
+        np.broadcast_to(np.asarray(vertical_illuminance_std_error, float), ev.shape)
+    sun = (L > 0) & (ev > 0)
+    value = SIMPLIFIED_SLOPE * ev + SIMPLIFIED_OFFSET
+    slope = np.full_like(ev, SIMPLIFIED_SLOPE)
+    if sun.any():
+        e = ev[sun]
+        x = L[sun] ** 2 * float(sun_solid_angle) / (p[sun] ** 2 * e ** EV_EXPONENT)
+        value[sun] = C_EV * e + C_LOG * np.log10(1.0 + x) + C_0
+        slope[sun] = C_EV - C_LOG / math.log(10) * x / (1.0 + x) * EV_EXPONENT / e
+    if low_light_correction:
+        g = low_light_factor(ev)
+        dg = np.where(ev < 1000.0, 0.024 * g * (1.0 - g), 0.0)
+        slope = slope * g + value * dg
+        value = value * g
+    se = np.abs(slope) * se_ev
+    capped = value >= 1.0
+    se = np.where(capped & (value - 2.0 * se >= 1.0), 0.0, se)
+    return np.minimum(value, 1.0), se

@@ -87,6 +87,31 @@ def _y(a):
     return 0.265 * a[..., 0] + 0.670 * a[..., 1] + 0.065 * a[..., 2]
 
 
+def radiance_two_phase(folder, epw_path, points, normals, ambient_divisions=16384):
+    """(E (T, N) lux, DC (P, N) lux per cd/m^2): Radiance's two-phase illuminance at ``points`` facing
+    ``normals`` (rcontrib over MF:1 bins and a ground bin, times ``gendaymtx -m 1`` of ``epw2wea``'s file),
+    as :func:`radiance_annual`'s sDA part, and the daylight coefficients (patch 0 the ground); Honeybee's
+    imageless annual glare takes DGPs of E at an eye."""
+    env = _env(folder)
+    rays = "".join(f"{p[0]} {p[1]} {p[2]} {n[0]} {n[1]} {n[2]}\n" for p, n in zip(points, normals))
+    sky = ("void glow groundglow\n0\n0\n4 1 1 1 0\ngroundglow source ground\n0\n0\n4 0 0 -1 180\n"
+           "void glow skyglow\n0\n0\n4 1 1 1 0\nskyglow source sky\n0\n0\n4 0 0 1 180\n")
+    with open(os.path.join(folder, "room.rad"), "w") as f:
+        f.write(_room_rad(sky))
+    with open(os.path.join(folder, "room.oct"), "wb") as f:
+        subprocess.run(["oconv", "room.rad"], cwd=folder, env=env, stdout=f, check=True)
+    out = subprocess.run(["rcontrib", "-h", "-I+", "-ab", "8", "-ad", str(ambient_divisions), "-lw", "1e-6", "-faa",
+                          "-b", "0", "-bn", "1", "-m", "groundglow", "-e", "MF:1", "-f", "reinhartb.cal",
+                          "-b", "rbin", "-bn", "Nrbins", "-m", "skyglow", "room.oct"], cwd=folder, env=env,
+                         input=rays, capture_output=True, text=True, check=True).stdout
+    dc = 179.0 * _y(np.array(out.split(), float).reshape(len(points), -1, 3))  # (N, P) lux per (W/sr/m^2)
+    wea = os.path.join(folder, "y.wea")
+    subprocess.run(["epw2wea", str(epw_path), wea], env=env, check=True, capture_output=True)
+    text = subprocess.run(["gendaymtx", "-h", "-m", "1", wea], env=env, capture_output=True, text=True,
+                          check=True).stdout
+    return _y(np.array(text.split(), float).reshape(dc.shape[1], -1, 3)).T @ dc.T, dc.T / 179.0
+
+
 def radiance_annual(folder, epw_path, points=POINTS):
     """{'sda', 'sda_point_fraction', 'ase', 'ase_hours'} from Radiance (module docstring)."""
     import pandas as pd

@@ -35,8 +35,9 @@ def test_daylight_section_in_every_report_file(clean_blender, tmp_path, monkeypa
     section = rep["daylight"]
     assert "Radiometer Sun" in section["sky"]  # "auto": the scene has a sun
     dome = bpy.app.version >= (5, 0, 0)  # the annual run's sky dome needs 5.0: on 4.5 it is one error line
-    assert section["errors"] == [] if dome else (len(section["errors"]) == 1
-                                                 and "needs Blender 5.0" in section["errors"][0])
+    # on 4.5 the annual run and the camera's annual glare are one error line each
+    assert section["errors"] == [] if dome else (len(section["errors"]) == 2
+                                                 and all("needs Blender 5.0" in e for e in section["errors"]))
     assert section["weather"]["file"] == daylight.WEATHER_FILE and section["weather"]["whole_year"]
     plane = section["planes"][0]
     df = plane["daylight_factor"]
@@ -56,7 +57,14 @@ def test_daylight_section_in_every_report_file(clean_blender, tmp_path, monkeypa
     # the annual run's hours; without them (4.5) the DF method with the E_v,d given
     assert rows["daylight provision"]["method"] == ("target illuminance (hourly)" if dome
                                                     else "daylight factor (E_v,d 14000 lx)")
-    assert rows["protection from glare"]["level"] == "not assessed"
+    # glare protection from the camera's annual DGP over the occupied hours (issue 34)
+    if dome:
+        a = section["annual_dgp"]
+        assert a["camera"] == "Camera" and a["occupied_hours"] == 3650
+        assert rows["protection from glare"]["level"] == a["en17037_level"] != "not assessed"
+        assert rows["protection from glare"]["values"]["hours"] == 3650
+    else:
+        assert rows["protection from glare"]["level"] == "not assessed"
     dgp = section["dgp"]
     assert dgp["camera"] == "Camera" and 0 <= dgp["dgp"] <= 1 and dgp["vertical_illuminance_lx"] > 0
     maps = ["daylight_factor_work_plane.png", "sunlight_hours_work_plane.png"] + ["sda_work_plane.png"] * dome
@@ -69,6 +77,7 @@ def test_daylight_section_in_every_report_file(clean_blender, tmp_path, monkeypa
     page = (out / "report.html").read_text()
     assert "Daylight factor on Work Plane" in page and "Daylight: maps" in page and "EN 17037 on Work Plane" in page
     assert "sunlight_hours_work_plane.png" in page
+    assert ("Annual daylight glare at the camera Camera" in page) == dome
     assert (out / "report.pdf").stat().st_size > 0
 
 
