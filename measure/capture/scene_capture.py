@@ -162,6 +162,7 @@ def _mesh_triangles(obj):
 def _collect(depsgraph):
     """Walk the render depsgraph; returns a SceneModel (positions still in scene units)."""
     lights, names, shadow, reflects, unmodelled, volumes = [], [], [], [], [], []
+    seals = []
     ids = []  # per geometry object: its original's identity (measure.blender.identity.object_identity)
     panes, refractors, pane_chunks, meshes = {}, [], [], []
     rough = set()  # refractors rough enough that light sampling finds small lights through them (issue 18)
@@ -264,6 +265,9 @@ def _collect(depsgraph):
         null = bool(traits[used, 5].all())
         shadow.append(bool(obj.visible_shadow) and not null)
         reflects.append(bool(obj.visible_diffuse or obj.visible_glossy or obj.visible_transmission) and not null)
+        # every kind of ray stops at it (no holdout, no ray type switched off): what may close a sealed shell
+        seals.append(bool(obj.visible_diffuse and obj.visible_glossy and obj.visible_transmission and obj.visible_shadow
+                          and obj.visible_volume_scatter) and not bool(getattr(obj, "is_holdout", False)) and not null)
         tri_chunks.append(world)
         obj_chunks.append(np.full(len(world), index))
         opaque_chunks.append(traits[slot, 0])
@@ -274,7 +278,7 @@ def _collect(depsgraph):
         triangles=cat(tri_chunks, (0, 3, 3)), object_index=cat(obj_chunks, (0,)).astype(int), object_names=names,
         object_ids=ids,
         casts_shadow=np.array(shadow, bool), opaque=cat(opaque_chunks, (0,)).astype(bool),
-        reflects=np.array(reflects, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled,
+        reflects=np.array(reflects, bool), seals=np.array(seals, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled,
         pane_of=cat(pane_chunks, (0,)).astype(int), material_slot=cat(slot_chunks, (0,)).astype(int),
         tri_bounds=(cat([b[0] for b in bound_chunks], (0, 3)), cat([b[1] for b in bound_chunks], (0, 3))))
     needs["volumes"] = volumes

@@ -221,6 +221,8 @@ def world_irradiance(model, direct, normals):
     e, err = e / unit, np.abs(err) / unit
     partial = direct.world_status == scene_model.RENDER
     err = np.where(partial[:, None], np.abs(e), err)
+    cut_off = direct.world_status == scene_model.ZERO  # proven unreachable (a sealed shell: scene.sealed)
+    e, err = np.where(cut_off[:, None], 0.0, e), np.where(cut_off[:, None], 0.0, err)
     w = model.world
     note = (f"world ({w.kind}{', image ' + repr(w.image) if w.image else ''}, strength {w.strength:g}): "
             "E = integral of L cos(theta) d omega over its pixels, nothing rendered"
@@ -647,6 +649,8 @@ def _closed_form_part(model, decision, sensors_m, normals, direct_only):
     notes, parts = [], []
     for k in range(n):
         mine = list(head)
+        if str(direct.indirect_reason[k]).startswith("sealed off"):  # scene.sealed: every source cut off
+            mine.append(str(direct.indirect_reason[k]))
         if exact[k]:
             mine.append("exact: every contribution is a closed form and nothing can reflect or block it")
         elif forced and decision["reasons"]:

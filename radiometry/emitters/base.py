@@ -134,6 +134,12 @@ class Emitter(abc.ABC):
         """False for a source at infinity (sun, world): no distance, no inverse-square law, no location."""
         return not self.flags & EmitterFlags.INFINITE
 
+    def extent(self):
+        """(points (K, 3) m, reach m): the emitting region lies within ``reach`` of the convex hull of
+        ``points``; None for a source at infinity or one whose extent is not known (nothing is then proven
+        about where its light can go: ``scene.sealed``)."""
+        return None
+
     @property
     def is_delta(self):
         """True for a source a sampler can only hit by connecting to it (point, spot, sun of angle 0)."""

@@ -262,6 +262,11 @@ class CyclesLight(Emitter):
     def _extreme_points(self):
         return [self.position]
 
+    def extent(self):
+        if not self.has_position:
+            return None
+        return np.asarray(self._extreme_points(), float).reshape(-1, 3), float(self._reach)
+
     _reach = 0.0  # m, how far the emitter extends around its extreme points (a sphere's radius)
 
     def mirror_cone(self, p, normal, plane_point, tol):

@@ -48,6 +48,9 @@ class EmissiveMesh(Emitter):
     def flags(self):
         return EmitterFlags.AREA | EmitterFlags.RENDERED_ONLY
 
+    def extent(self):
+        return self.triangles.reshape(-1, 3), 0.0
+
     @property
     def area_m2(self):
         """Total area of the emitting triangles, m^2 (one side)."""

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import sealed
 from . import source_visibility
 from . import visibility
 
@@ -69,6 +70,10 @@ class SceneGeometry:
     opaque: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))        # per triangle
     reflects: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))      # per object
     emissive: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))      # per triangle
+    #: per object: every kind of ray stops at it (diffuse, glossy, transmission, shadow and volume visibility
+    #: on, not a holdout, not volume-only): with opaque triangles it may close a sealed shell (``sealed``);
+    #: empty (hand-built geometry): nothing is known to seal
+    seals: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
     unmodelled: list = field(default_factory=list)  # render-visible geometry not triangulated
     #: (T,) per triangle: the object index of the thin pane it belongs to, or -1 (issue 18).
     pane_of: np.ndarray = None
@@ -142,6 +147,12 @@ class SceneGeometry:
     def shadow_triangles(self):
         mask = np.asarray(self.casts_shadow, bool)[self.object_index] if self.count else np.zeros(0, bool)
         return mask
+
+    def sealing_triangles(self):
+        """(T,) bool: opaque triangles of objects that stop every kind of ray (``seals``)."""
+        if not self.count or len(self.seals) != len(self.object_names):
+            return np.zeros(self.count, bool)
+        return np.asarray(self.seals, bool)[self.object_index] & np.asarray(self.opaque, bool)
 
     def reflecting_triangles(self):
         return np.asarray(self.reflects, bool)[self.object_index] if self.count else np.zeros(0, bool)
@@ -648,6 +659,18 @@ def plan_direct(model, points, normals, exact_model=None):
                     status[i, k], reason[i, k] = RENDER, (f"{media[k]} may lie between the meter and the light: it "
                                                           "attenuates and scatters it (no closed form); rendered")
     world_status, world_reason = world_statuses(model, points, normals, tol)
+    # Meters that no source can reach through closed opaque shells: exactly 0 (issue 31, dark meters)
+    # (asked only where something would otherwise be rendered: a meter read in closed form needs no proof)
+    need = indirect | np.any(status == RENDER, axis=0)
+    if world_status is not None:
+        need |= world_status == RENDER
+    dark, why = sealed.sealed_off(model, points[need], tol) if need.any() else (np.zeros(0, bool), "")
+    for k in np.flatnonzero(need)[dark]:
+        status[:, k], reason[:, k] = ZERO, why
+        indirect[k], indirect_reason[k] = False, why
+        transmittance[:, k], glass_bound[:, k], interpane[:, k] = 1.0, 0.0, 0.0
+        if world_status is not None:
+            world_status[k], world_reason[k] = ZERO, why
     return DirectPlan(status, reason, indirect, indirect_reason, world_status, world_reason,
                       transmittance=transmittance, glass_bound=glass_bound, interpane=interpane)
 

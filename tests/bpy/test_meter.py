@@ -211,10 +211,15 @@ def test_meter_inside_a_closed_mesh_is_measured_and_explained(clean_blender, bui
         r = api.measure_illuminance((0, 0, 0), method=method)
         assert r.irradiance == 0.0
         assert any("inside the closed mesh 'Cube'" in n for n in r.notes), r.notes
-    # The analytic path proves the point light blocked by the opaque walls (exact 0 for the direct
-    # part); reflected light is left to the render, so the reading does not claim exactness.
+    # The box is a closed opaque shell between the meter and the only light: no light, direct or
+    # reflected, can reach it (issue 31, radiometry/scene/sealed.py), so the closed form 0 is exact.
     r = api.measure_illuminance((0, 0, 0), method="analytic")
-    assert r.irradiance == 0.0 and "blocked by opaque 'Cube'" in " ".join(r.notes)
+    assert r.irradiance == 0.0 and r.exact and "sealed off" in " ".join(r.notes)
+    # Without that proof (the box lets shadow rays through) the direct part is still proven blocked
+    # only where its segment crosses an opaque face, and the reflected light is not claimed.
+    bpy.data.objects["Cube"].visible_shadow = False
+    r = api.measure_illuminance((0, 0, 0), method="analytic")
+    assert not r.exact and "sealed off" not in " ".join(r.notes)
 
 
 def test_target_rel_error_mode_reaches_target(clean_blender, build):

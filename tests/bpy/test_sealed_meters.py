@@ -1,0 +1,93 @@
+"""Meters sealed off from every source (issue 31, dark meters; radiometry/scene/sealed.py): on the other side
+of a closed opaque shell from every light they read exactly 0, spend no sample and say why; where the proof
+does not hold (a light that casts no shadow, a shell with a hole, a wall that lets some rays through) they
+are measured as before."""
+
+import math
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+INSIDE, OUTSIDE = (0.0, 0.0, 0.5), [(3.0, 0.0, 1.0), (0.0, -3.0, 1.0), (1.0 + 2e-3, 0.3, 1.2)]
+OUT_NORMALS = [(-1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (1.0, 0.0, 0.0)]  # facing the box; the last on its wall
+
+
+def _box_with_lights(build):
+    scene = bpy.context.scene
+    build.black_world(scene)
+    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(0.0, 0.0, 1.0))  # closed box 2 x 2 x 2 m
+    build.light(scene, "POINT", location=(0.0, 0.0, 1.5), energy=100.0, shadow_soft_size=0.05)
+    build.light(scene, "AREA", location=(0.3, 0.2, 1.9), energy=50.0, size=0.4)
+    return scene, bpy.context.scene.objects["Cube"]
+
+
+def test_meters_outside_a_closed_lit_box_read_exactly_zero(clean_blender, build):
+    from radiometer import api
+
+    _box_with_lights(build)
+    readings = api.measure_illuminance([INSIDE] + OUTSIDE, [(0.0, 0.0, 1.0)] + OUT_NORMALS, quality="preview")
+    inside, outside = readings[0], readings[1:]
+    assert inside.illuminance > 0 and not inside.exact
+    for r in outside:
+        assert r.illuminance == 0.0 and r.exact and r.samples == 0 and r.rel_std_error == 0.0
+        assert any("sealed off" in note for note in r.notes), r.notes
+    assert not any("sealed off" in note for note in inside.notes)
+
+
+@pytest.mark.parametrize("breach", ["no_shadow", "hole", "shadow_rays_pass"])
+def test_no_proof_where_light_may_get_out(clean_blender, build, breach):
+    """Each breach lets light out (or is not known not to): the outside meters are rendered, not proven."""
+    import bmesh
+
+    from radiometer import api
+
+    scene, box = _box_with_lights(build)
+    if breach == "no_shadow":
+        bpy.data.objects["point"].data.use_shadow = False  # its light goes through every surface
+    elif breach == "hole":
+        mesh = bmesh.new()
+        mesh.from_mesh(box.data)
+        bmesh.ops.delete(mesh, geom=[f for f in mesh.faces if f.normal.x > 0.5], context="FACES_ONLY")
+        mesh.to_mesh(box.data)
+        mesh.free()
+    else:
+        box.visible_shadow = False
+    r = api.measure_illuminance(OUTSIDE[0], OUT_NORMALS[0], quality="preview", stop_dark=True)
+    assert not r.exact and r.samples > 0
+    assert not any("sealed off" in note for note in r.notes)
+    if breach == "hole":  # the meter faces the open side of the lit box: it reads the light
+        assert r.illuminance > 0
+
+
+def test_a_closed_cupboard_in_daylight_reads_zero(clean_blender, build):
+    """Sun and sky outside, a meter inside a closed box (no light inside): the sources at infinity are cut
+    off by the shell; a meter outside it is not."""
+    from radiometer import api
+
+    scene = bpy.context.scene
+    api.set_cie_sky(scene, "overcast")
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, 0.5))
+    sun = build.light(scene, "SUN", location=(0.0, 0.0, 5.0), energy=3.0)
+    sun.rotation_euler = (0.5, 0.2, 0.0)
+    readings = api.measure_illuminance([(0.0, 0.0, 0.3), (3.0, 0.0, 0.0)], [(0.0, 0.0, 1.0), (0.0, 0.0, 1.0)],
+                                       quality="preview")
+    assert readings[0].illuminance == 0.0 and readings[0].exact and readings[0].samples == 0
+    assert readings[1].illuminance > 0 and math.isfinite(readings[1].rel_std_error)
+
+
+def test_closed_components_are_closed_surfaces_only():
+    from radiometer.radiometry.skies import sky_aperture
+
+    def box(lo, hi):
+        (x0, y0, z0), (x1, y1, z1) = lo, hi
+        v = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], float)
+        quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+        return np.array([[v[a], v[b], v[c]] for q in quads for a, b, c in ((q[0], q[1], q[2]), (q[0], q[2], q[3]))])
+
+    closed, other = box((0, 0, 0), (1, 1, 1)), box((3, 0, 0), (4, 1, 1))[:-2]  # the second lacks one face
+    comps = sky_aperture.closed_components(np.concatenate([closed, other]), 1e-6)
+    assert len(comps) == 1 and sorted(comps[0].tolist()) == list(range(12))
+    inside = sky_aperture.inside_enclosures([(0.5, 0.5, 0.5), (2.0, 0.5, 0.5)], closed, [], 1e-6)
+    assert inside == [True, False]
