@@ -200,6 +200,9 @@ def _collect(depsgraph):
         if not any(rays):
             continue
         needs["geometry"] = True
+        linking = getattr(obj, "light_linking", None)
+        if linking is not None and linking.blocker_collection is not None:
+            needs["blocker_linking"] = True  # an emitting object's shadows may ignore surfaces (scene.sealed)
         if obj.type == "VOLUME":
             needs["volume"] = True
             volumes.append((name,) + _bound_box_m(obj, inst.matrix_world))
@@ -339,7 +342,8 @@ def _instance_signature(inst, obj, original):
                                                         "visible_shadow", "visible_volume_scatter", "is_holdout")),
             getattr(getattr(data, "original", data), "name", ""), counts,
             tuple((slot.link, slot.material.original.name if slot.material is not None else "")
-                  for slot in obj.material_slots))
+                  for slot in obj.material_slots),
+            _object_state(obj)[1])  # its light linking (receivers, blockers): read for sealed shells
 
 
 def _emissive_meshes(meshes, inst, original, name, world_tris, slot, slots, traits, cache):

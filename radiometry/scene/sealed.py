@@ -12,8 +12,8 @@ meter in a closed cupboard of a daylit room).
 What is proven, and what is refused (then nothing is proven and the meter is measured as before):
 * the sources: every light's emitter answers ``extent()`` (points and reach), the emissive meshes by
   their triangles; the sun and the world lie at infinity, outside every shell; a light that casts no
-  shadow (its light goes through surfaces), one without a known extent, or a participating medium (its
-  shader may emit) proves nothing;
+  shadow (its light goes through surfaces), one without a known extent, an object with shadow linking
+  (blockers), or a participating medium (its shader may emit) proves nothing;
 * a source's whole extent is on one side of a shell: the box around it, grown by its reach and the
   tolerance, meets none of the shell's triangles (separating axes, every doubt read as "meets"), and
   the box's centre's side is decided by the crossing parity;
@@ -38,6 +38,8 @@ def source_extents(model):
     the world), or None when some source's extent is unknown or its light ignores surfaces."""
     if model.volumes or model.world_volume:
         return None  # a volume's shader may emit: its light's extent is not read
+    if model.needs.get("blocker_linking", False):
+        return None  # an object's shadow linking may let its light through the shell
     out = []
     for light in model.lights:
         if light.portal:

@@ -36,7 +36,7 @@ def test_meters_outside_a_closed_lit_box_read_exactly_zero(clean_blender, build)
     assert not any("sealed off" in note for note in inside.notes)
 
 
-@pytest.mark.parametrize("breach", ["no_shadow", "hole", "shadow_rays_pass"])
+@pytest.mark.parametrize("breach", ["no_shadow", "hole", "shadow_rays_pass", "shadow_linking"])
 def test_no_proof_where_light_may_get_out(clean_blender, build, breach):
     """Each breach lets light out (or is not known not to): the outside meters are rendered, not proven."""
     import bmesh
@@ -52,6 +52,14 @@ def test_no_proof_where_light_may_get_out(clean_blender, build, breach):
         bmesh.ops.delete(mesh, geom=[f for f in mesh.faces if f.normal.x > 0.5], context="FACES_ONLY")
         mesh.to_mesh(box.data)
         mesh.free()
+    elif breach == "shadow_linking":  # an emitting card inside whose shadow rays ignore the box
+        card = build.plane(scene, size=0.3, location=(0.0, 0.0, 1.0), name="card")
+        tree = card.data.materials[0].node_tree
+        tree.nodes.clear()
+        emission = tree.nodes.new("ShaderNodeEmission")
+        tree.links.new(emission.outputs[0], tree.nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
+        blockers = bpy.data.collections.new("blockers")
+        card.light_linking.blocker_collection = blockers
     else:
         box.visible_shadow = False
     r = api.measure_illuminance(OUTSIDE[0], OUT_NORMALS[0], quality="preview", stop_dark=True)
