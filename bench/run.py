@@ -998,7 +998,7 @@ def markdown(res):
                 f"(1000 points x 8760 h) on 16 / 64 / 256 cores: "
                 + " / ".join(f"{r['total_s'] / 60:.1f} min" for r in c["projection"])
                 + ". Overheads and the projection's model: bench/cluster.md (bench/cluster.py).", ""]
-    for key in ("sun_study", "daylight_factor", "daylight_split", "annual"):  # bench/<key>.py writes its own section
+    for key in ("sun_study", "daylight_factor", "daylight_split", "daylight_steps", "annual"):  # bench/<key>.py writes its own section
         if key in res:
             out += __import__(key).markdown(res[key])
     return "\n".join(out)
@@ -1039,6 +1039,9 @@ BENCHES["daylight_factor"] = lambda: __import__("daylight_factor").bench_dayligh
 # Issue 31 (bench/daylight_split.py): the DF grid with the sky component proven vs rendered whole vs electric.
 BENCHES["daylight_split"] = lambda: __import__("daylight_split").bench_daylight_split(4 if QUICK else 10,
                                                                                      0.05 if QUICK else 0.01)
+
+# Issue 31 (bench/daylight_steps.py): a low-sun sun-study step vs a midday one; the glare picture's seconds.
+BENCHES["daylight_steps"] = lambda: __import__("daylight_steps").bench_daylight_steps(QUICK)
 
 # Issue 19 (bench/annual.py): annual sDA/ASE vs Radiance on a room that does not saturate; dome vs per-patch cost.
 BENCHES["annual"] = lambda: __import__("annual").bench_annual(QUICK)
