@@ -41,18 +41,11 @@ def _low_sun_time(daylight, elevation_deg=2.0):
 
 
 def bench_daylight_steps(quick=False, repeats=3):
-    import bpy
-
-    import radiometer
     from radiometer import api
     from radiometer.demo import daylight
+    from sun_study import demo_room_meters  # the bench's sibling module
 
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    if not hasattr(bpy.types.Scene, "radiometer"):
-        radiometer.register()
-    scene = daylight.build(bpy.context.scene)
-    xs = np.linspace(-1.5, 1.5, 4)
-    points = np.array([(x, y, 0.75) for y in xs for x in xs])
+    scene, points = demo_room_meters()
     site = daylight.SITE
     noon, low = daylight.local_time((2026, 3, 20, 12, 0)), _low_sun_time(daylight)
     out = {"points": len(points), "quality": "preview", "load_average_before": os.getloadavg(),

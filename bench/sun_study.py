@@ -17,20 +17,25 @@ import numpy as np
 BUDGET_S = 60.0
 
 
-def bench_sun_study(quick=False):
+def demo_room_meters():
+    """A fresh daylit demo room (demo/daylight.py) and its 4 x 4 meters at desk height: (scene, points (16, 3))."""
     import bpy
 
-    from radiometer import api
+    import radiometer
     from radiometer.demo import daylight
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    import radiometer
-
     if not hasattr(bpy.types.Scene, "radiometer"):
         radiometer.register()
-    scene = daylight.build(bpy.context.scene)
     xs = np.linspace(-1.5, 1.5, 4)
-    points = np.array([(x, y, 0.75) for y in xs for x in xs])
+    return daylight.build(bpy.context.scene), np.array([(x, y, 0.75) for y in xs for x in xs])
+
+
+def bench_sun_study(quick=False):
+    from radiometer import api
+    from radiometer.demo import daylight
+
+    scene, points = demo_room_meters()
     site = daylight.SITE
     hours = range(0, 24, 4) if quick else range(24)
     times = [daylight.local_time((2026, 3, 20, h, 0)) for h in hours]

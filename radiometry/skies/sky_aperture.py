@@ -652,6 +652,24 @@ def _on_polygon_edge(x, y, loops, tol):
     return False
 
 
+def _vertex_parts(count, edges):
+    """(count,) the connected part (a root vertex) of every vertex, vertices joined by ``edges`` (E, 2):
+    union-find."""
+    parent = np.arange(count)
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for a, b in edges:
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[ra] = rb
+    return np.array([find(i) for i in range(count)])
+
+
 #: Largest count of triangles whose T-junctions ``closed_components`` splits (each edge against every vertex:
 #: 0.6 s for 2300 triangles); larger sets count welded edges only (a T-junction then reads as open).
 SPLIT_MAX_TRIANGLES = 500
@@ -673,21 +691,8 @@ def closed_components(triangles, tol):
     ids = ids[keep]
     edges = np.sort(np.stack([ids, np.roll(ids, -1, axis=1)], axis=-1).reshape(-1, 2), axis=1)
     uniq, which, counts = np.unique(edges, axis=0, return_inverse=True, return_counts=True)
-    # connected parts: vertices joined by edges (union-find), a triangle in its first vertex's part
-    parent = np.arange(len(pts))
-
-    def find(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    for a, b in uniq:
-        ra, rb = find(a), find(b)
-        if ra != rb:
-            parent[ra] = rb
-    roots = np.array([find(i) for i in range(len(pts))])
-    tri_roots = roots[ids[:, 0]]
+    roots = _vertex_parts(len(pts), uniq)
+    tri_roots = roots[ids[:, 0]]  # a triangle in its first vertex's part
     edge_ok = (counts == 2)[which.ravel()].reshape(-1, 3).all(axis=1)      # per triangle: its 3 edges shared by 2
     out = []
     for r in np.unique(tri_roots):
@@ -722,21 +727,9 @@ def enclosure_closed(triangles, loops, tol):
         return False, none, f"more than {CLOSURE_MAX_TRIANGLES} triangles: closure not checked"
     pts, inv = _weld(tris.reshape(-1, 3), tol)
     ids = inv.reshape(-1, 3)
-    parent = np.arange(len(pts))
-
-    def find(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
     raw = [(t[i], t[(i + 1) % 3]) for t in ids for i in range(3)]
     split = _split_edges(pts, raw, tol)
-    for a, b in split:
-        ra, rb = find(a), find(b)
-        if ra != rb:
-            parent[ra] = rb
-    roots = np.array([find(i) for i in range(len(pts))])
+    roots = _vertex_parts(len(pts), split)
     loop_pts = np.concatenate(loops)
     near = np.flatnonzero(np.min(np.linalg.norm(pts[:, None, :] - loop_pts[None], axis=2), axis=1) <= tol)
     if not near.size:
