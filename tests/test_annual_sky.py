@@ -135,3 +135,52 @@ def test_lm83_metrics_on_constructed_cases():
     np.testing.assert_allclose(short + useful + exceeded, 1.0)
     with pytest.raises(ValueError):
         daylight_metrics.sda(np.full((240, 2), np.nan), occ)
+
+
+def _plane_coefficients(patches, normal, n_sub=40):
+    """(P,) sr: integral of max(0, n . w) over each sky patch (ground 0), midpoint rule on equal-area cells."""
+    t = (np.arange(n_sub) + 0.5) / n_sub
+    out = np.zeros(patches.count)
+    for p in range(1, patches.count):
+        u = np.sin(patches.alt_lo[p]) + t * (np.sin(patches.alt_hi[p]) - np.sin(patches.alt_lo[p]))
+        az = patches.az_lo[p] + t * (patches.az_hi[p] - patches.az_lo[p])
+        uu, aa = np.meshgrid(u, az, indexing="ij")
+        ca = np.sqrt(1 - uu ** 2)
+        d = np.stack([ca * np.sin(aa), ca * np.cos(aa), uu], axis=-1)
+        out[p] = np.maximum(d @ normal, 0).mean() * patches.solid_angle[p]
+    return out
+
+
+def test_patch_sky_gives_the_continuous_perez_sky_on_every_plane():
+    """The sky vector (sun and ground left out) times exact cosine-weighted patch coefficients against the
+    continuous Perez 1993 sky normalised to E_dh over the continuous hemisphere (a 200 x 400 equal-area
+    midpoint rule): on the horizontal it IS E_dh (the normalisation; with gendaymtx's cos(centre) x
+    solid angle it was 0.55 % short every hour), on vertical planes the mean over varied hours is within
+    0.25 % (what is left is the patch-centre sampling of the circumsolar peak, a few % in single hours)."""
+    patches = sky_patches.reinhart_patches(1)
+    normals = {"up": (0, 0, 1), "south": (0, -1, 0), "east": (1, 0, 0), "north": (0, 1, 0)}
+    coeff = {k: _plane_coefficients(patches, np.array(n, float)) for k, n in normals.items()}
+    u = (np.arange(200) + 0.5) / 200
+    az = (np.arange(400) + 0.5) / 400 * 2 * np.pi
+    uu, aa = np.meshgrid(u, az, indexing="ij")
+    ca = np.sqrt(1 - uu ** 2)
+    cells = np.stack([ca * np.sin(aa), ca * np.cos(aa), uu], axis=-1).reshape(-1, 3)
+    d_omega = 2 * np.pi / cells.shape[0]
+    rng = np.random.default_rng(11)
+    ratios = {k: [] for k in normals}
+    for _ in range(60):
+        alt, sun_az = rng.uniform(0.05, 1.1), rng.uniform(0, 2 * np.pi)
+        sun = np.array([np.cos(alt) * np.sin(sun_az), np.cos(alt) * np.cos(sun_az), np.sin(alt)])
+        dni, dhi, doy = rng.uniform(0, 850), rng.uniform(20, 350), int(rng.integers(1, 366))
+        vec, info = perez.sky_vector(patches, sun, dni, dhi, doy, 8.0, 0.0, include_sun=False)
+        lum = perez.relative_luminance(np.arccos(cells[:, 2]), np.arccos(np.clip(cells @ sun, -1, 1)),
+                                       info["parameters"])
+        lum *= info["diffuse_lux"] / (np.sum(lum * cells[:, 2]) * d_omega)
+        for k, n in normals.items():
+            ratios[k].append((vec @ coeff[k]) / (np.sum(lum * np.maximum(cells @ np.array(n, float), 0)) * d_omega))
+    ratios = {k: np.array(v) for k, v in ratios.items()}
+    print({k: (round(float(v.mean()), 5), round(float(v.min()), 4), round(float(v.max()), 4)) for k, v in ratios.items()})
+    np.testing.assert_allclose(ratios["up"], 1.0, atol=2e-4)
+    for k in ("south", "east", "north"):
+        assert abs(ratios[k].mean() - 1.0) < 2.5e-3, (k, ratios[k].mean())
+        assert np.all(np.abs(ratios[k] - 1.0) < 0.05), (k, ratios[k].min(), ratios[k].max())

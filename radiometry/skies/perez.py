@@ -18,9 +18,12 @@ Models and sources
   precipitable water W = exp(0.07 T_d - 0.075) cm from the dew point T_d (eq. 3).
 * Limits as Radiance's gendaymtx applies them (so the two-phase comparisons use the same sky):
   epsilon in [1, 11.9], Delta in [0.01, 0.6], Delta >= 0.2 for 1.065 < epsilon < 2.8, the sun's
-  zenith angle clamped to [3, 90] deg; patch luminance evaluated at the patch centre, normalised so
-  that sum_p L_p cos(zeta_p) omega_p = E_dh (the discrete Tregenza/Reinhart sky, as daylight
-  coefficient methods use it); the sun's direct normal illuminance is spread over the 4 patches
+  zenith angle clamped to [3, 90] deg; patch luminance evaluated at the patch centre. Not as gendaymtx:
+  normalised so that sum_p L_p kappa_p = E_dh with kappa_p the EXACT integral of cos(zeta) over patch p
+  (``SkyPatches.cos_solid_angle``), i.e. the piecewise-constant patch sky, integrated exactly as daylight
+  coefficients integrate it, gives the weather file's diffuse horizontal illuminance; gendaymtx's
+  sum_p L_p cos(zeta_centre) omega_p = E_dh leaves that sky 0.55 % short on every plane (MF:1;
+  bench/sky_matrix_check.py). The sun's direct normal illuminance is spread over the 4 patches
   nearest to it with weights 1 / (1.002 - cos) (the two-phase approximation of gendaymtx).
 """
 
@@ -166,7 +169,9 @@ def sky_vector(patches, sun_direction, direct_normal, diffuse_horizontal, day_of
         az_s = np.arctan2(s[0], s[1])
         cos_g = np.cos(z) * np.cos(zeta) + np.sin(z) * np.sin(zeta) * np.cos(np.abs(patches.azimuth[1:] - az_s))
         lum = relative_luminance(zeta, np.arccos(np.clip(cos_g, -1, 1)), params)
-        norm = float(np.sum(lum * np.cos(zeta) * patches.solid_angle[1:]))
+        # E_dh of the piecewise-constant patch sky integrated exactly (as any daylight coefficient sees
+        # it); gendaymtx's cos(centre) x solid angle makes that sky 0.55 % darker than E_dh (MF:1)
+        norm = float(np.sum(lum * patches.cos_solid_angle[1:]))
         if norm <= 1e-12:
             lum, norm = np.ones_like(lum), np.pi
         out[1:] = lum * e_dh / norm

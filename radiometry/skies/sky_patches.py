@@ -19,7 +19,8 @@ _ROW_COUNTS = (30, 30, 24, 24, 18, 12, 6)
 class SkyPatches:
     """Arrays over P patches (index 0 = ground): ``alt_lo``, ``alt_hi``, ``az_lo``, ``az_hi`` (rad;
     azimuths may start below 0 for the patch centred on north), ``altitude``/``azimuth`` of the
-    centre, ``solid_angle`` (sr), ``direction`` (P, 3); ``m`` the subdivision."""
+    centre, ``solid_angle`` (sr), ``cos_solid_angle`` (sr: the integral of cos(zenith) over the patch,
+    0 for the ground), ``direction`` (P, 3); ``m`` the subdivision."""
 
     def __init__(self, m):
         self.m = int(m)
@@ -49,6 +50,10 @@ class SkyPatches:
         self.az_lo, self.az_hi = np.array(az_lo), np.array(az_hi)
         self.altitude, self.azimuth = np.array(alt_c), np.array(az_c)
         self.solid_angle = np.array(dom)
+        # integral of cos(zenith) over each patch, exact: (d az / 2)(sin^2 a1 - sin^2 a0); 0 for the ground
+        # (the sky's normalisation to the diffuse horizontal uses it, not cos at the centre x solid angle)
+        self.cos_solid_angle = np.where(self.alt_hi > 0, 0.5 * (self.az_hi - self.az_lo)
+                                        * (np.sin(self.alt_hi) ** 2 - np.sin(np.maximum(self.alt_lo, 0)) ** 2), 0.0)
         ca = np.cos(self.altitude)
         self.direction = np.stack([ca * np.sin(self.azimuth), ca * np.cos(self.azimuth), np.sin(self.altitude)], axis=-1)
 

@@ -140,7 +140,9 @@ def test_annual_dgp_outdoors_against_closed_forms(clean_blender, tmp_path):
     # E_v against the continuous sky where no sun shines
     ev_c, e_dn, sun = continuous_sky(weather, normal)
     gap = np.abs(r.vertical_illuminance - ev_c)[overcast]
-    allowed = 3 * r.vertical_illuminance_std_error[overcast] + 0.006 * ev_c[overcast]
+    # 0.2 %: the patch-centre sampling; the sky normalised with cos(centre) x solid angle (gendaymtx's) was
+    # 0.33-0.83 % short here (docs/daylight-sky.md, "Sky matrix against gendaymtx")
+    allowed = 3 * r.vertical_illuminance_std_error[overcast] + 0.002 * ev_c[overcast]
     print("overcast E_v / continuous sky - 1 (%):", np.round(100 * (r.vertical_illuminance[overcast] / ev_c[overcast] - 1), 2))
     assert np.all(gap <= allowed) and ev_c[overcast].min() > 3000.0
 
