@@ -54,28 +54,21 @@ class _Capture:
 
 
 def _material_traits(material):
-    """(opaque, emissive, glossy, transmission, volume, null surface) of a material as Cycles shades it.
-    A null surface: the active output has a Volume and no Surface (a fog box): Cycles renders the
-    boundary as a null interface that neither blocks nor reflects light; the medium is in ``volumes``."""
+    """(opaque, emissive, glossy, transmission, volume, null surface, seals) of a material as Cycles shades
+    it. A null surface: the active output has a Volume and no Surface (a fog box): Cycles renders the
+    boundary as a null interface that neither blocks nor reflects light; the medium is in ``volumes``.
+    ``seals``: only shader nodes through which no light passes (``shader_kinds.seals``: sealed shells)."""
     if material is None:  # Cycles' default surface: grey diffuse
-        return True, False, False, False, False, False
+        return True, False, False, False, False, False, True
     from ...compat import active_node_tree
 
     tree = active_node_tree(material)
-    types = shader_kinds.node_types(tree)
+    types = shader_kinds.node_types(tree)  # a Principled BSDF's alpha/transmission read as Transparent (groups too)
     transmissive = bool(types & shader_kinds.TRANSMISSIVE_NODES)
-    if tree is not None:
-        for node in tree.nodes:
-            if node.bl_idname == "ShaderNodeBsdfPrincipled":
-                for name in ("Transmission Weight", "Alpha"):
-                    socket = node.inputs.get(name)
-                    if socket is None:
-                        continue
-                    if socket.is_linked or (socket.default_value != (0.0 if name != "Alpha" else 1.0)):
-                        transmissive = True
     volume = shader_kinds.uses_volume(tree)
     return (not transmissive and not volume, bool(types & shader_kinds.EMISSIVE_NODES),
-            bool(types & shader_kinds.GLOSSY_NODES), transmissive, volume, volume and _volume_only(tree))
+            bool(types & shader_kinds.GLOSSY_NODES), transmissive, volume, volume and _volume_only(tree),
+            not volume and shader_kinds.seals(types))
 
 
 def _volume_only(tree):
@@ -162,7 +155,7 @@ def _mesh_triangles(obj):
 def _collect(depsgraph):
     """Walk the render depsgraph; returns a SceneModel (positions still in scene units)."""
     lights, names, shadow, reflects, unmodelled, volumes = [], [], [], [], [], []
-    seals = []
+    seals, seal_chunks = [], []
     ids = []  # per geometry object: its original's identity (measure.blender.identity.object_identity)
     panes, refractors, pane_chunks, meshes = {}, [], [], []
     rough = set()  # refractors rough enough that light sampling finds small lights through them (issue 18)
@@ -203,6 +196,8 @@ def _collect(depsgraph):
         linking = getattr(obj, "light_linking", None)
         if linking is not None and linking.blocker_collection is not None:
             needs["blocker_linking"] = True  # an emitting object's shadows may ignore surfaces (scene.sealed)
+        if any(getattr(ps.settings, "type", "") == "HAIR" for ps in getattr(obj, "particle_systems", ())):
+            needs["hair_particles"] = True  # rendered strands the capture does not triangulate (scene.sealed)
         if obj.type == "VOLUME":
             needs["volume"] = True
             volumes.append((name,) + _bound_box_m(obj, inst.matrix_world))
@@ -233,7 +228,7 @@ def _collect(depsgraph):
             if k not in material_cache:
                 material_cache[k] = _material_traits(material)
             traits.append(material_cache[k])
-            _o, emits, glossy, transmission, volume, _null = material_cache[k]
+            _o, emits, glossy, transmission, volume, _null, _seals = material_cache[k]
             needs["glossy"] |= glossy
             needs["transmission"] |= transmission
             needs["volume"] |= volume
@@ -274,6 +269,7 @@ def _collect(depsgraph):
         tri_chunks.append(world)
         obj_chunks.append(np.full(len(world), index))
         opaque_chunks.append(traits[slot, 0])
+        seal_chunks.append(traits[slot, 6])
         emissive_chunks.append(traits[slot, 1])
         slot_chunks.append(slot)
     cat = (lambda chunks, shape: np.concatenate(chunks) if chunks else np.zeros(shape))
@@ -281,7 +277,8 @@ def _collect(depsgraph):
         triangles=cat(tri_chunks, (0, 3, 3)), object_index=cat(obj_chunks, (0,)).astype(int), object_names=names,
         object_ids=ids,
         casts_shadow=np.array(shadow, bool), opaque=cat(opaque_chunks, (0,)).astype(bool),
-        reflects=np.array(reflects, bool), seals=np.array(seals, bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled,
+        reflects=np.array(reflects, bool), seals=np.array(seals, bool),
+        sealing_material=cat(seal_chunks, (0,)).astype(bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled,
         pane_of=cat(pane_chunks, (0,)).astype(int), material_slot=cat(slot_chunks, (0,)).astype(int),
         tri_bounds=(cat([b[0] for b in bound_chunks], (0, 3)), cat([b[1] for b in bound_chunks], (0, 3))))
     needs["volumes"] = volumes

@@ -13,9 +13,33 @@ GLOSSY_NODES = {
 }
 TRANSMISSIVE_NODES = {
     "ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction", "ShaderNodeBsdfTranslucent",
-    "ShaderNodeBsdfTransparent", "ShaderNodeScript",
+    "ShaderNodeBsdfTransparent", "ShaderNodeScript", "ShaderNodeBsdfRayPortal", "ShaderNodeBsdfHair",
+    "ShaderNodeBsdfHairPrincipled",
 }
-EMISSIVE_NODES = {"ShaderNodeEmission", "ShaderNodeScript"}
+#: A Background shader on a surface emits as Emission does (the old "shadeless" trick).
+EMISSIVE_NODES = {"ShaderNodeEmission", "ShaderNodeScript", "ShaderNodeBackground"}
+#: Shader nodes through which no light passes (issue 31, sealed shells): a material whose shader nodes are all
+#: of these (a Principled BSDF without alpha, transmission or subsurface) stops every ray; any other shader node,
+#: known or new, proves nothing (a whitelist: Ray Portal, Hair, Holdout, Subsurface, Script, ...).
+SEALING_SHADERS = {
+    "ShaderNodeBsdfDiffuse", "ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic", "ShaderNodeBsdfMetallic",
+    "ShaderNodeBsdfPrincipled", "ShaderNodeBsdfSheen", "ShaderNodeBsdfToon", "ShaderNodeEmission",
+    "ShaderNodeMixShader", "ShaderNodeAddShader",
+}
+_SHADER_NODES = {"ShaderNodeBackground", "ShaderNodeHoldout", "ShaderNodeSubsurfaceScattering", "ShaderNodeScript",
+                 "ShaderNodeEeveeSpecular", "ShaderNodeShaderToRGB"}
+
+
+def is_shader_node(bl_idname):
+    """True for a node that makes or combines a closure (a BSDF, emission, volume, holdout, ...)."""
+    return (bl_idname.startswith(("ShaderNodeBsdf", "ShaderNodeVolume")) or bl_idname in _SHADER_NODES
+            or bl_idname in SEALING_SHADERS)
+
+
+def seals(types):
+    """True when node types ``types`` (``node_types``) make a surface that stops every ray."""
+    shaders = {t for t in types if is_shader_node(t)}
+    return shaders <= SEALING_SHADERS and not types & TRANSMISSIVE_NODES
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME", "GREASEPENCIL"}
 
 
@@ -36,7 +60,19 @@ def node_types(tree, seen=None):
                 types.add("ShaderNodeEmission")
             elif inp is not None and inp.is_linked:
                 types.add("ShaderNodeEmission")
+            # a Principled BSDF passes light where its alpha or transmission says so, and scatters it under the
+            # surface with subsurface weight: read as those closures, inside groups too
+            if _set(node, "Alpha", 1.0) or _set(node, "Transmission Weight", 0.0):
+                types.add("ShaderNodeBsdfTransparent")
+            if _set(node, "Subsurface Weight", 0.0):
+                types.add("ShaderNodeSubsurfaceScattering")
     return types
+
+
+def _set(node, name, default):
+    """True when the node's input ``name`` is linked or differs from ``default``."""
+    socket = node.inputs.get(name)
+    return socket is not None and (socket.is_linked or socket.default_value != default)
 
 
 def uses_volume(tree):

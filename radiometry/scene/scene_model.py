@@ -74,6 +74,9 @@ class SceneGeometry:
     #: on, not a holdout, not volume-only): with opaque triangles it may close a sealed shell (``sealed``);
     #: empty (hand-built geometry): nothing is known to seal
     seals: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+    #: (T,) per triangle: its material has only shader nodes through which no light passes (no alpha,
+    #: transmission, subsurface, portal, ...: ``measure.capture.shader_kinds.seals``); None: not known
+    sealing_material: np.ndarray = None
     unmodelled: list = field(default_factory=list)  # render-visible geometry not triangulated
     #: (T,) per triangle: the object index of the thin pane it belongs to, or -1 (issue 18).
     pane_of: np.ndarray = None
@@ -149,10 +152,13 @@ class SceneGeometry:
         return mask
 
     def sealing_triangles(self):
-        """(T,) bool: opaque triangles of objects that stop every kind of ray (``seals``)."""
-        if not self.count or len(self.seals) != len(self.object_names):
+        """(T,) bool: opaque triangles of objects that stop every kind of ray (``seals``), of a material that lets
+        no light through (``sealing_material``)."""
+        if not self.count or len(self.seals) != len(self.object_names) or self.sealing_material is None \
+                or len(self.sealing_material) != self.count:
             return np.zeros(self.count, bool)
-        return np.asarray(self.seals, bool)[self.object_index] & np.asarray(self.opaque, bool)
+        return (np.asarray(self.seals, bool)[self.object_index] & np.asarray(self.opaque, bool)
+                & np.asarray(self.sealing_material, bool))
 
     def reflecting_triangles(self):
         return np.asarray(self.reflects, bool)[self.object_index] if self.count else np.zeros(0, bool)

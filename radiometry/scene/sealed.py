@@ -19,8 +19,12 @@ What is proven, and what is refused (then nothing is proven and the meter is mea
   the box's centre's side is decided by the crossing parity;
 * the meter's side is decided by the crossing parity (a meter within the tolerance of the shell: not
   decided, so not proven);
-* tolerances: coordinates welded within a few float32 steps (``length_tolerance`` x 10), as the sky
-  component's closure proof; a crack narrower than that between two objects' edges counts as closed.
+* materials: only shader nodes through which no light passes (``shader_kinds.SEALING_SHADERS``, a
+  whitelist: a Principled BSDF without alpha, transmission or subsurface, diffuse, glossy, metallic, sheen,
+  toon, emission and their mixes), inside node groups too; geometry that is not triangulated (curves,
+  point clouds, particle hair) proves nothing;
+* tolerances: vertices welded within two float32 steps of the shell's largest coordinate
+  (``WELD_FLOAT32_STEPS``); a crack narrower than that between two objects' edges counts as closed.
 """
 
 import numpy as np
@@ -33,6 +37,11 @@ __all__ = ["source_extents", "sealed_off"]
 _CUBE = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
 
 
+#: How far apart (in float32 steps of the largest coordinate) two vertices may be and still be one vertex of a
+#: shell: a slit narrower than this reads as closed (2 steps: 0.5 mm at 2 km from the origin, 0.24 um at 1 m).
+WELD_FLOAT32_STEPS = 2.0
+
+
 def source_extents(model):
     """Every source of the model that emits: a list of (points (K, 3) m, reach m) or "infinity" (the sun,
     the world), or None when some source's extent is unknown or its light ignores surfaces."""
@@ -40,6 +49,8 @@ def source_extents(model):
         return None  # a volume's shader may emit: its light's extent is not read
     if model.needs.get("blocker_linking", False):
         return None  # an object's shadow linking may let its light through the shell
+    if model.geometry.unmodelled or model.needs.get("hair_particles", False):
+        return None  # geometry not triangulated (curves, point clouds, particle hair) may emit or leak
     out = []
     for light in model.lights:
         if light.portal:
@@ -80,8 +91,12 @@ def sealed_off(model, points_m, tol):
     sources = source_extents(model)
     if not sources or not g.count:
         return none, ""
-    shell_tol = 10.0 * tol
     sealing = g.triangles[g.sealing_triangles()]
+    if not len(sealing):
+        return none, ""
+    # Vertices are welded within two float32 steps of the shell's own coordinates (its mesh and transform
+    # were float32): a gap wider than that is a gap (``tol``, from the meters' places, is not used here).
+    shell_tol = WELD_FLOAT32_STEPS * np.finfo(np.float32).eps * max(1.0, float(np.max(np.abs(sealing))))
     shells = sky_aperture.closed_components(sealing, shell_tol)
     if not shells:
         return none, ""

@@ -69,6 +69,68 @@ def test_no_proof_where_light_may_get_out(clean_blender, build, breach):
         assert r.illuminance > 0
 
 
+def _shader_material(name, build_tree):
+    from radiometer.compat import ensure_node_tree
+
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    tree.nodes.clear()
+    build_tree(tree, tree.nodes.new("ShaderNodeOutputMaterial"))
+    return mat
+
+
+def _grouped_principled(tree, out, **inputs):
+    """A Principled BSDF inside a node group (as asset libraries wrap materials)."""
+    group = bpy.data.node_groups.new("wrapped", "ShaderNodeTree")
+    group.interface.new_socket("BSDF", in_out="OUTPUT", socket_type="NodeSocketShader")
+    principled = group.nodes.new("ShaderNodeBsdfPrincipled")
+    for key, value in inputs.items():
+        principled.inputs[key].default_value = value
+    group.links.new(principled.outputs[0], group.nodes.new("NodeGroupOutput").inputs[0])
+    node = tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = group
+    tree.links.new(node.outputs[0], out.inputs["Surface"])
+
+
+@pytest.mark.parametrize("material", ["alpha_in_group", "subsurface", "ray_portal"])
+def test_no_proof_through_a_material_that_passes_light(clean_blender, build, material):
+    """Review of the proof (reproduced with renders): a Principled BSDF with alpha inside a node group, subsurface
+    scattering and a Ray Portal BSDF on one face each let light out of the box; none may seal it."""
+    from radiometer import api
+
+    _scene, box = _box_with_lights(build)
+    if material == "alpha_in_group":
+        box.data.materials.append(_shader_material("grouped", lambda t, o: _grouped_principled(t, o, Alpha=0.1)))
+    elif material == "subsurface":
+        box.data.materials.append(_shader_material("sss", lambda t, o: _grouped_principled(
+            t, o, **{"Subsurface Weight": 1.0})))
+    else:
+        box.data.materials.append(_shader_material("diffuse", lambda t, o: t.links.new(
+            t.nodes.new("ShaderNodeBsdfDiffuse").outputs[0], o.inputs["Surface"])))
+        box.data.materials.append(_shader_material("portal", lambda t, o: t.links.new(
+            t.nodes.new("ShaderNodeBsdfRayPortal").outputs[0], o.inputs["Surface"])))
+        for polygon in box.data.polygons:
+            polygon.material_index = 1 if polygon.normal.x > 0.5 else 0
+    r = api.measure_illuminance(OUTSIDE[0], OUT_NORMALS[0], quality="preview", stop_dark=True)
+    assert not r.exact and not any("sealed off" in note for note in r.notes)
+
+
+def test_a_background_shader_card_is_a_source(clean_blender, build):
+    """A card with a Background shader inside a closed box emits (Cycles renders it as emission): the meter
+    inside is not cut off from it, although the sun outside is."""
+    from radiometer import api
+
+    scene = bpy.context.scene
+    build.black_world(scene)
+    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(0.0, 0.0, 1.0))
+    build.light(scene, "SUN", location=(0.0, 0.0, 5.0), energy=3.0)
+    card = build.plane(scene, size=0.3, location=(0.0, 0.5, 1.0), name="card")
+    card.data.materials[0] = _shader_material("glow", lambda t, o: t.links.new(
+        t.nodes.new("ShaderNodeBackground").outputs[0], o.inputs["Surface"]))
+    r = api.measure_illuminance((0.0, 0.0, 0.5), (0.0, 0.0, 1.0), quality="preview", stop_dark=True)
+    assert not r.exact and not any("sealed off" in note for note in r.notes)
+
+
 def test_a_closed_cupboard_in_daylight_reads_zero(clean_blender, build):
     """Sun and sky outside, a meter inside a closed box (no light inside): the sources at infinity are cut
     off by the shell; a meter outside it is not."""
