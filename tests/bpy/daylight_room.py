@@ -9,6 +9,9 @@ import numpy as np
 W, D, H = 4.0, 3.0, 2.7            # x width, y depth, z height (m); the window wall is y = 0
 WINDOW = (1.0, 3.0, 0.9, 2.1)      # x0, x1, z0, z1 of the opening (m)
 RHO = {"floor": 0.2, "ceiling": 0.7, "walls": 0.5}
+# surfaces only some scenes have (an obstruction outside): a material is made only where a quad names it, so
+# the scenes without them are built and written for Radiance byte for byte as before (the cache keys hold)
+RHO_EXTRA = {"obstruction": 0.2}
 POINTS = [(2.0, 0.75, 0.85), (2.0, 1.5, 0.85), (2.0, 2.5, 0.85)]
 
 
@@ -41,6 +44,81 @@ def skylight_quads(W=4.0, D=4.0, H=3.0, SKYLIGHT=(1.5, 2.5, 1.5, 2.5)):  # noqa:
             ("walls", [(W, 0, 0), (W, 0, H), (W, D, H), (W, D, 0)])]
 
 
+def obstruction_quads(gap=4.0, width=10.0, height=6.0, thick=1.0, x_mid=W / 2):
+    """An opaque block outside facing the window wall y = 0: its near face (parallel to the wall) ``gap`` m in
+    front of it, ``width`` x ``height`` x ``thick`` m, centred on x_mid, standing on the ground (z = 0); its 5
+    visible faces (the bottom lies on the ground), outward normals, named ``obstruction``."""
+    x0, x1 = x_mid - width / 2, x_mid + width / 2
+    y1, y0 = -gap, -gap - thick
+    h = height
+    return [("obstruction", [(x0, y1, 0), (x0, y1, h), (x1, y1, h), (x1, y1, 0)]),   # +y, facing the window
+            ("obstruction", [(x0, y0, 0), (x1, y0, 0), (x1, y0, h), (x0, y0, h)]),   # -y
+            ("obstruction", [(x0, y0, h), (x1, y0, h), (x1, y1, h), (x0, y1, h)]),   # +z, the top
+            ("obstruction", [(x0, y0, 0), (x0, y0, h), (x0, y1, h), (x0, y1, 0)]),   # -x
+            ("obstruction", [(x1, y0, 0), (x1, y1, 0), (x1, y1, h), (x1, y0, h)])]   # +x
+
+
+ROOF_TILT = 30.0  # degrees: the roof's slope, rising from the wall y = 0 towards y = D
+
+
+def roof_frame(W=4.0, D=4.0, H=3.0, tilt=ROOF_TILT):  # noqa: N803 - as quads()
+    """The sloped ceiling's plane: origin (0, 0, H), u along x, s up the slope (m), outward normal n."""
+    t = np.radians(tilt)
+    s = np.array([0.0, np.cos(t), np.sin(t)])
+    return np.array([0.0, 0.0, H]), np.array([1.0, 0.0, 0.0]), s, np.array([0.0, -np.sin(t), np.cos(t)])
+
+
+def roof_opening(W=4.0, D=4.0, H=3.0, tilt=ROOF_TILT, size=1.0):  # noqa: N803 - as quads()
+    """The 1 x 1 m opening in the sloped ceiling, centred on the roof: 4 corners counter-clockwise seen from
+    outside (x0 s0, x1 s0, x1 s1, x0 s1) and its outward normal."""
+    o, u, s, n = roof_frame(W, D, H, tilt)
+    L = D / np.cos(np.radians(tilt))
+    x0, x1, s0, s1 = (W - size) / 2, (W + size) / 2, (L - size) / 2, (L + size) / 2
+    return [tuple(map(float, o + a * u + b * s)) for a, b in ((x0, s0), (x1, s0), (x1, s1), (x0, s1))], n
+
+
+def roof_quads(W=4.0, D=4.0, H=3.0, tilt=ROOF_TILT, size=1.0):  # noqa: N803 - as quads()
+    """A closed room W x D, its ceiling a mono-pitch roof tilted ``tilt`` degrees (H m high at y = 0, rising to
+    y = D), holding a ``size`` x ``size`` m opening (``roof_opening``): the sloped ceiling as 4 quads around the
+    hole, thin like ``quads()``; the side walls trapezoids."""
+    o, u, s, n = roof_frame(W, D, H, tilt)
+    L = D / np.cos(np.radians(tilt))
+    x0, x1, s0, s1 = (W - size) / 2, (W + size) / 2, (L - size) / 2, (L + size) / 2
+    Ht = H + D * np.tan(np.radians(tilt))
+
+    def r(a, b):
+        return tuple(float(c) for c in o + a * u + b * s)
+
+    return [("floor", [(0, 0, 0), (W, 0, 0), (W, D, 0), (0, D, 0)]),
+            ("ceiling", [r(0, 0), r(0, s0), r(W, s0), r(W, 0)]),
+            ("ceiling", [r(0, s1), r(0, L), r(W, L), r(W, s1)]),
+            ("ceiling", [r(0, s0), r(0, s1), r(x0, s1), r(x0, s0)]),
+            ("ceiling", [r(x1, s0), r(x1, s1), r(W, s1), r(W, s0)]),
+            ("walls", [(0, 0, 0), (0, 0, H), (W, 0, H), (W, 0, 0)]),
+            ("walls", [(0, D, 0), (W, D, 0), (W, D, Ht), (0, D, Ht)]),
+            ("walls", [(0, 0, 0), (0, D, 0), (0, D, Ht), (0, 0, H)]),
+            ("walls", [(W, 0, 0), (W, 0, H), (W, D, Ht), (W, D, 0)])]
+
+
+def slab_quads(rect, normal, thick):
+    """A slab over a planar rectangle (corners counter-clockwise seen from outside, ``normal`` outward): from
+    the rectangle to ``thick`` m outside it; its 6 faces, outward normals."""
+    a = [np.asarray(p, float) for p in rect]
+    b = [p + thick * np.asarray(normal, float) for p in a]
+    t = lambda v: tuple(float(c) for c in v)  # noqa: E731
+    return [[t(p) for p in b],                                    # outside face
+            [t(p) for p in a[::-1]],                              # room side
+            *[[t(a[i]), t(a[(i + 1) % 4]), t(b[(i + 1) % 4]), t(b[i])] for i in range(4)]]
+
+
+def roof_pane():
+    """The roof opening's 6 mm pane (outside the roof plane, tilted with it): its 6 faces for the solid and its
+    mid-plane polygon for Radiance's thin ``glass``."""
+    rect, n = roof_opening()
+    mid = [tuple(float(c) for c in np.asarray(p) + 0.5 * PANE * n) for p in rect]
+    return slab_quads(rect, n, PANE), mid
+
+
 PANE = 0.006  # m: a 6 mm clear pane filling the opening, outside the wall plane (y from -PANE to 0)
 IOR = 1.52
 
@@ -57,14 +135,15 @@ def pane_quads():
             [(x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]]   # +z
 
 
-def add_pane_blender(scene):
-    """A solid 6 mm pane of Glass BSDF (roughness 0, IOR 1.52, white) in the opening."""
+def add_pane_blender(scene, pane=None):
+    """A solid 6 mm pane of Glass BSDF (roughness 0, IOR 1.52, white) in the opening (``pane``: its faces,
+    default ``pane_quads()``)."""
     import bpy
 
     from radiometer.compat import ensure_node_tree
 
     verts, faces = [], []
-    for q in pane_quads():
+    for q in (pane if pane is not None else pane_quads()):
         faces.append(tuple(range(len(verts), len(verts) + 4)))
         verts += q
     me = bpy.data.meshes.new("pane")
@@ -91,10 +170,12 @@ def build_blender(scene, room_quads=None):
 
     from radiometer.compat import ensure_node_tree
 
-    order = list(RHO)
+    room_quads = room_quads if room_quads is not None else quads()
+    order = list(RHO) + sorted({name for name, _ in room_quads} - set(RHO))
+    rho = {**RHO_EXTRA, **RHO}
     me = bpy.data.meshes.new("room")
     verts, faces, index = [], [], []
-    for name, q in (room_quads if room_quads is not None else quads()):
+    for name, q in room_quads:
         faces.append(tuple(range(len(verts), len(verts) + 4)))
         verts += q
         index.append(order.index(name))
@@ -105,7 +186,7 @@ def build_blender(scene, room_quads=None):
         t.nodes.clear()
         out = t.nodes.new("ShaderNodeOutputMaterial")
         bsdf = t.nodes.new("ShaderNodeBsdfDiffuse")
-        bsdf.inputs["Color"].default_value = (RHO[name],) * 3 + (1.0,)
+        bsdf.inputs["Color"].default_value = (rho[name],) * 3 + (1.0,)
         t.links.new(bsdf.outputs[0], out.inputs[0])
         me.materials.append(m)
     for poly, k in zip(me.polygons, index):
@@ -123,7 +204,7 @@ def radiance_bin():
 
 
 def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000, ground_reflectance=0.2, seed=1,
-                             glass=False, cache=False, room_quads=None):
+                             glass=False, cache=False, room_quads=None, pane=None):
     """DF (%) and its relative standard error per point, from ``rtrace -I`` used as a path tracer:
     -aa 0 (no ambient cache), -ad 1 -as 0 (one hemisphere ray per input line), -ab 32 -lr 64 -lw 1e-9,
     -u+ (uncorrelated sampling), each point repeated ``samples`` times; the mean and its standard
@@ -137,7 +218,10 @@ def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000,
     sky at (2, 0.4, 0.85); bench/coverage_daylight_emitters.md). ``glass="thin"``: Radiance's thin ``glass``
     instead (one polygon in the pane's mid-plane, transmissivity 1, n = 1.52: s and p summed separately
     over the internal reflections, no lateral shift; the thin-pane model Radiometer measures with).
-    ``room_quads``: the room's named quads (default ``quads()``), as ``build_blender`` takes them. ``cache``
+    ``room_quads``: the room's named quads (default ``quads()``), as ``build_blender`` takes them; a name not in
+    RHO takes its reflectance from RHO_EXTRA (e.g. ``obstruction``). ``pane``: (its 6 faces, its mid-plane
+    polygon) for a pane elsewhere than the window (``roof_pane()``), default ``pane_quads()`` and the window's
+    mid-plane. ``cache``
     (the tests; never the benches, which time rtrace and want fresh draws): Radiance's answer on the same
     scene.rad, sky.cal, rays and command comes from the committed cache when it has one
     (tests/bpy/radiance_run.py; RADIOMETER_RADIANCE_RERUN=1 runs rtrace every time)."""
@@ -148,19 +232,23 @@ def radiance_daylight_factor(folder, points, normals=(0, 0, 1), samples=150_000,
         f.write(f"skybr = if(Dz, (1 + 2*Dz)/3, {ground_reflectance!r}*7/9);\n")
     lines = ["void brightfunc skyfunc\n2 skybr sky.cal\n0\n0\n", "skyfunc glow skyglow\n0\n0\n4 1 1 1 0\n",
              "skyglow source sky\n0\n0\n4 0 0 1 360\n"]
+    room_quads = room_quads if room_quads is not None else quads()
     for name, r in RHO.items():
         lines.append(f"void plastic {name}\n0\n0\n5 {r} {r} {r} 0 0\n")
-    for k, (name, q) in enumerate(room_quads if room_quads is not None else quads()):
+    for name in sorted({name for name, _ in room_quads} - set(RHO)):  # only where used: other scenes unchanged
+        r = RHO_EXTRA[name]
+        lines.append(f"void plastic {name}\n0\n0\n5 {r} {r} {r} 0 0\n")
+    for k, (name, q) in enumerate(room_quads):
         lines.append(f"{name} polygon p{k}\n0\n0\n12 " + " ".join(f"{c:g}" for v in q for c in v) + "\n")
     if glass == "thin":
         x0, x1, z0, z1 = WINDOW
         y = -PANE / 2
         lines.append(f"void glass pane_glass\n0\n0\n4 1 1 1 {IOR}\n")
-        q = [(x0, y, z0), (x1, y, z0), (x1, y, z1), (x0, y, z1)]
+        q = [(x0, y, z0), (x1, y, z0), (x1, y, z1), (x0, y, z1)] if pane is None else pane[1]
         lines.append("pane_glass polygon g0\n0\n0\n12 " + " ".join(f"{c:g}" for v in q for c in v) + "\n")
     elif glass:
         lines.append(f"void dielectric pane_glass\n0\n0\n5 1 1 1 {IOR} 0\n")
-        for k, q in enumerate(pane_quads()):
+        for k, q in enumerate(pane_quads() if pane is None else pane[0]):
             lines.append(f"pane_glass polygon g{k}\n0\n0\n12 " + " ".join(f"{c:g}" for v in q for c in v) + "\n")
     with open(os.path.join(folder, "scene.rad"), "w") as f:
         f.write("".join(lines))
