@@ -670,7 +670,7 @@ def plan_direct(model, points, normals, exact_model=None):
     need = indirect | np.any(status == RENDER, axis=0)
     if world_status is not None:
         need |= world_status == RENDER
-    dark, why = sealed.sealed_off(model, points[need], tol) if need.any() else (np.zeros(0, bool), "")
+    dark, why = sealed.sealed_off(model, points[need]) if need.any() else (np.zeros(0, bool), "")
     for k in np.flatnonzero(need)[dark]:
         status[:, k], reason[:, k] = ZERO, why
         indirect[k], indirect_reason[k] = False, why

@@ -82,7 +82,7 @@ def _box(points, grow):
     return centre, (centre + _CUBE * half, np.eye(3), np.eye(3))
 
 
-def sealed_off(model, points_m, tol):
+def sealed_off(model, points_m):
     """(N,) bool: meters at ``points_m`` (N, 3) m that no source of ``model`` can reach (every source is
     cut off from them by a closed shell of sealing triangles); and a note (str) saying how, or ""."""
     points_m = np.atleast_2d(np.asarray(points_m, float))
@@ -95,7 +95,7 @@ def sealed_off(model, points_m, tol):
     if not len(sealing):
         return none, ""
     # Vertices are welded within two float32 steps of the shell's own coordinates (its mesh and transform
-    # were float32): a gap wider than that is a gap (``tol``, from the meters' places, is not used here).
+    # were float32): a gap wider than that is a gap.
     shell_tol = WELD_FLOAT32_STEPS * np.finfo(np.float32).eps * max(1.0, float(np.max(np.abs(sealing))))
     shells = sky_aperture.closed_components(sealing, shell_tol)
     if not shells:
