@@ -1053,6 +1053,19 @@ def en17037_table(*, illuminance=None, daylight_hours=None, daylight_factor=None
 
 
 @_v.boundary
+def view_out(eyes, *, scene=None):
+    """EN 17037 view out from ``eyes`` (3 numbers or (N, 3), scene coordinates: the assessed points of the
+    utilised area at eye height, e.g. a work plane's points 0.35 m up for a seated eye). Geometry only
+    (``radiometry/scene/view_out.py``): rays through the openings of the opaque surfaces say per eye the
+    horizontal sight angle (deg), the outside distance (m) and the layers seen (sky, landscape, ground); the
+    row takes each as reached from 75 % of the eyes. "not assessed", with its cause, where the scene models
+    nothing outside but flat ground. Returns a ``ViewOutResult`` (docs/deliverables.md)."""
+    from .measure.analyses import daylight_glare
+
+    return daylight_glare.view_out(eyes, scene=scene)
+
+
+@_v.boundary
 def cluster_info(scheduler):
     """Workers of the Dask cluster at ``scheduler`` ("tcp://host:8786"): a dict with ``workers``,
     ``threads``, ``hosts``, ``memory_bytes``; an unreachable scheduler raises RadiometerError (one line,

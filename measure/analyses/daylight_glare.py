@@ -348,3 +348,70 @@ def annual_dgp(observer, view_direction, epw_path=None, *, scene=None, m=1, qual
                            low_light_correction=bool(low_light_correction), notes=notes,
                            weather_period=r.weather_period, whole_year=r.whole_year)
 
+
+
+# --- View out (EN 17037): what the eyes see through the openings, from the geometry -----------------------
+
+@dataclasses.dataclass
+class ViewOutResult(AsDict):
+    """EN 17037's view out from eyes (``radiometry.scene.view_out``): per eye (metres) the horizontal sight
+    angle (deg), the outside distance (m; inf where nothing modelled stands in front) and the layers seen;
+    ``en17037``: the criterion's row (dict; "not assessed" with its note where the geometry cannot tell);
+    ``openings``: how many were found in the opaque surfaces."""
+
+    eyes: np.ndarray
+    horizontal_sight_angle_deg: np.ndarray
+    outside_distance_m: np.ndarray
+    layers: list
+    en17037: dict
+    openings: int
+    notes: list
+
+
+def view_out(eyes, *, scene=None, model=None):
+    """EN 17037 view out from ``eyes`` (3 numbers or (N, 3), scene coordinates; the assessed points of the
+    utilised area at eye height). Geometry only: nothing is rendered. Returns :class:`ViewOutResult`."""
+    import bpy
+
+    from ...radiometry.metrics import en17037
+    from ...radiometry.scene import view_out as geometry_view
+    from ...radiometry.scene import scene_model
+    from ...radiometry.skies import sky_aperture
+    from ..meter import point_meter as meter
+    from .analysis_common import view_layer_of
+    from .sky_component import opaque_mask
+
+    scene = scene or bpy.context.scene
+    pts = np.atleast_2d(np.asarray(eyes, float))
+    if pts.ndim != 2 or pts.shape[1] != 3 or not len(pts) or not np.all(np.isfinite(pts)):
+        raise RadiometerError(f"view out needs eyes as 3 finite numbers or (N, 3), got shape {pts.shape}")
+    model = model or meter.capture_model(scene, view_layer_of(scene))
+    eyes_m = pts * scene.unit_settings.scale_length
+    g = model.geometry
+    tris = g.triangles[opaque_mask(model)] if g.count else np.zeros((0, 3, 3))
+    lo, hi = g.bounds() if g.count else (np.zeros(3), np.zeros(3))
+    tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, eyes_m.ravel()])
+    openings = [poly for poly, _n in sky_aperture.find_apertures(tris, tol)]
+    views = geometry_view.eye_views(eyes_m, openings, tris, tol=tol)
+    notes = [f"{len(openings)} opening(s) in the opaque surfaces; rays every {geometry_view.STEP_DEG:g} deg in "
+             f"azimuth, {geometry_view.ROWS} rows in elevation; see-through surfaces (panes) are looked through"]
+    why = ""
+    if g.unmodelled:
+        why = f"geometry without triangles ({', '.join(g.unmodelled[:3])}) may hide or open the view"
+    elif not geometry_view.surroundings_modelled(tris, openings, any("landscape" in v.layers for v in views), tol):
+        why = ("the scene models nothing outside its openings but flat ground: no building, terrain or tree to "
+               "judge the landscape layer and the outside distance against")
+    if why:
+        row = dataclasses.asdict(en17037.table()[3])
+        row["note"] = why
+        notes.append("view out not assessed: " + why)
+    else:
+        row = dataclasses.asdict(en17037.view_out_over_points([v.horizontal_sight_angle_deg for v in views],
+                                                              [v.outside_distance_m for v in views],
+                                                              [v.layer_score() for v in views]))
+        blind = sum(1 for v in views if not v.rays_out)
+        if blind:
+            notes.append(f"{blind} of {len(views)} eyes see no opening")
+    return ViewOutResult(eyes=eyes_m, horizontal_sight_angle_deg=np.array([v.horizontal_sight_angle_deg for v in views]),
+                         outside_distance_m=np.array([v.outside_distance_m for v in views]),
+                         layers=[list(v.layers) for v in views], en17037=row, openings=len(openings), notes=notes)

@@ -24,6 +24,9 @@ from ...errors import MeasurementCancelled, RadiometerError
 
 #: Minutes between the sun study's times on the reference day.
 SUN_STEP_MIN = 30
+#: A seated eye over the work plane (m): EN 17037's 1.2 m over the floor less its 0.85 m reference plane;
+#: the view out is judged from the plane's points raised by this much along the plane's normal.
+EYE_ABOVE_WORK_PLANE_M = 0.35
 #: The DGP fisheye's side in pixels in the report (preview-sized: a picture of the camera's view).
 DGP_RESOLUTION = 64
 
@@ -189,7 +192,23 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
                 failed(f"sunlight hours on {plane.name}", exc)
         import dataclasses
 
-        rows = en17037.table(provision=provision, sunlight=sunlight, glare=glare_row)
+        view_row = None
+        try:
+            eyes = locations + np.asarray(g.normal, float) * (EYE_ABOVE_WORK_PLANE_M / scene.unit_settings.scale_length)
+            vo = daylight_glare.view_out(eyes, scene=scene)
+            entry["view_out"] = {"eyes": int(len(eyes)), "eye_above_plane_m": EYE_ABOVE_WORK_PLANE_M,
+                                 "level": vo.en17037["level"], "values": vo.en17037["values"],
+                                 "note": vo.en17037.get("note", ""), "openings": vo.openings, "notes": vo.notes}
+            if vo.en17037["level"] != en17037.NOT_ASSESSED:
+                view_row = en17037.Criterion(**vo.en17037)
+            else:
+                view_row = en17037.table()[3]
+                view_row.note = vo.en17037["note"]
+        except MeasurementCancelled:
+            raise
+        except (RadiometerError, ValueError) as exc:
+            failed(f"view out on {plane.name}", exc)
+        rows = en17037.table(provision=provision, sunlight=sunlight, glare=glare_row, view=view_row)
         entry["en17037"] = [dataclasses.asdict(row) for row in rows]
     if view is not None:
         try:

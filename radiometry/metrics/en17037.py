@@ -31,12 +31,13 @@ Table A.1 is cited by number (as ``measure.analyses.daylight_factor`` cites it);
 """
 
 import dataclasses
+import math
 
 import numpy as np
 
 __all__ = ["LEVELS", "PROVISION_LUX", "SUNLIGHT_HOURS", "GLARE_DGP", "VIEW_OUT", "Criterion",
            "daylight_provision_illuminance", "daylight_provision_daylight_factor", "sunlight_exposure",
-           "glare_protection", "view_out", "table", "NOT_ASSESSED", "NOT_MET"]
+           "glare_protection", "view_out", "view_out_over_points", "table", "NOT_ASSESSED", "NOT_MET"]
 
 LEVELS = ("minimum", "medium", "high")
 NOT_ASSESSED, NOT_MET = "not assessed", "not met"
@@ -149,15 +150,40 @@ def glare_protection(dgp_values):
 
 
 def view_out(horizontal_sight_angle_deg, outside_distance_m, layers):
-    """View out from the horizontal sight angle (deg), the outside distance (m) and the number of layers
-    seen (1-3; minimum needs the landscape layer among them: pass 0 when it is not seen)."""
+    """View out from the horizontal sight angle (deg), the outside distance (m; inf: nothing modelled in
+    front) and the number of layers seen (1-3; minimum needs the landscape layer among them: pass 0 when
+    it is not seen)."""
     a, dist, n = float(horizontal_sight_angle_deg), float(outside_distance_m), int(layers)
-    if not (np.isfinite(a) and np.isfinite(dist) and a >= 0 and dist >= 0 and 0 <= n <= 3):
+    if not (np.isfinite(a) and not np.isnan(dist) and a >= 0 and dist >= 0 and 0 <= n <= 3):
         raise ValueError(f"view out needs an angle >= 0 deg, a distance >= 0 m and 0-3 layers, got {a}, {dist}, {n}")
     per_level = {lv: {"required": f">= {ang:g} deg, >= {d:g} m, {k} layer(s) incl. the landscape",
                       "met": bool(a >= ang and dist >= d and n >= k)} for lv, (ang, d, k) in VIEW_OUT.items()}
     return Criterion("view out", "sight angle, outside distance, layers", _best(per_level),
                      {"horizontal_sight_angle_deg": a, "outside_distance_m": dist, "layers": n}, per_level)
+
+
+#: the share of the assessed points (the utilised area) from which a view out must be had
+VIEW_AREA_SHARE = 0.75
+
+
+def view_out_over_points(angles_deg, distances_m, layers):
+    """View out over the points of the utilised area: each quantity as reached from at least 75 % of them
+    (the standard's share for the layers, applied here to the sight angle and the distance too: the k-th
+    largest value, k = ceil(0.75 N)), then :func:`view_out`."""
+    a, d, n = (np.asarray(x, float).ravel() for x in (angles_deg, distances_m, layers))
+    if not (a.size and a.size == d.size == n.size):
+        raise ValueError(f"view out needs one angle, distance and layer count per point, got {a.size}, {d.size}, {n.size}")
+    k = math.ceil(VIEW_AREA_SHARE * a.size - 1e-9)
+
+    def reached(x):
+        return np.sort(x)[a.size - k]
+
+    row = view_out(reached(a), reached(d), reached(n))
+    dist = "nothing in front" if math.isinf(reached(d)) else f"{reached(d):.0f} m"
+    row.method = (f"{reached(a):.0f} deg, {dist}, {int(reached(n))} layers from {VIEW_AREA_SHARE:.0%} of "
+                  f"{a.size} points")
+    row.values["points"] = int(a.size)
+    return row
 
 
 def _not_assessed(name, why):

@@ -61,7 +61,7 @@ from ..scene import visibility
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
            "pane_bounded_illuminances", "polygon_plane", "aperture_clear", "apertures_clear", "coplanar_outside",
            "find_apertures", "is_convex", "enclosure_closed", "closed_components", "enclosure_closed_part",
-           "inside_enclosure", "inside_enclosures", "SKIES"]
+           "inside_enclosure", "inside_enclosures", "plane_axes", "triangle_parts", "SKIES"]
 
 #: Sky models with a closed form over a polygon: name -> (constant, z-coefficient) of L / Lz = c0 + c1 u_z.
 SKIES = {"uniform": (1.0, 0.0), "overcast": (1.0 / 3.0, 2.0 / 3.0)}
@@ -372,7 +372,8 @@ def polygon_plane(vertices):
     return normal, float(v.mean(axis=0) @ normal)
 
 
-def _frame(normal):
+def plane_axes(normal):
+    """Two unit vectors (e1, e2) spanning the plane of unit ``normal``, (e1, e2, normal) right-handed."""
     helper = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     e1 = _unit(np.cross(normal, helper))
     return e1, np.cross(normal, e1)
@@ -388,7 +389,7 @@ def coplanar_outside(triangles, poly, tol):
     idx = np.flatnonzero(flat)
     if not idx.size:
         return out
-    e1, e2 = _frame(normal)
+    e1, e2 = plane_axes(normal)
     q = np.c_[poly @ e1, poly @ e2]                                      # (K, 2)
     t2 = np.stack([triangles[idx] @ e1, triangles[idx] @ e2], axis=-1)   # (I, 3, 2)
     axes = []
@@ -506,7 +507,7 @@ def find_apertures(triangles, tol=1e-6):
 
 
 def _holes(tris, normal, tol):
-    e1, e2 = _frame(normal)
+    e1, e2 = plane_axes(normal)
     verts = tris.reshape(-1, 3)
     q = np.round(np.c_[verts @ e1, verts @ e2] / tol).astype(np.int64)
     uniq, inv = np.unique(q, axis=0, return_inverse=True)
@@ -668,6 +669,15 @@ def _vertex_parts(count, edges):
         if ra != rb:
             parent[ra] = rb
     return np.array([find(i) for i in range(count)])
+
+
+def triangle_parts(triangles, tol):
+    """(welded vertices (V, 3), vertex ids (T, 3), part root per vertex (V,)): the connected parts of
+    ``triangles`` (T, 3, 3), vertices welded within ``tol`` m and joined by the triangles' edges."""
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    pts, inv = _weld(tris.reshape(-1, 3), tol)
+    ids = inv.reshape(-1, 3)
+    return pts, ids, _vertex_parts(len(pts), np.r_[ids[:, [0, 1]], ids[:, [1, 2]]])
 
 
 #: Largest count of triangles whose T-junctions ``closed_components`` splits (each edge against every vertex:

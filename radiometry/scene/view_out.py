@@ -1,0 +1,221 @@
+"""What an eye sees out of a room's openings, for EN 17037's "view out" (pure numpy, never imports bpy).
+
+From each eye, rays are cast through every opening (``skies.sky_aperture.find_apertures``: the holes of
+the opaque surfaces; a pane in the opening is looked through) on a grid of directions ``STEP_DEG`` apart
+in azimuth and ``ROWS`` rows in elevation across the opening as the eye sees it. A ray counts when it
+crosses the opening's polygon and nothing opaque stands between the eye and the opening (an inner wall,
+a baffle, the reveal of a thick wall). Beyond the opening, its first opaque surface says what it sees:
+
+- **sky**: nothing, above the horizon;
+- **ground**: nothing, below the horizon (the ground of the sky model: an endless plane below the
+  horizon), or a surface facing up (normal within ``GROUND_TILT_DEG`` of the zenith) below the eye: a
+  modelled ground, street or lawn; a lower roof counts as ground too, as a street would;
+- **landscape**: any other surface: buildings, terrain, trees, a neighbour's wall.
+
+Per eye: the **horizontal sight angle** is the largest run of adjoining azimuth steps in which some ray
+went out (an opening hidden behind a column gives two runs; the larger counts), to within one step; the
+**outside distance** is the median distance from the opening to the first surface beyond it, over the
+rays that went out within ``LEVEL_BAND_DEG`` of the horizontal (all rays that went out when none did:
+a high window); inf when those rays meet nothing (no surroundings in front are modelled).
+
+A scene that models nothing outside its openings but a flat ground (no building, terrain or tree,
+separate from the room or seen through an opening) cannot tell a landscape layer or an outside distance:
+:func:`surroundings_modelled` says so, and the caller reports "not assessed" rather than "not met".
+
+Coordinates in metres, Z up.
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ..skies import sky_aperture
+
+__all__ = ["LAYERS", "STEP_DEG", "ROWS", "GROUND_TILT_DEG", "LEVEL_BAND_DEG", "EyeView", "eye_views",
+           "first_hits_many", "surroundings_modelled"]
+
+LAYERS = ("sky", "landscape", "ground")
+#: azimuth step of the rays (deg): the sight angle is known to within one step
+STEP_DEG = 0.5
+#: rows of rays in elevation across each opening as an eye sees it
+ROWS = 8
+#: a surface whose normal is within this angle of the zenith, below the eye, is ground (deg)
+GROUND_TILT_DEG = 30.0
+#: rays within this elevation of the horizontal measure the outside distance (deg)
+LEVEL_BAND_DEG = 10.0
+#: pairs of (ray, triangle) tested in one numpy step (memory: about 200 bytes each)
+_CHUNK_PAIRS = 200_000
+
+
+@dataclasses.dataclass
+class EyeView:
+    """The view out of one eye. ``layers``: the layers seen (a subset of :data:`LAYERS`, in that order);
+    ``rays_out``: rays that went out through an opening (0: no opening is seen from this eye)."""
+
+    eye: tuple
+    horizontal_sight_angle_deg: float
+    outside_distance_m: float
+    layers: tuple
+    rays_out: int
+
+    def layer_score(self):
+        """EN 17037's count of layers: 0 unless the landscape layer is among them."""
+        return len(self.layers) if "landscape" in self.layers else 0
+
+
+def first_hits_many(origins, directions, triangles):
+    """Nearest hit of R rays (``origins``, unit ``directions``: (R, 3)) against triangles (T, 3, 3):
+    (distance m or inf (R,), triangle index or -1 (R,)). Moller-Trumbore, every pair, in chunks."""
+    o = np.atleast_2d(np.asarray(origins, float))
+    d = np.atleast_2d(np.asarray(directions, float))
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    dist = np.full(len(d), np.inf)
+    index = np.full(len(d), -1)
+    if not len(tris) or not len(d):
+        return dist, index
+    v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    step = max(1, _CHUNK_PAIRS // len(tris))
+    for s in range(0, len(d), step):
+        dd, oo = d[s:s + step, None, :], o[s:s + step, None, :]
+        pvec = np.cross(dd, e2[None])
+        det = np.einsum("rtk,tk->rt", pvec, e1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = 1.0 / det
+            tvec = oo - v0[None]
+            u = np.einsum("rtk,rtk->rt", tvec, pvec) * inv
+            qvec = np.cross(tvec, e1[None])
+            v = np.einsum("rtk,rtk->rt", qvec, dd) * inv
+            t = np.einsum("rtk,tk->rt", qvec, e2) * inv
+            ok = np.isfinite(inv) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+        t = np.where(ok, t, np.inf)
+        k = np.argmin(t, axis=1)
+        best = t[np.arange(len(k)), k]
+        dist[s:s + step] = best
+        index[s:s + step] = np.where(np.isfinite(best), k, -1)
+    return dist, index
+
+
+def _inside_polygon(xy, poly_xy):
+    """Even-odd test of points (N, 2) against a polygon (K, 2)."""
+    x, y = xy[:, 0:1], xy[:, 1:2]
+    a, b = poly_xy, np.roll(poly_xy, -1, axis=0)
+    crosses = (a[:, 1] > y) != (b[:, 1] > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xc = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    return np.sum(crosses & (x < xc), axis=1) % 2 == 1
+
+
+def _directions(az, el):
+    az, el = np.radians(az), np.radians(el)
+    return np.stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)], axis=-1)
+
+
+def _through_opening(eye, poly, step_deg, rows):
+    """Directions from ``eye`` that cross the polygon's interior: (dirs (R, 3), azimuth bins (R,) int,
+    elevations deg (R,), distance to the opening m (R,)). Empty when the eye is in the opening's plane."""
+    normal, offset = sky_aperture.polygon_plane(poly)
+    h = float(eye @ normal - offset)
+    if abs(h) < 1e-9:
+        return np.zeros((0, 3)), np.zeros(0, int), np.zeros(0), np.zeros(0)
+    rel = poly - eye
+    az_c = math.degrees(math.atan2(rel.mean(axis=0)[1], rel.mean(axis=0)[0]))
+    az = (np.degrees(np.arctan2(rel[:, 1], rel[:, 0])) - az_c + 180.0) % 360.0 - 180.0 + az_c
+    el = np.degrees(np.arctan2(rel[:, 2], np.hypot(rel[:, 0], rel[:, 1])))
+    # the polygon's edges can bulge past their ends' elevations: pad the box by a row, and test each ray
+    lo_el, hi_el = el.min(), el.max()
+    pad = (hi_el - lo_el) / rows + 1e-6
+    lo_el, hi_el = max(-90.0, lo_el - pad), min(90.0, hi_el + pad)
+    bins = np.arange(math.floor(az.min() / step_deg), math.ceil(az.max() / step_deg))
+    if not bins.size:
+        return np.zeros((0, 3)), np.zeros(0, int), np.zeros(0), np.zeros(0)
+    a_grid = (bins + 0.5) * step_deg
+    e_grid = lo_el + (np.arange(rows) + 0.5) * (hi_el - lo_el) / rows
+    aa, ee = np.meshgrid(a_grid, e_grid, indexing="ij")
+    bb = np.broadcast_to(bins[:, None], aa.shape)
+    dirs = _directions(aa.ravel(), ee.ravel())
+    dn = dirs @ normal
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = -h / dn
+    ok = np.isfinite(t) & (t > 0)
+    hit = eye + dirs * np.where(ok, t, 0.0)[:, None]
+    e1, e2 = sky_aperture.plane_axes(normal)
+    ok &= _inside_polygon(np.c_[hit @ e1, hit @ e2], np.c_[poly @ e1, poly @ e2])
+    return dirs[ok], bb.ravel()[ok].astype(int), ee.ravel()[ok], t[ok]
+
+
+def _largest_run(bins, total):
+    """Largest run of adjoining integers in ``bins`` (wrapping at ``total``), in bins."""
+    b = np.unique(np.mod(bins, total))
+    if not b.size:
+        return 0
+    if b.size == total:
+        return total
+    gaps = np.flatnonzero(np.diff(np.r_[b, b[0] + total]) > 1)   # a run ends at each gap (one at least)
+    ends = b[gaps]
+    starts = b[(np.roll(gaps, 1) + 1) % b.size]                  # and began after the gap before it
+    return int(np.max((ends - starts) % total + 1))
+
+
+def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e-6):
+    """One :class:`EyeView` per eye (``eyes`` (N, 3) m) through the ``openings`` (a list of (K, 3)
+    polygons) among the opaque ``triangles`` (T, 3, 3)."""
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        normals = normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    up_cos = math.cos(math.radians(GROUND_TILT_DEG))
+    total = int(round(360.0 / step_deg))
+    out = []
+    for eye in np.atleast_2d(np.asarray(eyes, float)):
+        parts = [_through_opening(eye, np.asarray(p, float), step_deg, rows) for p in openings]
+        if not parts or not sum(len(p[0]) for p in parts):
+            out.append(EyeView(tuple(eye), 0.0, 0.0, (), 0))
+            continue
+        dirs = np.concatenate([p[0] for p in parts])
+        bins = np.concatenate([p[1] for p in parts])
+        el = np.concatenate([p[2] for p in parts])
+        to_opening = np.concatenate([p[3] for p in parts])
+        dist, k = first_hits_many(np.broadcast_to(eye, dirs.shape), dirs, tris)
+        out_mask = dist >= to_opening - tol          # nothing opaque before the opening
+        if not out_mask.any():
+            out.append(EyeView(tuple(eye), 0.0, 0.0, (), 0))
+            continue
+        dirs, bins, el, to_opening, dist, k = (a[out_mask] for a in (dirs, bins, el, to_opening, dist, k))
+        met = np.isfinite(dist)
+        n = normals[np.maximum(k, 0)]
+        hit_z = eye[2] + dirs[:, 2] * np.where(met, dist, 0.0)
+        facing = -np.einsum("rk,rk->r", n, dirs)     # > 0: the ray meets the side the normal points to
+        up = np.abs(n[:, 2]) >= up_cos
+        ground_hit = met & up & (hit_z < eye[2]) & (np.sign(facing) * n[:, 2] > 0)
+        seen = {"sky": bool(np.any(~met & (dirs[:, 2] > 0))),
+                "ground": bool(np.any(~met & (dirs[:, 2] < 0)) or np.any(ground_hit)),
+                "landscape": bool(np.any(met & ~ground_hit))}
+        level = np.abs(el) <= LEVEL_BAND_DEG
+        pick = level if level.any() else np.ones_like(level)
+        beyond = np.where(met, dist - to_opening, np.inf)[pick]
+        distance = float(np.median(beyond))
+        out.append(EyeView(tuple(float(v) for v in eye), _largest_run(bins, total) * step_deg, distance,
+                           tuple(name for name in LAYERS if seen[name]), int(out_mask.sum())))
+    return out
+
+
+def surroundings_modelled(triangles, openings, views_landscape, tol=1e-6):
+    """True when the scene models something outside the room to see: a part of the opaque ``triangles``
+    not joined to the openings' outlines (vertices welded within ``tol`` m) that is not flat (a building,
+    terrain, a tree; a ground plane alone does not count), or a landscape surface already seen through an
+    opening (``views_landscape``: a courtyard's far wing may be joined to the room)."""
+    if views_landscape:
+        return True
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    if not len(tris) or not openings:
+        return False
+    pts, ids, roots = sky_aperture.triangle_parts(tris, tol)
+    loop_pts = np.concatenate([np.asarray(p, float) for p in openings])
+    near = np.min(np.linalg.norm(pts[:, None, :] - loop_pts[None], axis=2), axis=1) <= 2 * tol
+    room = np.isin(roots[ids[:, 0]], np.unique(roots[near]))
+    n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        nz = np.abs(n[:, 2]) / np.linalg.norm(n, axis=1)
+    steep = nz < math.cos(math.radians(GROUND_TILT_DEG))
+    return bool(np.any(~room & steep))

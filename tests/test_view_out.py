@@ -1,0 +1,137 @@
+"""EN 17037 view out from the geometry (radiometry/scene/view_out.py, pure): the side-lit room of the
+daylight tests (tests/bpy/daylight_room.py) with surroundings built as boxes. References: the sight angle
+of a window in closed form (the azimuths of its jambs from the eye), the layers and distances from where
+rays must go in those boxes, the ray casts against visibility.first_hits (an independent loop)."""
+
+import math
+import pathlib
+import runpy
+import types
+
+import numpy as np
+import pytest
+
+from radiometer.radiometry.metrics import en17037
+from radiometer.radiometry.scene import view_out, visibility
+from radiometer.radiometry.skies import sky_aperture
+
+
+def _room():
+    return types.SimpleNamespace(**runpy.run_path(str(pathlib.Path(__file__).parent / "bpy" / "daylight_room.py")))
+
+
+ROOM = _room()
+
+
+def _tris(quads):
+    out = []
+    for _name, q in quads:
+        q = np.asarray(q, float)
+        out += [q[[0, 1, 2]], q[[0, 2, 3]]]
+    return np.array(out)
+
+
+def _openings(tris):
+    return [p for p, _n in sky_aperture.find_apertures(tris, 1e-6)]
+
+
+def _sight_angle(eye):
+    """The window's jambs x0, x1 in the wall y = 0, seen from the eye in plan (deg)."""
+    x0, x1 = ROOM.WINDOW[:2]
+    return math.degrees(math.atan2(x1 - eye[0], eye[1]) - math.atan2(x0 - eye[0], eye[1]))
+
+
+@pytest.mark.parametrize("eye", [(2.0, 1.5, 1.2), (0.5, 2.9, 1.2), (3.7, 0.4, 1.7), (2.0, 0.2, 1.0)])
+def test_sight_angle_is_the_windows_in_plan(eye):
+    tris = _tris(ROOM.quads())
+    v = view_out.eye_views([eye], _openings(tris), tris)[0]
+    want = _sight_angle(eye)
+    # counted in azimuth steps whose centres a ray went out at: within one step of the true angle
+    assert abs(v.horizontal_sight_angle_deg - want) <= view_out.STEP_DEG
+    assert v.rays_out > 0
+
+
+def test_layers_and_distance_with_a_building_opposite():
+    """A 40 m wide, 6 m high block 15 m in front of the window wall: from an eye at 1.2 m in the room's
+    middle the window shows the block (landscape), the sky over it (the window head at 31 deg, the block's
+    top at 15 deg) and the ground under it (the sill at -11 deg, its foot at -4 deg)."""
+    tris = _tris(ROOM.quads() + ROOM.obstruction_quads(gap=15.0, width=40.0, height=6.0))
+    ops = _openings(_tris(ROOM.quads()))
+    v = view_out.eye_views([(2.0, 1.5, 1.2)], ops, tris)[0]
+    assert v.layers == ("sky", "landscape", "ground")
+    # level rays meet the block's face 15 m out, oblique ones further: at most 15 / cos(azimuth) / cos(10 deg)
+    half = math.radians(_sight_angle((2.0, 1.5, 1.2)) / 2)
+    assert 15.0 <= v.outside_distance_m <= 15.0 / math.cos(half) / math.cos(math.radians(10.0))
+    assert v.layer_score() == 3
+    assert view_out.surroundings_modelled(tris, ops, False)
+
+
+def test_a_tall_block_close_by_hides_the_sky():
+    """A 30 m high block 3 m out: the window head (31 deg from the eye) is below the block's top
+    (atan(28.8 / 4.5) = 81 deg), so no sky; its foot hides below the sill, so no ground either."""
+    tris = _tris(ROOM.quads() + ROOM.obstruction_quads(gap=3.0, width=60.0, height=30.0))
+    v = view_out.eye_views([(2.0, 1.5, 1.2)], _openings(_tris(ROOM.quads())), tris)[0]
+    assert v.layers == ("landscape",)
+    assert 3.0 <= v.outside_distance_m <= 3.0 / math.cos(math.radians(34)) / math.cos(math.radians(10))
+    row = en17037.view_out(v.horizontal_sight_angle_deg, v.outside_distance_m, v.layer_score())
+    assert row.level == "not met"          # 3.x m < 6 m
+
+
+def test_open_room_sees_sky_and_ground_but_models_no_surroundings():
+    tris = _tris(ROOM.quads())
+    ops = _openings(tris)
+    v = view_out.eye_views([(2.0, 1.5, 1.2)], ops, tris)[0]
+    assert v.layers == ("sky", "ground") and v.outside_distance_m == math.inf and v.layer_score() == 0
+    assert not view_out.surroundings_modelled(tris, ops, False)
+    ground = np.array([[[-50, -50, 0], [50, -50, 0], [50, 50, 0]], [[-50, -50, 0], [50, 50, 0], [-50, 50, 0]]], float)
+    with_ground = np.concatenate([tris, ground - [0, 0, 0.01]])
+    assert not view_out.surroundings_modelled(with_ground, ops, False)   # a ground plane alone is no landscape
+    v = view_out.eye_views([(2.0, 1.5, 1.2)], ops, with_ground)[0]
+    assert v.layers == ("sky", "ground")                              # the plane is seen as ground
+
+
+def test_a_baffle_hides_the_window_and_a_column_splits_it():
+    tris = _tris(ROOM.quads())
+    ops = _openings(tris)
+    eye = (2.0, 1.5, 1.2)
+    baffle = _tris([("b", [(0.5, 1.0, 0.0), (3.5, 1.0, 0.0), (3.5, 1.0, 2.7), (0.5, 1.0, 2.7)])])
+    v = view_out.eye_views([eye], ops, np.concatenate([tris, baffle]))[0]
+    assert v.rays_out == 0 and v.horizontal_sight_angle_deg == 0.0 and v.layers == ()
+    # a 0.2 m column at x 1.9-2.1 just inside the window: two runs, the larger counts
+    column = _tris([("c", [(1.9, 0.3, 0.0), (2.1, 0.3, 0.0), (2.1, 0.3, 2.7), (1.9, 0.3, 2.7)])])
+    v = view_out.eye_views([eye], ops, np.concatenate([tris, column]))[0]
+    side = math.degrees(math.atan2(1.0, 1.5) - math.atan2(0.1, 1.2))     # jamb to the column's edge
+    assert abs(v.horizontal_sight_angle_deg - side) <= view_out.STEP_DEG
+
+
+def test_largest_run_wraps_round_north():
+    total = 720
+    assert view_out._largest_run(np.array([718, 719, 0, 1, 2, 10, 11]), total) == 5
+    assert view_out._largest_run(np.array([5, 6, 7, 100]), total) == 3
+    assert view_out._largest_run(np.arange(total), total) == total
+    assert view_out._largest_run(np.array([], int), total) == 0
+
+
+def test_batched_hits_equal_the_one_ray_loop():
+    rng = np.random.default_rng(3)
+    tris = _tris(ROOM.quads() + ROOM.obstruction_quads())
+    origin = np.array([2.0, 1.5, 1.2])
+    dirs = rng.normal(size=(300, 3))
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    d1, k1 = view_out.first_hits_many(np.broadcast_to(origin, dirs.shape), dirs, tris)
+    d2, k2, _ = visibility.first_hits(origin, dirs, tris)
+    assert np.array_equal(k1, k2)
+    assert np.allclose(d1, d2, rtol=1e-12, atol=0) or np.array_equal(np.isinf(d1), np.isinf(d2))
+
+
+def test_view_out_over_points_takes_what_three_quarters_reach():
+    row = en17037.view_out_over_points([60, 60, 60, 10], [60, 60, 60, 60], [3, 3, 3, 3])
+    assert row.level == "high"                 # 3 of 4 points (75 %) reach 54 deg
+    row = en17037.view_out_over_points([60, 60, 10, 10], [60] * 4, [3] * 4)
+    assert row.level == "not met"              # half the points see 10 deg
+    row = en17037.view_out_over_points([60] * 4, [math.inf] * 4, [2] * 4)
+    assert row.level == "medium" and row.values["points"] == 4
+    with pytest.raises(ValueError):
+        en17037.view_out_over_points([60], [1, 2], [3])
+    with pytest.raises(ValueError):
+        en17037.view_out(30, math.nan, 2)
