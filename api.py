@@ -132,6 +132,32 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="
 
 
 @_v.boundary
+def circadian_check(positions, view_directions=(0.0, 1.0, 0.0), *, scene=None, posture="seated", reflected=False,
+                    quality="preview", seed=0):
+    """Circadian lighting check (WELL v2 L03, indicative; docs/spectral.md): a vertical meter at each
+    occupant's eye (``positions``: floor points, 3 numbers or (N, 3), scene coordinates; the eye 1.2 m up
+    seated, 1.7 m standing) facing ``view_directions`` (one or one per position), read in melanopic EDI
+    (:func:`spectral_reading`, with ``reflected`` and ``quality``/``seed`` as there), each rated against
+    136 lx (1 point) and 250 lx (3 points) as met, not met or unknown. A reading that leaves light out
+    (reflections unless ``reflected``, the world, emitting surfaces, lights without a spectrum) is a lower
+    bound: it can show a threshold met, never missed. Returns a plain dict: ``eyes`` (per eye: ``mel_edi_lx``,
+    its 95 % interval, ``verdict``, ``left_out``), ``points`` (reached at every eye), ``share``, ``units``."""
+    positions = _v.points(positions, "positions")
+    view_directions = _v.directions(view_directions, "view_directions")
+    _v.choice(posture, "posture", ("seated", "standing"))
+    _v.choice(quality, "quality", ("preview", "standard", "reference"))
+    if not isinstance(reflected, bool):
+        raise RadiometerError(f"reflected must be True or False, got {reflected!r}")
+    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
+        raise RadiometerError(f"seed must be a whole number >= 0, got {seed!r}")
+    _b.scene(scene)
+    from .measure.meter import circadian
+
+    return circadian.circadian_check(positions, view_directions, scene=scene, posture=posture, reflected=reflected,
+                                     quality=quality, seed=seed)
+
+
+@_v.boundary
 def spectrum_metrics(spectrum):
     """CIE S 026 and scotopic figures of one spectrum setting (no scene needed), a JSON-ready dict.
 

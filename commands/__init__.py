@@ -24,5 +24,6 @@ SUBCOMMANDS = {
     "glare": "glare",
     "compliance": "deliverables.compliance",
     "illuminance-image": "deliverables.illuminance_image",
+    "circadian": "deliverables.circadian",
     "export-radiance": "export_radiance",
 }

@@ -334,3 +334,23 @@ def test_spectrum_settings(spec, label):
 def test_bad_spectrum_settings(spec, message):
     with pytest.raises(RadiometerError, match=message):
         spectral.spectrum_from_spec(spec)
+
+
+def test_circadian_verdicts_claim_only_what_the_reading_proves():
+    """radiometry/metrics/circadian.py: met from the low end, not met only from a whole reading's high end."""
+    from radiometer.radiometry.metrics import circadian
+
+    assert circadian.rate(300.0) == {1: "met", 3: "met"}
+    assert circadian.rate(200.0, 190.0, 210.0) == {1: "met", 3: "not met"}
+    assert circadian.rate(200.0, 190.0, 260.0) == {1: "met", 3: "unknown"}       # the interval straddles 250
+    assert circadian.rate(100.0, whole=False) == {1: "unknown", 3: "unknown"}    # a lower bound below
+    assert circadian.rate(140.0, 130.0, 150.0) == {1: "unknown", 3: "not met"}
+    s = circadian.summary([circadian.rate(300.0), circadian.rate(200.0, 190.0, 210.0)])
+    assert s["points"] == 1 and not s["points_may_be_higher"] and s["share"][3]["not met"] == 0.5
+    s = circadian.summary([circadian.rate(300.0), circadian.rate(100.0, whole=False)])
+    assert s["points"] == 0 and s["points_may_be_higher"]
+    assert s["thresholds_eml"][1] == pytest.approx(150.1, abs=0.1)                # WELL's 150 EML
+    with pytest.raises(ValueError):
+        circadian.rate(math.nan)
+    with pytest.raises(ValueError):
+        circadian.summary([])

@@ -1,0 +1,78 @@
+"""The circadian check (host side): vertical meters at the occupants' eyes, facing their view, read in
+melanopic EDI (CIE S 026, ``spectra`` / ``spectral_reflected``) and rated against WELL v2 L03's
+indicative thresholds (``radiometry.metrics.circadian``).
+
+Eyes stand ``EYE_HEIGHT_M`` (1.2 m seated, 1.7 m standing) above the given floor positions. What the
+spectral reading leaves out (the reflected light unless ``reflected``, the world's and emitting surfaces'
+light, lights without a spectrum) makes it a lower bound: it can show a threshold met, never missed.
+"""
+
+import numpy as np
+
+from ...errors import RadiometerError
+from ...radiometry.metrics import circadian
+
+
+def circadian_check(positions, view_directions, *, scene=None, posture="seated", reflected=False,
+                    quality="preview", seed=0):
+    """One reading per occupant (``positions`` (N, 3) floor points in scene coordinates, ``view_directions``
+    one (3,) or (N, 3) direction each looks along) and the WELL v2 L03 summary: a plain dict, SI."""
+    import bpy
+
+    from . import point_meter as meter
+    from . import spectra, spectral_reflected
+
+    scene = scene or bpy.context.scene
+    if posture not in circadian.EYE_HEIGHT_M:
+        raise RadiometerError(f"posture must be one of {', '.join(circadian.EYE_HEIGHT_M)}, got {posture!r}")
+    pos = np.atleast_2d(np.asarray(positions, float))
+    dirs = np.asarray(view_directions, float)
+    if pos.ndim != 2 or pos.shape[1] != 3 or not len(pos) or not np.all(np.isfinite(pos)):
+        raise RadiometerError(f"positions must be 3 finite numbers or (N, 3), got shape {pos.shape}")
+    dirs = np.broadcast_to(dirs, pos.shape) if dirs.shape == (3,) else dirs
+    if dirs.shape != pos.shape or not np.all(np.isfinite(dirs)):
+        raise RadiometerError(f"view_directions must be one direction or one per position, got shape {dirs.shape}")
+    length = np.linalg.norm(dirs, axis=1)
+    if np.any(length < 1e-12):
+        raise RadiometerError("a view direction is zero: give the way each occupant faces")
+    dirs = dirs / length[:, None]
+    eye_h = circadian.EYE_HEIGHT_M[posture]
+    eyes = pos + np.array([0.0, 0.0, eye_h / scene.unit_settings.scale_length])
+    model = meter.capture_model(scene)
+    others = []
+    if model.world_emits:
+        others.append("the world's light (daylight or an environment), not yet spectral")
+    if np.any(np.asarray(model.geometry.emissive, bool)):
+        others.append("emitting surfaces, not yet spectral")
+    rows, verdicts = [], []
+    for eye, d in zip(eyes, dirs):
+        if reflected:
+            r = spectral_reflected.spectral_reading(tuple(eye), tuple(d), scene=scene, quality=quality, seed=seed)
+        else:
+            r = spectra.spectral_reading(tuple(eye), tuple(d), scene=scene)
+        band = r.get("interval_95", {}).get("mel_edi_lx") if r.get("part") == "direct+reflected" else None
+        left_out = list(others)
+        if band is None:
+            left_out.append("light reflected by surfaces" + ("" if reflected else " (not asked for)"))
+        if not r["complete"]:
+            left_out.append("lights without a spectrum or a closed form")
+        lo, hi = (band["low_95"], band["high_95"]) if band else (None, None)
+        v = circadian.rate(r["mel_edi_lx"], lo, hi, whole=not left_out)
+        verdicts.append(v)
+        rows.append({"eye": tuple(map(float, eye * scene.unit_settings.scale_length)), "view_direction": tuple(map(float, d)),
+                     "mel_edi_lx": float(r["mel_edi_lx"]), "low_95_lx": lo, "high_95_lx": hi,
+                     "illuminance_lx": float(r["illuminance_lx"]), "mel_der": r.get("mel_der"),
+                     "exact": bool(r["exact"]) and not left_out, "lower_bound": bool(left_out), "left_out": left_out,
+                     "verdict": {str(p): k for p, k in v.items()}, "notes": list(r["notes"])})
+    s = circadian.summary(verdicts)
+    return {"check": "circadian lighting (WELL v2 L03, indicative)", "posture": posture, "eye_height_m": eye_h,
+            "quantity": "melanopic EDI (CIE S 026/E:2018), vertical at the eye facing the view, lx",
+            "eyes": rows, "points": s["points"], "points_may_be_higher": s["points_may_be_higher"],
+            "share": {str(p): v for p, v in s["share"].items()},
+            "thresholds_mel_edi_lx": {str(p): t for p, t in s["thresholds_mel_edi_lx"].items()},
+            "thresholds_eml": {str(p): t for p, t in s["thresholds_eml"].items()}, "source": s["source"],
+            "indicative": True,
+            "notes": ["WELL asks for these levels at least 4 hours between 9:00 and 13:00: the scene is one moment",
+                      "a reading that leaves light out is a lower bound: it shows a threshold met, never missed"],
+            "units": {"mel_edi_lx": "lx", "low_95_lx": "lx", "high_95_lx": "lx", "illuminance_lx": "lx",
+                      "eye_height_m": "m", "eye": "m", "mel_der": "1"}}
