@@ -158,6 +158,26 @@ def circadian_check(positions, view_directions=(0.0, 1.0, 0.0), *, scene=None, p
 
 
 @_v.boundary
+def meter_melanopic_reading(obj, *, scene=None):
+    """The melanopic (CIE S 026) reading of the direct light at an illuminance meter object, where it stands
+    and faces (:func:`spectral_reading`), stored on the meter (``mel_edi``, ``mel_der``, ``sp_ratio``,
+    ``spectral_status``: shown in its sidebar panel; a new Measure clears them). Returns the reading's dict."""
+    import bpy
+
+    scene = _b.scene(scene) or bpy.context.scene
+    if not _is_meter(obj) or obj.radiometer_meter.kind != "ILLUMINANCE":
+        raise RadiometerError(f"{getattr(obj, 'name', obj)!r} is not an illuminance meter")
+    from .measure.meter import meter_objects, spectra
+
+    location, normal = meter_objects.meter_pose(obj)
+    r = spectra.spectral_reading(tuple(location), tuple(normal), scene=scene)
+    m = obj.radiometer_meter
+    for key, value in meter_objects.spectral_values(r).items():
+        m[key] = value
+    return r
+
+
+@_v.boundary
 def spectrum_metrics(spectrum):
     """CIE S 026 and scotopic figures of one spectrum setting (no scene needed), a JSON-ready dict.
 

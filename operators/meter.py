@@ -1,4 +1,5 @@
-"""Light meter operators: add a meter, measure meters (modal with progress and Esc in the UI)."""
+"""Light meter operators: add a meter, measure meters (modal with progress and Esc in the UI), read the
+active meter's direct light in melanopic EDI."""
 
 import bpy
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty
@@ -257,13 +258,42 @@ def measure_task(scene, objects, batch=UI_BATCH):
     return task
 
 
+class RADIOMETER_OT_melanopic_reading(bpy.types.Operator):
+    """Read the active illuminance meter's direct light in melanopic EDI (CIE S 026): mel-EDI, mel-DER and
+    S/P from each light's spectrum, exact where every light has one and a closed form"""
+
+    bl_idname = "radiometer.melanopic_reading"
+    bl_label = "Melanopic Reading"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        ob = context.active_object
+        return registered(cls, context) and needs(
+            cls, ob is not None and ob.radiometer_meter.is_meter and ob.radiometer_meter.kind == "ILLUMINANCE",
+            "needs an active illuminance meter")
+
+    def execute(self, context):
+        from ..errors import RadiometerError
+
+        try:
+            r = api.meter_melanopic_reading(context.active_object, scene=context.scene)
+        except RadiometerError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"mel-EDI {r['mel_edi_lx']:.4g} lx of the direct light"
+                              + ("" if r["exact"] else " (a lower bound)"))
+        return {"FINISHED"}
+
+
 def _menu_add(self, _context):
     self.layout.operator_menu_enum("radiometer.add_meter", "kind", text="Light Meter", icon="LIGHT_SUN")
     self.layout.operator_context = "INVOKE_DEFAULT"
     self.layout.operator("radiometer.add_meter_on_surface", icon="SNAP_FACE")
 
 
-classes = (RADIOMETER_OT_add_meter, RADIOMETER_OT_add_meter_on_surface, RADIOMETER_OT_measure)
+classes = (RADIOMETER_OT_add_meter, RADIOMETER_OT_add_meter_on_surface, RADIOMETER_OT_measure,
+           RADIOMETER_OT_melanopic_reading)
 
 
 def register_extra():

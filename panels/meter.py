@@ -141,6 +141,13 @@ class RADIOMETER_PT_active_meter(SidebarPanel, bpy.types.Panel):
                                   tuple(m.value_rgb), space)
         if photo and m.kind != "RADIANCE_MAP":
             col.label(text=photo, icon="CAMERA_DATA")
+        if m.kind == "ILLUMINANCE":
+            row = layout.row()
+            row.operator("radiometer.melanopic_reading", icon="LIGHT")
+            if m.spectral_status:
+                col = layout.column(align=True)
+                col.label(text=f"mel-EDI {m.mel_edi:.4g} lx (direct light), mel-DER {m.mel_der:.3g}, S/P {m.sp_ratio:.3g}")
+                col.label(text=m.spectral_status[:140])
         box = layout.box()
         for note in m.notes.split(" | "):
             box.label(text=note[:140])

@@ -88,6 +88,17 @@ class RadiometerMeterSettings(bpy.types.PropertyGroup):
                           description="Caveats of the reading (placement, enclosure, method), separated by |")
     map_path: StringProperty(name="Radiance Map", subtype="FILE_PATH", get=_reading("map_path", ""),
                              description="The EXR file of the last radiance map")
+    # The melanopic reading of the direct light (radiometer.melanopic_reading, CIE S 026), stored the same way;
+    # a new photometric reading clears it (spectral_status "")
+    mel_edi: FloatProperty(name="mel-EDI (lx)", get=_reading("mel_edi", 0.0),
+                           description="Melanopic equivalent daylight illuminance of the direct light, lx (CIE S 026)")
+    mel_der: FloatProperty(name="mel-DER", get=_reading("mel_der", 0.0),
+                           description="Melanopic daylight efficacy ratio of the direct light (D65 = 1)")
+    sp_ratio: FloatProperty(name="S/P", get=_reading("sp_ratio", 0.0),
+                            description="Scotopic to photopic ratio of the direct light")
+    spectral_status: StringProperty(name="Spectral Status", get=_reading("spectral_status", ""),
+                                    description="What the melanopic reading holds (exact, or a lower bound and why); "
+                                                "empty when there is none for the current reading")
 
 
 class RadiometerSceneSettings(bpy.types.PropertyGroup):

@@ -145,7 +145,26 @@ def reading_values(reading):
     values["seconds"], values["efficacy"] = float(reading.seconds), float(reading.efficacy)
     values["notes"] = " | ".join(reading.notes)
     values["has_reading"] = True
+    values["spectral_status"] = ""  # a melanopic reading of an earlier pose or scene no longer applies
     return values
+
+
+def meter_pose(obj):
+    """(world location in scene units (3,), unit facing direction (3,)) of a meter object."""
+    location, z = _pose(obj)
+    return location, z / np.linalg.norm(z)
+
+
+def spectral_values(reading):
+    """The values a meter object stores for a direct spectral reading (``spectra.spectral_reading``'s dict)."""
+    der, sp = reading.get("mel_der"), reading.get("sp_ratio")
+    if reading["exact"]:
+        status = "exact: every light's direct part in closed form with a known spectrum"
+    else:
+        status = "lower bound: " + "; ".join(reading["notes"] or ["some light has no closed form or spectrum"])
+    status += "; not included: " + ", ".join(reading["not_included"])
+    return {"mel_edi": float(reading["mel_edi_lx"]), "mel_der": float(der) if der is not None else float("nan"),
+            "sp_ratio": float(sp) if sp is not None else float("nan"), "spectral_status": status}
 
 
 def step_weights(steps):

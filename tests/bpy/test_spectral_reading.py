@@ -181,3 +181,23 @@ def test_spectrum_metrics_and_mesopic_api(luxpy_der):
         assert "\n" not in str(info.value)
     with pytest.raises(RadiometerError, match="unknown spectrum"):
         api.spectrum_metrics("sodium")
+
+
+def test_sidebar_melanopic_reading_of_a_meter_object(clean_blender, build, tmp_path):
+    """radiometer.melanopic_reading on the active illuminance meter stores the direct reading's mel-EDI,
+    mel-DER and S/P on it (what the sidebar shows); a new Measure clears it, a luminance meter is refused."""
+    scene, _light = _scene(build, tmp_path, CASES["CIE D65"][0])
+    meter = api.add_meter("ILLUMINANCE", (0.0, 0.0, 0.0), context=bpy.context)
+    bpy.context.view_layer.objects.active = meter
+    assert bpy.ops.radiometer.melanopic_reading() == {"FINISHED"}
+    want = api.spectral_reading((0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+    m = meter.radiometer_meter
+    assert m.mel_edi == pytest.approx(want["mel_edi_lx"], rel=1e-6) and m.mel_der == pytest.approx(1.0, rel=1e-6)
+    assert m.spectral_status.startswith("exact")
+    api.measure_meters([meter], quality="preview")
+    assert m.spectral_status == ""                      # the new reading's spectral one is not measured yet
+    spot = api.add_meter("LUMINANCE", (0.0, 0.0, 0.5), context=bpy.context)
+    with pytest.raises(RadiometerError, match="not an illuminance meter"):
+        api.meter_melanopic_reading(spot)
+    bpy.context.view_layer.objects.active = spot
+    assert not bpy.ops.radiometer.melanopic_reading.poll()
