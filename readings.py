@@ -242,3 +242,13 @@ class LuminanceReading:
         return (f"{self.luminance:.6g} cd/m²  ({self.radiance:.6g} W/(m² sr))  "
                 f"±{100 * self.rel_std_error:.2g} % (1 s.e.)  [{self.method}]")
 
+
+def format_melanopic(melanopic):
+    """A meter's mel-EDI of the direct light (the report's ``melanopic`` dict) for the tables: '859.5 lx',
+    '>= 859.5 lx' (a light without a spectrum or closed form left out: a lower bound) or '-' (none: a
+    luminance meter, or a refused spectrum)."""
+    m = melanopic or {}
+    if "mel_edi_lx" not in m:
+        return "-"
+    v = f"{m['mel_edi_lx']:.4g} lx"
+    return v if m["complete"] else f">= {v}"

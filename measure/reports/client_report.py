@@ -33,7 +33,7 @@ import numpy as np
 
 from ... import outputs
 from ...errors import MeasurementCancelled, RadiometerError
-from ...readings import format_error, format_quantity, format_value, photographic_text
+from ...readings import format_error, format_melanopic, format_quantity, format_value, photographic_text
 
 
 #: Samples per pixel per render (cap) of the report's false-colour picture, by the report's quality.
@@ -156,7 +156,7 @@ def _meter_rows(report):
                      "photo": photographic_text("luminance" if lum else "illuminance", value,
                                                 r.get("radiance_rgb") if lum else r.get("irradiance_rgb"),
                                                 r.get("colour_space", "")),
-                     "method": r.get("method", "")})
+                     "method": r.get("method", ""), "melanopic": format_melanopic(r.get("melanopic"))})
     return rows
 
 
@@ -224,8 +224,9 @@ def _compliance_section(report, client):
 
 def _meters_section(report, client):
     meters = _meter_rows(report)
-    return [("Meter readings (± 1 standard error)", ["meter", "reading", "photographic", "method"],
-             [[m["name"], m["reading"], m["photo"] or "-", m["method"]] for m in meters])] if meters else []
+    return [("Meter readings (± 1 standard error)", ["meter", "reading", "photographic", "method",
+                                                     "mel-EDI, direct light"],
+             [[m["name"], m["reading"], m["photo"] or "-", m["method"], m["melanopic"]] for m in meters])] if meters else []
 
 
 def _glare_section(report, client):

@@ -318,7 +318,10 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
             for i, st in enumerate(steps):
                 tracker.start(i)
                 for obj, reading in meter_objects.run_step(scene, st, settings, progress=tracker, cancelled=cancelled):
-                    report["meters"].append(dict(name=obj.name, **reading.to_dict()))
+                    entry = dict(name=obj.name, **reading.to_dict())
+                    if reading.quantity == "illuminance":
+                        entry["melanopic"] = _melanopic(scene, obj)
+                    report["meters"].append(entry)
         except MeasurementCancelled:
             raise
         except RadiometerError as exc:
@@ -511,6 +514,26 @@ def _meter_cells(result):
     return (format_value(value, se, result["exact"]), "cd/m²" if lum else "lx", format_error(se, result["exact"]))
 
 
+def _melanopic(scene, obj):
+    """The direct light's melanopic reading at an illuminance meter (``spectra.spectral_reading``: closed forms
+    per light and each light's spectrum), as the report keeps it; {"error": ...} when a spectrum is refused."""
+    from ..meter import meter_objects, spectra
+
+    try:
+        location, normal = meter_objects.meter_pose(obj)
+        r = spectra.spectral_reading(tuple(location), tuple(normal), scene=scene)
+    except RadiometerError as exc:
+        return {"error": str(exc)}
+    return {"mel_edi_lx": float(r["mel_edi_lx"]), "mel_der": r["mel_der"], "exact": bool(r["exact"]),
+            "complete": bool(r["complete"]), "notes": list(r["notes"])}
+
+
+def _melanopic_text(result):
+    from ...readings import format_melanopic
+
+    return format_melanopic(result.get("melanopic"))
+
+
 def _who_broke(result):
     """'light', 'scene', ...: with the light's near field named as such when its shape explains it."""
     who = str(result.get("broken_by") or "")
@@ -606,10 +629,14 @@ def markdown(report):
     if report["errors"]:
         md.append("**Errors:** " + "; ".join(report["errors"]) + "\n")
     if report["meters"]:
-        md.append("## Meters\n\n| meter | value | unit | ± 1 s.e. | method |\n|---|---:|---|---:|---|")
+        md.append("## Meters\n\n| meter | value | unit | ± 1 s.e. | method | mel-EDI of the direct light |\n"
+                  "|---|---:|---|---:|---|---:|")
         for r in report["meters"]:
             value, unit, error = _meter_cells(r)
-            md.append(f"| {r['name']} | {value} | {unit} | {error} | {r['method']} |")
+            md.append(f"| {r['name']} | {value} | {unit} | {error} | {r['method']} | {_melanopic_text(r)} |")
+        md.append("\nmel-EDI: melanopic equivalent daylight illuminance (CIE S 026) of the lights' direct light, "
+                  "from each light's spectrum; the reflected light and the world are not in it (docs/spectral.md); "
+                  "'>=' where a light without a spectrum is left out.")
         md.append("")
     md.append("## Inverse-square law\n")
     for name, others in (report.get("law_types") or {}).items():
