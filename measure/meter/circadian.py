@@ -19,7 +19,6 @@ def circadian_check(positions, view_directions, *, scene=None, posture="seated",
     one (3,) or (N, 3) direction each looks along) and the WELL v2 L03 summary: a plain dict, SI."""
     import bpy
 
-    from . import point_meter as meter
     from . import spectra, spectral_reflected
 
     scene = scene or bpy.context.scene
@@ -38,12 +37,6 @@ def circadian_check(positions, view_directions, *, scene=None, posture="seated",
     dirs = dirs / length[:, None]
     eye_h = circadian.EYE_HEIGHT_M[posture]
     eyes = pos + np.array([0.0, 0.0, eye_h / scene.unit_settings.scale_length])
-    model = meter.capture_model(scene)
-    others = []
-    if model.world_emits:
-        others.append("the world's light (daylight or an environment), not yet spectral")
-    if np.any(np.asarray(model.geometry.emissive, bool)):
-        others.append("emitting surfaces, not yet spectral")
     rows, verdicts = [], []
     for eye, d in zip(eyes, dirs):
         if reflected:
@@ -51,9 +44,7 @@ def circadian_check(positions, view_directions, *, scene=None, posture="seated",
         else:
             r = spectra.spectral_reading(tuple(eye), tuple(d), scene=scene)
         band = r.get("interval_95", {}).get("mel_edi_lx") if r.get("part") == "direct+reflected" else None
-        left_out = list(others)
-        if band is None:
-            left_out.append("light reflected by surfaces" + ("" if reflected else " (not asked for)"))
+        left_out = list(r["not_included"])
         if not r["complete"]:
             left_out.append("lights without a spectrum or a closed form")
         lo, hi = (band["low_95"], band["high_95"]) if band else (None, None)

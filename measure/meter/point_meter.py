@@ -1054,8 +1054,32 @@ def measure_parts(location, normal, parts, *, scene=None, target_rel_error=None,
             for name in names}
 
 
-def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
-    """Analytic per-light breakdown at one point: list of dicts (SI), with each light's verdict."""
+def _world_row(model, direct, normals, weights, efficacy):
+    """The world's direct light at the one receiver as a breakdown row (``source`` None, ``world`` True):
+    its closed form where the plan proves it (``illuminance`` None where it is rendered, with why), or
+    None when the world emits nothing."""
+    from ...radiometry.scene import scene_model
+
+    status = None if direct.world_status is None else direct.world_status[0]
+    if status is None or not model.world_emits:
+        return None
+    reason = str(direct.world_reason[0]) if getattr(direct, "world_reason", None) is not None else ""
+    if status == scene_model.RENDER:
+        return {"light": "world", "source": None, "world": True, "irradiance_rgb": None, "irradiance": None,
+                "illuminance": None, "model": None, "exact": False, "status": str(status),
+                "note": f"rendered, not in closed form: {reason or 'the world is not modelled here'}"}
+    e_rgb, err_rgb, note = world_irradiance(model, direct, normals)
+    e = float(e_rgb[0] @ weights)
+    err = float(abs(err_rgb[0] @ weights))
+    return {"light": "world", "source": None, "world": True, "irradiance_rgb": tuple(map(float, e_rgb[0])),
+            "irradiance": e, "illuminance": efficacy * e, "model": "world", "exact": status in (scene_model.EXACT,
+                                                                                              scene_model.ZERO),
+            "status": str(status), "reason": reason, "rel_error_bound": err / abs(e) if e else 0.0, "note": note}
+
+
+def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, with_world=False):
+    """Analytic per-light breakdown at one point: list of dicts (SI), with each light's verdict; with
+    ``with_world`` the world's row first (:func:`_world_row`: None when it emits nothing)."""
     from ...radiometry.scene import scene_model
 
     scene = scene or bpy.context.scene
@@ -1070,6 +1094,8 @@ def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     space, weights, efficacy = scene_photometry(scene)
     per_light, bounds, info = analytic_irradiance(model, direct, sensors_m, normals)
     rows = []
+    if with_world:
+        rows.append(_world_row(model, direct, normals, weights, efficacy))
     for i, (light, (exact, model_name, note)) in enumerate(zip(model.lights, info)):
         if light.spec is None:
             rows.append({"light": light.name, "source": light.source, "irradiance_rgb": None, "irradiance": None,

@@ -18,6 +18,7 @@ and so for every alpha-opic quantity. Light reflected by surfaces is added by ``
 """
 
 import bpy
+import numpy as np
 
 from ...errors import RadiometerError
 from ...radiometry.photometry import action_spectra, spectral
@@ -107,8 +108,12 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     from . import point_meter as meter
 
     scene = scene or bpy.context.scene
-    rows = meter.predict_illuminance(location, normal, scene=scene)
+    rows = meter.predict_illuminance(location, normal, scene=scene, with_world=True)
+    world = rows.pop(0)
     spectra = {}
+    if world is not None and world["illuminance"] is not None:
+        rows.append(world)
+        spectra[None] = world_spectrum(scene)   # the world's row has no source object
     for row in rows:
         source = row.get("source")
         if source not in spectra:
@@ -124,10 +129,13 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     irr = {a: sum(r["alpha_opic_irradiance_w_m2"][a] for r in known) for a in action_spectra.ALPHA}
     # scotopic lumens add: S/P of the sum is the photopic-weighted mean of the lights' S/P
     sp = sum(r["sp_ratio"] * r["illuminance_lx"] for r in known) / ev_known if ev_known > 0 else None
-    not_included = ["light reflected by surfaces (the rendered part)", "emitting surfaces"]
-    if scene.world is not None:
+    not_included = ["light reflected by surfaces (the rendered part)"]
+    model = meter.capture_model(scene, bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0])
+    if np.any(np.asarray(model.geometry.emissive, bool)):
+        not_included.append("emitting surfaces")
+    if world is not None and world["illuminance"] is None:
         label, _ = world_spectrum(scene)
-        not_included.append(f"the world (its spectrum: {label})")
+        not_included.append(f"the world ({world['note']}; its spectrum: {label})")
     notes = []
     if missing:
         notes.append("lower bound: no spectrum or no closed form for " + "; ".join(

@@ -125,9 +125,39 @@ def test_sun_is_daylight_at_its_cct_and_the_world_d65(clean_blender, build):
     from radiometer.radiometry.photometry import action_spectra
 
     assert r["mel_der"] == pytest.approx(float(action_spectra.melanopic_der(spectral.cie_daylight(5500.0))), rel=1e-12)
-    assert any("the world (its spectrum: CIE D65 (default sky))" in s for s in r["not_included"])
+    assert not any("world" in s for s in r["not_included"])          # a black world gives no light
+
+
+def test_the_worlds_direct_light_is_read_with_its_spectrum(clean_blender, build):
+    """A uniform white world of radiance s (W/(m² sr) per channel) over an open meter: E = pi s in closed form
+    (nothing above the horizon), E_v = K pi s, and mel-EDI = E_v x mel-DER of the world's spectrum (D65 by
+    default: 1; D5000 when set): exact. A wall above the horizon makes the world rendered: left out, said so."""
+    from radiometer.radiometry.photometry import action_spectra
+
+    scene = bpy.context.scene
+    strength = 0.7
+    from radiometer.compat import ensure_node_tree
+
+    scene.world = bpy.data.worlds.new("white sky")
+    background = ensure_node_tree(scene.world).nodes["Background"]
+    background.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    background.inputs["Strength"].default_value = strength
+    ev = scene.radiometer.efficacy * math.pi * strength
+    r = api.spectral_reading((0.0, 0.0, 0.0))
+    (row,) = r["lights"]
+    assert row["light"] == "world" and row["spectrum"] == "CIE D65 (default sky)" and r["exact"] and r["complete"]
+    assert r["illuminance_lx"] == pytest.approx(ev, rel=1e-6) and r["mel_edi_lx"] == pytest.approx(ev, rel=1e-6)
+    assert not any("world" in s for s in r["not_included"])
     scene.world["radiometer_spectrum"] = "D5000"
-    assert any("CIE daylight 5000 K" in s for s in api.spectral_reading((0.0, 0.0, 0.0))["not_included"])
+    r = api.spectral_reading((0.0, 0.0, 0.0))
+    der = float(action_spectra.melanopic_der(spectral.cie_daylight(5000.0)))
+    assert r["mel_edi_lx"] == pytest.approx(ev * der, rel=1e-6) and r["exact"]
+    build.plane(scene, size=2.0, location=(0.0, 1.5, 1.0), rotation=(math.pi / 2, 0.0, 0.0), name="wall")
+    r = api.spectral_reading((0.0, 0.0, 0.0))
+    assert any(s.startswith("the world (rendered") and "CIE daylight 5000 K" in s for s in r["not_included"]), r["not_included"]
+    assert r["mel_edi_lx"] == 0.0 and not r["exact"]
+    out = api.circadian_check((0.0, 0.0, -1.2), (0.0, 0.0, 1.0), scene=scene)
+    assert any(s.startswith("the world") for s in out["eyes"][0]["left_out"])
 
 
 @pytest.mark.parametrize("setting, message", [
