@@ -89,6 +89,16 @@ def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     return meter.predict_illuminance(location, normal, scene=scene)
 
 
+def _spectral_options(scene, reflected, quality, seed):
+    """The spectral readings' shared options, checked (one line each)."""
+    _v.choice(quality, "quality", ("preview", "standard", "reference"))
+    if not isinstance(reflected, bool):
+        raise RadiometerError(f"reflected must be True or False, got {reflected!r}")
+    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
+        raise RadiometerError(f"seed must be a whole number >= 0, got {seed!r}")
+    _b.scene(scene)
+
+
 @_v.boundary
 def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="melanopic", reflected=False,
                      quality="preview", seed=0):
@@ -118,12 +128,7 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="
     location = _v.points(location, "location", allow_many=False)
     normal = _v.directions(normal, "normal", allow_many=False)
     _v.choice(quantity, "quantity", ("melanopic",))
-    _v.choice(quality, "quality", ("preview", "standard", "reference"))
-    if not isinstance(reflected, bool):
-        raise RadiometerError(f"reflected must be True or False, got {reflected!r}")
-    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
-        raise RadiometerError(f"seed must be a whole number >= 0, got {seed!r}")
-    _b.scene(scene)
+    _spectral_options(scene, reflected, quality, seed)
     from .measure.meter import spectra, spectral_reflected
 
     if reflected:
@@ -145,12 +150,7 @@ def circadian_check(positions, view_directions=(0.0, 1.0, 0.0), *, scene=None, p
     positions = _v.points(positions, "positions")
     view_directions = _v.directions(view_directions, "view_directions")
     _v.choice(posture, "posture", ("seated", "standing"))
-    _v.choice(quality, "quality", ("preview", "standard", "reference"))
-    if not isinstance(reflected, bool):
-        raise RadiometerError(f"reflected must be True or False, got {reflected!r}")
-    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
-        raise RadiometerError(f"seed must be a whole number >= 0, got {seed!r}")
-    _b.scene(scene)
+    _spectral_options(scene, reflected, quality, seed)
     from .measure.meter import circadian
 
     return circadian.circadian_check(positions, view_directions, scene=scene, posture=posture, reflected=reflected,
