@@ -250,5 +250,5 @@ def format_melanopic(melanopic):
     m = melanopic or {}
     if "mel_edi_lx" not in m:
         return "-"
-    v = f"{m['mel_edi_lx']:.4g} lx"
+    v = f"{format_value(m['mel_edi_lx'], exact=True)} lx"   # closed forms: 5 digits, no exponent below 1e6
     return v if m["complete"] else f">= {v}"

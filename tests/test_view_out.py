@@ -135,3 +135,35 @@ def test_view_out_over_points_takes_what_three_quarters_reach():
         en17037.view_out_over_points([60], [1, 2], [3])
     with pytest.raises(ValueError):
         en17037.view_out(30, math.nan, 2)
+
+
+def _box(lo, hi):
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    v = np.array([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0],
+                  [x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]], float)
+    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    return np.array([[v[a], v[b], v[c]] for a, b, c, d in quads] + [[v[a], v[c], v[d]] for a, b, c, d in quads])
+
+
+def test_a_thick_walls_reveal_is_no_landscape():
+    """The demo's daylit room of 0.1 m thick boxes (tests/test_daylight_map.py): its window has an inner and an
+    outer outline. Rays through the inner one that meet the reveal do not go out, and the reveal is no
+    landscape: with nothing outside the room, the view shows sky and ground only; the sight angle is bounded by
+    the jambs' outer corners (the reveal hides the rest), within one step."""
+    hx, hy, h, t, w, sill, head = 2.0, 2.0, 3.0, 0.3, 1.0, 0.9, 2.1
+    y0, y1 = -hy - t, -hy
+    boxes = [((-hx - t, -hy - t, -t), (hx + t, hy + t, 0.0)), ((-hx - t, -hy - t, h), (hx + t, hy + t, h + t)),
+             ((-hx - t, hy, 0.0), (hx + t, hy + t, h)), ((hx, -hy, 0.0), (hx + t, hy, h)),
+             ((-hx - t, -hy, 0.0), (-hx, hy, h)), ((-hx - t, y0, 0.0), (hx + t, y1, sill)),
+             ((-hx - t, y0, head), (hx + t, y1, h)), ((-hx - t, y0, sill), (-w, y1, head)),
+             ((w, y0, sill), (hx + t, y1, head))]
+    tris = np.concatenate([_box(lo, hi) for lo, hi in boxes])
+    ops = _openings(tris)
+    assert len(ops) == 2
+    eye = np.array([0.5, 0.0, 1.2])
+    v = view_out.eye_views([eye], ops, tris)[0]
+    assert v.layers == ("sky", "ground") and not view_out.surroundings_modelled(tris, ops, "landscape" in v.layers)
+    # an eye between the jambs (|x| < w) sees past each jamb up to its outer corner (y = -hy - t)
+    d_out = hy + t - eye[1]
+    want = math.degrees(math.atan2(w - eye[0], d_out) + math.atan2(w + eye[0], d_out))
+    assert abs(v.horizontal_sight_angle_deg - want) <= view_out.STEP_DEG, (v.horizontal_sight_angle_deg, want)

@@ -4,7 +4,8 @@ From each eye, rays are cast through every opening (``skies.sky_aperture.find_ap
 the opaque surfaces; a pane in the opening is looked through) on a grid of directions ``STEP_DEG`` apart
 in azimuth and ``ROWS`` rows in elevation across the opening as the eye sees it. A ray counts when it
 crosses the opening's polygon and nothing opaque stands between the eye and the opening (an inner wall,
-a baffle, the reveal of a thick wall). Beyond the opening, its first opaque surface says what it sees:
+a baffle), nor between it and the hole's other outline beyond it (a thick wall's reveal: its inner and
+outer outlines are one opening, the same polygon moved along the normal). Beyond the opening, its first opaque surface says what it sees:
 
 - **sky**: nothing, above the horizon;
 - **ground**: nothing, below the horizon (the ground of the sky model: an endless plane below the
@@ -144,6 +145,27 @@ def _through_opening(eye, poly, step_deg, rows):
     return dirs[ok], bb.ravel()[ok].astype(int), ee.ravel()[ok], t[ok]
 
 
+def _reveal_depths(openings, tol):
+    """Per opening, the signed offsets (m, along its plane normal) of the other outlines of the same hole:
+    a thick wall's inner and outer outlines are one opening seen from each face (the same polygon moved
+    along the normal); between them lies the wall's reveal."""
+    planes = [sky_aperture.polygon_plane(np.asarray(p, float)) for p in openings]
+    out = []
+    for j, (nj, cj) in enumerate(planes):
+        pj = np.asarray(openings[j], float)
+        depths = []
+        for k, (nk, _ck) in enumerate(planes):
+            pk = np.asarray(openings[k], float)
+            if k == j or len(pk) != len(pj) or abs(abs(float(nj @ nk)) - 1.0) > 1e-9:
+                continue
+            shift = float(np.mean(pk @ nj) - cj)
+            moved = pk - shift * nj
+            if abs(shift) > 10.0 * tol and all(np.min(np.linalg.norm(moved - q, axis=1)) <= 10.0 * tol for q in pj):
+                depths.append(shift)
+        out.append((nj, cj, depths))
+    return out
+
+
 def _largest_run(bins, total):
     """Largest run of adjoining integers in ``bins`` (wrapping at ``total``), in bins."""
     b = np.unique(np.mod(bins, total))
@@ -166,6 +188,7 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
         normals = normals / np.linalg.norm(normals, axis=1, keepdims=True)
     up_cos = math.cos(math.radians(GROUND_TILT_DEG))
     total = int(round(360.0 / step_deg))
+    reveals = _reveal_depths(openings, tol)
     out = []
     for eye in np.atleast_2d(np.asarray(eyes, float)):
         parts = [_through_opening(eye, np.asarray(p, float), step_deg, rows) for p in openings]
@@ -176,8 +199,19 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
         bins = np.concatenate([p[1] for p in parts])
         el = np.concatenate([p[2] for p in parts])
         to_opening = np.concatenate([p[3] for p in parts])
+        which = np.concatenate([np.full(len(p[0]), j) for j, p in enumerate(parts)])
         dist, k = first_hits_many(np.broadcast_to(eye, dirs.shape), dirs, tris)
-        out_mask = dist >= to_opening - tol          # nothing opaque before the opening
+        # nothing opaque before the opening, nor between it and the hole's other outline beyond (a thick
+        # wall's reveal: the rays that clear it go out through the outer outline, counted there too)
+        in_reveal = np.zeros(len(k), bool)
+        for j, (nj, cj, depths) in enumerate(reveals):
+            side = -math.copysign(1.0, float(eye @ nj - cj))          # the normal's sign away from the eye
+            far = [abs(d) for d in depths if d * side > 0]
+            if far and np.isfinite(dist).any():
+                sel = (which == j) & np.isfinite(dist)
+                depth = (dist[sel] - to_opening[sel]) * np.abs(dirs[sel] @ nj)
+                in_reveal[sel] = depth <= max(far) + 10.0 * tol
+        out_mask = (dist >= to_opening - tol) & ~in_reveal
         if not out_mask.any():
             out.append(EyeView(tuple(eye), 0.0, 0.0, (), 0))
             continue

@@ -237,14 +237,14 @@ def test_report_meters_carry_the_direct_mel_edi(clean_blender, build, tmp_path):
     """The report's meter rows hold each illuminance meter's direct mel-EDI (the markdown and client tables
     print it; '>=' where a light without a spectrum is left out)."""
     from radiometer.measure.reports import report
-    from radiometer.readings import format_melanopic
+    from radiometer.readings import format_melanopic, format_value
 
     scene, light = _scene(build, tmp_path, CASES["CIE D65"][0])
     meter = api.add_meter("ILLUMINANCE", (0.0, 0.0, 0.0), context=bpy.context)
     m = report._melanopic(scene, meter)
     want = api.spectral_reading((0.0, 0.0, 0.0), (0.0, 0.0, 1.0))["mel_edi_lx"]
     assert m["mel_edi_lx"] == pytest.approx(want, rel=1e-9) and m["complete"] and m["exact"]
-    assert format_melanopic(m) == f"{want:.4g} lx"
+    assert format_melanopic(m) == f"{format_value(want, exact=True)} lx" and "e+" not in format_melanopic(m)
     del light.data["radiometer_spectrum"]                 # an RGB light: no spectrum, left out
     m = report._melanopic(scene, meter)
     assert not m["complete"] and format_melanopic(m) == ">= 0 lx"
