@@ -115,7 +115,8 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     decision = meter.plan(scene, model, points * scale, normals, "render")
     if decision["analytic_exact"]:
         per_light, _bounds, _info = meter.analytic_irradiance(model, decision["direct"], points * scale, normals)
-        reference = per_light.sum(axis=0) @ weights
+        world, _world_bound, _note = meter.world_irradiance(model, decision["direct"], normals)  # the sky counts too
+        reference = (per_light.sum(axis=0) + world) @ weights
         kind = "analytic (exact)"
     else:
         n_ref = int(reference_samples or 16 * samples[-1])

@@ -132,3 +132,24 @@ def test_analyses_take_target_error_and_time_budget(clean_blender, build):
     # seconds_for_target: t0 + c N(target), fitted on bakes of the target alone
     assert c.seconds_for_target == pytest.approx(c.fit["t0_s"] + c.fit["c_s_per_sample"] * c.samples_for_target)
     assert all(row.seconds > 0 for row in c.rows)
+
+
+def test_convergence_reference_counts_the_world(clean_blender, build):
+    """An open meter under a uniform world (radiance s per channel: E = pi s, nothing above its horizon) and a
+    point light: the study's analytic reference is both (it left the world out, so a daylit room's roof meter
+    read a constant 22 % 'error' at every sample count), and the renders converge to it."""
+    from radiometer.compat import ensure_node_tree
+
+    scene = bpy.context.scene
+    scene.world = bpy.data.worlds.new("white sky")
+    background = ensure_node_tree(scene.world).nodes["Background"]
+    background.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    background.inputs["Strength"].default_value = 0.5
+    build.plane(scene, size=4.0, location=(0.0, 0.0, 0.0), albedo=0.0, name="floor")
+    build.light(scene, "POINT", (0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0, use_soft_falloff=False)
+    c = api.convergence_study(location=(0.0, 0.0, 0.0), samples=(16, 256), replicas=4)
+    assert c.reference_kind == "analytic (exact)"
+    want = math.pi * 0.5 + 100.0 / (4.0 * math.pi * 4.0)          # W/m^2: the world, and I / d^2 for P = 100 W
+    assert c.reference[0] == pytest.approx(want, rel=1e-5)       # the sensor sits ~2 um up: 1e-6 on I / d^2
+    last = c.rows[-1]
+    assert last.rms_error < max(5.0 * last.std_error, 1e-3), (last.rms_error, last.std_error)
