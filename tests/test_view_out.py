@@ -167,3 +167,28 @@ def test_a_thick_walls_reveal_is_no_landscape():
     d_out = hy + t - eye[1]
     want = math.degrees(math.atan2(w - eye[0], d_out) + math.atan2(w + eye[0], d_out))
     assert abs(v.horizontal_sight_angle_deg - want) <= view_out.STEP_DEG, (v.horizontal_sight_angle_deg, want)
+
+
+def test_a_roof_light_is_no_view_out():
+    """The skylight room (tests/bpy/daylight_room.py skylight_quads): the eye under the roof light sees only
+    sky straight up; a roof light is not a window (its plane is horizontal), so no ray counts."""
+    tris = _tris(ROOM.skylight_quads())
+    ops = _openings(tris)
+    assert len(ops) == 1
+    v = view_out.eye_views([(2.0, 2.0, 1.2)], ops, tris)[0]
+    assert v.rays_out == 0 and v.horizontal_sight_angle_deg == 0.0 and v.layers == ()
+
+
+def test_the_wedge_cull_loses_no_hit(monkeypatch):
+    """Triangles scattered all round the room: the views with the azimuth-wedge cull equal those without."""
+    rng = np.random.default_rng(7)
+    centres = rng.uniform([-20, -20, -1], [24, 23, 8], (3000, 1, 3))
+    junk = centres + rng.normal(scale=0.6, size=(3000, 3, 3))
+    outside = (junk[:, :, 1] < -0.05).all(axis=1) | (junk[:, :, 1] > 3.05).all(axis=1) | \
+        (junk[:, :, 0] < -0.05).all(axis=1) | (junk[:, :, 0] > 4.05).all(axis=1)         # none inside the room
+    tris = np.concatenate([_tris(ROOM.quads()), junk[outside]])
+    ops = _openings(_tris(ROOM.quads()))
+    eyes = [(2.0, 1.5, 1.2), (0.3, 0.4, 1.0), (3.8, 2.8, 1.7)]
+    culled = view_out.eye_views(eyes, ops, tris)
+    monkeypatch.setattr(view_out, "_in_wedge", lambda t, *a: np.ones(len(t), bool))
+    assert culled == view_out.eye_views(eyes, ops, tris)

@@ -27,6 +27,8 @@ SUN_STEP_MIN = 30
 #: A seated eye over the work plane (m): EN 17037's 1.2 m over the floor less its 0.85 m reference plane;
 #: the view out is judged from the plane's points raised by this much along the plane's normal.
 EYE_ABOVE_WORK_PLANE_M = 0.35
+#: at most this many of the plane's points (evenly spread) are view-out eyes: rays cost triangles x rays
+VIEW_OUT_MAX_EYES = 36
 #: The DGP fisheye's side in pixels in the report (preview-sized: a picture of the camera's view).
 DGP_RESOLUTION = 64
 
@@ -195,6 +197,7 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
         view_row = None
         try:
             eyes = locations + np.asarray(g.normal, float) * (EYE_ABOVE_WORK_PLANE_M / scene.unit_settings.scale_length)
+            eyes = eyes[np.unique(np.linspace(0, len(eyes) - 1, min(len(eyes), VIEW_OUT_MAX_EYES)).round().astype(int))]
             vo = daylight_glare.view_out(eyes, scene=scene)
             entry["view_out"] = {"eyes": int(len(eyes)), "eye_above_plane_m": EYE_ABOVE_WORK_PLANE_M,
                                  "level": vo.en17037["level"], "values": vo.en17037["values"],

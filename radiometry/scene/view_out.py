@@ -1,7 +1,8 @@
 """What an eye sees out of a room's openings, for EN 17037's "view out" (pure numpy, never imports bpy).
 
-From each eye, rays are cast through every opening (``skies.sky_aperture.find_apertures``: the holes of
-the opaque surfaces; a pane in the opening is looked through) on a grid of directions ``STEP_DEG`` apart
+From each eye, rays are cast through every opening in a wall (``skies.sky_aperture.find_apertures``: the
+holes of the opaque surfaces, whose plane leans less than ``MAX_TILT_FROM_VERTICAL_DEG`` from the vertical:
+a roof light shows the sky straight up, not a view out; a pane in the opening is looked through) on a grid of directions ``STEP_DEG`` apart
 in azimuth and ``ROWS`` rows in elevation across the opening as the eye sees it. A ray counts when it
 crosses the opening's polygon and nothing opaque stands between the eye and the opening (an inner wall,
 a baffle), nor between it and the hole's other outline beyond it (a thick wall's reveal: its inner and
@@ -33,7 +34,7 @@ import numpy as np
 
 from ..skies import sky_aperture
 
-__all__ = ["LAYERS", "STEP_DEG", "ROWS", "GROUND_TILT_DEG", "LEVEL_BAND_DEG", "EyeView", "eye_views",
+__all__ = ["LAYERS", "STEP_DEG", "ROWS", "GROUND_TILT_DEG", "LEVEL_BAND_DEG", "MAX_TILT_FROM_VERTICAL_DEG", "EyeView", "eye_views",
            "first_hits_many", "surroundings_modelled"]
 
 LAYERS = ("sky", "landscape", "ground")
@@ -43,6 +44,8 @@ STEP_DEG = 0.5
 ROWS = 8
 #: a surface whose normal is within this angle of the zenith, below the eye, is ground (deg)
 GROUND_TILT_DEG = 30.0
+#: an opening whose plane leans further than this from the vertical (a roof light) gives no view out (deg)
+MAX_TILT_FROM_VERTICAL_DEG = 60.0
 #: rays within this elevation of the horizontal measure the outside distance (deg)
 LEVEL_BAND_DEG = 10.0
 #: pairs of (ray, triangle) tested in one numpy step (memory: about 200 bytes each)
@@ -145,6 +148,19 @@ def _through_opening(eye, poly, step_deg, rows):
     return dirs[ok], bb.ravel()[ok].astype(int), ee.ravel()[ok], t[ok]
 
 
+def _in_wedge(tris, eye, a_lo, a_hi, tol):
+    """(T,) bool: the triangles that may meet a ray from ``eye`` whose azimuth lies in [a_lo, a_hi] deg: all
+    of them when the wedge spans 180 deg or more, else those not wholly outside one of its two vertical
+    bounding half-planes (a cull that loses no hit)."""
+    if a_hi - a_lo >= 180.0 or not len(tris):
+        return np.ones(len(tris), bool)
+    lo, hi = math.radians(a_lo), math.radians(a_hi)
+    rel = tris[:, :, :2] - eye[:2]
+    d1 = rel @ np.array([-math.sin(lo), math.cos(lo)])       # > 0: counter-clockwise of the wedge's first side
+    d2 = rel @ np.array([math.sin(hi), -math.cos(hi)])       # > 0: clockwise of its second side
+    return (d1.max(axis=1) >= -tol) & (d2.max(axis=1) >= -tol)
+
+
 def _reveal_depths(openings, tol):
     """Per opening, the signed offsets (m, along its plane normal) of the other outlines of the same hole:
     a thick wall's inner and outer outlines are one opening seen from each face (the same polygon moved
@@ -188,6 +204,10 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
         normals = normals / np.linalg.norm(normals, axis=1, keepdims=True)
     up_cos = math.cos(math.radians(GROUND_TILT_DEG))
     total = int(round(360.0 / step_deg))
+    # roof lights show the sky straight up, not a view out: only openings in walls (normal within 60 deg of
+    # the horizontal; a sloped roof window counts) are looked through
+    openings = [p for p in openings if abs(float(sky_aperture.polygon_plane(np.asarray(p, float))[0][2]))
+                <= math.sin(math.radians(MAX_TILT_FROM_VERTICAL_DEG))]
     reveals = _reveal_depths(openings, tol)
     out = []
     for eye in np.atleast_2d(np.asarray(eyes, float)):
@@ -200,7 +220,16 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
         el = np.concatenate([p[2] for p in parts])
         to_opening = np.concatenate([p[3] for p in parts])
         which = np.concatenate([np.full(len(p[0]), j) for j, p in enumerate(parts)])
-        dist, k = first_hits_many(np.broadcast_to(eye, dirs.shape), dirs, tris)
+        dist, k = np.full(len(dirs), np.inf), np.full(len(dirs), -1)
+        start = 0
+        for p in parts:
+            n = len(p[0])
+            if n:
+                keep = _in_wedge(tris, eye, p[1].min() * step_deg, (p[1].max() + 1) * step_deg, tol)
+                d_j, k_j = first_hits_many(np.broadcast_to(eye, p[0].shape), p[0], tris[keep])
+                dist[start:start + n] = d_j
+                k[start:start + n] = np.where(k_j >= 0, np.flatnonzero(keep)[np.maximum(k_j, 0)], -1)
+            start += n
         # nothing opaque before the opening, nor between it and the hole's other outline beyond (a thick
         # wall's reveal: the rays that clear it go out through the outer outline, counted there too)
         in_reveal = np.zeros(len(k), bool)
