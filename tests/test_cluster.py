@@ -160,24 +160,22 @@ def test_connect_to_a_foreign_service_is_one_line_within_the_timeout(foreign_ser
 @pytest.mark.slow
 def test_cli_scheduler_mistakes_one_line_and_nothing_later(foreign_servers, tmp_path):
     # The CLI with --scheduler at an HTTP server, a garbage-speaking service and a malformed address:
-    # exit 2 and one line within 5 s (the documented bound) plus start-up, and nothing after it. Before,
-    # a half-made Client's __del__ printed a TimeoutError traceback 10 s after the line, at exit.
+    # exit 2 and one line, and nothing after it. Before, a half-made Client's __del__ printed a TimeoutError
+    # traceback 10 s after the line, at exit. The 5 s bound itself is held in-process by
+    # test_connect_to_a_foreign_service_is_one_line_within_the_timeout: a wall clock round three CLI
+    # start-ups measured the machine's load (14.6 s once, with both test tiers running beside it), not the bound.
     pytest.importorskip("distributed")
-    import time
 
     blend = tmp_path / "a.blend"
     blend.write_bytes(b"BLENDER-v500" + bytes(64))  # never opened: the scheduler is asked for first
-    started = time.monotonic()
     runs = {kind: subprocess.Popen([sys.executable, "-m", "radiometer", "batch", str(blend), "--scheduler", address],
                                    stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd="/")
             for kind, address in foreign_servers.items()}  # in parallel: the test takes one bound, not three
     for kind, run in runs.items():
-        out, err = run.communicate(timeout=60)
-        elapsed = time.monotonic() - started
+        out, err = run.communicate(timeout=60)   # was > 90 s (hung) before the bounded probe
         lines = [line for line in err.splitlines() if line.strip()]
         assert run.returncode == 2, (kind, err)
         assert len(lines) == 1 and foreign_servers[kind] in lines[0], (kind, err)
-        assert elapsed < 12.0, (kind, elapsed)  # 5 s + start-up of three Pythons on a loaded machine; was > 90 s
 
 
 def test_workers_capped_at_four_per_core():

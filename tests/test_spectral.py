@@ -350,6 +350,8 @@ def test_circadian_verdicts_claim_only_what_the_reading_proves():
     s = circadian.summary([circadian.rate(300.0), circadian.rate(100.0, whole=False)])
     assert s["points"] == 0 and s["points_may_be_higher"]
     assert s["thresholds_eml"][1] == pytest.approx(150.1, abs=0.1)                # WELL's 150 EML
+    s = circadian.summary([circadian.rate(100.0, 90.0, 110.0), circadian.rate(100.0, whole=False)])
+    assert s["points"] == 0 and not s["points_may_be_higher"]                     # one eye already misses both
     with pytest.raises(ValueError):
         circadian.rate(math.nan)
     with pytest.raises(ValueError):

@@ -192,3 +192,16 @@ def test_the_wedge_cull_loses_no_hit(monkeypatch):
     culled = view_out.eye_views(eyes, ops, tris)
     monkeypatch.setattr(view_out, "_in_wedge", lambda t, *a: np.ones(len(t), bool))
     assert culled == view_out.eye_views(eyes, ops, tris)
+
+
+def test_the_buildings_own_parts_and_furniture_are_no_surroundings():
+    """An overhang joined to the window head (it shares the head's corners) is the building, not the
+    landscape; a desk inside the room is furniture: with nothing else outside, view out is not assessable."""
+    x0, x1, _z0, z1 = ROOM.WINDOW
+    overhang = [("walls", [(x0, 0.0, z1), (x0, -1.0, z1), (x1, -1.0, z1), (x1, 0.0, z1)])]
+    desk = [("walls", [(1.0, 2.0, 0.0), (3.0, 2.0, 0.0), (3.0, 2.0, 0.75), (1.0, 2.0, 0.75)])]
+    tris = _tris(ROOM.quads() + overhang + desk)
+    ops = _openings(_tris(ROOM.quads()))
+    v = view_out.eye_views([(2.0, 1.5, 1.2)], ops, tris)[0]
+    assert "landscape" not in v.layers and v.rays_out > 0
+    assert not view_out.surroundings_modelled(tris, ops, "landscape" in v.layers)

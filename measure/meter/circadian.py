@@ -31,9 +31,11 @@ def circadian_check(positions, view_directions, *, scene=None, posture="seated",
     dirs = np.broadcast_to(dirs, pos.shape) if dirs.shape == (3,) else dirs
     if dirs.shape != pos.shape or not np.all(np.isfinite(dirs)):
         raise RadiometerError(f"view_directions must be one direction or one per position, got shape {dirs.shape}")
+    dirs = np.array(dirs, float)
+    dirs[:, 2] = 0.0                     # the meter is vertical: it faces the horizontal part of the view
     length = np.linalg.norm(dirs, axis=1)
-    if np.any(length < 1e-12):
-        raise RadiometerError("a view direction is zero: give the way each occupant faces")
+    if np.any(length < 1e-9):
+        raise RadiometerError("a view direction is zero or vertical: give the way each occupant faces (horizontal)")
     dirs = dirs / length[:, None]
     eye_h = circadian.EYE_HEIGHT_M[posture]
     eyes = pos + np.array([0.0, 0.0, eye_h / scene.unit_settings.scale_length])
@@ -47,11 +49,17 @@ def circadian_check(positions, view_directions, *, scene=None, posture="seated",
         left_out = list(r["not_included"])
         if not r["complete"]:
             left_out.append("lights without a spectrum or a closed form")
-        lo, hi = (band["low_95"], band["high_95"]) if band else (None, None)
+        # a light whose direct part is not a proven closed form (something may hide part of it) carries its
+        # bound: the reading then lies anywhere in [value - slack, value + slack], never above its low end
+        slack = sum(float(x.get("mel_edi_lx") or 0.0) * min(1.0, float(x.get("rel_error_bound") or 0.0))
+                    for x in r["lights"] if not x.get("exact"))
+        lo, hi = (band["low_95"], band["high_95"]) if band else (r["mel_edi_lx"], r["mel_edi_lx"])
+        lo, hi = max(0.0, lo - slack), hi + slack
         v = circadian.rate(r["mel_edi_lx"], lo, hi, whole=not left_out)
         verdicts.append(v)
         rows.append({"eye": tuple(map(float, eye * scene.unit_settings.scale_length)), "view_direction": tuple(map(float, d)),
-                     "mel_edi_lx": float(r["mel_edi_lx"]), "low_95_lx": lo, "high_95_lx": hi,
+                     "mel_edi_lx": float(r["mel_edi_lx"]), "low_95_lx": lo if band or slack else None,
+                     "high_95_lx": hi if band or slack else None, "direct_bound_lx": slack,
                      "illuminance_lx": float(r["illuminance_lx"]), "mel_der": r.get("mel_der"),
                      "exact": bool(r["exact"]) and not left_out, "lower_bound": bool(left_out), "left_out": left_out,
                      "verdict": {str(p): k for p, k in v.items()}, "notes": list(r["notes"])})

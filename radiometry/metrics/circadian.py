@@ -62,7 +62,8 @@ def summary(verdicts, thresholds=None):
         raise ValueError("the circadian check needs at least one eye")
     share = {p: {k: sum(1 for v in verdicts if v[p] == k) / n for k in (MET, NOT_MET, UNKNOWN)} for p in thresholds}
     reached = [p for p in sorted(thresholds) if share[p][MET] == 1.0]
-    unknown = any(share[p][UNKNOWN] > 0 for p in thresholds if p not in reached)
+    # higher only if some unreached threshold is unknown somewhere and missed nowhere
+    unknown = any(share[p][UNKNOWN] > 0 and share[p][NOT_MET] == 0 for p in thresholds if p not in reached)
     return {"share": share, "points": max(reached) if reached else 0, "points_may_be_higher": unknown,
             "thresholds_mel_edi_lx": dict(thresholds),
             "thresholds_eml": {p: t * EML_PER_MEL_EDI for p, t in thresholds.items()}, "source": SOURCE,

@@ -5,8 +5,8 @@ holes of the opaque surfaces, whose plane leans less than ``MAX_TILT_FROM_VERTIC
 a roof light shows the sky straight up, not a view out; a pane in the opening is looked through) on a grid of directions ``STEP_DEG`` apart
 in azimuth and ``ROWS`` rows in elevation across the opening as the eye sees it. A ray counts when it
 crosses the opening's polygon and nothing opaque stands between the eye and the opening (an inner wall,
-a baffle), nor between it and the hole's other outline beyond it (a thick wall's reveal: its inner and
-outer outlines are one opening, the same polygon moved along the normal). Beyond the opening, its first opaque surface says what it sees:
+a baffle), nor beyond it on the eye's own building (the connected surfaces the eye stands in: a thick
+wall's reveal, an overhang, fins, a parapet); only the openings of that building are the eye's windows. Beyond the opening, its first opaque surface says what it sees:
 
 - **sky**: nothing, above the horizon;
 - **ground**: nothing, below the horizon (the ground of the sky model: an endless plane below the
@@ -45,7 +45,7 @@ ROWS = 8
 #: a surface whose normal is within this angle of the zenith, below the eye, is ground (deg)
 GROUND_TILT_DEG = 30.0
 #: an opening whose plane leans further than this from the vertical (a roof light) gives no view out (deg)
-MAX_TILT_FROM_VERTICAL_DEG = 60.0
+MAX_TILT_FROM_VERTICAL_DEG = 30.0
 #: rays within this elevation of the horizontal measure the outside distance (deg)
 LEVEL_BAND_DEG = 10.0
 #: pairs of (ray, triangle) tested in one numpy step (memory: about 200 bytes each)
@@ -161,27 +161,6 @@ def _in_wedge(tris, eye, a_lo, a_hi, tol):
     return (d1.max(axis=1) >= -tol) & (d2.max(axis=1) >= -tol)
 
 
-def _reveal_depths(openings, tol):
-    """Per opening, the signed offsets (m, along its plane normal) of the other outlines of the same hole:
-    a thick wall's inner and outer outlines are one opening seen from each face (the same polygon moved
-    along the normal); between them lies the wall's reveal."""
-    planes = [sky_aperture.polygon_plane(np.asarray(p, float)) for p in openings]
-    out = []
-    for j, (nj, cj) in enumerate(planes):
-        pj = np.asarray(openings[j], float)
-        depths = []
-        for k, (nk, _ck) in enumerate(planes):
-            pk = np.asarray(openings[k], float)
-            if k == j or len(pk) != len(pj) or abs(abs(float(nj @ nk)) - 1.0) > 1e-9:
-                continue
-            shift = float(np.mean(pk @ nj) - cj)
-            moved = pk - shift * nj
-            if abs(shift) > 10.0 * tol and all(np.min(np.linalg.norm(moved - q, axis=1)) <= 10.0 * tol for q in pj):
-                depths.append(shift)
-        out.append((nj, cj, depths))
-    return out
-
-
 def _largest_run(bins, total):
     """Largest run of adjoining integers in ``bins`` (wrapping at ``total``), in bins."""
     b = np.unique(np.mod(bins, total))
@@ -195,23 +174,76 @@ def _largest_run(bins, total):
     return int(np.max((ends - starts) % total + 1))
 
 
+def _components(tris, tol):
+    """(T,) the connected part of every triangle (vertices welded within ``tol`` m), and the welded vertices
+    with their parts: (part per triangle, vertices (V, 3), part per vertex)."""
+    if not len(tris):
+        return np.zeros(0, int), np.zeros((0, 3)), np.zeros(0, int)
+    pts, ids, roots = sky_aperture.triangle_parts(tris, tol)
+    return roots[ids[:, 0]], pts, roots
+
+
+def _loop_parts(loop, pts, roots, tol):
+    """The parts that have a vertex on the opening's outline's corners."""
+    found = set()
+    for q in np.asarray(loop, float):
+        d = np.linalg.norm(pts - q, axis=1)
+        found |= set(roots[d <= 10.0 * tol].tolist())
+    return found
+
+
+#: directions from the eye whose first surfaces are the eye's room (the 26 of a 3 x 3 x 3 cube's cells)
+_AROUND = np.array([(x, y, z) for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1) if (x, y, z) != (0, 0, 0)],
+                   float)
+_AROUND /= np.linalg.norm(_AROUND, axis=1, keepdims=True)
+
+
+def _room_parts(eye, tris, part, openings):
+    """The parts of the surfaces round the eye (the first met along 26 directions that do not pass through
+    an opening on the way): its room."""
+    d, k = first_hits_many(np.broadcast_to(eye, _AROUND.shape), _AROUND, tris)
+    through = np.zeros(len(d), bool)
+    for poly in openings:
+        normal, offset = sky_aperture.polygon_plane(poly)
+        dn = _AROUND @ normal
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (offset - eye @ normal) / dn
+        hit = eye + _AROUND * np.where(np.isfinite(t), t, 0.0)[:, None]
+        e1, e2 = sky_aperture.plane_axes(normal)
+        inside = _inside_polygon(np.c_[hit @ e1, hit @ e2], np.c_[poly @ e1, poly @ e2])
+        through |= np.isfinite(t) & (t > 0) & (t < d) & inside
+    keep = (k >= 0) & ~through
+    return set(part[k[keep]].tolist())
+
+
 def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e-6):
     """One :class:`EyeView` per eye (``eyes`` (N, 3) m) through the ``openings`` (a list of (K, 3)
-    polygons) among the opaque ``triangles`` (T, 3, 3)."""
+    polygons) among the opaque ``triangles`` (T, 3, 3).
+
+    The eye's room is the connected parts of the surfaces first met round it (26 directions); its windows
+    are the openings whose outlines lie on them (all openings when none does: a room of separate boxes), and
+    a ray that meets the room's or a window's own parts again beyond the window (a thick wall's reveal, an
+    overhang, fins or a parapet joined to the wall) does not go out."""
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     with np.errstate(invalid="ignore", divide="ignore"):
         normals = normals / np.linalg.norm(normals, axis=1, keepdims=True)
     up_cos = math.cos(math.radians(GROUND_TILT_DEG))
     total = int(round(360.0 / step_deg))
-    # roof lights show the sky straight up, not a view out: only openings in walls (normal within 60 deg of
-    # the horizontal; a sloped roof window counts) are looked through
-    openings = [p for p in openings if abs(float(sky_aperture.polygon_plane(np.asarray(p, float))[0][2]))
+    # roof lights and windows in pitched roofs show the sky above, not a view out: only openings whose
+    # plane leans at most MAX_TILT_FROM_VERTICAL_DEG from the vertical are looked through
+    openings = [np.asarray(p, float) for p in openings
+                if abs(float(sky_aperture.polygon_plane(np.asarray(p, float))[0][2]))
                 <= math.sin(math.radians(MAX_TILT_FROM_VERTICAL_DEG))]
-    reveals = _reveal_depths(openings, tol)
+    part, pts, roots = _components(tris, tol)
+    loop_parts = [_loop_parts(p, pts, roots, tol) for p in openings]
     out = []
     for eye in np.atleast_2d(np.asarray(eyes, float)):
-        parts = [_through_opening(eye, np.asarray(p, float), step_deg, rows) for p in openings]
+        room = _room_parts(eye, tris, part, openings) if len(tris) else set()
+        mine = [j for j, lp in enumerate(loop_parts) if lp & room] or list(range(len(openings)))
+        own = room.union(*[loop_parts[j] for j in mine]) if mine else room   # walls, reveals, the frame's parts
+        mine = [openings[j] for j in mine]
+        parts = [_through_opening(eye, p, step_deg, rows) for p in mine]
         if not parts or not sum(len(p[0]) for p in parts):
             out.append(EyeView(tuple(eye), 0.0, 0.0, (), 0))
             continue
@@ -219,7 +251,6 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
         bins = np.concatenate([p[1] for p in parts])
         el = np.concatenate([p[2] for p in parts])
         to_opening = np.concatenate([p[3] for p in parts])
-        which = np.concatenate([np.full(len(p[0]), j) for j, p in enumerate(parts)])
         dist, k = np.full(len(dirs), np.inf), np.full(len(dirs), -1)
         start = 0
         for p in parts:
@@ -230,17 +261,9 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
                 dist[start:start + n] = d_j
                 k[start:start + n] = np.where(k_j >= 0, np.flatnonzero(keep)[np.maximum(k_j, 0)], -1)
             start += n
-        # nothing opaque before the opening, nor between it and the hole's other outline beyond (a thick
-        # wall's reveal: the rays that clear it go out through the outer outline, counted there too)
-        in_reveal = np.zeros(len(k), bool)
-        for j, (nj, cj, depths) in enumerate(reveals):
-            side = -math.copysign(1.0, float(eye @ nj - cj))          # the normal's sign away from the eye
-            far = [abs(d) for d in depths if d * side > 0]
-            if far and np.isfinite(dist).any():
-                sel = (which == j) & np.isfinite(dist)
-                depth = (dist[sel] - to_opening[sel]) * np.abs(dirs[sel] @ nj)
-                in_reveal[sel] = depth <= max(far) + 10.0 * tol
-        out_mask = (dist >= to_opening - tol) & ~in_reveal
+        # nothing opaque before the window, and beyond it not the room's own building
+        on_own = (k >= 0) & np.isin(part[np.maximum(k, 0)], list(own)) if len(part) else np.zeros(len(k), bool)
+        out_mask = (dist >= to_opening - tol) & ~on_own
         if not out_mask.any():
             out.append(EyeView(tuple(eye), 0.0, 0.0, (), 0))
             continue
@@ -264,21 +287,26 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
 
 
 def surroundings_modelled(triangles, openings, views_landscape, tol=1e-6):
-    """True when the scene models something outside the room to see: a part of the opaque ``triangles``
-    not joined to the openings' outlines (vertices welded within ``tol`` m) that is not flat (a building,
-    terrain, a tree; a ground plane alone does not count), or a landscape surface already seen through an
-    opening (``views_landscape``: a courtyard's far wing may be joined to the room)."""
+    """True when the scene models something outside the room to see: a landscape surface seen through a
+    window (``views_landscape``), or a part of the opaque ``triangles`` not joined to the openings'
+    outlines, not flat (a building, terrain, a tree; a ground plane alone does not count) and not within
+    the box of the parts that hold the openings (furniture inside the room is no surroundings)."""
     if views_landscape:
         return True
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
-    if not len(tris) or not openings:
+    if not len(tris) or not len(openings):
         return False
-    pts, ids, roots = sky_aperture.triangle_parts(tris, tol)
-    loop_pts = np.concatenate([np.asarray(p, float) for p in openings])
-    near = np.min(np.linalg.norm(pts[:, None, :] - loop_pts[None], axis=2), axis=1) <= 2 * tol
-    room = np.isin(roots[ids[:, 0]], np.unique(roots[near]))
+    part, pts, roots = _components(tris, tol)
+    rooms = set()
+    for p in openings:
+        rooms |= _loop_parts(p, pts, roots, tol)
+    room = np.isin(part, list(rooms))
+    if not room.any():
+        return False
+    lo, hi = tris[room].reshape(-1, 3).min(axis=0), tris[room].reshape(-1, 3).max(axis=0)
+    inside = np.all((tris >= lo - tol) & (tris <= hi + tol), axis=(1, 2))
     n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     with np.errstate(invalid="ignore", divide="ignore"):
         nz = np.abs(n[:, 2]) / np.linalg.norm(n, axis=1)
     steep = nz < math.cos(math.radians(GROUND_TILT_DEG))
-    return bool(np.any(~room & steep))
+    return bool(np.any(~room & steep & ~inside))

@@ -95,3 +95,26 @@ def test_cli_prints_the_table_and_writes_json(clean_blender, build, tmp_path, ca
     assert data["eyes"][0]["verdict"] == {"1": "met", "3": "met"} and data["units"]["mel_edi_lx"] == "lx"
     assert cli.main(["circadian", blend, "--position", "0", "0", "0", "0", "0", "0"]) == 2   # one line
     assert "view_directions" in capsys.readouterr().err
+
+
+def test_a_partly_hidden_light_is_no_met(clean_blender, build):
+    """A D65 area light 2 m ahead with a black board hiding most of it from the eye: its direct part is not a
+    proven closed form (the unhidden value, bound 100 %), so the reading's low end is 0 and no threshold is
+    'met' on the strength of light the board stops (found by review: it read 301 lx 'met' where 54 lx arrive)."""
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.plane(scene, size=12.0, location=(0.0, 0.0, 0.0), albedo=0.0, name="floor")
+    light = build.light(scene, "AREA", (0.0, 2.0, 1.2), (math.radians(-90), 0, 0), energy=6.0, size=1.0)
+    light.data["radiometer_spectrum"] = "D65"
+    free = api.circadian_check((0.0, 0.0, 0.0), (0.0, 1.0, 0.0), scene=scene)["eyes"][0]
+    assert free["verdict"]["1"] == "met"
+    build.plane(scene, size=0.45, location=(0.0, 1.0, 1.2), rotation=(math.radians(90), 0, 0), albedo=0.0, name="board")
+    out = api.circadian_check((0.0, 0.0, 0.0), (0.0, 1.0, 0.0), scene=scene)
+    (row,) = out["eyes"]
+    assert row["low_95_lx"] == 0.0 and row["direct_bound_lx"] > 0
+    assert row["verdict"] == {"1": "unknown", "3": "unknown"} and out["points"] == 0
+    # the meter is vertical: a view downwards reads what the level view reads, straight down is refused
+    tilted = api.circadian_check((0.0, 0.0, 0.0), (0.0, 1.0, -1.0), scene=scene)["eyes"][0]
+    assert tilted["view_direction"] == pytest.approx((0.0, 1.0, 0.0))
+    with pytest.raises(RadiometerError, match="vertical"):
+        api.circadian_check((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), scene=scene)

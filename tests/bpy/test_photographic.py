@@ -54,7 +54,8 @@ def test_sidebar_shows_ev_and_cct(clean_blender, build):
     api.measure_meters(scene=scene)
     labels = []
     layout = types.SimpleNamespace(prop=lambda *a, **k: None, label=lambda text="", **k: labels.append(text),
-                                   box=lambda: layout, column=lambda **k: layout)
+                                   box=lambda: layout, column=lambda **k: layout, row=lambda **k: layout,
+                                   operator=lambda *a, **k: None)
     context = types.SimpleNamespace(active_object=meter, scene=scene)
     RADIOMETER_PT_active_meter.draw(types.SimpleNamespace(layout=layout), context)
     photo = [t for t in labels if t.startswith("EV100")]
