@@ -205,3 +205,15 @@ def test_the_buildings_own_parts_and_furniture_are_no_surroundings():
     v = view_out.eye_views([(2.0, 1.5, 1.2)], ops, tris)[0]
     assert "landscape" not in v.layers and v.rays_out > 0
     assert not view_out.surroundings_modelled(tris, ops, "landscape" in v.layers)
+
+
+def test_an_overhang_box_apart_from_the_wall_is_the_building():
+    """A 1 m deep overhang modelled as its own box 0.1 m over the window head (no shared vertex): within
+    OWN_GAP_M of the room, so it is built onto it, not a landscape; a ground plane under the room is not."""
+    x0, x1, _z0, z1 = ROOM.WINDOW
+    tris = np.concatenate([_tris(ROOM.quads()), _box((x0, -1.0, z1 + 0.1), (x1, 0.0, z1 + 0.2)),
+                           _box((-30.0, -30.0, -0.2), (30.0, 30.0, -0.01))])
+    ops = _openings(_tris(ROOM.quads()))
+    v = view_out.eye_views([(2.0, 1.5, 1.2)], ops, tris)[0]
+    assert v.layers == ("sky", "ground"), v
+    assert not view_out.surroundings_modelled(tris, ops, False)

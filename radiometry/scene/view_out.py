@@ -46,6 +46,9 @@ ROWS = 8
 GROUND_TILT_DEG = 30.0
 #: an opening whose plane leans further than this from the vertical (a roof light) gives no view out (deg)
 MAX_TILT_FROM_VERTICAL_DEG = 30.0
+#: a part whose box comes this close to the eye's room's box is built onto it (an overhang, fins, a balcony
+#: modelled as separate boxes): the building, not the view (m)
+OWN_GAP_M = 0.5
 #: rays within this elevation of the horizontal measure the outside distance (deg)
 LEVEL_BAND_DEG = 10.0
 #: pairs of (ray, triangle) tested in one numpy step (memory: about 200 bytes each)
@@ -183,6 +186,18 @@ def _components(tris, tol):
     return roots[ids[:, 0]], pts, roots
 
 
+def _part_boxes(tris, part):
+    """(part ids (P,), box lows (P, 3), box highs (P, 3), each triangle's index into ids (T,))."""
+    if not len(tris):
+        return np.zeros(0, int), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, int)
+    ids, inverse = np.unique(part, return_inverse=True)
+    inverse = inverse.ravel()
+    order = np.argsort(inverse, kind="stable")
+    starts = np.r_[0, np.flatnonzero(np.diff(inverse[order])) + 1]
+    return (ids, np.minimum.reduceat(tris.min(axis=1)[order], starts),
+            np.maximum.reduceat(tris.max(axis=1)[order], starts), inverse)
+
+
 def _loop_parts(loop, pts, roots, tol):
     """The parts that have a vertex on the opening's outline's corners."""
     found = set()
@@ -237,11 +252,18 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
                 <= math.sin(math.radians(MAX_TILT_FROM_VERTICAL_DEG))]
     part, pts, roots = _components(tris, tol)
     loop_parts = [_loop_parts(p, pts, roots, tol) for p in openings]
+    ids, box_lo, box_hi, _inverse = _part_boxes(tris, part)
     out = []
     for eye in np.atleast_2d(np.asarray(eyes, float)):
         room = _room_parts(eye, tris, part, openings) if len(tris) else set()
         mine = [j for j, lp in enumerate(loop_parts) if lp & room] or list(range(len(openings)))
         own = room.union(*[loop_parts[j] for j in mine]) if mine else room   # walls, reveals, the frame's parts
+        if own and len(ids):   # and what is built onto them: parts within OWN_GAP_M of their box (an overhang box)
+            sel = np.isin(ids, list(own))
+            lo, hi = box_lo[sel].min(axis=0) - OWN_GAP_M, box_hi[sel].max(axis=0) + OWN_GAP_M
+            # the ground the building stands on is not built onto it: a part must rise above the room's base
+            touching = np.all((box_lo <= hi) & (box_hi >= lo), axis=1) & (box_hi[:, 2] > lo[2] + 2 * OWN_GAP_M)
+            own = own | set(ids[touching].tolist())
         mine = [openings[j] for j in mine]
         parts = [_through_opening(eye, p, step_deg, rows) for p in mine]
         if not parts or not sum(len(p[0]) for p in parts):
@@ -305,6 +327,10 @@ def surroundings_modelled(triangles, openings, views_landscape, tol=1e-6):
         return False
     lo, hi = tris[room].reshape(-1, 3).min(axis=0), tris[room].reshape(-1, 3).max(axis=0)
     inside = np.all((tris >= lo - tol) & (tris <= hi + tol), axis=(1, 2))
+    # parts built onto the room (within OWN_GAP_M of its box: an overhang, fins) are the building too
+    _ids, p_lo, p_hi, inverse = _part_boxes(tris, part)
+    near = np.all((p_lo <= hi + OWN_GAP_M) & (p_hi >= lo - OWN_GAP_M), axis=1)
+    inside |= near[inverse]
     n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     with np.errstate(invalid="ignore", divide="ignore"):
         nz = np.abs(n[:, 2]) / np.linalg.norm(n, axis=1)
