@@ -167,10 +167,9 @@ def meter_melanopic_reading(obj, *, scene=None):
     scene = _b.scene(scene) or bpy.context.scene
     if not _is_meter(obj) or obj.radiometer_meter.kind != "ILLUMINANCE":
         raise RadiometerError(f"{getattr(obj, 'name', obj)!r} is not an illuminance meter")
-    from .measure.meter import meter_objects, spectra
+    from .measure.meter import meter_objects
 
-    location, normal = meter_objects.meter_pose(obj)
-    r = spectra.spectral_reading(tuple(location), tuple(normal), scene=scene)
+    r = meter_objects.direct_spectral_reading(obj, scene)
     m = obj.radiometer_meter
     for key, value in meter_objects.spectral_values(r).items():
         m[key] = value

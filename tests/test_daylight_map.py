@@ -66,15 +66,6 @@ def test_openings_in_plan_window_and_roof_light():
     assert len(plan_section.room_plan(tris, np.zeros(len(tris), bool), 0.85)[0]) == 0
 
 
-def _box(lo, hi):
-    """12 outward-facing triangles of an axis-aligned box (m)."""
-    (x0, y0, z0), (x1, y1, z1) = lo, hi
-    v = np.array([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0],
-                  [x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]], float)
-    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
-    return np.array([[v[a], v[b], v[c]] for a, b, c, d in quads] + [[v[a], v[c], v[d]] for a, b, c, d in quads])
-
-
 def test_room_of_boxes_has_only_its_window_as_opening():
     """The demo's daylit room (demo/daylight.py: 4 x 4 x 3 m of separate 0.1 m boxes, a 2 x 1.2 m window,
     sill 0.9 m, in the south wall y = -2.1..-2.0 m). The walls' bottom faces at z = 0 form a ring around the
@@ -87,7 +78,7 @@ def test_room_of_boxes_has_only_its_window_as_opening():
              ((-hx - t, -hy, 0.0), (-hx, hy, h)), ((-hx - t, y0, 0.0), (hx + t, y1, sill)),
              ((-hx - t, y0, head), (hx + t, y1, h)), ((-hx - t, y0, sill), (-w, y1, head)),
              ((w, y0, sill), (hx + t, y1, head))]
-    tris = np.concatenate([_box(lo, hi) for lo, hi in boxes])
+    tris = np.concatenate([_room().box_triangles(lo, hi) for lo, hi in boxes])
     found = sky_aperture.find_apertures(tris, 1e-6)
     assert len(found) == 2  # the window's outer (y = -2.1 m) and inner (y = -2.0 m) outlines
     for loop, normal in found:
@@ -100,7 +91,7 @@ def test_room_of_boxes_has_only_its_window_as_opening():
     # box's bottom face, whose plane the walls' top faces share
     roof_light = [((-hx - t, -hy - t, h), (hx + t, 0.0, h + t)), ((-hx - t, 1.0, h), (hx + t, hy + t, h + t)),
                   ((-hx - t, 0.0, h), (0.0, 1.0, h + t)), ((1.0, 0.0, h), (hx + t, 1.0, h + t))]
-    tris = np.concatenate([_box(lo, hi) for lo, hi in boxes[:1] + roof_light + boxes[2:]])
+    tris = np.concatenate([_room().box_triangles(lo, hi) for lo, hi in boxes[:1] + roof_light + boxes[2:]])
     holes = [loop for loop, normal in sky_aperture.find_apertures(tris, 1e-6) if abs(normal[2]) > 0.5]
     assert len(holes) == 2 and all(np.allclose(loop.min(axis=0), (0, 0, z)) and np.allclose(loop.max(axis=0), (1, 1, z))
                                    for loop, z in zip(sorted(holes, key=lambda s: s[0, 2]), (h, h + t)))

@@ -137,14 +137,6 @@ def test_view_out_over_points_takes_what_three_quarters_reach():
         en17037.view_out(30, math.nan, 2)
 
 
-def _box(lo, hi):
-    (x0, y0, z0), (x1, y1, z1) = lo, hi
-    v = np.array([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0],
-                  [x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]], float)
-    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
-    return np.array([[v[a], v[b], v[c]] for a, b, c, d in quads] + [[v[a], v[c], v[d]] for a, b, c, d in quads])
-
-
 def test_a_thick_walls_reveal_is_no_landscape():
     """The demo's daylit room of 0.1 m thick boxes (tests/test_daylight_map.py): its window has an inner and an
     outer outline. Rays through the inner one that meet the reveal do not go out, and the reveal is no
@@ -157,7 +149,7 @@ def test_a_thick_walls_reveal_is_no_landscape():
              ((-hx - t, -hy, 0.0), (-hx, hy, h)), ((-hx - t, y0, 0.0), (hx + t, y1, sill)),
              ((-hx - t, y0, head), (hx + t, y1, h)), ((-hx - t, y0, sill), (-w, y1, head)),
              ((w, y0, sill), (hx + t, y1, head))]
-    tris = np.concatenate([_box(lo, hi) for lo, hi in boxes])
+    tris = np.concatenate([ROOM.box_triangles(lo, hi) for lo, hi in boxes])
     ops = _openings(tris)
     assert len(ops) == 2
     eye = np.array([0.5, 0.0, 1.2])
@@ -211,8 +203,8 @@ def test_an_overhang_box_apart_from_the_wall_is_the_building():
     """A 1 m deep overhang modelled as its own box 0.1 m over the window head (no shared vertex): within
     OWN_GAP_M of the room, so it is built onto it, not a landscape; a ground plane under the room is not."""
     x0, x1, _z0, z1 = ROOM.WINDOW
-    tris = np.concatenate([_tris(ROOM.quads()), _box((x0, -1.0, z1 + 0.1), (x1, 0.0, z1 + 0.2)),
-                           _box((-30.0, -30.0, -0.2), (30.0, 30.0, -0.01))])
+    tris = np.concatenate([_tris(ROOM.quads()), ROOM.box_triangles((x0, -1.0, z1 + 0.1), (x1, 0.0, z1 + 0.2)),
+                           ROOM.box_triangles((-30.0, -30.0, -0.2), (30.0, 30.0, -0.01))])
     ops = _openings(_tris(ROOM.quads()))
     v = view_out.eye_views([(2.0, 1.5, 1.2)], ops, tris)[0]
     assert v.layers == ("sky", "ground"), v

@@ -392,18 +392,19 @@ def view_out(eyes, *, scene=None, model=None):
     lo, hi = g.bounds() if g.count else (np.zeros(3), np.zeros(3))
     tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, eyes_m.ravel()])
     openings = [poly for poly, _n in sky_aperture.find_apertures(tris, tol)]
-    views = geometry_view.eye_views(eyes_m, openings, tris, tol=tol)
+    parts = geometry_view.scene_parts(tris, openings, tol)     # the triangles' parts, once for both below
+    views = geometry_view.eye_views(eyes_m, openings, tris, tol=tol, parts=parts)
     notes = [f"{len(openings)} opening(s) in the opaque surfaces; rays every {geometry_view.STEP_DEG:g} deg in "
              f"azimuth, {geometry_view.ROWS} rows in elevation; see-through surfaces (panes) are looked through"]
     why = ""
     if g.unmodelled:
         why = f"geometry without triangles ({', '.join(g.unmodelled[:3])}) may hide or open the view"
-    elif not geometry_view.surroundings_modelled(tris, openings, any("landscape" in v.layers for v in views), tol):
+    elif not geometry_view.surroundings_modelled(tris, openings, any("landscape" in v.layers for v in views), tol,
+                                                 parts=parts):
         why = ("the scene models nothing outside its openings but flat ground: no building, terrain or tree to "
                "judge the landscape layer and the outside distance against")
     if why:
-        row = dataclasses.asdict(en17037.table()[3])
-        row["note"] = why
+        row = dataclasses.asdict(en17037.not_assessed("view out", why))
         notes.append("view out not assessed: " + why)
     else:
         row = dataclasses.asdict(en17037.view_out_over_points([v.horizontal_sight_angle_deg for v in views],

@@ -149,10 +149,12 @@ def reading_values(reading):
     return values
 
 
-def meter_pose(obj):
-    """(world location in scene units (3,), unit facing direction (3,)) of a meter object."""
+def direct_spectral_reading(obj, scene):
+    """``spectra.spectral_reading`` (the direct light's) where the meter object stands and faces."""
+    from . import spectra
+
     location, z = _pose(obj)
-    return location, z / np.linalg.norm(z)
+    return spectra.spectral_reading(tuple(location), tuple(z / np.linalg.norm(z)), scene=scene)
 
 
 def spectral_values(reading):

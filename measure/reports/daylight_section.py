@@ -202,11 +202,7 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
             entry["view_out"] = {"eyes": int(len(eyes)), "eye_above_plane_m": EYE_ABOVE_WORK_PLANE_M,
                                  "level": vo.en17037["level"], "values": vo.en17037["values"],
                                  "note": vo.en17037.get("note", ""), "openings": vo.openings, "notes": vo.notes}
-            if vo.en17037["level"] != en17037.NOT_ASSESSED:
-                view_row = en17037.Criterion(**vo.en17037)
-            else:
-                view_row = en17037.table()[3]
-                view_row.note = vo.en17037["note"]
+            view_row = en17037.Criterion(**vo.en17037)   # assessed or not, the row with its note
         except MeasurementCancelled:
             raise
         except (RadiometerError, ValueError) as exc:

@@ -517,11 +517,10 @@ def _meter_cells(result):
 def _melanopic(scene, obj):
     """The direct light's melanopic reading at an illuminance meter (``spectra.spectral_reading``: closed forms
     per light and each light's spectrum), as the report keeps it; {"error": ...} when a spectrum is refused."""
-    from ..meter import meter_objects, spectra
+    from ..meter import meter_objects
 
     try:
-        location, normal = meter_objects.meter_pose(obj)
-        r = spectra.spectral_reading(tuple(location), tuple(normal), scene=scene)
+        r = meter_objects.direct_spectral_reading(obj, scene)
     except RadiometerError as exc:
         return {"error": str(exc)}
     return {"mel_edi_lx": float(r["mel_edi_lx"]), "mel_der": r["mel_der"], "exact": bool(r["exact"]),

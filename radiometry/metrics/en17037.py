@@ -37,7 +37,7 @@ import numpy as np
 
 __all__ = ["LEVELS", "PROVISION_LUX", "SUNLIGHT_HOURS", "GLARE_DGP", "VIEW_OUT", "Criterion",
            "daylight_provision_illuminance", "daylight_provision_daylight_factor", "sunlight_exposure",
-           "glare_protection", "view_out", "view_out_over_points", "table", "NOT_ASSESSED", "NOT_MET"]
+           "glare_protection", "view_out", "view_out_over_points", "not_assessed", "table", "NOT_ASSESSED", "NOT_MET"]
 
 LEVELS = ("minimum", "medium", "high")
 NOT_ASSESSED, NOT_MET = "not assessed", "not met"
@@ -186,14 +186,15 @@ def view_out_over_points(angles_deg, distances_m, layers):
     return row
 
 
-def _not_assessed(name, why):
+def not_assessed(name, why):
+    """The row of a criterion that could not be judged, with why (its ``note``)."""
     return Criterion(name, "", NOT_ASSESSED, {}, {lv: {"required": "", "met": False} for lv in LEVELS}, note=why)
 
 
 def table(*, provision=None, sunlight=None, glare=None, view=None):
     """The four rows, in the standard's order; a criterion whose :class:`Criterion` is None reads
     "not assessed" with the input it needs."""
-    return [provision or _not_assessed("daylight provision", "needs hourly illuminances on the plane or DFs with E_v,d"),
-            sunlight or _not_assessed("exposure to sunlight", "needs the sunlight hours on a reference day"),
-            glare or _not_assessed("protection from glare", "needs the DGP of the occupied hours"),
-            view or _not_assessed("view out", "needs the sight angle, outside distance and layers seen")]
+    return [provision or not_assessed("daylight provision", "needs hourly illuminances on the plane or DFs with E_v,d"),
+            sunlight or not_assessed("exposure to sunlight", "needs the sunlight hours on a reference day"),
+            glare or not_assessed("protection from glare", "needs the DGP of the occupied hours"),
+            view or not_assessed("view out", "needs the sight angle, outside distance and layers seen")]

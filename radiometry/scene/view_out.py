@@ -1,12 +1,14 @@
 """What an eye sees out of a room's openings, for EN 17037's "view out" (pure numpy, never imports bpy).
 
-From each eye, rays are cast through every opening in a wall (``skies.sky_aperture.find_apertures``: the
-holes of the opaque surfaces, whose plane leans less than ``MAX_TILT_FROM_VERTICAL_DEG`` from the vertical:
-a roof light shows the sky straight up, not a view out; a pane in the opening is looked through) on a grid of directions ``STEP_DEG`` apart
-in azimuth and ``ROWS`` rows in elevation across the opening as the eye sees it. A ray counts when it
-crosses the opening's polygon and nothing opaque stands between the eye and the opening (an inner wall,
-a baffle), nor beyond it on the eye's own building (the connected surfaces the eye stands in: a thick
-wall's reveal, an overhang, fins, a parapet); only the openings of that building are the eye's windows. Beyond the opening, its first opaque surface says what it sees:
+From each eye, rays are cast through its windows (``skies.sky_aperture.find_apertures``: the holes of
+the opaque surfaces whose plane leans at most ``MAX_TILT_FROM_VERTICAL_DEG`` from the vertical: roof lights
+show the sky above, not a view out; a pane in an opening is looked through) on a grid of directions
+``STEP_DEG`` apart in azimuth and ``ROWS`` rows in elevation across each opening as the eye sees it. The
+eye's room is the connected surfaces first met round it; its windows are the openings on them. A ray
+counts when it crosses the opening's polygon, nothing opaque stands between the eye and the opening (an
+inner wall, a baffle), and what it meets beyond is not the eye's own building (the room, the windows'
+frames and reveals, and parts built within ``OWN_GAP_M`` of the room: an overhang, fins, a parapet).
+Beyond the opening, its first opaque surface says what it sees:
 
 - **sky**: nothing, above the horizon;
 - **ground**: nothing, below the horizon (the ground of the sky model: an endless plane below the
@@ -34,8 +36,9 @@ import numpy as np
 
 from ..skies import sky_aperture
 
-__all__ = ["LAYERS", "STEP_DEG", "ROWS", "GROUND_TILT_DEG", "LEVEL_BAND_DEG", "MAX_TILT_FROM_VERTICAL_DEG", "EyeView", "eye_views",
-           "first_hits_many", "surroundings_modelled"]
+__all__ = ["SceneParts", "scene_parts", "LAYERS", "STEP_DEG", "ROWS", "GROUND_TILT_DEG", "LEVEL_BAND_DEG",
+           "MAX_TILT_FROM_VERTICAL_DEG", "OWN_GAP_M", "EyeView", "eye_views", "first_hits_many",
+           "surroundings_modelled"]
 
 LAYERS = ("sky", "landscape", "ground")
 #: azimuth step of the rays (deg): the sight angle is known to within one step
@@ -141,14 +144,20 @@ def _through_opening(eye, poly, step_deg, rows):
     aa, ee = np.meshgrid(a_grid, e_grid, indexing="ij")
     bb = np.broadcast_to(bins[:, None], aa.shape)
     dirs = _directions(aa.ravel(), ee.ravel())
-    dn = dirs @ normal
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = -h / dn
-    ok = np.isfinite(t) & (t > 0)
-    hit = eye + dirs * np.where(ok, t, 0.0)[:, None]
-    e1, e2 = sky_aperture.plane_axes(normal)
-    ok &= _inside_polygon(np.c_[hit @ e1, hit @ e2], np.c_[poly @ e1, poly @ e2])
+    t, ok = _crossing(eye, dirs, poly)
     return dirs[ok], bb.ravel()[ok].astype(int), ee.ravel()[ok], t[ok]
+
+
+def _crossing(origin, dirs, poly):
+    """(t (R,), crosses (R,) bool): where rays from ``origin`` along ``dirs`` meet the polygon's plane, and
+    whether ahead of the origin inside the polygon."""
+    normal, offset = sky_aperture.polygon_plane(poly)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (offset - origin @ normal) / (dirs @ normal)
+    ok = np.isfinite(t) & (t > 0)
+    hit = origin + dirs * np.where(ok, t, 0.0)[:, None]
+    e1, e2 = sky_aperture.plane_axes(normal)
+    return t, ok & _inside_polygon(np.c_[hit @ e1, hit @ e2], np.c_[poly @ e1, poly @ e2])
 
 
 def _in_wedge(tris, eye, a_lo, a_hi, tol):
@@ -186,6 +195,28 @@ def _components(tris, tol):
     return roots[ids[:, 0]], pts, roots
 
 
+@dataclasses.dataclass
+class SceneParts:
+    """The connected parts of the opaque triangles, computed once for :func:`eye_views` and
+    :func:`surroundings_modelled`: ``part`` per triangle, ``loop_parts`` (the parts on each opening's
+    outline, in the openings' order), and each part's box (``ids``, ``box_lo``, ``box_hi``, ``inverse``: each
+    triangle's index into ``ids``)."""
+
+    part: np.ndarray
+    loop_parts: list
+    ids: np.ndarray
+    box_lo: np.ndarray
+    box_hi: np.ndarray
+    inverse: np.ndarray
+
+
+def scene_parts(triangles, openings, tol=1e-6):
+    """:class:`SceneParts` of the opaque ``triangles`` (T, 3, 3) and the ``openings`` (a list of (K, 3))."""
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    part, pts, roots = _components(tris, tol)
+    return SceneParts(part, [_loop_parts(p, pts, roots, tol) for p in openings], *_part_boxes(tris, part))
+
+
 def _part_boxes(tris, part):
     """(part ids (P,), box lows (P, 3), box highs (P, 3), each triangle's index into ids (T,))."""
     if not len(tris):
@@ -219,26 +250,21 @@ def _room_parts(eye, tris, part, openings):
     d, k = first_hits_many(np.broadcast_to(eye, _AROUND.shape), _AROUND, tris)
     through = np.zeros(len(d), bool)
     for poly in openings:
-        normal, offset = sky_aperture.polygon_plane(poly)
-        dn = _AROUND @ normal
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (offset - eye @ normal) / dn
-        hit = eye + _AROUND * np.where(np.isfinite(t), t, 0.0)[:, None]
-        e1, e2 = sky_aperture.plane_axes(normal)
-        inside = _inside_polygon(np.c_[hit @ e1, hit @ e2], np.c_[poly @ e1, poly @ e2])
-        through |= np.isfinite(t) & (t > 0) & (t < d) & inside
+        t, crosses = _crossing(eye, _AROUND, poly)
+        through |= crosses & (t < d)
     keep = (k >= 0) & ~through
     return set(part[k[keep]].tolist())
 
 
-def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e-6):
+def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e-6, parts=None):
     """One :class:`EyeView` per eye (``eyes`` (N, 3) m) through the ``openings`` (a list of (K, 3)
     polygons) among the opaque ``triangles`` (T, 3, 3).
 
     The eye's room is the connected parts of the surfaces first met round it (26 directions); its windows
     are the openings whose outlines lie on them (all openings when none does: a room of separate boxes), and
     a ray that meets the room's or a window's own parts again beyond the window (a thick wall's reveal, an
-    overhang, fins or a parapet joined to the wall) does not go out."""
+    overhang, fins or a parapet joined to the wall) does not go out. ``parts``: :func:`scene_parts` of the
+    same triangles and openings, when the caller has them."""
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -247,12 +273,12 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
     total = int(round(360.0 / step_deg))
     # roof lights and windows in pitched roofs show the sky above, not a view out: only openings whose
     # plane leans at most MAX_TILT_FROM_VERTICAL_DEG from the vertical are looked through
-    openings = [np.asarray(p, float) for p in openings
-                if abs(float(sky_aperture.polygon_plane(np.asarray(p, float))[0][2]))
-                <= math.sin(math.radians(MAX_TILT_FROM_VERTICAL_DEG))]
-    part, pts, roots = _components(tris, tol)
-    loop_parts = [_loop_parts(p, pts, roots, tol) for p in openings]
-    ids, box_lo, box_hi, _inverse = _part_boxes(tris, part)
+    parts = parts or scene_parts(tris, openings, tol)
+    walls = [j for j, p in enumerate(openings) if abs(float(sky_aperture.polygon_plane(np.asarray(p, float))[0][2]))
+             <= math.sin(math.radians(MAX_TILT_FROM_VERTICAL_DEG))]
+    openings = [np.asarray(openings[j], float) for j in walls]
+    loop_parts = [parts.loop_parts[j] for j in walls]
+    part, ids, box_lo, box_hi = parts.part, parts.ids, parts.box_lo, parts.box_hi
     out = []
     for eye in np.atleast_2d(np.asarray(eyes, float)):
         room = _room_parts(eye, tris, part, openings) if len(tris) else set()
@@ -265,17 +291,17 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
             touching = np.all((box_lo <= hi) & (box_hi >= lo), axis=1) & (box_hi[:, 2] > lo[2] + 2 * OWN_GAP_M)
             own = own | set(ids[touching].tolist())
         mine = [openings[j] for j in mine]
-        parts = [_through_opening(eye, p, step_deg, rows) for p in mine]
-        if not parts or not sum(len(p[0]) for p in parts):
+        rays = [_through_opening(eye, p, step_deg, rows) for p in mine]
+        if not rays or not sum(len(p[0]) for p in rays):
             out.append(EyeView(tuple(eye), 0.0, 0.0, (), 0))
             continue
-        dirs = np.concatenate([p[0] for p in parts])
-        bins = np.concatenate([p[1] for p in parts])
-        el = np.concatenate([p[2] for p in parts])
-        to_opening = np.concatenate([p[3] for p in parts])
+        dirs = np.concatenate([p[0] for p in rays])
+        bins = np.concatenate([p[1] for p in rays])
+        el = np.concatenate([p[2] for p in rays])
+        to_opening = np.concatenate([p[3] for p in rays])
         dist, k = np.full(len(dirs), np.inf), np.full(len(dirs), -1)
         start = 0
-        for p in parts:
+        for p in rays:
             n = len(p[0])
             if n:
                 keep = _in_wedge(tris, eye, p[1].min() * step_deg, (p[1].max() + 1) * step_deg, tol)
@@ -308,7 +334,7 @@ def eye_views(eyes, openings, triangles, *, step_deg=STEP_DEG, rows=ROWS, tol=1e
     return out
 
 
-def surroundings_modelled(triangles, openings, views_landscape, tol=1e-6):
+def surroundings_modelled(triangles, openings, views_landscape, tol=1e-6, parts=None):
     """True when the scene models something outside the room to see: a landscape surface seen through a
     window (``views_landscape``), or a part of the opaque ``triangles`` not joined to the openings'
     outlines, not flat (a building, terrain, a tree; a ground plane alone does not count) and not within
@@ -318,19 +344,16 @@ def surroundings_modelled(triangles, openings, views_landscape, tol=1e-6):
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     if not len(tris) or not len(openings):
         return False
-    part, pts, roots = _components(tris, tol)
-    rooms = set()
-    for p in openings:
-        rooms |= _loop_parts(p, pts, roots, tol)
-    room = np.isin(part, list(rooms))
+    parts = parts or scene_parts(tris, openings, tol)
+    part = parts.part
+    room = np.isin(part, list(set().union(*parts.loop_parts)))
     if not room.any():
         return False
     lo, hi = tris[room].reshape(-1, 3).min(axis=0), tris[room].reshape(-1, 3).max(axis=0)
     inside = np.all((tris >= lo - tol) & (tris <= hi + tol), axis=(1, 2))
     # parts built onto the room (within OWN_GAP_M of its box: an overhang, fins) are the building too
-    _ids, p_lo, p_hi, inverse = _part_boxes(tris, part)
-    near = np.all((p_lo <= hi + OWN_GAP_M) & (p_hi >= lo - OWN_GAP_M), axis=1)
-    inside |= near[inverse]
+    near = np.all((parts.box_lo <= hi + OWN_GAP_M) & (parts.box_hi >= lo - OWN_GAP_M), axis=1)
+    inside |= near[parts.inverse]
     n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     with np.errstate(invalid="ignore", divide="ignore"):
         nz = np.abs(n[:, 2]) / np.linalg.norm(n, axis=1)

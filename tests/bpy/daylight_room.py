@@ -44,6 +44,15 @@ def skylight_quads(W=4.0, D=4.0, H=3.0, SKYLIGHT=(1.5, 2.5, 1.5, 2.5)):  # noqa:
             ("walls", [(W, 0, 0), (W, 0, H), (W, D, H), (W, D, 0)])]
 
 
+def box_triangles(lo, hi):
+    """12 outward-facing triangles (12, 3, 3) of an axis-aligned box from corner ``lo`` to ``hi`` (m)."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    v = np.array([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0],
+                  [x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]], float)
+    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    return np.array([[v[a], v[b], v[c]] for a, b, c, d in quads] + [[v[a], v[c], v[d]] for a, b, c, d in quads])
+
+
 def obstruction_quads(gap=4.0, width=10.0, height=6.0, thick=1.0, x_mid=W / 2):
     """An opaque block outside facing the window wall y = 0: its near face (parallel to the wall) ``gap`` m in
     front of it, ``width`` x ``height`` x ``thick`` m, centred on x_mid, standing on the ground (z = 0); its 5
