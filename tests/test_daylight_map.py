@@ -72,12 +72,7 @@ def test_room_of_boxes_has_only_its_window_as_opening():
     floor's top face and their top faces one around the roof's bottom face: coplanar faces, no opening.
     Before the fix both rings were drawn as openings along the four inner walls."""
     hx, hy, h, t, w, sill, head = 2.0, 2.0, 3.0, 0.1, 1.0, 0.9, 2.1
-    y0, y1 = -hy - t, -hy
-    boxes = [((-hx - t, -hy - t, -t), (hx + t, hy + t, 0.0)), ((-hx - t, -hy - t, h), (hx + t, hy + t, h + t)),
-             ((-hx - t, hy, 0.0), (hx + t, hy + t, h)), ((hx, -hy, 0.0), (hx + t, hy, h)),
-             ((-hx - t, -hy, 0.0), (-hx, hy, h)), ((-hx - t, y0, 0.0), (hx + t, y1, sill)),
-             ((-hx - t, y0, head), (hx + t, y1, h)), ((-hx - t, y0, sill), (-w, y1, head)),
-             ((w, y0, sill), (hx + t, y1, head))]
+    boxes = _room().box_room_boxes(t, hx, hy, h, w, sill, head)
     tris = np.concatenate([_room().box_triangles(lo, hi) for lo, hi in boxes])
     found = sky_aperture.find_apertures(tris, 1e-6)
     assert len(found) == 2  # the window's outer (y = -2.1 m) and inner (y = -2.0 m) outlines

@@ -143,12 +143,7 @@ def test_a_thick_walls_reveal_is_no_landscape():
     landscape: with nothing outside the room, the view shows sky and ground only; the sight angle is bounded by
     the jambs' outer corners (the reveal hides the rest), within one step."""
     hx, hy, h, t, w, sill, head = 2.0, 2.0, 3.0, 0.3, 1.0, 0.9, 2.1
-    y0, y1 = -hy - t, -hy
-    boxes = [((-hx - t, -hy - t, -t), (hx + t, hy + t, 0.0)), ((-hx - t, -hy - t, h), (hx + t, hy + t, h + t)),
-             ((-hx - t, hy, 0.0), (hx + t, hy + t, h)), ((hx, -hy, 0.0), (hx + t, hy, h)),
-             ((-hx - t, -hy, 0.0), (-hx, hy, h)), ((-hx - t, y0, 0.0), (hx + t, y1, sill)),
-             ((-hx - t, y0, head), (hx + t, y1, h)), ((-hx - t, y0, sill), (-w, y1, head)),
-             ((w, y0, sill), (hx + t, y1, head))]
+    boxes = ROOM.box_room_boxes(t, hx, hy, h, w, sill, head)
     tris = np.concatenate([ROOM.box_triangles(lo, hi) for lo, hi in boxes])
     ops = _openings(tris)
     assert len(ops) == 2

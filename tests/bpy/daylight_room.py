@@ -53,6 +53,17 @@ def box_triangles(lo, hi):
     return np.array([[v[a], v[b], v[c]] for a, b, c, d in quads] + [[v[a], v[c], v[d]] for a, b, c, d in quads])
 
 
+def box_room_boxes(t=0.1, hx=2.0, hy=2.0, h=3.0, w=1.0, sill=0.9, head=2.1):
+    """The demo's daylit room (demo/daylight.py) as its boxes [(lo, hi)]: floor, roof and walls ``t`` m thick
+    round a 2 hx x 2 hy x h m inside, a 2 w wide window from ``sill`` to ``head`` in the wall y = -hy."""
+    y0, y1 = -hy - t, -hy
+    return [((-hx - t, -hy - t, -t), (hx + t, hy + t, 0.0)), ((-hx - t, -hy - t, h), (hx + t, hy + t, h + t)),
+            ((-hx - t, hy, 0.0), (hx + t, hy + t, h)), ((hx, -hy, 0.0), (hx + t, hy, h)),
+            ((-hx - t, -hy, 0.0), (-hx, hy, h)), ((-hx - t, y0, 0.0), (hx + t, y1, sill)),
+            ((-hx - t, y0, head), (hx + t, y1, h)), ((-hx - t, y0, sill), (-w, y1, head)),
+            ((w, y0, sill), (hx + t, y1, head))]
+
+
 def obstruction_quads(gap=4.0, width=10.0, height=6.0, thick=1.0, x_mid=W / 2):
     """An opaque block outside facing the window wall y = 0: its near face (parallel to the wall) ``gap`` m in
     front of it, ``width`` x ``height`` x ``thick`` m, centred on x_mid, standing on the ground (z = 0); its 5
