@@ -47,6 +47,21 @@ FACES = {
 FACE_GROUPS = {"red walls": ["wall y0", "wall y1", "wall x0", "wall x1"], "ceiling": ["ceiling"], "floor": ["floor"]}
 MATERIAL_OF = {"red walls": "red", "ceiling": "white 9.5 (.05 D)", "floor": "neutral 8 (.23 D)"}
 
+#: The daylit variant (the world's light, issue 35): wall y0 has a floor-to-ceiling opening over x in
+#: WINDOW_X_M. A uniform world of radiance L seen through it makes the opening a Lambertian emitter of
+#: radiance L towards the room (every inward direction from it sees the world), and it reflects nothing
+#: (light that leaves through it is lost; the walls' outer sides cannot send light into it: they face away
+#: from it or lie in its plane). No light hangs in the room.
+WINDOW_X_M = (1.2, 2.8)
+_W0, _W1 = WINDOW_X_M
+FACES_DAYLIT = {k: v for k, v in FACES.items() if k != "wall y0"} | {
+    "wall y0 left": np.array([(0, 0, 0), (0, 0, _Z), (_W0, 0, _Z), (_W0, 0, 0)], float),
+    "wall y0 right": np.array([(_W1, 0, 0), (_W1, 0, _Z), (_X, 0, _Z), (_X, 0, 0)], float),
+    "window": np.array([(_W0, 0, 0), (_W0, 0, _Z), (_W1, 0, _Z), (_W1, 0, 0)], float),
+}
+FACE_GROUPS_DAYLIT = {"red walls": ["wall y0 left", "wall y0 right", "wall y1", "wall x0", "wall x1"],
+                      "ceiling": ["ceiling"], "floor": ["floor"], "window": ["window"]}
+
 
 def reflectance(name):
     """ColorChecker reflectance ``name`` (Ohta, colour-science 0.4.6) at :data:`WAVELENGTHS_NM`."""
@@ -94,12 +109,14 @@ def action_spectra():
 
 # --- geometry -------------------------------------------------------------------------------------
 
-def patches(h):
-    """(corners (P, 4, 3), normals (P, 3), areas (P,), face group name per patch) of side <= h m."""
+def patches(h, daylit=False):
+    """(corners (P, 4, 3), normals (P, 3), areas (P,), face group name per patch) of side <= h m; ``daylit``:
+    the box with its opening (:data:`FACES_DAYLIT`)."""
+    faces_of, groups = (FACES_DAYLIT, FACE_GROUPS_DAYLIT) if daylit else (FACES, FACE_GROUPS)
     corners, names = [], []
-    for group, faces in FACE_GROUPS.items():
+    for group, faces in groups.items():
         for face in faces:
-            c = FACES[face]
+            c = faces_of[face]
             u, v = c[1] - c[0], c[3] - c[0]
             nu, nv = int(np.ceil(np.linalg.norm(u) / h - 1e-9)), int(np.ceil(np.linalg.norm(v) / h - 1e-9))
             for i in range(nu):
@@ -197,12 +214,68 @@ def form_factors(corners, normals, q=3, chunk=64):
 _GEOMETRY = {}
 
 
-def _geometry(h, q):
+def _geometry(h, q, daylit=False):
     """Patches and form factors of the box at (h, q), computed once per process."""
-    if (h, q) not in _GEOMETRY:
-        corners, normals, areas, names = patches(h)
-        _GEOMETRY[(h, q)] = corners, normals, areas, names, form_factors(corners, normals, q=q)
-    return _GEOMETRY[(h, q)]
+    if (h, q, daylit) not in _GEOMETRY:
+        corners, normals, areas, names = patches(h, daylit)
+        _GEOMETRY[(h, q, daylit)] = corners, normals, areas, names, form_factors(corners, normals, q=q)
+    return _GEOMETRY[(h, q, daylit)]
+
+
+def _solve_radiosity(rho, f, e0):
+    """Radiosity B (P, K) of (I - diag(rho) F) B = rho E0, every bounce."""
+    if len(rho) <= 2000:
+        b = np.empty_like(e0)
+        eye = np.eye(len(rho))
+        for j in range(e0.shape[1]):
+            b[:, j] = np.linalg.solve(eye - rho[:, j, None] * f, rho[:, j] * e0[:, j])
+        return b
+    b = rho * e0  # every bounce, summed until the next adds < 1e-12 of the total (all channels at once)
+    bounce = b
+    while np.max(bounce / np.where(b > 0, b, 1.0)) > 1e-12:
+        bounce = rho * (f @ bounce)
+        b = b + bounce
+    return b
+
+
+def transport_daylit(reflectances, radiance, *, h=0.2, q=3, meters=None):
+    """The daylit box: irradiance at the meters per channel from the opening, a Lambertian emitter of
+    ``radiance`` (K,) W/(m² sr nm) (or per RGB channel). Returns {meter: (direct (K,), reflected (K,))}, with
+    direct the light straight from the opening (exact form factors) and reflected everything the room's
+    surfaces send; and the patch count."""
+    meters = METERS if meters is None else meters
+    corners, normals, areas, names, f = _geometry(h, q, daylit=True)
+    window = names == "window"
+    rho = np.stack([np.zeros_like(np.asarray(radiance, float)) if g == "window" else
+                    np.asarray(reflectances[g], float) for g in names])  # (P, K)
+    exitance = np.pi * np.asarray(radiance, float)
+    e0 = f[:, window].sum(axis=1)[:, None] * exitance[None, :]  # E_i = sum_j F_ij M_j over the opening
+    b = _solve_radiosity(rho, f, e0)
+    out = {"patches": len(areas)}
+    for name, (loc, nrm) in meters.items():
+        loc, nrm = np.asarray(loc, float), np.asarray(nrm, float) / np.linalg.norm(nrm)
+        g = gather_ff(loc, nrm, corners)
+        out[name] = (g[window].sum() * exitance, g[~window] @ b[~window])
+    return out
+
+
+def solve_daylit(spectrum, luminance_cd_m2, *, h=0.2, q=3, meters=None, efficacy=683.0, materials=None):
+    """:func:`solve` for the daylit box: a uniform world of luminance ``luminance_cd_m2`` (its scale: L_v = K
+    sum L V 5 nm) and relative ``spectrum`` at :data:`WAVELENGTHS_NM`. Same return shape (``direct``: the
+    world seen through the opening; ``reflected``: the room's surfaces)."""
+    v, _ = action_spectra()
+    spectrum = np.asarray(spectrum, float)
+    k = luminance_cd_m2 / (efficacy * np.sum(spectrum * v) * STEP_NM)
+    materials = MATERIAL_OF if materials is None else materials
+    res = transport_daylit({g: reflectance(materials[g]) for g in FACE_GROUPS}, k * spectrum, h=h, q=q,
+                           meters=meters)
+    out = {"patches": res["patches"]}
+    for name in (METERS if meters is None else meters):
+        direct, reflected = res[name]
+        out[name] = {"direct": direct, "reflected": reflected,
+                     "quantities": {part: quantities(e, efficacy) for part, e in
+                                    (("direct", direct), ("reflected", reflected), ("total", direct + reflected))}}
+    return out
 
 
 def transport(reflectances, intensity, *, h=0.2, q=3, meters=None, light=LIGHT_M):
@@ -214,17 +287,7 @@ def transport(reflectances, intensity, *, h=0.2, q=3, meters=None, light=LIGHT_M
     rho = np.stack([np.asarray(reflectances[g], float) for g in names])  # (P, K)
     intensity = np.asarray(intensity, float)
     e0 = (patch_solid_angles(corners, light) / areas)[:, None] * intensity[None, :]  # (P, K)
-    if len(areas) <= 2000:
-        b = np.empty_like(e0)
-        eye = np.eye(len(areas))
-        for j in range(e0.shape[1]):
-            b[:, j] = np.linalg.solve(eye - rho[:, j, None] * f, rho[:, j] * e0[:, j])
-    else:  # every bounce, summed until the next adds < 1e-12 of the total (all channels at once)
-        b = rho * e0
-        bounce = b
-        while np.max(bounce / np.where(b > 0, b, 1.0)) > 1e-12:
-            bounce = rho * (f @ bounce)
-            b = b + bounce
+    b = _solve_radiosity(rho, f, e0)
     out = {"patches": len(areas), "row_sums": f.sum(axis=1)}
     for name, (loc, nrm) in meters.items():
         loc, nrm = np.asarray(loc, float), np.asarray(nrm, float) / np.linalg.norm(nrm)

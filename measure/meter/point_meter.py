@@ -1077,6 +1077,23 @@ def _world_row(model, direct, normals, weights, efficacy):
             "status": str(status), "reason": reason, "rel_error_bound": err / abs(e) if e else 0.0, "note": note}
 
 
+def analytic_light_irradiance(locations, normals, *, scene):
+    """{light name: (N, 3) W/m^2 SI}: every light's direct closed form at N meters (lights with no closed
+    form left out), in one plan (what :func:`predict_illuminance` gives one point at a time)."""
+    from ...radiometry.scene import scene_model
+
+    view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
+    points_scene, _single = as_points(locations)
+    normals = as_directions(normals, len(points_scene))
+    scale = scene.unit_settings.scale_length
+    model = capture_model(scene, view_layer)
+    sensors_scene, _eps = sensor_points(points_scene, normals, scale, model)
+    sensors_m = sensors_scene * scale
+    direct = scene_model.plan_direct(model, sensors_m, normals)
+    per_light, _bounds, _info = analytic_irradiance(model, direct, sensors_m, normals)
+    return {light.name: per_light[i] for i, light in enumerate(model.lights) if light.spec is not None}
+
+
 def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, with_world=False):
     """Analytic per-light breakdown at one point: list of dicts (SI), with each light's verdict; with
     ``with_world`` the world's row first (:func:`_world_row`: None when it emits nothing)."""

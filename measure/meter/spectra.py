@@ -94,7 +94,7 @@ def _light_row(row, spectra):
     return out
 
 
-def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
+def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, with_world=True):
     """The alpha-opic (CIE S 026) reading of the direct light at one meter, SI units (a plain dict).
 
     Keys: ``part`` ("direct"), ``illuminance_lx`` (E_v of the lights in closed form), ``illuminance_known_spectrum_lx``
@@ -103,6 +103,8 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     ``sp_ratio``, ``exact`` (every light's direct part a proven closed form and its spectrum known),
     ``complete`` (every light's spectrum known; else the sums are lower bounds of the lights that have
     one), ``lights`` (per light), ``not_included`` (what this reading leaves out), ``units``.
+    ``with_world`` False leaves the world's direct light out even where it is proven (the band renders of
+    ``spectral_reflected`` then read all of the world's light).
     (``spectral_reflected.spectral_reading`` adds the reflected part.)
     """
     from . import point_meter as meter
@@ -111,7 +113,7 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     rows = meter.predict_illuminance(location, normal, scene=scene, with_world=True)
     world = rows.pop(0)
     spectra = {}
-    if world is not None and world["illuminance"] is not None:
+    if world is not None and world["illuminance"] is not None and with_world:
         rows.append(world)
         spectra[None] = world_spectrum(scene)   # the world's row has no source object
     for row in rows:
@@ -133,9 +135,10 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     model = meter.capture_model(scene, bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0])
     if np.any(np.asarray(model.geometry.emissive, bool)):
         not_included.append("emitting surfaces")
-    if world is not None and world["illuminance"] is None:
+    if world is not None and (world["illuminance"] is None or not with_world):
         label, _ = world_spectrum(scene)
-        not_included.append(f"the world ({world['note']}; its spectrum: {label})")
+        why = world["note"] if world["illuminance"] is None else "left out of the direct part"
+        not_included.append(f"the world ({why}; its spectrum: {label})")
     notes = []
     if missing:
         notes.append("lower bound: no spectrum or no closed form for " + "; ".join(

@@ -11,8 +11,12 @@ Materials need a reflectance spectrum: the custom property ``radiometer_reflecta
 (a spectral file, nm and reflectance in [0, 1], or one number for a flat spectrum), else the stated box
 upsampling of its RGB colour (``spectral_bands.box_reflectance``; the reading says which materials).
 Supported: Diffuse BSDF and Principled BSDF with an unlinked colour, objects without material (Cycles'
-grey 0.8). Anything else (textures, other shaders, emitting surfaces, a world that emits) is refused with
-the reason: the reading then has no spectral reflected part.
+grey 0.8), and neutral Glass, Transparent, Refraction, Translucent and Glossy BSDFs (an unlinked grey
+colour: the same factor at every wavelength, so nothing to sweep). The world's light (the sky through a
+window) is read in the same renders: a stand-in copy of the world emits its luminance (Cycles' RGB to BW
+of its colour) times the world spectrum's band power per channel (:func:`_world_stand_in`); the user's
+world is put back and the copy removed. Anything else (textures, other shaders, emitting surfaces, a
+world volume) is refused with the reason: the reading then has no spectral reflected part.
 """
 
 import math
@@ -21,6 +25,7 @@ import os
 import bpy
 import numpy as np
 
+from ...compat import active_node_tree
 from ...errors import RadiometerError
 from ...radiometry.photometry import action_spectra, spectral, spectral_bands
 from . import spectra
@@ -35,6 +40,17 @@ BAND_PLAN = {"preview": (4096, 32), "standard": (16384, 64), "reference": (65536
 
 _COLOUR_INPUT = {"BSDF_DIFFUSE": "Color", "BSDF_PRINCIPLED": "Base Color"}
 _PASSIVE = {"OUTPUT_MATERIAL", "MIX_SHADER", "ADD_SHADER", "REROUTE", "FRAME"}
+#: BSDFs that scale light by their colour alone: with a plain grey colour they act alike at every
+#: wavelength (Cycles' Fresnel does not depend on it), so a path's product stays monotone in the swept
+#: reflectances and the band range still holds. Window glass is the usual one.
+_NEUTRAL = {"BSDF_GLASS", "BSDF_TRANSPARENT", "BSDF_REFRACTION", "BSDF_TRANSLUCENT", "BSDF_GLOSSY",
+            "BSDF_ANISOTROPIC"}
+#: World nodes whose Color input is emitted light.
+_WORLD_EMITTERS = {"BACKGROUND", "EMISSION"}
+
+
+def _grey(sock):
+    return len({round(float(c), 6) for c in tuple(sock.default_value)[:3]}) == 1
 
 
 def _emission_off(node):
@@ -61,14 +77,18 @@ def _material_sockets(mat):
                     continue
                 if other.name == "Emission Color" and not _emission_off(node):
                     raise RadiometerError(f"material {mat.name!r} emits light (its band render is not built)")
-                grey = len({round(float(c), 6) for c in tuple(other.default_value)[:3]}) == 1
-                if other.name != "Emission Color" and (other.is_linked or not grey):
+                if other.name != "Emission Color" and (other.is_linked or not _grey(other)):
                     raise RadiometerError(f"material {mat.name!r}: its {node.name!r} {other.name} is not a plain "
                                           "grey (a tint acts as RGB in every band)")
+        elif node.type in _NEUTRAL:
+            colour = node.inputs.get("Color")
+            if colour is not None and (colour.is_linked or not _grey(colour)):
+                raise RadiometerError(f"material {mat.name!r}: its {node.name!r} colour is not a plain grey (a "
+                                      "tinted glass or metal would act as the same RGB in every band)")
         elif node.type not in _PASSIVE:
             raise RadiometerError(f"material {mat.name!r}: node {node.name!r} ({node.type}) is not a plain "
-                                  "diffuse or Principled colour")
-    if not sockets:
+                                  "diffuse, Principled or neutral colour")
+    if not sockets and not any(node.type in _NEUTRAL for node in tree.nodes):
         raise RadiometerError(f"material {mat.name!r} has no Diffuse or Principled BSDF")
     return sockets
 
@@ -95,6 +115,8 @@ def material_reflectance(mat, sockets):
             raise RadiometerError(f"material {mat.name!r}: {PROP_REFLECTANCE} {path}: a reflectance must be <= 1, "
                                   f"got {np.max(refl):g}")
         return f"file {os.path.basename(path)}", spectral.resample(wl, refl)
+    if not sockets:  # neutral BSDFs only (glass): nothing varies with wavelength, nothing to sweep
+        return "neutral (grey glass, transparent or glossy)", np.ones(spectral.WAVELENGTHS_NM.shape)
     colours = {tuple(round(float(c), 6) for c in tuple(sock.default_value)[:3]) for sock in sockets}
     if len(colours) > 1:
         raise RadiometerError(f"material {mat.name!r} mixes BSDFs of different colours: give it its "
@@ -123,6 +145,63 @@ def _light_colour(data):
     return c
 
 
+def _has_emitter(tree, seen=()):
+    """True when a node group inside ``tree`` holds a Background or Emission node."""
+    for node in tree.nodes:
+        if node.type in _WORLD_EMITTERS:
+            return True
+        if node.type == "GROUP" and node.node_tree is not None and node.node_tree not in seen:
+            if _has_emitter(node.node_tree, (*seen, node.node_tree)):
+                return True
+    return False
+
+
+def _world_stand_in(world, weights):
+    """(copy of ``world``, set(m)): the copy emits, at every direction, the luminance of the world's colour
+    there (Y with the scene's ``weights``; Cycles' RGB to BW where the colour is linked, e.g. a sky texture
+    or an image) times the RGB multiplier ``m`` that ``set`` writes. Band renders set m to the world
+    spectrum's band powers per unit luminance. The caller assigns the copy and removes it afterwards; the
+    user's world is never edited. Raises ``RadiometerError`` for what this cannot scale."""
+    if active_node_tree(world) is None:  # rendered from its plain colour
+        y = float(np.asarray(tuple(world.color)[:3], float) @ weights)
+        copy = world.copy()
+
+        def set_plain(m):
+            copy.color = tuple(y * float(c) for c in m)
+        return copy, set_plain
+    for node in world.node_tree.nodes:
+        if node.type == "GROUP" and node.node_tree is not None and _has_emitter(node.node_tree):
+            raise RadiometerError(f"world {world.name!r}: node group {node.name!r} holds a Background or Emission "
+                                  "(its band render is not built)")
+    copy = world.copy()
+    tree = copy.node_tree
+    setters = []
+    for node in list(tree.nodes):
+        if node.type not in _WORLD_EMITTERS:
+            continue
+        sock = node.inputs["Color"]
+        if not sock.is_linked:
+            y = float(np.asarray(tuple(sock.default_value)[:3], float) @ weights)
+            setters.append(lambda m, sock=sock, y=y: setattr(sock, "default_value", (*(y * float(c) for c in m), 1.0)))
+            continue
+        source = sock.links[0].from_socket
+        grey = tree.nodes.new("ShaderNodeRGBToBW")
+        mix = tree.nodes.new("ShaderNodeMix")
+        mix.data_type, mix.blend_type, mix.clamp_result = "RGBA", "MULTIPLY", False
+        mix.inputs["Factor"].default_value = 1.0
+        a = next(i for i in mix.inputs if i.identifier == "A_Color")
+        b = next(i for i in mix.inputs if i.identifier == "B_Color")
+        tree.links.new(source, grey.inputs["Color"])
+        tree.links.new(grey.outputs["Val"], a)
+        tree.links.new(next(o for o in mix.outputs if o.identifier == "Result_Color"), sock)
+        setters.append(lambda m, b=b: setattr(b, "default_value", (*(float(c) for c in m), 1.0)))
+
+    def set_nodes(m):
+        for f in setters:
+            f(m)
+    return copy, set_nodes
+
+
 def _restore(saved):
     for struct, attr, value in reversed(saved):
         current = getattr(struct, attr)
@@ -136,17 +215,33 @@ def _remember(saved, struct, attr):
 
 
 def reflected_reading(location, normal, *, scene, quality="preview", seed=0, samples=None, max_bands=None):
-    """The rendered part of the light at one meter, in bands: a dict (SI) or raise ``RadiometerError`` why not.
+    """The rendered part of the light at one meter, in bands: :func:`reflected_readings` of one meter."""
+    return reflected_readings([location], [normal], scene=scene, quality=quality, seed=seed, samples=samples,
+                              max_bands=max_bands)[0]
+
+
+def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, samples=None, max_bands=None,
+                       progress=None, cancelled=None):
+    """The rendered part of the light at N meters (one batch per band render), in bands: a list of dicts (SI),
+    one per meter, or raise ``RadiometerError`` why not.
 
     Keys: ``illuminance_lx``, ``alpha_opic_irradiance_w_m2``, ``alpha_opic_edi_lx`` (each a dict of
     ``estimate``, ``lower`` and ``upper`` (the proven band range), ``std_error`` (1 sigma, stochastic),
     ``low_95`` and ``high_95`` (the range widened by 1.96 sigma)), ``bands_nm``, ``renders``, ``materials``,
-    ``notes``."""
+    ``notes``, ``world`` (the world spectrum's label where the renders read the world's light, else None).
+    ``progress(done, total, seconds_left)`` after every band render (done/total in renders); ``cancelled()``
+    True stops before the next (``RadiometerError``), every setting put back."""
+    import time
+
     from . import point_meter as meter
 
+    locations = np.atleast_2d(np.asarray(locations, float))
+    normals = np.broadcast_to(np.asarray(normals, float), locations.shape)
+    n_points = len(locations)
     model = meter.capture_model(scene)
-    if model.world_emits:
-        raise RadiometerError("the world emits light (its spectral band render is not built)")
+    world = scene.world if model.world_emits else None
+    if world is not None and model.world_volume:
+        raise RadiometerError("the world has a volume (its spectral band render is not built)")
     if model.emissive_surfaces:
         raise RadiometerError("surfaces emit light (their spectral band render is not built)")
     lights = [obj for obj in scene.objects if obj.type == "LIGHT" and not obj.hide_render]
@@ -162,6 +257,11 @@ def reflected_reading(location, normal, *, scene, quality="preview", seed=0, sam
         # radiant power per 1 nm sample, per watt of the light, scaled so that sum P V = Y(colour): the
         # photometric amount Cycles' RGB light carries (E_v = efficacy x Y-weighted irradiance)
         power.append(float(obj.data.energy) * spd * y / float(spd @ action_spectra.PHOTOPIC_V))
+    if world is not None:
+        # per unit of the world's Y-weighted radiance: sum p V = 1, so a band's power is its share of it
+        world_label, world_spd = spectra.world_spectrum(scene)
+        world_power = world_spd / float(world_spd @ action_spectra.PHOTOPIC_V)
+        power.append(world_power)
     materials = _scene_materials(scene)
     labels, refl = {}, []
     for mat, sockets in materials.items():
@@ -174,9 +274,14 @@ def reflected_reading(location, normal, *, scene, quality="preview", seed=0, sam
     edges = spectral_bands.plan_bands(refl, n_bands)
     rmin, rmax, t_all = spectral_bands.band_table(refl, edges)
     layout = spectral_bands.channel_layout(len(edges) - 1)
-    values, ses, bounds = {}, {}, {}
+    values, ses, bounds = ([{} for _ in range(n_points)] for _ in range(3))
     saved = []
+    stand_in = None
+    start = time.perf_counter()
     try:
+        if world is not None:
+            stand_in, set_world = _world_stand_in(world, weights)
+            scene.world = stand_in
         for mat, sockets in materials.items():
             for sock in sockets:
                 _remember(saved, sock, "default_value")
@@ -184,6 +289,8 @@ def reflected_reading(location, normal, *, scene, quality="preview", seed=0, sam
             for attr in ("color", "use_temperature", "energy"):
                 _remember(saved, obj.data, attr)
         for k, render in enumerate(layout):
+            if cancelled is not None and cancelled():
+                raise RadiometerError("cancelled: the spectral band renders stopped; every setting is as it was")
             for m, (mat, sockets) in enumerate(materials.items()):
                 colour = [rmax[b, m] if end else rmin[b, m] for b, end in render] + [0.0] * (3 - len(render))
                 for sock in sockets:
@@ -195,48 +302,68 @@ def reflected_reading(location, normal, *, scene, quality="preview", seed=0, sam
                 obj.data.use_temperature = False
                 obj.data.color = tuple(c / top for c in colour)
                 obj.data.energy = top
-            reading = meter.measure_illuminance(location, normal, scene=scene, method="hybrid", samples=n_samples,
-                                                seed=seed + 104729 * k, pooling=False)
-            direct = {row["light"]: np.asarray(row["irradiance_rgb"], float)
-                      for row in meter.predict_illuminance(location, normal, scene=scene)
-                      if row["irradiance_rgb"] is not None}
-            rendered = np.asarray(reading.irradiance_rgb, float) - sum(
-                (direct[name] for name in reading.parts.get("analytic", []) if name in direct), np.zeros(3))
-            # the meter's deterministic bound (a caustic's or mirror image's closed form, a bounded closed form),
-            # stated on its Y-weighted reading: shared across the channels in proportion to their readings
-            rel = float(reading.rel_error_bound or 0.0)
-            for j, key in enumerate(render):
-                values[key], ses[key] = float(rendered[j]), float(reading.std_error_rgb[j])
-                bounds[key] = rel * abs(float(reading.irradiance_rgb[j])) if math.isfinite(rel) else math.inf
+            if stand_in is not None:
+                band = spectral_bands.band_sums(world_power, edges)
+                set_world([band[b] for b, _end in render] + [0.0] * (3 - len(render)))
+            readings = meter.measure_illuminance(locations, normals, scene=scene, method="hybrid",
+                                                 samples=n_samples, seed=seed + 104729 * k, pooling=False)
+            readings = readings if isinstance(readings, list) else [readings]
+            direct = meter.analytic_light_irradiance(locations, normals, scene=scene)
+            for i, reading in enumerate(readings):
+                rendered = np.asarray(reading.irradiance_rgb, float) - sum(
+                    (direct[name][i] for name in reading.parts.get("analytic", []) if name in direct), np.zeros(3))
+                # the meter's deterministic bound (a caustic's or mirror image's closed form, a bounded closed
+                # form), stated on its Y-weighted reading: shared across the channels in proportion to their
+                # readings; and the colours and strengths set here are stored in float32 (a closed-form part is
+                # then off by ~1e-7)
+                rel = float(reading.rel_error_bound or 0.0) + meter.FLOAT32_FLOOR
+                for j, key in enumerate(render):
+                    values[i][key], ses[i][key] = float(rendered[j]), float(reading.std_error_rgb[j])
+                    bounds[i][key] = rel * abs(float(reading.irradiance_rgb[j])) if math.isfinite(rel) else math.inf
+            if progress is not None:
+                spent = time.perf_counter() - start
+                progress(k + 1, len(layout), spent / (k + 1) * (len(layout) - k - 1))
     finally:
         _restore(saved)
+        if stand_in is not None:
+            scene.world = world
+            bpy.data.worlds.remove(stand_in)
     w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.ACTION_SPECTRA])
     varying = np.ptp(refl, axis=1) > 0
     t = t_all[varying].mean(axis=0) if varying.any() else np.full(refl.shape[1], 0.5)
-    out = spectral_bands.combine(edges, np.array(power), w, t, values, ses, layout, channel_bound=bounds)
     # E_v: efficacy x the V-weighted band sum; alpha-opic as the direct part's: (efficacy / K_m,S026) x sum E s
     scale = np.array([efficacy] + [efficacy / action_spectra.K_M_S026_LM_PER_W] * 5)
-
-    def part(q, factor=1.0):
-        d = {key: float(out[key][q] * scale[q] * factor) for key in ("estimate", "lower", "upper", "std_error")}
-        d["low_95"] = d["lower"] - 1.96 * d["std_error"]
-        d["high_95"] = d["upper"] + 1.96 * d["std_error"]
-        return d
-
     wl = spectral.WAVELENGTHS_NM
-    return {
-        "illuminance_lx": part(0),
-        "alpha_opic_irradiance_w_m2": {a: part(i + 1) for i, a in enumerate(action_spectra.ALPHA)},
-        "alpha_opic_edi_lx": {a: part(i + 1, 1.0 / float(action_spectra.D65_ELR_W_PER_LM[i]))
-                              for i, a in enumerate(action_spectra.ALPHA)},
-        "bands_nm": [(float(wl[edges[k]]), float(wl[edges[k + 1] - 1])) for k in range(len(edges) - 1)],
-        "renders": len(layout), "samples_per_render": int(n_samples), "materials": labels,
-        "notes": [f"rendered part in {len(edges) - 1} bands ({len(layout)} Cycles renders of {n_samples:,} samples "
-                  "per meter): every material's reflectance at each band's low and high end, so the band's light "
-                  "lies between the two (proven: paths are products of reflectances); the estimate interpolates",
-                  "not counted: light beyond Cycles' bounce limit (as for every rendered reading)"]
-        + [f"material {name!r}: reflectance {label}" for name, label in labels.items() if "upsampled" in label],
-    }
+    notes = ([f"rendered part in {len(edges) - 1} bands ({len(layout)} Cycles renders of {n_samples:,} samples "
+              "per meter): every material's reflectance at each band's low and high end, so the band's light "
+              "lies between the two (proven: paths are products of reflectances); the estimate interpolates",
+              "not counted: light beyond Cycles' bounce limit (as for every rendered reading)"]
+             + [f"material {name!r}: reflectance {label}" for name, label in labels.items() if "upsampled" in label]
+             + ([f"the world's light (direct and reflected) is read in the band renders with its spectrum "
+                 f"({world_label}) times its luminance: a stated spectrum is trusted, the world's colour is not "
+                 "checked against it"] if world is not None else []))
+    out = []
+    for i in range(n_points):
+        combined = spectral_bands.combine(edges, np.array(power), w, t, values[i], ses[i], layout,
+                                          channel_bound=bounds[i])
+
+        def part(q, factor=1.0):
+            d = {key: float(combined[key][q] * scale[q] * factor) for key in ("estimate", "lower", "upper",
+                                                                              "std_error")}
+            d["low_95"] = d["lower"] - 1.96 * d["std_error"]
+            d["high_95"] = d["upper"] + 1.96 * d["std_error"]
+            return d
+
+        out.append({
+            "illuminance_lx": part(0),
+            "alpha_opic_irradiance_w_m2": {a: part(j + 1) for j, a in enumerate(action_spectra.ALPHA)},
+            "alpha_opic_edi_lx": {a: part(j + 1, 1.0 / float(action_spectra.D65_ELR_W_PER_LM[j]))
+                                  for j, a in enumerate(action_spectra.ALPHA)},
+            "bands_nm": [(float(wl[edges[k]]), float(wl[edges[k + 1] - 1])) for k in range(len(edges) - 1)],
+            "renders": len(layout), "samples_per_render": int(n_samples), "materials": labels,
+            "notes": list(notes), "world": world_label if world is not None else None,
+        })
+    return out
 
 
 def rgb_only_reading(location, normal, *, scene, quality="preview", seed=0, samples=None):
@@ -245,9 +372,12 @@ def rgb_only_reading(location, normal, *, scene, quality="preview", seed=0, samp
     ``spectral_bands.rgb_only_estimate``: the room's gain in each box band (B 380-489, G 490-589, R 590-780
     nm) is the RGB render's gain in that channel. Its error is not proven: ``rel_error_bound`` is the largest
     relative error measured over a family of coloured rooms (``spectral_bands.RGB_ONLY_REL_BOUND``,
-    bench/spectral_room_family.md)."""
+    bench/spectral_room_family.md). Where the world emits: ``{"not_given": why}``."""
     from . import point_meter as meter
 
+    if meter.capture_model(scene).world_emits:
+        return {"not_given": "the world emits: its light has no one power to take the RGB render's gain from "
+                             "(the band renders read it)"}
     _space, weights, efficacy = meter.scene_photometry(scene)
     lights = [obj for obj in scene.objects if obj.type == "LIGHT" and not obj.hide_render]
     power, rgb_sum = np.zeros(spectral.WAVELENGTHS_NM.shape), np.zeros(3)
@@ -301,6 +431,10 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quality="p
     except RadiometerError as exc:
         out["notes"].append(f"reflected part not added: {exc}")
         return out
+    if band["world"] is not None:
+        # the band renders read all of the world's light, its direct part too: the direct part leaves it out
+        out = spectra.spectral_reading(location, normal, scene=scene, with_world=False)
+        out["not_included"] = [x for x in out["not_included"] if not x.startswith("the world")]
     direct = {k: out[k] for k in ("illuminance_lx", "mel_edi_lx", "alpha_opic_edi_lx", "alpha_opic_irradiance_w_m2",
                                   "mel_der", "sp_ratio", "exact")}
     ev_d = out["illuminance_lx"]

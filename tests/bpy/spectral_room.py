@@ -4,6 +4,7 @@ colour-science 0.4.6 ships Ohta's data) lit by one point light of known spectrum
 """
 
 import bpy
+import numpy as np
 
 from radiometer.demo import builders
 
@@ -30,6 +31,58 @@ def build(scene, csv_dir, *, temperature_k=4000.0, power_w=ref.LIGHT_POWER_W):
     # a white light with Temperature on: a blackbody (measure/meter/spectra.py), Cycles' colour temperature_color
     return builders.add_light(scene, "POINT", ref.LIGHT_M, name="lamp", energy=power_w, shadow_soft_size=0.0,
                               use_temperature=True, temperature=temperature_k)
+
+
+def build_daylit(scene, csv_dir, *, strength=1.0, spectrum=None):
+    """The daylit variant (``ref.FACES_DAYLIT``): the box with a floor-to-ceiling opening in wall y0, no light,
+    a uniform white world of ``strength`` (radiance ``strength`` W/(m² sr) per channel: L_v = efficacy x
+    strength) whose spectrum is ``spectrum`` (the World's ``radiometer_spectrum``; None: the default, D65).
+    Returns the world."""
+    world = builders.black_world(scene, "sky")
+    background = world.node_tree.nodes["Background"]
+    background.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    background.inputs["Strength"].default_value = strength
+    if spectrum is not None:
+        world["radiometer_spectrum"] = spectrum
+    for name, faces in ref.FACE_GROUPS_DAYLIT.items():
+        if name == "window":
+            continue
+        refl = ref.reflectance(ref.MATERIAL_OF[name])
+        path = csv_dir / f"{ref.MATERIAL_OF[name].replace(' ', '_')}.csv"
+        path.write_text("nm,reflectance\n" + "".join(f"{w:g},{v:.6g}\n" for w, v in
+                                                      zip(ref.WAVELENGTHS_NM, refl)))
+        mat = builders.diffuse_material(name, ref.rec709_of_reflectance(refl))
+        mat["radiometer_reflectance"] = str(path)
+        verts, quads = [], []
+        for face in faces:
+            quads.append(tuple(range(len(verts), len(verts) + 4)))
+            verts += [tuple(map(float, c)) for c in ref.FACES_DAYLIT[face]]
+        builders.mesh_object(name, verts, quads, mat, scene.collection)
+    return world
+
+
+DAYLIT_REFERENCE_JSON = __file__.rpartition("/")[0] + "/spectral_room_daylit_reference.json"
+
+
+def expected_daylit(scene, world, meter="eye"):
+    """(reference, its discretisation uncertainty) of the daylit box, scaled to the world's luminance (the
+    JSON is per 1 cd/m², D65): dicts {(part, quantity): lx} for the total, direct and reflected light."""
+    import json
+
+    from radiometer.measure.meter import point_meter
+
+    with open(DAYLIT_REFERENCE_JSON) as f:
+        data = json.load(f)[meter]
+    hs = sorted(data, key=float)
+    fine, coarse = data[hs[0]], data[hs[1]]
+    _space, weights, efficacy = point_meter.scene_photometry(scene)
+    background = world.node_tree.nodes["Background"]
+    lum = efficacy * float(np.asarray(tuple(background.inputs["Color"].default_value)[:3]) @ weights) \
+        * background.inputs["Strength"].default_value
+    value = {(p, q): lum * fine[p][q] for p in ("total", "reflected", "direct") for q in ("illuminance_lx", "mel_edi_lx")}
+    error = {(p, q): lum * abs(fine[p][q] - coarse[p][q]) for p in ("total", "reflected", "direct")
+             for q in ("illuminance_lx", "mel_edi_lx")}
+    return value, error
 
 
 REFERENCE_JSON = __file__.rpartition("/")[0] + "/spectral_room_reference.json"
@@ -71,7 +124,8 @@ def expected(scene, light, meter="eye"):
 
 
 def reading_row(r):
-    """The figures of one ``api.spectral_reading(..., reflected=True)`` a comparison needs (lx)."""
+    """The figures of one ``api.spectral_reading(..., reflected=True)`` a comparison needs (lx; the RGB-only
+    ones None where it is not given: a world that emits)."""
     iv = r["interval_95"]
     return {"ev": iv["illuminance_lx"]["estimate"], "ev_lo": iv["illuminance_lx"]["low_95"],
             "ev_hi": iv["illuminance_lx"]["high_95"], "ev_se": iv["illuminance_lx"]["std_error"],
@@ -80,7 +134,8 @@ def reading_row(r):
             "mel_hi": iv["mel_edi_lx"]["high_95"], "mel_se": iv["mel_edi_lx"]["std_error"],
             "mel_band": iv["mel_edi_lx"]["band_bound"],
             "ev_direct": r["direct"]["illuminance_lx"], "mel_direct": r["direct"]["mel_edi_lx"],
-            "rgb_ev_reflected": r["rgb_only"]["illuminance_lx"], "rgb_mel_reflected": r["rgb_only"]["mel_edi_lx"],
-            "rgb_mel_se": r["rgb_only"]["mel_edi_std_error_lx"], "rgb_ev_se": r["rgb_only"]["illuminance_std_error_lx"],
+            "rgb_ev_reflected": r["rgb_only"].get("illuminance_lx"), "rgb_mel_reflected": r["rgb_only"].get("mel_edi_lx"),
+            "rgb_mel_se": r["rgb_only"].get("mel_edi_std_error_lx"),
+            "rgb_ev_se": r["rgb_only"].get("illuminance_std_error_lx"),
             "ev_reflected": r["reflected"]["illuminance_lx"]["estimate"],
             "mel_reflected": r["reflected"]["alpha_opic_edi_lx"]["melanopic"]["estimate"]}
