@@ -111,8 +111,9 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="
     spectral .csv) or its blackbody temperature. Keys: ``illuminance_lx``, ``mel_edi_lx``, ``mel_der``,
     ``alpha_opic_edi_lx``, ``alpha_opic_irradiance_w_m2`` (W/m²), ``sp_ratio``, ``exact``, ``complete``
     (False: a light with no known spectrum or no closed form, named in ``notes``, and the sums are lower
-    bounds), ``lights``, ``not_included`` (reflected light unless ``reflected``, the world and emitting
-    surfaces: not spectral, docs/spectral.md), ``units``. ``quantity``: "melanopic" (all alpha-opic quantities).
+    bounds), ``lights``, ``not_included`` (reflected light unless ``reflected``, the world's light where it is
+    not proven in closed form, emitting surfaces: docs/spectral.md), ``units``. ``quantity``: "melanopic" (all
+    alpha-opic quantities).
 
     ``reflected=True``: the reflected (rendered) part by band renders (Cycles' three channels carry the
     materials' reflectances at the two ends of spectral bands; materials give their spectrum in the custom
@@ -121,8 +122,10 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="
     reflected (estimate); ``interval_95`` gives each one's ``estimate``, ``low_95``, ``high_95`` (lx: the proven
     band range widened by 1.96 standard errors of the renders), ``std_error`` and ``band_bound``; ``direct``
     the direct-only figures; ``rgb_only`` the estimate from today's RGB render (no proven bound); ``exact``
-    False. Refused scenes (an emitting world or surface, textured or non-diffuse materials, a light without a
-    spectrum) keep the direct reading and say why in ``notes``. ``quality``: "preview", "standard" or
+    False. The world's light (daylight through a window) is read in the same band renders, with the world's
+    spectrum (its ``radiometer_spectrum``, default D65). Refused scenes (emitting surfaces, a world volume,
+    textured, tinted or other non-diffuse materials, a light without a spectrum) keep the direct reading and
+    say why in ``notes``. ``quality``: "preview", "standard" or
     "reference" (samples per band render and the number of bands); ``seed``: the first Cycles seed.
     """
     location = _v.points(location, "location", allow_many=False)
@@ -134,6 +137,28 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="
     if reflected:
         return spectral_reflected.spectral_reading(location, normal, scene=scene, quality=quality, seed=seed)
     return spectra.spectral_reading(location, normal, scene=scene)
+
+
+@_v.boundary
+def spectral_grid(target, *, resolution=None, spacing=None, scene=None, reflected=False, quality="preview", seed=0,
+                  progress=None, cancelled=None):
+    """Melanopic EDI (CIE S 026) on the grid :func:`illuminance_grid` lays out over a plane object (its +Z side):
+    each point read as :func:`spectral_reading` reads a meter, the band renders of ``reflected=True`` in one
+    batch for all points. Returns a plain dict (SI): ``mel_edi_lx``, ``illuminance_lx``, ``mel_der`` (ny, nx),
+    ``low_95_lx`` / ``high_95_lx`` (with ``reflected``), ``stats`` (avg, min, max, u0 of each), ``exact``,
+    ``lower_bound`` (light left out somewhere: ``not_included`` says what), ``notes``, ``units``.
+    ``progress(done, total, seconds_left)`` and ``cancelled()`` as in :func:`measure_illuminance`."""
+    _b.scene(scene)
+    target = _b.blender_object(target, "target", scene_=scene, types=("MESH",))
+    resolution = _v.resolution2(resolution, "resolution", high=1000, allow_none=True)
+    spacing = _v.positive(spacing, "spacing", high=_v.MAX_COORDINATE, allow_none=True)
+    _spectral_options(scene, reflected, quality, seed)
+    import bpy
+
+    from .measure.analyses import grid
+
+    return grid.spectral_grid(target, scene=scene or bpy.context.scene, resolution=resolution, spacing=spacing,
+                              reflected=reflected, quality=quality, seed=seed, progress=progress, cancelled=cancelled)
 
 
 @_v.boundary

@@ -15,7 +15,36 @@ def add_arguments(parser):
     parser.add_argument("--png", metavar="FILE", help="write a false-colour isolux image")
     parser.add_argument("--quality", choices=("preview", "standard", "reference"), default="standard")
     parser.add_argument("--method", choices=("auto", "analytic", "hybrid", "render"), default="auto")
+    parser.add_argument("--quantity", choices=("photopic", "melanopic"), default="photopic",
+                        help="melanopic: melanopic EDI (CIE S 026, lx) of the direct light at each point")
+    parser.add_argument("--reflected", action="store_true",
+                        help="with --quantity melanopic: add the reflected light and the world's (band renders, "
+                             "95 %% intervals)")
     add_budget_arguments(parser)
+
+
+def _melanopic(args, scene, plane):
+    from .. import api
+    from ..errors import RadiometerError
+    from ._io import deliver
+
+    if args.png or args.csv:
+        raise RadiometerError("--quantity melanopic writes its numbers with --json (no --csv or --png yet)")
+    g = api.spectral_grid(plane, resolution=args.resolution, spacing=args.spacing, scene=scene,
+                          reflected=args.reflected, quality=args.quality, progress=getattr(args, "progress", None),
+                          cancelled=getattr(args, "cancelled", None))
+    m, e = g["stats"]["mel_edi_lx"], g["stats"]["illuminance_lx"]
+    what = "direct + reflected" if g["part"] == "direct+reflected" else "direct light only"
+    print(f"melanopic grid {g['target']}: {g['nx']} x {g['ny']} points ({what}, {g['seconds']:.2f} s)")
+    interval = m.get("avg_interval_95")
+    band = f" (95 % {interval[0]:.4g}-{interval[1]:.4g} lx)" if interval else ""
+    bound = ">= " if g["lower_bound"] else ""
+    print(f"mel-EDI avg {bound}{m['avg']:.4g} lx{band}  min {bound}{m['min']:.4g} lx  max {bound}{m['max']:.4g} lx"
+          f"  |  E_v avg {bound}{e['avg']:.4g} lx")
+    if g["not_included"]:
+        print("not included: " + "; ".join(g["not_included"]))
+    deliver(args, g)
+    return g
 
 
 def run(args):
@@ -33,6 +62,12 @@ def run(args):
     _io.check_output_file(args.png, "--png file")
     scene = bpy.context.scene
     plane = _points.plane_object(scene, args.plane)
+    if args.quantity == "melanopic":
+        return _melanopic(args, scene, plane)
+    if args.reflected:
+        from ..errors import RadiometerError
+
+        raise RadiometerError("--reflected needs --quantity melanopic")
     progress = getattr(args, "progress", None)
     if progress is not None:
         progress.label = f"grid {plane.name}"

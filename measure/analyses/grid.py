@@ -1,7 +1,8 @@
 """Illuminance on a work-plane grid (host side): cell centres on a plane object's local XY, one
 batch through ``meter.measure_illuminance`` (one scene sync; each point gets the samples its own
 target error needs), statistics from ``radiometry.metrics.grid``, CSV and an isolux PNG, and a
-viewport-only coloured copy of the plane.
+viewport-only coloured copy of the plane. :func:`spectral_grid`: melanopic EDI (CIE S 026) on the same grid,
+each point read as ``meter.spectral_reflected`` reads a meter (the band renders in one batch).
 
 Units: lux, W/m^2, m; points in scene coordinates (Blender units).
 """
@@ -313,3 +314,60 @@ def lux_from_csv(path):
     for (j, i), v in cells.items():
         lux[j, i] = v
     return lux
+
+
+# --- melanopic EDI on the same grid (issue 35) ---------------------------------------------------------
+
+def spectral_grid(target, *, scene, resolution=None, spacing=None, reflected=False, quality="preview", seed=0,
+                  progress=None, cancelled=None):
+    """A dict: ``mel_edi_lx`` and ``illuminance_lx`` (ny, nx), ``low_95_lx`` / ``high_95_lx`` of mel-EDI with
+    ``reflected``, ``mel_der`` (ny, nx), ``points`` (N, 3) scene coordinates, ``normal``, ``stats`` (avg, min,
+    max, u0 = min/avg, count of each: ``grid_math.grid_stats``), ``exact`` (every point's every part proven), ``lower_bound`` (some light is
+    left out somewhere: the values are then lower bounds), ``not_included``, ``notes``, ``units``, ``seconds``."""
+    from ..meter import spectra, spectral_reflected
+
+    start = time.perf_counter()
+    layout = grid_layout(scene, target, resolution=resolution, spacing=spacing)
+    points = layout.points.reshape(-1, 3)
+    shape = layout.points.shape[:2]
+    normals = np.broadcast_to(np.asarray(layout.normal, float), points.shape)
+    if reflected:
+        readings = spectral_reflected.spectral_readings(points, normals, scene=scene, quality=quality, seed=seed,
+                                                        progress=progress, cancelled=cancelled)
+    else:
+        readings = []
+        for k, (p, n) in enumerate(zip(points, normals)):
+            if cancelled is not None and cancelled():
+                raise RadiometerError("cancelled: the melanopic grid stopped; nothing was changed")
+            readings.append(spectra.spectral_reading(tuple(p), tuple(n), scene=scene))
+            if progress is not None and (k + 1) % 16 == 0:
+                spent = time.perf_counter() - start
+                progress(k + 1, len(points), spent / (k + 1) * (len(points) - k - 1))
+    mel = np.array([r["mel_edi_lx"] for r in readings], float)
+    ev = np.array([r["illuminance_lx"] for r in readings], float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        der = np.where(ev > 0, mel / np.where(ev > 0, ev, 1.0), np.nan)
+    out = {
+        "quantity": "melanopic EDI (CIE S 026/E:2018) on a plane, lx", "target": getattr(target, "name", target),
+        "part": readings[0]["part"], "nx": int(shape[1]), "ny": int(shape[0]),
+        "points": points.tolist(), "normal": tuple(map(float, layout.normal)),
+        "mel_edi_lx": mel.reshape(shape).tolist(), "illuminance_lx": ev.reshape(shape).tolist(),
+        "mel_der": [[None if not np.isfinite(x) else float(x) for x in row] for row in der.reshape(shape)],
+        "stats": {"mel_edi_lx": grid_math.grid_stats(mel), "illuminance_lx": grid_math.grid_stats(ev)},
+        "exact": all(bool(r["exact"]) and not r["not_included"] for r in readings),
+        "lower_bound": any(r["not_included"] or not r["complete"] for r in readings),
+        "not_included": sorted({x for r in readings for x in r["not_included"]}),
+        "notes": list(dict.fromkeys(n for r in readings for n in r["notes"])),
+        "units": {"mel_edi_lx": "lx", "illuminance_lx": "lx", "low_95_lx": "lx", "high_95_lx": "lx", "mel_der": "1",
+                  "points": "scene units", "seconds": "s"},
+    }
+    if readings[0]["part"] == "direct+reflected":
+        lo = np.array([r["interval_95"]["mel_edi_lx"]["low_95"] for r in readings], float)
+        hi = np.array([r["interval_95"]["mel_edi_lx"]["high_95"] for r in readings], float)
+        out["low_95_lx"], out["high_95_lx"] = lo.reshape(shape).tolist(), hi.reshape(shape).tolist()
+        # the plane's mean: the mean of the points' interval ends (errors added linearly: conservative)
+        out["stats"]["mel_edi_lx"]["avg_interval_95"] = (float(lo.mean()), float(hi.mean()))
+    out["alpha_opic_edi_avg_lx"] = {a: float(np.mean([r["alpha_opic_edi_lx"][a] for r in readings]))
+                                    for a in readings[0]["alpha_opic_edi_lx"]}
+    out["seconds"] = time.perf_counter() - start
+    return out

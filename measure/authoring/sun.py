@@ -12,6 +12,8 @@ Host side (bpy) of ``api.sun_position`` / ``api.set_sun``. The position is
   scale_length^2 / (K x Y(colour)), with K the scene's luminous efficacy (Radiometer's setting,
   683 lm/W by default) and Y the CIE Y of the light's colour in the working space. The colour is set
   to white (1, 1, 1: Y = 1), temperature off, exposure 0, so the strength is simply E_dn / K.
+* **Spectrum** (for the melanopic readings): the light's ``radiometer_spectrum`` is set to CIE D55 when
+  neither the object nor its light data has one (:data:`SUN_SPECTRUM`; a user's setting is kept).
 * **E_dn**: given (``direct_normal_illuminance_lux``), or the IES clear-day model
   (``solar_position.clear_day_direct_normal_illuminance``: E_dn = 127.5 klx / R^2 x exp(-0.21 m),
   Kasten-Young air mass).
@@ -30,8 +32,13 @@ import numpy as np
 
 from ...errors import RadiometerError
 from ...radiometry.sun import solar_position as sp
+from ..meter.spectra import PROP_SPECTRUM
 
 SUN_ANGLE_DEG = 0.53
+#: The spectrum a new Radiometer sun is given for spectral readings (measure/meter/spectra.py reads the custom
+#: property): CIE D55, the D-series phase photography takes for direct sunlight (~5500 K). A stated default:
+#: the beam's spectrum depends on air mass and turbidity (warmer at low sun, where no D-series phase applies).
+SUN_SPECTRUM = "D55"
 PROP_SUN = "radiometer_sun"
 DEFAULT_NAME = "Radiometer Sun"
 
@@ -124,6 +131,11 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
     obj["radiometer_sun_north_offset_deg"] = float(north_offset_deg)
     obj["radiometer_sun_direct_normal_lux"] = e_dn
     notes = [f"sun at azimuth {pos.azimuth_deg:.3f} deg, elevation {pos.elevation_deg:.3f} deg (apparent, NREL SPA)"]
+    if PROP_SPECTRUM not in obj.keys() and PROP_SPECTRUM not in light.keys():
+        # the spectral readings (CIE S 026) need the sun's spectrum; a user's own setting is kept
+        light[PROP_SPECTRUM] = SUN_SPECTRUM
+        notes.append(f"spectrum CIE {SUN_SPECTRUM} (a stated default for direct sunlight, ~5500 K; set the light's "
+                     f"'{PROP_SPECTRUM}' to change it, e.g. 'D5000' or a spectral file)")
     if not above:
         notes.append("the sun is below the horizon: strength 0 (the light is kept, pointing from below)")
     return {"object": obj.name, "azimuth_deg": float(pos.azimuth_deg), "elevation_deg": float(pos.elevation_deg),

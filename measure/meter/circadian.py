@@ -40,11 +40,11 @@ def circadian_check(positions, view_directions, *, scene=None, posture="seated",
     eye_h = circadian.EYE_HEIGHT_M[posture]
     eyes = pos + np.array([0.0, 0.0, eye_h / scene.unit_settings.scale_length])
     rows, verdicts = [], []
-    for eye, d in zip(eyes, dirs):
-        if reflected:
-            r = spectral_reflected.spectral_reading(tuple(eye), tuple(d), scene=scene, quality=quality, seed=seed)
-        else:
-            r = spectra.spectral_reading(tuple(eye), tuple(d), scene=scene)
+    if reflected:  # every eye in one batch of band renders
+        readings = spectral_reflected.spectral_readings(eyes, dirs, scene=scene, quality=quality, seed=seed)
+    else:
+        readings = [spectra.spectral_reading(tuple(eye), tuple(d), scene=scene) for eye, d in zip(eyes, dirs)]
+    for eye, d, r in zip(eyes, dirs, readings):
         band = r.get("interval_95", {}).get("mel_edi_lx") if r.get("part") == "direct+reflected" else None
         left_out = list(r["not_included"])
         if not r["complete"]:

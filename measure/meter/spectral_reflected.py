@@ -417,24 +417,51 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quality="p
     ``alpha_opic_irradiance_w_m2`` are totals (direct exact + reflected estimate); ``interval_95`` holds each
     one's estimate, 95 % interval, standard error and band bound; ``direct`` the direct-only figures;
     ``reflected`` the band reading (:func:`reflected_reading`); ``rgb_only`` the RGB-only estimate of the
-    reflected part; ``exact`` is False. Where the band render is refused, the direct reading comes back with
-    the reason in ``notes`` and the reflected light still in ``not_included``.
+    reflected part (``{"not_given": why}`` where the world emits); ``exact`` is False. Where the band render
+    is refused, the direct reading comes back with the reason in ``notes`` and the reflected light still in
+    ``not_included``.
     """
     scene = scene or bpy.context.scene
-    out = spectra.spectral_reading(location, normal, scene=scene)
-    if not out["complete"]:
-        out["notes"].append("reflected part not added: every light needs a spectrum and a closed form here")
-        return out
+    out = spectral_readings([location], [normal], scene=scene, quality=quality, seed=seed)[0]
+    if out["part"] == "direct+reflected":
+        try:
+            out["rgb_only"] = rgb_only_reading(location, normal, scene=scene, quality=quality, seed=seed + 1)
+        except RadiometerError as exc:
+            out["rgb_only"] = {"not_given": str(exc)}
+    return out
+
+
+def spectral_readings(locations, normals, *, scene=None, quality="preview", seed=0, progress=None, cancelled=None):
+    """:func:`spectral_reading` at N meters, the band renders in one batch (no ``rgb_only``): a list of dicts.
+    ``progress`` / ``cancelled`` as in :func:`reflected_readings`."""
+    scene = scene or bpy.context.scene
+    locations = np.atleast_2d(np.asarray(locations, float))
+    normals = np.broadcast_to(np.asarray(normals, float), locations.shape)
+    outs = [spectra.spectral_reading(tuple(p), tuple(n), scene=scene) for p, n in zip(locations, normals)]
+    if not all(o["complete"] for o in outs):
+        for o in outs:
+            o["notes"].append("reflected part not added: every light needs a spectrum and a closed form here")
+        return outs
     try:
-        band = reflected_reading(location, normal, scene=scene, quality=quality, seed=seed)
-        rgb = rgb_only_reading(location, normal, scene=scene, quality=quality, seed=seed + 1)
+        bands = reflected_readings(locations, normals, scene=scene, quality=quality, seed=seed, progress=progress,
+                                   cancelled=cancelled)
     except RadiometerError as exc:
-        out["notes"].append(f"reflected part not added: {exc}")
-        return out
-    if band["world"] is not None:
+        if str(exc).startswith("cancelled"):
+            raise
+        for o in outs:
+            o["notes"].append(f"reflected part not added: {exc}")
+        return outs
+    if bands[0]["world"] is not None:
         # the band renders read all of the world's light, its direct part too: the direct part leaves it out
-        out = spectra.spectral_reading(location, normal, scene=scene, with_world=False)
-        out["not_included"] = [x for x in out["not_included"] if not x.startswith("the world")]
+        outs = [spectra.spectral_reading(tuple(p), tuple(n), scene=scene, with_world=False)
+                for p, n in zip(locations, normals)]
+        for o in outs:
+            o["not_included"] = [x for x in o["not_included"] if not x.startswith("the world")]
+    return [_with_reflected(o, band) for o, band in zip(outs, bands)]
+
+
+def _with_reflected(out, band):
+    """The direct reading ``out`` with the band reading ``band`` added (totals, 95 % intervals)."""
     direct = {k: out[k] for k in ("illuminance_lx", "mel_edi_lx", "alpha_opic_edi_lx", "alpha_opic_irradiance_w_m2",
                                   "mel_der", "sp_ratio", "exact")}
     ev_d = out["illuminance_lx"]
@@ -448,9 +475,10 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quality="p
     edi = {a: total(direct["alpha_opic_edi_lx"][a], band["alpha_opic_edi_lx"][a]) for a in action_spectra.ALPHA}
     irr = {a: total(direct["alpha_opic_irradiance_w_m2"][a], band["alpha_opic_irradiance_w_m2"][a])
            for a in action_spectra.ALPHA}
-    out.update(part="direct+reflected", direct=direct, reflected=band, rgb_only=rgb, exact=False,
+    out.update(part="direct+reflected", direct=direct, reflected=band, exact=False,
                illuminance_lx=ev["estimate"], illuminance_known_spectrum_lx=ev["estimate"],
-               mel_edi_lx=edi["melanopic"]["estimate"], mel_der=edi["melanopic"]["estimate"] / ev["estimate"],
+               mel_edi_lx=edi["melanopic"]["estimate"],
+               mel_der=edi["melanopic"]["estimate"] / ev["estimate"] if ev["estimate"] > 0 else None,
                alpha_opic_edi_lx={a: v["estimate"] for a, v in edi.items()},
                alpha_opic_irradiance_w_m2={a: v["estimate"] for a, v in irr.items()},
                interval_95={"illuminance_lx": ev, "mel_edi_lx": edi["melanopic"],

@@ -199,3 +199,58 @@ def test_circadian_check_reads_daylight(daylit):
     value, _ = spectral_room.expected_daylit(scene, world)
     assert eye["low_95_lx"] <= value[("total", "mel_edi_lx")] <= eye["high_95_lx"]
     assert eye["verdict"]["1"] == "met" and eye["verdict"]["3"] == "met"  # ~970 lx mel-EDI against 136 / 250 lx
+
+
+def _work_plane(scene, centre, size):
+    plane = builders.add_plane(scene, size=size, location=centre, name="Work Plane")
+    plane.hide_render = True  # a work plane renders nothing
+    return plane
+
+
+def test_melanopic_grid_in_daylight(daylit):
+    """A 3 x 3 grid around the desk meter, every point in one batch of band renders: the middle point's 95 %
+    interval holds the reference; the points nearer the opening read more."""
+    scene, world = daylit
+    plane = _work_plane(scene, (2.8, 2.2, 0.8), 1.6)
+    before = _world_state(scene)
+    g = api.spectral_grid(plane, resolution=(3, 3), reflected=True, quality="preview", seed=0)
+    assert _world_state(scene) == before
+    assert g["part"] == "direct+reflected" and not g["lower_bound"] and not g["not_included"], g["not_included"]
+    assert g["points"][4] == pytest.approx([2.8, 2.2, 0.8])
+    value, _ = spectral_room.expected_daylit(scene, world, "desk")
+    assert g["low_95_lx"][1][1] <= value[("total", "mel_edi_lx")] <= g["high_95_lx"][1][1]
+    mel = np.asarray(g["mel_edi_lx"]).ravel()
+    y = np.asarray(g["points"])[:, 1]
+    assert mel[y < 2.0].mean() > 1.2 * mel[y > 2.4].mean()  # the opening is at y = 0
+    assert g["stats"]["mel_edi_lx"]["min"] <= g["stats"]["mel_edi_lx"]["avg"] <= g["stats"]["mel_edi_lx"]["max"]
+    lo, hi = g["stats"]["mel_edi_lx"]["avg_interval_95"]
+    assert lo <= g["stats"]["mel_edi_lx"]["avg"] <= hi and g["units"]["mel_edi_lx"] == "lx"
+
+
+def test_melanopic_grid_direct_and_cli(clean_blender, tmp_path, capsys):
+    """The direct part of a grid is each point's exact spectral reading; the CLI prints the plane's figures and
+    writes them as JSON; a bad combination is one line."""
+    import json
+
+    from radiometer import cli
+    from radiometer.measure.meter import spectra
+
+    scene = bpy.context.scene
+    builders.metric_cycles_scene(scene)
+    spectral_room.build(scene, tmp_path)
+    plane = _work_plane(scene, (2.0, 1.5, 0.8), 2.0)
+    g = api.spectral_grid(plane, resolution=(4, 3))
+    assert g["part"] == "direct" and g["exact"] is False and g["lower_bound"]  # the reflected light left out
+    for k in (0, 5, 11):
+        p = g["points"][k]
+        r = spectra.spectral_reading(tuple(p), (0.0, 0.0, 1.0), scene=scene)
+        assert np.asarray(g["mel_edi_lx"]).ravel()[k] == pytest.approx(r["mel_edi_lx"], rel=1e-12)
+        assert r["exact"]
+    out = tmp_path / "g.json"
+    assert cli._blender_cli(["grid", "--quantity", "melanopic", "--resolution", "4", "3", "--json", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "melanopic grid Work Plane: 4 x 3 points (direct light only" in printed and "mel-EDI avg >= " in printed
+    saved = json.loads(out.read_text())
+    assert saved["mel_edi_lx"] == g["mel_edi_lx"] and saved["units"]["mel_edi_lx"] == "lx"
+    assert cli._blender_cli(["grid", "--reflected", "--resolution", "2", "2"]) != 0
+    assert "--reflected needs --quantity melanopic" in capsys.readouterr().err

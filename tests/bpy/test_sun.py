@@ -38,6 +38,25 @@ def test_set_sun_points_at_the_sun_and_the_meter_reads_the_given_illuminance(cle
     assert up.illuminance == pytest.approx(90_000.0 * math.sin(math.radians(pos.elevation_deg)), rel=1e-5)
 
 
+def test_the_sun_has_a_stated_spectrum_for_melanopic_readings(clean_blender, build):
+    """A new Radiometer sun gets CIE D55 (stated in its notes), so its direct light reads in mel-EDI exactly;
+    a spectrum the user set is kept when the sun is moved."""
+    from radiometer.radiometry.photometry import action_spectra, spectral
+
+    scene = bpy.context.scene
+    build.black_world(scene)
+    out = api.set_sun(scene, 51.5, -0.12, NOON, direct_normal_illuminance_lux=90_000.0)
+    obj = scene.objects[out["object"]]
+    assert obj.data["radiometer_spectrum"] == "D55" and any("D55" in n for n in out["notes"])
+    pos = api.sun_position(51.5, -0.12, NOON)
+    r = api.spectral_reading((0, 0, 0), pos.direction)
+    der = float(action_spectra.alpha_opic_der(spectral.cie_illuminant("D55"))[4])
+    assert r["exact"] and r["mel_edi_lx"] == pytest.approx(90_000.0 * der, rel=1e-6)
+    obj.data["radiometer_spectrum"] = "D5000"
+    out = api.set_sun(scene, 51.5, -0.12, NOON.replace(hour=15))
+    assert obj.data["radiometer_spectrum"] == "D5000" and not any("D55" in n for n in out["notes"])
+
+
 def test_scene_efficacy_and_unit_scale_are_honoured(clean_blender, build):
     scene = bpy.context.scene
     build.black_world(scene)
