@@ -140,6 +140,27 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="
 
 
 @_v.boundary
+def mesopic_reading(location, direction, *, acceptance_deg=1.0, scene=None, quality="preview", seed=0):
+    """CIE 191:2010 mesopic luminance seen by a luminance (spot) meter at ``location`` looking along
+    ``direction`` in a cone of ``acceptance_deg`` (full angle), from spectral band renders of the cone: a plain
+    dict (SI) with ``photopic_cd_m2`` and ``scotopic_cd_m2`` (each ``estimate``, ``low_95``, ``high_95``,
+    ``std_error``: the proven band range widened by 1.96 s.e.), ``sp_ratio``, ``mesopic_cd_m2`` (``estimate``,
+    ``low_95``, ``high_95``), ``adaptation_m``, ``regime`` (photopic / mesopic / scotopic), ``notes``, ``units``.
+    Lights need a known spectrum and materials plain colours, as for ``spectral_reading(reflected=True)``;
+    otherwise ``RadiometerError`` says why."""
+    location = _v.points(location, "location", allow_many=False)
+    direction = _v.directions(direction, "direction", allow_many=False)
+    acceptance_deg = _v.real(acceptance_deg, "acceptance_deg", low=0.0, high=120.0, low_open=True, high_open=True)
+    _spectral_options(scene, False, quality, seed)
+    import bpy
+
+    from .measure.meter import spectral_reflected
+
+    return spectral_reflected.mesopic_reading(location, direction, scene=scene or bpy.context.scene,
+                                              acceptance_deg=acceptance_deg, quality=quality, seed=seed)
+
+
+@_v.boundary
 def spectral_grid(target, *, resolution=None, spacing=None, scene=None, reflected=False, quality="preview", seed=0,
                   progress=None, cancelled=None):
     """Melanopic EDI (CIE S 026) on the grid :func:`illuminance_grid` lays out over a plane object (its +Z side):

@@ -219,6 +219,8 @@ class LuminanceReading:
     #: The 1-sigma relative standard error asked for.
     target_rel_error: Optional[float] = None
     quantity: str = "luminance"
+    #: Per channel (R, G, B) 1-sigma standard error of ``radiance_rgb``, W/(m^2 sr) (batch means).
+    std_error_rgb: Optional[tuple] = None
 
     def to_dict(self):
         return _with_photographic(self, dataclasses.asdict(self))

@@ -71,7 +71,7 @@ def format_spectral(rows):
     for name, sr in rows:
         if sr is None:
             lines.append(f"{name:<22} {'n/a':>11} {'n/a':>11} {'n/a':>10} {'n/a':>8} {'n/a':>6}  "
-                         "luminance meter: not spectral yet")
+                         "luminance meter: mesopic luminance with --reflected")
             continue
         status = "exact" if sr["exact"] else ("lower bound" if not sr["complete"] else "bounded")
         mel_der = "n/a" if sr["mel_der"] is None else f"{sr['mel_der']:.4f}"
@@ -82,14 +82,26 @@ def format_spectral(rows):
     return "\n".join(lines)
 
 
+def _mesopic_line(sr):
+    """A luminance meter's line in the --reflected table: CIE 191 mesopic luminance, or why not."""
+    if sr is None or sr.get("not_measured"):
+        return "luminance meter: no mesopic reading" + (f" ({sr['not_measured']})" if sr else "")
+    lp, mes = sr["photopic_cd_m2"], sr["mesopic_cd_m2"]
+    if mes is None:
+        return "luminance meter: no light in its cone"
+    return (f"luminance meter: L_p {lp['estimate']:.4g} cd/m² ({lp['low_95']:.4g}-{lp['high_95']:.4g}), S/P "
+            f"{sr['sp_ratio']:.3f}, mesopic (CIE 191) {mes['estimate']:.4g} cd/m² ({mes['low_95']:.4g}-"
+            f"{mes['high_95']:.4g}), {sr['regime']}")
+
+
 def format_spectral_total(rows):
     """One line per illuminance meter: E_v and mel-EDI of direct + reflected light with their 95 % intervals
     (band renders), or why the reflected part was not added."""
     lines = ["spectral (CIE S 026), direct + reflected light (band renders; 95 % intervals):",
              f"{'meter':<22} {'E_v':>10} {'95 % interval':>21} {'mel-EDI':>10} {'95 % interval':>21}  direct mel-EDI"]
     for name, sr in rows:
-        if sr is None:
-            lines.append(f"{name:<22} luminance meter: not spectral yet")
+        if sr is None or "mesopic_cd_m2" in sr:
+            lines.append(f"{name:<22} " + _mesopic_line(sr))
             continue
         if "interval_95" not in sr:
             why = next((n for n in sr["notes"] if n.startswith("reflected part not added")), "direct only")
@@ -104,10 +116,21 @@ def format_spectral_total(rows):
 
 
 def spectral_rows(results, scene, reflected=False, quality="preview"):
-    """(meter name, ``api.spectral_reading`` dict or None for a luminance meter) for every reading."""
+    """(meter name, ``api.spectral_reading`` dict) for every illuminance meter; a luminance meter's is
+    ``api.mesopic_reading``'s with ``reflected`` (its cone is all rendered light), else None."""
     from .. import api
+    from ..errors import RadiometerError
 
-    return [(obj.name, None if r.quantity == "luminance" else
+    def luminance(r):
+        if not reflected:
+            return None
+        try:
+            return api.mesopic_reading(r.location, r.direction, acceptance_deg=r.acceptance_deg, scene=scene,
+                                       quality=quality)
+        except RadiometerError as exc:
+            return {"mesopic_cd_m2": None, "not_measured": str(exc)}
+
+    return [(obj.name, luminance(r) if r.quantity == "luminance" else
              api.spectral_reading(r.location, r.normal, scene=scene, reflected=reflected, quality=quality))
             for obj, r in results]
 

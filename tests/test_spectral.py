@@ -216,6 +216,22 @@ def test_mesopic_limits():
     assert m[1] == 0.0 and lmes[1] == pytest.approx(0.002, rel=1e-14)
 
 
+def test_mesopic_rises_with_photopic_and_scotopic_luminance():
+    """The mesopic meter's 95 % interval takes the corners of the (L_p, L_s) box (spectral_reflected.
+    mesopic_reading): that holds only if L_mes never falls as L_p or L_s grows. Checked on a fine grid over
+    L_p 1e-4..1e3 cd/m², S/P 0.25..4 (the fixed point reached from m = 0.5, as CIE 191 starts)."""
+    lp = np.geomspace(1e-4, 1e3, 241)
+    ls = np.geomspace(1e-4 * 0.25, 1e3 * 4.0, 281)
+    LP, LS = np.meshgrid(lp, ls, indexing="ij")
+    sp = LS / LP
+    keep = (sp >= 0.25) & (sp <= 4.0)
+    lmes, _m = aos.mesopic_luminance(LP, sp)
+    lmes = np.where(keep, lmes, np.nan)
+    d_p = np.diff(lmes, axis=0)  # along L_p at fixed L_s
+    d_s = np.diff(lmes, axis=1)  # along L_s at fixed L_p
+    assert np.nanmin(d_p / np.abs(lmes[:-1])) >= -1e-12 and np.nanmin(d_s / np.abs(lmes[:, :-1])) >= -1e-12
+
+
 def test_mesopic_matches_luxpy_where_its_iteration_is_cie_191(luxpy_ref):
     # luxpy 1.12.5's get_cie_mesopic_adaptation puts S/P where CIE 191 has L_s = L_p S/P, so it agrees
     # with CIE 191 only at L_p = 1 cd/m²; it stops at np.isclose on m (rtol 1e-5).

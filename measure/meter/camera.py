@@ -141,8 +141,9 @@ def prepare_render(scene, preset, snapshot):
 
 
 def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, quality="standard",
-                      target_rel_error=None, progress=None, cancelled=None, resolution=24, max_renders=64):
-    """Average radiance in a cone of full angle ``acceptance_deg`` around ``direction``."""
+                      target_rel_error=None, progress=None, cancelled=None, resolution=24, max_renders=64, seed=0):
+    """Average radiance in a cone of full angle ``acceptance_deg`` around ``direction``; ``seed``: the first
+    render's Cycles seed (render k takes seed + k)."""
     from mathutils import Vector
 
     scene = scene or bpy.context.scene
@@ -180,7 +181,8 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
             cam.data.sensor_fit = "HORIZONTAL"
             cam.data.angle = 2 * half
             shown = None if progress is None else (lambda done, total: progress(min(done, total), total))
-            rounds = RenderRounds(scene, cancelled=cancelled, progress=shown, total_of=lambda _done: max_renders)
+            rounds = RenderRounds(scene, cancelled=cancelled, progress=shown, total_of=lambda _done: max_renders,
+                                  seed_of=lambda k: int(seed) + k)
 
             def render(k):
                 img = render_exr(scene, folder, f"lum{k}", resolution, resolution) / unit_area
@@ -214,7 +216,9 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
         rel_std_error=(se / abs(radiance)) if radiance else (0.0 if se == 0 else math.inf),
         method="render", samples=int(tally.n[0]), seconds=time.perf_counter() - started,
         efficacy=efficacy, colour_space=space, acceptance_deg=acceptance_deg, location=tuple(points[0]),
-        direction=tuple(d), notes=notes, render_settings=record, target_rel_error=target)
+        direction=tuple(d), notes=notes, render_settings=record, target_rel_error=target,
+        std_error_rgb=tuple(float(math.hypot(e, meter.FLOAT32_FLOOR * abs(m)))
+                            for e, m in zip(tally.std_error_rgb[0], mean)))
 
 
 def capture_radiance_map(location, path, *, resolution=128, scene=None, quality="standard"):

@@ -220,24 +220,12 @@ def reflected_reading(location, normal, *, scene, quality="preview", seed=0, sam
                               max_bands=max_bands)[0]
 
 
-def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, samples=None, max_bands=None,
-                       progress=None, cancelled=None):
-    """The rendered part of the light at N meters (one batch per band render), in bands: a list of dicts (SI),
-    one per meter, or raise ``RadiometerError`` why not.
-
-    Keys: ``illuminance_lx``, ``alpha_opic_irradiance_w_m2``, ``alpha_opic_edi_lx`` (each a dict of
-    ``estimate``, ``lower`` and ``upper`` (the proven band range), ``std_error`` (1 sigma, stochastic),
-    ``low_95`` and ``high_95`` (the range widened by 1.96 sigma)), ``bands_nm``, ``renders``, ``materials``,
-    ``notes``, ``world`` (the world spectrum's label where the renders read the world's light, else None).
-    ``progress(done, total, seconds_left)`` after every band render (done/total in renders); ``cancelled()``
-    True stops before the next (``RadiometerError``), every setting put back."""
-    import time
-
+def _band_plan(scene, quality, samples=None, max_bands=None):
+    """Everything the band renders need, read from the scene (nothing changed): the sources' band powers, the
+    materials' reflectance table, the bands and the render layout. A dict; raises ``RadiometerError`` for what
+    the band renders cannot read."""
     from . import point_meter as meter
 
-    locations = np.atleast_2d(np.asarray(locations, float))
-    normals = np.broadcast_to(np.asarray(normals, float), locations.shape)
-    n_points = len(locations)
     model = meter.capture_model(scene)
     world = scene.world if model.world_emits else None
     if world is not None and model.world_volume:
@@ -245,7 +233,7 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
     if model.emissive_surfaces:
         raise RadiometerError("surfaces emit light (their spectral band render is not built)")
     lights = [obj for obj in scene.objects if obj.type == "LIGHT" and not obj.hide_render]
-    space, weights, efficacy = meter.scene_photometry(scene)
+    _space, weights, efficacy = meter.scene_photometry(scene)
     power = []
     for obj in lights:
         if getattr(obj.data, "use_nodes", False):
@@ -257,6 +245,7 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
         # radiant power per 1 nm sample, per watt of the light, scaled so that sum P V = Y(colour): the
         # photometric amount Cycles' RGB light carries (E_v = efficacy x Y-weighted irradiance)
         power.append(float(obj.data.energy) * spd * y / float(spd @ action_spectra.PHOTOPIC_V))
+    world_label = world_power = None
     if world is not None:
         # per unit of the world's Y-weighted radiance: sum p V = 1, so a band's power is its share of it
         world_label, world_spd = spectra.world_spectrum(scene)
@@ -273,29 +262,45 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
     n_samples, n_bands = samples or n_samples, max_bands or n_bands
     edges = spectral_bands.plan_bands(refl, n_bands)
     rmin, rmax, t_all = spectral_bands.band_table(refl, edges)
-    layout = spectral_bands.channel_layout(len(edges) - 1)
+    varying = np.ptp(refl, axis=1) > 0
+    return {"world": world, "world_label": world_label, "world_power": world_power, "lights": lights,
+            "power": np.array(power), "materials": materials, "labels": labels, "edges": edges, "rmin": rmin,
+            "rmax": rmax, "t": t_all[varying].mean(axis=0) if varying.any() else np.full(refl.shape[1], 0.5),
+            "layout": spectral_bands.channel_layout(len(edges) - 1), "samples": int(n_samples),
+            "weights": weights, "efficacy": efficacy}
+
+
+def _run_band_renders(scene, plan, read, n_points, *, progress=None, cancelled=None):
+    """Set every render's colours (materials at a band end, sources at the band's power), call ``read(k)`` ->
+    per meter (rgb, se_rgb, bound_rgb) of the rendered band light, and put every setting back (also on error
+    or cancel; the world's stand-in removed). Returns per meter ({(band, end): value}, {...: s.e.},
+    {...: deterministic bound})."""
+    import time
+
     values, ses, bounds = ([{} for _ in range(n_points)] for _ in range(3))
     saved = []
     stand_in = None
+    world, layout, edges = plan["world"], plan["layout"], plan["edges"]
     start = time.perf_counter()
     try:
         if world is not None:
-            stand_in, set_world = _world_stand_in(world, weights)
+            stand_in, set_world = _world_stand_in(world, plan["weights"])
             scene.world = stand_in
-        for mat, sockets in materials.items():
+        for mat, sockets in plan["materials"].items():
             for sock in sockets:
                 _remember(saved, sock, "default_value")
-        for obj in lights:
+        for obj in plan["lights"]:
             for attr in ("color", "use_temperature", "energy"):
                 _remember(saved, obj.data, attr)
         for k, render in enumerate(layout):
             if cancelled is not None and cancelled():
                 raise RadiometerError("cancelled: the spectral band renders stopped; every setting is as it was")
-            for m, (mat, sockets) in enumerate(materials.items()):
-                colour = [rmax[b, m] if end else rmin[b, m] for b, end in render] + [0.0] * (3 - len(render))
+            for m, (mat, sockets) in enumerate(plan["materials"].items()):
+                colour = [plan["rmax"][b, m] if end else plan["rmin"][b, m] for b, end in render]
+                colour += [0.0] * (3 - len(render))
                 for sock in sockets:
                     sock.default_value = (*colour, 1.0)
-            for obj, p in zip(lights, power):
+            for obj, p in zip(plan["lights"], plan["power"]):
                 band = spectral_bands.band_sums(p, edges)
                 colour = [band[b] for b, _end in render] + [0.0] * (3 - len(render))
                 top = max(colour) or 1.0
@@ -303,23 +308,11 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
                 obj.data.color = tuple(c / top for c in colour)
                 obj.data.energy = top
             if stand_in is not None:
-                band = spectral_bands.band_sums(world_power, edges)
+                band = spectral_bands.band_sums(plan["world_power"], edges)
                 set_world([band[b] for b, _end in render] + [0.0] * (3 - len(render)))
-            readings = meter.measure_illuminance(locations, normals, scene=scene, method="hybrid",
-                                                 samples=n_samples, seed=seed + 104729 * k, pooling=False)
-            readings = readings if isinstance(readings, list) else [readings]
-            direct = meter.analytic_light_irradiance(locations, normals, scene=scene)
-            for i, reading in enumerate(readings):
-                rendered = np.asarray(reading.irradiance_rgb, float) - sum(
-                    (direct[name][i] for name in reading.parts.get("analytic", []) if name in direct), np.zeros(3))
-                # the meter's deterministic bound (a caustic's or mirror image's closed form, a bounded closed
-                # form), stated on its Y-weighted reading: shared across the channels in proportion to their
-                # readings; and the colours and strengths set here are stored in float32 (a closed-form part is
-                # then off by ~1e-7)
-                rel = float(reading.rel_error_bound or 0.0) + meter.FLOAT32_FLOOR
+            for i, (rgb, se, bound) in enumerate(read(k)):
                 for j, key in enumerate(render):
-                    values[i][key], ses[i][key] = float(rendered[j]), float(reading.std_error_rgb[j])
-                    bounds[i][key] = rel * abs(float(reading.irradiance_rgb[j])) if math.isfinite(rel) else math.inf
+                    values[i][key], ses[i][key], bounds[i][key] = float(rgb[j]), float(se[j]), float(bound[j])
             if progress is not None:
                 spent = time.perf_counter() - start
                 progress(k + 1, len(layout), spent / (k + 1) * (len(layout) - k - 1))
@@ -328,24 +321,74 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
         if stand_in is not None:
             scene.world = world
             bpy.data.worlds.remove(stand_in)
+    return values, ses, bounds
+
+
+def _band_notes(plan, what="per meter"):
+    edges, layout = plan["edges"], plan["layout"]
+    return ([f"rendered part in {len(edges) - 1} bands ({len(layout)} Cycles renders of {plan['samples']:,} samples "
+             f"{what}): every material's reflectance at each band's low and high end, so the band's light "
+             "lies between the two (proven: paths are products of reflectances); the estimate interpolates",
+             "not counted: light beyond Cycles' bounce limit (as for every rendered reading)"]
+            + [f"material {name!r}: reflectance {label}" for name, label in plan["labels"].items()
+               if "upsampled" in label]
+            + ([f"the world's light (direct and reflected) is read in the band renders with its spectrum "
+                f"({plan['world_label']}) times its luminance: a stated spectrum is trusted, the world's colour is "
+                "not checked against it"] if plan["world"] is not None else []))
+
+
+def _bands_nm(plan):
+    wl, edges = spectral.WAVELENGTHS_NM, plan["edges"]
+    return [(float(wl[edges[k]]), float(wl[edges[k + 1] - 1])) for k in range(len(edges) - 1)]
+
+
+def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, samples=None, max_bands=None,
+                       progress=None, cancelled=None):
+    """The rendered part of the light at N meters (one batch per band render), in bands: a list of dicts (SI),
+    one per meter, or raise ``RadiometerError`` why not.
+
+    Keys: ``illuminance_lx``, ``alpha_opic_irradiance_w_m2``, ``alpha_opic_edi_lx`` (each a dict of
+    ``estimate``, ``lower`` and ``upper`` (the proven band range), ``std_error`` (1 sigma, stochastic),
+    ``low_95`` and ``high_95`` (the range widened by 1.96 sigma)), ``bands_nm``, ``renders``, ``materials``,
+    ``notes``, ``world`` (the world spectrum's label where the renders read the world's light, else None).
+    ``progress(done, total, seconds_left)`` after every band render (done/total in renders); ``cancelled()``
+    True stops before the next (``RadiometerError``), every setting put back."""
+    from . import point_meter as meter
+
+    locations = np.atleast_2d(np.asarray(locations, float))
+    normals = np.broadcast_to(np.asarray(normals, float), locations.shape)
+    plan = _band_plan(scene, quality, samples, max_bands)
+
+    def read(k):
+        readings = meter.measure_illuminance(locations, normals, scene=scene, method="hybrid",
+                                             samples=plan["samples"], seed=seed + 104729 * k, pooling=False)
+        readings = readings if isinstance(readings, list) else [readings]
+        direct = meter.analytic_light_irradiance(locations, normals, scene=scene)
+        out = []
+        for i, reading in enumerate(readings):
+            rendered = np.asarray(reading.irradiance_rgb, float) - sum(
+                (direct[name][i] for name in reading.parts.get("analytic", []) if name in direct), np.zeros(3))
+            # the meter's deterministic bound (a caustic's or mirror image's closed form, a bounded closed
+            # form), stated on its Y-weighted reading: shared across the channels in proportion to their
+            # readings; and the colours and strengths set here are stored in float32 (a closed-form part is
+            # then off by ~1e-7)
+            rel = float(reading.rel_error_bound or 0.0) + meter.FLOAT32_FLOOR
+            bound = rel * np.abs(np.asarray(reading.irradiance_rgb, float)) if math.isfinite(rel) else \
+                np.full(3, math.inf)
+            out.append((rendered, np.asarray(reading.std_error_rgb, float), bound))
+        return out
+
+    values, ses, bounds = _run_band_renders(scene, plan, read, len(locations), progress=progress,
+                                            cancelled=cancelled)
     w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.ACTION_SPECTRA])
-    varying = np.ptp(refl, axis=1) > 0
-    t = t_all[varying].mean(axis=0) if varying.any() else np.full(refl.shape[1], 0.5)
     # E_v: efficacy x the V-weighted band sum; alpha-opic as the direct part's: (efficacy / K_m,S026) x sum E s
+    efficacy = plan["efficacy"]
     scale = np.array([efficacy] + [efficacy / action_spectra.K_M_S026_LM_PER_W] * 5)
-    wl = spectral.WAVELENGTHS_NM
-    notes = ([f"rendered part in {len(edges) - 1} bands ({len(layout)} Cycles renders of {n_samples:,} samples "
-              "per meter): every material's reflectance at each band's low and high end, so the band's light "
-              "lies between the two (proven: paths are products of reflectances); the estimate interpolates",
-              "not counted: light beyond Cycles' bounce limit (as for every rendered reading)"]
-             + [f"material {name!r}: reflectance {label}" for name, label in labels.items() if "upsampled" in label]
-             + ([f"the world's light (direct and reflected) is read in the band renders with its spectrum "
-                 f"({world_label}) times its luminance: a stated spectrum is trusted, the world's colour is not "
-                 "checked against it"] if world is not None else []))
+    notes = _band_notes(plan)
     out = []
-    for i in range(n_points):
-        combined = spectral_bands.combine(edges, np.array(power), w, t, values[i], ses[i], layout,
-                                          channel_bound=bounds[i])
+    for i in range(len(locations)):
+        combined = spectral_bands.combine(plan["edges"], plan["power"], w, plan["t"], values[i], ses[i],
+                                          plan["layout"], channel_bound=bounds[i])
 
         def part(q, factor=1.0):
             d = {key: float(combined[key][q] * scale[q] * factor) for key in ("estimate", "lower", "upper",
@@ -359,10 +402,71 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
             "alpha_opic_irradiance_w_m2": {a: part(j + 1) for j, a in enumerate(action_spectra.ALPHA)},
             "alpha_opic_edi_lx": {a: part(j + 1, 1.0 / float(action_spectra.D65_ELR_W_PER_LM[j]))
                                   for j, a in enumerate(action_spectra.ALPHA)},
-            "bands_nm": [(float(wl[edges[k]]), float(wl[edges[k + 1] - 1])) for k in range(len(edges) - 1)],
-            "renders": len(layout), "samples_per_render": int(n_samples), "materials": labels,
-            "notes": list(notes), "world": world_label if world is not None else None,
+            "bands_nm": _bands_nm(plan), "renders": len(plan["layout"]), "samples_per_render": plan["samples"],
+            "materials": plan["labels"], "notes": list(notes), "world": plan["world_label"],
         })
+    return out
+
+
+def mesopic_reading(location, direction, *, scene, acceptance_deg=1.0, quality="preview", seed=0, progress=None,
+                    cancelled=None):
+    """CIE 191:2010 mesopic luminance seen by a luminance (spot) meter, from band renders: a dict (SI) or raise
+    ``RadiometerError`` why not.
+
+    Each band render reads the meter's cone (``camera.measure_luminance``, its quality's target, seeds apart
+    per render); the bands give the photopic L_p = K sum L_e V and scotopic L_s = K' sum L_e V' luminances
+    (K' = 1700.06 lm/W, scaled by the scene's efficacy / 683.002 as the alpha-opic sums are), each with its
+    proven band range widened by 1.96 standard errors; L_mes = CIE 191 at (L_p, S/P = L_s / L_p). Its 95 %
+    interval is the least and greatest L_mes over the four corners of the (L_p, L_s) box: L_mes rises with
+    both (checked numerically over L_p 1e-4..1e3 cd/m^2, S/P 0.25..4, tests/test_spectral.py)."""
+    from . import camera
+    from .point_meter import FLOAT32_FLOOR as FLOAT32
+
+    plan = _band_plan(scene, quality)
+
+    def read(k):
+        r = camera.measure_luminance(location, direction, acceptance_deg=acceptance_deg, scene=scene,
+                                     quality=quality, seed=seed + 104729 * k)
+        rgb = np.asarray(r.radiance_rgb, float)
+        return [(rgb, np.asarray(r.std_error_rgb, float), FLOAT32 * np.abs(rgb))]
+
+    values, ses, bounds = _run_band_renders(scene, plan, read, 1, progress=progress, cancelled=cancelled)
+    w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.SCOTOPIC_V])
+    combined = spectral_bands.combine(plan["edges"], plan["power"], w, plan["t"], values[0], ses[0],
+                                      plan["layout"], channel_bound=bounds[0])
+    k_p = plan["efficacy"]
+    k_s = plan["efficacy"] / action_spectra.K_M_S026_LM_PER_W * action_spectra.KP_M_LM_PER_W
+    parts = {}
+    for q, (name, factor) in enumerate((("photopic_cd_m2", k_p), ("scotopic_cd_m2", k_s))):
+        d = {key: float(combined[key][q] * factor) for key in ("estimate", "lower", "upper", "std_error")}
+        d["low_95"] = max(0.0, d["lower"] - 1.96 * d["std_error"])
+        d["high_95"] = d["upper"] + 1.96 * d["std_error"]
+        parts[name] = d
+    lp, ls = parts["photopic_cd_m2"], parts["scotopic_cd_m2"]
+    notes = _band_notes(plan, "of the meter's cone") + [
+        "delta lights (radius 0) are invisible to camera rays and cannot be seen by a luminance meter"]
+    out = {"quantity": "mesopic luminance (CIE 191:2010) in the meter's cone", "location": tuple(map(float, location)),
+           "direction": tuple(map(float, direction)), "acceptance_deg": float(acceptance_deg),
+           "photopic_cd_m2": lp, "scotopic_cd_m2": ls, "exact": False,
+           "bands_nm": _bands_nm(plan), "renders": len(plan["layout"]), "materials": plan["labels"],
+           "world": plan["world_label"], "notes": notes,
+           "units": {"photopic_cd_m2": "cd/m²", "scotopic_cd_m2": "cd/m² (scotopic)", "mesopic_cd_m2": "cd/m²",
+                     "sp_ratio": "1", "adaptation_m": "1", "acceptance_deg": "deg"}}
+    if lp["estimate"] <= 0 or ls["estimate"] <= 0:
+        out.update(sp_ratio=None, mesopic_cd_m2=None, adaptation_m=None, regime=None)
+        out["notes"].append("no light in the meter's cone: no mesopic luminance")
+        return out
+    est, m = action_spectra.mesopic_luminance(lp["estimate"], ls["estimate"] / lp["estimate"])
+    corners = [(a, b) for a in (lp["low_95"], lp["high_95"]) for b in (ls["low_95"], ls["high_95"]) if a > 0 and b > 0]
+    if len(corners) == 4:
+        ends = [float(action_spectra.mesopic_luminance(a, b / a)[0]) for a, b in corners]
+        low, high = min(ends), max(ends)
+    else:  # a band range reaching 0: the low end is unknown above 0
+        low, high = 0.0, float(action_spectra.mesopic_luminance(lp["high_95"], ls["high_95"] / lp["high_95"])[0])
+    lo_r, hi_r = action_spectra.MESOPIC_RANGE_CD_M2
+    out.update(sp_ratio=ls["estimate"] / lp["estimate"], adaptation_m=float(m),
+               mesopic_cd_m2={"estimate": float(est), "low_95": low, "high_95": high},
+               regime="photopic" if est >= hi_r else ("scotopic" if est <= lo_r else "mesopic"))
     return out
 
 

@@ -74,6 +74,8 @@ def base_calls(tmp_path):
         "world_model": dict(),
         "mirror_ball_probe": dict(size=8, shape=(4, 8)),
         "spectral_reading": dict(location=(0, 0, 0.5), normal=(0, 0, 1)),
+        "spectral_grid": dict(target="Work Plane", resolution=(2, 2)),
+        "mesopic_reading": dict(location=(0, 0, 0.5), direction=(0, 0, -1), quality="preview"),
         "spectrum_metrics": dict(spectrum="A"),
         "mesopic_luminance": dict(photopic_cd_m2=1.0, sp_ratio=1.5),
     }
