@@ -113,6 +113,14 @@ def test_daylight_series_matches_colour_science(cct):
     assert np.allclose(spectral.cie_daylight(cct, sd.wavelengths), sd.values, rtol=1e-12, atol=1e-12)
 
 
+def test_mallett_basis_table_matches_colour_science():
+    from colour.recovery import MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019 as mallett
+
+    assert np.array_equal(mallett.wavelengths, tables.TABLE_WAVELENGTHS)
+    for k, key in enumerate("RGB"):
+        assert np.array_equal(getattr(tables, f"MALLETT2019_{key}"), mallett.values[:, k])
+
+
 def test_d65_formula_and_table_agree_to_the_tables_rounding():
     # D65's table is the formula at 6504 K rounded (CIE 015); within 0.1 % relative over 380-780 nm
     formula = spectral.cie_daylight(spectral.D65_CCT_K)

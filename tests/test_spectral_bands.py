@@ -92,6 +92,21 @@ def test_box_upsampling_keeps_white_and_grey_flat():
     assert r[spectral.WAVELENGTHS_NM == 650][0] == 0.7 and r[spectral.WAVELENGTHS_NM == 450][0] == 0.05
 
 
+def test_mallett_upsampling_round_trips_and_keeps_white_and_grey_flat():
+    """Mallett & Yuksel's decomposition (the upsampling of a colour with no spectrum): white is 1 and a grey flat
+    (the basis renormalised to sum to 1), the spectrum stays in [0, 1], and its Rec.709 colour under D65
+    (colour-science's CMFs and matrix, tests/spectral_radiosity.py) is the colour again."""
+    assert np.allclose(spectral_bands.mallett_reflectance((1, 1, 1)), 1.0, rtol=0, atol=1e-15)
+    assert np.ptp(spectral_bands.mallett_reflectance((0.4, 0.4, 0.4))) < 1e-15
+    rng = np.random.default_rng(7)
+    for rgb in rng.uniform(0.0, 1.0, (40, 3)):
+        r = spectral_bands.mallett_reflectance(rgb)
+        assert r.min() >= 0.0 and r.max() <= 1.0
+        assert np.allclose(ref.rec709_of_reflectance(r[::5]), rgb, rtol=0, atol=2e-4)
+    assert np.allclose(spectral_bands.mallett_reflectance((1.7, -0.2, 0.5)),
+                       spectral_bands.mallett_reflectance((1.0, 0.0, 0.5)))  # clipped to the cube
+
+
 # --- the reference's own checks ---------------------------------------------------------------------
 
 def test_point_to_polygon_form_factor_matches_the_parallel_rectangle_closed_form():

@@ -8,7 +8,9 @@ Sources (each checked again by tests/test_spectral.py):
 - CIE standard illuminant D65 at 1 nm (CIE S 014-2/E:2006, ISO 11664-2), luxpy 1.12.5 ``data/spds/CIE_D65.csv``;
 - V(lambda) at 1 nm (CIE 018:2019), colour-science 0.4.6 ``SDS_LEFS_PHOTOPIC``;
 - the D-series basis S0, S1, S2 (CIE 015:2018 Table 6), the F-series FL1-FL12 and the LED series
-  (CIE 015:2018 Tables 10 and 11), colour-science 0.4.6.
+  (CIE 015:2018 Tables 10 and 11), colour-science 0.4.6;
+- the sRGB reflectance basis of Mallett & Yuksel, "Spectral Primary Decomposition for Rendering with sRGB
+  Reflectance", EGSR 2019, 380-780 nm at 5 nm, colour-science 0.4.6 ``MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019``.
 """
 
 import os
@@ -49,6 +51,8 @@ def main(out=sys.stdout):
               'PHOTOPIC_V_1NM: V(lambda) at 1 nm (CIE 018:2019). D65_1NM: CIE D65 at 1 nm (CIE S 014-2).\n'
               'D_BASIS_*: S0, S1, S2 of the daylight series, 300-830 nm at 5 nm (CIE 015:2018).\n'
               'TABLE_ILLUMINANTS: F-series and LED series relative spectra, 380-780 nm at 5 nm (CIE 015:2018).\n'
+              'MALLETT2019_*: the sRGB reflectance basis (R, G, B) of Mallett & Yuksel, EGSR 2019, 380-780 nm at\n'
+              '5 nm (TABLE_WAVELENGTHS); the three sum to 1 (to 1e-5) and are positive.\n'
               '"""\n\nimport numpy as np\n\n')
     out.write("WAVELENGTHS_1NM = np.arange(380.0, 781.0, 1.0)\n\n")
     for i, name in enumerate(("S026_S_CONE", "S026_M_CONE", "S026_L_CONE", "S026_RHODOPIC", "S026_MELANOPIC")):
@@ -69,7 +73,12 @@ def main(out=sys.stdout):
         assert np.array_equal(sd.wavelengths, np.arange(380, 785, 5)), name
         body = _rows("x", sd.values).split("= ", 1)[1].rstrip("\n")
         out.write(f'    "{name}": {body.replace(chr(10) + "    ", chr(10) + "        ").replace(chr(10) + "])", chr(10) + "    ])")},\n')
-    out.write("}\n")
+    out.write("}\n\n")
+    from colour.recovery import MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019 as mallett
+
+    assert np.array_equal(mallett.wavelengths, np.arange(380, 785, 5))
+    for k, key in enumerate(("R", "G", "B")):
+        out.write(_rows(f"MALLETT2019_{key}", mallett.values[:, k]) + ("\n" if k < 2 else ""))
 
 
 if __name__ == "__main__":

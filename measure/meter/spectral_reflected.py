@@ -8,8 +8,9 @@ light, Cycles for the rest) then reads, per channel, that band's rendered light.
 setting is put back after each render, also on error.
 
 Materials need a reflectance spectrum: the custom property ``radiometer_reflectance`` on the material
-(a spectral file, nm and reflectance in [0, 1], or one number for a flat spectrum), else the stated box
-upsampling of its RGB colour (``spectral_bands.box_reflectance``; the reading says which materials).
+(a spectral file, nm and reflectance in [0, 1], or one number for a flat spectrum), else its RGB colour
+upsampled by Mallett & Yuksel's sRGB basis (EGSR 2019, ``spectral_bands.mallett_reflectance``; the stated box
+rule where the working space is not linear Rec.709; the reading says which materials).
 Supported: Diffuse BSDF and Principled BSDF with an unlinked colour, objects without material (Cycles'
 grey 0.8), and neutral Glass, Transparent, Refraction, Translucent and Glossy BSDFs (an unlinked grey
 colour: the same factor at every wavelength, so nothing to sweep). The world's light (the sky through a
@@ -93,9 +94,10 @@ def _material_sockets(mat):
     return sockets
 
 
-def material_reflectance(mat, sockets):
-    """(label, reflectance on the 1 nm grid) of a material: its ``radiometer_reflectance``, else the box
-    upsampling of its colour (label says so)."""
+def material_reflectance(mat, sockets, space="Linear Rec.709"):
+    """(label, reflectance on the 1 nm grid) of a material: its ``radiometer_reflectance``, else its colour
+    upsampled (label says so): Mallett & Yuksel's sRGB basis in a linear Rec.709 working ``space``
+    (``spectral_bands.mallett_reflectance``), the stated box rule in any other."""
     if mat is None:
         return "no material (Cycles' grey 0.8)", np.full(spectral.WAVELENGTHS_NM.shape, 0.8)
     if PROP_REFLECTANCE in mat.keys():
@@ -122,7 +124,11 @@ def material_reflectance(mat, sockets):
         raise RadiometerError(f"material {mat.name!r} mixes BSDFs of different colours: give it its "
                               f"{PROP_REFLECTANCE} (a spectral file)")
     rgb = tuple(sockets[0].default_value)[:3]
-    return f"RGB {tuple(round(c, 3) for c in rgb)} upsampled (box, stated)", spectral_bands.box_reflectance(rgb)
+    if space == "Linear Rec.709":
+        return (f"RGB {tuple(round(c, 3) for c in rgb)} upsampled (Mallett & Yuksel 2019 sRGB basis, stated)",
+                spectral_bands.mallett_reflectance(rgb))
+    return (f"RGB {tuple(round(c, 3) for c in rgb)} upsampled (box rule, stated: the working space {space} is not "
+            "the sRGB basis's)", spectral_bands.box_reflectance(rgb))
 
 
 def _scene_materials(scene):
@@ -233,7 +239,7 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
     if model.emissive_surfaces:
         raise RadiometerError("surfaces emit light (their spectral band render is not built)")
     lights = [obj for obj in scene.objects if obj.type == "LIGHT" and not obj.hide_render]
-    _space, weights, efficacy = meter.scene_photometry(scene)
+    space, weights, efficacy = meter.scene_photometry(scene)
     power = []
     for obj in lights:
         if getattr(obj.data, "use_nodes", False):
@@ -254,7 +260,7 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
     materials = _scene_materials(scene)
     labels, refl = {}, []
     for mat, sockets in materials.items():
-        label, r = material_reflectance(mat, sockets)
+        label, r = material_reflectance(mat, sockets, space)
         labels[mat.name if mat is not None else "(none)"] = label
         refl.append(r)
     refl = np.array(refl)
@@ -263,7 +269,8 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
     edges = spectral_bands.plan_bands(refl, n_bands)
     rmin, rmax, t_all = spectral_bands.band_table(refl, edges)
     varying = np.ptp(refl, axis=1) > 0
-    return {"world": world, "world_label": world_label, "world_power": world_power, "lights": lights,
+    upsampled = [name for (name, label), v in zip(labels.items(), varying) if v and "upsampled" in label]
+    return {"upsampled": upsampled, "world": world, "world_label": world_label, "world_power": world_power, "lights": lights,
             "power": np.array(power), "materials": materials, "labels": labels, "edges": edges, "rmin": rmin,
             "rmax": rmax, "t": t_all[varying].mean(axis=0) if varying.any() else np.full(refl.shape[1], 0.5),
             "layout": spectral_bands.channel_layout(len(edges) - 1), "samples": int(n_samples),
@@ -324,9 +331,20 @@ def _run_band_renders(scene, plan, read, n_points, *, progress=None, cancelled=N
     return values, ses, bounds
 
 
+def _upsampling_bound(plan):
+    """{quantity: relative bound} of the upsampling assumption (0 where no coloured material was upsampled)."""
+    up = spectral_bands.UPSAMPLING_REL_BOUND
+    return {k: (v if plan["upsampled"] else 0.0) for k, v in up.items()}
+
+
 def _band_notes(plan, what="per meter"):
     edges, layout = plan["edges"], plan["layout"]
-    return ([f"rendered part in {len(edges) - 1} bands ({len(layout)} Cycles renders of {plan['samples']:,} samples "
+    up = spectral_bands.UPSAMPLING_REL_BOUND
+    return ([f"materials upsampled from their colour ({', '.join(repr(n) for n in plan['upsampled'])}): the band "
+             f"range holds for the assumed spectra; each interval is widened by the assumption's largest error "
+             f"measured over coloured rooms (E_v {100 * up['illuminance_lx']:.1f} %, mel-EDI "
+             f"{100 * up['melanopic']:.1f} % of the reading; bench/spectral_room_family.md; not proven)"]
+            if plan["upsampled"] else []) + ([f"rendered part in {len(edges) - 1} bands ({len(layout)} Cycles renders of {plan['samples']:,} samples "
              f"{what}): every material's reflectance at each band's low and high end, so the band's light "
              "lies between the two (proven: paths are products of reflectances); the estimate interpolates",
              "not counted: light beyond Cycles' bounce limit (as for every rendered reading)"]
@@ -390,17 +408,21 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
         combined = spectral_bands.combine(plan["edges"], plan["power"], w, plan["t"], values[i], ses[i],
                                           plan["layout"], channel_bound=bounds[i])
 
-        def part(q, factor=1.0):
+        def part(q, factor=1.0, assumed=0.0):
             d = {key: float(combined[key][q] * scale[q] * factor) for key in ("estimate", "lower", "upper",
                                                                               "std_error")}
-            d["low_95"] = d["lower"] - 1.96 * d["std_error"]
-            d["high_95"] = d["upper"] + 1.96 * d["std_error"]
+            # a material upsampled from its colour: the band range holds for the assumed spectrum; the
+            # assumption's measured error widens it
+            d["upsampling_bound"] = assumed * abs(d["estimate"])
+            d["low_95"] = d["lower"] - d["upsampling_bound"] - 1.96 * d["std_error"]
+            d["high_95"] = d["upper"] + d["upsampling_bound"] + 1.96 * d["std_error"]
             return d
 
+        up = _upsampling_bound(plan)
         out.append({
-            "illuminance_lx": part(0),
-            "alpha_opic_irradiance_w_m2": {a: part(j + 1) for j, a in enumerate(action_spectra.ALPHA)},
-            "alpha_opic_edi_lx": {a: part(j + 1, 1.0 / float(action_spectra.D65_ELR_W_PER_LM[j]))
+            "illuminance_lx": part(0, assumed=up["illuminance_lx"]),
+            "alpha_opic_irradiance_w_m2": {a: part(j + 1, assumed=up[a]) for j, a in enumerate(action_spectra.ALPHA)},
+            "alpha_opic_edi_lx": {a: part(j + 1, 1.0 / float(action_spectra.D65_ELR_W_PER_LM[j]), assumed=up[a])
                                   for j, a in enumerate(action_spectra.ALPHA)},
             "bands_nm": _bands_nm(plan), "renders": len(plan["layout"]), "samples_per_render": plan["samples"],
             "materials": plan["labels"], "notes": list(notes), "world": plan["world_label"],
@@ -437,10 +459,13 @@ def mesopic_reading(location, direction, *, scene, acceptance_deg=1.0, quality="
     k_p = plan["efficacy"]
     k_s = plan["efficacy"] / action_spectra.K_M_S026_LM_PER_W * action_spectra.KP_M_LM_PER_W
     parts = {}
-    for q, (name, factor) in enumerate((("photopic_cd_m2", k_p), ("scotopic_cd_m2", k_s))):
-        d = {key: float(combined[key][q] * factor) for key in ("estimate", "lower", "upper", "std_error")}
-        d["low_95"] = max(0.0, d["lower"] - 1.96 * d["std_error"])
-        d["high_95"] = d["upper"] + 1.96 * d["std_error"]
+    up = _upsampling_bound(plan)
+    for q, (name, factor, key) in enumerate((("photopic_cd_m2", k_p, "illuminance_lx"),
+                                              ("scotopic_cd_m2", k_s, "rhodopic"))):  # V' is S 026's rhodopic
+        d = {k: float(combined[k][q] * factor) for k in ("estimate", "lower", "upper", "std_error")}
+        d["upsampling_bound"] = up[key] * abs(d["estimate"])
+        d["low_95"] = max(0.0, d["lower"] - d["upsampling_bound"] - 1.96 * d["std_error"])
+        d["high_95"] = d["upper"] + d["upsampling_bound"] + 1.96 * d["std_error"]
         parts[name] = d
     lp, ls = parts["photopic_cd_m2"], parts["scotopic_cd_m2"]
     notes = _band_notes(plan, "of the meter's cone") + [
@@ -573,7 +598,8 @@ def _with_reflected(out, band):
     def total(d_value, part):
         return {"estimate": d_value + part["estimate"], "low_95": d_value + part["low_95"],
                 "high_95": d_value + part["high_95"], "std_error": part["std_error"],
-                "band_bound": max(part["estimate"] - part["lower"], part["upper"] - part["estimate"])}
+                "band_bound": max(part["estimate"] - part["lower"], part["upper"] - part["estimate"]),
+                "upsampling_bound": part.get("upsampling_bound", 0.0)}
 
     ev = total(ev_d, band["illuminance_lx"])
     edi = {a: total(direct["alpha_opic_edi_lx"][a], band["alpha_opic_edi_lx"][a]) for a in action_spectra.ALPHA}

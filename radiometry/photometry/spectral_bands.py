@@ -148,6 +148,37 @@ def box_reflectance(rgb):
     return np.where(wl >= 590.0, r, np.where(wl >= 490.0, g, b))
 
 
+def _mallett_basis():
+    from . import _spectral_tables as tables
+
+    basis = np.stack([np.interp(WAVELENGTHS_NM, tables.TABLE_WAVELENGTHS, getattr(tables, f"MALLETT2019_{k}"))
+                      for k in "RGB"])
+    return basis / basis.sum(axis=0)  # sums to 1 within 1e-5 as published: exactly, so white is 1 and grey flat
+
+
+#: Mallett & Yuksel's sRGB reflectance basis (R, G, B) at 1 nm, renormalised to sum to 1 (:func:`mallett_reflectance`).
+MALLETT2019_BASIS = _mallett_basis()
+
+
+def mallett_reflectance(rgb):
+    """A reflectance spectrum for a linear Rec.709 (sRGB primaries) colour with no spectrum given: the spectral
+    primary decomposition of Mallett & Yuksel, "Spectral Primary Decomposition for Rendering with sRGB
+    Reflectance", EGSR 2019: r B_R + g B_G + b B_B, the published basis at 1 nm (linear interpolation of its 5 nm
+    table) renormalised to sum to 1; ``rgb`` clipped to [0, 1] (the basis reproduces reflectances of sRGB
+    colours in that cube, and the spectrum then lies in [0, 1]). White is 1, a grey g is g at every wavelength,
+    and the spectrum's Rec.709 colour under D65 is ``rgb`` again (the decomposition's round trip)."""
+    c = np.clip(np.asarray(rgb, float)[..., :3], 0.0, 1.0)
+    return c @ MALLETT2019_BASIS
+
+
+#: The upsampling's relative error bound (fraction of the rendered part) for E_v and each alpha-opic quantity: the largest error of
+#: taking every material's spectrum as :func:`mallett_reflectance` of its Rec.709 colour, against its true spectrum,
+#: over the family of coloured rooms of :data:`RGB_ONLY_REL_BOUND` (both solved by the same spectral radiosity at 5
+#: nm; bench/spectral_room_family.md). Measured, not proven: the band range is proven for the assumed spectrum, and
+#: a real material is one of its metamers.
+UPSAMPLING_REL_BOUND = {"illuminance_lx": 0.061, "s_cone": 0.051, "m_cone": 0.038, "l_cone": 0.089, "rhodopic": 0.103,
+                        "melanopic": 0.126}  # measured 6.05, 5.06, 3.71, 8.81, 10.24, 12.55 %, rounded up
+
 #: The box upsampling's bands as 1 nm sample masks, in R, G, B order (:func:`box_reflectance`).
 BOX_MASKS = np.stack([WAVELENGTHS_NM >= 590.0, (WAVELENGTHS_NM >= 490.0) & (WAVELENGTHS_NM < 590.0),
                       WAVELENGTHS_NM < 490.0])
