@@ -269,7 +269,11 @@ def solve_daylit(spectrum, luminance_cd_m2, *, h=0.2, q=3, meters=None, efficacy
     materials = MATERIAL_OF if materials is None else materials
     res = transport_daylit({g: reflectance(materials[g]) for g in FACE_GROUPS}, k * spectrum, h=h, q=q,
                            meters=meters)
-    out = {"patches": res["patches"]}
+    return _summary(res, {"patches": res["patches"]}, meters, efficacy)
+
+
+def _summary(res, out, meters, efficacy):
+    """``out`` with, per meter, the direct and reflected spectral irradiance and their ``quantities``."""
     for name in (METERS if meters is None else meters):
         direct, reflected = res[name]
         out[name] = {"direct": direct, "reflected": reflected,
@@ -312,13 +316,7 @@ def solve(spectrum, luminous_intensity_cd, *, h=0.2, q=3, meters=None, efficacy=
     materials = MATERIAL_OF if materials is None else materials
     res = transport({g: reflectance(materials[g]) for g in FACE_GROUPS}, k * spectrum, h=h, q=q, meters=meters,
                     light=light)
-    out = {"patches": res["patches"], "row_sums": res["row_sums"]}
-    for name in (METERS if meters is None else meters):
-        direct, reflected = res[name]
-        out[name] = {"direct": direct, "reflected": reflected,
-                     "quantities": {part: quantities(e, efficacy) for part, e in
-                                    (("direct", direct), ("reflected", reflected), ("total", direct + reflected))}}
-    return out
+    return _summary(res, {"patches": res["patches"], "row_sums": res["row_sums"]}, meters, efficacy)
 
 
 def quantities(e, efficacy=683.0):

@@ -15,19 +15,7 @@ def build(scene, csv_dir, *, temperature_k=4000.0, power_w=ref.LIGHT_POWER_W):
     """The box, its materials (``radiometer_reflectance`` = a CSV per material written to ``csv_dir``, the
     base colour its Rec.709 RGB under D65) and the light; returns the light object."""
     builders.black_world(scene)
-    (x1, y1, z1) = ref.BOX_M
-    for name, faces in ref.FACE_GROUPS.items():
-        refl = ref.reflectance(ref.MATERIAL_OF[name])
-        path = csv_dir / f"{ref.MATERIAL_OF[name].replace(' ', '_')}.csv"
-        path.write_text("nm,reflectance\n" + "".join(f"{w:g},{v:.6g}\n" for w, v in
-                                                      zip(ref.WAVELENGTHS_NM, refl)))
-        mat = builders.diffuse_material(name, ref.rec709_of_reflectance(refl))
-        mat["radiometer_reflectance"] = str(path)
-        verts, quads = [], []
-        for face in faces:
-            quads.append(tuple(range(len(verts), len(verts) + 4)))
-            verts += [tuple(map(float, c)) for c in ref.FACES[face]]
-        builders.mesh_object(name, verts, quads, mat, scene.collection)
+    _surfaces(scene, csv_dir, ref.FACE_GROUPS, ref.FACES)
     # a white light with Temperature on: a blackbody (measure/meter/spectra.py), Cycles' colour temperature_color
     return builders.add_light(scene, "POINT", ref.LIGHT_M, name="lamp", energy=power_w, shadow_soft_size=0.0,
                               use_temperature=True, temperature=temperature_k)
@@ -44,9 +32,14 @@ def build_daylit(scene, csv_dir, *, strength=1.0, spectrum=None):
     background.inputs["Strength"].default_value = strength
     if spectrum is not None:
         world["radiometer_spectrum"] = spectrum
-    for name, faces in ref.FACE_GROUPS_DAYLIT.items():
-        if name == "window":
-            continue
+    _surfaces(scene, csv_dir, {k: v for k, v in ref.FACE_GROUPS_DAYLIT.items() if k != "window"}, ref.FACES_DAYLIT)
+    return world
+
+
+def _surfaces(scene, csv_dir, groups, faces_of):
+    """One mesh object per face group, its material's ``radiometer_reflectance`` a CSV of its ColorChecker
+    spectrum written to ``csv_dir`` and its colour that spectrum's Rec.709 RGB under D65."""
+    for name, faces in groups.items():
         refl = ref.reflectance(ref.MATERIAL_OF[name])
         path = csv_dir / f"{ref.MATERIAL_OF[name].replace(' ', '_')}.csv"
         path.write_text("nm,reflectance\n" + "".join(f"{w:g},{v:.6g}\n" for w, v in
@@ -56,9 +49,8 @@ def build_daylit(scene, csv_dir, *, strength=1.0, spectrum=None):
         verts, quads = [], []
         for face in faces:
             quads.append(tuple(range(len(verts), len(verts) + 4)))
-            verts += [tuple(map(float, c)) for c in ref.FACES_DAYLIT[face]]
+            verts += [tuple(map(float, c)) for c in faces_of[face]]
         builders.mesh_object(name, verts, quads, mat, scene.collection)
-    return world
 
 
 DAYLIT_REFERENCE_JSON = __file__.rpartition("/")[0] + "/spectral_room_daylit_reference.json"
