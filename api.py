@@ -204,18 +204,20 @@ def circadian_check(positions, view_directions=(0.0, 1.0, 0.0), *, scene=None, p
 
 
 @_v.boundary
-def meter_melanopic_reading(obj, *, scene=None):
+def meter_melanopic_reading(obj, *, scene=None, reflected=False, quality="preview"):
     """The melanopic (CIE S 026) reading of the direct light at an illuminance meter object, where it stands
-    and faces (:func:`spectral_reading`), stored on the meter (``mel_edi``, ``mel_der``, ``sp_ratio``,
-    ``spectral_status``: shown in its sidebar panel; a new Measure clears them). Returns the reading's dict."""
+    and faces (:func:`spectral_reading`; ``reflected=True``: with the reflected light and the world's, band
+    renders at ``quality``), stored on the meter (``mel_edi``, ``mel_der``, ``sp_ratio``, ``spectral_status``:
+    shown in its sidebar panel; a new Measure clears them). Returns the reading's dict."""
     import bpy
 
+    _spectral_options(scene, reflected, quality, 0)
     scene = _b.scene(scene) or bpy.context.scene
     if not _is_meter(obj) or obj.radiometer_meter.kind != "ILLUMINANCE":
         raise RadiometerError(f"{getattr(obj, 'name', obj)!r} is not an illuminance meter")
     from .measure.meter import meter_objects
 
-    r = meter_objects.direct_spectral_reading(obj, scene)
+    r = meter_objects.direct_spectral_reading(obj, scene, reflected=reflected, quality=quality)
     m = obj.radiometer_meter
     for key, value in meter_objects.spectral_values(r).items():
         m[key] = value

@@ -266,6 +266,11 @@ class RADIOMETER_OT_melanopic_reading(bpy.types.Operator):
     bl_label = "Melanopic Reading"
     bl_options = {"REGISTER", "UNDO"}
 
+    reflected: bpy.props.BoolProperty(
+        name="Include Reflected Light", default=False,
+        description="Add the light reflected by the room's surfaces and the world's light (daylight), by spectral "
+                    "band renders at preview quality, with a 95 % interval (a few seconds)")
+
     @classmethod
     def poll(cls, context):
         ob = context.active_object
@@ -277,12 +282,19 @@ class RADIOMETER_OT_melanopic_reading(bpy.types.Operator):
         from ..errors import RadiometerError
 
         try:
-            r = api.meter_melanopic_reading(context.active_object, scene=context.scene)
+            r = api.meter_melanopic_reading(context.active_object, scene=context.scene, reflected=self.reflected)
         except RadiometerError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        self.report({"INFO"}, f"mel-EDI {r['mel_edi_lx']:.4g} lx of the direct light"
-                              + ("" if r["exact"] else " (a lower bound)"))
+        if r.get("part") == "direct+reflected":
+            iv = r["interval_95"]["mel_edi_lx"]
+            self.report({"INFO"}, f"mel-EDI {r['mel_edi_lx']:.4g} lx, direct + reflected (95 % {iv['low_95']:.4g}-"
+                                  f"{iv['high_95']:.4g} lx)")
+        else:
+            why = next((n for n in r["notes"] if n.startswith("reflected part not added")), None)
+            self.report({"WARNING"} if self.reflected else {"INFO"},
+                        f"mel-EDI {r['mel_edi_lx']:.4g} lx of the direct light"
+                        + ("" if r["exact"] else " (a lower bound)") + (f"; {why}" if self.reflected and why else ""))
         return {"FINISHED"}
 
 

@@ -142,11 +142,14 @@ class RADIOMETER_PT_active_meter(SidebarPanel, bpy.types.Panel):
         if photo and m.kind != "RADIANCE_MAP":
             col.label(text=photo, icon="CAMERA_DATA")
         if m.kind == "ILLUMINANCE":
-            row = layout.row()
-            row.operator("radiometer.melanopic_reading", icon="LIGHT")
+            row = layout.row(align=True)
+            row.operator("radiometer.melanopic_reading", icon="LIGHT").reflected = False
+            row.operator("radiometer.melanopic_reading", text="With Reflections", icon="LIGHT_AREA").reflected = True
             if m.spectral_status:
                 col = layout.column(align=True)
-                col.label(text=f"mel-EDI {m.mel_edi:.4g} lx (direct light), mel-DER {m.mel_der:.3g}, S/P {m.sp_ratio:.3g}")
+                whole = m.spectral_status.startswith("direct + reflected")
+                col.label(text=f"mel-EDI {m.mel_edi:.4g} lx ({'direct + reflected' if whole else 'direct light'}), "
+                               f"mel-DER {m.mel_der:.3g}" + ("" if whole else f", S/P {m.sp_ratio:.3g}"))
                 col.label(text=m.spectral_status[:140])
         box = layout.box()
         for note in m.notes.split(" | "):

@@ -149,18 +149,26 @@ def reading_values(reading):
     return values
 
 
-def direct_spectral_reading(obj, scene):
-    """``spectra.spectral_reading`` (the direct light's) where the meter object stands and faces."""
-    from . import spectra
+def direct_spectral_reading(obj, scene, *, reflected=False, quality="preview"):
+    """``spectra.spectral_reading`` (the direct light's) where the meter object stands and faces; with
+    ``reflected`` ``spectral_reflected.spectral_reading`` (direct + reflected, band renders)."""
+    from . import spectra, spectral_reflected
 
     location, z = _pose(obj)
-    return spectra.spectral_reading(tuple(location), tuple(z / np.linalg.norm(z)), scene=scene)
+    normal = tuple(z / np.linalg.norm(z))
+    if reflected:
+        return spectral_reflected.spectral_reading(tuple(location), normal, scene=scene, quality=quality)
+    return spectra.spectral_reading(tuple(location), normal, scene=scene)
 
 
 def spectral_values(reading):
     """The values a meter object stores for a direct spectral reading (``spectra.spectral_reading``'s dict)."""
     der, sp = reading.get("mel_der"), reading.get("sp_ratio")
-    if reading["exact"]:
+    if reading.get("part") == "direct+reflected":
+        iv = reading["interval_95"]["mel_edi_lx"]
+        status = (f"direct + reflected (band renders): 95 % interval {iv['low_95']:.4g}-{iv['high_95']:.4g} lx"
+                  + (f"; lower bound: {'; '.join(reading['notes'][:1])}" if not reading["complete"] else ""))
+    elif reading["exact"]:
         status = "exact: every light's direct part in closed form with a known spectrum"
     else:
         status = "lower bound: " + "; ".join(reading["notes"] or ["some light has no closed form or spectrum"])

@@ -224,6 +224,11 @@ def test_sidebar_melanopic_reading_of_a_meter_object(clean_blender, build, tmp_p
     m = meter.radiometer_meter
     assert m.mel_edi == pytest.approx(want["mel_edi_lx"], rel=1e-6) and m.mel_der == pytest.approx(1.0, rel=1e-6)
     assert m.spectral_status.startswith("exact")
+    # with reflections: the band renders (the floor reflects nothing up to a meter on it, so the total is the
+    # direct part within its interval), the status says which reading it is
+    assert bpy.ops.radiometer.melanopic_reading(reflected=True) == {"FINISHED"}
+    assert m.spectral_status.startswith("direct + reflected (band renders): 95 % interval")
+    assert m.mel_edi == pytest.approx(want["mel_edi_lx"], rel=0.05)
     api.measure_meters([meter], quality="preview")
     assert m.spectral_status == ""                      # the new reading's spectral one is not measured yet
     spot = api.add_meter("LUMINANCE", (0.0, 0.0, 0.5), context=bpy.context)
