@@ -17,7 +17,7 @@ import bpy
 import numpy as np
 
 from ... import plots as _plots
-from ...errors import RadiometerError
+from ...errors import MeasurementCancelled, RadiometerError
 from ...readings import batch_method
 from ...radiometry.metrics import grid as grid_math
 from . import analysis_common as common
@@ -338,7 +338,7 @@ def spectral_grid(target, *, scene, resolution=None, spacing=None, reflected=Fal
         readings = []
         for k, (p, n) in enumerate(zip(points, normals)):
             if cancelled is not None and cancelled():
-                raise RadiometerError("cancelled: the melanopic grid stopped; nothing was changed")
+                raise MeasurementCancelled("cancelled: the melanopic grid stopped; nothing was changed")
             readings.append(spectra.spectral_reading(tuple(p), tuple(n), scene=scene))
             if progress is not None and (k + 1) % 16 == 0:
                 spent = time.perf_counter() - start

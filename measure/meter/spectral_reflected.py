@@ -27,7 +27,7 @@ import bpy
 import numpy as np
 
 from ...compat import active_node_tree
-from ...errors import RadiometerError
+from ...errors import MeasurementCancelled, RadiometerError
 from ...radiometry.photometry import action_spectra, spectral, spectral_bands
 from . import spectra
 
@@ -301,7 +301,7 @@ def _run_band_renders(scene, plan, read, n_points, *, progress=None, cancelled=N
                 _remember(saved, obj.data, attr)
         for k, render in enumerate(layout):
             if cancelled is not None and cancelled():
-                raise RadiometerError("cancelled: the spectral band renders stopped; every setting is as it was")
+                raise MeasurementCancelled("cancelled: the spectral band renders stopped; every setting is as it was")
             for m, (mat, sockets) in enumerate(plan["materials"].items()):
                 colour = [plan["rmax"][b, m] if end else plan["rmin"][b, m] for b, end in render]
                 colour += [0.0] * (3 - len(render))
@@ -574,9 +574,9 @@ def spectral_readings(locations, normals, *, scene=None, quality="preview", seed
     try:
         bands = reflected_readings(locations, normals, scene=scene, quality=quality, seed=seed, progress=progress,
                                    cancelled=cancelled)
+    except MeasurementCancelled:
+        raise
     except RadiometerError as exc:
-        if str(exc).startswith("cancelled"):
-            raise
         for o in outs:
             o["notes"].append(f"reflected part not added: {exc}")
         return outs
