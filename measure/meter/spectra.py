@@ -65,6 +65,12 @@ def light_spectrum(obj):
     return None, f"an RGB colour only (use the light's temperature or set {PROP_SPECTRUM})"
 
 
+def material_spectrum_setting(mat):
+    """(label, spectrum) of an emitting material's ``radiometer_spectrum``, or None where it has none."""
+    value = _setting(mat)
+    return None if value is None else _from_setting(value, f"material {mat.name!r}")
+
+
 def world_spectrum(scene):
     """(label, spectrum) of the scene's world: its ``radiometer_spectrum`` setting, else CIE D65."""
     value = _setting(scene.world)

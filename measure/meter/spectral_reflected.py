@@ -59,15 +59,31 @@ def _emission_off(node):
     return strength is not None and not strength.is_linked and float(strength.default_value) == 0.0
 
 
-def _material_sockets(mat):
-    """The colour sockets that carry ``mat``'s reflectance, or raise naming what is not supported."""
+def _material_sockets(mat, emitters=None):
+    """The colour sockets that carry ``mat``'s reflectance, or raise naming what is not supported. With a list
+    ``emitters``, the colour sockets of its emitted light (an Emission shader, a Principled BSDF's emission)
+    are appended to it instead of refused."""
     if mat is None:
         return []
     tree = mat.node_tree
     if tree is None:
         raise RadiometerError(f"material {mat.name!r} has no node tree")
     sockets = []
+    emits = False
+
+    def emitted(sock):
+        if emitters is None:
+            raise RadiometerError(f"material {mat.name!r} emits light (its band render is not built)")
+        if sock.is_linked:
+            raise RadiometerError(f"material {mat.name!r}: its emitted colour is linked (a texture or a "
+                                  "blackbody node): set a plain colour and its radiometer_spectrum")
+        emitters.append(sock)
+
     for node in tree.nodes:
+        if node.type == "EMISSION":
+            emitted(node.inputs["Color"])
+            emits = True
+            continue
         if node.type in _COLOUR_INPUT:
             sock = node.inputs[_COLOUR_INPUT[node.type]]
             if sock.is_linked:
@@ -77,7 +93,9 @@ def _material_sockets(mat):
                 if other.type != "RGBA" or other.identifier == sock.identifier or not other.enabled:
                     continue
                 if other.name == "Emission Color" and not _emission_off(node):
-                    raise RadiometerError(f"material {mat.name!r} emits light (its band render is not built)")
+                    emitted(other)
+                    emits = True
+                    continue
                 if other.name != "Emission Color" and (other.is_linked or not _grey(other)):
                     raise RadiometerError(f"material {mat.name!r}: its {node.name!r} {other.name} is not a plain "
                                           "grey (a tint acts as RGB in every band)")
@@ -89,7 +107,7 @@ def _material_sockets(mat):
         elif node.type not in _PASSIVE:
             raise RadiometerError(f"material {mat.name!r}: node {node.name!r} ({node.type}) is not a plain "
                                   "diffuse, Principled or neutral colour")
-    if not sockets and not any(node.type in _NEUTRAL for node in tree.nodes):
+    if not sockets and not emits and not any(node.type in _NEUTRAL for node in tree.nodes):
         raise RadiometerError(f"material {mat.name!r} has no Diffuse or Principled BSDF")
     return sockets
 
@@ -117,8 +135,8 @@ def material_reflectance(mat, sockets, space="Linear Rec.709"):
             raise RadiometerError(f"material {mat.name!r}: {PROP_REFLECTANCE} {path}: a reflectance must be <= 1, "
                                   f"got {np.max(refl):g}")
         return f"file {os.path.basename(path)}", spectral.resample(wl, refl)
-    if not sockets:  # neutral BSDFs only (glass): nothing varies with wavelength, nothing to sweep
-        return "neutral (grey glass, transparent or glossy)", np.ones(spectral.WAVELENGTHS_NM.shape)
+    if not sockets:  # neutral BSDFs only (glass), or an emitter: nothing varies with wavelength, nothing to sweep
+        return "neutral (grey glass, transparent or glossy, or an emitter)", np.ones(spectral.WAVELENGTHS_NM.shape)
     colours = {tuple(round(float(c), 6) for c in tuple(sock.default_value)[:3]) for sock in sockets}
     if len(colours) > 1:
         raise RadiometerError(f"material {mat.name!r} mixes BSDFs of different colours: give it its "
@@ -131,8 +149,9 @@ def material_reflectance(mat, sockets, space="Linear Rec.709"):
             "the sRGB basis's)", spectral_bands.box_reflectance(rgb))
 
 
-def _scene_materials(scene):
-    """{material or None: sockets} of every rendered mesh object."""
+def _scene_materials(scene, emitters=None):
+    """{material or None: sockets} of every rendered mesh object; ``emitters``: a dict that receives
+    {material: [its emitted-colour sockets]} of the materials that emit (else they are refused)."""
     found = {}
     for obj in scene.objects:
         if obj.type not in ("MESH", "CURVE", "SURFACE", "META", "FONT") or obj.hide_render:
@@ -140,7 +159,10 @@ def _scene_materials(scene):
         slots = [s.material for s in obj.material_slots] or [None]
         for mat in slots:
             if mat not in found:
-                found[mat] = _material_sockets(mat)
+                emitted = [] if emitters is not None else None
+                found[mat] = _material_sockets(mat, emitted)
+                if emitted:
+                    emitters[mat] = emitted
     return found
 
 
@@ -236,8 +258,6 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
     world = scene.world if model.world_emits else None
     if world is not None and model.world_volume:
         raise RadiometerError("the world has a volume (its spectral band render is not built)")
-    if model.emissive_surfaces:
-        raise RadiometerError("surfaces emit light (their spectral band render is not built)")
     lights = [obj for obj in scene.objects if obj.type == "LIGHT" and not obj.hide_render]
     space, weights, efficacy = meter.scene_photometry(scene)
     power = []
@@ -257,7 +277,21 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
         world_label, world_spd = spectra.world_spectrum(scene)
         world_power = world_spd / float(world_spd @ action_spectra.PHOTOPIC_V)
         power.append(world_power)
-    materials = _scene_materials(scene)
+    emitting = {}
+    materials = _scene_materials(scene, emitting)
+    if model.emissive_surfaces and not emitting:
+        raise RadiometerError("surfaces emit light from no material's Emission (e.g. a volume or a point cloud): "
+                              "their band render is not built")
+    surfaces = []  # (emitted-colour sockets, luminance of each, power per unit luminance, label)
+    for mat, socks in emitting.items():
+        value = spectra.material_spectrum_setting(mat)
+        if value is None:
+            raise RadiometerError(f"material {mat.name!r} emits light with no known spectrum (set its "
+                                  f"{spectra.PROP_SPECTRUM})")
+        label, spd = value
+        lum = [float(np.asarray(tuple(s.default_value)[:3], float) @ weights) for s in socks]
+        surfaces.append((socks, lum, spd / float(spd @ action_spectra.PHOTOPIC_V), f"{mat.name}: {label}"))
+        power.append(spd / float(spd @ action_spectra.PHOTOPIC_V))
     labels, refl = {}, []
     for mat, sockets in materials.items():
         label, r = material_reflectance(mat, sockets, space)
@@ -270,7 +304,7 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
     rmin, rmax, t_all = spectral_bands.band_table(refl, edges)
     varying = np.ptp(refl, axis=1) > 0
     upsampled = [name for (name, label), v in zip(labels.items(), varying) if v and "upsampled" in label]
-    return {"upsampled": upsampled, "world": world, "world_label": world_label, "world_power": world_power, "lights": lights,
+    return {"upsampled": upsampled, "surfaces": surfaces, "world": world, "world_label": world_label, "world_power": world_power, "lights": lights,
             "power": np.array(power), "materials": materials, "labels": labels, "edges": edges, "rmin": rmin,
             "rmax": rmax, "t": t_all[varying].mean(axis=0) if varying.any() else np.full(refl.shape[1], 0.5),
             "layout": spectral_bands.channel_layout(len(edges) - 1), "samples": int(n_samples),
@@ -299,6 +333,9 @@ def _run_band_renders(scene, plan, read, n_points, *, progress=None, cancelled=N
         for obj in plan["lights"]:
             for attr in ("color", "use_temperature", "energy"):
                 _remember(saved, obj.data, attr)
+        for socks, _lum, _p, _label in plan["surfaces"]:
+            for sock in socks:
+                _remember(saved, sock, "default_value")
         for k, render in enumerate(layout):
             if cancelled is not None and cancelled():
                 raise MeasurementCancelled("cancelled: the spectral band renders stopped; every setting is as it was")
@@ -317,6 +354,11 @@ def _run_band_renders(scene, plan, read, n_points, *, progress=None, cancelled=N
             if stand_in is not None:
                 band = spectral_bands.band_sums(plan["world_power"], edges)
                 set_world([band[b] for b, _end in render] + [0.0] * (3 - len(render)))
+            for socks, lum, p, _label in plan["surfaces"]:
+                band = spectral_bands.band_sums(p, edges)
+                colour = [band[b] for b, _end in render] + [0.0] * (3 - len(render))
+                for sock, y in zip(socks, lum):  # its luminance times the band power per unit luminance
+                    sock.default_value = (*(y * c for c in colour), 1.0)
             for i, (rgb, se, bound) in enumerate(read(k)):
                 for j, key in enumerate(render):
                     values[i][key], ses[i][key], bounds[i][key] = float(rgb[j]), float(se[j]), float(bound[j])
@@ -350,6 +392,8 @@ def _band_notes(plan, what="per meter"):
              "not counted: light beyond Cycles' bounce limit (as for every rendered reading)"]
             + [f"material {name!r}: reflectance {label}" for name, label in plan["labels"].items()
                if "upsampled" in label]
+            + [f"emitting surface {label}: its light (direct and reflected) is read in the band renders with that "
+               "spectrum times its luminance" for _s, _l, _p, label in plan["surfaces"]]
             + ([f"the world's light (direct and reflected) is read in the band renders with its spectrum "
                 f"({plan['world_label']}) times its luminance: a stated spectrum is trusted, the world's colour is "
                 "not checked against it"] if plan["world"] is not None else []))
@@ -426,6 +470,7 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
                                   for j, a in enumerate(action_spectra.ALPHA)},
             "bands_nm": _bands_nm(plan), "renders": len(plan["layout"]), "samples_per_render": plan["samples"],
             "materials": plan["labels"], "notes": list(notes), "world": plan["world_label"],
+            "emitting_surfaces": [label for _s, _l, _p, label in plan["surfaces"]],
         })
     return out
 
@@ -586,6 +631,9 @@ def spectral_readings(locations, normals, *, scene=None, quality="preview", seed
                 for p, n in zip(locations, normals)]
         for o in outs:
             o["not_included"] = [x for x in o["not_included"] if not x.startswith("the world")]
+    if bands[0]["emitting_surfaces"]:  # their light is in the band renders
+        for o in outs:
+            o["not_included"] = [x for x in o["not_included"] if x != "emitting surfaces"]
     return [_with_reflected(o, band) for o, band in zip(outs, bands)]
 
 

@@ -256,3 +256,45 @@ def test_melanopic_grid_direct_and_cli(clean_blender, tmp_path, capsys):
     assert saved["mel_edi_lx"] == g["mel_edi_lx"] and saved["units"]["mel_edi_lx"] == "lx"
     assert cli._blender_cli(["grid", "--reflected", "--resolution", "2", "2"]) != 0
     assert "--reflected needs --quantity melanopic" in capsys.readouterr().err
+
+
+def test_an_emitting_panel_reads_like_the_opening(clean_blender, tmp_path):
+    """The opening of the daylit room closed by a panel that emits radiance 1 W/(m² sr) (an Emission shader, its
+    radiometer_spectrum D65) under a black world: the same light as the uniform world through the opening, so
+    the same reference (the radiosity's opening is a Lambertian emitter that reflects nothing, as the panel)."""
+    scene = bpy.context.scene
+    builders.metric_cycles_scene(scene)
+    world = spectral_room.build_daylit(scene, tmp_path)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    x0, x1 = spectral_room.ref.WINDOW_X_M
+    z = spectral_room.ref.BOX_M[2]
+    panel = bpy.data.materials.new("panel")
+    tree = ensure_node_tree(panel)
+    for node in list(tree.nodes):
+        if node.type != "OUTPUT_MATERIAL":
+            tree.nodes.remove(node)
+    emission = tree.nodes.new("ShaderNodeEmission")
+    emission.inputs["Strength"].default_value = 1.0
+    tree.links.new(emission.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    builders.mesh_object("panel", [(x0, 0.0, 0.0), (x0, 0.0, z), (x1, 0.0, z), (x1, 0.0, 0.0)], [(0, 1, 2, 3)],
+                         panel, scene.collection)
+    loc, nrm = spectral_room.ref.METERS["eye"]
+    r = api.spectral_reading(loc, nrm, reflected=True, quality="preview", seed=0)
+    assert r["part"] == "direct" and any("no known spectrum" in n for n in r["notes"]), r["notes"]
+    panel["radiometer_spectrum"] = "D65"
+    # the reference per cd/m² of the world's luminance: the panel's luminance is efficacy x Y(white) x 1
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+    value, _ = spectral_room.expected_daylit(scene, world)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    before = [tuple(emission.inputs["Color"].default_value)]
+    covered = {"ev": 0, "mel": 0}
+    seeds = 6
+    for seed in range(seeds):
+        r = api.spectral_reading(loc, nrm, reflected=True, quality="preview", seed=seed)
+        row = spectral_room.reading_row(r)
+        covered["ev"] += row["ev_lo"] <= value[("total", "illuminance_lx")] <= row["ev_hi"]
+        covered["mel"] += row["mel_lo"] <= value[("total", "mel_edi_lx")] <= row["mel_hi"]
+    assert [tuple(emission.inputs["Color"].default_value)] == before  # the panel's colour put back
+    assert r["part"] == "direct+reflected" and "emitting surfaces" not in r["not_included"], r["not_included"]
+    assert r["reflected"]["emitting_surfaces"] == ["panel: CIE D65"]
+    assert covered["ev"] >= 5 and covered["mel"] >= 5, (covered, value, row)
