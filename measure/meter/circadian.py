@@ -3,8 +3,9 @@ melanopic EDI (CIE S 026, ``spectra`` / ``spectral_reflected``) and rated agains
 indicative thresholds (``radiometry.metrics.circadian``).
 
 Eyes stand ``EYE_HEIGHT_M`` (1.2 m seated, 1.7 m standing) above the given floor positions. What the
-spectral reading leaves out (the reflected light unless ``reflected``, the world's and emitting surfaces'
-light, lights without a spectrum) makes it a lower bound: it can show a threshold met, never missed.
+spectral reading leaves out (without ``reflected``: the reflected light, the world's light indoors and
+emitting surfaces'; always: lights without a spectrum) makes it a lower bound: it can show a threshold met,
+never missed. With ``reflected`` every eye is read in one batch of band renders, daylight included.
 """
 
 import numpy as np

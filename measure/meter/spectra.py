@@ -14,7 +14,7 @@ Which spectrum an emitter has, first match wins:
 The reading (:func:`spectral_reading`) covers the **direct** light of the scene's lights, from the
 meter's closed forms (``meter.predict_illuminance``): per light mel-EDI = E_v x mel-DER of its spectrum,
 and so for every alpha-opic quantity. Light reflected by surfaces is added by ``spectral_reflected``
-(band renders); the world and emitting surfaces are not in it (docs/spectral.md).
+(band renders), which also reads the world's light where it is rendered and emitting surfaces' (docs/spectral.md).
 """
 
 import bpy
