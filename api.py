@@ -183,6 +183,18 @@ def spectral_grid(target, *, resolution=None, spacing=None, scene=None, reflecte
 
 
 @_v.boundary
+def write_spectral_grid_csv(result, path):
+    """Write a :func:`spectral_grid` result as CSV (row, col, x, y, z, E_v and mel-EDI in lx, mel-DER, and the
+    95 % interval of mel-EDI where the reflected part was read), whole or not at all; returns the path."""
+    path = _v.optional_output(path, "csv")
+    if not isinstance(result, dict) or "mel_edi_lx" not in result or "points" not in result:
+        raise RadiometerError("result must be what spectral_grid returned")
+    from .measure.analyses import grid
+
+    return grid.write_spectral_csv(result, path)
+
+
+@_v.boundary
 def circadian_check(positions, view_directions=(0.0, 1.0, 0.0), *, scene=None, posture="seated", reflected=False,
                     quality="preview", seed=0):
     """Circadian lighting check (WELL v2 L03, indicative; docs/spectral.md): a vertical meter at each

@@ -28,8 +28,8 @@ def _melanopic(args, scene, plane):
     from ..errors import RadiometerError
     from ._io import deliver
 
-    if args.png or args.csv:
-        raise RadiometerError("--quantity melanopic writes its numbers with --json (no --csv or --png yet)")
+    if args.png:
+        raise RadiometerError("--quantity melanopic writes no isolux --png yet: use --csv or --json")
     g = api.spectral_grid(plane, resolution=args.resolution, spacing=args.spacing, scene=scene,
                           reflected=args.reflected, quality=args.quality, progress=getattr(args, "progress", None),
                           cancelled=getattr(args, "cancelled", None))
@@ -44,6 +44,9 @@ def _melanopic(args, scene, plane):
     if g["not_included"]:
         print("not included: " + "; ".join(g["not_included"]))
     deliver(args, g)
+    if args.csv:
+        api.write_spectral_grid_csv(g, args.csv)
+        print(f"wrote {args.csv}")
     return g
 
 

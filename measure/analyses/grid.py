@@ -371,3 +371,25 @@ def spectral_grid(target, *, scene, resolution=None, spacing=None, reflected=Fal
                                     for a in readings[0]["alpha_opic_edi_lx"]}
     out["seconds"] = time.perf_counter() - start
     return out
+
+
+def write_spectral_csv(result, path):
+    """A melanopic grid (:func:`spectral_grid`'s dict) as CSV, row by row: x, y, z (scene coordinates), E_v and
+    mel-EDI (lx), mel-DER, and the 95 % interval of mel-EDI where the reflected part was read; whole or not at all."""
+    from ...outputs import atomic_output
+
+    nx = result["nx"]
+    cols = ["row", "col", "x", "y", "z", "illuminance_lx", "mel_edi_lx", "mel_der"]
+    interval = "low_95_lx" in result
+    with atomic_output(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow(cols + (["mel_edi_low_95_lx", "mel_edi_high_95_lx"] if interval else []))
+        for k, (x, y, z) in enumerate(result["points"]):
+            j, i = divmod(k, nx)
+            der = result["mel_der"][j][i]
+            row = [j, i, f"{x:.6g}", f"{y:.6g}", f"{z:.6g}", f"{result['illuminance_lx'][j][i]:.6g}",
+                   f"{result['mel_edi_lx'][j][i]:.6g}", "" if der is None else f"{der:.6g}"]
+            if interval:
+                row += [f"{result['low_95_lx'][j][i]:.6g}", f"{result['high_95_lx'][j][i]:.6g}"]
+            w.writerow(row)
+    return path

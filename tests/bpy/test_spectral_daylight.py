@@ -254,6 +254,11 @@ def test_melanopic_grid_direct_and_cli(clean_blender, tmp_path, capsys):
     assert "melanopic grid Work Plane: 4 x 3 points (direct light only" in printed and "mel-EDI avg >= " in printed
     saved = json.loads(out.read_text())
     assert saved["mel_edi_lx"] == g["mel_edi_lx"] and saved["units"]["mel_edi_lx"] == "lx"
+    table = tmp_path / "g.csv"
+    assert cli._blender_cli(["grid", "--quantity", "melanopic", "--resolution", "4", "3", "--csv", str(table)]) == 0
+    lines = table.read_text().splitlines()
+    assert lines[0].split(",")[5:8] == ["illuminance_lx", "mel_edi_lx", "mel_der"] and len(lines) == 13
+    assert float(lines[6].split(",")[6]) == pytest.approx(np.asarray(g["mel_edi_lx"]).ravel()[5], rel=1e-5)
     assert cli._blender_cli(["grid", "--reflected", "--resolution", "2", "2"]) != 0
     assert "--reflected needs --quantity melanopic" in capsys.readouterr().err
 
