@@ -55,7 +55,7 @@ def test_sidebar_shows_ev_and_cct(clean_blender, build):
     labels = []
     layout = types.SimpleNamespace(prop=lambda *a, **k: None, label=lambda text="", **k: labels.append(text),
                                    box=lambda: layout, column=lambda **k: layout, row=lambda **k: layout,
-                                   operator=lambda *a, **k: None)
+                                   operator=lambda *a, **k: types.SimpleNamespace())  # Blender returns the operator properties
     context = types.SimpleNamespace(active_object=meter, scene=scene)
     RADIOMETER_PT_active_meter.draw(types.SimpleNamespace(layout=layout), context)
     photo = [t for t in labels if t.startswith("EV100")]
