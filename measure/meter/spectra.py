@@ -76,7 +76,7 @@ def world_spectrum(scene):
     value = _setting(scene.world)
     if value is not None:
         return _from_setting(value, f"world {scene.world.name!r}")
-    return "CIE D65 (default sky)", spectral.cie_illuminant("D65")
+    return "CIE D65 (default sky, not stated)", spectral.cie_illuminant("D65")
 
 
 def _light_row(row, spectra):

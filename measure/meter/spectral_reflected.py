@@ -65,9 +65,10 @@ def _material_sockets(mat, emitters=None):
     are appended to it instead of refused."""
     if mat is None:
         return []
-    tree = mat.node_tree
-    if tree is None:
-        raise RadiometerError(f"material {mat.name!r} has no node tree")
+    tree = active_node_tree(mat)
+    if tree is None:  # Blender 4.x with nodes off: Cycles renders its viewport colour, which no band sweeps
+        raise RadiometerError(f"material {mat.name!r} renders without nodes (its viewport colour): turn its "
+                              "nodes on")
     sockets = []
     emits = False
 
@@ -302,7 +303,7 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
     n_samples, n_bands = samples or n_samples, max_bands or n_bands
     edges = spectral_bands.plan_bands(refl, n_bands)
     rmin, rmax, t_all = spectral_bands.band_table(refl, edges)
-    varying = np.ptp(refl, axis=1) > 0
+    varying = np.ptp(refl, axis=1) > 1e-9  # a flat spectrum (a grey) sweeps nothing
     upsampled = [name for (name, label), v in zip(labels.items(), varying) if v and "upsampled" in label]
     return {"upsampled": upsampled, "surfaces": surfaces, "world": world, "world_label": world_label, "world_power": world_power, "lights": lights,
             "power": np.array(power), "materials": materials, "labels": labels, "edges": edges, "rmin": rmin,
@@ -395,8 +396,10 @@ def _band_notes(plan, what="per meter"):
             + [f"emitting surface {label}: its light (direct and reflected) is read in the band renders with that "
                "spectrum times its luminance" for _s, _l, _p, label in plan["surfaces"]]
             + ([f"the world's light (direct and reflected) is read in the band renders with its spectrum "
-                f"({plan['world_label']}) times its luminance: a stated spectrum is trusted, the world's colour is "
-                "not checked against it"] if plan["world"] is not None else []))
+                f"({plan['world_label']}) times its luminance: "
+                + ("no spectrum is stated on the World, so CIE D65 is assumed (set its radiometer_spectrum)"
+                   if "default" in plan["world_label"] else "a stated spectrum is trusted")
+                + ", and the world's colour is not checked against it"] if plan["world"] is not None else []))
 
 
 def _bands_nm(plan):

@@ -168,7 +168,10 @@ def mallett_reflectance(rgb):
     colours in that cube, and the spectrum then lies in [0, 1]). White is 1, a grey g is g at every wavelength,
     and the spectrum's Rec.709 colour under D65 is ``rgb`` again (the decomposition's round trip)."""
     c = np.clip(np.asarray(rgb, float)[..., :3], 0.0, 1.0)
-    return c @ MALLETT2019_BASIS
+    out = c @ MALLETT2019_BASIS
+    # a grey is flat to the last bit (the basis sums to 1 only to ~2e-16 after renormalising)
+    grey = (c[..., 0] == c[..., 1]) & (c[..., 1] == c[..., 2])
+    return np.where(grey[..., None], c[..., :1], out)
 
 
 #: The upsampling's relative error bound (fraction of the rendered part) for E_v and each alpha-opic quantity: the largest error of

@@ -62,7 +62,7 @@ def test_daylit_red_room_against_spectral_radiosity(daylit):
     assert _world_state(scene) == before  # the user's world as it was, and no stand-in left behind
     assert r["part"] == "direct+reflected" and not r["exact"]
     assert not any("world" in x or "reflected" in x for x in r["not_included"]), r["not_included"]
-    assert r["reflected"]["world"] == "CIE D65 (default sky)"
+    assert r["reflected"]["world"] == "CIE D65 (default sky, not stated)"
     assert "not_given" in r["rgb_only"]
     # no light, so the direct part (the lights') is empty: the world's light is all in the band renders
     assert rows[0]["ev_direct"] == 0.0
@@ -182,6 +182,8 @@ def test_outdoors_the_world_is_counted_once(clean_blender):
     assert direct["exact"] and direct["illuminance_lx"] == pytest.approx(np.pi * 0.5 * 683.0, rel=1e-6)
     r = api.spectral_reading((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), reflected=True, quality="preview", seed=0)
     iv = r["interval_95"]["illuminance_lx"]
+    # a grey ground upsampled from its colour is flat: no upsampling widening (a review found 6 % added here)
+    assert iv["upsampling_bound"] == 0.0 and not any("upsampled from their colour" in n for n in r["notes"])
     assert iv["low_95"] <= np.pi * 0.5 * 683.0 <= iv["high_95"], iv
     assert r["direct"]["illuminance_lx"] == 0.0  # the world's row moved into the band renders
     assert r["mel_edi_lx"] == pytest.approx(r["illuminance_lx"], rel=1e-9)  # D65: mel-DER 1, a grey ground
@@ -303,3 +305,16 @@ def test_an_emitting_panel_reads_like_the_opening(clean_blender, tmp_path):
     assert r["part"] == "direct+reflected" and "emitting surfaces" not in r["not_included"], r["not_included"]
     assert r["reflected"]["emitting_surfaces"] == ["panel: CIE D65"]
     assert covered["ev"] >= 5 and covered["mel"] >= 5, (covered, value, row)
+
+
+@pytest.mark.skipif(bpy.app.version >= (5, 0, 0), reason="Blender 5 always renders a material's nodes")
+def test_a_material_rendered_without_nodes_is_refused(clean_blender):
+    """Blender 4.5: a material with nodes off renders its viewport colour, which no band render sweeps: refused
+    in one line (a review found the node colour swept instead), the direct reading kept."""
+    scene = bpy.context.scene
+    builders.metric_cycles_scene(scene)
+    _grey_room(scene, "D65")
+    bpy.data.materials["grey"].use_nodes = False
+    loc, nrm = spectral_room.ref.METERS["eye"]
+    r = api.spectral_reading(loc, nrm, reflected=True, quality="preview", seed=0)
+    assert r["part"] == "direct" and any("renders without nodes" in n for n in r["notes"]), r["notes"]

@@ -145,7 +145,7 @@ def test_the_worlds_direct_light_is_read_with_its_spectrum(clean_blender, build)
     ev = scene.radiometer.efficacy * math.pi * strength
     r = api.spectral_reading((0.0, 0.0, 0.0))
     (row,) = r["lights"]
-    assert row["light"] == "world" and row["spectrum"] == "CIE D65 (default sky)" and r["exact"] and r["complete"]
+    assert row["light"] == "world" and row["spectrum"] == "CIE D65 (default sky, not stated)" and r["exact"] and r["complete"]
     assert r["illuminance_lx"] == pytest.approx(ev, rel=1e-6) and r["mel_edi_lx"] == pytest.approx(ev, rel=1e-6)
     assert not any("world" in s for s in r["not_included"])
     scene.world["radiometer_spectrum"] = "D5000"
