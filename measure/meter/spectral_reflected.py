@@ -231,6 +231,19 @@ def _world_stand_in(world, weights):
     return copy, set_nodes
 
 
+def _per_unit_luminance(spd):
+    """A source's spectrum scaled to sum p V = 1: its power per unit of Y-weighted radiance (the world, an
+    emitting surface), so a band's power is its share of that luminance."""
+    return spd / float(spd @ action_spectra.PHOTOPIC_V)
+
+
+def _channels(power, edges, render):
+    """The three channel values of one band render for a source of 1 nm ``power``: its power in each band the
+    render's channels carry (unused channels 0)."""
+    band = spectral_bands.band_sums(power, edges)
+    return [band[b] for b, _end in render] + [0.0] * (3 - len(render))
+
+
 def _restore(saved):
     for struct, attr, value in reversed(saved):
         current = getattr(struct, attr)
@@ -274,9 +287,8 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
         power.append(float(obj.data.energy) * spd * y / float(spd @ action_spectra.PHOTOPIC_V))
     world_label = world_power = None
     if world is not None:
-        # per unit of the world's Y-weighted radiance: sum p V = 1, so a band's power is its share of it
         world_label, world_spd = spectra.world_spectrum(scene)
-        world_power = world_spd / float(world_spd @ action_spectra.PHOTOPIC_V)
+        world_power = _per_unit_luminance(world_spd)
         power.append(world_power)
     emitting = {}
     materials = _scene_materials(scene, emitting)
@@ -291,8 +303,8 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
                                   f"{spectra.PROP_SPECTRUM})")
         label, spd = value
         lum = [float(np.asarray(tuple(s.default_value)[:3], float) @ weights) for s in socks]
-        surfaces.append((socks, lum, spd / float(spd @ action_spectra.PHOTOPIC_V), f"{mat.name}: {label}"))
-        power.append(spd / float(spd @ action_spectra.PHOTOPIC_V))
+        surfaces.append((socks, lum, _per_unit_luminance(spd), f"{mat.name}: {label}"))
+        power.append(surfaces[-1][2])
     labels, refl = {}, []
     for mat, sockets in materials.items():
         label, r = material_reflectance(mat, sockets, space)
@@ -305,8 +317,8 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
     rmin, rmax, t_all = spectral_bands.band_table(refl, edges)
     varying = np.ptp(refl, axis=1) > 1e-9  # a flat spectrum (a grey) sweeps nothing
     upsampled = [name for (name, label), v in zip(labels.items(), varying) if v and "upsampled" in label]
-    return {"upsampled": upsampled, "surfaces": surfaces, "world": world, "world_label": world_label, "world_power": world_power, "lights": lights,
-            "power": np.array(power), "materials": materials, "labels": labels, "edges": edges, "rmin": rmin,
+    return {"upsampled": upsampled, "surfaces": surfaces, "world": world, "world_label": world_label,
+            "world_power": world_power, "lights": lights, "power": np.array(power), "materials": materials, "labels": labels, "edges": edges, "rmin": rmin,
             "rmax": rmax, "t": t_all[varying].mean(axis=0) if varying.any() else np.full(refl.shape[1], 0.5),
             "layout": spectral_bands.channel_layout(len(edges) - 1), "samples": int(n_samples),
             "weights": weights, "efficacy": efficacy}
@@ -346,18 +358,15 @@ def _run_band_renders(scene, plan, read, n_points, *, progress=None, cancelled=N
                 for sock in sockets:
                     sock.default_value = (*colour, 1.0)
             for obj, p in zip(plan["lights"], plan["power"]):
-                band = spectral_bands.band_sums(p, edges)
-                colour = [band[b] for b, _end in render] + [0.0] * (3 - len(render))
+                colour = _channels(p, edges, render)
                 top = max(colour) or 1.0
                 obj.data.use_temperature = False
                 obj.data.color = tuple(c / top for c in colour)
                 obj.data.energy = top
             if stand_in is not None:
-                band = spectral_bands.band_sums(plan["world_power"], edges)
-                set_world([band[b] for b, _end in render] + [0.0] * (3 - len(render)))
+                set_world(_channels(plan["world_power"], edges, render))
             for socks, lum, p, _label in plan["surfaces"]:
-                band = spectral_bands.band_sums(p, edges)
-                colour = [band[b] for b, _end in render] + [0.0] * (3 - len(render))
+                colour = _channels(p, edges, render)
                 for sock, y in zip(socks, lum):  # its luminance times the band power per unit luminance
                     sock.default_value = (*(y * c for c in colour), 1.0)
             for i, (rgb, se, bound) in enumerate(read(k)):
@@ -611,11 +620,22 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quality="p
 def spectral_readings(locations, normals, *, scene=None, quality="preview", seed=0, progress=None, cancelled=None):
     """:func:`spectral_reading` at N meters, the band renders in one batch (no ``rgb_only``): a list of dicts.
     ``progress`` / ``cancelled`` as in :func:`reflected_readings`."""
+    from . import point_meter as meter
+
     scene = scene or bpy.context.scene
     locations = np.atleast_2d(np.asarray(locations, float))
     normals = np.broadcast_to(np.asarray(normals, float), locations.shape)
-    outs = [spectra.spectral_reading(tuple(p), tuple(n), scene=scene) for p, n in zip(locations, normals)]
+
+    def direct(with_world):
+        return [spectra.spectral_reading(tuple(p), tuple(n), scene=scene, with_world=with_world)
+                for p, n in zip(locations, normals)]
+
+    # the band renders read all of an emitting world's light, its direct part too: the direct part leaves it
+    # out (the world's row never decides ``complete``), and takes it back only where the band renders refuse
+    world_in_band = meter.capture_model(scene).world_emits
+    outs = direct(not world_in_band)
     if not all(o["complete"] for o in outs):
+        outs = direct(True) if world_in_band else outs
         for o in outs:
             o["notes"].append("reflected part not added: every light needs a spectrum and a closed form here")
         return outs
@@ -625,13 +645,11 @@ def spectral_readings(locations, normals, *, scene=None, quality="preview", seed
     except MeasurementCancelled:
         raise
     except RadiometerError as exc:
+        outs = direct(True) if world_in_band else outs
         for o in outs:
             o["notes"].append(f"reflected part not added: {exc}")
         return outs
-    if bands[0]["world"] is not None:
-        # the band renders read all of the world's light, its direct part too: the direct part leaves it out
-        outs = [spectra.spectral_reading(tuple(p), tuple(n), scene=scene, with_world=False)
-                for p, n in zip(locations, normals)]
+    if world_in_band:
         for o in outs:
             o["not_included"] = [x for x in o["not_included"] if not x.startswith("the world")]
     if bands[0]["emitting_surfaces"]:  # their light is in the band renders

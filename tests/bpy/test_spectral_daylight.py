@@ -18,7 +18,6 @@ bpy = pytest.importorskip("bpy")
 sys.path[:0] = [__file__.rpartition("/")[0], __file__.rpartition("/")[0].rpartition("/")[0]]
 
 from radiometer import api  # noqa: E402
-from radiometer.compat import ensure_node_tree  # noqa: E402
 from radiometer.demo import builders  # noqa: E402
 from radiometer.measure.blender import scene_guard  # noqa: E402
 from radiometer.radiometry.photometry import action_spectra, spectral  # noqa: E402
@@ -140,24 +139,25 @@ def test_a_linked_world_colour_reads_as_its_luminance(clean_blender):
     assert linked["mel_edi_lx"] == pytest.approx(typed["mel_edi_lx"], rel=1e-4)
 
 
+def _in_the_opening(scene, name, shader, inputs):
+    """A quad filling the daylit room's opening, its material one ``shader`` node with ``inputs``: the node."""
+    from radiometer.measure.blender.materials import shader_material
+
+    x0, x1 = spectral_room.ref.WINDOW_X_M
+    z = spectral_room.ref.BOX_M[2]
+    material, node = shader_material(name, shader, inputs)
+    builders.mesh_object(name, [(x0, 0.0, 0.0), (x0, 0.0, z), (x1, 0.0, z), (x1, 0.0, 0.0)], [(0, 1, 2, 3)],
+                         material, scene.collection)
+    return node
+
+
 def test_glass_in_the_opening(clean_blender):
     """Window glass (a grey Glass BSDF) is neutral: the band renders read through it. A tinted one is refused
     with its reason, and the reading keeps its direct part."""
     scene = bpy.context.scene
     builders.metric_cycles_scene(scene)
     _grey_room(scene, "D65")
-    x0, x1 = spectral_room.ref.WINDOW_X_M
-    z = spectral_room.ref.BOX_M[2]
-    glass = bpy.data.materials.new("glass")
-    tree = ensure_node_tree(glass)
-    for node in list(tree.nodes):
-        if node.type != "OUTPUT_MATERIAL":
-            tree.nodes.remove(node)
-    bsdf = tree.nodes.new("ShaderNodeBsdfGlass")
-    tree.links.new(bsdf.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
-    pane = builders.mesh_object("pane", [(x0, 0.0, 0.0), (x0, 0.0, z), (x1, 0.0, z), (x1, 0.0, 0.0)],
-                                [(0, 1, 2, 3)], glass, scene.collection)
-    pane.data.materials[0] = glass
+    bsdf = _in_the_opening(scene, "glass", "ShaderNodeBsdfGlass", {})
     loc, nrm = spectral_room.ref.METERS["eye"]
     r = api.spectral_reading(loc, nrm, reflected=True, quality="preview", seed=0)
     assert r["part"] == "direct+reflected", r["notes"]
@@ -273,18 +273,8 @@ def test_an_emitting_panel_reads_like_the_opening(clean_blender, tmp_path):
     builders.metric_cycles_scene(scene)
     world = spectral_room.build_daylit(scene, tmp_path)
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-    x0, x1 = spectral_room.ref.WINDOW_X_M
-    z = spectral_room.ref.BOX_M[2]
-    panel = bpy.data.materials.new("panel")
-    tree = ensure_node_tree(panel)
-    for node in list(tree.nodes):
-        if node.type != "OUTPUT_MATERIAL":
-            tree.nodes.remove(node)
-    emission = tree.nodes.new("ShaderNodeEmission")
-    emission.inputs["Strength"].default_value = 1.0
-    tree.links.new(emission.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
-    builders.mesh_object("panel", [(x0, 0.0, 0.0), (x0, 0.0, z), (x1, 0.0, z), (x1, 0.0, 0.0)], [(0, 1, 2, 3)],
-                         panel, scene.collection)
+    emission = _in_the_opening(scene, "panel", "ShaderNodeEmission", {"Strength": 1.0})
+    panel = bpy.data.materials["panel"]
     loc, nrm = spectral_room.ref.METERS["eye"]
     r = api.spectral_reading(loc, nrm, reflected=True, quality="preview", seed=0)
     assert r["part"] == "direct" and any("no known spectrum" in n for n in r["notes"]), r["notes"]
