@@ -23,6 +23,19 @@ def _efficacy_setting(scene):
 _efficacy.install(_efficacy_setting)
 
 
+def _request(scene=None, **fields):
+    """The one request of an api call (issue 30; ``measure.blender.request``), built here and passed down:
+    the scene (None: the context's), its view layer, unit scale and photometry, the efficacy read from the
+    add-on's setting and passed in, and the caller's budget, seed, progress, cancel and client (None keeps a
+    field's default)."""
+    import bpy
+
+    from .measure.blender import request as request_of
+
+    scene = _b.scene(scene) or bpy.context.scene  # a wrong type is one line, never a traceback
+    return request_of.build(scene, efficacy=_efficacy_setting(scene), **fields)
+
+
 @_v.boundary(finite=True)
 def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
                         target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
@@ -72,10 +85,11 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     _v.real(target_abs_error, "target_abs_error", low=0.0, allow_none=True)
     from .measure.meter import point_meter as meter
 
-    return meter.measure_illuminance(location, normal, scene=scene, method=method, quality=quality,
-                                     target_rel_error=target_rel_error, samples=samples,
-                                     time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed=seed,
-                                     pooling=bool(pooling), target_abs_error=target_abs_error, stop_dark=stop_dark)
+    request = _request(scene, quality=quality, target_rel_error=target_rel_error, samples=samples,
+                       time_budget_s=time_budget_s, progress=progress, cancelled=cancelled, seed=seed,
+                       target_abs_error=target_abs_error)
+    return meter.measure_illuminance(location, normal, request, method=method, pooling=bool(pooling),
+                                     stop_dark=stop_dark)
 
 
 @_v.boundary
@@ -86,7 +100,7 @@ def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None):
     _b.scene(scene)
     from .measure.meter import point_meter as meter
 
-    return meter.predict_illuminance(location, normal, scene=scene)
+    return meter.predict_illuminance(location, normal, _request(scene))
 
 
 def _spectral_options(scene, reflected, quality, seed):
@@ -134,9 +148,10 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quantity="
     _spectral_options(scene, reflected, quality, seed)
     from .measure.meter import spectra, spectral_reflected
 
+    request = _request(scene, quality=quality, seed=seed)
     if reflected:
-        return spectral_reflected.spectral_reading(location, normal, scene=scene, quality=quality, seed=seed)
-    return spectra.spectral_reading(location, normal, scene=scene)
+        return spectral_reflected.spectral_reading(location, normal, request=request)
+    return spectra.spectral_reading(location, normal, request=request)
 
 
 @_v.boundary
@@ -152,12 +167,10 @@ def mesopic_reading(location, direction, *, acceptance_deg=1.0, scene=None, qual
     direction = _v.directions(direction, "direction", allow_many=False)
     acceptance_deg = _v.real(acceptance_deg, "acceptance_deg", low=0.0, high=120.0, low_open=True, high_open=True)
     _spectral_options(scene, False, quality, seed)
-    import bpy
-
     from .measure.meter import spectral_reflected
 
-    return spectral_reflected.mesopic_reading(location, direction, scene=scene or bpy.context.scene,
-                                              acceptance_deg=acceptance_deg, quality=quality, seed=seed)
+    return spectral_reflected.mesopic_reading(location, direction, request=_request(scene, quality=quality, seed=seed),
+                                              acceptance_deg=acceptance_deg)
 
 
 @_v.boundary
@@ -174,12 +187,10 @@ def spectral_grid(target, *, resolution=None, spacing=None, scene=None, reflecte
     resolution = _v.resolution2(resolution, "resolution", high=1000, allow_none=True)
     spacing = _v.positive(spacing, "spacing", high=_v.MAX_COORDINATE, allow_none=True)
     _spectral_options(scene, reflected, quality, seed)
-    import bpy
-
     from .measure.analyses import grid
 
-    return grid.spectral_grid(target, scene=scene or bpy.context.scene, resolution=resolution, spacing=spacing,
-                              reflected=reflected, quality=quality, seed=seed, progress=progress, cancelled=cancelled)
+    request = _request(scene, quality=quality, seed=seed, progress=progress, cancelled=cancelled)
+    return grid.spectral_grid(target, request=request, resolution=resolution, spacing=spacing, reflected=reflected)
 
 
 @_v.boundary
@@ -211,8 +222,8 @@ def circadian_check(positions, view_directions=(0.0, 1.0, 0.0), *, scene=None, p
     _spectral_options(scene, reflected, quality, seed)
     from .measure.meter import circadian
 
-    return circadian.circadian_check(positions, view_directions, scene=scene, posture=posture, reflected=reflected,
-                                     quality=quality, seed=seed)
+    return circadian.circadian_check(positions, view_directions, request=_request(scene, quality=quality, seed=seed),
+                                     posture=posture, reflected=reflected)
 
 
 @_v.boundary
@@ -229,7 +240,7 @@ def meter_melanopic_reading(obj, *, scene=None, reflected=False, quality="previe
         raise RadiometerError(f"{getattr(obj, 'name', obj)!r} is not an illuminance meter")
     from .measure.meter import meter_objects
 
-    r = meter_objects.direct_spectral_reading(obj, scene, reflected=reflected, quality=quality)
+    r = meter_objects.direct_spectral_reading(obj, _request(scene, quality=quality), reflected=reflected)
     m = obj.radiometer_meter
     for key, value in meter_objects.spectral_values(r).items():
         m[key] = value
@@ -279,9 +290,9 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
                    cancelled=cancelled, method_="render")
     from .measure.meter import camera
 
-    return camera.measure_luminance(location, direction, acceptance_deg=acceptance_deg, scene=scene,
-                                    quality=quality, target_rel_error=target_rel_error, progress=progress,
-                                    cancelled=cancelled)
+    request = _request(scene, quality=quality, target_rel_error=target_rel_error, progress=progress,
+                       cancelled=cancelled)
+    return camera.measure_luminance(location, direction, acceptance_deg=acceptance_deg, request=request)
 
 
 @_v.boundary(finite=True)
@@ -304,7 +315,7 @@ def capture_radiance_map(location, path, *, resolution=256, scene=None, quality=
     _v.quality(quality)
     from .measure.meter import camera
 
-    return camera.capture_radiance_map(location, path, resolution=resolution, scene=scene, quality=quality)
+    return camera.capture_radiance_map(location, path, resolution=resolution, request=_request(scene, quality=quality))
 
 
 @_v.boundary
@@ -325,9 +336,9 @@ def measure_meters(objects=None, *, scene=None, quality=None, progress=None, can
     from .measure.meter import meter_objects as meters
 
     scene = scene or bpy.context.scene
-    results = meters.measure_meters(_meters(scene, objects), dict(_scene_settings(scene, quality),
-                                                                  target_abs_error=target_abs_error),
-                                    scene=scene, progress=progress, cancelled=cancelled)
+    request, method = _settings_request(scene, quality, progress=progress, cancelled=cancelled,
+                                        target_abs_error=target_abs_error)
+    results = meters.measure_meters(_meters(scene, objects), request, method=method)
     for obj, reading in results:  # only once every meter is measured: a failed run changes no reading
         _store_reading(obj, reading)
     return results
@@ -343,6 +354,14 @@ def _scene_settings(scene, quality=None):
         return {"method": "auto", "quality": quality or "standard", "target_rel_error": None}
     return {"method": s.method, "quality": quality or s.quality,
             "target_rel_error": s.target_rel_error if s.target_rel_error > 0 else None}
+
+
+def _settings_request(scene, quality=None, **fields):
+    """(the request, the method) of a measurement with the scene's Radiometer settings: its quality
+    (``quality`` overrides it) and target error; ``fields`` as :func:`_request` takes them."""
+    settings = _scene_settings(scene, quality)
+    request = _request(scene, quality=settings["quality"], target_rel_error=settings["target_rel_error"], **fields)
+    return request, settings["method"]
 
 
 def _is_meter(ob):
@@ -426,10 +445,10 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     distances = _v.distances(distances)
     from .measure.analyses import analysis
 
-    return analysis.check_inverse_square(light, scene=scene, distances=distances, method=method, quality=quality,
-                                         tolerance=tolerance, target_rel_error=target_rel_error, samples=samples,
-                                         time_budget_s=time_budget_s, seed=seed, plot=plot, progress=progress,
-                                         cancelled=cancelled)
+    request = _request(scene, quality=quality, target_rel_error=target_rel_error, samples=samples,
+                       time_budget_s=time_budget_s, seed=seed, progress=progress, cancelled=cancelled)
+    return analysis.check_inverse_square(light, request=request, distances=distances, method=method,
+                                         tolerance=tolerance, plot=plot)
 
 
 @_v.boundary
@@ -453,10 +472,10 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
     angles_deg = _v.angles(angles_deg, "angles_deg", low=0.0, high=90.0)
     from .measure.analyses import analysis
 
-    return analysis.check_cosine_law(light, scene=scene, location=location, angles_deg=angles_deg, method=method,
-                                     quality=quality, tolerance=tolerance, target_rel_error=target_rel_error,
-                                     samples=samples, time_budget_s=time_budget_s, seed=seed, plot=plot,
-                                     progress=progress, cancelled=cancelled)
+    request = _request(scene, quality=quality, target_rel_error=target_rel_error, samples=samples,
+                       time_budget_s=time_budget_s, seed=seed, progress=progress, cancelled=cancelled)
+    return analysis.check_cosine_law(light, request=request, location=location, angles_deg=angles_deg, method=method,
+                                     tolerance=tolerance, plot=plot)
 
 
 from .radiometry.metrics.grid import PLANE_METRICS  # noqa: E402  (re-exported)
@@ -493,10 +512,11 @@ def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, metho
     png, csv = _v.optional_output(png, "png"), _v.optional_output(csv, "csv")
     from .measure.analyses import analysis
 
-    return analysis.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,
-                                     quality=quality, target_rel_error=target_rel_error, samples=samples,
-                                     time_budget_s=time_budget_s, seed=seed, png=png, csv_path=csv, progress=progress,
-                                     cancelled=cancelled, target_abs_error=target_abs_error)
+    request = _request(scene, quality=quality, target_rel_error=target_rel_error, samples=samples,
+                       time_budget_s=time_budget_s, seed=seed, progress=progress, cancelled=cancelled,
+                       target_abs_error=target_abs_error)
+    return analysis.illuminance_grid(target, request=request, resolution=resolution, spacing=spacing, method=method,
+                                     png=png, csv_path=csv)
 
 
 @_v.boundary
@@ -534,11 +554,11 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     plot = _v.optional_output(plot, "plot")
     from .measure.analyses import analysis
 
-    return analysis.convergence_study(target, scene=scene, location=location, normal=normal, samples=samples,
+    request = _request(scene, quality=quality, target_rel_error=target_rel_error, time_budget_s=time_budget_s,
+                       seed=seed, cancelled=cancelled)  # quality None stays None: "not given" (see the study)
+    return analysis.convergence_study(target, request=request, location=location, normal=normal, samples=samples,
                                       target_error=target_error, replicas=replicas,
-                                      reference_samples=reference_samples, quality=quality,
-                                      target_rel_error=target_rel_error, time_budget_s=time_budget_s,
-                                      targeted=targeted, seed=seed, plot=plot, cancelled=cancelled,
+                                      reference_samples=reference_samples, targeted=targeted, plot=plot,
                                       meter_kind=target.radiometer_meter.kind if _is_meter(target) else None)
 
 
@@ -575,11 +595,12 @@ def export_report(out_dir, *, scene=None, quality=None, method=None, target_rel_
     _v.callable_or_none(phase, "phase")
     from .measure.reports import report
 
-    return report.export_report(out_dir, **_report_scene(scene), scene=scene, quality=quality, method=method,
-                                target_rel_error=target_rel_error, time_budget_s=time_budget_s,
+    request = _request(scene, quality=quality, target_rel_error=target_rel_error, time_budget_s=time_budget_s,
+                       progress=progress, cancelled=cancelled)
+    return report.export_report(out_dir, **_report_scene(scene), request=request, method=method,
                                 convergence=convergence, client=client, project=project, task=task,
                                 maintenance_factor=maintenance_factor, observers=observers, ra=ra,
-                                convergence_samples=convergence_samples, progress=progress, cancelled=cancelled,
+                                convergence_samples=convergence_samples,
                                 phase=phase, daylight=daylight, epw=epw,
                                 median_external_illuminance_lux=median_external_illuminance_lux,
                                 daylight_resolution=daylight_resolution)
@@ -605,7 +626,7 @@ def export_radiance(out_dir, *, scene=None, resolution=None, spacing=None, groun
     from .measure.reports import radiance_export
 
     meters = _meters(scene or bpy.context.scene, every=True)  # the UI's meter settings, read here
-    return radiance_export.export_radiance(out_dir, scene=scene, resolution=resolution, spacing=spacing,
+    return radiance_export.export_radiance(out_dir, request=_request(scene), resolution=resolution, spacing=spacing,
                                            ground_reflectance=ground_reflectance, meters=meters)
 
 
@@ -660,7 +681,7 @@ def import_luminaire(path, *, scene=None, location=(0.0, 0.0, 0.0), rotation_eul
         raise RadiometerError(f"name must be a non-empty object name of at most 63 characters, got {name!r:.60}")
     from .measure.capture import luminaires
 
-    return luminaires.import_luminaire(path, scene=scene, location=location, rotation_euler=rotation_euler,
+    return luminaires.import_luminaire(path, scene=_request(scene), location=location, rotation_euler=rotation_euler,
                                        name=name)
 
 
@@ -732,7 +753,7 @@ def world_illuminance(scene=None, normal=(0.0, 0.0, 1.0)):
     normal = _v.directions(normal, "normal", allow_many=False)
     from .measure.authoring import world
 
-    return world.world_illuminance(scene, normal)
+    return world.world_illuminance(_request(scene), normal)
 
 
 @_v.boundary
@@ -744,7 +765,7 @@ def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
     normal = _v.directions(normal, "normal", allow_many=False)
     from .measure.authoring import world
 
-    return world.calibrate_world(scene, illuminance_lux, normal)
+    return world.calibrate_world(_request(scene), illuminance_lux, normal)
 
 
 @_v.boundary
@@ -817,7 +838,7 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
     """
     from .measure.authoring import sun
 
-    return sun.set_sun(scene, latitude_deg, longitude_deg, when,
+    return sun.set_sun(_request(scene), latitude_deg, longitude_deg, when,
                        direct_normal_illuminance_lux=direct_normal_illuminance_lux,
                        north_offset_deg=north_offset_deg, elevation_m=elevation_m)
 
@@ -858,11 +879,9 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
     its horizon (see docs/daylight-sky.md). Returns a dict (world, sky_type, zenith_luminance,
     ground_luminance, ..., notes).
     """
-    import bpy
-
     from .measure.authoring import sky
 
-    return sky.set_cie_sky(scene or bpy.context.scene, sky_type, horizontal_illuminance_lux=horizontal_illuminance_lux,
+    return sky.set_cie_sky(_request(scene), sky_type, horizontal_illuminance_lux=horizontal_illuminance_lux,
                            sun_direction=sun_direction, ground_reflectance=ground_reflectance)
 
 
@@ -890,9 +909,10 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
     from .measure.analyses import daylight_factor as df
 
     _v.real(target_abs_error, "target_abs_error", low=0.0, allow_none=True)
-    return df.daylight_factor(locations, normals, scene=scene, quality=quality, ground_reflectance=ground_reflectance,
-                              target_rel_error=target_rel_error, method=method, seed=seed, progress=progress,
-                              cancelled=cancelled, client=client, target_abs_error=target_abs_error)
+    request = _request(scene, quality=quality, target_rel_error=target_rel_error, seed=seed, progress=progress,
+                       cancelled=cancelled, client=client)
+    return df.daylight_factor(locations, normals, request=request, ground_reflectance=ground_reflectance,
+                              method=method, target_abs_df=target_abs_error)
 
 
 @_v.boundary
@@ -914,11 +934,12 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
     from .measure.analyses import daylight_factor as df
 
     _v.real(target_abs_error, "target_abs_error", low=0.0, allow_none=True)
-    return df.daylight_factor_grid(target, resolution=resolution, spacing=spacing, scene=scene, quality=quality,
+    request = _request(scene, quality=quality, target_rel_error=target_rel_error, seed=seed, progress=progress,
+                       cancelled=cancelled, client=client)
+    return df.daylight_factor_grid(target, request=request, resolution=resolution, spacing=spacing,
                                    ground_reflectance=ground_reflectance, target_percent=target_percent,
                                    median_external_illuminance_lux=median_external_illuminance_lux,
-                                   target_rel_error=target_rel_error, method=method, seed=seed, progress=progress,
-                                   cancelled=cancelled, client=client, target_abs_error=target_abs_error)
+                                   method=method, target_abs_df=target_abs_error)
 
 
 @_v.boundary
@@ -935,7 +956,7 @@ def daylight_map(result, path, *, metric=None, scene=None, outline=True):
     path = _v.output_file(path, "png")
     from .measure.reports import daylight_maps
 
-    return daylight_maps.daylight_map(result, path, metric=metric, scene=scene, outline=bool(outline))
+    return daylight_maps.daylight_map(result, path, metric=metric, scene=_request(scene), outline=bool(outline))
 
 
 @_v.boundary
@@ -962,11 +983,12 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
         _v.fail("partial_period", "True or False", partial_period)
     from .measure.analyses import annual
 
-    return annual.annual_daylight(locations, normals, epw_path, scene=scene, m=m, quality=quality, samples=samples,
-                                  target_rel_error=target_rel_error, ground_reflectance=ground_reflectance,
-                                  north_offset_deg=north_offset_deg, occupied_from=occupied_from,
-                                  occupied_to=occupied_to, seed=seed, progress=progress, cancelled=cancelled,
-                                  client=client, method=method, partial_period=partial_period)
+    request = _request(scene, quality=quality, samples=samples, target_rel_error=target_rel_error, seed=seed,
+                       progress=progress, cancelled=cancelled, client=client)
+    return annual.annual_daylight(locations, normals, epw_path, request=request, m=m,
+                                  ground_reflectance=ground_reflectance, north_offset_deg=north_offset_deg,
+                                  occupied_from=occupied_from, occupied_to=occupied_to, method=method,
+                                  partial_period=partial_period)
 
 
 # --- scale-out on Dask (issue 20) ----------------------------------------------------------------
@@ -1031,12 +1053,13 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
     """
     from .measure.analyses import sun_study as study
 
-    return study.sun_study(locations, normals, times, latitude_deg=latitude_deg, longitude_deg=longitude_deg,
-                           elevation_m=elevation_m, direct_normal_illuminance_lux=direct_normal_illuminance_lux,
-                           sky=sky, scene=scene, quality=quality, client=client, north_offset_deg=north_offset_deg,
-                           min_elevation_deg=min_elevation_deg, method=method, seed=seed, progress=progress,
-                           cancelled=cancelled, sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux,
-                           time_budget_s=time_budget_s)
+    request = _request(scene, quality=quality, client=client, seed=seed, progress=progress, cancelled=cancelled,
+                       time_budget_s=time_budget_s)
+    return study.sun_study(locations, normals, times, request=request, latitude_deg=latitude_deg,
+                           longitude_deg=longitude_deg, elevation_m=elevation_m,
+                           direct_normal_illuminance_lux=direct_normal_illuminance_lux, sky=sky,
+                           north_offset_deg=north_offset_deg, min_elevation_deg=min_elevation_deg, method=method,
+                           sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux)
 
 
 # --- deliverables: glare (issue 23) --------------------------------------------------------------
@@ -1053,7 +1076,7 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard"):
     luminous opening and emitting meshes are rated for the part the eye sees; see ``measure.analyses.glare``."""
     from .measure.analyses import glare
 
-    return glare.glare_ugr(observer, view_direction, scene=scene, quality=quality)
+    return glare.glare_ugr(observer, view_direction, request=_request(scene, quality=quality))
 
 
 @_v.boundary
@@ -1070,7 +1093,8 @@ def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolu
     ``notes``. See ``measure.analyses.daylight_glare``."""
     from .measure.analyses import daylight_glare
 
-    return daylight_glare.glare_dgp(observer, view_direction, scene=scene, quality=quality, resolution=resolution,
+    return daylight_glare.glare_dgp(observer, view_direction, request=_request(scene, quality=quality),
+                                    resolution=resolution,
                                     threshold_cd_m2=threshold_cd_m2, threshold_factor=threshold_factor,
                                     low_light_correction=low_light_correction, hdr_path=hdr_path)
 
@@ -1097,11 +1121,12 @@ def annual_dgp(observer, view_direction, epw_path=None, *, scene=None, m=1, qual
         _v.fail("low_light_correction", "True or False", low_light_correction)
     from .measure.analyses import daylight_glare as adgp
 
-    return adgp.annual_dgp(observer, view_direction, epw_path, scene=scene, m=m, quality=quality, samples=samples,
+    request = _request(scene, quality=quality, samples=samples, seed=seed, client=client, progress=progress,
+                       cancelled=cancelled)
+    return adgp.annual_dgp(observer, view_direction, epw_path, request=request, m=m,
                            ground_reflectance=ground_reflectance, north_offset_deg=north_offset_deg,
-                           occupied_from=occupied_from, occupied_to=occupied_to, seed=seed,
-                           low_light_correction=low_light_correction, client=client, partial_period=partial_period,
-                           progress=progress, cancelled=cancelled)
+                           occupied_from=occupied_from, occupied_to=occupied_to,
+                           low_light_correction=low_light_correction, partial_period=partial_period)
 
 
 #: The glare indices, by the name the CLI's ``glare --index`` takes: one function per index, each
@@ -1167,7 +1192,7 @@ def view_out(eyes, *, scene=None):
     nothing outside but flat ground. Returns a ``ViewOutResult`` (docs/deliverables.md)."""
     from .measure.analyses import daylight_glare
 
-    return daylight_glare.view_out(eyes, scene=scene)
+    return daylight_glare.view_out(eyes, request=_request(scene))
 
 
 @_v.boundary
@@ -1196,8 +1221,9 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
     _v.time_budget(time_budget_s)
     from .measure.analyses import luminance_image as images
 
-    return images.luminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
-                                  scale=scale, range=range, max_spp=max_spp, time_budget_s=time_budget_s)
+    request = _request(scene, quality=quality, time_budget_s=time_budget_s)
+    return images.luminance_image(path, request=request, camera=camera, resolution=resolution, scale=scale,
+                                  range=range, max_spp=max_spp)
 
 
 @_v.boundary
@@ -1298,8 +1324,9 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
     _v.time_budget(time_budget_s)
     from .measure.analyses import luminance_image as images
 
-    return images.illuminance_image(path, scene=scene, camera=camera, resolution=resolution, quality=quality,
-                                    scale=scale, range=range, max_spp=max_spp, time_budget_s=time_budget_s)
+    request = _request(scene, quality=quality, time_budget_s=time_budget_s)
+    return images.illuminance_image(path, request=request, camera=camera, resolution=resolution, scale=scale,
+                                    range=range, max_spp=max_spp)
 
 
 # --- for the operators, panels and the CLI (issue 30): nothing above the api imports measure/ -----
@@ -1362,8 +1389,8 @@ def meter_steps(objects, *, scene=None, quality=None, batch=None, time_budget_s=
     from .measure.meter import meter_objects as meters
 
     scene = scene or bpy.context.scene
-    return meters.measurement_steps(scene, _meters(scene, objects), _scene_settings(scene, quality), batch=batch,
-                                    time_budget_s=time_budget_s)
+    request, method = _settings_request(scene, quality, time_budget_s=time_budget_s)
+    return meters.measurement_steps(request, _meters(scene, objects), method=method, batch=batch)
 
 
 @_v.boundary
@@ -1387,7 +1414,7 @@ def photometric_power(light, unit, *, scene=None):
     luminous efficacy."""
     from .measure.authoring import light_power
 
-    return light_power.photometric_power(light, unit, scene)
+    return light_power.photometric_power(light, unit, _request(scene))
 
 
 @_v.boundary
@@ -1396,7 +1423,7 @@ def set_photometric_power(light, unit, value, *, scene=None):
     strength in W/m²)."""
     from .measure.authoring import light_power
 
-    return light_power.set_photometric_power(light, unit, value, scene)
+    return light_power.set_photometric_power(light, unit, value, _request(scene))
 
 
 @_v.boundary
@@ -1456,13 +1483,12 @@ def work_planes(scene=None):
 def grid_points(target, *, scene=None, resolution=None, spacing=None):
     """The cell centres (N, 3) and normals (N, 3) of the grid :func:`illuminance_grid` lays out on
     ``target`` (EN 12464-1 spacing by default, at most 250 000 points)."""
-    import bpy
     import numpy as np
 
     _b.scene(scene)
     from .measure.analyses import grid
 
-    layout = grid.grid_layout(scene or bpy.context.scene, target, resolution=resolution, spacing=spacing)
+    layout = grid.grid_layout(_request(scene), target, resolution=resolution, spacing=spacing)
     points = layout.points.reshape(-1, 3)
     return points, np.broadcast_to(layout.normal, points.shape)
 
@@ -1511,10 +1537,12 @@ def iter_report(out_dir, **kwargs):
     ``next()`` yields the plan [(label, weight)], each further one measures a part, the last ends with
     the report dict (``StopIteration.value``). Keywords as ``measure.reports.report.iter_report``."""
     out_dir = _v.path(out_dir, "out_dir")
-    _b.scene(kwargs.get("scene"))
+    scene = _b.scene(kwargs.pop("scene", None))
     from .measure.reports import report
 
-    return report.iter_report(out_dir, **_report_scene(kwargs.get("scene")), **kwargs)
+    request = _request(scene, **{k: kwargs.pop(k, None) for k in ("quality", "target_rel_error", "time_budget_s",
+                                                                   "progress", "cancelled")})
+    return report.iter_report(out_dir, **_report_scene(scene), request=request, **kwargs)
 
 
 def _report_scene(scene):

@@ -62,7 +62,9 @@ def main(write=True, per_patch_sample=PER_PATCH_SAMPLE):
     room.room.build_blender(scene, room.quads())
     normals = np.tile([0.0, 0.0, 1.0], (len(room.POINTS), 1))
     t0 = time.perf_counter()
-    r = annual.annual_daylight(room.POINTS, normals, epw_path, scene=scene, quality="preview")
+    from radiometer.measure.blender import request as request_of
+
+    r = annual.annual_daylight(room.POINTS, normals, epw_path, request=request_of.build(scene, quality="preview"))
     t_all = time.perf_counter() - t0
     t0 = time.perf_counter()
     annual.patch_coefficients(scene, locations=room.POINTS, normals=normals, patch_indices=per_patch_sample,

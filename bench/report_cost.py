@@ -100,12 +100,15 @@ def main():
         # What the report's law checks cost before issue 23 item 4, in the same process: every light,
         # the full sweep (24 distances, 13 tilts) at the report's quality target, both plots.
         from radiometer.measure.analyses import analysis
+        from radiometer.measure.blender import request as request_of
 
         started = time.perf_counter()
         cpu = time.process_time()
         for light in analysis.scene_lights_to_check(scene):
-            analysis.check_inverse_square(light, scene=scene, quality=args.quality, plot=os.path.join(tmp, "i.png"))
-            analysis.check_cosine_law(light, scene=scene, quality=args.quality, plot=os.path.join(tmp, "c.png"))
+            analysis.check_inverse_square(light, request=request_of.build(scene, quality=args.quality),
+                                          plot=os.path.join(tmp, "i.png"))
+            analysis.check_cosine_law(light, request=request_of.build(scene, quality=args.quality),
+                                      plot=os.path.join(tmp, "c.png"))
         before = time.perf_counter() - started
         before_cpu = time.process_time() - cpu
     laws = sum(s for label, s in phases if label.startswith("laws"))

@@ -95,7 +95,10 @@ def bench_capture(quick=False):
     try:
         capture_cache.clear()
         t0 = time.perf_counter()
-        law_checks.check_inverse_square(lamp, scene=scene, quality="preview", distances=[0.5, 1.0, 1.5, 2.0])
+        from radiometer.measure.blender import request as request_of
+
+        law_checks.check_inverse_square(lamp, request=request_of.build(scene, quality="preview"),
+                                        distances=[0.5, 1.0, 1.5, 2.0])
         t_check = time.perf_counter() - t0
     finally:
         scene_capture.capture = real

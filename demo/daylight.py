@@ -224,10 +224,12 @@ def run(out_dir="out", *, quality="preview", when=WHEN, glass=True, stream=sys.s
       + (", 6 mm clear glass pane (Glass BSDF, IOR 1.5)" if glass else
          ", its 6 mm glass pane hidden in renders (an open window)"))
     names = list(METERS)
+    from radiometer.measure.blender import request as request_of
+
     study = sun_study.sun_study([METERS[n][0] for n in names], [METERS[n][1] for n in names], [t],
                                 latitude_deg=SITE["latitude_deg"], longitude_deg=SITE["longitude_deg"],
-                                direct_normal_illuminance_lux=sun["direct_normal_illuminance_lux"], scene=scene,
-                                quality=quality)
+                                direct_normal_illuminance_lux=sun["direct_normal_illuminance_lux"],
+                                request=request_of.build(scene, quality=quality))
     import numpy as np
 
     direction = np.asarray(sun["direction"])

@@ -9,6 +9,13 @@ import numpy as np
 import pytest
 
 from radiometer.measure.analyses import glare
+from radiometer.measure.blender.request import Request
+
+
+def _request(quality):
+    """A request as the api hands it down (no scene: the stub meter reads none)."""
+    return Request(scene=None, view_layer=None, scale_length=1.0, colour_space="Linear Rec.709",
+                   luminance_weights=(0.2126, 0.7152, 0.0722), efficacy=683.0, quality=quality)
 
 
 class StubMeter:
@@ -19,10 +26,11 @@ class StubMeter:
     def __init__(self, table):
         self.table, self.calls = table, []
 
-    def measure_illuminance(self, *_a, seed=0, target_rel_error=None, direct_only=False, parts=None, **_k):
+    def measure_illuminance(self, _location, _normal, request, *, direct_only=False, parts=None, **_k):
+        seed, target_rel_error = request.seed, request.target_rel_error
         if parts is not None:
             targets = target_rel_error if isinstance(target_rel_error, dict) else {}
-            return {part: self.measure_illuminance(seed=seed, target_rel_error=targets.get(part),
+            return {part: self.measure_illuminance(None, None, request.but(target_rel_error=targets.get(part)),
                                                    direct_only=part == "direct") for part in parts}
         self.calls.append((direct_only, seed, target_rel_error))
         e, rel, exact, notes = self.table[(direct_only, seed)]
@@ -35,7 +43,7 @@ DARK = ("1 meter(s) found no rendered light in 65,536+ samples although lit surf
 
 def test_unknown_direct_error_is_carried_with_its_cause():
     meter = StubMeter({(False, 0): (500.0, 0.01, False, []), (True, 0): (300.0, math.inf, False, [DARK])})
-    b = glare._background((0, 0, 1.2), (0, 1, 0), None, "standard", meter)
+    b = glare._background((0, 0, 1.2), (0, 1, 0), _request("standard"), meter)
     assert math.isnan(b["rel"]) and "direct-only reading" in b["unknown"] and "no rendered light" in b["unknown"]
     assert len(meter.calls) == 2  # no second round: an unknown error is not a target to chase
 
@@ -46,7 +54,7 @@ def test_background_gets_its_own_target_from_both_readings():
     are the second, independent ones (seed 1)."""
     meter = StubMeter({(False, 0): (1000.0, 0.01, False, []), (True, 0): (820.0, 0.01, False, []),
                        (False, 1): (1001.0, 0.00109, False, []), (True, 1): (821.0, 0.00109, False, [])})
-    b = glare._background((0, 0, 1.2), (0, 1, 0), None, "standard", meter)
+    b = glare._background((0, 0, 1.2), (0, 1, 0), _request("standard"), meter)
     share = 0.01 * 180.0 / math.hypot(10.0, 8.2)
     assert meter.calls[2] == (False, 1, pytest.approx(share * 10.0 / 1000.0))
     assert meter.calls[3] == (True, 1, pytest.approx(share * 8.2 / 820.0))
@@ -58,13 +66,13 @@ def test_background_gets_its_own_target_from_both_readings():
 def test_exact_direct_part_leaves_the_whole_budget_to_the_render():
     meter = StubMeter({(False, 0): (1000.0, 0.01, False, []), (True, 0): (820.0, 0.0, True, []),
                        (False, 1): (1000.0, 0.0018, False, []), (True, 1): (820.0, 0.0, True, [])})
-    glare._background((0, 0, 1.2), (0, 1, 0), None, "standard", meter)
+    glare._background((0, 0, 1.2), (0, 1, 0), _request("standard"), meter)
     assert meter.calls[2][2] == pytest.approx(0.01 * 180.0 / 1000.0) and meter.calls[3][2] is None
 
 
 def test_rendered_background_never_states_zero():
     meter = StubMeter({(False, 0): (500.0, 0.0, False, []), (True, 0): (300.0, 0.0, True, [])})
-    b = glare._background((0, 0, 1.2), (0, 1, 0), None, "preview", meter)
+    b = glare._background((0, 0, 1.2), (0, 1, 0), _request("preview"), meter)
     assert math.isnan(b["rel"]) and "standard error of 0" in b["unknown"]
 
 
@@ -87,7 +95,7 @@ def test_result_words_never_print_inf_or_nan():
 def test_dark_reading_with_unknown_error_stays_unknown():
     """An eye outside a dark room: both readings 0 lx, the total one with an unknown error: unknown, said so."""
     meter = StubMeter({(False, 0): (0.0, math.inf, False, [DARK]), (True, 0): (0.0, 0.0, True, [])})
-    b = glare._background((0, 0, 1.2), (0, 1, 0), None, "preview", meter)
+    b = glare._background((0, 0, 1.2), (0, 1, 0), _request("preview"), meter)
     assert math.isnan(b["rel"]) and "vertical illuminance reading" in b["unknown"]
 
 

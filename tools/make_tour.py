@@ -168,9 +168,11 @@ def main(argv):
 
     with tempfile.TemporaryDirectory() as tmp:
         from radiometer.measure.analyses import luminance_image
+        from radiometer.measure.blender import request as request_of
 
-        img = luminance_image.luminance_image(os.path.join(tmp, "luminance.exr"), scene=scene,
-                                              resolution=(240, 135), quality="preview", max_spp=64)
+        img = luminance_image.luminance_image(os.path.join(tmp, "luminance.exr"),
+                                              request=request_of.build(scene, quality="preview"),
+                                              resolution=(240, 135), max_spp=64)
         paths.append(shutil.copy(img.paths["png"], os.path.join(out, "luminance.png")))
     print(f"luminance image: {img.samples} samples per pixel, {100 * img.share_on_target:.0f} % of the pixels on "
           f"the {100 * img.target_rel_error:g} % target")

@@ -1,5 +1,5 @@
 """Shared parts of the analyses (law checks, grids, convergence): JSON-safe results, the scene and
-view layer to measure, the measurement budget handed to the meter, and plot availability.
+view layer to measure, one measurement through the meter, and plot availability.
 
 Host side (bpy). Units as in ``radiometer.api``: scene coordinates in, SI out.
 """
@@ -12,6 +12,7 @@ import numpy as np
 
 from ... import plots as _plots
 from ...outputs import json_safe
+from ..blender import request as request_of
 from ..meter import point_meter as meter
 
 
@@ -43,32 +44,16 @@ def scene_or_context(scene):
 
 
 def view_layer_of(scene):
-    """The view layer that renders ``scene`` (the context's when it is the context scene)."""
-    return bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
+    """The view layer that renders ``scene`` (``measure.blender.request.view_layer_of``: one rule)."""
+    return request_of.view_layer_of(scene)
 
 
-def luminance_weights(scene):
-    """(CIE Y weights (3,) of the scene's working space, luminous efficacy lm/W)."""
-    _space, weights, efficacy = meter.scene_photometry(scene)
-    return weights, efficacy
-
-
-def budget(quality="standard", target_rel_error=None, samples=None, time_budget_s=None, target_abs_error=None):
-    """The meter's accuracy settings as keywords (see ``meter.measure_illuminance``): ``quality`` a
-    preset name (target 1-sigma relative error 5 %, 1 %, 0.2 %), ``target_rel_error`` a fraction,
-    ``samples`` a fixed count per meter, ``time_budget_s`` seconds per measurement,
-    ``target_abs_error`` the absolute error floor in lux (None: the preset's)."""
-    return {"quality": quality or "standard", "target_rel_error": target_rel_error, "samples": samples,
-            "time_budget_s": time_budget_s, "target_abs_error": target_abs_error}
-
-
-def measure(scene, points_scene, normals, *, method, budget, seed=0, progress=None, cancelled=None,
-            direct_only=False, model=None):
-    """One batch of illuminance readings (always a list), one scene sync, samples per meter.
+def measure(request, points_scene, normals, *, method, direct_only=False, model=None):
+    """One batch of illuminance readings (always a list), one scene sync, samples per meter; the request
+    (``measure.blender.request``) carries the scene, budget, seed, progress and cancel.
     ``model``: the scene's ``SceneModel`` as it is now, when the analysis has it (else captured)."""
-    readings = meter.measure_illuminance(points_scene, normals, scene=scene, method=method, seed=seed,
-                                         progress=progress, cancelled=cancelled, direct_only=direct_only,
-                                         model=model, **budget)
+    readings = meter.measure_illuminance(points_scene, normals, request, method=method, direct_only=direct_only,
+                                         model=model)
     return readings if isinstance(readings, list) else [readings]
 
 

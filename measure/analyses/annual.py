@@ -101,25 +101,28 @@ def _select_patch(values, patches, p, radiance):
 
 
 def patch_coefficients(scene, *, locations, normals, patch_indices, m=1, quality="preview", samples=None,
-                       target_rel_error=None, seed=0, cancelled=None):
+                       target_rel_error=None, seed=0, cancelled=None, efficacy=None):
     """One task: daylight coefficients (len(patch_indices), N) lux per cd/m^2 and their standard
-    errors, for these patches; every light hidden, the world a one-patch world (scene restored)."""
+    errors, for these patches; every light hidden, the world a one-patch world (scene restored).
+    A task carries plain values (it may run on a cluster's copy of the scene): its request is built
+    here, with the caller's ``efficacy`` (lm/W; None: the scene's as the api reads it)."""
     import bpy
 
     from ...radiometry.skies import sky_patches
     from ..meter import point_meter as meter
-    from ..blender import scene_guard
+    from ..blender import request as request_of, scene_guard
     from .light_isolation import rendering_light_objects
 
+    request = request_of.build(scene, efficacy=efficacy, quality=quality, samples=samples,
+                               target_rel_error=target_rel_error, cancelled=cancelled)
     patches = sky_patches.reinhart_patches(m)
     points, _single = meter.as_points(locations, "locations")
     dirs = meter.as_directions(normals, len(points), "normals")
-    _space, _w, efficacy = meter.scene_photometry(scene)
-    radiance = PATCH_LUMINANCE / efficacy * scene.unit_settings.scale_length ** 2
+    radiance = PATCH_LUMINANCE / request.efficacy * request.unit_area
     dc = np.zeros((len(patch_indices), len(points)))
     se = np.zeros_like(dc)
     with scene_guard.preserved_scene(scene) as snapshot:
-        model = meter.capture_model(scene)
+        model = meter.capture_model(scene, request.view_layer)
         for ob in rendering_light_objects(scene, model):
             snapshot.remember(ob, "hide_render")
             ob.hide_render = True
@@ -132,36 +135,40 @@ def patch_coefficients(scene, *, locations, normals, patch_indices, m=1, quality
 
                 raise MeasurementCancelled("annual daylight cancelled")
             _select_patch(values, patches, int(p), radiance)
-            rs = meter.measure_illuminance(points, dirs, scene=scene, method="render", quality=quality,
-                                           samples=samples, target_rel_error=target_rel_error, seed=seed + k)
+            rs = meter.measure_illuminance(points, dirs, request.but(seed=seed + k, cancelled=None), method="render")
             rs = rs if isinstance(rs, list) else [rs]
             dc[k] = [r.illuminance / PATCH_LUMINANCE for r in rs]
             se[k] = [np.nan_to_num(r.rel_std_error) * r.illuminance / PATCH_LUMINANCE for r in rs]
     return dc, se
 
 
-def coefficient_tasks(locations, normals, *, m=1, quality="preview", samples=None, target_rel_error=None, seed=0):
+def coefficient_tasks(locations, normals, *, m=1, quality="preview", samples=None, target_rel_error=None, seed=0,
+                      efficacy=None):
     """The :func:`patch_coefficients` kwargs of every chunk of 16 patches (chunk from patch s seeded
     ``seed + 7919 s``): the same list in this process and on a cluster."""
     from ...radiometry.skies import sky_patches
 
     count, chunk = sky_patches.reinhart_patches(m).count, 16
     return [dict(locations=locations, normals=normals, patch_indices=list(range(start, min(count, start + chunk))),
-                 m=m, quality=quality, samples=samples, target_rel_error=target_rel_error, seed=seed + 7919 * start)
+                 m=m, quality=quality, samples=samples, target_rel_error=target_rel_error, seed=seed + 7919 * start,
+                 efficacy=efficacy)
             for start in range(0, count, chunk)]
 
 
 def dome_task(scene, *, locations, normals, m=1, quality="preview", samples=None, seed=0, cancelled=None,
-              progress=None):
+              progress=None, efficacy=None):
     """One task of the dome method: (DC (P, n), standard error (P, n), covariance (n, P, P)) of these
-    points (``measure.analyses.daylight_coefficients.render_coefficients``); the scene is restored."""
+    points (``measure.analyses.daylight_coefficients.render_coefficients``); the scene is restored.
+    Plain values, its request built here (as :func:`patch_coefficients`)."""
     from . import daylight_coefficients as dcm
     from ..meter import point_meter as meter
+    from ..blender import request as request_of
 
     points, _single = meter.as_points(locations, "locations")
     dirs = meter.as_directions(normals, len(points), "normals")
-    c = dcm.render_coefficients(points, dirs, scene=scene, m=m, quality=quality, samples=samples, seed=seed,
-                                cancelled=cancelled, progress=progress)
+    request = request_of.build(scene, efficacy=efficacy, quality=quality, samples=samples, seed=seed,
+                               cancelled=cancelled, progress=progress)
+    c = dcm.render_coefficients(points, dirs, request=request, m=m)
     return c.dc, c.std_error, c.covariance, c.notes
 
 
@@ -169,18 +176,17 @@ def dome_task(scene, *, locations, normals, m=1, quality="preview", samples=None
 DOME_CHUNK_POINTS = 256
 
 
-def dome_tasks(locations, normals, *, m=1, quality="preview", samples=None, seed=0):
+def dome_tasks(locations, normals, *, m=1, quality="preview", samples=None, seed=0, efficacy=None):
     """The :func:`dome_task` kwargs of every chunk of ``DOME_CHUNK_POINTS`` points (chunk c seeded
     ``seed + 7919 c``)."""
     pts = np.asarray(locations, float).reshape(-1, 3)
     nrm = np.broadcast_to(np.asarray(normals, float).reshape(-1, 3), pts.shape)
     return [dict(locations=pts[s:s + DOME_CHUNK_POINTS], normals=nrm[s:s + DOME_CHUNK_POINTS], m=m, quality=quality,
-                 samples=samples, seed=seed + 7919 * (s // DOME_CHUNK_POINTS))
+                 samples=samples, seed=seed + 7919 * (s // DOME_CHUNK_POINTS), efficacy=efficacy)
             for s in range(0, len(pts), DOME_CHUNK_POINTS)]
 
 
-def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, scene=None, m=1, quality="preview", samples=None,
-                          target_rel_error=None, seed=0, progress=None, cancelled=None, client=None, method="dome"):
+def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, request, m=1, method="dome"):
     """(DC (P, N) lux per cd/m^2, standard error (P, N), covariance (N, P, P), notes) for every patch
     of Reinhart MF:m.
 
@@ -188,13 +194,15 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, scene=None, m=1
     (:func:`dome_task`). ``method="per_patch"``: one measurement per patch, chunks of 16 patches
     seeded ``seed + 7919 s`` (:func:`patch_coefficients`; the covariance is then diagonal: patches
     rendered independently). Either way the same tasks run here or, with a Dask ``client``, on its
-    workers (``radiometer.cluster.run_scene_tasks``), so the numbers are the same.
+    workers (``radiometer.cluster.run_scene_tasks``), so the numbers are the same. The request gives the
+    scene, ``quality`` (None: "preview"), ``samples``, ``target_rel_error``, the seed, progress, cancel and
+    ``client``; the tasks carry its efficacy.
     """
-    import bpy
-
     from ...radiometry.skies import sky_patches
 
-    scene = scene or bpy.context.scene
+    scene, quality, samples, seed = request.scene, request.quality or "preview", request.samples, request.seed
+    target_rel_error, progress, cancelled, client = (request.target_rel_error, request.progress, request.cancelled,
+                                                     request.client)
     count = sky_patches.reinhart_patches(m).count
     if method == "dome":
         from . import daylight_coefficients as dcm
@@ -203,10 +211,12 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, scene=None, m=1
         if target_rel_error is not None:
             raise RadiometerError("target_rel_error goes with method='per_patch'; the dome method takes quality "
                                   "or samples (its errors are stated per coefficient and per hour)")
-        func, tasks = dome_task, dome_tasks(locations, normals, m=m, quality=quality, samples=samples, seed=seed)
+        func, tasks = dome_task, dome_tasks(locations, normals, m=m, quality=quality, samples=samples, seed=seed,
+                                            efficacy=request.efficacy)
     elif method == "per_patch":
         func, tasks = patch_coefficients, coefficient_tasks(locations, normals, m=m, quality=quality, samples=samples,
-                                                            target_rel_error=target_rel_error, seed=seed)
+                                                            target_rel_error=target_rel_error, seed=seed,
+                                                            efficacy=request.efficacy)
     else:
         raise RadiometerError(f"unknown daylight-coefficient method {method!r}: 'dome' or 'per_patch'")
     if client is not None:
@@ -392,23 +402,18 @@ def hourly_std_error(sky, covariance):
     return out
 
 
-def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=None, m=1, quality="preview",
-                    samples=None, target_rel_error=None, ground_reflectance=0.2, north_offset_deg=0.0,
-                    occupied_from=8.0, occupied_to=18.0, seed=0, progress=None, cancelled=None, client=None,
-                    method="dome", partial_period=False):
+def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, request, m=1, ground_reflectance=0.2,
+                    north_offset_deg=0.0, occupied_from=8.0, occupied_to=18.0, method="dome", partial_period=False):
     """Annual daylight metrics at points from an EPW file (module docstring). Returns ``AnnualResult``.
-    ``client``: a Dask client for the daylight coefficients (:func:`daylight_coefficients`);
+    The request as in :func:`daylight_coefficients` (its ``client``: a Dask client for the coefficients);
     ``method``: "dome" (one render for all patches) or "per_patch"; ``partial_period``: True to accept
     a file that is not a whole year (the notes say the period), else such a file is refused."""
     import time
-
-    import bpy
 
     from ...radiometry.metrics import daylight_metrics
     from ...radiometry.sun import epw
     from ...radiometry.skies import sky_patches
     from ..meter import point_meter as meter
-    from .analysis_common import view_layer_of
 
     if epw_path is None:
         raise RadiometerError("annual daylight needs an EPW weather file (epw_path)")
@@ -425,14 +430,11 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
         rho = float("nan")
     if not (math.isfinite(rho) and 0.0 <= rho <= 1.0):
         raise RadiometerError(f"ground_reflectance must be within 0..1, got {ground_reflectance!r}")
-    scene = scene or bpy.context.scene
     points, _single = meter.as_points(locations, "locations")
     dirs = meter.as_directions(normals, len(points), "normals")
     patches = sky_patches.reinhart_patches(m)
     start = time.perf_counter()
-    dc, dc_se, cov, dc_notes = daylight_coefficients(points, dirs, scene=scene, m=m, quality=quality, samples=samples,
-                                                      target_rel_error=target_rel_error, seed=seed, progress=progress,
-                                                      cancelled=cancelled, client=client, method=method)
+    dc, dc_se, cov, dc_notes = daylight_coefficients(points, dirs, request=request, m=m, method=method)
     seconds_dc = time.perf_counter() - start
     sky = sky_matrix(weather, patches, ground_reflectance=rho, north_offset_deg=north_offset_deg)
     occupied_all = daylight_metrics.occupied_hours(sky.hours, occupied_from, occupied_to)
@@ -440,9 +442,8 @@ def annual_daylight(locations, normals=(0.0, 0.0, 1.0), epw_path=None, *, scene=
     e = sky.sky @ dc
     se = np.zeros_like(e)
     se[occupied] = hourly_std_error(sky.sky[occupied], cov)
-    model = meter.capture_model(scene, view_layer_of(scene))
-    weights = meter.scene_photometry(scene)[1]
-    scale = scene.unit_settings.scale_length
+    model = meter.capture_model(request.scene, request.view_layer)
+    weights, scale = request.weights, request.scale_length
     e_sun = direct_sun(model, points * scale, dirs, sky.sun_direction, sky.direct_normal_lux, weights)
     try:
         sda, frac = daylight_metrics.sda(e, occupied)

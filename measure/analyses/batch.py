@@ -54,8 +54,10 @@ def measure_file(scene, *, file="", meters=None, quality="standard", method=None
 
     ``meters``: None (every light-meter object in the scene, with the scene's method), a list of
     meter object names, or illuminance meters as locations (scene coordinates) with optional
-    normals (default +Z). ``seed``: first Cycles seed of located meters (deterministic readings).
+    normals (default +Z). ``seed``: first Cycles seed of located meters (deterministic readings). The
+    request is built here, on the opened file's scene (its own efficacy setting, as the api reads it).
     """
+    from ..blender import request as request_of
     from ..meter import meter_objects, point_meter as meter
 
     if meters is None or (meters and all(isinstance(m, str) for m in meters)):
@@ -69,12 +71,12 @@ def measure_file(scene, *, file="", meters=None, quality="standard", method=None
             raise RadiometerError("measure_file: meter objects need read_meters (radiometer.api.scene_meters), "
                                   "which reads their settings")
         found, settings = read_meters(scene, objects)
-        settings = dict(settings, quality=quality, **({"method": method} if method else {}))
-        pairs = meter_objects.measure_meters(found, settings, scene=scene)
+        request = request_of.build(scene, quality=quality, target_rel_error=settings["target_rel_error"])
+        pairs = meter_objects.measure_meters(found, request, method=method or settings["method"])
         return FileReadings(file, scene.name, [ob.name for ob, _ in pairs], [r for _, r in pairs])
     points, normals = _as_points(meters)
-    readings = meter.measure_illuminance(points, normals, scene=scene, method=method or "auto", quality=quality,
-                                         seed=seed)
+    readings = meter.measure_illuminance(points, normals, request_of.build(scene, quality=quality, seed=seed),
+                                         method=method or "auto")
     return FileReadings(file, scene.name, [f"point {k + 1}" for k in range(len(points))], list(readings))
 
 

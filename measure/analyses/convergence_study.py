@@ -70,10 +70,9 @@ class ConvergenceResult(common.ToDict):
     targeted: TargetedReading = None  #: the meter's own error-targeted reading (None when not run)
 
 
-def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.0, 1.0),
+def convergence_study(target=None, *, request, location=None, normal=(0.0, 0.0, 1.0),
                       samples=(4, 16, 64, 256), texels=4, replicas=8, reference_samples=None, target_error=0.01,
-                      bounces=None, quality=None, target_rel_error=None, time_budget_s=None, targeted=True,
-                      seed=0, plot=None, cancelled=None, meter_kind=None):
+                      bounces=None, targeted=True, plot=None, meter_kind=None):
     """Error and time of rendered readings at increasing samples per texel; fit and invert.
 
     ``target``: an illuminance meter object (or its name), a plane object (coarse 4 x 4 grid), or
@@ -92,9 +91,12 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     ``target_rel_error`` (fraction; default the ``quality`` preset's target when ``quality`` is
     given, else ``target_error``) and/or ``time_budget_s`` (s), and report its samples, seconds
     and error (:class:`TargetedReading`). ``target_rel_error`` also sets ``target_error``.
+    The request (``measure.blender.request``) gives the scene, ``quality`` (None: not given),
+    ``target_rel_error``, ``time_budget_s``, the seed and cancel.
     Returns :class:`ConvergenceResult`.
     """
-    scene = common.scene_or_context(scene)
+    scene, seed = request.scene, request.seed
+    quality, target_rel_error = request.quality, request.target_rel_error
     if target_rel_error is not None:
         target_error = float(target_rel_error)
     if not (0 < float(target_error) < 1):
@@ -105,10 +107,8 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     samples = sorted({int(s) for s in samples})
     if len(samples) < 2 or samples[0] < 1:
         raise RadiometerError("samples must hold at least 2 different counts >= 1")
-    weights, _eff = common.luminance_weights(scene)
-    view_layer = common.view_layer_of(scene)
+    weights, view_layer, scale = request.weights, request.view_layer, request.scale_length
     notes = []
-    scale = scene.unit_settings.scale_length
     model = meter.capture_model(scene, view_layer)
     meter_points = points  # where the meter is; the study's own bakes use the raised sensors below
     points, _eps = meter.sensor_points(points, normals, scale, model)
@@ -121,8 +121,8 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     else:
         n_ref = int(reference_samples or 16 * samples[-1])
         est, _info, _rec = meter.render_irradiance(
-            scene, view_layer, points, normals, {"samples": n_ref, "texels": texels, "bakes": 1, "bounces": bounces},
-            needs=decision["needs"], seed=seed + 10_000, cancelled=cancelled)
+            request.but(seed=seed + 10_000, progress=None), points, normals,
+            {"samples": n_ref, "texels": texels, "bakes": 1, "bounces": bounces}, needs=decision["needs"])
         reference = est.mean(axis=0) @ weights
         kind = f"render, {n_ref} samples per texel x {texels * texels} texels"
         notes.append(f"reference noise ~ 1/sqrt({n_ref // samples[-1]}) of the last level's error")
@@ -134,15 +134,15 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     rows = []
     for k, n in enumerate(samples):
         preset = {"samples": n, "texels": texels, "bakes": 1, "bounces": bounces}
-        est, _info, _rec = meter.render_irradiance(scene, view_layer, rep_points, rep_normals, preset,
-                                                   needs=decision["needs"], seed=seed + 100 * k, cancelled=cancelled)
+        est, _info, _rec = meter.render_irradiance(request.but(seed=seed + 100 * k, progress=None), rep_points,
+                                                   rep_normals, preset, needs=decision["needs"])
         scalar = est @ weights                              # (batches, M)
         mean, se = stats.batch_mean(scalar, axis=0)
         ref = np.repeat(reference, replicas) if single else reference
         rms = float(conv_math.rms_relative_error(mean, ref))
         t0 = time.perf_counter()
-        meter.render_irradiance(scene, view_layer, points, normals, preset, needs=decision["needs"],
-                                seed=seed + 100 * k + 50, cancelled=cancelled)
+        meter.render_irradiance(request.but(seed=seed + 100 * k + 50, progress=None), points, normals, preset,
+                                needs=decision["needs"])
         seconds = time.perf_counter() - t0
         rows.append(ConvergenceRow(n, n * texels * texels, seconds, rms, float(np.mean(se / np.abs(mean)))))
     errors = np.array([r.rms_error for r in rows])
@@ -154,9 +154,10 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
                  f"included: t0 = {fit.t0_s:.3g} s, {1e6 * fit.c_s_per_sample:.3g} us per sample)")
     goal = None
     if targeted:
-        goal = _targeted_reading(scene, meter_points, normals, reference, replicas, seed, cancelled,
-                                 common.budget(quality, target_error if target_rel_error is None and quality is None
-                                               else target_rel_error, None, time_budget_s))
+        goal = _targeted_reading(request.but(
+            progress=None, samples=None, quality=quality or "standard",
+            target_rel_error=target_error if target_rel_error is None and quality is None else target_rel_error),
+            meter_points, normals, reference, replicas)
     result = ConvergenceResult(
         target=label, reference_kind=kind, reference=reference.tolist(), rows=rows, fit=fit.to_dict(),
         target_error=float(target_error), samples_for_target=fit.samples_for(target_error),
@@ -168,26 +169,25 @@ def convergence_study(target=None, *, scene=None, location=None, normal=(0.0, 0.
     return result
 
 
-def _targeted_reading(scene, sensors, normals, reference, replicas, seed, cancelled, budget):
+def _targeted_reading(request, sensors, normals, reference, replicas):
     """The meter's error-targeted reading of the target: replicas for its error, the target alone for
     its time. ``sensors``: the meter positions (scene coordinates; the meter raises them off surfaces)."""
     single = len(sensors) == 1
     if single and replicas > 1:
-        copies = common.measure(scene, np.repeat(sensors, replicas, axis=0), np.repeat(normals, replicas, axis=0),
-                                method="render", budget=budget, seed=seed + 20_000, cancelled=cancelled)
+        copies = common.measure(request.but(seed=request.seed + 20_000), np.repeat(sensors, replicas, axis=0),
+                                np.repeat(normals, replicas, axis=0), method="render")
         ref = np.repeat(reference, replicas)
     else:
         copies, ref = None, reference
     t0 = time.perf_counter()
-    alone = common.measure(scene, sensors, normals, method="render", budget=budget, seed=seed + 30_000,
-                           cancelled=cancelled)
+    alone = common.measure(request.but(seed=request.seed + 30_000), sensors, normals, method="render")
     seconds = time.perf_counter() - t0
     copies = copies or alone
     values = np.array([r.irradiance for r in copies])
     stated = common.rel_errors(alone)
     asked = alone[0].target_rel_error
     return TargetedReading(
-        target_rel_error=asked, time_budget_s=budget["time_budget_s"],
+        target_rel_error=asked, time_budget_s=request.time_budget_s,
         samples=float(np.mean([r.samples for r in alone])), seconds=seconds, rel_std_error=float(np.max(stated)),
         rms_error=float(conv_math.rms_relative_error(values, ref)),
         reached=bool(asked is None or np.all(stated <= asked * (1 + 1e-9))))

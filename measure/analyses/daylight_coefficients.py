@@ -281,15 +281,16 @@ def scene_extent(model, points_scene, scale):
     return (lo + hi) / 2, max(float(np.linalg.norm(hi - lo)) / 2, 1.0)
 
 
-def _meter_camera(scene, snapshot, model, points, normals, half, *, blk, spp, seed, quality):
+def _meter_camera(request, snapshot, model, points, normals, half, *, blk, spp):
     """Inside the caller's guard: every object's camera visibility = its diffuse visibility (the first
-    ray is the sensor's diffuse ray), the meter camera, measurement settings, thin panes as the meter
-    reads them, a one-pixel box filter. Returns (the settings' record, (width, height) of the image)."""
+    ray is the sensor's diffuse ray), the meter camera, measurement settings (the request's quality preset's
+    bounces, its seed), thin panes as the meter reads them, a one-pixel box filter. Returns (the settings'
+    record, (width, height) of the image)."""
     import bpy
 
-    from ... import quality as quality_presets
     from ..render import render_settings
 
+    scene = request.scene
     for ob in scene.objects:
         if ob.type != "LIGHT" and ob.visible_camera != ob.visible_diffuse:
             snapshot.remember(ob, "visible_camera")
@@ -299,9 +300,8 @@ def _meter_camera(scene, snapshot, model, points, normals, half, *, blk, spp, se
     cam = bpy.data.objects.new("radiometer_meter_camera", cam_data)
     scene.collection.objects.link(cam)
     scene.camera = cam
-    preset = quality_presets.preset(quality)
-    record = render_settings.apply(scene, samples=spp, bounces=preset["bounces"], needs=model.needs, seed=seed,
-                                   snapshot=snapshot)
+    record = render_settings.apply(scene, samples=spp, bounces=request.preset()["bounces"], needs=model.needs,
+                                   seed=request.seed, snapshot=snapshot)
     if model.needs.get("thin_panes"):  # panes read as thin glass, as the meter reads them
         from ..capture import glass
 
@@ -310,12 +310,13 @@ def _meter_camera(scene, snapshot, model, points, normals, half, *, blk, spp, se
     return record, (columns * blk, rows * blk)
 
 
-def _rounds(scene, folder, size, nrounds, seed, cancelled, progress, label, read, compositing=False):
-    """Render ``nrounds`` times (seeds ``seed * 7919 + k``; ``measure.meter.camera.render_exr``); ``read(image)``
-    -> (N, C, npix) after each. Returns the per-pixel sums over rounds and the sum over rounds and
-    pixels of x x^T (N, C, C)."""
+def _rounds(request, folder, size, nrounds, label, read, compositing=False):
+    """Render ``nrounds`` times (seeds ``seed * 7919 + k``, the request's seed; ``measure.meter.camera.render_exr``);
+    ``read(image)`` -> (N, C, npix) after each; the request's cancel before and progress after each. Returns
+    the per-pixel sums over rounds and the sum over rounds and pixels of x x^T (N, C, C)."""
     from ..meter.camera import render_exr
 
+    scene, seed, cancelled, progress = request.scene, request.seed, request.cancelled, request.progress
     total = cross = None
     for k in range(nrounds):
         if cancelled is not None and cancelled():
@@ -339,16 +340,16 @@ def _stratified(total, cross, nrounds):
     return mean, cov
 
 
-def render_irradiance(points_scene, normals, *, scene, quality="standard", samples=None, block=None, rounds=None,
-                      seed=0, progress=None, cancelled=None):
+def render_irradiance(points_scene, normals, *, request, block=None, rounds=None):
     """Irradiance at the meters from the scene AS IT IS (world and lights as the caller left them),
     through the meter camera (module docstring; no dome, no light groups): (E_rgb (N, 3) W/m^2 per
-    scene unit^2 as Cycles renders, covariance (N, 3, 3), record). The scene is as before afterwards."""
+    scene unit^2 as Cycles renders, covariance (N, 3, 3), record). The scene is as before afterwards.
+    The request gives the scene, ``quality`` (None: "standard") and ``samples``, the seed, progress and cancel."""
     from ..meter import point_meter as meter
     from ..blender import scene_guard
-    from .analysis_common import view_layer_of
 
-    spp, blk, nrounds = _settings(quality, samples, block, rounds)
+    scene, quality = request.scene, request.quality or "standard"
+    spp, blk, nrounds = _settings(quality, request.samples, block, rounds)
     points = np.asarray(points_scene, float).reshape(-1, 3)
     normals = np.asarray(normals, float).reshape(-1, 3)
     n = len(points)
@@ -356,11 +357,11 @@ def render_irradiance(points_scene, normals, *, scene, quality="standard", sampl
     folder = tempfile.mkdtemp(prefix="radiometer_cam_")
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
-            model = meter.capture_model(scene, view_layer_of(scene))
-            _centre, half = scene_extent(model, points, scene.unit_settings.scale_length)
-            record, size = _meter_camera(scene, snapshot, model, points, normals, half, blk=blk, spp=spp, seed=seed,
-                                         quality=quality)
-            total, cross = _rounds(scene, folder, size, nrounds, seed, cancelled, progress, "meter camera",
+            model = meter.capture_model(scene, request.view_layer)
+            _centre, half = scene_extent(model, points, request.scale_length)
+            record, size = _meter_camera(request.but(quality=quality), snapshot, model, points, normals, half,
+                                         blk=blk, spp=spp)
+            total, cross = _rounds(request, folder, size, nrounds, "meter camera",
                                    lambda img: np.pi * _blocks(np.moveaxis(img, -1, 0), n, blk, columns))
     finally:
         shutil.rmtree(folder, ignore_errors=True)
@@ -380,10 +381,10 @@ def _settings(quality, samples, block, rounds):
     return spp, blk, nrounds
 
 
-def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview", samples=None, block=None,
-                        rounds=None, seed=0, progress=None, cancelled=None):
+def render_coefficients(points_scene, normals, *, request, m=1, block=None, rounds=None):
     """Daylight coefficients of every Reinhart MF:m patch (patch 0 the ground) at every meter, from
-    ``rounds`` renders of one dome (module docstring). The scene is as before afterwards."""
+    ``rounds`` renders of one dome (module docstring). The scene is as before afterwards. The request
+    gives the scene, ``quality`` (None: "preview") and ``samples``, the seed, progress and cancel."""
     import time
 
     import bpy
@@ -391,10 +392,10 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
     from ...radiometry.skies import sky_patches
     from ..meter import point_meter as meter
     from ..blender import scene_guard
-    from .analysis_common import view_layer_of
 
+    scene, quality = request.scene, request.quality or "preview"
     require_dome(scene)
-    spp, blk, nrounds = _settings(quality, samples, block, rounds)
+    spp, blk, nrounds = _settings(quality, request.samples, block, rounds)
     start = time.perf_counter()
     points = np.asarray(points_scene, float).reshape(-1, 3)
     normals = np.asarray(normals, float).reshape(-1, 3)
@@ -402,13 +403,13 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
     patches = sky_patches.reinhart_patches(m)
     columns, _rows = _block_layout(n, blk)
     folder = tempfile.mkdtemp(prefix="radiometer_dc_")
-    view_layer = view_layer_of(scene)
+    view_layer = request.view_layer
     added_groups = []
     active_group = view_layer.active_lightgroup_index
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
             model = meter.capture_model(scene, view_layer)
-            scale = scene.unit_settings.scale_length
+            scale = request.scale_length
             from .light_isolation import rendering_light_objects
 
             for ob in rendering_light_objects(scene, model):
@@ -425,12 +426,12 @@ def render_coefficients(points_scene, normals, *, scene, m=1, quality="preview",
             before = {g.name for g in view_layer.lightgroups}
             names = _build_dome(scene, view_layer, patches, centre, DOME_SCALE * half)
             added_groups = [g for g in names if g not in before]
-            record, size = _meter_camera(scene, snapshot, model, points, normals, half, blk=blk, spp=spp, seed=seed,
-                                         quality=quality)
+            record, size = _meter_camera(request.but(quality=quality), snapshot, model, points, normals, half,
+                                         blk=blk, spp=spp)
             snapshot.remember(scene, "compositing_node_group")
             scene.compositing_node_group = _file_output(scene, folder, names)
-            weights = meter.scene_photometry(scene)[1]
-            total, cross = _rounds(scene, folder, size, nrounds, seed, cancelled, progress, "daylight coefficients",
+            weights = request.weights
+            total, cross = _rounds(request, folder, size, nrounds, "daylight coefficients",
                                    lambda _img: np.pi * _blocks(_read_passes(folder, names, weights), n, blk, columns),
                                    compositing=True)
     finally:

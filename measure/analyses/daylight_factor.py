@@ -68,22 +68,22 @@ class DaylightFactorReading:
         return dataclasses.asdict(self)
 
 
-def overcast_only(scene, snapshot, ground_reflectance):
+def overcast_only(request, snapshot, ground_reflectance):
     """Inside the caller's guard: lights hidden in renders, the world a temporary overcast sky.
     Returns notes."""
     from ..meter import point_meter as meter
     from ..authoring import sky
-    from .analysis_common import view_layer_of
     from .light_isolation import rendering_light_objects
 
-    model = meter.capture_model(scene, view_layer_of(scene))
+    scene = request.scene
+    model = meter.capture_model(scene, request.view_layer)
     hidden = rendering_light_objects(scene, model)
     for ob in hidden:
         snapshot.remember(ob, "hide_render")
         ob.hide_render = True
-    sky.set_cie_sky(scene, "overcast", horizontal_illuminance_lux=SKY_HORIZONTAL_LUX,
+    sky.set_cie_sky(request, "overcast", horizontal_illuminance_lux=SKY_HORIZONTAL_LUX,
                     ground_reflectance=ground_reflectance)
-    view_layer_of(scene).update()
+    request.view_layer.update()
     notes = [f"CIE overcast sky (L = Lz (1 + 2 cos Z) / 3), E_out,h = {SKY_HORIZONTAL_LUX:g} lx, ground "
              f"reflectance {ground_reflectance:g} below a sharp horizon; {len(hidden)} light(s) switched off"]
     if model.emissive_surfaces:
@@ -115,29 +115,35 @@ def floor_lux(quality, target_abs_error):
     return points / 100.0 * SKY_HORIZONTAL_LUX
 
 
-def daylight_factor_chunk(scene, *, locations, normals, **kwargs):
-    """One cluster task: the daylight factor at a chunk of points (a list of readings)."""
-    out = daylight_factor(locations, normals, scene=scene, **kwargs)
+def daylight_factor_chunk(scene, *, locations, normals, quality, target_rel_error, seed, efficacy=None, **kwargs):
+    """One cluster task: the daylight factor at a chunk of points (a list of readings). The task carries
+    plain values (the caller's efficacy, lm/W, among them); the worker builds its request on the copy of the
+    scene it opened."""
+    from ..blender import request as request_of
+
+    request = request_of.build(scene, efficacy=efficacy, quality=quality, target_rel_error=target_rel_error,
+                               seed=seed)
+    out = daylight_factor(locations, normals, request=request, **kwargs)
     return out if isinstance(out, list) else [out]
 
 
-def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="standard", ground_reflectance=0.2,
-                    target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None,
-                    chunk_points=CHUNK_POINTS, target_abs_error=None):
+def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, request, ground_reflectance=0.2, method="auto",
+                    chunk_points=CHUNK_POINTS, target_abs_df=None):
     """Daylight factor (%) at ``locations`` (3,) or (N, 3) facing ``normals``; a reading or a list.
 
-    ``target_abs_error``: the absolute error floor in daylight-factor points (None: the preset's
-    ``target_abs_df``; 0: none), beside the relative target (issue 31).
+    The request (``measure.blender.request``): the scene, ``quality`` and ``target_rel_error``, the seed,
+    progress, cancel and ``client``. ``target_abs_df``: the absolute error floor in daylight-factor points
+    (None: the preset's ``target_abs_df``; 0: none), beside the relative target (issue 31); the meter gets
+    it in lux (the request's ``target_abs_error`` is not used here: its unit is lux).
 
     ``client``: a Dask client: the points go in chunks of ``chunk_points`` (task k seeded
     ``seed + 7919 k``) to the cluster's workers (``radiometer.cluster.run_scene_tasks``).
     """
-    import bpy
-
     from ..meter import point_meter as meter
     from ..blender import scene_guard
 
-    scene = scene or bpy.context.scene
+    scene, quality, target_rel_error = request.scene, request.quality or "standard", request.target_rel_error
+    seed, progress, cancelled, client = request.seed, request.progress, request.cancelled, request.client
     rho = _check_rho(ground_reflectance)
     points, single = meter.as_points(locations, "locations")
     dirs = meter.as_directions(normals, len(points), "normals")
@@ -147,7 +153,7 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
         size = max(1, int(chunk_points))
         tasks = [dict(locations=points[k:k + size], normals=dirs[k:k + size], quality=quality,
                       ground_reflectance=rho, target_rel_error=target_rel_error, method=method,
-                      seed=int(seed) + 7919 * (k // size), target_abs_error=target_abs_error)
+                      seed=int(seed) + 7919 * (k // size), target_abs_df=target_abs_df, efficacy=request.efficacy)
                  for k in range(0, len(points), size)]
         parts = run_scene_tasks(scene, daylight_factor_chunk, tasks, client=client, progress=progress,
                                 cancelled=cancelled, label="daylight factor")
@@ -159,17 +165,17 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
             raise RadiometerError("method='camera' takes quality (a fixed number of rays per point), not "
                                   "target_rel_error; its errors are stated")
         with scene_guard.preserved_scene(scene) as snapshot:
-            notes = overcast_only(scene, snapshot, rho)
-            readings = _camera_readings(scene, points, dirs, quality, seed, progress, cancelled)
+            notes = overcast_only(request, snapshot, rho)
+            readings = _camera_readings(request, points, dirs)
     else:
         with scene_guard.preserved_scene(scene) as snapshot:
-            notes = overcast_only(scene, snapshot, rho)
-            measure = dict(quality=quality, target_rel_error=target_rel_error, progress=progress, cancelled=cancelled,
-                           target_abs_error=floor_lux(quality, target_abs_error))
+            notes = overcast_only(request, snapshot, rho)
+            measure = request.but(client=None, samples=None, time_budget_s=None,
+                                  target_abs_error=floor_lux(quality, target_abs_df))
             if method == "auto":
-                readings, sky, ground = _split_readings(scene, points, dirs, rho, seed, measure)
+                readings, sky, ground = _split_readings(measure, points, dirs, rho)
             else:
-                readings = meter.measure_illuminance(points, dirs, scene=scene, method=method, seed=seed, **measure)
+                readings = meter.measure_illuminance(points, dirs, measure, method=method)
     readings = readings if isinstance(readings, list) else [readings]
     sky = [None] * len(readings) if sky is None else sky
     ground = [None] * len(readings) if ground is None else ground
@@ -186,7 +192,7 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, scene=None, quality="
     return out[0] if single else out
 
 
-def _split_readings(scene, points, dirs, rho, seed, measure):
+def _split_readings(request, points, dirs, rho):
     """``method="auto"`` inside the caller's guard (the overcast sky set). Where the openings look out on the
     world alone (``sky_component.openings_to_world``) they become emitters of its radiance: at points
     where the sky and ground seen straight through them are proven (``sky_component``) the reading is
@@ -195,17 +201,16 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
     sampling the emitters as lights. Otherwise, where the sky component (SC) alone is proven, the
     reading is SC plus a render of the rest with the sky's direct emission gated off
     (``sky_component.gate_world``). Elsewhere the whole is rendered under the sky. Returns (readings,
-    SC lux per point or None, ground seen straight lux per point or None)."""
+    SC lux per point or None, ground seen straight lux per point or None). The request carries the
+    meter's budget (its absolute floor in lux) and the first seed."""
     from ..meter import point_meter as meter
     from . import sky_component
-    from .analysis_common import view_layer_of
 
-    model = meter.capture_model(scene, view_layer_of(scene))  # the overcast sky as the meter knows it
-    scale = scene.unit_settings.scale_length
+    scene, seed = request.scene, request.seed
+    model = meter.capture_model(scene, request.view_layer)  # the overcast sky as the meter knows it
+    scale = request.scale_length
     sensors, _eps = meter.sensor_points(points, dirs, scale, model)
-    from ...quality import preset
-
-    target = measure.get("target_rel_error") or preset(measure.get("quality", "standard"))["target"]
+    target = request.target_rel_error or request.preset()["target"]
     scs = sky_component.sky_components(scene, sensors * scale, dirs, ground_reflectance=rho,
                                        horizontal_lux=SKY_HORIZONTAL_LUX, model=model, target_rel_error=target)
     proven = np.array([c.sky_lux is not None for c in scs])
@@ -220,25 +225,25 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
     out = [None] * len(points)
     sky, grd = [None] * len(points), [None] * len(points)
 
-    def measure_at(idx, note, **kwargs):
+    def measure_at(idx, note, seed, **kwargs):
         if not idx.size:
             return
-        readings = meter.measure_illuminance(points[idx], dirs[idx], scene=scene, method="auto", model=model,
-                                             **kwargs, **measure)
+        readings = meter.measure_illuminance(points[idx], dirs[idx], request.but(seed=seed), method="auto",
+                                             model=model, **kwargs)
         for k, r in zip(idx, readings if isinstance(readings, list) else [readings]):
             r.notes += note(k)
             out[k] = r
 
     measure_at(np.flatnonzero(under_sky), lambda k: [f"sky component not proven ({scs[k].reason}): the daylight "
                                                       "factor is measured whole"], seed=seed + 1)
-    _space, weights, efficacy = meter.scene_photometry(scene)
+    efficacy = request.efficacy
     if emitting.any():
         import json
 
         from ..capture.world_capture import CIE_SKY_TAG
 
-        keys = sky_component.add_opening_emitters(scene, openings, json.loads(scene.world[CIE_SKY_TAG]))
-        view_layer_of(scene).update()
+        keys = sky_component.add_opening_emitters(request, openings, json.loads(scene.world[CIE_SKY_TAG]))
+        request.view_layer.update()
         glazed = sum(d > 0.0 for d in openings.depth)
         how = (f"the {len(openings.loops)} opening(s) emitted the sky's and ground's radiance into the room "
                + (f"({glazed} from just outside its pane) " if glazed else "")
@@ -249,7 +254,7 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
             # the check's meter: the brightest, preferring one that sees an opening without glass
             lux = np.array([(scs[k].sky_lux + scs[k].ground_lux) * (1.0 if scs[k].glazed else 1e6) for k in linked])
             brightest = linked[int(np.argmax(lux))]
-            ok, link_note = sky_component.check_emitter_linking(scene, keys, sensors[brightest], dirs[brightest],
+            ok, link_note = sky_component.check_emitter_linking(request, keys, sensors[brightest], dirs[brightest],
                                                                 model)
             if not ok:  # render those points whole too, through the emitters, and say why
                 linked = linked[:0]
@@ -285,16 +290,16 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
     if not take.size:
         return out, sky, grd
     factor = sky_component.gate_world(scene)
-    ok, gate_note = sky_component.check_world_gate(scene, factor, model, horizontal_lux=SKY_HORIZONTAL_LUX)
+    ok, gate_note = sky_component.check_world_gate(request, factor, model, horizontal_lux=SKY_HORIZONTAL_LUX)
     why_gate = openings.reason
     if not ok:  # the gate failed its check: render those points whole too, and say why
         sky_component.set_gate_mode(factor, "off")
         scene.world.cycles.sampling_method = "AUTOMATIC"  # the temporary sky's own setting again
-        view_layer_of(scene).update()
+        request.view_layer.update()
         measure_at(take, lambda k: [gate_note, "so the sky component was not used: the whole daylight factor is "
                                                "rendered"], seed=seed)
         return out, sky, grd
-    view_layer_of(scene).update()
+    request.view_layer.update()
     sc_lux = np.array([scs[k].sky_lux for k in take], float)
     grey = np.repeat((sc_lux / efficacy)[:, None], 3, axis=1)  # the sky is white: W/m^2 per channel
     measure_at(take, lambda k: [
@@ -308,7 +313,7 @@ def _split_readings(scene, points, dirs, rho, seed, measure):
     return out, sky, grd
 
 
-def _camera_readings(scene, points, dirs, quality, seed, progress, cancelled):
+def _camera_readings(request, points, dirs):
     """Illuminance at the points through the meter camera (``measure.analyses.daylight_coefficients``: cosine-
     weighted rays from each point, no sensor bake) under the world as it is: one ``IlluminanceReading``
     per point, as the meter's (issue 30: one reading type per quantity)."""
@@ -319,10 +324,9 @@ def _camera_readings(scene, points, dirs, quality, seed, progress, cancelled):
     from ...readings import IlluminanceReading
 
     started = time.perf_counter()
-    space, weights, efficacy = meter.scene_photometry(scene)
-    e_rgb, cov, record = daylight_coefficients.render_irradiance(points, dirs, scene=scene, quality=quality,
-                                                                 seed=seed, progress=progress, cancelled=cancelled)
-    scale2 = scene.unit_settings.scale_length ** 2  # Cycles renders W per scene-unit^2
+    space, weights, efficacy = request.photometry
+    e_rgb, cov, record = daylight_coefficients.render_irradiance(points, dirs, request=request)
+    scale2 = request.unit_area  # Cycles renders W per scene-unit^2
     e_rgb = e_rgb / scale2
     e = e_rgb @ weights
     sd = np.sqrt(np.maximum(np.einsum("c,ncd,d->n", weights, cov, weights), 0.0)) / scale2
@@ -423,38 +427,35 @@ class DaylightFactorGrid:
         return "\n".join(lines) + "\n"
 
 
-def _grid_layout(scene, target, resolution, spacing):
+def _grid_layout(request, target, resolution, spacing):
     """(plane object, nx, ny, points (ny, nx, 3), normal): ``measure.analyses.grid.grid_layout``, the layout
     ``illuminance_grid`` uses too."""
     from . import grid
 
-    layout = grid.grid_layout(scene, target, resolution, spacing)
+    layout = grid.grid_layout(request, target, resolution, spacing)
     return layout.obj, layout.nx, layout.ny, layout.points, np.asarray(layout.normal, float)
 
 
-def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, quality="standard",
-                         ground_reflectance=0.2, target_percent=None, median_external_illuminance_lux=None,
-                         target_rel_error=None, method="auto", seed=0, progress=None, cancelled=None, client=None,
-                         chunk_points=CHUNK_POINTS, target_abs_error=None):
+def daylight_factor_grid(target, *, request, resolution=None, spacing=None, ground_reflectance=0.2,
+                         target_percent=None, median_external_illuminance_lux=None, method="auto",
+                         chunk_points=CHUNK_POINTS, target_abs_df=None):
     """Daylight factor on a work plane object's grid (``measure.analyses.grid.illuminance_grid`` points).
-    ``target_abs_error``: the absolute error floor in daylight-factor points (see :func:`daylight_factor`).
+    The request and ``target_abs_df`` (the absolute error floor in daylight-factor points) as in
+    :func:`daylight_factor`.
 
-    ``client``: a Dask client: the grid's points run in chunks of ``chunk_points`` on its workers
-    (see :func:`daylight_factor`).
+    The request's ``client``: a Dask client: the grid's points run in chunks of ``chunk_points`` on its
+    workers (see :func:`daylight_factor`).
     """
-    import bpy
-
     from . import grid
     from ..blender import scene_guard
 
-    scene = scene or bpy.context.scene
+    scene, client = request.scene, request.client
     rho = _check_rho(ground_reflectance)
     if client is not None or method in ("camera", "auto"):  # point by point (camera: no grid form; auto: the SC)
-        obj, nx, ny, points, normal = _grid_layout(scene, target, resolution, spacing)
-        readings = daylight_factor(points.reshape(-1, 3), np.broadcast_to(normal, (nx * ny, 3)), scene=scene,
-                                   quality=quality, ground_reflectance=rho, target_rel_error=target_rel_error,
-                                   method=method, seed=seed, progress=progress, cancelled=cancelled, client=client,
-                                   chunk_points=chunk_points, target_abs_error=target_abs_error)
+        obj, nx, ny, points, normal = _grid_layout(request, target, resolution, spacing)
+        readings = daylight_factor(points.reshape(-1, 3), np.broadcast_to(normal, (nx * ny, 3)), request=request,
+                                   ground_reflectance=rho, method=method, chunk_points=chunk_points,
+                                   target_abs_df=target_abs_df)
         df = np.array([r.daylight_factor for r in readings], float).reshape(ny, nx)
         se = np.array([r.rel_std_error for r in readings], float).reshape(ny, nx)
         stats = plane_statistics(df, target_percent=target_percent,
@@ -481,11 +482,10 @@ def daylight_factor_grid(target, *, resolution=None, spacing=None, scene=None, q
                                   *((sc.reshape(ny, nx), erc.reshape(ny, nx), irc.reshape(ny, nx)) if method == "auto"
                                     else (None, None, None)))
     with scene_guard.preserved_scene(scene) as snapshot:
-        notes = overcast_only(scene, snapshot, rho)
-        result = grid.illuminance_grid(target, resolution=resolution, spacing=spacing, scene=scene, method=method,
-                                       quality=quality, target_rel_error=target_rel_error, seed=seed,
-                                       progress=progress, cancelled=cancelled,
-                                       target_abs_error=floor_lux(quality, target_abs_error))
+        notes = overcast_only(request, snapshot, rho)
+        result = grid.illuminance_grid(target, resolution=resolution, spacing=spacing, method=method,
+                                       request=request.but(samples=None, time_budget_s=None, target_abs_error=floor_lux(
+                                           request.quality or "standard", target_abs_df)))
     df = 100.0 * np.asarray(result.lux, float) / SKY_HORIZONTAL_LUX
     stats = plane_statistics(df, target_percent=target_percent,
                              median_external_illuminance_lux=median_external_illuminance_lux)

@@ -96,10 +96,11 @@ def _dgp_std_error(ev, ev_rel, sources, rel_errors, low_light):
     return se * float(dgp_math.low_light_factor(ev)) if low_light else se
 
 
-def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolution=128, up=(0.0, 0.0, 1.0),
+def glare_dgp(observer, view_direction, *, request, resolution=128, up=(0.0, 0.0, 1.0),
               threshold_cd_m2=dgp_math.THRESHOLD_CD_M2, threshold_factor=None, low_light_correction=False,
               hdr_path=None, max_spp=None):
-    """DGP for an eye at ``observer`` (scene coordinates) looking along ``view_direction``.
+    """DGP for an eye at ``observer`` (scene coordinates) looking along ``view_direction``. The request
+    (``measure.blender.request``) gives the scene and ``quality`` (None: "preview") of the picture and E_v.
 
     ``resolution``: the fisheye's side in px (16..512). ``threshold_cd_m2`` / ``threshold_factor``:
     glare-source detection (``radiometry.glare_dgp.find_glare_sources``). ``hdr_path``: also write
@@ -107,13 +108,14 @@ def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolu
     header) for evalglare. ``max_spp``: cap on the samples per pixel of one render (None: :data:`MAX_SPP`
     for the quality). Returns :class:`DaylightGlareResult`.
     """
-    import bpy
-
     from . import glare, luminance_image
     from ..meter import point_meter as meter
     from ..blender import scene_guard
 
-    scene = scene or bpy.context.scene
+    quality = request.quality or "preview"
+    request = request.but(quality=quality, target_rel_error=None, samples=None, time_budget_s=None,
+                          target_abs_error=None, seed=0)
+    scene = request.scene
     eye_scene, view = glare.observer_and_view(observer, view_direction, up)
     try:
         n = int(resolution)
@@ -131,14 +133,14 @@ def glare_dgp(observer, view_direction, *, scene=None, quality="preview", resolu
         outputs.check_writable(hdr_path, "HDR file")
     with scene_guard.preserved_scene(scene):
         cam = _fisheye_camera(scene, eye_scene, view, up)
-        img = luminance_image.render_luminance(scene=scene, camera=cam, resolution=(n, n), quality=quality,
+        img = luminance_image.render_luminance(request=request, camera=cam, resolution=(n, n),
                                                max_spp=max_spp or MAX_SPP.get(quality, 256))
     dirs, omega, valid = dgp_math.angular_fisheye(n, n, view, up)
     lum = np.where(valid, img.luminance, 0.0)
     if not np.all(np.isfinite(lum)):
         raise RadiometerError("the fisheye picture has NaN or infinite pixels (a light's power, a texture or the "
                               "world is not finite): no DGP")
-    ev_meter = meter.measure_illuminance(eye_scene, view, scene=scene, quality=quality)
+    ev_meter = meter.measure_illuminance(eye_scene, view, request)
     ev, ev_rel = float(ev_meter.illuminance), float(ev_meter.rel_std_error)
     try:
         result = dgp_math.dgp_from_picture(lum, dirs, omega, valid, view, up, vertical_illuminance=ev,
@@ -288,27 +290,21 @@ def class_counts(dgp, std_error, occupied):
     return above, rng, {lim: above[lim] / n for lim in LIMITS}
 
 
-def annual_dgp(observer, view_direction, epw_path=None, *, scene=None, m=1, quality="preview", samples=None,
-               ground_reflectance=0.2, north_offset_deg=0.0, occupied_from=8.0, occupied_to=18.0, seed=0,
-               low_light_correction=False, up=(0.0, 0.0, 1.0), progress=None, cancelled=None, client=None,
-               method="dome", partial_period=False):
+def annual_dgp(observer, view_direction, epw_path=None, *, request, m=1, ground_reflectance=0.2,
+               north_offset_deg=0.0, occupied_from=8.0, occupied_to=18.0, low_light_correction=False,
+               up=(0.0, 0.0, 1.0), method="dome", partial_period=False):
     """Hourly DGP for an eye at ``observer`` (scene coordinates) looking along ``view_direction`` (module
-    docstring). Returns :class:`AnnualDGPResult`."""
-    import bpy
-
+    docstring); the request as ``annual.annual_daylight`` takes it. Returns :class:`AnnualDGPResult`."""
     from ..meter import point_meter as meter
     from . import annual, glare
-    from .analysis_common import view_layer_of
     from ...radiometry.metrics import en17037
 
     if not isinstance(low_light_correction, (bool, np.bool_)):
         raise RadiometerError(f"low_light_correction must be True or False, got {low_light_correction!r}")
     eye, view = glare.observer_and_view(observer, view_direction, up)
-    scene = scene or bpy.context.scene
-    r = annual.annual_daylight([eye], [view], epw_path, scene=scene, m=m, quality=quality, samples=samples,
-                               ground_reflectance=ground_reflectance, north_offset_deg=north_offset_deg,
-                               occupied_from=occupied_from, occupied_to=occupied_to, seed=seed, progress=progress,
-                               cancelled=cancelled, client=client, method=method, partial_period=partial_period)
+    r = annual.annual_daylight([eye], [view], epw_path, request=request, m=m, ground_reflectance=ground_reflectance,
+                               north_offset_deg=north_offset_deg, occupied_from=occupied_from,
+                               occupied_to=occupied_to, method=method, partial_period=partial_period)
     ev = r.illuminance[:, 0]
     se_ev = r.illuminance_std_error[:, 0]  # stated at the occupied hours (0 elsewhere), as annual states it
     e_sun = r.sun_illuminance[:, 0]
@@ -320,7 +316,7 @@ def annual_dgp(observer, view_direction, epw_path=None, *, scene=None, m=1, qual
         raise RadiometerError("annual DGP: no occupied hour with a usable weather record")
     above, rng, share = class_counts(value, se, occupied)
     row = dataclasses.asdict(en17037.glare_protection(value[occupied]))
-    model = meter.capture_model(scene, view_layer_of(scene))
+    model = meter.capture_model(request.scene, request.view_layer)
     n_sun = int((seen & occupied).sum())
     notes = [f"eye at ({eye[0]:g}, {eye[1]:g}, {eye[2]:g}) looking ({view[0]:.3g}, {view[1]:.3g}, {view[2]:.3g}); "
              "E_v from the daylight coefficients of a meter at the eye facing the line of sight"]
@@ -368,25 +364,21 @@ class ViewOutResult(AsDict):
     notes: list
 
 
-def view_out(eyes, *, scene=None, model=None):
+def view_out(eyes, *, request, model=None):
     """EN 17037 view out from ``eyes`` (3 numbers or (N, 3), scene coordinates; the assessed points of the
     utilised area at eye height). Geometry only: nothing is rendered. Returns :class:`ViewOutResult`."""
-    import bpy
-
     from ...radiometry.metrics import en17037
     from ...radiometry.scene import view_out as geometry_view
     from ...radiometry.scene import scene_model
     from ...radiometry.skies import sky_aperture
     from ..meter import point_meter as meter
-    from .analysis_common import view_layer_of
     from .sky_component import opaque_mask
 
-    scene = scene or bpy.context.scene
     pts = np.atleast_2d(np.asarray(eyes, float))
     if pts.ndim != 2 or pts.shape[1] != 3 or not len(pts) or not np.all(np.isfinite(pts)):
         raise RadiometerError(f"view out needs eyes as 3 finite numbers or (N, 3), got shape {pts.shape}")
-    model = model or meter.capture_model(scene, view_layer_of(scene))
-    eyes_m = pts * scene.unit_settings.scale_length
+    model = model or meter.capture_model(request.scene, request.view_layer)
+    eyes_m = request.to_metres(pts)
     g = model.geometry
     tris = g.triangles[opaque_mask(model)] if g.count else np.zeros((0, 3, 3))
     lo, hi = g.bounds() if g.count else (np.zeros(3), np.zeros(3))

@@ -217,22 +217,19 @@ def observer_and_view(observer, view_direction, up=(0.0, 0.0, 1.0)):
     return eye_scene, view
 
 
-def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0.0, 0.0, 1.0)):
+def glare_ugr(observer, view_direction, *, request, up=(0.0, 0.0, 1.0)):
     """CIE 117 UGR for an eye at ``observer`` (scene coordinates) looking along ``view_direction``.
 
-    Returns :class:`GlareResult`. See the module docstring for what counts as a source.
+    The request (``measure.blender.request``) gives the scene, its photometry and the background's
+    ``quality`` (None: "standard"). Returns :class:`GlareResult`. See the module docstring for what counts
+    as a source.
     """
-    import bpy
-
     from ..meter import point_meter as meter
 
-    scene = scene or bpy.context.scene
     eye_scene, view = observer_and_view(observer, view_direction, up)
-    scale = scene.unit_settings.scale_length
-    eye = eye_scene * scale
-    view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
-    model = meter.capture_model(scene, view_layer)
-    space, weights, efficacy = meter.scene_photometry(scene)
+    eye = request.to_metres(eye_scene)
+    model = meter.capture_model(request.scene, request.view_layer)
+    space, weights, efficacy = request.photometry
 
     sources, left_out = [], []
     candidates = [(light, None) for light in model.lights] + [(None, mesh) for mesh in
@@ -281,7 +278,7 @@ def glare_ugr(observer, view_direction, *, scene=None, quality="standard", up=(0
     if odd:
         notes.append(f"outside CIE 117's range of source sizes ({lo:g}-{hi:g} sr): {', '.join(odd)}; UGR is given "
                      "but CIE 147 treats such sources separately")
-    background = _background(eye_scene, view, scene, quality, meter, model)
+    background = _background(eye_scene, view, request, meter, model)
     notes += background["notes"]
     e_ind, rel, lb = background["e_ind"], background["rel"], background["e_ind"] / math.pi
     args = ([s["luminance"] for s in sources], [s["position_index"] for s in sources])
@@ -314,22 +311,20 @@ def _unknown_cause(reading, which):
     return f"the {which} reading: " + (said[0] if said else "it states no finite standard error")
 
 
-def _background(eye_scene, view, scene, quality, meter, model=None):
-    """E_ind = E_vertical - E_direct at the eye with its own target (the preset's, on E_ind: both readings
-    share the allowed variance; a pilot at the preset decides the targets, independent readings (seed 1)
-    are kept). Returns a dict: e_total, e_ind (lx), rel (1 s.e. of E_ind, relative; nan when unknown),
-    unknown (the cause, or ""), target, notes."""
-    from ... import quality as quality_presets
-
-    target = float(quality_presets.preset(quality)["target"])
+def _background(eye_scene, view, request, meter, model=None):
+    """E_ind = E_vertical - E_direct at the eye with its own target (the request's quality preset's, on E_ind:
+    both readings share the allowed variance; a pilot at the preset decides the targets, independent readings
+    (seed 1) are kept). Returns a dict: e_total, e_ind (lx), rel (1 s.e. of E_ind, relative; nan when
+    unknown), unknown (the cause, or ""), target, notes."""
+    target = float(request.preset()["target"])
 
     def read(seed, t_total=None, t_direct=None):
         # One meter run for both parts: one capture, one visibility proof (meter.measure_parts says why
         # each part that needs Cycles still has its own bakes). "direct": light straight from every
         # source, emitting surfaces included (rendered at 0 bounces).
-        got = meter.measure_illuminance(eye_scene, view, scene=scene, quality=quality, seed=seed,
-                                        parts=("total", "direct"), model=model,
-                                        target_rel_error={"total": t_total, "direct": t_direct})
+        got = meter.measure_illuminance(eye_scene, view, request.but(
+            seed=seed, target_rel_error={"total": t_total, "direct": t_direct}, samples=None, time_budget_s=None,
+            target_abs_error=None), parts=("total", "direct"), model=model)
         return got["total"], got["direct"]
 
     def combine(total, direct):

@@ -156,14 +156,16 @@ class GridLayout(typing.NamedTuple):
     spacing_rule: str
 
 
-def grid_layout(scene, target, resolution=None, spacing=None):
+def grid_layout(request, target, resolution=None, spacing=None):
     """The cell centres of ``target``'s grid (a mesh object or its name) for a ``resolution`` (nx, ny),
-    a ``spacing`` (m) or, with neither, the EN 12464-1 spacing: the one layout every grid uses."""
+    a ``spacing`` (m) or, with neither, the EN 12464-1 spacing: the one layout every grid uses. The request
+    (``measure.blender.request``) gives the scene and its unit scale."""
+    scene = request.scene
     obj = scene.objects.get(target) if isinstance(target, str) else target
     if obj is None:
         raise RadiometerError(f"no object named {target!r} in scene {scene.name!r}")
     (x0, x1, y0, y1, zc), mw, normal = plane_frame(obj, scene)
-    scale = scene.unit_settings.scale_length
+    scale = request.scale_length
     size_x = (x1 - x0) * np.linalg.norm(mw[:3, 0]) * scale
     size_y = (y1 - y0) * np.linalg.norm(mw[:3, 1]) * scale
     if resolution is not None and spacing is not None:
@@ -193,27 +195,21 @@ def grid_layout(scene, target, resolution=None, spacing=None):
                       scale, rule)
 
 
-def illuminance_grid(target, *, resolution=None, spacing=None, scene=None, method="auto", quality="standard",
-                     target_rel_error=None, samples=None, time_budget_s=None, seed=0, png=None, csv_path=None,
-                     progress=None, cancelled=None, target_abs_error=None):
+def illuminance_grid(target, *, request, resolution=None, spacing=None, method="auto", png=None, csv_path=None):
     """Illuminance at the cell centres of a grid on a plane object's local XY (its +Z side).
 
     ``target``: a mesh object or its name. ``resolution``: (nx, ny); ``spacing``: cell size in m;
-    neither: the EN 12464-1 spacing p = 0.2 x 5^log10(d). ``quality`` / ``target_rel_error``
-    (fraction, every point) / ``samples`` (per point) / ``time_budget_s`` (s, the whole grid) as in
-    ``meter.measure_illuminance``; ``target_abs_error``: the absolute error floor, lux (None: the
-    preset's). Returns :class:`GridResult`.
+    neither: the EN 12464-1 spacing p = 0.2 x 5^log10(d). The request (``measure.blender.request``): the
+    scene, ``quality`` / ``target_rel_error`` (fraction, every point) / ``samples`` (per point) /
+    ``time_budget_s`` (s, the whole grid) as in ``meter.measure_illuminance``, ``target_abs_error`` (the
+    absolute error floor, lux; None: the preset's), the seed, progress and cancel. Returns :class:`GridResult`.
     """
-    scene = common.scene_or_context(scene)
-    layout = grid_layout(scene, target, resolution, spacing)
+    layout = grid_layout(request, target, resolution, spacing)
     obj, nx, ny, points, normal = layout.obj, layout.nx, layout.ny, layout.points, layout.normal
     (x0, x1, y0, y1), zc, mw = layout.local_extent, layout.local_z, layout.matrix_world
     size_x, size_y, scale, rule = layout.size_x, layout.size_y, layout.scale_length, layout.spacing_rule
     started = time.perf_counter()
-    readings = common.measure(scene, points.reshape(-1, 3), normal, method=method, seed=seed, progress=progress,
-                              cancelled=cancelled,
-                              budget=common.budget(quality, target_rel_error, samples, time_budget_s,
-                                                   target_abs_error))
+    readings = common.measure(request, points.reshape(-1, 3), normal, method=method)
     seconds = time.perf_counter() - started
     irr = np.array([r.irradiance for r in readings]).reshape(ny, nx)
     lux = np.array([r.illuminance for r in readings]).reshape(ny, nx)
@@ -318,28 +314,28 @@ def lux_from_csv(path):
 
 # --- melanopic EDI on the same grid (issue 35) ---------------------------------------------------------
 
-def spectral_grid(target, *, scene, resolution=None, spacing=None, reflected=False, quality="preview", seed=0,
-                  progress=None, cancelled=None):
+def spectral_grid(target, *, request, resolution=None, spacing=None, reflected=False):
     """A dict: ``mel_edi_lx`` and ``illuminance_lx`` (ny, nx), ``low_95_lx`` / ``high_95_lx`` of mel-EDI with
     ``reflected``, ``mel_der`` (ny, nx), ``points`` (N, 3) scene coordinates, ``normal``, ``stats`` (avg, min,
     max, u0 = min/avg, count of each: ``grid_math.grid_stats``), ``exact`` (every point's every part proven), ``lower_bound`` (some light is
-    left out somewhere: the values are then lower bounds), ``not_included``, ``notes``, ``units``, ``seconds``."""
+    left out somewhere: the values are then lower bounds), ``not_included``, ``notes``, ``units``, ``seconds``.
+    The request gives the scene, the band renders' quality and seed, progress and cancel."""
     from ..meter import spectra, spectral_reflected
 
     start = time.perf_counter()
-    layout = grid_layout(scene, target, resolution=resolution, spacing=spacing)
+    progress, cancelled = request.progress, request.cancelled
+    layout = grid_layout(request, target, resolution=resolution, spacing=spacing)
     points = layout.points.reshape(-1, 3)
     shape = layout.points.shape[:2]
     normals = np.broadcast_to(np.asarray(layout.normal, float), points.shape)
     if reflected:
-        readings = spectral_reflected.spectral_readings(points, normals, scene=scene, quality=quality, seed=seed,
-                                                        progress=progress, cancelled=cancelled)
+        readings = spectral_reflected.spectral_readings(points, normals, request=request)
     else:
         readings = []
         for k, (p, n) in enumerate(zip(points, normals)):
             if cancelled is not None and cancelled():
                 raise MeasurementCancelled("cancelled: the melanopic grid stopped; nothing was changed")
-            readings.append(spectra.spectral_reading(tuple(p), tuple(n), scene=scene))
+            readings.append(spectra.spectral_reading(tuple(p), tuple(n), request=request))
             if progress is not None and (k + 1) % 16 == 0:
                 spent = time.perf_counter() - start
                 progress(k + 1, len(points), spent / (k + 1) * (len(points) - k - 1))

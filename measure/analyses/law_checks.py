@@ -177,26 +177,24 @@ def default_distances(spec, count=24):
     return np.geomspace(0.6 * base, 60.0 * base, count)
 
 
-def check_inverse_square(light, *, scene=None, distances=None, method="auto", quality="standard",
-                         tolerance=laws.DEFAULT_TOLERANCE, exponent_tolerance=0.01, target_rel_error=None,
-                         samples=None, time_budget_s=None, seed=0, plot=None, progress=None, cancelled=None,
-                         points=24):
+def check_inverse_square(light, *, request, distances=None, method="auto", tolerance=laws.DEFAULT_TOLERANCE,
+                         exponent_tolerance=0.01, plot=None, points=24):
     """Sweep a meter facing ``light`` along its axis and compare the light's direct E with I/d^2.
 
     ``distances`` in m from the light's centre (default :func:`default_distances` with ``points``
-    distances, shortened to the free space in front of the light). ``quality`` / ``target_rel_error`` (fraction) /
-    ``samples`` (per meter) / ``time_budget_s`` (s, per measurement) as in
-    ``meter.measure_illuminance``. Returns :class:`InverseSquareResult`.
+    distances, shortened to the free space in front of the light). The request
+    (``measure.blender.request``) gives the scene and the budget: ``quality`` / ``target_rel_error``
+    (fraction) / ``samples`` (per meter) / ``time_budget_s`` (s, per measurement) as in
+    ``meter.measure_illuminance``, the seed, progress and cancel. Returns :class:`InverseSquareResult`.
     """
-    scene = common.scene_or_context(scene)
+    scene = request.scene
     obj = light_object(light, scene)
     model = scene_model(scene)  # one capture for the whole check (issue 17)
     spec = light_spec(obj, scene, model)
     if not spec.has_position:
         raise RadiometerError(f"light {obj.name!r} is a sun: it has no position, so the inverse-square law does "
                               "not apply (its irradiance does not change with distance); check its cosine law")
-    weights, efficacy = common.luminance_weights(scene)
-    scale = scene.unit_settings.scale_length
+    weights, efficacy, scale = request.weights, request.efficacy, request.scale_length
     axis = np.asarray(spec.emission_direction, float)
     intensity = float(np.asarray(spec.intensity_towards(axis)) @ weights)
     if intensity <= 0:
@@ -223,9 +221,7 @@ def check_inverse_square(light, *, scene=None, distances=None, method="auto", qu
     points_m = spec.position + d[:, None] * axis
     normals = np.tile(-axis, (d.size, 1))
     started = time.perf_counter()
-    split = measure_light_and_scene(scene, obj, points_m / scale, normals, method=method, seed=seed,
-                                    budget=common.budget(quality, target_rel_error, samples, time_budget_s),
-                                    progress=progress, cancelled=cancelled, model=model)
+    split = measure_light_and_scene(request, obj, points_m / scale, normals, method=method, model=model)
     seconds = time.perf_counter() - started
     measured, se, direct, dse = split.total, split.total_se, split.direct, split.direct_se
     predicted = intensity / d**2
@@ -398,12 +394,12 @@ def write_inverse_square_plot(result, path):
 
 # --- cosine law ----------------------------------------------------------------------------------
 
-def default_location(spec, scene, model=None):
+def default_location(spec, request, model=None):
     """Scene coordinates: 2 source sizes (at least 1 m) in front of the light, but no farther than
     half-way to the first surface on its axis; the origin for a sun."""
     if not spec.has_position:
         return np.zeros(3)
-    scale = scene.unit_settings.scale_length
+    scene, scale = request.scene, request.scale_length
     axis = np.asarray(spec.emission_direction, float)
     d = max(1.0, 2.0 * source_size(spec))
     free = free_distance(scene, spec.position, axis, model)
@@ -435,22 +431,20 @@ def _tilted_normals(spec, point_m, angles, name):
     return facing, toward, np.cos(th)[:, None] * facing + np.sin(th)[:, None] * toward
 
 
-def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, method="auto", quality="standard",
-                     tolerance=laws.DEFAULT_TOLERANCE, target_rel_error=None, samples=None, time_budget_s=None,
-                     seed=0, plot=None, progress=None, cancelled=None):
+def check_cosine_law(light, *, request, location=None, angles_deg=None, method="auto",
+                     tolerance=laws.DEFAULT_TOLERANCE, plot=None):
     """Tilt a meter at ``location`` (scene coordinates) from facing ``light`` to 89 deg.
 
     Compares the light's own direct E(theta)/E(0) with cos(theta) and reports the total's and the
-    scene's share beside it. Budget keywords as in :func:`check_inverse_square`. Returns
+    scene's share beside it. The request as in :func:`check_inverse_square`. Returns
     :class:`CosineResult`.
     """
-    scene = common.scene_or_context(scene)
+    scene = request.scene
     obj = light_object(light, scene)
     model = scene_model(scene)  # one capture for the whole check (issue 17)
     spec = light_spec(obj, scene, model)
-    weights, _eff = common.luminance_weights(scene)
-    scale = scene.unit_settings.scale_length
-    loc = default_location(spec, scene, model) if location is None else np.asarray(location, float)
+    weights, scale = request.weights, request.scale_length
+    loc = default_location(spec, request, model) if location is None else np.asarray(location, float)
     if loc.shape != (3,) or not np.all(np.isfinite(loc)):
         raise RadiometerError(f"location must be 3 finite numbers (scene coordinates), got {location!r}")
     angles = np.asarray(DEFAULT_ANGLES_DEG if angles_deg is None else angles_deg, float).ravel()
@@ -463,9 +457,7 @@ def check_cosine_law(light, *, scene=None, location=None, angles_deg=None, metho
     facing, toward, normals = _tilted_normals(spec, point_m, angles, obj.name)
     points = np.tile(loc, (angles.size, 1))
     started = time.perf_counter()
-    split = measure_light_and_scene(scene, obj, points, normals, method=method, seed=seed,
-                                    budget=common.budget(quality, target_rel_error, samples, time_budget_s),
-                                    progress=progress, cancelled=cancelled, model=model)
+    split = measure_light_and_scene(request, obj, points, normals, method=method, model=model)
     seconds = time.perf_counter() - started
     where = tuple(np.round(loc, 4))
     if not split.direct[0] > 0:

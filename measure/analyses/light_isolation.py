@@ -170,24 +170,25 @@ def _part(progress, lo, hi):
     return report
 
 
-def measure_light_and_scene(scene, obj, points_scene, normals, *, method, budget, seed=0, progress=None,
-                            cancelled=None, model=None):
+def measure_light_and_scene(request, obj, points_scene, normals, *, method, model=None):
     """Measure ``obj`` alone at the points: the total and the light's direct light. Returns
     :class:`LightAndScene`. The direct part uses closed forms where the scene model proves them
-    (``method`` "analytic": always) and Cycles at 0 bounces elsewhere, with the same budget."""
+    (``method`` "analytic": always) and Cycles at 0 bounces elsewhere, with the same budget (the
+    request's: ``measure.blender.request``)."""
+    scene, progress = request.scene, request.progress
     with isolated_light(scene, obj, model) as off:
         # The light alone, captured once: the total's bakes restore the scene exactly (scene_guard), so
         # the direct-light measurement reuses it instead of capturing again (issue 17).
         alone = scene_model(scene)
-        total = common.measure(scene, points_scene, normals, method=method, budget=budget, seed=seed,
-                               progress=_part(progress, 0.0, 0.5), cancelled=cancelled, model=alone)
+        total = common.measure(request.but(progress=_part(progress, 0.0, 0.5)), points_scene, normals,
+                               method=method, model=alone)
         exact = all(r.exact for r in total)
         if exact:
             direct = total
         else:
-            direct = common.measure(scene, points_scene, normals, method="analytic" if method == "analytic"
-                                    else "auto", budget=budget, seed=seed + 7919, progress=_part(progress, 0.5, 1.0),
-                                    cancelled=cancelled, direct_only=True, model=alone)
+            direct = common.measure(request.but(seed=request.seed + 7919, progress=_part(progress, 0.5, 1.0)),
+                                    points_scene, normals, method="analytic" if method == "analytic" else "auto",
+                                    direct_only=True, model=alone)
     t = np.array([r.irradiance for r in total])
     t_se = common.rel_errors(total)
     d = np.array([r.irradiance for r in direct])

@@ -22,7 +22,6 @@ import numpy as np
 from ... import quality as quality_presets
 from ...errors import RadiometerError
 from ..meter import camera as camera_mod
-from ..meter import point_meter as meter
 from ..blender import scene_guard
 from ..render.rounds import RenderRounds, relative_errors
 
@@ -88,14 +87,16 @@ def _cap(quality, max_spp):
     return int(min(max(int(max_spp), FIRST_SPP), MAX_SPP))
 
 
-def _rounds_to_target(scene, render, weights, target, cap, cancelled, progress=None, time_budget_s=None):
+def _rounds_to_target(request, render, target, cap):
     """Rounds of :data:`RENDERS` renders from 16 samples per pixel, 4x per round up to ``cap``, until the
-    90th percentile of the lit pixels' relative error is on ``target``; only the last round is kept.
-    ``time_budget_s``: no round is started that would end past the budget (its time predicted from the
-    last round's, in proportion to the samples); the first round always runs.
+    90th percentile of the lit pixels' relative error (of the request's CIE Y) is on ``target``; only the
+    last round is kept. The request's ``time_budget_s``: no round is started that would end past the budget
+    (its time predicted from the last round's, in proportion to the samples); the first round always runs;
+    its cancel and progress go to the rounds.
     Returns (the last round's renders (R, H, W, 3), (mean Y, relative s.e.) per pixel, the finite
     relative errors, samples per pixel, why it stopped)."""
-    rounds = RenderRounds(scene, cancelled=cancelled, progress=progress)
+    weights, time_budget_s = request.weights, request.time_budget_s
+    rounds = RenderRounds(request.scene, cancelled=request.cancelled, progress=request.progress)
     spp = FIRST_SPP
     started = time.perf_counter()
     while True:
@@ -124,22 +125,23 @@ def _short_of_target(share, target, spp, stopped):
             f"pixel (stopped by {stopped}); each pixel's error is in rel_std_error"]
 
 
-def render_luminance(*, scene=None, camera=None, resolution=None, quality="standard", target_rel_error=None,
-                     progress=None, cancelled=None, max_spp=None, time_budget_s=None):
+def render_luminance(*, request, camera=None, resolution=None, max_spp=None):
     """:class:`LuminanceImage` of ``camera`` (an object or its name; default the scene camera).
 
-    ``max_spp``: cap on the samples per pixel of one render (16..1024; None: 1024, at preview
-    ``PREVIEW_MAX_SPP``); ``time_budget_s``: no round of renders starts that would end past it; the
-    notes say how many pixels reached the target and what stopped the rounds."""
-    scene = scene or bpy.context.scene
+    The request (``measure.blender.request``): the scene, ``quality`` (None: "standard"),
+    ``target_rel_error`` (per pixel; None: the preset's), ``time_budget_s`` (no round of renders starts
+    that would end past it), progress and cancel. ``max_spp``: cap on the samples per pixel of one render
+    (16..1024; None: 1024, at preview ``PREVIEW_MAX_SPP``). The notes say how many pixels reached the
+    target and what stopped the rounds."""
+    scene, quality, target_rel_error = request.scene, request.quality or "standard", request.target_rel_error
     cam = scene.camera if camera is None else (scene.objects.get(camera) if isinstance(camera, str) else camera)
     if cam is None or getattr(cam, "type", None) != "CAMERA":
         raise RadiometerError("no camera to render from: give camera= or set the scene's camera")
     width, height = _resolution(scene, resolution)
     preset = quality_presets.preset(quality)
     target = float(target_rel_error) if target_rel_error is not None else float(preset["target"])
-    space, weights, efficacy = meter.scene_photometry(scene)
-    unit_area = scene.unit_settings.scale_length ** 2
+    space, weights, efficacy = request.photometry
+    unit_area = request.unit_area
     folder = camera_mod.scratch_folder()
     started = time.perf_counter()
     cap = _cap(quality, max_spp)
@@ -151,8 +153,7 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
             def render(k):
                 return camera_mod.render_exr(scene, folder, f"img{k}", width, height) / unit_area
 
-            stack, (mean_y, rel), lit, spp, stopped = _rounds_to_target(scene, render, weights, target, cap,
-                                                                         cancelled, progress, time_budget_s)
+            stack, (mean_y, rel), lit, spp, stopped = _rounds_to_target(request, render, target, cap)
             mean_rgb = stack.mean(axis=0)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
@@ -167,8 +168,8 @@ def render_luminance(*, scene=None, camera=None, resolution=None, quality="stand
                           seconds=time.perf_counter() - started, notes=notes)
 
 
-def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log",
-                    range=None, progress=None, cancelled=None, max_spp=None, time_budget_s=None):  # noqa: A002
+def luminance_image(path, *, request, camera=None, resolution=None, scale="log", range=None,  # noqa: A002
+                    max_spp=None):
     """Render :func:`render_luminance` and write ``path`` (.exr: 32-bit, luminance in cd/m² in R, G and
     B) and the false-colour PNG beside it (same stem, .png; legend in cd/m², ``scale`` 'log' | 'linear',
     ``range`` (lo, hi) cd/m² or automatic). Returns the :class:`LuminanceImage` with ``paths``."""
@@ -188,8 +189,7 @@ def luminance_image(path, *, scene=None, camera=None, resolution=None, quality="
             scale_range([1.0], scale, range)
         except ValueError as exc:
             raise RadiometerError(str(exc)) from None
-    result = render_luminance(scene=scene, camera=camera, resolution=resolution, quality=quality,
-                              progress=progress, cancelled=cancelled, max_spp=max_spp, time_budget_s=time_budget_s)
+    result = render_luminance(request=request, camera=camera, resolution=resolution, max_spp=max_spp)
     world.write_exr(path, np.repeat(result.luminance[..., None], 3, axis=-1))
     result.paths["exr"] = path
     from ...plots import matplotlib_available
@@ -252,8 +252,8 @@ def _light_pass_compositor(scene):
     return tree
 
 
-def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality="standard", scale="log",
-                      range=None, max_spp=None, cancelled=None, time_budget_s=None):  # noqa: A002 - the API's name
+def illuminance_image(path, *, request, camera=None, resolution=None, scale="log", range=None,  # noqa: A002
+                      max_spp=None):
     """Illuminance (lx) on the surfaces the camera sees: E = pi x (Diffuse Direct + Diffuse Indirect).
 
     Why it holds: Cycles writes a BSDF's light passes divided by its colour pass (Combined = (Direct +
@@ -263,11 +263,11 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
     component (metals, glass, emitters, the world: 0 there), rough diffuse (Oren-Nayar, roughness > 0,
     whose reflection is not rho E / pi), and the Principled BSDF's diffuse lobe (not verified here).
     Writes ``path`` (.exr, lux in R, G, B) and a false-colour PNG beside it; sampling as
-    :func:`render_luminance`. Returns :class:`IlluminanceImage`.
+    :func:`render_luminance` (the request's quality, time budget and cancel). Returns :class:`IlluminanceImage`.
     """
     import os
 
-    scene = scene or bpy.context.scene
+    scene, quality = request.scene, request.quality or "standard"
     if not hasattr(scene, "compositing_node_group"):
         # Blender 4.x has no compositor node groups (the passes are summed in one); not ported yet.
         raise RadiometerError("illuminance images need Blender 5.0 or newer; luminance images "
@@ -283,13 +283,13 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
     width, height = _resolution(scene, resolution)
     preset = quality_presets.preset(quality)
     target = float(preset["target"])
-    space, weights, efficacy = meter.scene_photometry(scene)
-    unit_area = scene.unit_settings.scale_length ** 2
+    space, weights, efficacy = request.photometry
+    unit_area = request.unit_area
     cap = _cap(quality, max_spp)
     folder = camera_mod.scratch_folder()
     started = time.perf_counter()
     old_group = scene.compositing_node_group
-    layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
+    layer = request.view_layer
     try:
         with scene_guard.preserved_scene(scene) as snapshot:
             camera_mod.prepare_render(scene, dict(preset, samples=FIRST_SPP), snapshot)
@@ -304,8 +304,8 @@ def illuminance_image(path, *, scene=None, camera=None, resolution=None, quality
                 img = camera_mod.render_exr(scene, folder, f"e{k}", width, height, compositing=True)
                 return math.pi * img / unit_area
 
-            _stack, (mean_y, rel), lit, spp, stopped = _rounds_to_target(scene, render, weights, target, cap,
-                                                                          cancelled, time_budget_s=time_budget_s)
+            _stack, (mean_y, rel), lit, spp, stopped = _rounds_to_target(request.but(progress=None), render, target,
+                                                                          cap)
     finally:
         # the scene guard removes the node group it saw created; put the user's compositor back
         scene.compositing_node_group = old_group

@@ -385,7 +385,7 @@ def openings_to_world(model):
     return Openings(list(loops), outward, depth)
 
 
-def add_opening_emitters(scene, openings, info):
+def add_opening_emitters(request, openings, info):
     """Inside the caller's guard: one emitter per opening (``sky.opening_emitter_material``: the sky and
     ground of the CIE sky ``info`` that a ray leaving through it meets), and a black world whose light
     sampling is off (the openings now carry all of the sky's light into the room). An open opening
@@ -398,7 +398,7 @@ def add_opening_emitters(scene, openings, info):
     from ..blender import identity
     from ...compat import ensure_node_tree
 
-    scale = scene.unit_settings.scale_length
+    scene, scale = request.scene, request.scale_length
     keys = []
     for k, (poly, normal, depth) in enumerate(zip(openings.loops, openings.outward, openings.depth)):
         n = len(poly)
@@ -426,26 +426,26 @@ def add_opening_emitters(scene, openings, info):
 _LINK_CHECKS = {}
 
 
-def check_emitter_linking(scene, keys, sensor, normal, model, *, samples=256):
+def check_emitter_linking(request, keys, sensor, normal, model, *, samples=256):
     """Prove on this Blender and device (cached per session) that light linking keeps an emitting mesh's
     light out of a baked sensor entirely, by next-event estimation and by rays that hit it: at a point
     lit by the openings, a direct-only bake (0 bounces) must read more than 0 without the exclusion and
     exactly 0 with it. Returns (ok, note)."""
     import bpy
 
-    from ..meter import point_meter as meter
     from ..render import adaptive
-    from .analysis_common import view_layer_of
 
+    scene = request.scene
     key = (bpy.app.version_string, str(getattr(scene.cycles, "device", "CPU")))
     if key in _LINK_CHECKS:
         return _LINK_CHECKS[key]
-    _space, weights, efficacy = meter.scene_photometry(scene)
+    weights, efficacy = request.weights, request.efficacy
+    check = request.but(seed=0, progress=None, cancelled=None)  # as the check always ran: seed 0, no progress
     read = {}
     for name, ex in (("open", frozenset()), ("linked out", frozenset(keys))):
-        run = adaptive.render_hybrid(scene, view_layer_of(scene), np.asarray(sensor, float)[None, :],
+        run = adaptive.render_hybrid(check, np.asarray(sensor, float)[None, :],
                                      np.asarray(normal, float)[None, :], needs=model.needs, bounces=0,
-                                     weights=weights, fixed_samples=samples, exclusions=[ex], panes=model.panes)
+                                     fixed_samples=samples, exclusions=[ex], panes=model.panes)
         read[name] = efficacy * float(run["mean_rgb"][0] @ weights)
     ok = read["open"] > 0.0 and read["linked out"] == 0.0
     note = (f"light linking was checked on this Blender ({key[0]}, {key[1]}): direct light from the openings' "
@@ -511,7 +511,7 @@ def set_gate_mode(factor, mode):
     factor.inputs[1].default_value, factor.inputs[2].default_value = mul, add
 
 
-def check_world_gate(scene, factor, model, *, horizontal_lux, samples=1024):
+def check_world_gate(request, factor, model, *, horizontal_lux, samples=1024):
     """Prove the gate on this Blender and device (cached per session): a sensor facing up above every
     surface sees only sky, so with the direct band alone it must read the unobstructed sky (all its
     direct hits have Ray Depth 2, within 5 %: a wrong depth reads 0 or a fraction), and with the
@@ -519,24 +519,24 @@ def check_world_gate(scene, factor, model, *, horizontal_lux, samples=1024):
     remainder keeps every reflected path. Returns (ok, note); leaves the gate in mode "remainder"."""
     import bpy
 
-    from ..meter import point_meter as meter
     from ..render import adaptive
-    from .analysis_common import view_layer_of
 
+    scene = request.scene
     key = (bpy.app.version_string, str(getattr(scene.cycles, "device", "CPU")))
     if key in _GATE_CHECKS:
         set_gate_mode(factor, "remainder")
         return _GATE_CHECKS[key]
-    scale = scene.unit_settings.scale_length
+    scale = request.scale_length
     lo, hi = model.geometry.bounds()
     top = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 1.0]) / scale
-    _space, weights, efficacy = meter.scene_photometry(scene)
+    weights, efficacy = request.weights, request.efficacy
+    check = request.but(seed=0, progress=None, cancelled=None)  # as the check always ran: seed 0, no progress
     read = {}
     for mode in ("direct", "remainder"):
         set_gate_mode(factor, mode)
-        view_layer_of(scene).update()
-        run = adaptive.render_hybrid(scene, view_layer_of(scene), top[None, :], np.array([[0.0, 0.0, 1.0]]),
-                                     needs=model.needs, bounces=4, weights=weights, fixed_samples=samples)
+        request.view_layer.update()
+        run = adaptive.render_hybrid(check, top[None, :], np.array([[0.0, 0.0, 1.0]]),
+                                     needs=model.needs, bounces=4, fixed_samples=samples)
         read[mode] = efficacy * float(run["mean_rgb"][0] @ weights)
     set_gate_mode(factor, "remainder")
     ok = abs(read["direct"] - horizontal_lux) <= 0.05 * horizontal_lux and read["remainder"] == 0.0

@@ -109,22 +109,25 @@ def sample_hours(unix_s):
 
 # --- one time step (runs here or on a worker) ------------------------------------------------------
 
-def _set_sky(scene, sky, direction, horizontal_illuminance_lux=None):
-    """Put a temporary world with the sky model ``sky`` (a ``SKY_MODELS`` name) on ``scene`` (inside the
-    caller's guard)."""
+def _set_sky(request, sky, direction, horizontal_illuminance_lux=None):
+    """Put a temporary world with the sky model ``sky`` (a ``SKY_MODELS`` name) on the request's scene
+    (inside the caller's guard)."""
     import bpy
 
     from ..authoring import sky as cie_sky_world
 
-    scene.world = bpy.data.worlds.new("Radiometer sun-study sky")  # the guard removes it and restores the world
-    cie_sky_world.set_cie_sky(scene, sky, horizontal_illuminance_lux=horizontal_illuminance_lux,
+    request.scene.world = bpy.data.worlds.new("Radiometer sun-study sky")  # the guard restores the user's world
+    cie_sky_world.set_cie_sky(request, sky, horizontal_illuminance_lux=horizontal_illuminance_lux,
                               sun_direction=tuple(float(x) for x in direction))
 
 
 def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_deg, elevation_m=0.0,
                    direct_normal_illuminance_lux=None, north_offset_deg=0.0, sky=None, quality="standard",
-                   method="auto", seed=0, cancelled=None, sky_horizontal_illuminance_lux=None, time_budget_s=None):
-    """Illuminance from the sun (and ``sky``) at one time; the scene is as before afterwards.
+                   method="auto", seed=0, cancelled=None, sky_horizontal_illuminance_lux=None, time_budget_s=None,
+                   efficacy=None):
+    """Illuminance from the sun (and ``sky``) at one time; the scene is as before afterwards. A task of plain
+    values (it may run on a cluster's copy of the scene): its request is built here with the caller's
+    ``efficacy`` (lm/W; None: the scene's as the api reads it).
 
     ``locations``/``normals``: (N, 3) scene coordinates; ``when``: a timezone-aware datetime;
     ``time_budget_s``: seconds for this step's measurement (it stops at the quality's target or the
@@ -137,18 +140,22 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
 
     from ... import quality as quality_presets
     from ..meter import point_meter as meter
-    from ..blender import scene_guard
+    from ..blender import request as request_of, scene_guard
     from ..authoring import sun
-    from .analysis_common import view_layer_of
     from .light_isolation import rendering_light_objects
 
     start = time.perf_counter()
-    scene = scene or bpy.context.scene
+    request = request_of.build(
+        scene, efficacy=efficacy, quality=quality, seed=seed, cancelled=cancelled, time_budget_s=time_budget_s,
+        # with a budget the meter drops the preset's target unless it is given: give it, so whichever comes
+        # first stops the step
+        target_rel_error=quality_presets.PRESETS[quality]["target"] if time_budget_s is not None else None)
+    scene = request.scene
     points, _single = meter.as_points(locations, "locations")
     normals = meter.as_directions(normals, len(points), "normals")
     n = len(points)
     with scene_guard.preserved_scene(scene) as snapshot:
-        model = meter.capture_model(scene, view_layer_of(scene))
+        model = meter.capture_model(scene, request.view_layer)
         for ob in rendering_light_objects(scene, model):
             snapshot.remember(ob, "hide_render")
             ob.hide_render = True
@@ -156,19 +163,19 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
         data = bpy.data.lights.new("Radiometer sun-study sun", "SUN")
         obj = bpy.data.objects.new(data.name, data)
         scene.collection.objects.link(obj)
-        info = sun.set_sun(scene, latitude_deg, longitude_deg, when,
+        info = sun.set_sun(request, latitude_deg, longitude_deg, when,
                            direct_normal_illuminance_lux=direct_normal_illuminance_lux,
                            north_offset_deg=north_offset_deg, elevation_m=elevation_m, sun=obj)
         direction = np.asarray(info["direction"], float)
         if sky is not None:
-            _set_sky(scene, sky, direction, sky_horizontal_illuminance_lux)
-        view_layer_of(scene).update()
+            _set_sky(request, sky, direction, sky_horizontal_illuminance_lux)
+        request.view_layer.update()
         out = {"azimuth_deg": info["azimuth_deg"], "elevation_deg": info["elevation_deg"],
                "direct_normal_illuminance_lux": info["direct_normal_illuminance_lux"]}
         sunlit_fraction = np.zeros(n)
         if info["above_horizon"]:
             geometry = model.geometry
-            scale = scene.unit_settings.scale_length
+            scale = request.scale_length
             if geometry.count:
                 mask = geometry.shadow_triangles() & np.asarray(geometry.opaque, bool)
                 tris = geometry.triangles[mask]
@@ -183,12 +190,7 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
         else:
             centre_clear = np.zeros(n, bool)
         if info["above_horizon"] or sky is not None:
-            readings = meter.measure_illuminance(points, normals, scene=scene, method=method, quality=quality,
-                                                 seed=seed, cancelled=cancelled, time_budget_s=time_budget_s,
-                                                 # with a budget the meter drops the preset's target unless it
-                                                 # is given: give it, so whichever comes first stops the step
-                                                 target_rel_error=(quality_presets.PRESETS[quality]["target"]
-                                                                   if time_budget_s is not None else None))
+            readings = meter.measure_illuminance(points, normals, request, method=method)
             out["illuminance"] = np.array([r.illuminance for r in readings])
             out["rel_std_error"] = np.array([r.rel_std_error for r in readings])
             out["exact"] = np.array([bool(r.exact) for r in readings])
@@ -258,17 +260,16 @@ def _check_times(times):
     return times
 
 
-def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevation_m=0.0,
-              direct_normal_illuminance_lux=None, sky=None, scene=None, quality="standard", client=None,
-              north_offset_deg=0.0, min_elevation_deg=0.0, method="auto", seed=0, progress=None, cancelled=None,
-              sky_horizontal_illuminance_lux=None, time_budget_s=None):
-    """See ``radiometer.api.sun_study``."""
-    import bpy
-
+def sun_study(locations, normals, times, *, request, latitude_deg, longitude_deg, elevation_m=0.0,
+              direct_normal_illuminance_lux=None, sky=None, north_offset_deg=0.0, min_elevation_deg=0.0,
+              method="auto", sky_horizontal_illuminance_lux=None):
+    """See ``radiometer.api.sun_study``. The request gives the scene, ``quality`` (None: "standard"),
+    ``time_budget_s`` (per step), the seed, progress, cancel and ``client``; the steps carry its efficacy."""
     from ..meter import point_meter as meter
     from ..authoring import sun
 
-    scene = scene or bpy.context.scene
+    scene, quality, time_budget_s, seed = request.scene, request.quality or "standard", request.time_budget_s, request.seed
+    progress, cancelled, client = request.progress, request.cancelled, request.client
     points, _ = meter.as_points(locations, "locations")
     dirs = meter.as_directions(normals, len(points), "normals")
     times = _check_times(times)
@@ -298,7 +299,8 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
     common = dict(locations=points, normals=dirs, latitude_deg=float(latitude_deg),
                   longitude_deg=float(longitude_deg), elevation_m=float(elevation_m),
                   north_offset_deg=float(north_offset_deg), sky=sky, quality=quality, method=method,
-                  sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux, time_budget_s=time_budget_s)
+                  sky_horizontal_illuminance_lux=sky_horizontal_illuminance_lux, time_budget_s=time_budget_s,
+                  efficacy=request.efficacy)
     tasks = [dict(common, when=times[i], direct_normal_illuminance_lux=dni[i], seed=int(seed) + 1009 * i)
              for i in range(n_t)]
     started = time.perf_counter()

@@ -8,12 +8,11 @@ same emitter (``radiometry.emitters``) the analytic meter uses; every quantity i
 
 import math
 
-import bpy
 import numpy as np
 
 from ...errors import RadiometerError
 from ...radiometry import emitters
-from ..meter import point_meter as meter
+from ..blender import request as request_of
 from ..capture import scene_lights
 
 # unit -> (light types it applies to, label)
@@ -25,7 +24,7 @@ UNITS = {
 }
 
 
-def _per_unit_energy(obj, unit, scene):
+def _per_unit_energy(obj, unit, request):
     """Photometric value of ``obj`` per unit of ``energy`` (light data's own units), read from the
     light's emitter (``radiometry.emitters``): its flux, intensity and area have no other home."""
     light = obj.data
@@ -33,8 +32,8 @@ def _per_unit_energy(obj, unit, scene):
     if light.type not in types:
         allowed = ", ".join(u.lower() for u, (t, _l) in UNITS.items() if light.type in t)
         raise RadiometerError(f"{unit.lower()} does not apply to a {light.type.lower()} light; use {allowed}")
-    emitter = scene_lights.emitter_of(light, obj.matrix_world, scene.unit_settings.scale_length, energy=1.0)
-    _space, weights, efficacy = meter.scene_photometry(scene)
+    emitter = scene_lights.emitter_of(light, obj.matrix_world, request.scale_length, energy=1.0)
+    _space, weights, efficacy = request.photometry
     if isinstance(emitter, emitters.PhotometricLight):
         # A photometric (IES) light: its flux is its table integrated over the sphere (the emitter's
         # one integration, emitters.photometric.table_flux).
@@ -53,17 +52,18 @@ def _per_unit_energy(obj, unit, scene):
 
 
 def photometric_power(obj, unit, scene=None):
-    scene = scene or bpy.context.scene
-    return obj.data.energy * _per_unit_energy(obj, unit, scene)
+    """The light's emission in ``unit``; ``scene``: a request (``measure.blender.request``), a scene or None
+    (the context's): its efficacy and unit scale."""
+    return obj.data.energy * _per_unit_energy(obj, unit, request_of.of(scene))
 
 
 def set_photometric_power(obj, unit, value, scene=None):
-    """Set ``obj.data.energy`` so that the light emits ``value`` in ``unit``; returns the energy."""
-    scene = scene or bpy.context.scene
+    """Set ``obj.data.energy`` so that the light emits ``value`` in ``unit``; returns the energy.
+    ``scene`` as in :func:`photometric_power`."""
     value = float(value)
     if not math.isfinite(value) or value < 0:
         raise RadiometerError(f"photometric power must be a finite non-negative number, got {value}")
-    per_unit = _per_unit_energy(obj, unit, scene)
+    per_unit = _per_unit_energy(obj, unit, request_of.of(scene))
     if per_unit <= 0:
         raise RadiometerError("the light's colour has no luminance: it cannot emit lumens")
     obj.data.energy = value / per_unit

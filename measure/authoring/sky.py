@@ -128,6 +128,7 @@ def opening_emitter_material(name, info, outward):
 def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_direction=None, ground_reflectance=0.2,
                 world=None):
     """Make ``scene.world`` the CIE sky (a new world, or ``world`` rebuilt); returns a dict of what was set.
+    ``scene``: a request (``measure.blender.request``: its scene, efficacy and unit scale), a scene or None.
 
     The unobstructed horizontal illuminance from the sky is ``horizontal_illuminance_lux`` (default
     ``cie_sky.TYPICAL_HORIZONTAL_ILLUMINANCE``); the ground below the sharp horizon has luminance
@@ -137,8 +138,10 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
     import bpy
 
     from ...compat import ensure_node_tree
-    from ..meter import point_meter as meter
+    from ..blender import request as request_of
 
+    request = request_of.of(scene)
+    scene = request.scene
     try:
         model = sky_models.sky_model(sky_type)
     except ValueError as exc:
@@ -160,8 +163,7 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
         lz = e_h / float(model.sky_integral([0.0, 0.0, 1.0], sun)[0])  # Lz for E_h, any model
     except ValueError as exc:
         raise RadiometerError(str(exc)) from None
-    _space, _weights, efficacy = meter.scene_photometry(scene)
-    unit = scene.unit_settings.scale_length ** 2
+    efficacy, unit = request.efficacy, request.unit_area
     lg = float(cie_sky.ground_luminance(e_h, rho))
     zr, gr = lz / efficacy * unit, lg / efficacy * unit
     name = model.label
@@ -171,7 +173,7 @@ def set_cie_sky(scene, sky_type, *, horizontal_illuminance_lux=None, sun_directi
     build_sky_tree(tree, t, sun, zr, gr)
     info = {"schema": CIE_SKY_SCHEMA, "sky_type": t, "sun_direction": [float(v) for v in sun],
             "horizontal_illuminance_lux": e_h, "ground_reflectance": rho, "zenith_luminance": lz,
-            "ground_luminance": lg, "efficacy": efficacy, "scale_length": scene.unit_settings.scale_length,
+            "ground_luminance": lg, "efficacy": efficacy, "scale_length": request.scale_length,
             "zenith_radiance": zr, "ground_radiance": gr, "fingerprint": sky_fingerprint(tree)}
     world[CIE_SKY_TAG] = json.dumps(info)
     scene.world = world

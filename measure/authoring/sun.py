@@ -51,15 +51,14 @@ def find_sun(scene):
     return None
 
 
-def sun_strength_w_m2(illuminance_lux, scene, colour=(1.0, 1.0, 1.0)):
-    """Blender sun strength (W/m^2 per scene unit^2) that the meter reads as ``illuminance_lux``."""
-    from ..meter import point_meter as meter
-
-    _space, weights, efficacy = meter.scene_photometry(scene)
+def sun_strength_w_m2(illuminance_lux, request, colour=(1.0, 1.0, 1.0)):
+    """Blender sun strength (W/m^2 per scene unit^2) that the meter reads as ``illuminance_lux``
+    (``request``: ``measure.blender.request``, its efficacy and unit scale)."""
+    _space, weights, efficacy = request.photometry
     y = float(np.asarray(colour, float) @ weights)
     if not y > 0:
         raise RadiometerError(f"the sun's colour {tuple(colour)} has no luminance")
-    return float(illuminance_lux) * scene.unit_settings.scale_length ** 2 / (efficacy * y)
+    return float(illuminance_lux) * request.unit_area / (efficacy * y)
 
 
 def sun_position(latitude_deg, longitude_deg, when, **kwargs):
@@ -84,9 +83,13 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
     ``object`` (the light object's name), ``azimuth_deg``, ``elevation_deg``, ``zenith_deg``,
     ``direction`` (towards the sun, scene axes), ``direct_normal_illuminance_lux`` (0 below the
     horizon), ``strength_w_m2`` (the light's strength), ``model`` (where E_dn came from),
-    ``above_horizon``, ``created`` and ``notes``.
+    ``above_horizon``, ``created`` and ``notes``. ``scene``: a request (``measure.blender.request``), a
+    scene or None (the context's).
     """
-    scene = scene or bpy.context.scene
+    from ..blender import request as request_of
+
+    request = request_of.of(scene)
+    scene = request.scene
     if not isinstance(when, _dt.datetime):
         raise RadiometerError(f"set_sun takes one timezone-aware datetime, got {type(when).__name__}")
     if direct_normal_illuminance_lux is not None:
@@ -123,7 +126,7 @@ def set_sun(scene, latitude_deg, longitude_deg, when, *, direct_normal_illuminan
         light.use_temperature = False
     if hasattr(light, "exposure"):
         light.exposure = 0.0
-    strength = sun_strength_w_m2(e_dn, scene)
+    strength = sun_strength_w_m2(e_dn, request)
     light.energy = strength
     obj["radiometer_sun_latitude_deg"] = float(latitude_deg)
     obj["radiometer_sun_longitude_deg"] = float(longitude_deg)

@@ -24,17 +24,20 @@ def _scene(scene):
 
 def world_illuminance(scene=None, normal=(0.0, 0.0, 1.0)):
     """Illuminance (lux) on a surface facing ``normal`` from the world alone (nothing blocking it).
+    ``scene``: a request (``measure.blender.request``), a scene or None (the context's).
 
     Returns a dict: illuminance, irradiance (W/m^2, CIE-Y weighted), irradiance_rgb, method
     ("analytic" or "render"), exact, rel_error_bound, brightest_direction, brightest_radiance_rgb,
     brightest_luminance (cd/m^2), notes.
     """
+    from ..blender import request as request_of
     from ..meter import point_meter as meter
 
-    scene = _scene(scene)
+    request = request_of.of(scene)
+    scene = request.scene
     n = meter.as_directions(normal, 1)[0]
-    space, weights, efficacy = meter.scene_photometry(scene)
-    unit = scene.unit_settings.scale_length ** 2  # world radiance is per scene unit^2 (Conventions)
+    space, weights, efficacy = request.photometry
+    unit = request.unit_area  # world radiance is per scene unit^2 (Conventions)
     world = read_world(scene)
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"] + list(world.notes)
     if world.modelled:
@@ -50,7 +53,7 @@ def world_illuminance(scene=None, normal=(0.0, 0.0, 1.0)):
                 "brightest_direction": tuple(map(float, d)), "brightest_radiance_rgb": tuple(map(float, value / unit)),
                 "brightest_luminance": float(efficacy * (value / unit) @ weights), "kind": world.kind,
                 "strength": world.strength, "notes": notes}
-    reading = _render_world_alone(scene, n)
+    reading = _render_world_alone(request, n)
     notes += [f"world not modelled ({world.reason}): rendered alone (no lights, no geometry)"]
     return {"illuminance": reading.illuminance, "irradiance": reading.irradiance,
             "irradiance_rgb": reading.irradiance_rgb, "method": "render", "exact": False,
@@ -58,14 +61,16 @@ def world_illuminance(scene=None, normal=(0.0, 0.0, 1.0)):
             "brightest_luminance": None, "kind": None, "strength": world.strength, "notes": notes}
 
 
-def _render_world_alone(scene, n, quality="standard"):
-    """Render the world's light on a sensor in a temporary empty scene that shares the world."""
+def _render_world_alone(request, n):
+    """Render the world's light on a sensor in a temporary empty scene that shares the world (at the
+    "standard" quality, seed 0: the request's photometry, not its budget)."""
     from ..meter import point_meter as meter
     from ..blender.temporary_scene import temporary_scene
 
-    with temporary_scene("radiometer_world_alone", like=scene) as rig:
-        return meter.measure_illuminance((0.0, 0.0, 0.0), tuple(n), scene=rig.scene, method="render",
-                                         quality=quality)
+    with temporary_scene("radiometer_world_alone", like=request.scene) as rig:
+        alone = request.but(scene=rig.scene, quality="standard", target_rel_error=None, samples=None,
+                            time_budget_s=None, target_abs_error=None, seed=0, progress=None, cancelled=None)
+        return meter.measure_illuminance((0.0, 0.0, 0.0), tuple(n), alone, method="render")
 
 
 def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
@@ -73,8 +78,12 @@ def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
 
     The world's light is linear in the Background strength. Returns a dict with the old and new
     strength, the illuminance before and after, and notes. The operator wraps it in an undo step.
+    ``scene``: a request, a scene or None (the context's).
     """
-    scene = _scene(scene)
+    from ..blender import request as request_of
+
+    request = request_of.of(scene)
+    scene = request.scene
     try:
         target = float(illuminance_lux)
     except (TypeError, ValueError):
@@ -87,13 +96,13 @@ def calibrate_world(scene=None, illuminance_lux=None, normal=(0.0, 0.0, 1.0)):
     if node is None or node.bl_idname != "ShaderNodeBackground" or node.inputs["Strength"].is_linked:
         raise RadiometerError("cannot calibrate: the world needs a Background node with an unlinked Strength "
                               f"({world.reason or 'no Background node'})")
-    before = world_illuminance(scene, normal)
+    before = world_illuminance(request, normal)
     if not before["illuminance"] > 0:
         raise RadiometerError("cannot calibrate a black world (it gives 0 lux at any strength)")
     old = float(node.inputs["Strength"].default_value)
     new = old * target / before["illuminance"]
     node.inputs["Strength"].default_value = new
-    after = world_illuminance(scene, normal)
+    after = world_illuminance(request, normal)
     return {"old_strength": old, "new_strength": new, "illuminance_before": before["illuminance"],
             "illuminance_after": after["illuminance"], "target": target, "method": after["method"],
             "notes": [f"Background {node.name!r} strength {old:g} -> {new:g} so the world alone gives "
@@ -121,7 +130,10 @@ def irradiance_environment_map(source, path, *, method="exact", resolution=(64, 
     else:
         import bpy
 
-        scene = source if isinstance(source, bpy.types.Scene) else _scene(scene)
+        from ..blender import request as request_of
+
+        request = request_of.of(source if isinstance(source, bpy.types.Scene) else scene)
+        scene = request.scene
         world = read_world(scene)
         if not world.modelled:
             raise RadiometerError(f"the world is not modelled ({world.reason}); capture a radiance map "
@@ -129,7 +141,7 @@ def irradiance_environment_map(source, path, *, method="exact", resolution=(64, 
         lmap, rotation = world.as_map()
         if world.kind == "equirect":
             lmap = world.sampled_map()
-        unit = scene.unit_settings.scale_length ** 2
+        unit = request.unit_area
         notes.append(f"source: the world of scene {scene.name!r} ({world.kind}); output in the Environment "
                      "Texture orientation, so it can be used as one")
     width, height = (int(v) for v in resolution)

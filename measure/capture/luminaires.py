@@ -38,9 +38,11 @@ _MAPPING_SCALE = (1.0, -1.0, 1.0)
 
 
 def scene_efficacy(scene):
-    from ..blender import efficacy
+    """K (lm/W) of ``scene``: a request (``measure.blender.request``), a scene or None; 683 lm/W where the
+    setting is not above 0."""
+    from ..blender import request as request_of
 
-    value = efficacy.of(scene) or 0.0
+    value = request_of.of(scene).efficacy
     return value if value > 0.0 else K_M_LM_PER_W
 
 
@@ -86,9 +88,13 @@ def import_luminaire(path, *, scene=None, location=(0.0, 0.0, 0.0), rotation_eul
 
     Nothing is created when the file cannot be read (RadiometerError with the reader's line).
     TILT data, when present, is applied at the tilt of ``rotation_euler`` (the angle between
-    the light's local -Z and the world's -Z) and recorded on the light.
+    the light's local -Z and the world's -Z) and recorded on the light. ``scene``: a request
+    (``measure.blender.request``: its scene and efficacy), a scene or None (the context's).
     """
-    scene = scene or bpy.context.scene
+    from ..blender import request as request_of
+
+    request = request_of.of(scene)
+    scene = request.scene
     try:
         photometry = pf.read_photometry(path)
         if photometry.photometric_type != "C":
@@ -108,7 +114,7 @@ def import_luminaire(path, *, scene=None, location=(0.0, 0.0, 0.0), rotation_eul
     except (TypeError, ValueError) as exc:
         raise RadiometerError(f"{path}: {exc}") from None
     label = name or os.path.splitext(os.path.basename(os.fspath(path)))[0] or "Luminaire"
-    efficacy = scene_efficacy(scene)
+    efficacy = scene_efficacy(request)
     text = bpy.data.texts.new(f"{label}.ies")
     text.from_string(text_body)
     data = bpy.data.lights.new(label, "POINT")

@@ -16,7 +16,6 @@ import bpy
 import numpy as np
 
 from ...radiometry.skies import environment
-from ... import quality as quality_presets
 from ...errors import RadiometerError
 from ...radiometry.sampling import allocation
 from ...readings import LuminanceReading
@@ -140,20 +139,21 @@ def prepare_render(scene, preset, snapshot):
     return record
 
 
-def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, quality="standard",
-                      target_rel_error=None, progress=None, cancelled=None, resolution=24, max_renders=64, seed=0):
-    """Average radiance in a cone of full angle ``acceptance_deg`` around ``direction``; ``seed``: the first
-    render's Cycles seed (render k takes seed + k)."""
+def measure_luminance(location, direction, *, request, acceptance_deg=1.0, resolution=24, max_renders=64):
+    """Average radiance in a cone of full angle ``acceptance_deg`` around ``direction``. The request
+    (``measure.blender.request``): the scene, ``quality`` (None: "standard"), ``target_rel_error``,
+    progress, cancel and ``seed`` (the first render's Cycles seed: render k takes seed + k)."""
     from mathutils import Vector
 
-    scene = scene or bpy.context.scene
+    scene, target_rel_error, seed = request.scene, request.target_rel_error, request.seed
+    progress, cancelled = request.progress, request.cancelled
     points, _ = meter.as_points(location)
     d = meter.as_directions(direction, 1, name="direction")[0]
     acceptance_deg = float(acceptance_deg)
     if not (0.0 < acceptance_deg < 120.0) or not math.isfinite(acceptance_deg):
         raise RadiometerError(f"acceptance angle must be in (0, 120) degrees, got {acceptance_deg}")
-    preset = quality_presets.preset(quality)
-    space, weights, efficacy = meter.scene_photometry(scene)
+    preset = request.preset()
+    space, weights, efficacy = request.photometry
     half = math.radians(acceptance_deg) / 2
     # Pixel weights: a perspective pixel subtends a solid angle proportional to cos^3 of its
     # angle from the axis; pixels outside the acceptance cone get weight 0.
@@ -162,7 +162,7 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
     off_axis = np.arctan(np.hypot(x, y) * math.tan(half))
     w = np.where(off_axis <= half, np.cos(off_axis) ** 3, 0.0)
     w /= w.sum()
-    unit_area = scene.unit_settings.scale_length ** 2  # Cycles renders per scene-unit^2
+    unit_area = request.unit_area  # Cycles renders per scene-unit^2
     folder = scratch_folder()
     started = time.perf_counter()
     target = float(target_rel_error) if target_rel_error is not None else float(preset["target"])
@@ -221,9 +221,10 @@ def measure_luminance(location, direction, *, acceptance_deg=1.0, scene=None, qu
                             for e, m in zip(tally.std_error_rgb[0], mean)))
 
 
-def capture_radiance_map(location, path, *, resolution=128, scene=None, quality="standard"):
-    """Render a 32-bit equirectangular EXR (width = 2 x ``resolution``) of incident radiance."""
-    scene = scene or bpy.context.scene
+def capture_radiance_map(location, path, *, request, resolution=128):
+    """Render a 32-bit equirectangular EXR (width = 2 x ``resolution``) of incident radiance at the
+    request's scene and ``quality`` (None: "standard")."""
+    scene = request.scene
     points, _ = meter.as_points(location)
     resolution = int(resolution)
     if not 4 <= resolution <= MAX_MAP_HEIGHT:  # 10**9 would render for ever and ignore Ctrl-C
@@ -233,8 +234,8 @@ def capture_radiance_map(location, path, *, resolution=128, scene=None, quality=
     path = os.path.abspath(bpy.path.abspath(path) if path.startswith("//") else path)
     if not os.path.isdir(os.path.dirname(path)):
         raise RadiometerError(f"cannot write {path}: its folder does not exist")
-    preset = quality_presets.preset(quality)
-    space, weights, efficacy = meter.scene_photometry(scene)
+    preset = request.preset()
+    space, weights, efficacy = request.photometry
     folder = scratch_folder()
     started = time.perf_counter()
     try:
@@ -244,7 +245,7 @@ def capture_radiance_map(location, path, *, resolution=128, scene=None, quality=
             cam.data.type = "PANO"
             cam.data.panorama_type = "EQUIRECTANGULAR"
             img = render_exr(scene, folder, "map", 2 * resolution, resolution)
-            img /= scene.unit_settings.scale_length ** 2  # the file keeps Cycles' own values
+            img /= request.unit_area  # the file keeps Cycles' own values
         path = path if path.endswith(".exr") else path + ".exr"
         if not np.all(np.isfinite(img)):
             raise RadiometerError("the radiance map has NaN or infinite pixels (a light's power, a texture or the "

@@ -14,15 +14,12 @@ from ...errors import RadiometerError
 from ...radiometry.metrics import circadian
 
 
-def circadian_check(positions, view_directions, *, scene=None, posture="seated", reflected=False,
-                    quality="preview", seed=0):
+def circadian_check(positions, view_directions, *, request, posture="seated", reflected=False):
     """One reading per occupant (``positions`` (N, 3) floor points in scene coordinates, ``view_directions``
-    one (3,) or (N, 3) direction each looks along) and the WELL v2 L03 summary: a plain dict, SI."""
-    import bpy
-
+    one (3,) or (N, 3) direction each looks along) and the WELL v2 L03 summary: a plain dict, SI. The request
+    (``measure.blender.request``): the scene, and with ``reflected`` the band renders' quality and seed."""
     from . import spectra, spectral_reflected
 
-    scene = scene or bpy.context.scene
     if posture not in circadian.EYE_HEIGHT_M:
         raise RadiometerError(f"posture must be one of {', '.join(circadian.EYE_HEIGHT_M)}, got {posture!r}")
     pos = np.atleast_2d(np.asarray(positions, float))
@@ -39,12 +36,12 @@ def circadian_check(positions, view_directions, *, scene=None, posture="seated",
         raise RadiometerError("a view direction is zero or vertical: give the way each occupant faces (horizontal)")
     dirs = dirs / length[:, None]
     eye_h = circadian.EYE_HEIGHT_M[posture]
-    eyes = pos + np.array([0.0, 0.0, eye_h / scene.unit_settings.scale_length])
+    eyes = pos + np.array([0.0, 0.0, eye_h / request.scale_length])
     rows, verdicts = [], []
     if reflected:  # every eye in one batch of band renders
-        readings = spectral_reflected.spectral_readings(eyes, dirs, scene=scene, quality=quality, seed=seed)
+        readings = spectral_reflected.spectral_readings(eyes, dirs, request=request)
     else:
-        readings = [spectra.spectral_reading(tuple(eye), tuple(d), scene=scene) for eye, d in zip(eyes, dirs)]
+        readings = [spectra.spectral_reading(tuple(eye), tuple(d), request=request) for eye, d in zip(eyes, dirs)]
     for eye, d, r in zip(eyes, dirs, readings):
         band = r.get("interval_95", {}).get("mel_edi_lx") if r.get("part") == "direct+reflected" else None
         left_out = list(r["not_included"])
@@ -58,7 +55,7 @@ def circadian_check(positions, view_directions, *, scene=None, posture="seated",
         lo, hi = max(0.0, lo - slack), hi + slack
         v = circadian.rate(r["mel_edi_lx"], lo, hi, whole=not left_out)
         verdicts.append(v)
-        rows.append({"eye": tuple(map(float, eye * scene.unit_settings.scale_length)), "view_direction": tuple(map(float, d)),
+        rows.append({"eye": tuple(map(float, request.to_metres(eye))), "view_direction": tuple(map(float, d)),
                      "mel_edi_lx": float(r["mel_edi_lx"]), "low_95_lx": lo if band or slack else None,
                      "high_95_lx": hi if band or slack else None, "direct_bound_lx": slack,
                      "illuminance_lx": float(r["illuminance_lx"]), "mel_der": r.get("mel_der"),

@@ -95,33 +95,31 @@ def plan_steps(meters, batch=None):
     return steps
 
 
-def run_step(scene, step, settings, *, progress=None, cancelled=None):
-    """Measure one step of :func:`plan_steps`; returns [(object, reading)]. ``settings``: "method",
-    "quality", "target_rel_error" (fraction or None), optional "time_budget_s" and "target_abs_error"."""
+def run_step(request, step, *, method="auto"):
+    """Measure one step of :func:`plan_steps`; returns [(object, reading)]. The request
+    (``measure.blender.request``): the scene, "quality", "target_rel_error" (fraction or None),
+    "time_budget_s" and "target_abs_error" (the illuminance meters'), progress and cancel."""
     kind, group = step
-    quality = settings["quality"]
     if kind == "ILLUMINANCE":
         objs = [m.obj for m in group]
         poses = [_pose(ob) for ob in objs]
         readings = meter.measure_illuminance(
-            np.array([p for p, _ in poses]), np.array([z for _, z in poses]), scene=scene,
-            method=settings["method"], quality=quality, target_rel_error=settings["target_rel_error"],
-            time_budget_s=settings.get("time_budget_s"), progress=progress, cancelled=cancelled,
-            exclude={ob.name for ob in objs}, target_abs_error=settings.get("target_abs_error"))
+            np.array([p for p, _ in poses]), np.array([z for _, z in poses]), request, method=method,
+            exclude={ob.name for ob in objs})
         return list(zip(objs, readings))
     m = group[0]
     ob = m.obj
     location, z = _pose(ob)
+    # a camera reading takes the quality, its target and cancel (no time budget or absolute floor)
+    camera_request = request.but(samples=None, time_budget_s=None, target_abs_error=None, seed=0)
     if kind == "LUMINANCE":
         reading = camera.measure_luminance(location, -z, acceptance_deg=m.acceptance_deg,
-                                           scene=scene, quality=quality, cancelled=cancelled,
-                                           progress=_two_args(progress),
-                                           target_rel_error=settings["target_rel_error"])
+                                           request=camera_request.but(progress=_two_args(request.progress)))
         return [(ob, reading)]
-    if cancelled is not None and cancelled():
+    if request.cancelled is not None and request.cancelled():
         raise MeasurementCancelled("measurement cancelled; the scene was restored")
     path = map_path(ob.name)
-    result = camera.capture_radiance_map(location, path, resolution=m.map_resolution, scene=scene, quality=quality)
+    result = camera.capture_radiance_map(location, path, resolution=m.map_resolution, request=camera_request)
     return [(ob, result)]
 
 
@@ -149,16 +147,19 @@ def reading_values(reading):
     return values
 
 
-def direct_spectral_reading(obj, scene, *, reflected=False, quality="preview"):
+def direct_spectral_reading(obj, request, *, reflected=False):
     """``spectra.spectral_reading`` (the direct light's) where the meter object stands and faces; with
-    ``reflected`` ``spectral_reflected.spectral_reading`` (direct + reflected, band renders)."""
+    ``reflected`` ``spectral_reflected.spectral_reading`` (direct + reflected, band renders at the request's
+    quality and seed). ``request``: a request (``measure.blender.request``), a scene or None."""
     from . import spectra, spectral_reflected
+    from ..blender import request as request_of
 
+    request = request_of.of(request)
     location, z = _pose(obj)
     normal = tuple(z / np.linalg.norm(z))
     if reflected:
-        return spectral_reflected.spectral_reading(tuple(location), normal, scene=scene, quality=quality)
-    return spectra.spectral_reading(tuple(location), normal, scene=scene)
+        return spectral_reflected.spectral_reading(tuple(location), normal, request=request)
+    return spectra.spectral_reading(tuple(location), normal, request=request)
 
 
 def spectral_values(reading):
@@ -183,23 +184,18 @@ def step_weights(steps):
             for kind, objs in steps]
 
 
-def measurement_steps(scene, meters, settings, *, batch=None, time_budget_s=None):
+def measurement_steps(request, meters, *, method="auto", batch=None):
     """Steps of a measurement of ``meters`` (:class:`Meter`) for a progress bar: [(label, weight, run)],
     where ``run(progress=None, cancelled=None)`` measures the step and returns [(object, reading)]
-    (nothing stored). ``settings`` as :func:`run_step`'s; ``time_budget_s`` caps each step (the target
+    (nothing stored). The request as :func:`run_step`'s; its ``time_budget_s`` caps each step (the target
     still ends it early; with no target set, the quality preset's)."""
-    from ...quality import preset
-
-    settings = dict(settings)
-    if time_budget_s is not None:
-        settings["time_budget_s"] = time_budget_s
-        if settings["target_rel_error"] is None:
-            settings["target_rel_error"] = preset(settings["quality"])["target"]
+    if request.time_budget_s is not None and request.target_rel_error is None:
+        request = request.but(target_rel_error=request.preset()["target"])
     steps = plan_steps(meters, batch=batch)
 
     def runner(step):
         def run(progress=None, cancelled=None):
-            return run_step(scene, step, settings, progress=progress, cancelled=cancelled)
+            return run_step(request.but(progress=progress, cancelled=cancelled), step, method=method)
         return run
 
     return [(group[0].obj.name if len(group) == 1 else f"{len(group)} meters", weight, runner((kind, group)))
@@ -241,16 +237,16 @@ class StepProgress:
             self.report(self.fraction, self.seconds_left)
 
 
-def measure_meters(meters, settings, *, scene=None, progress=None, cancelled=None):
-    """Measure ``meters`` (:class:`Meter`, at least one) with ``settings`` (as :func:`run_step`'s; its
+def measure_meters(meters, request, *, method="auto"):
+    """Measure ``meters`` (:class:`Meter`, at least one) with the request (as :func:`run_step`'s; its
     "target_abs_error": the illuminance meters' absolute error floor, lux, None the preset's); returns
     [(object, reading)], nothing stored.
 
-    ``progress(done, total, seconds_left)``: done/total in thousandths of the whole run, with an
-    ETA in s (None until known), called within every step. ``cancelled()``: polled before every
+    The request's ``progress(done, total, seconds_left)``: done/total in thousandths of the whole run, with
+    an ETA in s (None until known), called within every step; its ``cancelled()``: polled before every
     allocation round; True raises MeasurementCancelled and leaves every reading as it was.
     """
-    scene = scene or bpy.context.scene
+    progress, cancelled = request.progress, request.cancelled
     if not meters:
         raise RadiometerError("no light meters to measure: add one with Add > Light Meter")
     results = []
@@ -261,6 +257,6 @@ def measure_meters(meters, settings, *, scene=None, progress=None, cancelled=Non
         if cancelled is not None and cancelled():
             raise MeasurementCancelled("measurement cancelled; the scene was restored")
         tracker.start(i)
-        results += run_step(scene, step, settings, progress=tracker, cancelled=cancelled)
+        results += run_step(request.but(progress=tracker), step, method=method)
         tracker(1, 1)
     return results

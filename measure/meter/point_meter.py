@@ -2,28 +2,27 @@
 
 Host code: gathers the scene, calls the pure models in ``radiometry`` or renders with Cycles inside
 ``scene_guard.preserved_scene``, and packs SI readings. All locations come in scene units and are
-converted with ``scene.unit_settings.scale_length``.
+converted with the request's ``scale_length`` (``measure.blender.request``: the scene, its photometry and
+unit scale and the caller's budget, derived once and passed down, issue 30).
 """
 
 import dataclasses
 import math
 import time
 
-import bpy
 import numpy as np
 
 from ... import quality as quality_presets
 from ...radiometry.sampling import allocation
 from ...errors import RadiometerError
-from ...radiometry.constants import K_M_LM_PER_W
 from ...radiometry.emitters import EmitterFlags
 from ...readings import IlluminanceReading
 from ..capture import glass
 from ..render import render_settings, rounds, sensors
 from . import sample_floors
-from ..blender import scene_guard
+from ..blender import request as request_of, scene_guard
 
-DEFAULT_EFFICACY = K_M_LM_PER_W  # 683 lm/W, Blender's glTF convention; see README "Conventions"
+DEFAULT_EFFICACY = request_of.DEFAULT_EFFICACY  # 683 lm/W (blender/request.py)
 FLOAT32_FLOOR = rounds.FLOAT32_FLOOR  # (render/rounds.py: the reason and the measurement)
 
 
@@ -52,18 +51,6 @@ def as_directions(direction, count, name="normal"):
     if np.any(length < 1e-12):
         raise RadiometerError(f"{name} has zero length: a meter needs a direction to face")
     return d / length[:, None]
-
-
-def scene_photometry(scene):
-    """(colour space name, luminance weights (3,), efficacy lm/W) for this scene."""
-    from ...compat import working_colour_space
-    from ...radiometry.photometry import efficacy as photometry
-    from ..blender import efficacy as scene_efficacy  # as the api reads it (no property group here)
-
-    space = working_colour_space()
-    efficacy = scene_efficacy.of(scene)
-    efficacy = DEFAULT_EFFICACY if efficacy is None else efficacy
-    return space, np.asarray(photometry.luminance_weights(space), float), efficacy
 
 
 # --- deciding how to measure ----------------------------------------------------------------------
@@ -268,25 +255,25 @@ def analytic_irradiance(model, direct, points_m, normals):
 
 # --- render -----------------------------------------------------------------------------------------
 
-def render_irradiance(scene, view_layer, points_scene, normals, preset, *, needs, progress=None, cancelled=None,
-                      seed=0):
+def render_irradiance(request, points_scene, normals, preset, *, needs):
     """Bake the sensors with a FIXED budget (``preset``: samples, texels, bakes, bounces); returns
     (estimates (B, N, 3) in W/m^2 SI, info, render record). Error-targeted readings use
     ``measure.render.adaptive.render_hybrid``.
 
     ``needs``: what light transport must simulate (``SceneModel.needs``). ``points_scene`` are the
-    sensor positions themselves (callers offset meters from surfaces first).
+    sensor positions themselves (callers offset meters from surfaces first). The request gives the scene,
+    view layer, seed, progress and cancel.
     """
-    scale = scene.unit_settings.scale_length
+    scene = request.scene
     with scene_guard.preserved_scene(scene) as snapshot:
         record = render_settings.apply(scene, samples=preset["samples"], bounces=preset["bounces"], needs=needs)
         if needs.get("thin_panes"):  # issue 18: planar panes render as thin glass
             record = dict(record, thin_panes=glass.swap_panes(snapshot, needs["thin_panes"]))
         estimates, info = sensors.bake_irradiance(
-            scene, view_layer, points_scene, normals, samples=preset["samples"], texels=preset["texels"],
-            bakes=preset["bakes"], progress=progress, cancelled=cancelled, seed0=seed)
+            scene, request.view_layer, points_scene, normals, samples=preset["samples"], texels=preset["texels"],
+            bakes=preset["bakes"], progress=request.progress, cancelled=request.cancelled, seed0=request.seed)
     # Cycles ignores the unit scale: it renders W per scene-unit^2. E_SI = E_render / scale^2.
-    return estimates / scale ** 2, info, record
+    return estimates / request.unit_area, info, record
 
 
 def single_delta_light(decision):
@@ -694,8 +681,8 @@ class ProvenPart:
         return dataclasses.replace(self, rgb=self.rgb[idx], bound_rgb=self.bound_rgb[idx])
 
 
-def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sensors_m, normals, *, preset,
-                 method, direct_only, weights, target, budget, fixed, progress, cancelled, seed, scale, n_closed,
+def _render_part(request, model, decision, direct, sensors_scene, sensors_m, normals, *, preset,
+                 method, direct_only, target, budget, fixed, n_closed,
                  target_abs=None, medium=None, pooling=False, stop_dark=False, proven=None):
     """Cycles (hybrid or render) at the meters that need it; ``direct`` is the plan cut to them
     (``_plan_at``), as are the sensors and normals. ``proven``: a :class:`ProvenPart` cut to them, kept
@@ -781,11 +768,12 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
               + ([proven.name] if proven is not None else []),
               "rendered": ["everything else (reflected light, other lights, world, emitting surfaces)"]}
              for k in range(n)]
-    run = adaptive.render_hybrid(scene, view_layer, sensors_scene, normals, needs=model.needs,
-                                 bounces=0 if direct_only else preset["bounces"], weights=weights, target=target,
+    weights = request.weights
+    run = adaptive.render_hybrid(request, sensors_scene, normals, needs=model.needs,
+                                 bounces=0 if direct_only else preset["bounces"], target=target,
                                  time_budget=budget, fixed_samples=fixed,
                                  exclusions=[ex | linked_out for ex in split] if linked_out else split,
-                                 offset=offset_rgb @ weights, progress=progress, cancelled=cancelled, seed=seed,
+                                 offset=offset_rgb @ weights,
                                  panes=model.panes, may_be_lit=may_be_lit(direct, direct_only),
                                  min_samples=floor, pooled=pooling, target_abs=target_abs,
                                  stop_dark=stop_dark)
@@ -807,7 +795,7 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
             # Issue 31: the meter stopped after its pilot; it states the absolute floor as a one-sided bound.
             scalar_se = np.where(unbounded, target_abs, scalar_se)
             upper = np.where(unbounded, target_abs, np.nan)
-            floor_lux = target_abs * scene_photometry(scene)[2]
+            floor_lux = target_abs * request.efficacy
             notes.append(f"{int(dark.sum())} meter(s) found no rendered light in {taken:,} samples (their pilot) "
                          "although lit surfaces or partly hidden lights lie above their horizon: by the rule of "
                          f"three, fewer than 3/{taken:,} of their sample paths carry light (95 %); they read 0 and "
@@ -850,8 +838,8 @@ def _render_part(scene, view_layer, model, decision, direct, sensors_scene, sens
                      "open fog 16 read 0.24 % low, 128 0.05 %, bench/volume_bounces.md)")
     if record and record.get("settings_missing"):
         notes.append("render settings this Blender lacks (skipped): " + "; ".join(record["settings_missing"]))
-    if scale != 1.0:
-        notes.append(f"unit scale {scale:g} m per unit: Cycles' scene-unit result divided by scale²")
+    if request.scale_length != 1.0:
+        notes.append(f"unit scale {request.scale_length:g} m per unit: Cycles' scene-unit result divided by scale²")
     methods, meter_notes = pooled_notes(run, "hybrid" if any(split) else "render", n)
     return {"mean_rgb": mean_rgb, "bound_rgb": bound_rgb, "se_rgb": se_rgb, "se": scalar_se, "samples": spent,
             "upper": upper,
@@ -890,11 +878,12 @@ def pooled_notes(run, method, n):
     return methods, notes
 
 
-def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method="auto", quality="standard",
-                        target_rel_error=None, samples=None, time_budget_s=None, progress=None, cancelled=None,
-                        exclude=(), seed=0, direct_only=False, model=None, pooling=True, target_abs_error=None,
-                        stop_dark=False, proven=None, parts=None, proofs=None):
+def measure_illuminance(location, normal, request, *, method="auto", exclude=(), direct_only=False, model=None,
+                        pooling=True, stop_dark=False, proven=None, parts=None, proofs=None):
     """Readings (one per location) of irradiance/illuminance. See ``radiometer.api``.
+
+    ``request``: a ``measure.blender.request.Request`` (scene, view layer, photometry, unit scale, the
+    budget: quality, target_rel_error, samples, time_budget_s, target_abs_error; seed, progress, cancelled).
 
     ``direct_only``: light straight from the sources only (closed forms where proven, else Cycles
     with 0 bounces): what the scene's surfaces reflect is left out, their shadows are kept.
@@ -902,7 +891,7 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     for the scene as it is now (issue 17: capture once); None captures it.
     ``pooling``: with a target, groups of at least ``pooled_field.POOL_MIN_METERS`` rendered meters on
     one plane read their rendered part from a fitted field checked on held-out meters (issue 17).
-    ``target_abs_error``: the absolute floor of the 1-sigma error in lux (None: the preset's
+    The request's ``target_abs_error``: the absolute floor of the 1-sigma error in lux (None: the preset's
     ``target_abs_lux``); a meter stops where its error is below it or below the relative target.
     ``stop_dark``: a meter whose pilot finds no light stops there and states the rule-of-three bound
     (see ``radiometer.api.measure_illuminance``).
@@ -911,33 +900,30 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
     meter's own closed forms would count that part again).
     ``parts``: names from ``PARTS`` ("total": all the light, "direct": light straight from the sources, as
     ``direct_only``); returns {part: readings} from one capture and one visibility proof
-    (:func:`measure_parts`); ``target_rel_error`` may then be a dict by part. ``proofs``: the points'
-    ``DirectPlan`` on ``model`` (``measure_parts`` hands it down).
+    (:func:`measure_parts`); the request's ``target_rel_error`` may then be a dict by part. ``proofs``: the
+    points' ``DirectPlan`` on ``model`` (``measure_parts`` hands it down).
     """
     if parts is not None:
-        return measure_parts(location, normal, parts, scene=scene, method=method, quality=quality,
-                             target_rel_error=target_rel_error, samples=samples, time_budget_s=time_budget_s,
-                             progress=progress, cancelled=cancelled, exclude=exclude, seed=seed, model=model,
-                             pooling=pooling, target_abs_error=target_abs_error, stop_dark=stop_dark,
-                             proven=proven, direct_only=direct_only)
-    scene = scene or bpy.context.scene
-    view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
+        return measure_parts(location, normal, parts, request, method=method, exclude=exclude, model=model,
+                             pooling=pooling, stop_dark=stop_dark, proven=proven, direct_only=direct_only)
+    scene, view_layer = request.scene, request.view_layer
     points_scene, single = as_points(location)
     normals = as_directions(normal, len(points_scene))
-    preset = quality_presets.preset(quality)
-    target, budget, fixed = _budget_mode(preset, target_rel_error, samples, time_budget_s)
-    scale = scene.unit_settings.scale_length
+    preset = request.preset()
+    target, budget, fixed = _budget_mode(preset, request.target_rel_error, request.samples, request.time_budget_s)
+    scale = request.scale_length
     started = time.perf_counter()
     model = capture_model(scene, view_layer, exclude=exclude) if model is None else model
     from ..capture import capture_cache  # keeps that capture valid across this measurement's own bakes (issue 17)
 
     watch = capture_cache.Watch(scene, view_layer, exclude)
-    progress, cancelled = watch.wrap(progress), watch.wrap(cancelled)
+    request = request.but(progress=watch.wrap(request.progress), cancelled=watch.wrap(request.cancelled))
     sensors_scene, eps = sensor_points(points_scene, normals, scale, model)
     sensors_m, eps_m = sensors_scene * scale, eps * scale
     decision = plan(scene, model, sensors_m, normals, method, direct_only=direct_only, proofs=proofs)
-    space, weights, efficacy = scene_photometry(scene)
+    space, weights, efficacy = request.photometry
     notes = [f"luminous efficacy {efficacy:g} lm/W, CIE Y weights of {space}"]
+    target_abs_error = request.target_abs_error
     floor_lux = preset["target_abs_lux"] if target_abs_error is None else float(target_abs_error)
     abs_floor = None if target is None or not floor_lux > 0 else floor_lux / efficacy  # W/m^2, CIE Y weighted
     if abs_floor is not None:
@@ -969,11 +955,10 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
             own_notes[k], parts[k] = c_notes[k], c_parts[k]
     rendered = np.flatnonzero(~closed)
     if rendered.size:
-        run = _render_part(scene, view_layer, model, decision, _plan_at(direct, rendered),
+        run = _render_part(request, model, decision, _plan_at(direct, rendered),
                            sensors_scene[rendered], sensors_m[rendered], normals[rendered], preset=preset,
-                           method=method, direct_only=direct_only, weights=weights, target=target, budget=budget,
-                           fixed=fixed, progress=progress, cancelled=cancelled, seed=seed, scale=scale,
-                           n_closed=int(closed.sum()), medium=_world_medium(scene, model), pooling=pooling,
+                           method=method, direct_only=direct_only, target=target, budget=budget,
+                           fixed=fixed, n_closed=int(closed.sum()), medium=_world_medium(scene, model), pooling=pooling,
                            target_abs=abs_floor, stop_dark=stop_dark,
                            proven=None if proven is None else proven.at(rendered))
         mean_rgb[rendered], bound_rgb[rendered] = run["mean_rgb"], run["bound_rgb"]
@@ -1016,11 +1001,10 @@ def measure_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, method=
 PARTS = ("total", "direct")
 
 
-def measure_parts(location, normal, parts, *, scene=None, target_rel_error=None, exclude=(), model=None,
-                  direct_only=False, **options):
+def measure_parts(location, normal, parts, request, *, exclude=(), model=None, direct_only=False, **options):
     """{part: readings} for ``parts`` (names from ``PARTS``) at the same meters, from ONE capture of the
     scene and ONE visibility proof (the lights' and the world's status at every sensor), shared by the
-    parts; ``target_rel_error``: one value or a dict by part. The other options are
+    parts; the request's ``target_rel_error``: one value or a dict by part. The other options are
     ``measure_illuminance``'s; a part's readings are what ``measure_illuminance`` alone gives (with
     ``direct_only`` for "direct") on the same seed.
 
@@ -1035,20 +1019,19 @@ def measure_parts(location, normal, parts, *, scene=None, target_rel_error=None,
     names = tuple(parts) if not isinstance(parts, str) else (parts,)
     if not names or len(set(names)) != len(names) or not set(names) <= set(PARTS):
         raise RadiometerError(f"parts must be distinct names from {PARTS}, got {parts!r}")
+    target_rel_error = request.target_rel_error
     targets = dict(target_rel_error) if isinstance(target_rel_error, dict) else \
         {name: target_rel_error for name in names}
     if not set(targets) <= set(names):
         raise RadiometerError("target_rel_error names parts that were not asked for: "
                               f"{sorted(set(targets) - set(names))}")
-    scene = scene or bpy.context.scene
-    view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
-    model = capture_model(scene, view_layer, exclude=exclude) if model is None else model
+    model = capture_model(request.scene, request.view_layer, exclude=exclude) if model is None else model
     points_scene, _single = as_points(location)
     normals = as_directions(normal, len(points_scene))
-    scale = scene.unit_settings.scale_length
+    scale = request.scale_length
     sensors_scene, _eps = sensor_points(points_scene, normals, scale, model)  # as measure_illuminance places them
     proofs = _plan_direct(model, sensors_scene * scale, normals)
-    return {name: measure_illuminance(location, normal, scene=scene, target_rel_error=targets.get(name),
+    return {name: measure_illuminance(location, normal, dataclasses.replace(request, target_rel_error=targets.get(name)),
                                       exclude=exclude, model=model, direct_only=name == "direct", proofs=proofs,
                                       **options)
             for name in names}
@@ -1077,16 +1060,15 @@ def _world_row(model, direct, normals, weights, efficacy):
             "status": str(status), "reason": reason, "rel_error_bound": err / abs(e) if e else 0.0, "note": note}
 
 
-def analytic_light_irradiance(locations, normals, *, scene):
+def analytic_light_irradiance(locations, normals, request):
     """{light name: (N, 3) W/m^2 SI}: every light's direct closed form at N meters (lights with no closed
     form left out), in one plan (what :func:`predict_illuminance` gives one point at a time)."""
     from ...radiometry.scene import scene_model
 
-    view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     points_scene, _single = as_points(locations)
     normals = as_directions(normals, len(points_scene))
-    scale = scene.unit_settings.scale_length
-    model = capture_model(scene, view_layer)
+    scale = request.scale_length
+    model = capture_model(request.scene, request.view_layer)
     sensors_scene, _eps = sensor_points(points_scene, normals, scale, model)
     sensors_m = sensors_scene * scale
     direct = scene_model.plan_direct(model, sensors_m, normals)
@@ -1094,21 +1076,19 @@ def analytic_light_irradiance(locations, normals, *, scene):
     return {light.name: per_light[i] for i, light in enumerate(model.lights) if light.spec is not None}
 
 
-def predict_illuminance(location, normal=(0.0, 0.0, 1.0), *, scene=None, with_world=False):
+def predict_illuminance(location, normal, request, *, with_world=False):
     """Analytic per-light breakdown at one point: list of dicts (SI), with each light's verdict; with
     ``with_world`` the world's row first (:func:`_world_row`: None when it emits nothing)."""
     from ...radiometry.scene import scene_model
 
-    scene = scene or bpy.context.scene
-    view_layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     points_scene, _ = as_points(location)
     normals = as_directions(normal, 1)
-    scale = scene.unit_settings.scale_length
-    model = capture_model(scene, view_layer)
+    scale = request.scale_length
+    model = capture_model(request.scene, request.view_layer)
     sensors_scene, _eps = sensor_points(points_scene, normals, scale, model)
     sensors_m = sensors_scene * scale
     direct = scene_model.plan_direct(model, sensors_m, normals)
-    space, weights, efficacy = scene_photometry(scene)
+    space, weights, efficacy = request.photometry
     per_light, bounds, info = analytic_irradiance(model, direct, sensors_m, normals)
     rows = []
     if with_world:

@@ -100,7 +100,7 @@ def _light_row(row, spectra):
     return out
 
 
-def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, with_world=True):
+def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, request, with_world=True):
     """The alpha-opic (CIE S 026) reading of the direct light at one meter, SI units (a plain dict).
 
     Keys: ``part`` ("direct"), ``illuminance_lx`` (E_v of the lights in closed form), ``illuminance_known_spectrum_lx``
@@ -111,12 +111,13 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, with_world
     one), ``lights`` (per light), ``not_included`` (what this reading leaves out), ``units``.
     ``with_world`` False leaves the world's direct light out even where it is proven (the band renders of
     ``spectral_reflected`` then read all of the world's light).
-    (``spectral_reflected.spectral_reading`` adds the reflected part.)
+    (``spectral_reflected.spectral_reading`` adds the reflected part.) The request
+    (``measure.blender.request``): the scene and its photometry.
     """
     from . import point_meter as meter
 
-    scene = scene or bpy.context.scene
-    rows = meter.predict_illuminance(location, normal, scene=scene, with_world=True)
+    scene = request.scene
+    rows = meter.predict_illuminance(location, normal, request, with_world=True)
     world = rows.pop(0)
     spectra = {}
     if world is not None and world["illuminance"] is not None and with_world:
@@ -138,7 +139,7 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, with_world
     # scotopic lumens add: S/P of the sum is the photopic-weighted mean of the lights' S/P
     sp = sum(r["sp_ratio"] * r["illuminance_lx"] for r in known) / ev_known if ev_known > 0 else None
     not_included = ["light reflected by surfaces (the rendered part)"]
-    model = meter.capture_model(scene, bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0])
+    model = meter.capture_model(scene, request.view_layer)
     if np.any(np.asarray(model.geometry.emissive, bool)):
         not_included.append("emitting surfaces")
     if world is not None and (world["illuminance"] is None or not with_world):

@@ -256,24 +256,29 @@ def _remember(saved, struct, attr):
     saved.append((struct, attr, tuple(value) if hasattr(value, "__len__") else value))
 
 
-def reflected_reading(location, normal, *, scene, quality="preview", seed=0, samples=None, max_bands=None):
+def _preview(request):
+    """The request with its quality, "preview" where none was given (the band renders' default)."""
+    return request.but(quality=request.quality or "preview")
+
+
+def reflected_reading(location, normal, *, request, samples=None, max_bands=None):
     """The rendered part of the light at one meter, in bands: :func:`reflected_readings` of one meter."""
-    return reflected_readings([location], [normal], scene=scene, quality=quality, seed=seed, samples=samples,
-                              max_bands=max_bands)[0]
+    return reflected_readings([location], [normal], request=request, samples=samples, max_bands=max_bands)[0]
 
 
-def _band_plan(scene, quality, samples=None, max_bands=None):
-    """Everything the band renders need, read from the scene (nothing changed): the sources' band powers, the
-    materials' reflectance table, the bands and the render layout. A dict; raises ``RadiometerError`` for what
-    the band renders cannot read."""
+def _band_plan(request, samples=None, max_bands=None):
+    """Everything the band renders need, read from the request's scene (nothing changed): the sources' band
+    powers, the materials' reflectance table, the bands and the render layout (by the request's quality). A
+    dict; raises ``RadiometerError`` for what the band renders cannot read."""
     from . import point_meter as meter
 
-    model = meter.capture_model(scene)
+    scene, quality = request.scene, request.quality or "preview"
+    model = meter.capture_model(scene, request.view_layer)
     world = scene.world if model.world_emits else None
     if world is not None and model.world_volume:
         raise RadiometerError("the world has a volume (its spectral band render is not built)")
     lights = [obj for obj in scene.objects if obj.type == "LIGHT" and not obj.hide_render]
-    space, weights, efficacy = meter.scene_photometry(scene)
+    space, weights, efficacy = request.photometry
     power = []
     for obj in lights:
         if getattr(obj.data, "use_nodes", False):
@@ -324,13 +329,14 @@ def _band_plan(scene, quality, samples=None, max_bands=None):
             "weights": weights, "efficacy": efficacy}
 
 
-def _run_band_renders(scene, plan, read, n_points, *, progress=None, cancelled=None):
+def _run_band_renders(request, plan, read, n_points):
     """Set every render's colours (materials at a band end, sources at the band's power), call ``read(k)`` ->
     per meter (rgb, se_rgb, bound_rgb) of the rendered band light, and put every setting back (also on error
     or cancel; the world's stand-in removed). Returns per meter ({(band, end): value}, {...: s.e.},
     {...: deterministic bound})."""
     import time
 
+    scene, progress, cancelled = request.scene, request.progress, request.cancelled
     values, ses, bounds = ([{} for _ in range(n_points)] for _ in range(3))
     saved = []
     stand_in = None
@@ -416,8 +422,7 @@ def _bands_nm(plan):
     return [(float(wl[edges[k]]), float(wl[edges[k + 1] - 1])) for k in range(len(edges) - 1)]
 
 
-def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, samples=None, max_bands=None,
-                       progress=None, cancelled=None):
+def reflected_readings(locations, normals, *, request, samples=None, max_bands=None):
     """The rendered part of the light at N meters (one batch per band render), in bands: a list of dicts (SI),
     one per meter, or raise ``RadiometerError`` why not.
 
@@ -425,19 +430,24 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
     ``estimate``, ``lower`` and ``upper`` (the proven band range), ``std_error`` (1 sigma, stochastic),
     ``low_95`` and ``high_95`` (the range widened by 1.96 sigma)), ``bands_nm``, ``renders``, ``materials``,
     ``notes``, ``world`` (the world spectrum's label where the renders read the world's light, else None).
-    ``progress(done, total, seconds_left)`` after every band render (done/total in renders); ``cancelled()``
-    True stops before the next (``RadiometerError``), every setting put back."""
+    The request (``measure.blender.request``): the scene, the quality (None: "preview": the bands and samples
+    per meter), the first seed, ``progress(done, total, seconds_left)`` after every band render (done/total in
+    renders) and ``cancelled()`` (True stops before the next render: ``MeasurementCancelled``, every setting
+    put back)."""
     from . import point_meter as meter
 
     locations = np.atleast_2d(np.asarray(locations, float))
     normals = np.broadcast_to(np.asarray(normals, float), locations.shape)
-    plan = _band_plan(scene, quality, samples, max_bands)
+    plan = _band_plan(request, samples, max_bands)
+    # each band render: a fixed number of samples per meter at the meter's standard bounces, its own seed
+    band = request.but(quality="standard", samples=plan["samples"], target_rel_error=None, time_budget_s=None,
+                       target_abs_error=None, progress=None, cancelled=None)
 
     def read(k):
-        readings = meter.measure_illuminance(locations, normals, scene=scene, method="hybrid",
-                                             samples=plan["samples"], seed=seed + 104729 * k, pooling=False)
+        readings = meter.measure_illuminance(locations, normals, band.but(seed=request.seed + 104729 * k),
+                                             method="hybrid", pooling=False)
         readings = readings if isinstance(readings, list) else [readings]
-        direct = meter.analytic_light_irradiance(locations, normals, scene=scene)
+        direct = meter.analytic_light_irradiance(locations, normals, band)
         out = []
         for i, reading in enumerate(readings):
             rendered = np.asarray(reading.irradiance_rgb, float) - sum(
@@ -452,8 +462,7 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
             out.append((rendered, np.asarray(reading.std_error_rgb, float), bound))
         return out
 
-    values, ses, bounds = _run_band_renders(scene, plan, read, len(locations), progress=progress,
-                                            cancelled=cancelled)
+    values, ses, bounds = _run_band_renders(request, plan, read, len(locations))
     w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.ACTION_SPECTRA])
     # E_v: efficacy x the V-weighted band sum; alpha-opic as the direct part's: (efficacy / K_m,S026) x sum E s
     efficacy = plan["efficacy"]
@@ -487,8 +496,7 @@ def reflected_readings(locations, normals, *, scene, quality="preview", seed=0, 
     return out
 
 
-def mesopic_reading(location, direction, *, scene, acceptance_deg=1.0, quality="preview", seed=0, progress=None,
-                    cancelled=None):
+def mesopic_reading(location, direction, *, request, acceptance_deg=1.0):
     """CIE 191:2010 mesopic luminance seen by a luminance (spot) meter, from band renders: a dict (SI) or raise
     ``RadiometerError`` why not.
 
@@ -497,19 +505,23 @@ def mesopic_reading(location, direction, *, scene, acceptance_deg=1.0, quality="
     (K' = 1700.06 lm/W, scaled by the scene's efficacy / 683.002 as the alpha-opic sums are), each with its
     proven band range widened by 1.96 standard errors; L_mes = CIE 191 at (L_p, S/P = L_s / L_p). Its 95 %
     interval is the least and greatest L_mes over the four corners of the (L_p, L_s) box: L_mes rises with
-    both (checked numerically over L_p 1e-4..1e3 cd/m^2, S/P 0.25..4, tests/test_spectral.py)."""
+    both (checked numerically over L_p 1e-4..1e3 cd/m^2, S/P 0.25..4, tests/test_spectral.py). The request:
+    the scene, the quality (None: "preview"), the first seed, progress and cancel (per band render)."""
     from . import camera
     from .point_meter import FLOAT32_FLOOR as FLOAT32
 
-    plan = _band_plan(scene, quality)
+    request = _preview(request)
+    plan = _band_plan(request)
+    cone = request.but(target_rel_error=None, samples=None, time_budget_s=None, target_abs_error=None,
+                       progress=None, cancelled=None)
 
     def read(k):
-        r = camera.measure_luminance(location, direction, acceptance_deg=acceptance_deg, scene=scene,
-                                     quality=quality, seed=seed + 104729 * k)
+        r = camera.measure_luminance(location, direction, acceptance_deg=acceptance_deg,
+                                     request=cone.but(seed=request.seed + 104729 * k))
         rgb = np.asarray(r.radiance_rgb, float)
         return [(rgb, np.asarray(r.std_error_rgb, float), FLOAT32 * np.abs(rgb))]
 
-    values, ses, bounds = _run_band_renders(scene, plan, read, 1, progress=progress, cancelled=cancelled)
+    values, ses, bounds = _run_band_renders(request, plan, read, 1)
     w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.SCOTOPIC_V])
     combined = spectral_bands.combine(plan["edges"], plan["power"], w, plan["t"], values[0], ses[0],
                                       plan["layout"], channel_bound=bounds[0])
@@ -552,19 +564,22 @@ def mesopic_reading(location, direction, *, scene, acceptance_deg=1.0, quality="
     return out
 
 
-def rgb_only_reading(location, normal, *, scene, quality="preview", seed=0, samples=None):
+def rgb_only_reading(location, normal, *, request, samples=None):
     """Today's RGB render of the rendered part, converted with a stated assumption (no band renders).
 
     ``spectral_bands.rgb_only_estimate``: the room's gain in each box band (B 380-489, G 490-589, R 590-780
     nm) is the RGB render's gain in that channel. Its error is not proven: ``rel_error_bound`` is the largest
     relative error measured over a family of coloured rooms (``spectral_bands.RGB_ONLY_REL_BOUND``,
-    bench/spectral_room_family.md). Where the world emits: ``{"not_given": why}``."""
+    bench/spectral_room_family.md). Where the world emits: ``{"not_given": why}``. The request: the scene, the
+    render's quality (None: "preview") and seed."""
     from . import point_meter as meter
 
-    if meter.capture_model(scene).world_emits:
+    request = _preview(request)
+    scene = request.scene
+    if meter.capture_model(scene, request.view_layer).world_emits:
         return {"not_given": "the world emits: its light has no one power to take the RGB render's gain from "
                              "(the band renders read it)"}
-    _space, weights, efficacy = meter.scene_photometry(scene)
+    _space, weights, efficacy = request.photometry
     lights = [obj for obj in scene.objects if obj.type == "LIGHT" and not obj.hide_render]
     power, rgb_sum = np.zeros(spectral.WAVELENGTHS_NM.shape), np.zeros(3)
     for obj in lights:
@@ -574,10 +589,11 @@ def rgb_only_reading(location, normal, *, scene, quality="preview", seed=0, samp
         colour = _light_colour(obj.data)
         power += float(obj.data.energy) * spd * float(colour @ weights) / float(spd @ action_spectra.PHOTOPIC_V)
         rgb_sum += float(obj.data.energy) * colour
-    reading = meter.measure_illuminance(location, normal, scene=scene, method="hybrid", quality=quality,
-                                        samples=samples, seed=seed, pooling=False)
+    reading = meter.measure_illuminance(location, normal, request.but(
+        samples=samples, target_rel_error=None, time_budget_s=None, target_abs_error=None, progress=None,
+        cancelled=None), method="hybrid", pooling=False)
     direct = {row["light"]: np.asarray(row["irradiance_rgb"], float)
-              for row in meter.predict_illuminance(location, normal, scene=scene) if row["irradiance_rgb"] is not None}
+              for row in meter.predict_illuminance(location, normal, request) if row["irradiance_rgb"] is not None}
     rendered = np.asarray(reading.irradiance_rgb, float) - sum(
         (direct[name] for name in reading.parts.get("analytic", []) if name in direct), np.zeros(3))
     w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.ACTION_SPECTRA])
@@ -596,7 +612,7 @@ def rgb_only_reading(location, normal, *, scene, quality="preview", seed=0, samp
             "units": {"illuminance_lx": "lx", "mel_edi_lx": "lx", "alpha_opic_edi_lx": "lx", "rel_error_bound": "1"}}
 
 
-def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quality="preview", seed=0):
+def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, request):
     """``spectra.spectral_reading`` (the direct part) with the rendered part added in bands.
 
     Then ``part`` is "direct+reflected"; ``illuminance_lx``, ``mel_edi_lx``, ``alpha_opic_edi_lx`` and
@@ -605,34 +621,35 @@ def spectral_reading(location, normal=(0.0, 0.0, 1.0), *, scene=None, quality="p
     ``reflected`` the band reading (:func:`reflected_reading`); ``rgb_only`` the RGB-only estimate of the
     reflected part (``{"not_given": why}`` where the world emits); ``exact`` is False. Where the band render
     is refused, the direct reading comes back with the reason in ``notes`` and the reflected light still in
-    ``not_included``.
+    ``not_included``. The request as :func:`spectral_readings` takes it.
     """
-    scene = scene or bpy.context.scene
-    out = spectral_readings([location], [normal], scene=scene, quality=quality, seed=seed)[0]
+    request = _preview(request)
+    out = spectral_readings([location], [normal], request=request)[0]
     if out["part"] == "direct+reflected":
         try:
-            out["rgb_only"] = rgb_only_reading(location, normal, scene=scene, quality=quality, seed=seed + 1)
+            out["rgb_only"] = rgb_only_reading(location, normal, request=request.but(seed=request.seed + 1))
         except RadiometerError as exc:
             out["rgb_only"] = {"not_given": str(exc)}
     return out
 
 
-def spectral_readings(locations, normals, *, scene=None, quality="preview", seed=0, progress=None, cancelled=None):
+def spectral_readings(locations, normals, *, request):
     """:func:`spectral_reading` at N meters, the band renders in one batch (no ``rgb_only``): a list of dicts.
-    ``progress`` / ``cancelled`` as in :func:`reflected_readings`."""
+    The request (scene, quality (None: "preview"), seed, progress, cancel) as in :func:`reflected_readings`."""
     from . import point_meter as meter
 
-    scene = scene or bpy.context.scene
+    request = _preview(request)
+    scene = request.scene
     locations = np.atleast_2d(np.asarray(locations, float))
     normals = np.broadcast_to(np.asarray(normals, float), locations.shape)
 
     def direct(with_world):
-        return [spectra.spectral_reading(tuple(p), tuple(n), scene=scene, with_world=with_world)
+        return [spectra.spectral_reading(tuple(p), tuple(n), request=request, with_world=with_world)
                 for p, n in zip(locations, normals)]
 
     # the band renders read all of an emitting world's light, its direct part too: the direct part leaves it
     # out (the world's row never decides ``complete``), and takes it back only where the band renders refuse
-    world_in_band = meter.capture_model(scene).world_emits
+    world_in_band = meter.capture_model(scene, request.view_layer).world_emits
     outs = direct(not world_in_band)
     if not all(o["complete"] for o in outs):
         outs = direct(True) if world_in_band else outs
@@ -640,8 +657,7 @@ def spectral_readings(locations, normals, *, scene=None, quality="preview", seed
             o["notes"].append("reflected part not added: every light needs a spectrum and a closed form here")
         return outs
     try:
-        bands = reflected_readings(locations, normals, scene=scene, quality=quality, seed=seed, progress=progress,
-                                   cancelled=cancelled)
+        bands = reflected_readings(locations, normals, request=request)
     except MeasurementCancelled:
         raise
     except RadiometerError as exc:

@@ -53,11 +53,15 @@ def _exclude_from(coll, obj):
     coll.collection_objects[i].light_linking.link_state = "EXCLUDE"
 
 
-def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, weights, target=None,
-                  time_budget=None, fixed_samples=None, exclusions=None, offset=None, progress=None,
-                  cancelled=None, seed=0, max_samples=allocation.MAX_SAMPLES_PER_METER, panes=None,
+def render_hybrid(request, points_scene, normals, *, needs, bounces, target=None,
+                  time_budget=None, fixed_samples=None, exclusions=None, offset=None,
+                  max_samples=allocation.MAX_SAMPLES_PER_METER, panes=None,
                   may_be_lit=None, min_samples=None, pooled=False, target_abs=None, stop_dark=False):
     """Rendered irradiance at the sensors, W/m^2 SI, each meter sampled to its own need.
+
+    ``request`` (``measure.blender.request``): the scene and view layer rendered, the CIE Y weights the
+    target applies to, the first seed, progress and cancel; ``target``, ``time_budget`` and
+    ``fixed_samples`` are the budget as the meter resolved it from the request's preset.
 
     ``exclusions``: per meter, a frozenset of light OBJECT identities (``meter.light_object_key``: session
     uid, library) whose direct light is added analytically (excluded from that meter's sensor);
@@ -72,7 +76,9 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
     pooled field keeps the relative target alone (its meters read on their own take the floor).
     """
     n = len(points_scene)
-    scale = scene.unit_settings.scale_length
+    scene, view_layer = request.scene, request.view_layer
+    progress, cancelled, seed = request.progress, request.cancelled, request.seed
+    scale = request.scale_length
     exclusions = exclusions or [frozenset()] * n
     offset = np.zeros(n) if offset is None else np.asarray(offset, float)
     groups = {}
@@ -85,7 +91,7 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
     started = time.perf_counter()
     state = {"seed": int(seed), "bakes": 0, "bake_seconds": 0.0}
     texels = allocation.BLOCK_TEXELS
-    weights = np.asarray(weights, float)
+    weights = request.weights
 
     with scene_guard.preserved_scene(scene) as snapshot:
         record = render_settings.apply(scene, samples=allocation.PILOT_SPP, bounces=bounces, needs=needs)
@@ -175,7 +181,7 @@ def render_hybrid(scene, view_layer, points_scene, normals, *, needs, bounces, w
                 idx.append(np.repeat(meter_of_block, texels * texels))
                 rgb.append(values.reshape(-1, 3))
             idx = np.concatenate(idx)
-            rgb = np.concatenate(rgb) / scale ** 2  # Cycles renders per scene unit^2: to SI
+            rgb = np.concatenate(rgb) / request.unit_area  # Cycles renders per scene unit^2: to SI
             return idx, rgb @ weights, rgb
 
         def report(fraction, seconds_left):

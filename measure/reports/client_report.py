@@ -71,10 +71,14 @@ def daylight_words(scene):
 def luminaire_schedule(scene):
     """Rows per luminaire type: type, file (name only), count, flux per luminaire (lm), power (W),
     efficacy (lm/W). IES/EULUMDAT lights: the file's flux and input watts; Blender lights: the emitted
-    flux K x Y x P (the light's power is radiant, so no electrical power and no efficacy)."""
+    flux K x Y x P (the light's power is radiant, so no electrical power and no efficacy). ``scene``: a
+    request (``measure.blender.request``: its efficacy), a scene or None."""
     from ..authoring import light_power
+    from ..blender import request as request_of
     from ..capture import luminaires
 
+    request = request_of.of(scene)
+    scene = request.scene
     groups = {}
     for obj in scene.objects:
         if obj.type != "LIGHT" or obj.hide_render:
@@ -101,7 +105,7 @@ def luminaire_schedule(scene):
             power = float(data.energy) * 2.0 ** float(getattr(data, "exposure", 0.0))
             # The light's one home for flux (its emitter: colour x temperature colour, exposure, normalize),
             # as the photometric-power dialog reads it; a sun has an illuminance, not a flux.
-            flux = math.nan if data.type == "SUN" else light_power.photometric_power(obj, "LUMEN", scene)
+            flux = math.nan if data.type == "SUN" else light_power.photometric_power(obj, "LUMEN", request)
             key = ("blender", data.type, shape, round(power, 6), round(flux, 3) if math.isfinite(flux) else None)
             if key not in groups:
                 groups[key] = {"type": f"Blender {data.type.lower()} light{shape}, {power:.4g} W radiant",
@@ -434,20 +438,25 @@ def _short(text, n):
     return text if len(text) <= n else text[: n - 1] + "…"
 
 
-def client_report(report, out_dir, *, scene=None, project=None, task=None, maintenance_factor=0.8, observers=(),
-                  ra=None, quality="standard", camera_image=True, cancelled=None):
+def client_report(report, out_dir, *, request, project=None, task=None, maintenance_factor=0.8, observers=(),
+                  ra=None, camera_image=True):
     """Add the client's parts to ``report`` (the analysis report dict) and write report.html and
     report.pdf into ``out_dir``. ``project``: dict of project data (name, client, designer, ...);
     ``task``: an EN 12464-1 task key (``radiometry.metrics.compliance.TASKS``) or a dict of requirement values
     (maintained_lx, uniformity, ugr_limit, ra_required), None: each work plane's custom property
     ``radiometer_task`` or no compliance table; ``observers``: ((x, y, z), (dx, dy, dz)) eye positions
-    for UGR. Returns the client dict (also stored as ``report["client"]``)."""
+    for UGR. The request (``measure.blender.request``) gives the scene, the report's ``quality`` (None:
+    "standard": UGR's background and the picture's cap) and cancel. Returns the client dict (also stored
+    as ``report["client"]``)."""
     from ... import plots
     from ...radiometry.metrics import compliance
     from ..analyses import glare as glare_mod
     from ..analyses.grid import work_planes
 
-    scene = scene or bpy.context.scene
+    scene, quality, cancelled = request.scene, request.quality or "standard", request.cancelled
+    # UGR and the picture at the report's quality, seed 0, no budget or progress of the report's parts
+    request = request.but(quality=quality, target_rel_error=None, samples=None, time_budget_s=None,
+                          target_abs_error=None, seed=0, progress=None, client=None)
     blend = os.path.basename(bpy.data.filepath) if bpy.data.filepath else "(unsaved file)"
     project = dict(project or {})
     name = project.pop("name", None) or scene.get("radiometer_project") or \
@@ -457,7 +466,7 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
     info.update({"Blender file": blend, "scene": scene.name,
                  "date": datetime.date.today().isoformat(),
                  "quality": str(report.get("quality"))})
-    client = {"title": f"Lighting report: {name}", "project": info, "schedule": luminaire_schedule(scene),
+    client = {"title": f"Lighting report: {name}", "project": info, "schedule": luminaire_schedule(request),
               "compliance": [], "glare": [], "images": [],
               "subtitle": "Illuminance, uniformity, glare and luminance computed with Radiometer from the Blender "
                           "scene as Cycles renders it; every reading with its standard error.",
@@ -470,7 +479,7 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
             raise MeasurementCancelled("report cancelled; the previous report is as it was")
         (p, d) = obs
         try:
-            g = glare_mod.glare_ugr(p, d, scene=scene, quality=quality)
+            g = glare_mod.glare_ugr(p, d, request=request)
         except MeasurementCancelled:
             raise
         except RadiometerError as exc:
@@ -518,9 +527,9 @@ def client_report(report, out_dir, *, scene=None, project=None, task=None, maint
             # A picture, not a measurement: preview target, at most PICTURE_SPP samples per pixel per render
             # (measured: in an office of 6 IES luminaires a round of 8 renders at 64 spp took 246 s where one
             # at 16 spp took 53 s and already had 97 % of the pixels within 5 %; bench/report_cost.md).
-            img = luminance_image.luminance_image(os.path.join(out_dir, "luminance.exr"), scene=scene,
-                                                  resolution=_picture_size(scene), quality="preview",
-                                                  cancelled=cancelled, max_spp=PICTURE_SPP.get(quality, 64))
+            img = luminance_image.luminance_image(os.path.join(out_dir, "luminance.exr"),
+                                                  request=request.but(quality="preview"),
+                                                  resolution=_picture_size(scene), max_spp=PICTURE_SPP.get(quality, 64))
             client["images"].append((f"False-colour luminance seen by the camera {scene.camera.name} (cd/m², log "
                                      f"scale; {100 * img.share_on_target:.0f} % of the pixels within "
                                      f"{100 * img.target_rel_error:g} %)", "luminance.png"))

@@ -91,12 +91,14 @@ def map_content(result, metric=None):
 
 def daylight_map(result, path, *, metric=None, scene=None, outline=True):
     """Write the plan-view map of ``result`` (see :func:`map_content`) as a PNG at ``path`` (whole or not
-    at all); returns ``path``. ``outline``: draw the room's section and openings (captures the scene)."""
-    import bpy
+    at all); returns ``path``. ``outline``: draw the room's section and openings (captures the scene).
+    ``scene``: a request (``measure.blender.request``), a scene or None (the context's)."""
+    from ..blender import request as request_of
 
-    scene = scene or bpy.context.scene
+    request = request_of.of(scene)
+    scene = request.scene
     content = map_content(result, metric)
-    scale = float(scene.unit_settings.scale_length)
+    scale = request.scale_length
     pts = np.asarray(content.pop("points"), float).reshape(-1, 3) * scale
     values = np.asarray(content.pop("values"), float).ravel()
     if len(pts) != len(values) or not len(pts):

@@ -45,7 +45,7 @@ def map_files(plane_stems, annual=False, sun=False):
 
 def sky_words(scene):
     """What makes ``scene`` daylit: its suns and an emitting world, in words ("" when none)."""
-    from ..analyses.analysis_common import view_layer_of
+    from ..blender.request import view_layer_of
     from ..meter import point_meter as meter
 
     model = meter.capture_model(scene, view_layer_of(scene))
@@ -64,13 +64,21 @@ def _camera_view(scene):
     return tuple(m.translation), tuple(direction.normalized())
 
 
-def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_path=None,
-                     median_external_illuminance_lux=None, resolution=None, draw=True, cancelled=None):
-    """Measure the daylight section (module docstring) into a dict; maps written into ``out_dir``."""
+def measure_daylight(request, planes, out_dir, stems, *, epw_path=None, median_external_illuminance_lux=None,
+                     resolution=None, draw=True):
+    """Measure the daylight section (module docstring) into a dict; maps written into ``out_dir``. The
+    request (``measure.blender.request``) gives the scene, the daylight factor's ``quality`` (None:
+    "preview"; the annual, sun, glare and view parts run at preview) and cancel."""
     from ...radiometry.metrics import en17037
     from ..analyses import annual as annual_mod
     from ..analyses import daylight_factor, daylight_glare, sun_study
     from . import daylight_maps
+
+    scene, quality = request.scene, request.quality or "preview"
+    # each part at its own quality, seed 0, no budget of the report's (as the section has always measured)
+    request = request.but(quality=quality, target_rel_error=None, samples=None, time_budget_s=None,
+                          target_abs_error=None, seed=0, progress=None, client=None)
+    preview = request.but(quality="preview")
 
     section = {"sky": sky_words(scene), "quality": quality, "planes": [], "dgp": None, "annual_dgp": None,
                "weather": None, "en17037": [], "images": [], "errors": []}
@@ -96,8 +104,8 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
     glare_row = None
     if weather is not None and view is not None:
         try:
-            a = daylight_glare.annual_dgp(view[0], view[1], epw_path, scene=scene, quality="preview",
-                                          cancelled=cancelled, partial_period=not weather.is_full_year)
+            a = daylight_glare.annual_dgp(view[0], view[1], epw_path, request=preview,
+                                          partial_period=not weather.is_full_year)
             glare_row = en17037.glare_protection(a.occupied_dgp())
             glare_row.note = "annual DGP at the camera"
             section["annual_dgp"] = {
@@ -115,9 +123,8 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
         entry = {"plane": plane.name}
         section["planes"].append(entry)
         try:
-            g = daylight_factor.daylight_factor_grid(plane, resolution=resolution, scene=scene, quality=quality,
-                                                     median_external_illuminance_lux=median_external_illuminance_lux,
-                                                     cancelled=cancelled)
+            g = daylight_factor.daylight_factor_grid(plane, resolution=resolution, request=request,
+                                                     median_external_illuminance_lux=median_external_illuminance_lux)
         except MeasurementCancelled:
             raise
         except (RadiometerError, ValueError) as exc:
@@ -134,7 +141,7 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
         if draw:
             try:
                 name = f"daylight_factor_{stem}.png"
-                daylight_maps.daylight_map(g, os.path.join(out_dir, name), scene=scene)
+                daylight_maps.daylight_map(g, os.path.join(out_dir, name), scene=request)
                 section["images"].append((f"Daylight factor on {plane.name} (%, CIE overcast sky): average "
                                           f"{s['average']:.2g} %, minimum {s['minimum']:.2g} %", name))
             except (RadiometerError, OSError) as exc:
@@ -144,8 +151,8 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
         provision = None
         if weather is not None:
             try:
-                r = annual_mod.annual_daylight(locations, normals, epw_path, scene=scene, quality="preview",
-                                               cancelled=cancelled, partial_period=not weather.is_full_year)
+                r = annual_mod.annual_daylight(locations, normals, epw_path, request=preview,
+                                               partial_period=not weather.is_full_year)
                 entry["annual"] = {"sDA_300_50_percent": 100 * r.sda,
                                    "sDA_range_2se_percent": [100 * v for v in r.sda_range],
                                    "ASE_1000_250h_percent": 100 * r.ase,
@@ -158,7 +165,7 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
                     provision = en17037.daylight_provision_illuminance(r.illuminance, daylight_hours)
                 if draw:
                     name = f"sda_{stem}.png"
-                    daylight_maps.daylight_map(r, os.path.join(out_dir, name), metric="sda", scene=scene)
+                    daylight_maps.daylight_map(r, os.path.join(out_dir, name), metric="sda", scene=request)
                     section["images"].append((f"Spatial daylight autonomy on {plane.name}: share of occupied hours "
                                               f"at 300 lx or more (%); sDA300/50% {100 * r.sda:.0f} %", name))
             except MeasurementCancelled:
@@ -176,7 +183,7 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
                 times = [start + _dt.timedelta(minutes=SUN_STEP_MIN * k) for k in range(24 * 60 // SUN_STEP_MIN)]
                 st = sun_study.sun_study(locations, normals, times, latitude_deg=weather.latitude_deg,
                                          longitude_deg=weather.longitude_deg, elevation_m=weather.elevation_m,
-                                         scene=scene, quality="preview", cancelled=cancelled)
+                                         request=preview)
                 h = np.asarray(st.sunlight_hours, float)
                 entry["sunlight_hours"] = {"day": start.date().isoformat(), "step_min": SUN_STEP_MIN,
                                            "minimum_h": float(h.min()), "mean_h": float(h.mean()),
@@ -185,7 +192,7 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
                 sunlight.note = "at the plane's sunniest point, not on the window"
                 if draw:
                     name = f"sunlight_hours_{stem}.png"
-                    daylight_maps.daylight_map(st, os.path.join(out_dir, name), scene=scene)
+                    daylight_maps.daylight_map(st, os.path.join(out_dir, name), scene=request)
                     section["images"].append((f"Sunlight hours on {plane.name} on {start.date().isoformat()} (h; "
                                               f"every {SUN_STEP_MIN} min): maximum {h.max():.1f} h", name))
             except MeasurementCancelled:
@@ -196,9 +203,9 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
 
         view_row = None
         try:
-            eyes = locations + np.asarray(g.normal, float) * (EYE_ABOVE_WORK_PLANE_M / scene.unit_settings.scale_length)
+            eyes = locations + np.asarray(g.normal, float) * (EYE_ABOVE_WORK_PLANE_M / request.scale_length)
             eyes = eyes[np.unique(np.linspace(0, len(eyes) - 1, min(len(eyes), VIEW_OUT_MAX_EYES)).round().astype(int))]
-            vo = daylight_glare.view_out(eyes, scene=scene)
+            vo = daylight_glare.view_out(eyes, request=request)
             entry["view_out"] = {"eyes": int(len(eyes)), "eye_above_plane_m": EYE_ABOVE_WORK_PLANE_M,
                                  "level": vo.en17037["level"], "values": vo.en17037["values"],
                                  "note": vo.en17037.get("note", ""), "openings": vo.openings, "notes": vo.notes}
@@ -211,8 +218,7 @@ def measure_daylight(scene, planes, out_dir, stems, *, quality="preview", epw_pa
         entry["en17037"] = [dataclasses.asdict(row) for row in rows]
     if view is not None:
         try:
-            d = daylight_glare.glare_dgp(view[0], view[1], scene=scene, quality="preview",
-                                         resolution=DGP_RESOLUTION)
+            d = daylight_glare.glare_dgp(view[0], view[1], request=preview, resolution=DGP_RESOLUTION)
             section["dgp"] = {"camera": scene.camera.name, "observer": [float(v) for v in view[0]],
                               "direction": [float(v) for v in view[1]], "dgp": float(d.dgp),
                               "dgp_std_error": float(d.dgp_std_error), "class": d.dgp_class,

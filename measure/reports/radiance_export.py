@@ -349,9 +349,9 @@ def _photometric(ex, lt, spec, ident, mat, efficacy):
 
 # --- sky -----------------------------------------------------------------------------------------------
 
-def _sky(ex, scene, model, efficacy, suns, ground_reflectance):
+def _sky(ex, request, model, suns, ground_reflectance):
     """sky.rad (+ its .cal), sky_gensky.rad and the daylight factor's overcast sky."""
-    scale = scene.unit_settings.scale_length
+    scene, scale, efficacy = request.scene, request.scale_length, request.efficacy
     world = model.world
     head = "# Radiometer Radiance export: the scene's world and suns (Radiance watts of 179 lm/W)\n"
     body = ""
@@ -401,13 +401,13 @@ def _sky(ex, scene, model, efficacy, suns, ground_reflectance):
 
 # --- sensors and views ---------------------------------------------------------------------------------
 
-def _sensors(ex, scene, resolution, spacing, meter_list):
-    scale = scene.unit_settings.scale_length
+def _sensors(ex, request, resolution, spacing, meter_list):
+    scene, scale = request.scene, request.scale_length
     stems = outputs.Stems(["scene", "sky", "sky_gensky", "sky_overcast", "meters", "readme"])
     grids = []
     for obj in grid.work_planes(scene):
         try:
-            layout = grid.grid_layout(scene, obj, resolution, spacing)
+            layout = grid.grid_layout(request, obj, resolution, spacing)
         except RadiometerError as exc:
             ex.unmapped.append(f"{obj.name}: work plane not exported ({exc})")
             continue
@@ -430,8 +430,8 @@ def _sensors(ex, scene, resolution, spacing, meter_list):
     return stems
 
 
-def _views(ex, scene, stems):
-    scale = scene.unit_settings.scale_length
+def _views(ex, request, stems):
+    scene, scale = request.scene, request.scale_length
     views = []
     cameras = [ob for ob in scene.objects if ob.type == "CAMERA"]
     depsgraph = bpy.context.evaluated_depsgraph_get()
@@ -497,14 +497,15 @@ def _readme(ex, scene):
     return "\n".join(lines) + "\n"
 
 
-def export_radiance(out_dir, *, scene=None, resolution=None, spacing=None, ground_reflectance=0.2, meters=None):
-    """Write the Radiance export of ``scene`` into ``out_dir`` (created; see the module docstring).
+def export_radiance(out_dir, *, request, resolution=None, spacing=None, ground_reflectance=0.2, meters=None):
+    """Write the Radiance export of the request's scene (``measure.blender.request``: its efficacy and unit
+    scale too) into ``out_dir`` (created; see the module docstring).
     ``meters``: the scene's meters (``measure.meter.meter_objects.Meter``, from the caller: host code reads
     no UI settings); their illuminance meters go to meters.pts.
     ``resolution`` (nx, ny) or ``spacing`` (m) of the work planes' grids (default: EN 12464-1's, as
     ``grid`` uses); ``ground_reflectance`` of the daylight factor's overcast sky. Returns a dict: the
     written paths, what was not mapped, and a summary."""
-    scene = scene or bpy.context.scene
+    scene = request.scene
     try:
         rho = float(ground_reflectance)
     except (TypeError, ValueError):
@@ -516,15 +517,15 @@ def export_radiance(out_dir, *, scene=None, resolution=None, spacing=None, groun
         raise RadiometerError(f"cannot use the output folder {outputs.shown(out_dir)}: it is a symbolic link")
     if os.path.exists(full) and not os.path.isdir(full):
         raise RadiometerError(f"cannot use the output folder {outputs.shown(out_dir)}: it is a file, not a folder")
-    _space, _weights, efficacy = point_meter.scene_photometry(scene)
-    model = point_meter.capture_model(scene)
+    efficacy = request.efficacy
+    model = point_meter.capture_model(scene, request.view_layer)
     ex = _Export()
     geometry_parts = _geometry(ex, scene, model)
     light_parts, suns = _lights(ex, scene, model, efficacy)
     ex.files["scene.rad"] = "".join(geometry_parts + ["# lights\n"] + light_parts)
-    _sky(ex, scene, model, efficacy, suns, rho)
-    stems = _sensors(ex, scene, resolution, spacing, meters)
-    _views(ex, scene, stems)
+    _sky(ex, request, model, suns, rho)
+    stems = _sensors(ex, request, resolution, spacing, meters)
+    _views(ex, request, stems)
     ex.files["README.txt"] = _readme(ex, scene)
     try:
         os.makedirs(full, exist_ok=True)

@@ -24,6 +24,7 @@ from ... import outputs, plots
 from ...errors import MeasurementCancelled, RadiometerError
 from ..analyses import analysis
 from ..meter import meter_objects
+from ..blender import request as request_of
 from ..analyses.analysis_common import plain
 from .report_files import planned_files
 from ..analyses.grid import work_planes  # noqa: F401 - report.work_planes: the planes the report grids
@@ -153,8 +154,7 @@ def export_report(out_dir, **kwargs):
         return done.value
 
 
-def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_error=None, time_budget_s=None,
-                convergence=True, convergence_samples=(4, 16, 64), progress=None, cancelled=None, phase=None,
+def iter_report(out_dir, *, request, method=None, convergence=True, convergence_samples=(4, 16, 64), phase=None,
                 client=True, project=None, task=None, maintenance_factor=0.8, observers=(), ra=None, meters=(),
                 settings=None, daylight=False, epw=None, median_external_illuminance_lux=None,
                 daylight_resolution=None):
@@ -164,15 +164,17 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     further ``next()`` measures one part and yields its label; the last one writes the files and
     ends the generator with the report dict (``StopIteration.value``). ``export_report`` runs it.
 
-    ``quality`` (target 1-sigma relative error per reading: preview 5 %, standard 1 %, reference
-    0.2 %), ``method`` and ``target_rel_error`` (fraction) override ``settings`` (the scene's Radiometer
-    settings, read by the api: a dict of "method", "quality", "target_rel_error"; None: auto, standard,
-    the preset's); ``meters``: the scene's meters (``measure.meter.meter_objects.Meter``, the api's);
-    ``time_budget_s`` (s) bounds each measurement of the report (a meter batch, a law check, a grid). Every analysis measures with the meter's per-meter allocation. Returns the
-    report dict (also written as report.json) with ``paths`` and ``summary`` (the text table).
+    The request (``measure.blender.request``) gives the scene; its ``quality`` (target 1-sigma relative
+    error per reading: preview 5 %, standard 1 %, reference 0.2 %) and ``target_rel_error`` (fraction), like
+    ``method``, override ``settings`` (the scene's Radiometer settings, read by the api: a dict of "method",
+    "quality", "target_rel_error"; None: auto, standard, the preset's) where given; its ``time_budget_s`` (s)
+    bounds each measurement of the report (a meter batch, a law check, a grid). ``meters``: the scene's meters
+    (``measure.meter.meter_objects.Meter``, the api's). Every analysis measures with the meter's per-meter
+    allocation. Returns the report dict (also written as report.json) with ``paths`` and ``summary`` (the
+    text table).
 
-    ``progress(done, total, seconds_left)``: done/total in thousandths of the whole report, ETA in
-    s or None; ``phase(label)``: the part being measured ("meters", "laws Lamp", ...);
+    The request's ``progress(done, total, seconds_left)``: done/total in thousandths of the whole report, ETA
+    in s or None; ``phase(label)``: the part being measured ("meters", "laws Lamp", ...); the request's
     ``cancelled()``: polled by every measurement, True raises MeasurementCancelled (nothing written).
 
     The files are one set, replaced together or not at all (``outputs.FileSet``): every file is
@@ -200,10 +202,9 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
     except OSError as exc:
         raise RadiometerError(f"cannot create report folder {out}: {exc.strerror}") from None
     with outputs.FileSet(out, manifest="report.json", name="report") as stage:
-        return (yield from _report_parts(stage, scene=scene, quality=quality, method=method,
-                                         target_rel_error=target_rel_error, time_budget_s=time_budget_s,
+        return (yield from _report_parts(stage, request=request, method=method,
                                          convergence=convergence, convergence_samples=convergence_samples,
-                                         progress=progress, cancelled=cancelled, phase=phase, client=client,
+                                         phase=phase, client=client,
                                          project=project, task=task, maintenance_factor=maintenance_factor,
                                          observers=observers, ra=ra, meters=meters, settings=settings,
                                          daylight=daylight, epw=epw,
@@ -211,25 +212,26 @@ def iter_report(out_dir, *, scene=None, quality=None, method=None, target_rel_er
                                          daylight_resolution=daylight_resolution))
 
 
-def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budget_s, convergence,
-                  convergence_samples, progress, cancelled, phase, client, project, task, maintenance_factor,
-                  observers, ra, meters, settings, daylight=False, epw=None, median_external_illuminance_lux=None,
-                  daylight_resolution=None):
+def _report_parts(stage, *, request, method, convergence, convergence_samples, phase, client, project, task,
+                  maintenance_factor, observers, ra, meters, settings, daylight=False, epw=None,
+                  median_external_illuminance_lux=None, daylight_resolution=None):
     """:func:`iter_report`'s parts, written into ``stage`` (an ``outputs.FileSet``) and committed at the end."""
-    scene = scene or bpy.context.scene
+    scene, progress, cancelled = request.scene, request.progress, request.cancelled
+    time_budget_s = request.time_budget_s
     from ..meter.point_meter import capture_model
 
-    capture_model(scene)  # bad input (a light of non-finite power) is one error, as for `measure`
+    capture_model(scene, request.view_layer)  # bad input (a light of non-finite power) is one error, as for `measure`
     out = stage.target
     settings = dict(settings or {"method": "auto", "quality": "standard", "target_rel_error": None})
-    if quality:
-        settings["quality"] = quality
+    if request.quality:
+        settings["quality"] = request.quality
     if method:
         settings["method"] = method
-    if target_rel_error is not None:
-        settings["target_rel_error"] = float(target_rel_error)
+    if request.target_rel_error is not None:
+        settings["target_rel_error"] = float(request.target_rel_error)
     q, m, goal = settings["quality"], settings["method"], settings["target_rel_error"]
-    budget = {"quality": q, "target_rel_error": goal, "time_budget_s": time_budget_s}
+    # the report's budget for every part (each part passes its own progress)
+    base = request.but(quality=q, target_rel_error=goal, progress=None, samples=None, target_abs_error=None, seed=0)
     started = time.perf_counter()
     report = {"scene": scene.name, "file": bpy.data.filepath, "quality": q, "method": m, "law_types": {},
               "target_rel_error": goal, "time_budget_s": time_budget_s,
@@ -296,7 +298,7 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
         return plan if state["part"] == 0 else label
 
     stems = outputs.Stems(sorted({ob.name for ob in lights} | {ob.name for ob in planes}))
-    watch = {"cancelled": cancelled, "progress": part_progress}
+    watched = base.but(progress=part_progress)
     draw = plots.matplotlib_available()  # without matplotlib: the numbers, no plot paths asked for
     if not draw:
         report["errors"].append("no plots: " + plots.missing_message())
@@ -317,23 +319,23 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
             tracker = meter_objects.StepProgress(steps, lambda f, eta: part_progress(f, 1.0))
             for i, st in enumerate(steps):
                 tracker.start(i)
-                for obj, reading in meter_objects.run_step(scene, st, settings, progress=tracker, cancelled=cancelled):
+                for obj, reading in meter_objects.run_step(base.but(progress=tracker), st, method=m):
                     entry = dict(name=obj.name, **reading.to_dict())
                     if reading.quantity == "illuminance":
-                        entry["melanopic"] = _melanopic(scene, obj)
+                        entry["melanopic"] = _melanopic(base, obj)
                     report["meters"].append(entry)
         except MeasurementCancelled:
             raise
         except RadiometerError as exc:
             report["errors"].append(f"meters: {exc}")
     # Law checks per light.
-    law_budget = law_check_budget(budget, q)
+    law = law_check_budget(base.budget(), q)  # a whole budget: the fields it leaves out are None
+    law_budget = watched.but(**{name: law.get(name) for name in request_of.BUDGET_FIELDS})
     for light in lights:
         yield step(f"laws {light.name}")
         slug = stems(light.name)
         try:
-            r = analysis.check_inverse_square(light, scene=scene, method=m, **law_budget, **watch,
-                                              points=REPORT_LAW_DISTANCES,
+            r = analysis.check_inverse_square(light, request=law_budget, method=m, points=REPORT_LAW_DISTANCES,
                                               plot=os.path.join(out, f"inverse_square_{slug}.png") if draw else None)
             report["inverse_square"].append(r.to_dict())
         except MeasurementCancelled:
@@ -350,7 +352,7 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
                     raise RadiometerError("a sun's cosine check needs a point in the room: add a work plane or an "
                                           "illuminance meter")
                 where = {"location": spot}
-            r = analysis.check_cosine_law(light, scene=scene, method=m, **law_budget, **watch, **where,
+            r = analysis.check_cosine_law(light, request=law_budget, method=m, **where,
                                           angles_deg=REPORT_LAW_ANGLES_DEG,
                                           plot=os.path.join(out, f"cosine_{slug}.png") if draw else None)
             report["cosine"].append(r.to_dict())
@@ -363,7 +365,7 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
         yield step(f"grid {plane.name}")
         slug = stems(plane.name)
         try:
-            g = analysis.illuminance_grid(plane, scene=scene, method=m, **budget, **watch,
+            g = analysis.illuminance_grid(plane, request=watched, method=m,
                                           png=os.path.join(out, f"isolux_{slug}.png") if draw else None,
                                           csv_path=os.path.join(out, f"grid_{slug}.csv"))
             report["grids"].append(g.to_dict())
@@ -376,9 +378,8 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
         target = conv_target
         yield step("convergence")
         try:
-            c = analysis.convergence_study(target, scene=scene, samples=convergence_samples, quality=q,
+            c = analysis.convergence_study(target, request=base, samples=convergence_samples,
                                            meter_kind=next((m.kind for m in objs if m.obj == target), None),
-                                           target_rel_error=goal, time_budget_s=time_budget_s, cancelled=cancelled,
                                            plot=os.path.join(out, "convergence.png") if draw else None)
             report["convergence"] = c.to_dict()
         except MeasurementCancelled:
@@ -389,16 +390,15 @@ def _report_parts(stage, *, scene, quality, method, target_rel_error, time_budge
         yield step("daylight")
         from .daylight_section import measure_daylight
 
-        report["daylight"] = measure_daylight(scene, planes, out, stems, quality=q, epw_path=epw,
+        report["daylight"] = measure_daylight(base, planes, out, stems, epw_path=epw,
                                               median_external_illuminance_lux=median_external_illuminance_lux,
-                                              resolution=daylight_resolution, draw=draw, cancelled=cancelled)
+                                              resolution=daylight_resolution, draw=draw)
         report["errors"] += [f"daylight: {e}" for e in report["daylight"]["errors"]]
     if client:
         from . import client_report
 
-        client_report.client_report(report, out, scene=scene, project=project, task=task,
-                                    maintenance_factor=maintenance_factor, observers=observers, ra=ra, quality=q,
-                                    cancelled=cancelled)
+        client_report.client_report(report, out, request=base, project=project, task=task,
+                                    maintenance_factor=maintenance_factor, observers=observers, ra=ra)
     if cancelled is not None and cancelled():
         raise MeasurementCancelled("report cancelled; the scene was restored, the previous report is as it was")
     _overall(1.0)
@@ -514,13 +514,13 @@ def _meter_cells(result):
     return (format_value(value, se, result["exact"]), "cd/m²" if lum else "lx", format_error(se, result["exact"]))
 
 
-def _melanopic(scene, obj):
+def _melanopic(request, obj):
     """The direct light's melanopic reading at an illuminance meter (``spectra.spectral_reading``: closed forms
     per light and each light's spectrum), as the report keeps it; {"error": ...} when a spectrum is refused."""
     from ..meter import meter_objects
 
     try:
-        r = meter_objects.direct_spectral_reading(obj, scene)
+        r = meter_objects.direct_spectral_reading(obj, request)
     except RadiometerError as exc:
         return {"error": str(exc)}
     return {"mel_edi_lx": float(r["mel_edi_lx"]), "mel_der": r["mel_der"], "exact": bool(r["exact"]),

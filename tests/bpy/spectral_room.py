@@ -61,13 +61,13 @@ def expected_daylit(scene, world, meter="eye"):
     JSON is per 1 cd/m², D65): dicts {(part, quantity): lx} for the total, direct and reflected light."""
     import json
 
-    from radiometer.measure.meter import point_meter
+    from radiometer.measure.blender import request as request_of
 
     with open(DAYLIT_REFERENCE_JSON) as f:
         data = json.load(f)[meter]
     hs = sorted(data, key=float)
     fine, coarse = data[hs[0]], data[hs[1]]
-    _space, weights, efficacy = point_meter.scene_photometry(scene)
+    _space, weights, efficacy = request_of.build(scene).photometry
     background = world.node_tree.nodes["Background"]
     lum = efficacy * float(np.asarray(tuple(background.inputs["Color"].default_value)[:3]) @ weights) \
         * background.inputs["Strength"].default_value
@@ -95,9 +95,9 @@ def luminous_intensity_cd(scene, light):
 
     import numpy as np
 
-    from radiometer.measure.meter import point_meter
+    from radiometer.measure.blender import request as request_of
 
-    _space, weights, efficacy = point_meter.scene_photometry(scene)
+    _space, weights, efficacy = request_of.build(scene).photometry
     colour = np.asarray(tuple(light.data.color), float) * np.asarray(tuple(light.data.temperature_color), float)
     return efficacy * float(colour @ weights) * light.data.energy / (4.0 * math.pi)
 

@@ -15,6 +15,7 @@ import pytest
 
 from radiometer.measure.analyses import annual
 from radiometer.radiometry.skies import sky_patches
+from radiometer.measure.blender import request as request_of  # noqa: E402
 
 
 def closed_form(p, patches, normal):
@@ -158,8 +159,8 @@ def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blend
     fingerprint = scene_guard.scene_fingerprint(scene)
     patches = sky_patches.reinhart_patches(1)
     normals = np.array([(0, 0, 1), (0, -1, 0), (1, 0, 0)], float)
-    c = dcm.render_coefficients(np.array([(0, 0, 5), (3, 0, 5), (0, 3, 5)], float), normals, scene=scene,
-                                quality="preview", seed=3)
+    c = dcm.render_coefficients(np.array([(0, 0, 5), (3, 0, 5), (0, 3, 5)], float), normals,
+                                request=request_of.build(scene, quality="preview", seed=3))
     assert scene.world == world and not light.hide_render and scene.camera is None
     assert scene.compositing_node_group == user_group
     assert [g.name for g in scene.view_layers[0].lightgroups] == ["user group"]
@@ -233,9 +234,11 @@ def test_annual_against_radiance_in_a_room_that_does_not_saturate(clean_blender,
 
     if not dcm.supported(scene):  # Blender 4.x: one clear line, no silent per-patch fallback
         with pytest.raises(RadiometerError, match="needs Blender 5.0"):
-            annual.annual_daylight(room.POINTS, (0, 0, 1), epw_path, scene=scene, quality="preview", samples=2)
+            annual.annual_daylight(room.POINTS, (0, 0, 1), epw_path,
+                                   request=request_of.build(scene, quality="preview", samples=2))
         return
-    r = annual.annual_daylight(room.POINTS, (0, 0, 1), epw_path, scene=scene, quality="preview", samples=2, seed=1)
+    r = annual.annual_daylight(room.POINTS, (0, 0, 1), epw_path,
+                               request=request_of.build(scene, quality="preview", samples=2, seed=1))
     print("sDA", r.sda, r.sda_range, ref["sda"], "ASE", r.ase, ref["ase"])
     assert abs(r.sda - ref["sda"]) <= 0.03 and abs(r.ase - ref["ase"]) <= 0.03
     assert r.sda_range[0] - 0.03 <= ref["sda"] <= r.sda_range[1] + 0.03

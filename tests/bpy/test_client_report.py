@@ -12,6 +12,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import office  # noqa: E402
 
 from radiometer import api  # noqa: E402
+from radiometer.measure.blender import request as request_of  # noqa: E402
 
 pytest.importorskip("matplotlib")
 
@@ -44,9 +45,9 @@ def test_client_report_html_pdf(clean_blender, build, tmp_path):
               "inverse_square": [], "cosine": [], "convergence": None, "errors": []}
     from radiometer.measure.reports import client_report
 
-    client = client_report.client_report(report, str(out), scene=scene, project={"name": "Office 2.14"},
-                                         task="office_writing", maintenance_factor=0.8,
-                                         observers=[(office.EYE, office.VIEW)], quality="preview")
+    client = client_report.client_report(report, str(out), request=request_of.build(scene, quality="preview"),
+                                         project={"name": "Office 2.14"}, task="office_writing",
+                                         maintenance_factor=0.8, observers=[(office.EYE, office.VIEW)])
     by_type = {s["file"] or s["type"]: s for s in client["schedule"]}
     assert by_type["dl1.ies"]["count"] == 2 and by_type["dl1.ies"]["power_w"] == pytest.approx(25.0)
     flux = by_type["dl1.ies"]["flux_lm"]

@@ -365,11 +365,13 @@ def test_daylight_factor_points_on_the_cluster_agree_in_chunks(clean_blender, re
 
     scene = _sun_study_scene(tmp_path / "court.blend")  # a wall above the points' horizon: rendered
     points = np.array([[x, y, 0.8] for x in (-1.0, 1.0) for y in (-0.5, 0.5, 2.0)])
-    here = df.daylight_factor(points, scene=scene, quality="preview", chunk_points=2)
+    from radiometer.measure.blender import request as request_of
+
+    here = df.daylight_factor(points, request=request_of.build(scene, quality="preview"), chunk_points=2)
     client = request.getfixturevalue("client")  # after the in-process bakes (see the fixture)
     stats_seen = []
-    there = df.daylight_factor(points, scene=scene, quality="preview", client=client, chunk_points=2,
-                               progress=lambda d, t, s: stats_seen.append((d, t)))
+    there = df.daylight_factor(points, request=request_of.build(
+        scene, quality="preview", client=client, progress=lambda d, t, s: stats_seen.append((d, t))), chunk_points=2)
     assert stats_seen[-1] == (3, 3)  # 6 points in chunks of 2: 3 tasks
     a = np.array([r.daylight_factor for r in here])
     b = np.array([r.daylight_factor for r in there])
@@ -383,10 +385,12 @@ def test_daylight_factor_grid_on_the_cluster_lays_out_the_same_points(clean_blen
     from radiometer.measure.analyses import daylight_factor as df
 
     scene = _sun_study_scene(tmp_path / "court.blend")
-    here = df.daylight_factor_grid("plane", resolution=(3, 2), scene=scene, quality="preview")
+    from radiometer.measure.blender import request as request_of
+
+    here = df.daylight_factor_grid("plane", resolution=(3, 2), request=request_of.build(scene, quality="preview"))
     client = request.getfixturevalue("client")  # after the in-process bakes (see the fixture)
-    there = df.daylight_factor_grid("plane", resolution=(3, 2), scene=scene, quality="preview", client=client,
-                                    chunk_points=2)
+    there = df.daylight_factor_grid("plane", resolution=(3, 2), chunk_points=2,
+                                    request=request_of.build(scene, quality="preview", client=client))
     np.testing.assert_array_equal(there.points, here.points)  # the grid's own layout, point for point
     se = np.hypot(here.daylight_factor * here.rel_std_error, there.daylight_factor * there.rel_std_error)
     assert np.all(np.abs(there.daylight_factor - here.daylight_factor) <= 3 * se + 1e-9)

@@ -174,6 +174,7 @@ def test_opening_emitters_carry_the_closed_form(clean_blender, pane):
 
     from radiometer.measure.analyses import daylight_factor as dfm
     from radiometer.measure.blender import scene_guard
+    from radiometer.measure.blender import request as request_of
     from radiometer.measure.capture.world_capture import CIE_SKY_TAG
     from radiometer.measure.meter import point_meter as meter
     from radiometer.measure.render import adaptive
@@ -185,17 +186,18 @@ def test_opening_emitters_carry_the_closed_form(clean_blender, pane):
     pts = np.array([(2.0, 1.5, 0.85), (2.0, 0.75, 1.2), (0.5, 2.0, 1.5)])
     dirs = np.array([(0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (1.0, 0.0, 0.0)])
     with scene_guard.preserved_scene(scene) as snapshot:
-        dfm.overcast_only(scene, snapshot, 0.2)
+        request = request_of.build(scene)
+        dfm.overcast_only(request, snapshot, 0.2)
         model = meter.capture_model(scene)
         closed = sky_component.sky_components(scene, pts, dirs, ground_reflectance=0.2,
                                               horizontal_lux=SKY_HORIZONTAL_LUX, model=model)
         openings = sky_component.openings_to_world(model)
         assert len(openings.loops) == 1 and np.allclose(openings.outward[0], (0.0, -1.0, 0.0))
-        sky_component.add_opening_emitters(scene, openings, json.loads(scene.world[CIE_SKY_TAG]))
+        sky_component.add_opening_emitters(request, openings, json.loads(scene.world[CIE_SKY_TAG]))
         bpy.context.view_layer.update()
-        _space, weights, efficacy = meter.scene_photometry(scene)
-        run = adaptive.render_hybrid(scene, bpy.context.view_layer, pts, dirs, needs=model.needs, bounces=0,
-                                     weights=weights, fixed_samples=65536, panes=model.panes)
+        _space, weights, efficacy = request.photometry
+        run = adaptive.render_hybrid(request, pts, dirs, needs=model.needs, bounces=0, fixed_samples=65536,
+                                     panes=model.panes)
     lux = efficacy * (run["mean_rgb"] @ weights)
     se = efficacy * run["se"]
     for k, c in enumerate(closed):

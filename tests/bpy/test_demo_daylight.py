@@ -11,6 +11,7 @@ import pytest
 
 from radiometer import api
 from radiometer.demo import daylight
+from radiometer.measure.blender import request as request_of  # noqa: E402
 
 
 def test_daylit_demo_room(clean_blender, tmp_path):
@@ -145,7 +146,8 @@ def test_saved_daylit_room_window_shows_the_clear_sky(clean_blender, tmp_path):
     eye = np.array(daylight.CAMERA["location"])
     through = np.array([0.0, -daylight.ROOM[1] / 2 - daylight.WALL, 1.6])  # the window's middle, 0.1 m above
     d = (through - eye) / np.linalg.norm(through - eye)
-    reading = camera.measure_luminance(tuple(eye), tuple(d), acceptance_deg=1.0, scene=scene, quality="preview")
+    reading = camera.measure_luminance(tuple(eye), tuple(d), acceptance_deg=1.0,
+                                       request=request_of.build(scene, quality="preview"))
     sun = np.asarray(out["sun"]["direction"], float)
     lz = float(cie_sky.zenith_luminance(e_h, 12, sun))
     l_sky = lz * float(cie_sky.relative_luminance(d, 12, sun))

@@ -146,8 +146,11 @@ def _noisy_rounds(monkeypatch, *, cap, budget, cost=0.01, spread=2.0):
         clock.now += cost * spp
         return 1.0 + spread / math.sqrt(spp) * rng.standard_normal((6, 8, 3))
 
-    out = li._rounds_to_target(scene, render, np.array([0.2126, 0.7152, 0.0722]), 0.05, cap, None,
-                               time_budget_s=budget)
+    from radiometer.measure.blender.request import Request
+
+    request = Request(scene=scene, view_layer=None, scale_length=1.0, colour_space="Linear Rec.709",
+                      luminance_weights=(0.2126, 0.7152, 0.0722), efficacy=683.0, time_budget_s=budget)
+    out = li._rounds_to_target(request, render, 0.05, cap)
     return out, rendered
 
 

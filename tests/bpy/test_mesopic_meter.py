@@ -36,9 +36,9 @@ def _scene(power_w):
 def _closed_form(scene, light, direction, acceptance_deg):
     """The plane's luminance averaged over the meter's cone (uniform in solid angle: what a spot meter reads),
     by a fine polar quadrature of L = rho I cos(theta) / (pi d^2) where each direction meets the plane."""
-    from radiometer.measure.meter import point_meter
+    from radiometer.measure.blender import request as request_of
 
-    _space, weights, efficacy = point_meter.scene_photometry(scene)
+    _space, weights, efficacy = request_of.build(scene).photometry
     colour = np.asarray(tuple(light.data.temperature_color), float)
     intensity = efficacy * float(colour @ weights) * light.data.energy / (4.0 * math.pi)  # cd
     half = math.radians(acceptance_deg) / 2

@@ -19,9 +19,9 @@ def rendered_counts(monkeypatch):
     counts = []
     original = adaptive.render_hybrid
 
-    def spy(scene, view_layer, points_scene, *args, **kwargs):
+    def spy(request, points_scene, *args, **kwargs):
         counts.append(len(points_scene))
-        return original(scene, view_layer, points_scene, *args, **kwargs)
+        return original(request, points_scene, *args, **kwargs)
 
     monkeypatch.setattr(adaptive, "render_hybrid", spy)
     return counts

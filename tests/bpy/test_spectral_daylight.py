@@ -23,6 +23,7 @@ from radiometer.measure.blender import scene_guard  # noqa: E402
 from radiometer.radiometry.photometry import action_spectra, spectral  # noqa: E402
 
 import spectral_room  # noqa: E402
+from radiometer.measure.blender import request as request_of  # noqa: E402
 
 SEEDS = 12
 
@@ -247,7 +248,7 @@ def test_melanopic_grid_direct_and_cli(clean_blender, tmp_path, capsys):
     assert g["part"] == "direct" and g["exact"] is False and g["lower_bound"]  # the reflected light left out
     for k in (0, 5, 11):
         p = g["points"][k]
-        r = spectra.spectral_reading(tuple(p), (0.0, 0.0, 1.0), scene=scene)
+        r = spectra.spectral_reading(tuple(p), (0.0, 0.0, 1.0), request=request_of.build(scene))
         assert np.asarray(g["mel_edi_lx"]).ravel()[k] == pytest.approx(r["mel_edi_lx"], rel=1e-12)
         assert r["exact"]
     out = tmp_path / "g.json"

@@ -23,6 +23,7 @@ from radiometer import api  # noqa: E402
 from radiometer.measure.blender import scene_guard  # noqa: E402
 
 import spectral_room  # noqa: E402
+from radiometer.measure.blender import request as request_of  # noqa: E402
 
 SEEDS = 20
 
@@ -84,7 +85,8 @@ def test_rgb_only_estimate_and_its_bound(room):
 
     inside = {"ev": 0, "mel": 0}
     for seed in range(SEEDS):
-        rgb = spectral_reflected.rgb_only_reading(loc, nrm, scene=scene, quality="preview", seed=seed)
+        rgb = spectral_reflected.rgb_only_reading(loc, nrm, request=request_of.build(scene, quality="preview",
+                                                                                     seed=seed))
         for key, q, se in (("ev", "illuminance_lx", "illuminance_std_error_lx"), ("mel", "mel_edi_lx",
                                                                                    "mel_edi_std_error_lx")):
             truth = value[("reflected", q)]
@@ -163,7 +165,7 @@ def test_a_failed_band_render_leaves_every_colour_as_it_was(room, monkeypatch):
     monkeypatch.setattr(point_meter, "measure_illuminance", failing)
     loc, nrm = spectral_room.ref.METERS["eye"]
     with pytest.raises(api.RadiometerError, match="on purpose"):
-        spectral_reflected.reflected_reading(loc, nrm, scene=scene, samples=64)
+        spectral_reflected.reflected_reading(loc, nrm, request=request_of.build(scene), samples=64)
     assert len(calls) == 3 and _state(scene) == before
 
 
