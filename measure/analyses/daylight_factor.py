@@ -70,7 +70,8 @@ class DaylightFactorReading:
 
 def overcast_only(request, snapshot, ground_reflectance):
     """Inside the caller's guard: lights hidden in renders, the world a temporary overcast sky.
-    Returns notes."""
+    Returns (notes, the sky as ``authoring.sky.set_cie_sky`` set it: the analysis hands it on, never reads
+    it back from the world)."""
     from ..meter import point_meter as meter
     from ..authoring import sky
     from .light_isolation import rendering_light_objects
@@ -81,14 +82,14 @@ def overcast_only(request, snapshot, ground_reflectance):
     for ob in hidden:
         snapshot.remember(ob, "hide_render")
         ob.hide_render = True
-    sky.set_cie_sky(request, "overcast", horizontal_illuminance_lux=SKY_HORIZONTAL_LUX,
-                    ground_reflectance=ground_reflectance)
+    sky_info = sky.set_cie_sky(request, "overcast", horizontal_illuminance_lux=SKY_HORIZONTAL_LUX,
+                               ground_reflectance=ground_reflectance)
     request.view_layer.update()
     notes = [f"CIE overcast sky (L = Lz (1 + 2 cos Z) / 3), E_out,h = {SKY_HORIZONTAL_LUX:g} lx, ground "
              f"reflectance {ground_reflectance:g} below a sharp horizon; {len(hidden)} light(s) switched off"]
     if model.emissive_surfaces:
         notes.append("the scene's emitting surfaces stay on and are counted as daylight")
-    return notes
+    return notes, sky_info
 
 
 def _check_rho(ground_reflectance):
@@ -165,15 +166,15 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, request, ground_refle
             raise RadiometerError("method='camera' takes quality (a fixed number of rays per point), not "
                                   "target_rel_error; its errors are stated")
         with scene_guard.preserved_scene(scene) as snapshot:
-            notes = overcast_only(request, snapshot, rho)
+            notes, _sky = overcast_only(request, snapshot, rho)
             readings = _camera_readings(request, points, dirs)
     else:
         with scene_guard.preserved_scene(scene) as snapshot:
-            notes = overcast_only(request, snapshot, rho)
+            notes, sky_info = overcast_only(request, snapshot, rho)
             measure = request.but(client=None, samples=None, time_budget_s=None,
                                   target_abs_error=floor_lux(quality, target_abs_df))
             if method == "auto":
-                readings, sky, ground = _split_readings(measure, points, dirs, rho)
+                readings, sky, ground = _split_readings(measure, points, dirs, rho, sky_info)
             else:
                 readings = meter.measure_illuminance(points, dirs, measure, method=method)
     readings = readings if isinstance(readings, list) else [readings]
@@ -192,7 +193,7 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, request, ground_refle
     return out[0] if single else out
 
 
-def _split_readings(request, points, dirs, rho):
+def _split_readings(request, points, dirs, rho, sky_info):
     """``method="auto"`` inside the caller's guard (the overcast sky set). Where the openings look out on the
     world alone (``sky_component.openings_to_world``) they become emitters of its radiance: at points
     where the sky and ground seen straight through them are proven (``sky_component``) the reading is
@@ -202,7 +203,8 @@ def _split_readings(request, points, dirs, rho):
     reading is SC plus a render of the rest with the sky's direct emission gated off
     (``sky_component.gate_world``). Elsewhere the whole is rendered under the sky. Returns (readings,
     SC lux per point or None, ground seen straight lux per point or None). The request carries the
-    meter's budget (its absolute floor in lux) and the first seed."""
+    meter's budget (its absolute floor in lux) and the first seed; ``sky_info`` is the sky as
+    :func:`overcast_only` set it (the openings' emitters carry it)."""
     from ..meter import point_meter as meter
     from . import sky_component
 
@@ -238,11 +240,7 @@ def _split_readings(request, points, dirs, rho):
                                                       "factor is measured whole"], seed=seed + 1)
     efficacy = request.efficacy
     if emitting.any():
-        import json
-
-        from ..capture.world_capture import CIE_SKY_TAG
-
-        keys = sky_component.add_opening_emitters(request, openings, json.loads(scene.world[CIE_SKY_TAG]))
+        keys = sky_component.add_opening_emitters(request, openings, sky_info)
         request.view_layer.update()
         glazed = sum(d > 0.0 for d in openings.depth)
         how = (f"the {len(openings.loops)} opening(s) emitted the sky's and ground's radiance into the room "
@@ -482,7 +480,7 @@ def daylight_factor_grid(target, *, request, resolution=None, spacing=None, grou
                                   *((sc.reshape(ny, nx), erc.reshape(ny, nx), irc.reshape(ny, nx)) if method == "auto"
                                     else (None, None, None)))
     with scene_guard.preserved_scene(scene) as snapshot:
-        notes = overcast_only(request, snapshot, rho)
+        notes, _sky = overcast_only(request, snapshot, rho)
         result = grid.illuminance_grid(target, resolution=resolution, spacing=spacing, method=method,
                                        request=request.but(samples=None, time_budget_s=None, target_abs_error=floor_lux(
                                            request.quality or "standard", target_abs_df)))

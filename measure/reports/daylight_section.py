@@ -100,6 +100,11 @@ def measure_daylight(request, planes, out_dir, stems, *, epw_path=None, median_e
     def failed(what, exc):
         section["errors"].append(f"{what}: {exc}")
 
+    def drawn(result, name, caption, **how):
+        """The plan-view map of ``result`` written as ``name`` in the report folder, with its caption."""
+        daylight_maps.daylight_map(result, os.path.join(out_dir, name), scene=request, **how)
+        section["images"].append((caption, name))
+
     view = _camera_view(scene)
     glare_row = None
     if weather is not None and view is not None:
@@ -140,10 +145,8 @@ def measure_daylight(request, planes, out_dir, stems, *, epw_path=None, median_e
         df_values = np.asarray(g.daylight_factor, float).ravel()
         if draw:
             try:
-                name = f"daylight_factor_{stem}.png"
-                daylight_maps.daylight_map(g, os.path.join(out_dir, name), scene=request)
-                section["images"].append((f"Daylight factor on {plane.name} (%, CIE overcast sky): average "
-                                          f"{s['average']:.2g} %, minimum {s['minimum']:.2g} %", name))
+                drawn(g, f"daylight_factor_{stem}.png", f"Daylight factor on {plane.name} (%, CIE overcast sky): "
+                      f"average {s['average']:.2g} %, minimum {s['minimum']:.2g} %")
             except (RadiometerError, OSError) as exc:
                 failed(f"daylight factor map of {plane.name}", exc)
         locations = np.asarray(g.points, float).reshape(-1, 3)
@@ -164,10 +167,8 @@ def measure_daylight(request, planes, out_dir, stems, *, epw_path=None, median_e
                 if np.asarray(r.illuminance).shape[0] == daylight_hours.shape[0]:
                     provision = en17037.daylight_provision_illuminance(r.illuminance, daylight_hours)
                 if draw:
-                    name = f"sda_{stem}.png"
-                    daylight_maps.daylight_map(r, os.path.join(out_dir, name), metric="sda", scene=request)
-                    section["images"].append((f"Spatial daylight autonomy on {plane.name}: share of occupied hours "
-                                              f"at 300 lx or more (%); sDA300/50% {100 * r.sda:.0f} %", name))
+                    drawn(r, f"sda_{stem}.png", f"Spatial daylight autonomy on {plane.name}: share of occupied "
+                          f"hours at 300 lx or more (%); sDA300/50% {100 * r.sda:.0f} %", metric="sda")
             except MeasurementCancelled:
                 raise
             except (RadiometerError, ValueError, OSError) as exc:
@@ -191,10 +192,8 @@ def measure_daylight(request, planes, out_dir, stems, *, epw_path=None, median_e
                 sunlight = en17037.sunlight_exposure(float(h.max()))
                 sunlight.note = "at the plane's sunniest point, not on the window"
                 if draw:
-                    name = f"sunlight_hours_{stem}.png"
-                    daylight_maps.daylight_map(st, os.path.join(out_dir, name), scene=request)
-                    section["images"].append((f"Sunlight hours on {plane.name} on {start.date().isoformat()} (h; "
-                                              f"every {SUN_STEP_MIN} min): maximum {h.max():.1f} h", name))
+                    drawn(st, f"sunlight_hours_{stem}.png", f"Sunlight hours on {plane.name} on "
+                          f"{start.date().isoformat()} (h; every {SUN_STEP_MIN} min): maximum {h.max():.1f} h")
             except MeasurementCancelled:
                 raise
             except (RadiometerError, ValueError, OSError) as exc:
