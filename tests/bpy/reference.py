@@ -25,11 +25,17 @@ The patch's normal is stored as a Blender 5 "free" custom normal (float vector a
 float32 corner positions, which a few metres from the origin are quantised to ~2e-7 m, i.e. a normal
 error of ~1e-3 rad for a 2e-4 m patch (a 1e-3 relative error at 45 degrees incidence).
 
-Uncertainty: with the TABULATED_SOBOL pattern Cycles scrambles every pixel independently, so the
-pixel means of one render are independent, identically distributed estimates of the same number
-(all pixels see the same irradiance up to the patch's tiny size). The standard error is the batch-
-means estimate std(pixel means) / sqrt(number of pixels), pooled over renders with independent seeds.
-(The blue-noise patterns would correlate neighbouring pixels and make that estimate wrong.)
+Uncertainty: the TABULATED_SOBOL pattern with its scrambling distance just below 1 gives every pixel the
+render's table shifted by its own uniform Cranley-Patterson rotation, so the pixel means of one render are
+independent, identically distributed and unbiased estimates of the same number (all pixels see the same
+irradiance up to the patch's tiny size). The standard error is the batch-means estimate std(pixel means)
+/ sqrt(number of pixels), pooled over renders with independent seeds. Cycles' default (distance 1) is
+NOT that: each pixel then draws one of the table's fixed patterns, and the mean over any number of pixels
+converges to those patterns' mean, not to the integral; where light comes by a rare path the difference
+shows (2026-12-06, the rare-hit bench's spot on a rough metal floor: 657.8 lx +- 0.1 % with distance 1 for
+seeds 7 and 11 alike, 653.4 lx +- 0.1 % rotated, 653.0 lx +- 0.1 % with the BLUE_NOISE pattern, a
+different sampler; bench/coverage_rare_hits.md). (The blue-noise patterns correlate neighbouring pixels,
+which would make the batch-means estimate wrong, so they serve only as that cross-check.)
 
 Light linking and per-light settings are the user's. Note that the sensor is a new object in no
 linking collection, so it receives what an unlinked object receives (a light whose receiver
@@ -183,7 +189,9 @@ def _measurement_settings(scene, view_layer, settings, res, spp, seed, path, eng
         s(c, "use_adaptive_sampling", False)  # fixed spp: every pixel is an identical estimator
         s(c, "use_denoising", False)          # denoising is biased
         s(c, "time_limit", 0.0)               # a user time limit would cut samples
-        s(c, "sampling_pattern", "TABULATED_SOBOL")  # per-pixel scrambling: pixels independent
+        s(c, "sampling_pattern", "TABULATED_SOBOL")  # each pixel's table rotated by its own uniform shift:
+        s(c, "scrambling_distance", 1.0 - 2.0 ** -20)  # pixels independent and unbiased (module docstring)
+        s(c, "auto_scrambling_distance", False)
         s(c, "sample_offset", 0)
         s(c, "use_animated_seed", False)
         s(c, "light_sampling_threshold", 0.0)  # the default 0.01 culls dim lights (biased)
