@@ -11,6 +11,8 @@ import pathlib
 import bpy
 
 HERE = pathlib.Path(__file__).resolve().parent
+#: How the harness samples since 2026-12-06 (stored with every value rendered since).
+SAMPLER = "TABULATED_SOBOL, each pixel's table rotated by its own uniform shift (scrambling distance 1 - 2^-20)"
 
 
 def load(name, prefix="_refcache_"):
@@ -33,7 +35,10 @@ def render_into(json_path, builds, *, generator, scenes_file, target, seed, max_
                    f"camera, E = pi x pixel, {error_kind})",
         "generator": generator, "scenes": scenes_file,
         "seed": seed, "target_rel_error": target, "max_seconds": max_seconds,
-        "blender": bpy.app.version_string, "device": "CPU", "date": datetime.date.today().isoformat()}
+        "blender": bpy.app.version_string, "device": "CPU", "date": datetime.date.today().isoformat(),
+        "sampler_note": "values with no 'sampler' key were rendered before 2026-12-06 with Cycles' default "
+                        "scrambling distance 1: a fixed Sobol table, biased where light comes by a rare path "
+                        "(tests/bpy/reference.py's docstring)"}
     for name, build in builds.items():
         scene, cases = build()
         for label, point, normal in cases:
@@ -42,6 +47,7 @@ def render_into(json_path, builds, *, generator, scenes_file, target, seed, max_
                                                              max_seconds=max_seconds, seed=seed)
             data["values"][f"{name}/{label}"] = {"point": list(point), "normal": list(normal), "E_rgb": list(e_rgb),
                                                  "rel_std_error": se, "samples": info.get("samples"),
-                                                 "seconds": round(info["seconds"], 1)}
+                                                 "seconds": round(info["seconds"], 1), "sampler": SAMPLER,
+                                                 "date": datetime.date.today().isoformat()}
             print(name, label, e_rgb, se, info.get("samples"), round(info["seconds"], 1), flush=True)
             json_path.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
