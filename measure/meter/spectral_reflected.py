@@ -329,6 +329,12 @@ def _band_plan(request, samples=None, max_bands=None):
             "weights": weights, "efficacy": efficacy}
 
 
+def _peak_render(plan):
+    """The band render whose channels hold the band at 555 nm (V's peak): the source-alone renders use it."""
+    band = int(np.searchsorted(plan["edges"], 555 - int(spectral.WAVELENGTHS_NM[0]), side="right")) - 1
+    return next(k for k, render in enumerate(plan["layout"]) if any(b == band for b, _end in render))
+
+
 def _run_band_renders(request, plan, read, n_points):
     """Set every render's colours (materials at a band end, sources at the band's power), call ``read(k)`` ->
     per meter (rgb, se_rgb, bound_rgb) of the rendered band light, and put every setting back (also on error
@@ -338,6 +344,9 @@ def _run_band_renders(request, plan, read, n_points):
 
     scene, progress, cancelled = request.scene, request.progress, request.cancelled
     values, ses, bounds = ([{} for _ in range(n_points)] for _ in range(3))
+    n_sources = len(plan["power"])
+    alone_renders = list(range(n_sources)) if n_sources > 1 else []
+    gains = np.ones((n_points, n_sources))
     saved = []
     stand_in = None
     world, layout, edges = plan["world"], plan["layout"], plan["edges"]
@@ -355,38 +364,62 @@ def _run_band_renders(request, plan, read, n_points):
         for socks, _lum, _p, _label in plan["surfaces"]:
             for sock in socks:
                 _remember(saved, sock, "default_value")
-        for k, render in enumerate(layout):
-            if cancelled is not None and cancelled():
-                raise MeasurementCancelled("cancelled: the spectral band renders stopped; every setting is as it was")
+        def set_render(render, alone=None):
+            """Materials at the render's band ends, every source at its band power (``alone``: only the
+            source of that index in ``plan["power"]``: lights, then the world, then emitting surfaces)."""
             for m, (mat, sockets) in enumerate(plan["materials"].items()):
                 colour = [plan["rmax"][b, m] if end else plan["rmin"][b, m] for b, end in render]
                 colour += [0.0] * (3 - len(render))
                 for sock in sockets:
                     sock.default_value = (*colour, 1.0)
+            on = iter(range(len(plan["power"])))
             for obj, p in zip(plan["lights"], plan["power"]):
                 colour = _channels(p, edges, render)
                 top = max(colour) or 1.0
                 obj.data.use_temperature = False
                 obj.data.color = tuple(c / top for c in colour)
-                obj.data.energy = top
+                obj.data.energy = top if alone in (None, next(on)) else 0.0
             if stand_in is not None:
-                set_world(_channels(plan["world_power"], edges, render))
+                lit = alone in (None, next(on))
+                set_world([c * lit for c in _channels(plan["world_power"], edges, render)])
             for socks, lum, p, _label in plan["surfaces"]:
                 colour = _channels(p, edges, render)
+                lit = alone in (None, next(on))
                 for sock, y in zip(socks, lum):  # its luminance times the band power per unit luminance
-                    sock.default_value = (*(y * c for c in colour), 1.0)
+                    sock.default_value = (*(y * c * lit for c in colour), 1.0)
+
+        for k, render in enumerate(layout):
+            if cancelled is not None and cancelled():
+                raise MeasurementCancelled("cancelled: the spectral band renders stopped; every setting is as it was")
+            set_render(render)
             for i, (rgb, se, bound) in enumerate(read(k)):
                 for j, key in enumerate(render):
                     values[i][key], ses[i][key], bounds[i][key] = float(rgb[j]), float(se[j]), float(bound[j])
             if progress is not None:
                 spent = time.perf_counter() - start
-                progress(k + 1, len(layout), spent / (k + 1) * (len(layout) - k - 1))
+                progress(k + 1, len(layout) + len(alone_renders), spent / (k + 1) * (len(layout) - k - 1))
+        # Where several sources light the room, one more render per source ALONE (at the render holding 555 nm)
+        # gives each source's share of the light at each meter: the estimate inside a band weights the
+        # sources' spectra by that share (their powers alone mix watts with per-unit-luminance amounts, and
+        # say nothing of how much of each reaches the meter). The bounds do not use it.
+        if alone_renders:
+            k_star = _peak_render(plan)
+            render = layout[k_star]
+            for s in alone_renders:
+                if cancelled is not None and cancelled():
+                    raise MeasurementCancelled("cancelled: the spectral band renders stopped; every setting is as it was")
+                set_render(render, alone=s)
+                sent = np.array(_channels(plan["power"][s], edges, render)[:len(render)])
+                for i, (rgb, _se, _bound) in enumerate(read(len(layout) + s)):
+                    gains[i, s] = float(np.sum(rgb[:len(render)])) / float(np.sum(sent)) if np.sum(sent) > 0 else 0.0
+                if progress is not None:
+                    progress(len(layout) + s + 1, len(layout) + len(alone_renders), None)
     finally:
         _restore(saved)
         if stand_in is not None:
             scene.world = world
             bpy.data.worlds.remove(stand_in)
-    return values, ses, bounds
+    return values, ses, bounds, (gains if alone_renders else None)
 
 
 def _upsampling_bound(plan):
@@ -414,7 +447,11 @@ def _band_notes(plan, what="per meter"):
                 f"({plan['world_label']}) times its luminance: "
                 + ("no spectrum is stated on the World, so CIE D65 is assumed (set its radiometer_spectrum)"
                    if "default" in plan["world_label"] else "a stated spectrum is trusted")
-                + ", and the world's colour is not checked against it"] if plan["world"] is not None else []))
+                + ", and the world's colour is not checked against it"] if plan["world"] is not None else [])
+            + ([f"{len(plan['power'])} sources: the estimate inside each band weights their spectra by each one's "
+                f"share of the light {what.replace('per ', 'at each ')} (one more render of each source alone, at "
+                "the band holding 555 nm: an estimate, not proven); the band range stays the extremes over the "
+                "sources"] if len(plan["power"]) > 1 else []))
 
 
 def _bands_nm(plan):
@@ -462,7 +499,7 @@ def reflected_readings(locations, normals, *, request, samples=None, max_bands=N
             out.append((rendered, np.asarray(reading.std_error_rgb, float), bound))
         return out
 
-    values, ses, bounds = _run_band_renders(request, plan, read, len(locations))
+    values, ses, bounds, gains = _run_band_renders(request, plan, read, len(locations))
     w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.ACTION_SPECTRA])
     # E_v: efficacy x the V-weighted band sum; alpha-opic as the direct part's: (efficacy / K_m,S026) x sum E s
     efficacy = plan["efficacy"]
@@ -471,7 +508,8 @@ def reflected_readings(locations, normals, *, request, samples=None, max_bands=N
     out = []
     for i in range(len(locations)):
         combined = spectral_bands.combine(plan["edges"], plan["power"], w, plan["t"], values[i], ses[i],
-                                          plan["layout"], channel_bound=bounds[i])
+                                          plan["layout"], channel_bound=bounds[i],
+                                          source_gain=None if gains is None else gains[i])
 
         def part(q, factor=1.0, assumed=0.0):
             d = {key: float(combined[key][q] * scale[q] * factor) for key in ("estimate", "lower", "upper",
@@ -489,7 +527,8 @@ def reflected_readings(locations, normals, *, request, samples=None, max_bands=N
             "alpha_opic_irradiance_w_m2": {a: part(j + 1, assumed=up[a]) for j, a in enumerate(action_spectra.ALPHA)},
             "alpha_opic_edi_lx": {a: part(j + 1, 1.0 / float(action_spectra.D65_ELR_W_PER_LM[j]), assumed=up[a])
                                   for j, a in enumerate(action_spectra.ALPHA)},
-            "bands_nm": _bands_nm(plan), "renders": len(plan["layout"]), "samples_per_render": plan["samples"],
+            "bands_nm": _bands_nm(plan), "samples_per_render": plan["samples"],
+            "renders": len(plan["layout"]) + (0 if gains is None else len(plan["power"])),
             "materials": plan["labels"], "notes": list(notes), "world": plan["world_label"],
             "emitting_surfaces": [label for _s, _l, _p, label in plan["surfaces"]],
         })
@@ -521,10 +560,11 @@ def mesopic_reading(location, direction, *, request, acceptance_deg=1.0):
         rgb = np.asarray(r.radiance_rgb, float)
         return [(rgb, np.asarray(r.std_error_rgb, float), FLOAT32 * np.abs(rgb))]
 
-    values, ses, bounds = _run_band_renders(request, plan, read, 1)
+    values, ses, bounds, gains = _run_band_renders(request, plan, read, 1)
     w = np.vstack([action_spectra.PHOTOPIC_V, action_spectra.SCOTOPIC_V])
     combined = spectral_bands.combine(plan["edges"], plan["power"], w, plan["t"], values[0], ses[0],
-                                      plan["layout"], channel_bound=bounds[0])
+                                      plan["layout"], channel_bound=bounds[0],
+                                      source_gain=None if gains is None else gains[0])
     k_p = plan["efficacy"]
     k_s = plan["efficacy"] / action_spectra.K_M_S026_LM_PER_W * action_spectra.KP_M_LM_PER_W
     parts = {}

@@ -99,7 +99,7 @@ def band_sums(values, edges):
     return np.stack([values[..., edges[k]:edges[k + 1]].sum(axis=-1) for k in range(len(edges) - 1)], axis=-1)
 
 
-def combine(edges, light_power, weights, t, channel_values, channel_se, layout, channel_bound=None):
+def combine(edges, light_power, weights, t, channel_values, channel_se, layout, channel_bound=None, source_gain=None):
     """Band renders -> a weighted quantity with its bounds.
 
     ``light_power`` (L, 401): each light's radiant power per 1 nm sample, in the units the renders used
@@ -107,20 +107,31 @@ def combine(edges, light_power, weights, t, channel_values, channel_se, layout, 
     ``weights`` (Q, 401): the weightings (V, s_alpha ...); ``t`` (401,): where the materials' reflectances
     lie in their band range (mean over materials); ``channel_values`` / ``channel_se`` {(band, end): R, s.e.}
     of the rendered band irradiance; ``channel_bound`` {(band, end): b}: a deterministic bound on a channel's
-    value (the meter's own, e.g. a caustic's), widening the range. Returns dict of arrays (Q,): ``estimate``,
-    ``lower``, ``upper`` (the band range, before noise), ``std_error`` (stochastic, 1 sigma).
+    value (the meter's own, e.g. a caustic's), widening the range. ``source_gain`` (L,): how much of each
+    source's band power reaches the meter (its light at the meter per unit of the power the renders gave it,
+    from a render of that source alone): the estimate inside a band weights the sources' spectra by what
+    reaches the meter, not by the powers alone (which need not share a unit: a lamp's watts, a world's power
+    per unit luminance). None, or no source reaching the meter: by the powers. The bounds never use it.
+    Returns dict of arrays (Q,): ``estimate``, ``lower``, ``upper`` (the band range, before noise),
+    ``std_error`` (stochastic, 1 sigma).
     """
     p = np.asarray(light_power, float)
     w = np.atleast_2d(np.asarray(weights, float))
     pb = band_sums(p, edges)  # (L, B)
     ab = band_sums(p[:, None, :] * w[None, :, :], edges)  # (L, Q, B)
+    gain = None if source_gain is None else np.asarray(source_gain, float).reshape(-1)
+    if gain is not None and not (gain.shape == (len(p),) and np.all(np.isfinite(gain)) and np.all(gain >= 0.0)
+                                 and gain.sum() > 0.0):
+        gain = None
+    received = p if gain is None else p * gain[:, None]  # (L, 401): what reaches the meter, per source
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(pb[:, None, :] > 0, ab / np.where(pb[:, None, :] > 0, pb[:, None, :], 1.0), 0.0)
         # where the band's P w is centred between its ends (the estimate's interpolation weight)
-        pw = p.sum(axis=0)[None, :] * w  # (Q, 401)
+        pw = received.sum(axis=0)[None, :] * w  # (Q, 401)
         tw = band_sums(pw * t[None, :], edges) / np.where(band_sums(pw, edges) > 0, band_sums(pw, edges), 1.0)
     rmin_ratio, rmax_ratio = ratio.min(axis=0), ratio.max(axis=0)  # (Q, B)
-    r_mean = band_sums(pw, edges) / np.where(pb.sum(axis=0) > 0, pb.sum(axis=0), 1.0)[None, :]  # (Q, B)
+    rb = band_sums(received, edges).sum(axis=0)  # (B,)
+    r_mean = band_sums(pw, edges) / np.where(rb > 0, rb, 1.0)[None, :]  # (Q, B)
     nb = len(edges) - 1
     lo_v = np.array([channel_values[(b, 0)] for b in range(nb)])
     hi_v = np.array([channel_values[(b, 1)] for b in range(nb)])
