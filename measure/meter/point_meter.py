@@ -20,9 +20,8 @@ from ...readings import IlluminanceReading
 from ..capture import glass
 from ..render import render_settings, rounds, sensors
 from . import sample_floors
-from ..blender import request as request_of, scene_guard
+from ..blender import scene_guard
 
-DEFAULT_EFFICACY = request_of.DEFAULT_EFFICACY  # 683 lm/W (blender/request.py)
 FLOAT32_FLOOR = rounds.FLOAT32_FLOOR  # (render/rounds.py: the reason and the measurement)
 
 

@@ -372,21 +372,24 @@ def _run_band_renders(request, plan, read, n_points):
                 colour += [0.0] * (3 - len(render))
                 for sock in sockets:
                     sock.default_value = (*colour, 1.0)
-            on = iter(range(len(plan["power"])))
-            for obj, p in zip(plan["lights"], plan["power"]):
+            n_lights, n_world = len(plan["lights"]), int(stand_in is not None)
+
+            def lit(index):
+                return alone is None or alone == index
+
+            for j, (obj, p) in enumerate(zip(plan["lights"], plan["power"])):
                 colour = _channels(p, edges, render)
                 top = max(colour) or 1.0
                 obj.data.use_temperature = False
                 obj.data.color = tuple(c / top for c in colour)
-                obj.data.energy = top if alone in (None, next(on)) else 0.0
+                obj.data.energy = top if lit(j) else 0.0
             if stand_in is not None:
-                lit = alone in (None, next(on))
-                set_world([c * lit for c in _channels(plan["world_power"], edges, render)])
-            for socks, lum, p, _label in plan["surfaces"]:
+                set_world([c * lit(n_lights) for c in _channels(plan["world_power"], edges, render)])
+            for j, (socks, lum, p, _label) in enumerate(plan["surfaces"]):
                 colour = _channels(p, edges, render)
-                lit = alone in (None, next(on))
+                on = lit(n_lights + n_world + j)
                 for sock, y in zip(socks, lum):  # its luminance times the band power per unit luminance
-                    sock.default_value = (*(y * c * lit for c in colour), 1.0)
+                    sock.default_value = (*(y * c * on for c in colour), 1.0)
 
         for k, render in enumerate(layout):
             if cancelled is not None and cancelled():

@@ -115,6 +115,19 @@ def expected(scene, light, meter="eye"):
     return value, error
 
 
+def coverage(api, location, normal, value, seeds):
+    """How many of ``seeds`` preview readings (``api.spectral_reading(..., reflected=True)``, seeds 0..) hold the
+    total E_v and mel-EDI of ``value`` (``expected``'s dict) in their 95 % intervals: ({"ev": n, "mel": n}, the
+    last reading)."""
+    covered = {"ev": 0, "mel": 0}
+    for seed in range(seeds):
+        r = api.spectral_reading(location, normal, reflected=True, quality="preview", seed=seed)
+        row = reading_row(r)
+        covered["ev"] += row["ev_lo"] <= value[("total", "illuminance_lx")] <= row["ev_hi"]
+        covered["mel"] += row["mel_lo"] <= value[("total", "mel_edi_lx")] <= row["mel_hi"]
+    return covered, r
+
+
 def reading_row(r):
     """The figures of one ``api.spectral_reading(..., reflected=True)`` a comparison needs (lx; the RGB-only
     ones None where it is not given: a world that emits)."""

@@ -179,13 +179,8 @@ def test_materials_without_spectra_are_upsampled_and_their_error_stated(room):
             del mat["radiometer_reflectance"]
     value, _ = spectral_room.expected(scene, light)
     loc, nrm = spectral_room.ref.METERS["eye"]
-    covered = {"ev": 0, "mel": 0}
     seeds = 8
-    for seed in range(seeds):
-        r = api.spectral_reading(loc, nrm, reflected=True, quality="preview", seed=seed)
-        row = spectral_room.reading_row(r)
-        covered["ev"] += row["ev_lo"] <= value[("total", "illuminance_lx")] <= row["ev_hi"]
-        covered["mel"] += row["mel_lo"] <= value[("total", "mel_edi_lx")] <= row["mel_hi"]
+    covered, r = spectral_room.coverage(api, loc, nrm, value, seeds)
     assert "Mallett & Yuksel" in r["reflected"]["materials"]["red walls"]
     assert any(n.startswith("materials upsampled from their colour") for n in r["notes"])
     assert r["interval_95"]["mel_edi_lx"]["upsampling_bound"] > 0.0
