@@ -693,6 +693,10 @@ def _render_part(request, model, decision, direct, sensors_scene, sensors_m, nor
     n = len(sensors_scene)
     notes = []
     bound_rgb = np.zeros((n, 3))
+    # The part of bound_rgb that bounds light the render may miss (a caustic's, a mirror image's, the light between
+    # stacked panes), apart from the closed forms' own quadrature bounds: only it can stand for what a dark
+    # meter's render did not find.
+    missing_rgb = np.zeros((n, 3))
     if fixed is None and single_delta_light(decision):
         # Next-event estimation samples a single delta light exactly: every path gives the same
         # value, so one sample per texel is the exact render (more would only add float32 rounding).
@@ -729,24 +733,29 @@ def _render_part(request, model, decision, direct, sensors_scene, sensors_m, nor
                 # Rendered through two or more panes, the light bouncing between them is a
                 # specular chain to the light that no render finds: counted as a bound.
                 missing = ~take & (direct.interpane[i] > 0)
-                bound_rgb[missing] += np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
+                between = np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
+                bound_rgb[missing] += between
+                missing_rgb[missing] += between
     if proven is not None:
         offset_rgb += proven.rgb
         bound_rgb += np.abs(proven.bound_rgb)  # the proven part's own hard bound (a pane's T(theta))
     caustic = caustic_risk(model, direct, split, sensors_m)
     if caustic.any():
         per_light, _b, _i = analytic_irradiance(model, direct, sensors_m, normals)
-        bound_rgb += np.einsum("ln,lnc->nc", caustic, np.abs(per_light))
+        caustic_rgb = np.einsum("ln,lnc->nc", caustic, np.abs(per_light))
+        bound_rgb += caustic_rgb
+        missing_rgb += caustic_rgb
         notes.append("caustic light may be missing: a small light reaches some meter only through a refracting "
                      "object that is not a thin pane (Cycles rarely finds such paths); its unoccluded closed "
                      "form is counted as the error bound, not a small error")
     mirrored, names = mirror_bounds(model, sensors_m, normals)
     if names:
         bound_rgb += mirrored
+        missing_rgb += mirrored
         notes.append(f"a sharp mirror image of a small light may be missing ({'; '.join(names)}): a path tracer "
                      "rarely finds a small light seen in a sharp mirror (a caustic); the image's closed form "
                      "(reflectance 1, occlusion ignored) is counted as the error bound, not a small error")
-    if stacked and bound_rgb.any():
+    if stacked and missing_rgb.any():
         notes.append("light bouncing between panes of multiple glazing rendered as separate thin panes: its "
                      "closed-form share for the rendered direct light is counted in the stated error bound (a "
                      "render of separate thin panes does not find it)")
@@ -788,7 +797,9 @@ def _render_part(request, model, decision, direct, sensors_scene, sensors_m, nor
         # Issue 18: no rendered light found although some may arrive (a small bright region past
         # an obstruction): the error is unknown, never 0, also where closed forms add light (hybrid),
         # unless a deterministic bound (a caustic's closed form) already states what may be missing.
-        unbounded = dark & ~(np.abs(bound_rgb) @ np.abs(weights) > 0.0)
+        # A pane's quadrature bound on a proven part says nothing of what the render missed (issue 31: a
+        # dark meter under a proven sky component through a pane stated only that bound).
+        unbounded = dark & ~(np.abs(missing_rgb) @ np.abs(weights) > 0.0)
         taken = int(run['samples'][dark].min())
         if stop_dark and target_abs is not None and fixed is None:
             # Issue 31: the meter stopped after its pilot; it states the absolute floor as a one-sided bound.

@@ -127,3 +127,31 @@ def test_meters_outside_an_open_room_stop_after_their_pilot(clean_blender, build
     for r in outside:
         assert r.illuminance == 0.0 and r.samples <= pilot
         assert r.upper_bound_lux is not None and math.isfinite(r.upper_bound_lux) and r.upper_bound_lux == pytest.approx(2.0)
+
+
+def test_a_dark_meters_unknown_error_is_not_hidden_by_a_panes_quadrature_bound(clean_blender, build):
+    """Issue 31: a meter whose render finds nothing, lit directly by a sphere lamp through a thin pane (its closed
+    form bounded over the lamp's extent), stated only that quadrature bound as its error, as if the bound covered
+    what the render may have missed. The render's part stays unknown (issue 18) unless ``stop_dark`` asks for the
+    rule of three."""
+    from radiometer import api
+    from radiometer.measure.blender.materials import shader_material
+
+    scene = bpy.context.scene
+    build.black_world(scene)
+    build.light(scene, "POINT", location=(0.0, 0.0, 3.0), energy=100.0, shadow_soft_size=0.3)
+    glass = shader_material("glass", "ShaderNodeBsdfGlass", {"IOR": 1.52, "Roughness": 0.0})[0]
+    mesh = bpy.data.meshes.new("pane")  # a 6 mm slab, 2 x 2 m, at 1 m
+    mesh.from_pydata([(x, y, z) for z in (0.997, 1.003) for y in (-1.0, 1.0) for x in (-1.0, 1.0)], [],
+                     [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (1, 3, 7, 5), (3, 2, 6, 7), (2, 0, 4, 6)])
+    mesh.materials.append(glass)
+    scene.collection.objects.link(bpy.data.objects.new("pane", mesh))
+    # a black card above the meter's horizon, off the lamp's way: the render finds nothing, the pilot's 0 is no proof
+    build.plane(scene, size=0.5, location=(1.5, 0.0, 0.5), albedo=0.0, name="card")
+    r = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), quality="preview", target_abs_error=0)
+    assert r.method == "hybrid" and not r.exact and r.illuminance > 0.0
+    assert any("thin glass" in note for note in r.notes)
+    assert any("found no rendered light" in note for note in r.notes)
+    assert math.isinf(r.rel_std_error)
+    d = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), quality="preview", stop_dark=True)
+    assert math.isfinite(d.rel_std_error) and any("rule of three" in note for note in d.notes)
