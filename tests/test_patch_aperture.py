@@ -1,0 +1,75 @@
+"""Each sky patch's direct light through openings in closed form (radiometry.skies.patch_aperture): the patches
+sum to the whole opening's closed form, a patch wholly seen gives its exact cosine-weighted solid angle, and a
+partly seen patch matches a Monte Carlo integration over directions that shares none of its geometry."""
+
+import numpy as np
+import pytest
+
+from radiometer.radiometry.skies import patch_aperture as pa
+from radiometer.radiometry.skies import sky_aperture as sa
+from radiometer.radiometry.skies import sky_patches
+
+WINDOW = np.array([[0.8, 0.0, 0.9], [3.2, 0.0, 0.9], [3.2, 0.0, 1.9], [0.8, 0.0, 1.9]])  # wall y = 0, room y > 0
+SKYLIGHT = np.array([[1.5, 1.5, 3.0], [2.5, 1.5, 3.0], [2.5, 2.5, 3.0], [1.5, 2.5, 3.0]])
+
+
+@pytest.fixture(scope="module")
+def tregenza():
+    patches = sky_patches.SkyPatches(1)
+    return patches, pa.dome_triangles(patches)
+
+
+def _points(n, seed):
+    rng = np.random.default_rng(seed)
+    pts = np.c_[rng.uniform(0.3, 3.7, n), rng.uniform(0.3, 7.7, n), rng.uniform(0.2, 2.6, n)]
+    normals = rng.normal(size=(n, 3))
+    return pts, normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+def test_the_patches_sum_to_the_openings_closed_form(tregenza):
+    patches, dome = tregenza
+    pts, nrm = _points(120, 3)
+    for openings in ([WINDOW], [SKYLIGHT], [WINDOW, SKYLIGHT], [WINDOW[::-1]]):
+        d = pa.patch_coefficients(openings, pts, nrm, patches, dome=dome)
+        # a uniform sky and ground of luminance 1: the whole opening's first moment above each horizon
+        whole = sum(np.add(*sa.aperture_illuminance(o, pts, nrm, zenith_luminance=1.0, ground_luminance=1.0,
+                                                    sky="uniform")) for o in openings)
+        np.testing.assert_allclose(d.sum(axis=1), whole, rtol=1e-11, atol=1e-13)
+        below = sum(sa.aperture_illuminance(o, pts, nrm, zenith_luminance=0.0, ground_luminance=1.0,
+                                            sky="uniform")[1] for o in openings)
+        np.testing.assert_allclose(d[:, 0], below, rtol=1e-11, atol=1e-13)  # patch 0 is the ground
+        assert np.all(d >= -1e-15)
+
+
+def test_a_patch_seen_whole_gives_its_cosine_weighted_solid_angle(tregenza):
+    patches, dome = tregenza
+    huge = np.array([[-1e5, -1e5, 1.0], [1e5, -1e5, 1.0], [1e5, 1e5, 1.0], [-1e5, 1e5, 1.0]])
+    d = pa.patch_coefficients([huge], np.zeros((1, 3)), (0.0, 0.0, 1.0), patches, dome=dome)[0]
+    # the dome's 1-degree chords stray from the altitude circles by ~2e-5 rad (sky_patches.dome_mesh)
+    np.testing.assert_allclose(d[1:], patches.cos_solid_angle[1:], rtol=1e-4)
+    assert d[0] == 0.0
+
+
+def test_partly_seen_patches_match_a_monte_carlo_over_directions(tregenza):
+    patches, dome = tregenza
+    rng = np.random.default_rng(11)
+    point, normal = np.array([2.0, 1.2, 0.85]), np.array([0.0, -0.6, 0.8])
+    normal /= np.linalg.norm(normal)
+    d = pa.patch_coefficients([WINDOW], point, normal, patches, dome=dome)[0]
+    n = 4_000_000
+    u = rng.normal(size=(n, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    # rays towards the wall y = 0 that cross it inside the window
+    t = -point[1] / np.where(u[:, 1] < 0.0, u[:, 1], -1.0)
+    hit = point + t[:, None] * u
+    through = (u[:, 1] < 0.0) & (hit[:, 0] >= 0.8) & (hit[:, 0] <= 3.2) & (hit[:, 2] >= 0.9) & (hit[:, 2] <= 1.9)
+    u = u[through]
+    cos = np.maximum(u @ normal, 0.0)
+    which = sky_patches.patch_of(u, patches)
+    mc = np.bincount(which, cos, minlength=patches.count) * 4.0 * np.pi / n
+    se = np.sqrt(np.bincount(which, cos ** 2, minlength=patches.count) * (4.0 * np.pi) ** 2 / n - mc ** 2) / np.sqrt(n)
+    seen = np.flatnonzero(d > 0.0)
+    assert 10 <= len(seen) < patches.count and np.all(mc[d == 0.0] == 0.0)
+    z = (d[seen] - mc[seen]) / np.hypot(se[seen], 1e-4 * d[seen])
+    assert np.max(np.abs(z)) < 5.0
+    assert abs(np.mean(z)) < 0.5
