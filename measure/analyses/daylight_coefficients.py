@@ -66,7 +66,9 @@ LIGHTGROUP = "radiometer_patch_{:04d}"
 @dataclasses.dataclass
 class Coefficients:
     """``dc`` (P, N) lux per cd/m^2, ``std_error`` (P, N), ``covariance`` (N, P, P) of the
-    coefficients of each meter, ``samples`` rays per meter, ``seconds``, ``notes``."""
+    coefficients of each meter, ``samples`` rays per meter, ``seconds``, ``notes``; ``direct`` (P, N): the part
+    of ``dc`` that is the patches' proven direct light in closed form (exact: the errors are the rest's), or
+    None where it was rendered."""
 
     dc: np.ndarray
     std_error: np.ndarray
@@ -74,6 +76,7 @@ class Coefficients:
     samples: int
     seconds: float
     notes: list
+    direct: object = None
 
 
 def _frame(n):
@@ -173,7 +176,7 @@ def _compile_camera(source):
 
 
 def _build_dome(scene, view_layer, patches, centre, radius):
-    """One emitting object per patch, each in its own light group; returns the group names."""
+    """One emitting object per patch, each in its own light group; returns the group names and the objects."""
     import bpy
 
     from ...radiometry.skies import sky_patches
@@ -182,7 +185,7 @@ def _build_dome(scene, view_layer, patches, centre, radius):
 
     mat, _emission = shader_material("radiometer_patch_emission", "ShaderNodeEmission",
                                      {"Color": (1.0, 1.0, 1.0, 1.0), "Strength": 1.0})
-    names = []
+    names, objects = [], []
     for p, (verts, faces) in enumerate(sky_patches.dome_mesh(patches)):
         name = LIGHTGROUP.format(p)
         me = bpy.data.meshes.new(name)
@@ -195,7 +198,8 @@ def _build_dome(scene, view_layer, patches, centre, radius):
             view_layer.lightgroups.add(name=name)
         ob.lightgroup = name
         names.append(name)
-    return names
+        objects.append(ob)
+    return names, objects
 
 
 def _file_output(scene, folder, names):
@@ -381,17 +385,22 @@ def _settings(quality, samples, block, rounds):
     return spp, blk, nrounds
 
 
-def render_coefficients(points_scene, normals, *, request, m=1, block=None, rounds=None):
+def render_coefficients(points_scene, normals, *, request, m=1, block=None, rounds=None, proven_direct=True):
     """Daylight coefficients of every Reinhart MF:m patch (patch 0 the ground) at every meter, from
     ``rounds`` renders of one dome (module docstring). The scene is as before afterwards. The request
-    gives the scene, ``quality`` (None: "preview") and ``samples``, the seed, progress and cancel."""
+    gives the scene, ``quality`` (None: "preview") and ``samples``, the seed, progress and cancel.
+    ``proven_direct``: where every meter sees the world through open openings proven clear
+    (``sky_component.openings_seen_whole``), the patches' direct light in closed form
+    (``radiometry.skies.patch_aperture``, ``Coefficients.direct``) and only the rest rendered; False renders
+    everything."""
     import time
 
     import bpy
 
-    from ...radiometry.skies import sky_patches
+    from ...radiometry.skies import patch_aperture, sky_patches
     from ..meter import point_meter as meter
     from ..blender import scene_guard
+    from . import sky_component
 
     scene, quality = request.scene, request.quality or "preview"
     require_dome(scene)
@@ -423,11 +432,20 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
             if bg is not None:
                 bg.inputs["Strength"].default_value = 0.0
             centre, half = scene_extent(model, points, scale)
+            # Issue 31: where every meter sees the world through open openings, proven clear, the patches'
+            # direct light is a closed form; the dome is then hidden from the first ray (camera rays) and
+            # Cycles renders only what the room reflects.
+            seen = sky_component.openings_seen_whole(model, points * scale) if proven_direct else "not asked"
+            direct = None if isinstance(seen, str) else \
+                patch_aperture.patch_coefficients(seen, points * scale, normals, patches)
             before = {g.name for g in view_layer.lightgroups}
-            names = _build_dome(scene, view_layer, patches, centre, DOME_SCALE * half)
+            names, dome = _build_dome(scene, view_layer, patches, centre, DOME_SCALE * half)
             added_groups = [g for g in names if g not in before]
             record, size = _meter_camera(request.but(quality=quality), snapshot, model, points, normals, half,
                                          blk=blk, spp=spp)
+            if direct is not None:
+                for ob in dome:  # new objects, removed with the dome
+                    ob.visible_camera = False
             snapshot.remember(scene, "compositing_node_group")
             scene.compositing_node_group = _file_output(scene, folder, names)
             weights = request.weights
@@ -448,4 +466,14 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
     notes = [f"daylight coefficients of {patches.count} patches (Reinhart MF:{m}) from {nrounds} renders of a "
              f"patch dome with one light group per patch: {spp} samples x {blk}x{blk} pixels per meter per "
              f"render ({nrounds * spp * blk * blk} rays per meter), {record.get('engine', 'Cycles')}"]
-    return Coefficients(dc, se, cov, nrounds * spp * blk * blk, time.perf_counter() - start, notes)
+    if direct is not None:
+        dc = dc + direct.T  # exact: no error added
+        notes.append(f"the patches' direct light through {len(seen)} open opening(s), proven clear from every meter "
+                     "(sky and ground, nothing inside or outside in the way), in closed form "
+                     "(radiometry/skies/patch_aperture.py: each patch's triangles of the dome clipped to the "
+                     "openings, Lambert's formula); the dome was hidden from the meters' first rays, so Cycles "
+                     "rendered only the light the room's surfaces reflect")
+    elif proven_direct:
+        notes.append(f"the patches' direct light rendered with the rest ({seen})")
+    return Coefficients(dc, se, cov, nrounds * spp * blk * blk, time.perf_counter() - start, notes,
+                        None if direct is None else direct.T)

@@ -194,6 +194,30 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     return out
 
 
+def openings_seen_whole(model, points_m):
+    """The convex openings (a list of (K, 3) vertex arrays, metres) through which every point sees the world
+    whole, sky and ground (conditions 1-3 above with every opening open and the whole pyramid clear, below the
+    horizontal plane too), or the reason (str) why not at some point. Daylight coefficients take the patches'
+    direct light from them in closed form (``radiometry.skies.patch_aperture``)."""
+    points_m = np.atleast_2d(np.asarray(points_m, float))
+    shell = _closed_shell(model, points_m)
+    if isinstance(shell, str):
+        return shell
+    loops, shell, tris, tol, reach = shell
+    inside = sky_aperture.inside_enclosures(points_m, shell, loops, tol)
+    outside = sum(v is not True for v in inside)
+    if outside:
+        return f"{outside} point(s) not proven inside the room holding the openings"
+    for poly in loops:
+        around = sky_aperture.coplanar_outside(tris, poly, tol)
+        clear = sky_aperture.apertures_clear(points_m, poly, tris, tol, reach, sky_only=False, ignore=around,
+                                             coplanar_checked=True)
+        if not clear.all():
+            return (f"at {int((~clear).sum())} point(s) a surface or a pane may stand in the view through an "
+                    "opening")
+    return loops
+
+
 @dataclasses.dataclass
 class _Glazing:
     """A recognised thin pane in an opening, seen from a point: ``core`` (K, 3) the part of the opening

@@ -250,3 +250,66 @@ def test_annual_against_radiance_in_a_room_that_does_not_saturate(clean_blender,
     assert np.all((lo - 0.02 <= frac) & (frac <= hi + 0.02))
     hours = np.asarray(ref["ase_hours"])
     assert np.all(np.abs(r.ase_hours - hours) <= np.maximum(10, 0.03 * hours)), r.ase_hours - hours
+
+
+def test_dome_direct_part_through_an_open_window_is_the_closed_form(clean_blender):
+    """Issue 31: with every point proven to see the world through the open window, the patches' direct light
+    is ``patch_aperture``'s closed form and the dome is hidden from the first rays. In a black room the
+    rendered rest is then exactly 0 (were the dome seen, the direct light would count twice), and every
+    patch's coefficient equals the whole render's within its stated error; with the room's reflectances the
+    two methods agree hour by hour."""
+    import importlib.util
+    import pathlib
+
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+    from radiometer.radiometry.skies import perez
+
+    here = pathlib.Path(__file__).resolve().parent
+    spec = importlib.util.spec_from_file_location("annual_room", here / "annual_room.py")
+    room = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(room)
+    scene = bpy.context.scene
+    if not dcm.supported(scene):
+        pytest.skip("the one-render dome needs Blender 5.0")
+    points = np.array([(2.0, 0.6, 0.85), (1.0, 2.4, 0.85), (3.0, 5.7, 0.85)])
+    normals = np.array([(0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0)])
+    saved = dict(room.room.RHO)
+    try:
+        room.room.RHO.update({k: 0.0 for k in room.room.RHO})
+        room.room.build_blender(scene, room.quads())
+        req = request_of.build(scene, quality="preview", seed=2)
+        proven = dcm.render_coefficients(points, normals, request=req)
+        whole = dcm.render_coefficients(points, normals, request=req, proven_direct=False)
+    finally:
+        room.room.RHO.clear()
+        room.room.RHO.update(saved)
+    assert proven.direct is not None and whole.direct is None
+    assert any("closed form" in n for n in proven.notes)
+    np.testing.assert_array_equal(proven.dc, proven.direct)  # a black room reflects nothing: nothing rendered
+    assert np.all(proven.std_error == 0.0)
+    seen = proven.direct.sum(axis=0)
+    assert np.all(seen > 0.005)
+    z = (proven.dc - whole.dc) / np.maximum(whole.std_error, 1e-12)
+    big = proven.direct > 0.02 * proven.direct.max(axis=0, keepdims=True)
+    assert np.sqrt(np.mean(z[big] ** 2)) < 1.5 and np.abs(z[big]).max() < 5.0
+    sum_se = np.sqrt(np.einsum("npq->n", whole.covariance))  # the uniform sky's error in the whole render
+    assert np.all(np.abs(whole.dc.sum(axis=0) - seen) <= 4.0 * sum_se), (whole.dc.sum(axis=0), seen, sum_se)
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    room.room.build_blender(scene, room.quads())
+    req = request_of.build(scene, quality="preview", seed=4)
+    proven = dcm.render_coefficients(points, normals, request=req)
+    whole = dcm.render_coefficients(points, normals, request=req.but(seed=5), proven_direct=False)
+    patches = sky_patches.reinhart_patches(1)
+    rng = np.random.default_rng(2)
+    z = []
+    for _ in range(60):
+        alt, az = rng.uniform(0.05, 1.4), rng.uniform(0, 2 * np.pi)
+        sun = np.array([np.cos(alt) * np.sin(az), np.cos(alt) * np.cos(az), np.sin(alt)])
+        vec, _info = perez.sky_vector(patches, sun, rng.uniform(0, 800), rng.uniform(20, 300), 180)
+        sd = np.hypot(*(np.sqrt(np.einsum("p,npq,q->n", vec, c.covariance, vec)) for c in (proven, whole)))
+        z.append((vec @ proven.dc - vec @ whole.dc) / sd)
+    z = np.array(z)
+    print("hourly z: mean", z.mean(), "RMS", np.sqrt(np.mean(z ** 2)), "max", np.abs(z).max())
+    assert np.sqrt(np.mean(z ** 2)) < 1.5 and np.abs(z).max() < 5.0 and abs(z.mean()) < 0.5
