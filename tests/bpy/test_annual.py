@@ -18,6 +18,17 @@ from radiometer.radiometry.skies import sky_patches
 from radiometer.measure.blender import request as request_of  # noqa: E402
 
 
+def perez_vectors(patches, count, seed):
+    """``count`` random hourly sky vectors (Perez skies with a sun) over ``patches``."""
+    from radiometer.radiometry.skies import perez
+
+    rng = np.random.default_rng(seed)
+    for _ in range(count):
+        alt, az = rng.uniform(0.05, 1.4), rng.uniform(0, 2 * np.pi)
+        sun = np.array([np.cos(alt) * np.sin(az), np.cos(alt) * np.cos(az), np.sin(alt)])
+        yield perez.sky_vector(patches, sun, rng.uniform(0, 800), rng.uniform(20, 300), 180)[0]
+
+
 def closed_form(p, patches, normal):
     """Integral over patch p of max(0, n . w) dw by a fine midpoint rule (lux per cd/m^2)."""
     a0, a1 = (-math.pi / 2, 0.0) if p == 0 else (patches.alt_lo[p], patches.alt_hi[p])
@@ -137,7 +148,6 @@ def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blend
     none beyond 5), and a uniform sky is exact (every ray ends on some patch: the dome has no cracks)."""
     from radiometer.measure.analyses import daylight_coefficients as dcm
     from radiometer.measure.blender import scene_guard
-    from radiometer.radiometry.skies import perez
 
     scene = bpy.context.scene
     if not dcm.supported(scene):
@@ -170,12 +180,8 @@ def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blend
     ref = np.array([[closed_form(p, patches, n) for n in normals] for p in range(patches.count)])
     uniform = np.ones(patches.count)
     np.testing.assert_allclose(uniform @ c.dc, uniform @ ref, rtol=1e-4)  # pi, pi/2 + ground, ...
-    rng = np.random.default_rng(1)
     z = []
-    for _ in range(100):
-        alt, az = rng.uniform(0.05, 1.4), rng.uniform(0, 2 * np.pi)
-        sun = np.array([np.cos(alt) * np.sin(az), np.cos(alt) * np.cos(az), np.sin(alt)])
-        vec, _info = perez.sky_vector(patches, sun, rng.uniform(0, 800), rng.uniform(20, 300), 180)
+    for vec in perez_vectors(patches, 100, 1):
         vec[0] = 0.0  # the ground's closed form is the coarse reference here (a 400 x 400 midpoint rule)
         sd = np.sqrt(np.einsum("p,npq,q->n", vec, c.covariance, vec))
         z.append((vec @ c.dc - vec @ ref) / sd)
@@ -262,7 +268,6 @@ def test_dome_direct_part_through_an_open_window_is_the_closed_form(clean_blende
     import pathlib
 
     from radiometer.measure.analyses import daylight_coefficients as dcm
-    from radiometer.radiometry.skies import perez
 
     here = pathlib.Path(__file__).resolve().parent
     spec = importlib.util.spec_from_file_location("annual_room", here / "annual_room.py")
@@ -302,12 +307,8 @@ def test_dome_direct_part_through_an_open_window_is_the_closed_form(clean_blende
     proven = dcm.render_coefficients(points, normals, request=req)
     whole = dcm.render_coefficients(points, normals, request=req.but(seed=5), proven_direct=False)
     patches = sky_patches.reinhart_patches(1)
-    rng = np.random.default_rng(2)
     z = []
-    for _ in range(60):
-        alt, az = rng.uniform(0.05, 1.4), rng.uniform(0, 2 * np.pi)
-        sun = np.array([np.cos(alt) * np.sin(az), np.cos(alt) * np.cos(az), np.sin(alt)])
-        vec, _info = perez.sky_vector(patches, sun, rng.uniform(0, 800), rng.uniform(20, 300), 180)
+    for vec in perez_vectors(patches, 60, 2):
         sd = np.hypot(*(np.sqrt(np.einsum("p,npq,q->n", vec, c.covariance, vec)) for c in (proven, whole)))
         z.append((vec @ proven.dc - vec @ whole.dc) / sd)
     z = np.array(z)
