@@ -73,3 +73,54 @@ def test_partly_seen_patches_match_a_monte_carlo_over_directions(tregenza):
     z = (d[seen] - mc[seen]) / np.hypot(se[seen], 1e-4 * d[seen])
     assert np.max(np.abs(z)) < 5.0
     assert abs(np.mean(z)) < 0.5
+
+
+def _pane_t(c):
+    from radiometer.radiometry.scene import thin_glass
+
+    return thin_glass.slab(np.asarray(c, float), 1.52, 0.006)[0][..., 1]  # (T, R, A)
+
+
+def test_a_clear_pane_gives_the_open_coefficients(tregenza):
+    patches, dome = tregenza
+    pts, nrm = _points(20, 5)
+    pts[:, 1] = np.abs(pts[:, 1]) + 0.3  # inside the room, y > 0
+    cores = (np.broadcast_to(WINDOW, (len(pts), 4, 3)).copy(), np.full(len(pts), 4))
+    est, half = pa.pane_patch_coefficients(WINDOW, cores, pts, nrm, patches, lambda c: np.ones_like(c), (0, 1, 0),
+                                           dome=dome)
+    np.testing.assert_allclose(est, pa.patch_coefficients([WINDOW], pts, nrm, patches, dome=dome), atol=1e-13)
+    assert np.all(half == 0.0)
+
+
+def test_pane_weighted_patches_are_bounded_and_match_a_monte_carlo(tregenza):
+    """A 6 mm pane's T(theta): each patch's estimate +- its hard bound holds the Monte Carlo over directions (T
+    weighted) within its noise; a rim (core smaller than the opening) lies between 0 and the open sky."""
+    patches, dome = tregenza
+    point, normal = np.array([2.0, 0.8, 0.85]), np.array([0.0, -0.6, 0.8])
+    normal /= np.linalg.norm(normal)
+    cores = (WINDOW[None], np.array([4]))
+    est, half = pa.pane_patch_coefficients(WINDOW, cores, point, normal, patches, _pane_t, (0, 1, 0), dome=dome)
+    est, half = est[0], half[0]
+    assert np.all(half <= 2e-3 * np.abs(est) + 1e-15)
+    rng = np.random.default_rng(3)
+    n = 4_000_000
+    u = rng.normal(size=(n, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    t = -point[1] / np.where(u[:, 1] < 0.0, u[:, 1], -1.0)
+    hit = point + t[:, None] * u
+    u = u[(u[:, 1] < 0.0) & (hit[:, 0] >= 0.8) & (hit[:, 0] <= 3.2) & (hit[:, 2] >= 0.9) & (hit[:, 2] <= 1.9)]
+    w = np.maximum(u @ normal, 0.0) * _pane_t(np.abs(u[:, 1]))
+    which = sky_patches.patch_of(u, patches)
+    mc = np.bincount(which, w, minlength=patches.count) * 4.0 * np.pi / n
+    se = np.sqrt(np.bincount(which, w ** 2, minlength=patches.count) * (4.0 * np.pi) ** 2 / n - mc ** 2) / np.sqrt(n)
+    seen = np.flatnonzero(est > 0.0)
+    z = (np.abs(est[seen] - mc[seen]) - half[seen]).clip(0.0) / np.hypot(se[seen], 1e-4 * est[seen])
+    assert len(seen) >= 10 and np.max(z) < 5.0
+    # a core a quarter of the opening: the rest of it is a rim bounded between 0 and its open light
+    small = WINDOW.copy()
+    small[1:3, 0] = 1.4
+    e2, h2 = pa.pane_patch_coefficients(WINDOW, (small[None], np.array([4])), point, normal, patches, _pane_t,
+                                        (0, 1, 0), dome=dome)
+    open_ = pa.patch_coefficients([WINDOW], point, normal, patches, dome=dome)
+    assert np.all(e2 - h2 <= est + half + 1e-12) and np.all(e2 + h2 >= -1e-12)
+    assert np.all(e2 + h2 <= open_ + 1e-12)

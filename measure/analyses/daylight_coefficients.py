@@ -385,6 +385,25 @@ def _settings(quality, samples, block, rounds):
     return spp, blk, nrounds
 
 
+def _direct_part(views, points_m, normals, patches):
+    """(direct (N, P), its hard bound (N, P)) through the openings ``sky_component.openings_seen_whole`` found."""
+    from ...radiometry.skies import patch_aperture
+
+    dome = patch_aperture.dome_triangles(patches)
+    direct, bound = np.zeros((len(points_m), patches.count)), np.zeros((len(points_m), patches.count))
+    for view in views:
+        if view["pane"] is None:
+            direct += patch_aperture.patch_coefficients([view["opening"]], points_m, normals, patches, dome=dome)
+            continue
+        pane = view["pane"]
+        est, half = patch_aperture.pane_patch_coefficients(
+            view["opening"], view["cores"], points_m, normals, patches,
+            lambda c: pane.optics(np.asarray(c, float))[0][..., 1], pane.geometry.normal, dome=dome)
+        direct += est
+        bound += half
+    return direct, bound
+
+
 def render_coefficients(points_scene, normals, *, request, m=1, block=None, rounds=None, proven_direct=True):
     """Daylight coefficients of every Reinhart MF:m patch (patch 0 the ground) at every meter, from
     ``rounds`` renders of one dome (module docstring). The scene is as before afterwards. The request
@@ -397,7 +416,7 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
 
     import bpy
 
-    from ...radiometry.skies import patch_aperture, sky_patches
+    from ...radiometry.skies import sky_patches
     from ..meter import point_meter as meter
     from ..blender import scene_guard
     from . import sky_component
@@ -436,8 +455,8 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
             # direct light is a closed form; the dome is then hidden from the first ray (camera rays) and
             # Cycles renders only what the room reflects.
             seen = sky_component.openings_seen_whole(model, points * scale) if proven_direct else "not asked"
-            direct = None if isinstance(seen, str) else \
-                patch_aperture.patch_coefficients(seen, points * scale, normals, patches)
+            direct, bound = (None, None) if isinstance(seen, str) else _direct_part(seen, points * scale, normals,
+                                                                                     patches)
             before = {g.name for g in view_layer.lightgroups}
             names, dome = _build_dome(scene, view_layer, patches, centre, DOME_SCALE * half)
             added_groups = [g for g in names if g not in before]
@@ -467,12 +486,20 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
              f"patch dome with one light group per patch: {spp} samples x {blk}x{blk} pixels per meter per "
              f"render ({nrounds * spp * blk * blk} rays per meter), {record.get('engine', 'Cycles')}"]
     if direct is not None:
-        dc = dc + direct.T  # exact: no error added
-        notes.append(f"the patches' direct light through {len(seen)} open opening(s), proven clear from every meter "
-                     "(sky and ground, nothing inside or outside in the way), in closed form "
-                     "(radiometry/skies/patch_aperture.py: each patch's triangles of the dome clipped to the "
-                     "openings, Lambert's formula); the dome was hidden from the meters' first rays, so Cycles "
-                     "rendered only the light the room's surfaces reflect")
+        dc = dc + direct.T
+        glazed = sum(v["pane"] is not None for v in seen)
+        if glazed:
+            # the panes' T(theta) bound (hard), counted as one sigma and as fully correlated over patches (an hour's
+            # sum of patches adds the bounds up)
+            cov = cov + np.einsum("np,nq->npq", bound, bound)
+            se = np.sqrt(np.maximum(np.einsum("npp->pn", cov), 0.0))
+        notes.append(f"the patches' direct light through {len(seen)} opening(s) ({glazed} glazed with a recognised "
+                     "thin pane), proven clear from every meter (sky and ground, nothing inside or outside in the way), "
+                     "in closed form (radiometry/skies/patch_aperture.py: each patch's triangles of the dome clipped "
+                     "to the openings, Lambert's formula" + ("; a pane's T(theta) bounded per piece, the bound counted "
+                                                              "in the errors" if glazed else "") + "); the dome was "
+                     "hidden from the meters' first rays, so Cycles rendered only the light the room's surfaces "
+                     "reflect")
     elif proven_direct:
         notes.append(f"the patches' direct light rendered with the rest ({seen})")
     return Coefficients(dc, se, cov, nrounds * spp * blk * blk, time.perf_counter() - start, notes,

@@ -195,10 +195,12 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
 
 
 def openings_seen_whole(model, points_m):
-    """The convex openings (a list of (K, 3) vertex arrays, metres) through which every point sees the world
-    whole, sky and ground (conditions 1-3 above with every opening open and the whole pyramid clear, below the
-    horizontal plane too), or the reason (str) why not at some point. Daylight coefficients take the patches'
-    direct light from them in closed form (``radiometry.skies.patch_aperture``)."""
+    """How every point sees the world through the convex openings, sky and ground (conditions 1-3 above with the
+    whole pyramid clear, below the horizontal plane too): a list over openings of dicts ``opening`` ((K, 3)
+    metres), ``pane`` (None where open, else the recognised colour-neutral thin pane in it) and ``cores`` (with a
+    pane: per point the part of the opening whose directions enter its near face, ((N, K, 3) padded, counts (N,)),
+    ``_pane_core``); or the reason (str) why not at some point. Daylight coefficients take the patches' direct
+    light from them in closed form (``radiometry.skies.patch_aperture``)."""
     points_m = np.atleast_2d(np.asarray(points_m, float))
     shell = _closed_shell(model, points_m)
     if isinstance(shell, str):
@@ -208,14 +210,33 @@ def openings_seen_whole(model, points_m):
     outside = sum(v is not True for v in inside)
     if outside:
         return f"{outside} point(s) not proven inside the room holding the openings"
+    views = []
     for poly in loops:
         around = sky_aperture.coplanar_outside(tris, poly, tol)
         clear = sky_aperture.apertures_clear(points_m, poly, tris, tol, reach, sky_only=False, ignore=around,
                                              coplanar_checked=True)
-        if not clear.all():
-            return (f"at {int((~clear).sum())} point(s) a surface or a pane may stand in the view through an "
-                    "opening")
-    return loops
+        if clear.all():
+            views.append({"opening": poly, "pane": None, "cores": None})
+            continue
+        glazings = []
+        for p in points_m:
+            def clear_one(sky_only, ignore, p=p, poly=poly):
+                return bool(sky_aperture.apertures_clear([p], poly, tris, tol, reach, sky_only=sky_only, ignore=ignore,
+                                                         coplanar_checked=True)[0])
+
+            glazing = _pane_in_opening(model, p, poly, tol, clear_one, around, sky_only=False)
+            if isinstance(glazing, str):
+                return glazing
+            if not glazing.whole:
+                return "a surface outside may stand in front of the world's ground seen through an opening's pane"
+            glazings.append(glazing)
+        if len({id(g.pane) for g in glazings}) != 1:
+            return "the points see an opening through different panes"
+        k = max(len(g.core) for g in glazings)
+        cores = np.stack([np.concatenate([g.core, np.repeat(g.core[-1:], k - len(g.core), axis=0)]) for g in glazings])
+        views.append({"opening": poly, "pane": glazings[0].pane,
+                      "cores": (cores, np.array([len(g.core) for g in glazings]))})
+    return views
 
 
 @dataclasses.dataclass

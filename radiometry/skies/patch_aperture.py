@@ -18,7 +18,7 @@ import numpy as np
 
 from . import sky_aperture, sky_patches
 
-__all__ = ["dome_triangles", "patch_coefficients"]
+__all__ = ["dome_triangles", "patch_coefficients", "pane_patch_coefficients"]
 
 
 def dome_triangles(patches, step_deg=1.0):
@@ -98,10 +98,10 @@ def _caps(directions, valid=None):
     return c, np.arccos(np.clip(cos.min(axis=-1), -1.0, 1.0))
 
 
-def _add_opening(out, above, count, normals, tris, owner, planes, caps):
-    """Add to ``out`` (n, P) the moments of the convex cones ``above`` (n, K, 3) (``count`` vertices each) cut by
-    the dome's triangles: a triangle wholly inside a cone counts whole, one wholly outside not at all, the rest are
-    clipped."""
+def _pieces(above, count, tris, owner, planes, caps):
+    """The convex cones ``above`` (n, K, 3) (``count`` vertices each) cut by the dome's triangles, as spherical
+    triangles: (point index (M,), patch (M,), triangles (M, 3, 3)). A dome triangle wholly inside a cone is a
+    piece whole, one wholly outside none, the rest are clipped and fanned."""
     valid = (np.arange(above.shape[1])[None, :] < count[:, None])
     # first the triangles whose enclosing caps meet some cone's cap (a cheap superset of those that matter)
     c, radius = _caps(above, valid)
@@ -119,37 +119,102 @@ def _add_opening(out, above, count, normals, tris, owner, planes, caps):
     # or the cone's corners all beyond one edge of the triangle
     beyond = (np.matmul(planes.reshape(-1, 3), above.transpose(0, 2, 1)) < 0.0).reshape(n, t_count, 3, -1)
     outside |= np.any(np.all(beyond | ~valid[:, None, None, :], axis=3), axis=2)
-    p, t = np.nonzero(inside)
-    if len(p):
-        _o, first, _s = sky_aperture.spherical_moments(tris[t], np.zeros(3), normals[p])
-        np.add.at(out, (p, owner[t]), first)
+    p_in, t_in = np.nonzero(inside)
+    points_at, patches_of, pieces = [p_in], [owner[t_in]], [tris[t_in]]
     p, t = np.nonzero(~inside & ~outside)
     if len(p):
         cur, cnt = above[p], count[p]
         for e in range(3):
             cur, cnt = _clip(cur, cnt, planes[t, e])
             cur = cur[:, :max(int(cnt.max()), 1)]
-        np.add.at(out, (p, owner[t]), _first_moments(cur, cnt, normals[p]))
+        k = cur.shape[1]
+        if k >= 3:
+            fan = np.stack([np.broadcast_to(cur[:, :1], (len(cur), k - 2, 3)), cur[:, 1:-1], cur[:, 2:]], axis=2)
+            which = np.nonzero((np.arange(k - 2)[None, :] + 2) < cnt[:, None])
+            points_at.append(p[which[0]])
+            patches_of.append(owner[t[which[0]]])
+            pieces.append(fan[which])
+    return np.concatenate(points_at), np.concatenate(patches_of), np.concatenate(pieces)
+
+
+def _cones(polys, points, normals):
+    """Each point's opening (one (K, 3) polygon for all, or (N, K, 3) with ``counts``) relative to it, clipped to
+    its horizon: (N, K + 1, 3) and the vertex counts."""
+    polys, counts = polys
+    rel = (polys[None, :, :] if polys.ndim == 2 else polys) - points[:, None, :]
+    return _clip(rel, np.broadcast_to(counts, (len(points),)).copy(), normals)
+
+
+def _dome(patches, step_deg, dome):
+    tris, owner = dome if dome is not None else dome_triangles(patches, step_deg)
+    # each triangle's cone as three planes through the origin (counter-clockwise: interior on their + side)
+    return tris, owner, np.cross(tris, tris[:, [1, 2, 0]]), _caps(tris)
 
 
 def patch_coefficients(openings, points, normals, patches, *, step_deg=1.0, dome=None, chunk=32):
     """(N, P) sr: the closed form above for N points (metres), unit ``normals``, and the convex ``openings`` (a
-    list of (K, 3) vertex arrays in the points' frame, any orientation), summed over the openings (they must
-    not overlap as seen from a point: openings in one closed shell do not). ``patches``: a
-    :class:`sky_patches.SkyPatches`; ``dome``: its :func:`dome_triangles` if the caller has them."""
+    list of (K, 3) vertex arrays in the points' frame, any orientation, or of ((N, K, 3), counts (N,)): one
+    polygon per point), summed over the openings (they must not overlap as seen from a point: openings in one
+    closed shell do not). ``patches``: a :class:`sky_patches.SkyPatches`; ``dome``: its :func:`dome_triangles`
+    if the caller has them."""
     points = np.atleast_2d(np.asarray(points, float))
     normals = np.broadcast_to(np.asarray(normals, float), points.shape)
-    tris, owner = dome if dome is not None else dome_triangles(patches, step_deg)
-    # each triangle's cone as three planes through the origin (counter-clockwise: interior on their + side)
-    planes = np.cross(tris, tris[:, [1, 2, 0]])
-    caps = _caps(tris)
+    tris, owner, planes, caps = _dome(patches, step_deg, dome)
     out = np.zeros((len(points), patches.count))
     for poly in openings:
-        poly = np.asarray(poly, float)
-        rel = poly[None, :, :] - points[:, None, :]                                   # (N, K, 3)
-        # the part above each receiver's horizon, once per point
-        above, above_count = _clip(rel, np.full(len(points), len(poly)), normals)
+        poly = (np.asarray(poly, float), len(poly)) if not isinstance(poly, tuple) else \
+            (np.asarray(poly[0], float), np.asarray(poly[1], int))
+        above, above_count = _cones(poly, points, normals)
         for lo in range(0, len(points), chunk):
             sl = slice(lo, lo + chunk)
-            _add_opening(out[sl], above[sl], above_count[sl], normals[sl], tris, owner, planes, caps)
+            p, patch, pieces = _pieces(above[sl], above_count[sl], tris, owner, planes, caps)
+            if len(p):
+                _o, first, _s = sky_aperture.spherical_moments(pieces, np.zeros(3), normals[sl][p])
+                np.add.at(out[sl], (p, patch), first)
     return out
+
+
+def pane_patch_coefficients(opening, cores, points, normals, patches, transmittance, pane_normal, *, step_deg=1.0,
+                            dome=None, chunk=32, rel_tol=1e-3, max_splits=6):
+    """(estimate (N, P), half-width (N, P)) sr: each patch's direct light through a convex ``opening`` glazed with
+    a thin pane of ``transmittance(cos_i)`` (vectorised, non-decreasing in cos_i = |pane_normal . u|): the truth
+    lies within estimate +- half-width (a hard bound). ``cores``: ((N, K, 3), counts (N,)), per point the part of
+    the opening whose directions enter the pane's near face inside its outline (``sky_component._pane_core``);
+    on each piece T lies between its values at the piece's exact cosine extremes (``sky_aperture._cos_range``),
+    pieces halved up to ``max_splits`` times until their bound is within ``rel_tol`` of their light. The rim
+    (the opening outside the core: rays that may pass beside the pane) lies between 0 and its open closed form."""
+    points = np.atleast_2d(np.asarray(points, float))
+    normals = np.broadcast_to(np.asarray(normals, float), points.shape)
+    dome = _dome(patches, step_deg, dome)
+    table = sky_aperture._transmittance_table(transmittance)
+    last = len(table) - 1
+    m = np.asarray(pane_normal, float) / np.linalg.norm(pane_normal)
+    est, half = np.zeros((len(points), patches.count)), np.zeros((len(points), patches.count))
+    core_polys, core_counts = np.asarray(cores[0], float), np.asarray(cores[1], int)
+    above, above_count = _cones((core_polys, core_counts), points, normals)
+    for lo in range(0, len(points), chunk):
+        sl = slice(lo, lo + chunk)
+        p, patch, pieces = _pieces(above[sl], above_count[sl], *dome[:2], *dome[2:])
+        for level in range(max_splits + 1):
+            if not len(p):
+                break
+            arcs = sky_aperture._arcs(pieces)
+            _o, first, _s = sky_aperture.spherical_moments(pieces, np.zeros(3), normals[sl][p], arcs)
+            # cos_i = |m . u|: every direction through one opening crosses the pane the same way
+            c_lo, c_hi = sky_aperture._cos_range(pieces, m, arcs)
+            flip = c_hi <= 0.0
+            c_lo, c_hi = np.where(flip, -c_hi, c_lo), np.where(flip, -c_lo, c_hi)
+            t_lo = table[np.clip(np.floor(np.clip(c_lo, 0.0, 1.0) * last).astype(int), 0, last)]
+            t_hi = table[np.clip(np.ceil(np.clip(c_hi, 0.0, 1.0) * last).astype(int), 0, last)]
+            e, h = 0.5 * (t_lo + t_hi) * first, 0.5 * (t_hi - t_lo) * np.abs(first)
+            wide = (h > rel_tol * np.abs(e)) & (level < max_splits)
+            np.add.at(est[sl], (p[~wide], patch[~wide]), e[~wide])
+            np.add.at(half[sl], (p[~wide], patch[~wide]), h[~wide])
+            p, patch = np.repeat(p[wide], 2), np.repeat(patch[wide], 2)
+            halves = sky_aperture._split(pieces[wide])                            # [first halves, second halves]
+            count = int(wide.sum())
+            pieces = np.stack([halves[:count], halves[count:]], axis=1).reshape(-1, 3, 3)
+    whole = patch_coefficients([opening], points, normals, patches, dome=dome[:2], chunk=chunk)
+    core = patch_coefficients([(core_polys, core_counts)], points, normals, patches, dome=dome[:2], chunk=chunk)
+    rim = np.maximum(whole - core, 0.0)
+    return est + 0.5 * rim, half + 0.5 * rim

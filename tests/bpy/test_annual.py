@@ -258,12 +258,9 @@ def test_annual_against_radiance_in_a_room_that_does_not_saturate(clean_blender,
     assert np.all(np.abs(r.ase_hours - hours) <= np.maximum(10, 0.03 * hours)), r.ase_hours - hours
 
 
-def test_dome_direct_part_through_an_open_window_is_the_closed_form(clean_blender):
-    """Issue 31: with every point proven to see the world through the open window, the patches' direct light
-    is ``patch_aperture``'s closed form and the dome is hidden from the first rays. In a black room the
-    rendered rest is then exactly 0 (were the dome seen, the direct light would count twice), and every
-    patch's coefficient equals the whole render's within its stated error; with the room's reflectances the
-    two methods agree hour by hour."""
+def _dome_room():
+    """The annual room's module, the context scene (skipped where the dome is refused) and 3 meters: near the
+    window facing up, facing it, deep in the room."""
     import importlib.util
     import pathlib
 
@@ -278,6 +275,18 @@ def test_dome_direct_part_through_an_open_window_is_the_closed_form(clean_blende
         pytest.skip("the one-render dome needs Blender 5.0")
     points = np.array([(2.0, 0.6, 0.85), (1.0, 2.4, 0.85), (3.0, 5.7, 0.85)])
     normals = np.array([(0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0)])
+    return room, scene, points, normals
+
+
+def test_dome_direct_part_through_an_open_window_is_the_closed_form(clean_blender):
+    """Issue 31: with every point proven to see the world through the open window, the patches' direct light
+    is ``patch_aperture``'s closed form and the dome is hidden from the first rays. In a black room the
+    rendered rest is then exactly 0 (were the dome seen, the direct light would count twice), and every
+    patch's coefficient equals the whole render's within its stated error; with the room's reflectances the
+    two methods agree hour by hour."""
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+
+    room, scene, points, normals = _dome_room()
     saved = dict(room.room.RHO)
     try:
         room.room.RHO.update({k: 0.0 for k in room.room.RHO})
@@ -314,3 +323,42 @@ def test_dome_direct_part_through_an_open_window_is_the_closed_form(clean_blende
     z = np.array(z)
     print("hourly z: mean", z.mean(), "RMS", np.sqrt(np.mean(z ** 2)), "max", np.abs(z).max())
     assert np.sqrt(np.mean(z ** 2)) < 1.5 and np.abs(z).max() < 5.0 and abs(z.mean()) < 0.5
+
+
+def test_dome_direct_part_through_a_pane_is_bounded_and_matches_the_render(clean_blender):
+    """Issue 31: the same black room with a 6 mm pane in its window: the direct part carries the pane's T(theta)
+    per patch with a hard bound, the dome hidden from first rays (the render's thin pane passes them on as
+    camera rays), so the rendered rest is exactly 0 again; each patch agrees with the whole render."""
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+
+    room, scene, points, normals = _dome_room()
+    saved, window = dict(room.room.RHO), room.room.WINDOW
+    try:
+        room.room.RHO.update({k: 0.0 for k in room.room.RHO})
+        room.room.build_blender(scene, room.quads())
+        room.room.WINDOW = room.WINDOW  # the pane fills the annual room's opening
+        room.room.add_pane_blender(scene)
+        req = request_of.build(scene, quality="preview", seed=2)
+        proven = dcm.render_coefficients(points, normals, request=req)
+        whole = dcm.render_coefficients(points, normals, request=req.but(seed=3), proven_direct=False)
+    finally:
+        room.room.RHO.clear()
+        room.room.RHO.update(saved)
+        room.room.WINDOW = window
+    assert proven.direct is not None, proven.notes
+    assert any("1 glazed" in n for n in proven.notes)
+    np.testing.assert_array_equal(proven.dc, proven.direct)  # nothing rendered reaches the meters
+    bound = proven.std_error  # here only the pane's bound
+    print("bound / direct per point", bound.sum(axis=0) / proven.direct.sum(axis=0))
+    # the pieces' T bounds (<= 1e-3) and the rim beside the pane's edge (between 0 and the open sky)
+    assert np.all(bound <= proven.direct + 1e-12) and np.all(bound.sum(axis=0) <= 0.02 * proven.direct.sum(axis=0))
+    from radiometer.radiometry.skies import patch_aperture
+
+    x0, x1, z0, z1 = room.WINDOW
+    opening = np.array([(x0, 0.0, z0), (x1, 0.0, z0), (x1, 0.0, z1), (x0, 0.0, z1)])
+    open_sky = patch_aperture.patch_coefficients([opening], points, normals, sky_patches.reinhart_patches(1))
+    ratio = proven.direct.sum(axis=0) / open_sky.sum(axis=1)
+    assert np.all((ratio > 0.5) & (ratio < 0.92)), ratio  # a 6 mm pane passes at most ~92 %
+    z = (np.abs(proven.dc - whole.dc) - bound) / np.maximum(whole.std_error, 1e-12)
+    big = proven.direct > 0.02 * proven.direct.max(axis=0, keepdims=True)
+    assert np.max(z[big]) < 5.0 and np.sqrt(np.mean(np.clip(z[big], 0, None) ** 2)) < 1.5
