@@ -32,7 +32,7 @@ def grid(nx=20, ny=50):
     return [(float(x), float(y), 0.85) for y in ys for x in xs]
 
 
-def run():
+def run(nx=20, ny=50, out_dir=HERE):
     import bpy
 
     import radiometer
@@ -41,10 +41,10 @@ def run():
     from scenes import load_test_module
 
     room = load_test_module("annual_room")
-    points = grid()
+    points = grid(nx, ny)
     folder = tempfile.mkdtemp(prefix="radiometer-annual-large-")
     epw_path = room.write_epw(os.path.join(folder, "year.epw"))
-    out = {"points": len(points), "load_average_before": os.getloadavg()}
+    out = {"points": len(points), "grid": [nx, ny], "load_average_before": os.getloadavg()}
     t0, c0 = time.perf_counter(), os.times()
     ref = room.radiance_annual(folder, epw_path, points)
     c1 = os.times()
@@ -80,18 +80,28 @@ def run():
     out["load_average_after"] = os.getloadavg()
     out["cpu_ratio_radiance_over_radiometer"] = out["radiance"]["cpu_s"] / out["radiometer"]["cpu_s"]
     print("radiometer", {k: v for k, v in out["radiometer"].items() if k != "notes"}, flush=True)
-    with open(os.path.join(HERE, "annual_large.json"), "w") as f:
+    with open(os.path.join(out_dir, "annual_large.json"), "w") as f:
         json.dump(out, f, indent=1)
-    write_md()
+    write_md(out_dir)
+    return out
 
 
-def write_md():
-    with open(os.path.join(HERE, "annual_large.json")) as f:
+def bench_annual_large(quick=False):
+    """``make bench`` section (bench/run.py): the 1000-point run; quick: 10 x 10 points into a temporary folder
+    (quick runs never overwrite results)."""
+    if quick:
+        return run(10, 10, tempfile.mkdtemp(prefix="radiometer-bench-"))
+    return run()
+
+
+def write_md(out_dir=HERE):
+    with open(os.path.join(out_dir, "annual_large.json")) as f:
         d = json.load(f)
     rad, rm = d["radiance"], d["radiometer"]
     n = d["points"]
-    lines = ["## Annual daylight at 1000 points x 146 patches, against Radiance (issue 31)", "",
-             f"`bench/annual_large.py`: the side-lit room of tests/bpy/annual_room.py, {n} points (20 x 50 at 0.85 m), a "
+    nx, ny = d.get("grid", (20, 50))
+    lines = [f"## Annual daylight at {n} points x 146 patches, against Radiance (issue 31)", "",
+             f"`bench/annual_large.py`: the side-lit room of tests/bpy/annual_room.py, {n} points ({nx} x {ny} at 0.85 m), a "
              "synthetic London year, one run on the 2-core machine (load average before "
              f"{', '.join(f'{v:.1f}' for v in d['load_average_before'])}, after "
              f"{', '.join(f'{v:.1f}' for v in d['load_average_after'])}).", "",
@@ -107,7 +117,7 @@ def write_md():
              f"hours within {rm['ase_hours_max_difference']:.0f} h. Radiometer's hourly error at 100 lx or more: "
              f"median {100 * rm['hourly_rel_error_median']:.1f} %, 95th percentile "
              f"{100 * rm['hourly_rel_error_p95']:.1f} %.", ""] + [f"- {note}" for note in rm["notes"]]
-    with open(os.path.join(HERE, "annual_large.md"), "w") as f:
+    with open(os.path.join(out_dir, "annual_large.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
 
