@@ -1045,6 +1045,8 @@ BENCHES["daylight_steps"] = lambda: __import__("daylight_steps").bench_daylight_
 
 # Issue 19 (bench/annual.py): annual sDA/ASE vs Radiance on a room that does not saturate; dome vs per-patch cost.
 BENCHES["annual"] = lambda: __import__("annual").bench_annual(QUICK)
+# Issue 35 (bench/spectral_demo_eye.py): the spectral reading's coverage at the demo camera's eye, 50 seeds a room.
+BENCHES["spectral_demo_eye"] = lambda: __import__("spectral_demo_eye").bench_spectral_demo_eye(QUICK)
 # Issue 31 (bench/annual_large.py): 1000 points x 146 patches against Radiance, per core.
 BENCHES["annual_large"] = lambda: __import__("annual_large").bench_annual_large(QUICK)
 

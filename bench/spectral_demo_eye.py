@@ -86,7 +86,7 @@ def references(scene, glazed):
     return out
 
 
-def run(n):
+def run(n, out=HERE):
     from radiometer import api
 
     summary = {"seeds": n, "quality": "preview", "rooms": {}}
@@ -110,12 +110,13 @@ def run(n):
             print(room, seed, round(iv["estimate"], 1), round(im["estimate"], 1), flush=True)
         summary["rooms"][room] = {"references": refs, "mel_der": der, "E_v": ev, "E_v_se": se, "mel_edi": mel,
                                   "rows": rows}
-        (HERE / "spectral_demo_eye.json").write_text(json.dumps(summary, indent=1) + "\n")
-    write_md()
+        (out / "spectral_demo_eye.json").write_text(json.dumps(summary, indent=1) + "\n")
+    write_md(out)
+    return summary
 
 
-def write_md():
-    d = json.loads((HERE / "spectral_demo_eye.json").read_text())
+def write_md(out=HERE):
+    d = json.loads((out / "spectral_demo_eye.json").read_text())
     lines = ["# Issue 35: the spectral reading at the demo camera's eye", "",
              f"`bench/spectral_demo_eye.py {d['seeds']}` (bpy 5.0.1, the 2-core shared machine): the daylit demo room "
              "(sun D55 and the CIE clear sky at noon on the March equinox, London; grey walls 0.6 and floor 0.3), a "
@@ -147,8 +148,20 @@ def write_md():
     lines += [
 "", f"Time per reading: mean {np.mean(secs):.1f} s. The first 6 seeds of the glazed room are the ones an "
         "earlier session took for a bias (estimates +0.6 to +5 %, 4 of 6 covering)."]
-    (HERE / "spectral_demo_eye.md").write_text("\n".join(lines) + "\n")
+    (out / "spectral_demo_eye.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
+
+
+def bench_spectral_demo_eye(quick=False):
+    """``make bench`` section (bench/run.py): 50 seeds and the photopic cross-check; quick: 3 seeds into a temporary
+    folder (quick runs never overwrite results)."""
+    import tempfile
+
+    if quick:
+        return run(3, pathlib.Path(tempfile.mkdtemp(prefix="radiometer-bench-")))
+    run(50)
+    photopic_open()
+    return json.loads((HERE / "spectral_demo_eye.json").read_text())
 
 
 def photopic_open(seeds=6):
