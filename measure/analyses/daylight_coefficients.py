@@ -416,8 +416,8 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
     """Daylight coefficients of every Reinhart MF:m patch (patch 0 the ground) at every meter, from
     ``rounds`` renders of one dome (module docstring). The scene is as before afterwards. The request
     gives the scene, ``quality`` (None: "preview") and ``samples``, the seed, progress and cancel.
-    ``proven_direct``: where every meter sees the world through open openings proven clear
-    (``sky_component.openings_seen_whole``), the patches' direct light in closed form
+    ``proven_direct``: where every meter sees the world through openings proven clear, open or glazed with a
+    recognised thin pane (``sky_component.openings_seen_whole``), the patches' direct light in closed form
     (``radiometry.skies.patch_aperture``, ``Coefficients.direct``) and only the rest rendered; False renders
     everything."""
     import time
@@ -459,12 +459,12 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
             if bg is not None:
                 bg.inputs["Strength"].default_value = 0.0
             centre, half = scene_extent(model, points, scale)
-            # Issue 31: where every meter sees the world through open openings, proven clear, the patches'
-            # direct light is a closed form; the dome is then hidden from the first ray (camera rays) and
-            # Cycles renders only what the room reflects.
-            seen = sky_component.openings_seen_whole(model, points * scale) if proven_direct else "not asked"
-            direct, bound = (None, None) if isinstance(seen, str) else _direct_part(seen, points * scale, normals,
-                                                                                     patches)
+            # Issue 31: where every meter sees the world through openings proven clear (open, or glazed with a
+            # recognised thin pane), the patches' direct light is a closed form; the dome is then hidden from the
+            # first ray (camera rays) and Cycles renders only what the room reflects.
+            points_m = points * scale
+            seen = sky_component.openings_seen_whole(model, points_m) if proven_direct else "not asked"
+            direct, bound = (None, None) if isinstance(seen, str) else _direct_part(seen, points_m, normals, patches)
             before = {g.name for g in view_layer.lightgroups}
             names, dome = _build_dome(scene, view_layer, patches, centre, DOME_SCALE * half)
             added_groups = [g for g in names if g not in before]

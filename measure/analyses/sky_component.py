@@ -102,6 +102,23 @@ def _find_shell(model, tol, reach):
     return loops, tris[opaque][comp], tris, tol, reach
 
 
+def _clear_proofs(points_m, inner, loops, tris, tol, reach):
+    """``clear_at(i, k, sky_only, ignore)``: whether nothing stands in point i's view through opening k
+    (``sky_aperture.apertures_clear``; ``ignore`` holds the opening's coplanar wall); each proof is found for every
+    point of ``inner`` at once, the first time it is asked, and remembered."""
+    proofs = {}  # (opening, sky_only, what is set aside) -> (P,) the proof at every point inside
+
+    def clear_at(i, k, sky_only, ignore):
+        key = (k, bool(sky_only), np.packbits(ignore).tobytes())
+        if key not in proofs:
+            proofs[key] = np.zeros(len(points_m), bool)
+            proofs[key][inner] = sky_aperture.apertures_clear(points_m[inner], loops[k], tris, tol, reach,
+                                                              sky_only=sky_only, ignore=ignore, coplanar_checked=True)
+        return bool(proofs[key][i])
+
+    return clear_at
+
+
 def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_lux, model=None, target_rel_error=0.01):
     """One :class:`SkyComponent` per point (``points_m`` (N, 3) in metres, unit ``normals`` (N, 3)) for the
     CIE overcast sky of unobstructed horizontal illuminance ``horizontal_lux`` over a ground of
@@ -132,15 +149,7 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     states, jobs = [], []  # per point [sky, ground, why, bound, glazed, pane jobs]; jobs (point, glazing, opening)
     insides = sky_aperture.inside_enclosures(points_m, shell, loops, tol)
     inner = np.flatnonzero([v is True for v in insides])
-    proofs = {}  # (opening, sky_only, what is set aside) -> (P,) the proof at every point inside, found at once
-
-    def clear_at(i, k, sky_only, ignore):
-        key = (k, bool(sky_only), np.packbits(ignore).tobytes())
-        if key not in proofs:
-            proofs[key] = np.zeros(len(points_m), bool)
-            proofs[key][inner] = sky_aperture.apertures_clear(points_m[inner], loops[k], tris, tol, reach,
-                                                              sky_only=sky_only, ignore=ignore, coplanar_checked=True)
-        return bool(proofs[key][i])
+    clear_at = _clear_proofs(points_m, inner, loops, tris, tol, reach)
 
     for i, (p, n) in enumerate(zip(points_m, normals)):
         inside = insides[i]
@@ -210,21 +219,19 @@ def openings_seen_whole(model, points_m):
     outside = sum(v is not True for v in inside)
     if outside:
         return f"{outside} point(s) not proven inside the room holding the openings"
+    clear_at = _clear_proofs(points_m, np.arange(len(points_m)), loops, tris, tol, reach)
     views = []
-    for poly in loops:
+    for k, poly in enumerate(loops):
         around = sky_aperture.coplanar_outside(tris, poly, tol)
-        clear = sky_aperture.apertures_clear(points_m, poly, tris, tol, reach, sky_only=False, ignore=around,
-                                             coplanar_checked=True)
-        if clear.all():
+        if all(clear_at(i, k, False, around) for i in range(len(points_m))):
             views.append({"opening": poly, "pane": None, "cores": None})
             continue
         glazings = []
-        for p in points_m:
-            def clear_one(sky_only, ignore, p=p, poly=poly):
-                return bool(sky_aperture.apertures_clear([p], poly, tris, tol, reach, sky_only=sky_only, ignore=ignore,
-                                                         coplanar_checked=True)[0])
+        for i, p in enumerate(points_m):
+            def clear(sky_only, ignore, i=i, k=k):
+                return clear_at(i, k, sky_only, ignore)
 
-            glazing = _pane_in_opening(model, p, poly, tol, clear_one, around, sky_only=False)
+            glazing = _pane_in_opening(model, p, poly, tol, clear, around, sky_only=False)
             if isinstance(glazing, str):
                 return glazing
             if not glazing.whole:
@@ -232,8 +239,9 @@ def openings_seen_whole(model, points_m):
             glazings.append(glazing)
         if len({id(g.pane) for g in glazings}) != 1:
             return "the points see an opening through different panes"
-        k = max(len(g.core) for g in glazings)
-        cores = np.stack([np.concatenate([g.core, np.repeat(g.core[-1:], k - len(g.core), axis=0)]) for g in glazings])
+        k_max = max(len(g.core) for g in glazings)
+        cores = np.stack([np.concatenate([g.core, np.repeat(g.core[-1:], k_max - len(g.core), axis=0)])
+                          for g in glazings])
         views.append({"opening": poly, "pane": glazings[0].pane,
                       "cores": (cores, np.array([len(g.core) for g in glazings]))})
     return views

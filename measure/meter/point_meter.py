@@ -692,10 +692,10 @@ def _render_part(request, model, decision, direct, sensors_scene, sensors_m, nor
 
     n = len(sensors_scene)
     notes = []
+    # Two kinds of hard bound, added up below: the closed forms' own (a pane's T(theta) over a light's extent or
+    # over a proven part) and those on light the render may miss (a caustic's, a mirror image's, the light
+    # between stacked panes); only the second can stand for what a dark meter's render did not find.
     bound_rgb = np.zeros((n, 3))
-    # The part of bound_rgb that bounds light the render may miss (a caustic's, a mirror image's, the light between
-    # stacked panes), apart from the closed forms' own quadrature bounds: only it can stand for what a dark
-    # meter's render did not find.
     missing_rgb = np.zeros((n, 3))
     if fixed is None and single_delta_light(decision):
         # Next-event estimation samples a single delta light exactly: every path gives the same
@@ -733,24 +733,19 @@ def _render_part(request, model, decision, direct, sensors_scene, sensors_m, nor
                 # Rendered through two or more panes, the light bouncing between them is a
                 # specular chain to the light that no render finds: counted as a bound.
                 missing = ~take & (direct.interpane[i] > 0)
-                between = np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
-                bound_rgb[missing] += between
-                missing_rgb[missing] += between
+                missing_rgb[missing] += np.abs(per_light[i, missing]) * direct.interpane[i, missing, None]
     if proven is not None:
         offset_rgb += proven.rgb
         bound_rgb += np.abs(proven.bound_rgb)  # the proven part's own hard bound (a pane's T(theta))
     caustic = caustic_risk(model, direct, split, sensors_m)
     if caustic.any():
         per_light, _b, _i = analytic_irradiance(model, direct, sensors_m, normals)
-        caustic_rgb = np.einsum("ln,lnc->nc", caustic, np.abs(per_light))
-        bound_rgb += caustic_rgb
-        missing_rgb += caustic_rgb
+        missing_rgb += np.einsum("ln,lnc->nc", caustic, np.abs(per_light))
         notes.append("caustic light may be missing: a small light reaches some meter only through a refracting "
                      "object that is not a thin pane (Cycles rarely finds such paths); its unoccluded closed "
                      "form is counted as the error bound, not a small error")
     mirrored, names = mirror_bounds(model, sensors_m, normals)
     if names:
-        bound_rgb += mirrored
         missing_rgb += mirrored
         notes.append(f"a sharp mirror image of a small light may be missing ({'; '.join(names)}): a path tracer "
                      "rarely finds a small light seen in a sharp mirror (a caustic); the image's closed form "
@@ -759,6 +754,7 @@ def _render_part(request, model, decision, direct, sensors_scene, sensors_m, nor
         notes.append("light bouncing between panes of multiple glazing rendered as separate thin panes: its "
                      "closed-form share for the rendered direct light is counted in the stated error bound (a "
                      "render of separate thin panes does not find it)")
+    bound_rgb = bound_rgb + missing_rgb
     floor = world_floor(model, direct)
     if floor is not None and fixed is None:
         notes.append(f"the world's light is rendered from a world with no closed form (small bright regions, a sun "

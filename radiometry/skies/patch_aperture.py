@@ -55,23 +55,6 @@ def _clip(poly, count, normal):
     return out, np.minimum(mask.sum(axis=1), k + 1)
 
 
-def _first_moments(poly, count, normal):
-    """int (normal . u) du over each convex spherical polygon (B,): fanned into triangles."""
-    b, k, _ = poly.shape
-    if k < 3:
-        return np.zeros(b)
-    j = np.arange(k - 2)
-    tris = np.stack([np.broadcast_to(poly[:, :1], (b, k - 2, 3)), poly[:, 1:-1], poly[:, 2:]], axis=2)
-    ok = (j[None, :] + 2) < count[:, None]
-    which = np.nonzero(ok)
-    if not len(which[0]):
-        return np.zeros(b)
-    _omega, first, _second = sky_aperture.spherical_moments(tris[which], np.zeros(3), normal[which[0]])
-    out = np.zeros(b)
-    np.add.at(out, which[0], first)
-    return out
-
-
 def _edge_planes(poly, count):
     """Inward unit normals (B, K, 3) of the great circles through the edges of convex polygons (B, K, 3) with
     ``count`` vertices (rows past the count: 0, which every point satisfies)."""
@@ -189,12 +172,12 @@ def pane_patch_coefficients(opening, cores, points, normals, patches, transmitta
     table = sky_aperture._transmittance_table(transmittance)
     last = len(table) - 1
     m = np.asarray(pane_normal, float) / np.linalg.norm(pane_normal)
-    est, half = np.zeros((len(points), patches.count)), np.zeros((len(points), patches.count))
+    est, half, core = (np.zeros((len(points), patches.count)) for _ in range(3))
     core_polys, core_counts = np.asarray(cores[0], float), np.asarray(cores[1], int)
     above, above_count = _cones((core_polys, core_counts), points, normals)
     for lo in range(0, len(points), chunk):
         sl = slice(lo, lo + chunk)
-        p, patch, pieces = _pieces(above[sl], above_count[sl], *dome[:2], *dome[2:])
+        p, patch, pieces = _pieces(above[sl], above_count[sl], *dome)
         for level in range(max_splits + 1):
             if not len(p):
                 break
@@ -206,6 +189,8 @@ def pane_patch_coefficients(opening, cores, points, normals, patches, transmitta
             c_lo, c_hi = np.where(flip, -c_hi, c_lo), np.where(flip, -c_lo, c_hi)
             t_lo = table[np.clip(np.floor(np.clip(c_lo, 0.0, 1.0) * last).astype(int), 0, last)]
             t_hi = table[np.clip(np.ceil(np.clip(c_hi, 0.0, 1.0) * last).astype(int), 0, last)]
+            if level == 0:  # the core's light unweighted (its pieces, before any split), for the rim below
+                np.add.at(core[sl], (p, patch), first)
             e, h = 0.5 * (t_lo + t_hi) * first, 0.5 * (t_hi - t_lo) * np.abs(first)
             wide = (h > rel_tol * np.abs(e)) & (level < max_splits)
             np.add.at(est[sl], (p[~wide], patch[~wide]), e[~wide])
@@ -215,6 +200,5 @@ def pane_patch_coefficients(opening, cores, points, normals, patches, transmitta
             count = int(wide.sum())
             pieces = np.stack([halves[:count], halves[count:]], axis=1).reshape(-1, 3, 3)
     whole = patch_coefficients([opening], points, normals, patches, dome=dome[:2], chunk=chunk)
-    core = patch_coefficients([(core_polys, core_counts)], points, normals, patches, dome=dome[:2], chunk=chunk)
     rim = np.maximum(whole - core, 0.0)
     return est + 0.5 * rim, half + 0.5 * rim
