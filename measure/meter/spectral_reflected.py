@@ -391,9 +391,12 @@ def _run_band_renders(request, plan, read, n_points):
                 for sock, y in zip(socks, lum):  # its luminance times the band power per unit luminance
                     sock.default_value = (*(y * c * on for c in colour), 1.0)
 
-        for k, render in enumerate(layout):
+        def stop_if_cancelled():
             if cancelled is not None and cancelled():
                 raise MeasurementCancelled("cancelled: the spectral band renders stopped; every setting is as it was")
+
+        for k, render in enumerate(layout):
+            stop_if_cancelled()
             set_render(render)
             for i, (rgb, se, bound) in enumerate(read(k)):
                 for j, key in enumerate(render):
@@ -409,8 +412,7 @@ def _run_band_renders(request, plan, read, n_points):
             k_star = _peak_render(plan)
             render = layout[k_star]
             for s in alone_renders:
-                if cancelled is not None and cancelled():
-                    raise MeasurementCancelled("cancelled: the spectral band renders stopped; every setting is as it was")
+                stop_if_cancelled()
                 set_render(render, alone=s)
                 sent = np.array(_channels(plan["power"][s], edges, render)[:len(render)])
                 for i, (rgb, _se, _bound) in enumerate(read(len(layout) + s)):
