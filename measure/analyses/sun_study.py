@@ -121,6 +121,72 @@ def _set_sky(request, sky, direction, horizontal_illuminance_lux=None):
                               sun_direction=tuple(float(x) for x in direction))
 
 
+def sun_bounce_readings(request, model, sun_obj, info, points, normals, snapshot):
+    """(readings or None, why not, ``SunBounce``): every meter read with the sun hidden, its direct light in
+    closed form (the meter's own, ``direct_only``: None where that is not analytic at every meter) and its first
+    bounce as Lambertian emitters (``sun_bounce``), inside the caller's guard (``snapshot``)."""
+    from ..meter import point_meter as meter
+    from . import sun_bounce
+
+    bounce = sun_bounce.plan(model, np.asarray(info["direction"], float), 0.5 * float(sun_obj.data.angle))
+    if not bounce.proven:
+        return None, bounce.reason, bounce
+    world = request.scene.world
+    if world is not None:  # the sun's direct light alone: the world's is in the readings below
+        request.scene.world = None
+        request.view_layer.update()
+    direct = meter.measure_illuminance(points, normals, request, method="auto", direct_only=True,
+                                       model=model if world is None else None)
+    if world is not None:
+        request.scene.world = world
+        request.view_layer.update()
+    if not all(r.method == "analytic" for r in direct):
+        return None, "the sun's direct light is not in closed form at every meter", bounce
+    rgb = np.array([r.irradiance_rgb for r in direct], float)
+    bound = rgb * np.array([r.rel_error_bound for r in direct], float)[:, None]
+    snapshot.remember(sun_obj, "hide_render")
+    sun_obj.hide_render = True
+    sun_rgb = np.asarray(sun_obj.data.color, float) * float(sun_obj.data.energy)
+    sun_bounce.add_emitters(request, bounce, sun_rgb)
+    request.view_layer.update()
+    part = meter.ProvenPart(rgb=rgb, name="the sun's direct light (closed form)", bound_rgb=bound)
+    return meter.measure_illuminance(points, normals, request, method="auto", proven=part), "", bounce
+
+
+def _measure_sun(request, model, sun_obj, info, points, normals, snapshot):
+    """(readings, notes) of the sun (and the world, if any) at the meters, ``auto``, inside the step's guard.
+
+    The sun is rendered as it is, its meters that find no light in their pilot stopped there
+    (``stop_dark``). Where one is dark, the sunlit surfaces are too small for the meters' rays to find
+    (a low sun's strip on a reveal): if the sun's first bounce is proven (``sun_bounce.plan``), every meter
+    is read again with the sun hidden, its direct light in closed form (the meter's own, ``direct_only``)
+    and its first bounce as Lambertian emitters that Cycles samples by next-event estimation; otherwise
+    the dark meters are read again as before (sampling on to ``DARK_FLOOR``)."""
+    from ..meter import point_meter as meter
+
+    model = meter.capture_model(request.scene, request.view_layer)  # with the sun (and the sky) as set
+    first = meter.measure_illuminance(points, normals, request, method="auto", stop_dark=True, model=model)
+    dark = np.array([r.upper_bound_lux is not None for r in first])
+    if not dark.any():
+        return first, []
+    readings, reason, bounce = sun_bounce_readings(request, model, sun_obj, info, points, normals, snapshot)
+    if readings is not None:
+        for r in readings:
+            r.notes = list(r.notes) + [f"{int(dark.sum())} of {len(dark)} meters found no sunlight in their pilot: "
+                                       + bounce.notes[0]]
+        return readings, ["where meters found no sunlight in their pilot, the sun's first bounce was read as "
+                          "emitters (radiometry/scene/sun_patches.py; the readings' notes say more)"]
+    again = meter.measure_illuminance(points[dark], normals[dark], request, method="auto", model=model)
+    readings = list(first)
+    for k, r in zip(np.flatnonzero(dark), again):
+        readings[k] = r
+    for k in np.flatnonzero(dark):
+        readings[k].notes = list(readings[k].notes) + [f"no sunlight found in the pilot: read again, the sun "
+                                                       f"rendered ({reason})"]
+    return readings, ["where meters found no sunlight in their pilot they were read again with the sun rendered "
+                      "where its first bounce is not proven (the readings' notes say why)"]
+
+
 def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_deg, elevation_m=0.0,
                    direct_normal_illuminance_lux=None, north_offset_deg=0.0, sky=None, quality="standard",
                    method="auto", seed=0, cancelled=None, sky_horizontal_illuminance_lux=None, time_budget_s=None,
@@ -190,7 +256,10 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
         else:
             centre_clear = np.zeros(n, bool)
         if info["above_horizon"] or sky is not None:
-            readings = meter.measure_illuminance(points, normals, request, method=method)
+            if info["above_horizon"] and method == "auto":
+                readings, out["notes"] = _measure_sun(request, model, obj, info, points, normals, snapshot)
+            else:
+                readings = meter.measure_illuminance(points, normals, request, method=method)
             out["illuminance"] = np.array([r.illuminance for r in readings])
             out["rel_std_error"] = np.array([r.rel_std_error for r in readings])
             out["exact"] = np.array([bool(r.exact) for r in readings])
@@ -198,6 +267,7 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
         else:  # no sun, no sky: nothing to measure
             out["illuminance"], out["rel_std_error"] = np.zeros(n), np.zeros(n)
             out["exact"], out["method"] = np.ones(n, bool), "below horizon"
+    out.setdefault("notes", [])
     out["sunlit"] = centre_clear & bool(info["above_horizon"])
     out["sunlit_fraction"] = sunlit_fraction
     out["seconds"] = time.perf_counter() - start
@@ -330,12 +400,13 @@ def sun_study(locations, normals, times, *, request, latitude_deg, longitude_deg
                  "elevation_deg": float(np.atleast_1d(pos.elevation_deg)[i]),
                  "direct_normal_illuminance_lux": float(steps[i]["direct_normal_illuminance_lux"]),
                  "method": steps[i]["method"]} for i in range(n_t)]
+    step_notes = list(dict.fromkeys(n for step in steps for n in step.get("notes", ())))
     notes = ["sunlit: the ray to the centre of the sun's disc meets no opaque shadow-casting surface; sunlight "
              "hours: each time sample counts for half the gaps to its neighbours (trapezoid rule)"
              + (f", sun at least {min_elevation_deg:g} deg high" if min_elevation_deg else ""),
              "illuminance: the sun" + (f" and the {sky} sky (the same horizontal illuminance at every time: "
                                        f"{sky_horizontal_illuminance_lux or 'set_cie_sky default'} lx)" if sky
-                                       else " alone (other lights and the world off)")]
+                                       else " alone (other lights and the world off)")] + step_notes
     return SunStudyResult(times=times, locations=points, normals=dirs, illuminance=stack("illuminance"),
                           rel_std_error=stack("rel_std_error"), exact=stack("exact", bool), sunlit=sunlit,
                           sunlit_fraction=stack("sunlit_fraction"), sun=sun_rows, sample_hours=weights,

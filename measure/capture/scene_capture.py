@@ -36,6 +36,8 @@ _MESHABLE = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
 
 #: Beyond this many triangles the proofs are skipped (memory, time): the scene is rendered.
 MAX_TRIANGLES = 4_000_000
+#: Custom property on Radiometer's own temporary emitters (``measure.analyses.sun_bounce``).
+EMITTER_PROP = "radiometer_emitter"
 
 
 class _Capture:
@@ -243,7 +245,9 @@ def _collect(depsgraph):
             _Capture.instances[ident] = (data_state, local, m, _Capture.scale, world, bounds)
         bound_chunks.append(bounds)
         pane_mask = None
-        if traits[used, 3].any():  # transmits: a thin pane, or a refractor to render (issue 18)
+        # transmits: a thin pane, or a refractor to render (issue 18); Radiometer's own emitters (the sun's
+        # first bounce, issue 31) let rays through unchanged and are neither
+        if traits[used, 3].any() and not original.get(EMITTER_PROP):
             # The mesh's own float32 coordinates, in metres through the transform's largest stretch (issue 32).
             local_extent = float(np.abs(verts_local).max()) * float(np.linalg.norm(m[:3, :3], 2)) * _Capture.scale
             pane_mask = _glass_object(panes, refractors, len(names), name, original.name, world, slot, slots,

@@ -106,3 +106,44 @@ def world_emits(world):
         if not colour.is_linked and max(colour.default_value[:3]) == 0.0:
             return False
     return True
+
+
+#: Cycles' surface for an object without a material: a Diffuse BSDF of grey 0.8.
+DEFAULT_ALBEDO = (0.8, 0.8, 0.8)
+
+
+def lambertian_albedo(material):
+    """(albedo RGB, "") when ``material`` renders in Cycles as a Lambertian surface of one colour: its active
+    output's Surface is a Diffuse BSDF straight, with an unlinked colour within 0..1, roughness 0 (Lambert:
+    above 0 it is Oren-Nayar) and no normal map, and nothing on Volume or Displacement; else (None, why).
+    Issue 31: only then does the sun's light leave a sunlit surface as a Lambertian emitter's."""
+    if material is None:
+        return DEFAULT_ALBEDO, ""
+    tree = active_node_tree(material)
+    if tree is None:
+        return None, f"material {material.name!r} renders without nodes"
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"
+               and getattr(n, "target", "ALL") in ("ALL", "CYCLES")]
+    active = [n for n in outputs if getattr(n, "is_active_output", False)] or outputs[:1]
+    if not active:
+        return None, f"material {material.name!r} has no material output"
+    out = active[0]
+    for name in ("Volume", "Displacement"):
+        sock = out.inputs.get(name)
+        if sock is not None and sock.is_linked:
+            return None, f"material {material.name!r} has a {name.lower()}"
+    surface = out.inputs.get("Surface")
+    if surface is None or not surface.is_linked or len(surface.links) != 1:
+        return None, f"material {material.name!r}: its surface is not one shader"
+    node = surface.links[0].from_node
+    if node.bl_idname != "ShaderNodeBsdfDiffuse":
+        return None, f"material {material.name!r} is not a Diffuse BSDF ({node.bl_idname})"
+    colour, rough, normal = node.inputs["Color"], node.inputs.get("Roughness"), node.inputs.get("Normal")
+    if colour.is_linked or (normal is not None and normal.is_linked):
+        return None, f"material {material.name!r}: its diffuse colour or normal is linked (a texture, a map)"
+    if rough is not None and (rough.is_linked or float(rough.default_value) != 0.0):
+        return None, f"material {material.name!r}: diffuse roughness is not 0 (Oren-Nayar, not Lambert)"
+    rgb = tuple(float(c) for c in colour.default_value[:3])
+    if not all(0.0 <= c <= 1.0 for c in rgb):
+        return None, f"material {material.name!r}: diffuse colour outside 0..1"
+    return rgb, ""
