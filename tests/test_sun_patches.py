@@ -186,3 +186,15 @@ def test_merge_pairs_keeps_area():
     area = sum(sun_patches.polygon_area_3d(p[[0, 1, 2, 3]] if not np.allclose(p[3], p[2]) else p[:3]) for p in polys)
     tri_area = 0.5 * np.linalg.norm(np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]), axis=1).sum()
     assert np.isclose(area, tri_area)
+
+
+def test_work_beyond_its_limits_is_refused_with_the_reason():
+    tris, panes = room()
+    occ = np.ones(len(tris), bool)
+    d = np.array([0.3, -0.8, 0.5]) / np.linalg.norm([0.3, -0.8, 0.5])
+    late = sun_patches.sunlit_pieces(tris, occ, occ, d, panes=panes, deadline=0.0)
+    assert not late.proven and "time" in late.reason and not late.polygons
+    many = sun_patches.sunlit_pieces(tris, occ, occ, d, panes=panes, max_pairs=10)
+    assert not many.proven and "pairs" in many.reason
+    few = sun_patches.sunlit_pieces(tris, occ, occ, d, panes=panes, max_pieces=3)
+    assert not few.proven and "pieces" in few.reason

@@ -23,6 +23,9 @@ import time
 
 import numpy as np
 
+#: Seconds the sunlit polygons of one step may take (all cubature directions) before the step renders the sun as
+#: before: the demo room's take about 0.25 s; a scene of 10^5 triangles would take minutes.
+GEOMETRY_SECONDS = 10.0
 #: Offset of the emitters in front of their surfaces (m) per cubature direction (k + 1 times this).
 EMITTER_OFFSET_M = 1e-4
 ATTRIBUTE = "radiometer_sun_radiance"
@@ -142,7 +145,8 @@ def plan(model, direction, radius_rad, points_m=None, normals=None, lamp_hits=No
     surfaces = sun_patches.surfaces(g.triangles, receivers, occluders, groups=g.object_index * 4096 + slots, tol=tol)
     pieces, hits = [], None
     for i, (d, w) in enumerate(zip(dirs, weights)):
-        p = sun_patches.sunlit_pieces(surfaces, None, None, d, panes=panes, tol=tol, weight=w)
+        p = sun_patches.sunlit_pieces(surfaces, None, None, d, panes=panes, tol=tol, weight=w,
+                                      deadline=started + GEOMETRY_SECONDS)
         if not p.proven:
             return refuse(p.reason)
         lit = np.unique(p.triangle)

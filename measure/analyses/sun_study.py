@@ -164,11 +164,15 @@ def _measure_sun(request, model, sun_obj, info, points, normals, snapshot):
     the dark meters are read again as before (sampling on to ``DARK_FLOOR``)."""
     from ..meter import point_meter as meter
 
+    started = time.perf_counter()
     model = meter.capture_model(request.scene, request.view_layer)  # with the sun (and the sky) as set
     first = meter.measure_illuminance(points, normals, request, method="auto", stop_dark=True, model=model)
     dark = np.array([r.upper_bound_lux is not None for r in first])
     if not dark.any():
         return first, []
+    if request.time_budget_s is not None:  # the step's budget covers both passes
+        spent = time.perf_counter() - started
+        request = request.but(time_budget_s=max(request.time_budget_s - spent, 0.1 * request.time_budget_s))
     readings, reason, bounce = sun_bounce_readings(request, model, sun_obj, info, points, normals, snapshot)
     if readings is not None:
         for r in readings:

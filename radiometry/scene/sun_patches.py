@@ -28,6 +28,7 @@ is taken with Stroud's 7-point cubature of the disc, exact for polynomials of de
 metre from its edge moves light by millimetres, which the readings metres away see at second order.
 """
 
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -408,7 +409,7 @@ def surfaces(triangles, receivers, occluders, *, groups=None, tol=1e-6):
 
 
 def sunlit_pieces(triangles, receivers, occluders, direction, *, panes=(), tol=1e-6, weight=1.0, mirrors=True,
-                  max_pieces=20000, max_pairs=5e7, groups=None):
+                  max_pieces=20000, max_pairs=5e7, groups=None, deadline=None):
     """The sunlit pieces of the ``receivers`` for a point sun in ``direction`` (unit, towards the sun).
 
     ``triangles`` (T, 3, 3) m (or their :class:`Surfaces`, which several directions share: ``receivers``,
@@ -419,7 +420,7 @@ def sunlit_pieces(triangles, receivers, occluders, direction, *, panes=(), tol=1
     ``mirrors``; their own triangles must not be occluders. ``weight``: the cubature weight of this
     direction. ``tol`` (m): what lies within it of a receiver's plane does not shade it (its neighbours
     along an edge). Returns :class:`SunPieces` (``proven`` False when the work exceeds ``max_pieces``
-    pieces or ``max_pairs`` receiver-occluder pairs)."""
+    pieces or ``max_pairs`` receiver-occluder pairs, or runs past ``deadline``, a ``time.perf_counter()``)."""
     surf = triangles if isinstance(triangles, Surfaces) else surfaces(triangles, receivers, occluders,
                                                                         groups=groups, tol=tol)
     d = np.asarray(direction, float)
@@ -449,7 +450,10 @@ def sunlit_pieces(triangles, receivers, occluders, direction, *, panes=(), tol=1
             kind.append(factor_kind)
 
     filters = [(outline, T) for _p, outline, T, _R, _c in pane_filters]
-    for poly, n0, k in zip(surf.receivers, surf.normals, surf.owner):
+    for i, (poly, n0, k) in enumerate(zip(surf.receivers, surf.normals, surf.owner)):
+        if deadline is not None and i % 64 == 0 and time.perf_counter() > deadline:
+            out.proven, out.reason = False, "the sunlit polygons took longer than their time allowance"
+            return out
         c = float(n0 @ d)
         if abs(c) < 1e-12:
             continue
@@ -479,7 +483,10 @@ def sunlit_pieces(triangles, receivers, occluders, direction, *, panes=(), tol=1
                 continue
             image = d - 2.0 * (d @ pn) * pn  # from a receiver towards the sun's image in the pane
             offset = float(outline[0] @ pn)
-            for poly, n0, k in zip(surf.receivers, surf.normals, surf.owner):
+            for i, (poly, n0, k) in enumerate(zip(surf.receivers, surf.normals, surf.owner)):
+                if deadline is not None and i % 64 == 0 and time.perf_counter() > deadline:
+                    out.proven, out.reason = False, "the sunlit polygons took longer than their time allowance"
+                    return out
                 c = float(n0 @ image)
                 if abs(c) < 1e-12:
                     continue
