@@ -1,4 +1,4 @@
-"""Coverage of the sun's first bounce as emitters (issue 31, measure/analyses/sun_bounce.py) against the
+"""Coverage of the sun's first bounce as emitters (issue 31, measure/meter/sun_bounce.py) against the
 Sun light rendered as it is, in the daylit demo room where that converges: the 9:00 equinox sun (22 deg)
 through the pane onto the floor, 5 meters. The reference is Cycles' own Sun light to 0.3 % (one seed,
 independent of the sunlit polygons); the emitters' readings at 2 % over ``seeds`` seeds; z = (emitters -

@@ -126,7 +126,7 @@ def sun_bounce_readings(request, model, sun_obj, info, points, normals, snapshot
     closed form (the meter's own, ``direct_only``: None where that is not analytic at every meter) and its first
     bounce as Lambertian emitters (``sun_bounce``), inside the caller's guard (``snapshot``)."""
     from ..meter import point_meter as meter
-    from . import sun_bounce
+    from ..meter import sun_bounce
 
     bounce = sun_bounce.plan(model, np.asarray(info["direction"], float), 0.5 * float(sun_obj.data.angle))
     if not bounce.proven:

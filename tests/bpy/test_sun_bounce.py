@@ -1,4 +1,4 @@
-"""The sun's first bounce as emitters (issue 31, the low sun: measure/analyses/sun_bounce.py) against Cycles' own
+"""The sun's first bounce as emitters (issue 31, the low sun: measure/meter/sun_bounce.py) against Cycles' own
 Sun light, rendered as it is, where that converges (a morning sun through the demo room's window onto the floor),
 and what a low-sun step leaves behind."""
 
@@ -78,7 +78,7 @@ def test_a_glossy_sunlit_surface_keeps_the_sun_rendered():
     floor.data.materials.append(mat)
     info = api.set_sun(scene, SITE["latitude_deg"], SITE["longitude_deg"], daylight.local_time((2026, 3, 20, 12, 0)))
     request = request_of.build(scene)
-    from radiometer.measure.analyses import sun_bounce
+    from radiometer.measure.meter import sun_bounce
 
     bounce = sun_bounce.plan(meter.capture_model(scene, request.view_layer), np.asarray(info["direction"]), 0.0023)
     assert not bounce.proven and "not Lambertian" in bounce.reason and "glossy floor" in bounce.reason

@@ -1,5 +1,5 @@
 """The sun's first bounce as emitters (issue 31, the low sun): the Blender side of
-``radiometry.scene.sun_patches``.
+``radiometry.scene.sun_patches``, in the meter's room: the analyses (``sun_study``) call it.
 
 Where every sunlit surface is Lambertian (``shader_kinds.lambertian_albedo``) and everything the sun meets
 is modelled (opaque triangles, recognised thin panes; no refractor, medium, mirror or see-through caster),
