@@ -1049,6 +1049,8 @@ BENCHES["annual"] = lambda: __import__("annual").bench_annual(QUICK)
 BENCHES["spectral_demo_eye"] = lambda: __import__("spectral_demo_eye").bench_spectral_demo_eye(QUICK)
 # Issue 31 (bench/annual_large.py): 1000 points x 146 patches against Radiance, per core.
 BENCHES["annual_large"] = lambda: __import__("annual_large").bench_annual_large(QUICK)
+# Issue 31 (bench/sun_bounce_coverage.py): the sun's first bounce as emitters against the Sun light, 50 seeds.
+BENCHES["sun_bounce_coverage"] = lambda: __import__("sun_bounce_coverage").bench_section(QUICK)
 
 
 # Issue 18 (bench/coverage_rare_paths_fin.py, its own process): coverage of stated errors in the fin scene

@@ -92,11 +92,17 @@ def markdown(s):
     return lines + [""]
 
 
-if __name__ == "__main__":
-    result = bench_sun_bounce_coverage(quick="--quick" in sys.argv)
-    if "--quick" not in sys.argv:
+def bench_section(quick=False):
+    """``make bench`` section (bench/run.py): 50 seeds, written to bench/sun_bounce_coverage.{json,md}; quick: 3 seeds,
+    written nowhere (quick runs never overwrite results)."""
+    result = bench_sun_bounce_coverage(quick=quick)
+    if not quick:
         with open(os.path.join(HERE, "sun_bounce_coverage.json"), "w", encoding="utf-8") as fh:
             json.dump(result, fh, indent=2)
         with open(os.path.join(HERE, "sun_bounce_coverage.md"), "w", encoding="utf-8") as fh:
             fh.write("\n".join(markdown(result)) + "\n")
-    print("\n".join(markdown(result)))
+    return result
+
+
+if __name__ == "__main__":
+    print("\n".join(markdown(bench_section(quick="--quick" in sys.argv))))
