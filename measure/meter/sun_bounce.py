@@ -2,7 +2,7 @@
 ``radiometry.scene.sun_patches``, in the meter's room: the analyses (``sun_study``) call it.
 
 Where every sunlit surface is Lambertian (``shader_kinds.lambertian_albedo``) and everything the sun meets
-is modelled (opaque triangles, recognised thin panes; no refractor, medium, mirror or see-through caster),
+is modelled (opaque triangles, recognised thin panes; no refractor, medium or see-through caster),
 the sun's light after its first bounce is exactly the light of one-sided Lambertian emitters of radiance
 rho E / pi over the sunlit polygons. ``sun_study_step`` then hides the sun, adds those emitters (one mesh
 object, removed by the scene guard) and lets the meter read the sun's direct light in closed form and render
@@ -43,8 +43,6 @@ class SunBounce:
     reason: str = ""
     seconds: float = 0.0
     notes: list = dataclasses.field(default_factory=list)
-    lamp: bool = False   # not refused: the sun lamp's own render finds the sunlit surfaces well
-    hits: object = None  # (N,) expected hits of the lamp's pilot on sunlit pieces, where asked
 
     def piece_count(self):
         return sum(len(p.polygons) for p in self.pieces)
@@ -85,34 +83,12 @@ def receiver_albedo(model):
     return albedo, why
 
 
-def hit_probability(pieces, points_m, normals):
-    """(N,) the chance that one cosine-distributed ray from each meter meets a sunlit piece facing it
-    (the pieces' form factors, Lambert's formula, occlusion ignored: an upper bound)."""
-    from ...radiometry.skies import sky_aperture
-
-    points_m = np.asarray(points_m, float).reshape(-1, 3)
-    normals = np.asarray(normals, float).reshape(-1, 3)
-    out = np.zeros(len(points_m))
-    polys, owner = [], []
-    for poly, n in zip(pieces.polygons, pieces.normal):
-        facing = np.flatnonzero((points_m - poly.mean(axis=0)) @ n > 0.0)  # one-sided: the lit side
-        polys.extend([poly] * len(facing))
-        owner.extend(facing.tolist())
-    if polys:
-        owner = np.asarray(owner, int)
-        sky, ground = sky_aperture.aperture_illuminance(polys, points_m[owner], normals[owner], sky="uniform",
-                                                        zenith_luminance=1.0, ground_luminance=1.0)
-        out += np.bincount(owner, (sky + ground) / math.pi, minlength=len(points_m))
-    return np.minimum(out, 1.0)
-
-
-def plan(model, direction, radius_rad, points_m=None, normals=None, lamp_hits=None):
+def plan(model, direction, radius_rad):
     """The sun's first bounce for the sun in ``direction`` (unit, towards it; scene axes) with a disc of
     angular radius ``radius_rad``: a :class:`SunBounce`, ``proven`` False with the reason where a condition
-    fails (the caller then renders the sun as before). With ``points_m``/``normals`` and ``lamp_hits`` (rays):
-    where every meter's rays meet the sunlit pieces often enough (``hit_probability`` x ``lamp_hits`` >= 1)
-    the sun is better rendered as it is, and ``proven`` is False with that reason (``lamp`` True)."""
+    fails (the caller then renders the sun as before)."""
     from ...radiometry.scene import scene_model, sun_patches, thin_glass
+
     started = time.perf_counter()
     g = model.geometry
 
@@ -143,8 +119,8 @@ def plan(model, direction, radius_rad, points_m=None, normals=None, lamp_hits=No
     dirs, weights = sun_patches.disc_cubature(direction, radius_rad)
     slots = g.material_slot if g.material_slot is not None else np.zeros(g.count, int)
     surfaces = sun_patches.surfaces(g.triangles, receivers, occluders, groups=g.object_index * 4096 + slots, tol=tol)
-    pieces, hits = [], None
-    for i, (d, w) in enumerate(zip(dirs, weights)):
+    pieces = []
+    for d, w in zip(dirs, weights):
         p = sun_patches.sunlit_pieces(surfaces, None, None, d, panes=panes, tol=tol, weight=w,
                                       deadline=started + GEOMETRY_SECONDS)
         if not p.proven:
@@ -155,15 +131,7 @@ def plan(model, direction, radius_rad, points_m=None, normals=None, lamp_hits=No
             k = int(g.object_index[bad[0]])
             return refuse(f"the sun lights a surface that is not Lambertian: {why.get(k, g.object_names[k])}")
         pieces.append(p)
-        if i == 0 and points_m is not None and lamp_hits is not None:
-            hits = hit_probability(p, points_m, normals) * float(lamp_hits)
-            if np.all(hits >= 1.0):
-                out = refuse(f"every meter's first {lamp_hits} rays meet sunlit surfaces (at least "
-                             f"{hits.min():.3g} expected): the sun is rendered as it is")
-                out.lamp = True
-                return out
     out = SunBounce(pieces, albedo, True, "", time.perf_counter() - started)
-    out.hits = hits
     mirrored = sum(k == "mirror" for p in pieces for k in p.kind)
     out.notes.append(
         f"the sun's first bounce as emitters (radiometry/scene/sun_patches.py): {out.piece_count()} sunlit "
