@@ -82,3 +82,24 @@ def test_a_glossy_sunlit_surface_keeps_the_sun_rendered():
 
     bounce = sun_bounce.plan(meter.capture_model(scene, request.view_layer), np.asarray(info["direction"]), 0.0023)
     assert not bounce.proven and "not Lambertian" in bounce.reason and "glossy floor" in bounce.reason
+
+
+def test_with_a_sky_the_step_reads_the_sun_as_emitters_and_the_parts_add_up():
+    """With the overcast sky a 2 deg step reads the sun's first bounce as emitters (a dark pilot cannot
+    show itself under a sky); its readings equal the sun's alone plus the sky's alone within 4 combined s.e."""
+    scene = _room()
+    when = dt.datetime(2026, 3, 20, 6, 19, 39, tzinfo=dt.timezone.utc)
+    points, normals = METERS[:3], (0.0, 0.0, 1.0)
+    common = dict(latitude_deg=SITE["latitude_deg"], longitude_deg=SITE["longitude_deg"], scene=scene,
+                  quality="standard")
+    both = api.sun_study(points, normals, [when], sky="overcast", seed=1, **common)
+    assert any("with the sky, the sun's first bounce" in n for n in both.notes), both.notes
+    sun = api.sun_study(points, normals, [when], seed=2, **common)
+    # the sky alone: a step whose sun is below the horizon keeps the sky (the same horizontal illuminance)
+    night = dt.datetime(2026, 3, 20, 0, 0, tzinfo=dt.timezone.utc)
+    sky = api.sun_study(points, normals, [night], sky="overcast", seed=3, **common)
+    total = both.illuminance[0]
+    parts = sun.illuminance[0] + sky.illuminance[0]
+    se = np.sqrt((both.rel_std_error[0] * total) ** 2 + (sun.rel_std_error[0] * sun.illuminance[0]) ** 2
+                 + (sky.rel_std_error[0] * sky.illuminance[0]) ** 2)
+    assert np.all(np.abs(total - parts) <= 4.0 * se), (total, parts, se)
