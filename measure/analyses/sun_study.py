@@ -128,7 +128,9 @@ def sun_bounce_readings(request, model, sun_obj, info, points, normals, snapshot
     from ..meter import point_meter as meter
     from ..meter import sun_bounce
 
-    bounce = sun_bounce.plan(model, np.asarray(info["direction"], float), 0.5 * float(sun_obj.data.angle))
+    target = request.target_rel_error if request.target_rel_error is not None else request.preset()["target"]
+    bounce = sun_bounce.plan(model, np.asarray(info["direction"], float), 0.5 * float(sun_obj.data.angle),
+                             target_rel_error=target)
     if not bounce.proven:
         return None, bounce.reason, bounce
     world = request.scene.world
