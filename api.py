@@ -1043,7 +1043,10 @@ def sun_study(locations, normals, times, *, latitude_deg, longitude_deg, elevati
     and ``sky_horizontal_illuminance_lux`` (the same at every time; None: set_cie_sky's default)),
     and the meter measures (exact where nothing can block the sun, rendered to ``quality``
     elsewhere; ``time_budget_s``: at most about that many seconds per time step, whichever of target
-    and budget comes first: a low sun gives small readings whose relative target is costly); the
+    and budget comes first). Where the sunlit surfaces are too small for the meters' rays to find (a low
+    sun's strip on a reveal: a meter's pilot finds no light; with a sky, always) and every sunlit surface is
+    Lambertian, the step reads the sun's first bounce as emitters over the exact sunlit polygons and the
+    sun's direct light in closed form (docs/daylight-sun.md, "A low sun"); the readings' notes say so. The
     scene is restored after every step. ``client``: a Dask client
     (``radiometer.cluster``); None runs here. Returns a ``SunStudyResult``: ``illuminance`` (T, N)
     lux, ``rel_std_error``, ``exact``, ``sunlit`` (T, N: the disc's centre is visible),
