@@ -415,6 +415,27 @@ def surfaces(triangles, receivers, occluders, *, groups=None, tol=1e-6):
     return Surfaces(polys[keep], normals[keep] / lengths[keep, None], rec[owner[keep]], occ)
 
 
+class _Refused(Exception):
+    """The sunlit polygons would cost more than they are allowed (the reason)."""
+
+
+def _checked(pieces, max_pieces):
+    if pieces is None:
+        raise _Refused(f"the sunlit polygons exceed {max_pieces} pieces")
+    return pieces
+
+
+def _facing(surf, direction, deadline):
+    """(polygon, its unit normal on the side facing ``direction``, owner, |cos|) of every receiver of
+    :class:`Surfaces` not edge-on to ``direction``; raises :class:`_Refused` past ``deadline``."""
+    for i, (poly, n0, k) in enumerate(zip(surf.receivers, surf.normals, surf.owner)):
+        if deadline is not None and i % 64 == 0 and time.perf_counter() > deadline:
+            raise _Refused("the sunlit polygons took longer than their time allowance")
+        c = float(n0 @ direction)
+        if abs(c) >= 1e-12:
+            yield poly, (n0 if c > 0 else -n0), k, abs(c)
+
+
 def sunlit_pieces(triangles, receivers, occluders, direction, *, panes=(), tol=1e-6, weight=1.0, mirrors=True,
                   max_pieces=20000, max_pairs=5e7, groups=None, deadline=None):
     """The sunlit pieces of the ``receivers`` for a point sun in ``direction`` (unit, towards the sun).
@@ -457,23 +478,12 @@ def sunlit_pieces(triangles, receivers, occluders, direction, *, panes=(), tol=1
             kind.append(factor_kind)
 
     filters = [(outline, T) for _p, outline, T, _R, _c in pane_filters]
-    for i, (poly, n0, k) in enumerate(zip(surf.receivers, surf.normals, surf.owner)):
-        if deadline is not None and i % 64 == 0 and time.perf_counter() > deadline:
-            out.proven, out.reason = False, "the sunlit polygons took longer than their time allowance"
-            return out
-        c = float(n0 @ d)
-        if abs(c) < 1e-12:
-            continue
-        n = n0 if c > 0 else -n0
-        plane = _Plane(poly[0], n, d)
-        start = [(_ccw(plane.cast(poly)), np.ones(3))]
-        pieces = _lit(plane, start, occ, filters, tol, min_area, budget=budget)
-        if pieces is None:
-            out.proven, out.reason = False, f"the sunlit polygons exceed {max_pieces} pieces"
-            return out
-        add(pieces, plane, k, "direct", abs(c))
-    if mirrors:
-        for j, (pane, outline, _T, R, c_p) in enumerate(pane_filters):
+    try:
+        for poly, n, k, c in _facing(surf, d, deadline):
+            plane = _Plane(poly[0], n, d)
+            add(_checked(_lit(plane, [(_ccw(plane.cast(poly)), np.ones(3))], occ, filters, tol, min_area,
+                              budget=budget), max_pieces), plane, k, "direct", c)
+        for j, (pane, outline, _T, R, c_p) in enumerate(pane_filters if mirrors else ()):
             pn = np.asarray(pane.geometry.normal, float)
             pn = pn if pn @ d > 0 else -pn  # the side that faces the sun
             if c_p < 1e-12 or not np.any(R > 0):
@@ -481,23 +491,13 @@ def sunlit_pieces(triangles, receivers, occluders, direction, *, panes=(), tol=1
             # the pane's own sunlit part (other panes as filters)
             pplane = _Plane(outline[0], pn, d)
             others = [(o, T) for i, (_p, o, T, _R, _c) in enumerate(pane_filters) if i != j]
-            lit = _lit(pplane, [(_ccw(pplane.cast(outline)), np.ones(3))], occ, others, tol, min_area,
-                       budget=budget)
-            if lit is None:
-                out.proven, out.reason = False, f"the sunlit polygons exceed {max_pieces} pieces"
-                return out
+            lit = _checked(_lit(pplane, [(_ccw(pplane.cast(outline)), np.ones(3))], occ, others, tol, min_area,
+                                budget=budget), max_pieces)
             if not lit:
                 continue
             image = d - 2.0 * (d @ pn) * pn  # from a receiver towards the sun's image in the pane
             offset = float(outline[0] @ pn)
-            for i, (poly, n0, k) in enumerate(zip(surf.receivers, surf.normals, surf.owner)):
-                if deadline is not None and i % 64 == 0 and time.perf_counter() > deadline:
-                    out.proven, out.reason = False, "the sunlit polygons took longer than their time allowance"
-                    return out
-                c = float(n0 @ image)
-                if abs(c) < 1e-12:
-                    continue
-                n = n0 if c > 0 else -n0
+            for poly, n, k, c in _facing(surf, image, deadline):
                 front = _clip_plane(poly, pn, offset + tol)  # the part on the mirror's sunlit side
                 if len(front) < 3:
                     continue
@@ -514,13 +514,12 @@ def sunlit_pieces(triangles, receivers, occluders, direction, *, panes=(), tol=1
                     _o, inside = _difference(tri_q, shadow, min_area)
                     if inside is not None:
                         start.append((inside, f * R))
-                if not start:
-                    continue
-                pieces = _lit(plane, start, occ, others, tol, min_area, extra=extra, budget=budget)
-                if pieces is None:
-                    out.proven, out.reason = False, f"the sunlit polygons exceed {max_pieces} pieces"
-                    return out
-                add(pieces, plane, k, "mirror", abs(c))
+                if start:
+                    add(_checked(_lit(plane, start, occ, others, tol, min_area, extra=extra, budget=budget),
+                                 max_pieces), plane, k, "mirror", c)
+    except _Refused as why:
+        out.proven, out.reason = False, str(why)
+        return out
     out.polygons = polys
     out.triangle = np.asarray(owner, int)
     out.normal = np.asarray(nrm, float).reshape(-1, 3)
