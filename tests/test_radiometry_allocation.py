@@ -158,3 +158,22 @@ def test_kept_round_summaries_equal_fresh_ones_and_allocation_is_unchanged(monke
     assert np.array_equal(again.samples, kept.samples) and again.rounds == kept.rounds
     assert np.array_equal(again.tally.mean, kept.tally.mean)
     assert np.array_equal(again.tally.std_error, kept.tally.std_error)
+
+
+def test_a_dark_pilot_stops_every_meter_when_asked():
+    """stop_dark="all" (issue 31, the sun study's low sun): one meter that may be lit but reads exactly 0 in its
+    pilot stops every meter there; without a dark meter the run goes on to the target as usual."""
+    rng = np.random.default_rng(3)
+    mu = np.array([10.0, 0.0, 5.0])
+    sigma = np.array([20.0, 0.0, 10.0])
+    lit = np.array([True, True, True])
+    dark = allocation.allocate(_synthetic_bake(mu, sigma, rng), 3, target=0.01, target_abs=np.full(3, 1e-3),
+                               may_be_lit=lit, stop_dark="all")
+    assert dark.stopped == allocation.DARK_PILOT and dark.rounds == 1 and not dark.reached
+    assert np.all(dark.tally.n == dark.tally.n[0])  # the pilot's samples, no more
+    lit_only = allocation.allocate(_synthetic_bake(mu[[0, 2]], sigma[[0, 2]], rng), 2, target=0.01,
+                                   target_abs=np.full(2, 1e-3), may_be_lit=lit[:2], stop_dark="all")
+    assert lit_only.reached and lit_only.stopped != allocation.DARK_PILOT
+    plain = allocation.allocate(_synthetic_bake(mu, sigma, rng), 3, target=0.01, target_abs=np.full(3, 1e-3),
+                                may_be_lit=lit, stop_dark=True)
+    assert plain.stopped != allocation.DARK_PILOT and plain.tally.n[0] > dark.tally.n[0]

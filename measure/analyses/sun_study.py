@@ -159,12 +159,13 @@ def _measure_sun(request, model, sun_obj, info, points, normals, snapshot):
     """(readings, notes) of the sun (and the world, if any) at the meters, ``auto``, inside the step's guard.
 
     With a sky (a world) the sun's first bounce is read as emitters wherever it is proven (below). Without one
-    the sun is rendered as it is, its meters that find no light in their pilot stopped there
-    (``stop_dark``). Where one is dark, the sunlit surfaces are too small for the meters' rays to find
+    the sun is rendered as it is; where a meter finds no light in its pilot, every meter stops there
+    (``stop_dark="all"``). Where one is dark, the sunlit surfaces are too small for the meters' rays to find
     (a low sun's strip on a reveal): if the sun's first bounce is proven (``sun_bounce.plan``), every meter
     is read again with the sun hidden, its direct light in closed form (the meter's own, ``direct_only``)
     and its first bounce as Lambertian emitters that Cycles samples by next-event estimation; otherwise
-    the dark meters are read again as before (sampling on to ``DARK_FLOOR``)."""
+    every meter is read again as before (the dark ones sampling on to ``DARK_FLOOR``)."""
+    from ...radiometry.sampling import allocation
     from ..meter import point_meter as meter
 
     started = time.perf_counter()
@@ -181,27 +182,23 @@ def _measure_sun(request, model, sun_obj, info, points, normals, snapshot):
                               "(radiometry/scene/sun_patches.py; the readings' notes say more)"]
         return meter.measure_illuminance(points, normals, request, method="auto", model=model), [
             f"the sun rendered as it is ({reason})"]
-    first = meter.measure_illuminance(points, normals, request, method="auto", stop_dark=True, model=model)
+    first = meter.measure_illuminance(points, normals, request, method="auto", stop_dark="all", model=model)
     dark = np.array([r.upper_bound_lux is not None for r in first])
-    if not dark.any():
-        return first, []
+    if not dark.any() and not any(allocation.DARK_PILOT in n for r in first for n in r.notes):
+        return first, []  # every meter at its target: no meter was dark
     if request.time_budget_s is not None:  # the step's budget covers both passes
         spent = time.perf_counter() - started
         request = request.but(time_budget_s=max(request.time_budget_s - spent, 0.1 * request.time_budget_s))
     readings, reason, bounce = sun_bounce_readings(request, model, sun_obj, info, points, normals, snapshot)
     if readings is not None:
         for r in readings:
-            r.notes = list(r.notes) + [f"{int(dark.sum())} of {len(dark)} meters found no sunlight in their pilot: "
+            r.notes = list(r.notes) + [f"{max(int(dark.sum()), 1)} of {len(dark)} meters found no sunlight in their pilot: "
                                        + bounce.notes[0]]
         return readings, ["where meters found no sunlight in their pilot, the sun's first bounce was read as "
                           "emitters (radiometry/scene/sun_patches.py; the readings' notes say more)"]
-    again = meter.measure_illuminance(points[dark], normals[dark], request, method="auto", model=model)
-    readings = list(first)
-    for k, r in zip(np.flatnonzero(dark), again):
-        readings[k] = r
+    readings = meter.measure_illuminance(points, normals, request, method="auto", model=model)
     for k in np.flatnonzero(dark):
-        readings[k].notes = list(readings[k].notes) + [f"no sunlight found in the pilot: read again, the sun "
-                                                       f"rendered ({reason})"]
+        readings[k].notes = list(readings[k].notes) + [f"no sunlight found in the pilot: the sun rendered ({reason})"]
     return readings, ["where meters found no sunlight in their pilot they were read again with the sun rendered "
                       "where its first bounce is not proven (the readings' notes say why)"]
 

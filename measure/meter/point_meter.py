@@ -900,7 +900,8 @@ def measure_illuminance(location, normal, request, *, method="auto", exclude=(),
     The request's ``target_abs_error``: the absolute floor of the 1-sigma error in lux (None: the preset's
     ``target_abs_lux``); a meter stops where its error is below it or below the relative target.
     ``stop_dark``: a meter whose pilot finds no light stops there and states the rule-of-three bound
-    (see ``radiometer.api.measure_illuminance``).
+    (see ``radiometer.api.measure_illuminance``); "all": where one does, every meter stops after its pilot
+    (a caller that then reads them another way: the sun study's low sun).
     ``proven``: a :class:`ProvenPart` the caller proved (or bounded) and keeps out of what Cycles renders;
     it is added to the rendered rest, the relative target counts it, and every meter is rendered (the
     meter's own closed forms would count that part again).

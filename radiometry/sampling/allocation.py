@@ -77,6 +77,8 @@ MAX_SAMPLES_PER_METER = 1 << 22
 #: bright region seen past an obstruction is a rare path, and a pilot that missed it reads 0 +- 0
 #: (issue 18: 58.5 lx read as 0 lx with a stated error of 0).
 DARK_FLOOR = 1 << 16
+#: Why ``allocate`` stopped every meter after the pilot (``stop_dark="all"``); the meter's notes quote it.
+DARK_PILOT = "a dark pilot stopped every meter"
 #: Cycles' Tabulated Sobol sampler with scrambling distance 1 (what ``measure/render/render_settings.py`` set
 #: before issue 32; it now rotates each texel's table, and passes ``table_patterns=0``): every texel draws its
 #: samples of a dimension from ONE of 256 fixed patterns of S points (S = the round's spp rounded up to
@@ -552,7 +554,8 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     pilot can miss; while all their texels read 0 they are not converged (``DARK_FLOOR``), unless an
     absolute floor ``target_abs`` is given and ``stop_dark``: then such a meter stops after its pilot (issue
     31; its caller states the rule-of-three bound, which holds only where no single light-carrying sample
-    can carry much more than the floor: not the default, see docs/errors.md).
+    can carry much more than the floor: not the default, see docs/errors.md). ``stop_dark="all"``: as True,
+    and a dark pilot stops every meter there (the caller reads them another way).
     ``min_samples`` (N,) or None: a floor of samples per meter, taken in one round right after the
     pilot (issue 18: light from a small bright region of a rendered world comes by rare paths that a
     256-sample pilot misses while its variance looks tiny; see ``floor_round``).
@@ -611,6 +614,10 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     # Issue 31: with an absolute floor, a meter whose pilot found no light stops there (its reading states
     # a one-sided bound, ``dark_meters``) instead of chasing DARK_FLOOR samples, when asked (stop_dark).
     plan_lit = None if target_abs is not None and stop_dark else may_be_lit
+    if stop_dark == "all" and target_abs is not None and dark_meters(tally, may_be_lit).any():
+        # the caller reads these meters another way when any of them is dark (a sun study's low sun): the other
+        # meters' rounds would be spent for nothing
+        return AllocationResult(tally, 1, clock() - started, False, DARK_PILOT, tally.n.copy())
     for _round in range(max_rounds):
         elapsed = clock() - started
         if time_budget is not None and elapsed >= time_budget:
