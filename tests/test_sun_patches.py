@@ -203,3 +203,22 @@ def test_work_beyond_its_limits_is_refused_with_the_reason():
     assert not many.proven and "pairs" in many.reason
     few = sun_patches.sunlit_pieces(tris, occ, occ, d, panes=panes, max_pieces=3)
     assert not few.proven and "pieces" in few.reason
+
+
+def test_an_image_that_lights_another_pane_is_refused():
+    """Two panes in an L: the sun's image in one lights the other, whose own reflection of it (two reflections)
+    is not cast, so the polygons are refused with the reason (the step then renders the sun)."""
+    def pane(lo, hi, name):
+        geom, why = thin_glass.pane_geometry(box(lo, hi), 1e-7)
+        assert geom is not None, why
+        return thin_glass.Pane(name=name, ior=1.5, thickness=PANE, geometry=geom)
+
+    a = pane((0.2, -PANE / 2, 0.0), (1.2, PANE / 2, 1.0), "A")
+    b = pane((-PANE / 2, 0.2, 0.0), (PANE / 2, 1.2, 1.0), "B")
+    floor = box((-3.0, -3.0, -0.2), (3.0, 3.0, -0.1))
+    occ = np.ones(len(floor), bool)
+    d = np.array([0.5, 0.8, 0.3]) / np.linalg.norm([0.5, 0.8, 0.3])
+    both = sun_patches.sunlit_pieces(floor, occ, occ, d, panes=[a, b], tol=1e-7)
+    assert not both.proven and "two reflections" in both.reason and "'A'" in both.reason
+    alone = sun_patches.sunlit_pieces(floor, occ, occ, d, panes=[a], tol=1e-7)
+    assert alone.proven and "mirror" in alone.kind  # A's image lights the floor
