@@ -155,7 +155,7 @@ def sun_bounce_readings(request, model, sun_obj, info, points, normals, snapshot
     return meter.measure_illuminance(points, normals, request, method="auto", proven=part), "", bounce
 
 
-def _measure_sun(request, model, sun_obj, info, points, normals, snapshot):
+def _measure_sun(request, sun_obj, info, points, normals, snapshot):
     """(readings, notes) of the sun (and the world, if any) at the meters, ``auto``, inside the step's guard.
 
     With a sky (a world) the sun's first bounce is read as emitters wherever it is proven (below). Without one
@@ -191,9 +191,9 @@ def _measure_sun(request, model, sun_obj, info, points, normals, snapshot):
         request = request.but(time_budget_s=max(request.time_budget_s - spent, 0.1 * request.time_budget_s))
     readings, reason, bounce = sun_bounce_readings(request, model, sun_obj, info, points, normals, snapshot)
     if readings is not None:
+        found = f"{max(int(dark.sum()), 1)} of {len(dark)} meters found no sunlight in their pilot: "
         for r in readings:
-            r.notes = list(r.notes) + [f"{max(int(dark.sum()), 1)} of {len(dark)} meters found no sunlight in their pilot: "
-                                       + bounce.notes[0]]
+            r.notes = list(r.notes) + [found + bounce.notes[0]]
         return readings, ["where meters found no sunlight in their pilot, the sun's first bounce was read as "
                           "emitters (radiometry/scene/sun_patches.py; the readings' notes say more)"]
     readings = meter.measure_illuminance(points, normals, request, method="auto", model=model)
@@ -273,7 +273,7 @@ def sun_study_step(scene, *, locations, normals, when, latitude_deg, longitude_d
             centre_clear = np.zeros(n, bool)
         if info["above_horizon"] or sky is not None:
             if info["above_horizon"] and method == "auto":
-                readings, out["notes"] = _measure_sun(request, model, obj, info, points, normals, snapshot)
+                readings, out["notes"] = _measure_sun(request, obj, info, points, normals, snapshot)
             else:
                 readings = meter.measure_illuminance(points, normals, request, method=method)
             out["illuminance"] = np.array([r.illuminance for r in readings])

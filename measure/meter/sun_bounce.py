@@ -9,11 +9,12 @@ object, removed by the scene guard) and lets the meter read the sun's direct lig
 only what the emitters give, which Cycles samples by next-event estimation: a 2 deg sun's strip on a reveal
 is an area light like any other, instead of a target that a meter's diffuse rays hit by chance.
 
-The emitters: one n-gon per sunlit piece, one layer per cubature direction (cutting them into disjoint pieces
-with summed irradiances was tried: the cuts cost more time than the layers), 0.1 mm (direction k: (k + 1) x 0.1 mm) in front of its
-surface so that Cycles' float32 geometry never puts it behind; its material adds a Transparent BSDF (rays
-pass as if it were not there) to an Emission whose colour is the piece's radiance (a face attribute) on the
-front side only (Geometry > Backfacing; light sampling of the front only). It casts no shadow.
+The emitters: one n-gon per sunlit piece, one layer per cubature direction (cutting them into disjoint
+pieces with summed irradiances was tried: the cuts cost more time than the layers), direction k's layer
+(k + 1) x 0.1 mm in front of its surface so that Cycles' float32 geometry never puts it behind. The material
+adds a Transparent BSDF (rays pass as if it were not there) to an Emission whose colour is the piece's
+radiance (a face attribute) on the front side only (Geometry > Backfacing; light sampling of the front
+only). It casts no shadow.
 """
 
 from __future__ import annotations
@@ -145,8 +146,8 @@ def plan(model, direction, radius_rad, target_rel_error=None):
     out.notes.append(
         f"the sun's first bounce as emitters (radiometry/scene/sun_patches.py): {out.piece_count()} sunlit "
         f"pieces of Lambertian surfaces ({mirrored} lit by the sun's image in a pane) over a {len(dirs)}-point "
-        f"cubature of the sun's disc (exact to degree {degree}), each emitting rho E / pi; the sun itself was hidden and its direct light "
-        f"read in closed form ({out.seconds:.2f} s of geometry)")
+        f"cubature of the sun's disc (exact to degree {degree}), each emitting rho E / pi; the sun itself was "
+        f"hidden and its direct light read in closed form ({out.seconds:.2f} s of geometry)")
     return out
 
 

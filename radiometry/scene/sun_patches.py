@@ -35,8 +35,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["SunPieces", "Surfaces", "DISC_RULES", "disc_cubature", "surfaces", "sunlit_pieces", "merge_pairs", "pane_outline",
-           "polygon_area_3d"]
+__all__ = ["SunPieces", "Surfaces", "DISC_RULES", "disc_cubature", "surfaces", "sunlit_pieces", "merge_pairs",
+           "pane_outline", "polygon_area_3d"]
 
 #: Cubature rules on the unit disc, (radius, angle, weight) per point: exact for polynomials of degree 2 (three
 #: points at radius sqrt(1/2), 120 deg apart, 1/3 each) and of degree 5 (Stroud: the centre 1/4, six points at
