@@ -36,7 +36,7 @@ _MESHABLE = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
 
 #: Beyond this many triangles the proofs are skipped (memory, time): the scene is rendered.
 MAX_TRIANGLES = 4_000_000
-#: Custom property on Radiometer's own temporary emitters (``measure.analyses.sun_bounce``).
+#: Custom property on Radiometer's own temporary emitters (``measure.meter.sun_bounce``).
 EMITTER_PROP = "radiometer_emitter"
 
 
