@@ -128,7 +128,9 @@ def plan(model, direction, radius_rad, target_rel_error=None):
     degree = 2 if target_rel_error is not None and target_rel_error >= DEGREE_2_FROM_TARGET else 5
     dirs, weights = sun_patches.disc_cubature(direction, radius_rad, degree=degree)
     slots = g.material_slot if g.material_slot is not None else np.zeros(g.count, int)
-    surfaces = sun_patches.surfaces(g.triangles, receivers, occluders, groups=g.object_index * 4096 + slots, tol=tol)
+    # receivers merge only within one object's material slot (one albedo)
+    groups = np.unique(np.stack([g.object_index, slots], axis=1), axis=0, return_inverse=True)[1].ravel()
+    surfaces = sun_patches.surfaces(g.triangles, receivers, occluders, groups=groups, tol=tol)
     pieces = []
     for d, w in zip(dirs, weights):
         p = sun_patches.sunlit_pieces(surfaces, None, None, d, panes=panes, tol=tol, weight=w,

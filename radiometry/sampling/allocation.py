@@ -617,7 +617,7 @@ def allocate(bake, count, *, target=None, time_budget=None, fixed_samples=None, 
     if stop_dark == "all" and target_abs is not None and dark_meters(tally, may_be_lit).any():
         # the caller reads these meters another way when any of them is dark (a sun study's low sun): the other
         # meters' rounds would be spent for nothing
-        return AllocationResult(tally, 1, clock() - started, False, DARK_PILOT, tally.n.copy())
+        return AllocationResult(tally, len(costs), clock() - started, False, DARK_PILOT, tally.n.copy())
     for _round in range(max_rounds):
         elapsed = clock() - started
         if time_budget is not None and elapsed >= time_budget:

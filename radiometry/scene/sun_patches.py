@@ -35,6 +35,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..skies import sky_aperture
+
 __all__ = ["SunPieces", "Surfaces", "DISC_RULES", "disc_cubature", "surfaces", "sunlit_pieces", "merge_pairs",
            "pane_outline", "polygon_area_3d"]
 
@@ -55,10 +57,7 @@ def disc_cubature(direction, radius_rad, degree=5):
     d = d / np.linalg.norm(d)
     if radius_rad <= 0.0:
         return d[None, :], np.ones(1)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(d[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    u = np.cross(d, helper)
-    u /= np.linalg.norm(u)
-    v = np.cross(d, u)
+    u, v = sky_aperture.plane_axes(d)
     dirs, weights = [], []
     for r, phi, w in DISC_RULES[degree]:
         t = np.tan(r * radius_rad)  # a point on the tangent plane at angle r a from the centre
@@ -174,21 +173,9 @@ def _bbox(q):
 
 
 def _clip_plane(poly, normal, offset):
-    """Convex polygon (K, 3) clipped to ``poly . normal >= offset``."""
-    h = poly @ normal - offset
-    if np.all(h >= 0.0):
-        return poly
-    if np.all(h <= 0.0):
-        return poly[:0]
-    out = []
-    k = len(poly)
-    for i in range(k):
-        j = (i + 1) % k
-        if h[i] >= 0.0:
-            out.append(poly[i])
-        if (h[i] > 0.0 and h[j] < 0.0) or (h[i] < 0.0 and h[j] > 0.0):
-            out.append(poly[i] + (h[i] / (h[i] - h[j])) * (poly[j] - poly[i]))
-    return np.asarray(out, float).reshape(-1, 3)
+    """Convex polygon (K, 3) clipped to ``poly . normal >= offset`` (unit ``normal``)."""
+    shift = offset * np.asarray(normal, float)
+    return sky_aperture.clip_polygon(np.asarray(poly, float) - shift, normal) + shift
 
 
 class _Plane:
@@ -197,10 +184,7 @@ class _Plane:
     def __init__(self, origin, normal, d):
         self.o, self.n, self.d = origin, normal, d
         self.c = float(normal @ d)
-        helper = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-        u = np.cross(normal, helper)
-        self.u = u / np.linalg.norm(u)
-        self.v = np.cross(normal, self.u)
+        self.u, self.v = sky_aperture.plane_axes(normal)
 
     def cast(self, pts):
         """Points (K, 3) moved along d onto the plane, in plane coordinates (K, 2) (affine)."""
