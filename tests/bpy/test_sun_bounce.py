@@ -103,3 +103,27 @@ def test_with_a_sky_the_step_reads_the_sun_as_emitters_and_the_parts_add_up():
     se = np.sqrt((both.rel_std_error[0] * total) ** 2 + (sun.rel_std_error[0] * sun.illuminance[0]) ** 2
                  + (sky.rel_std_error[0] * sky.illuminance[0]) ** 2)
     assert np.all(np.abs(total - parts) <= 4.0 * se), (total, parts, se)
+
+
+def test_a_step_cancelled_with_its_emitters_in_the_scene_leaves_it_as_it_was(monkeypatch):
+    """Cancelled once the sun's first-bounce emitters are in the scene: the emitter mesh, its material and the
+    hidden sun are undone; the fingerprint and the data-block counts are as before."""
+    from radiometer.errors import MeasurementCancelled
+    from radiometer.measure.meter import sun_bounce
+
+    scene = _room()
+    scene.view_layers[0].update()
+    before = {name: len(getattr(bpy.data, name)) for name in ("objects", "meshes", "materials", "lights", "worlds")}
+    fingerprint = scene_guard.scene_fingerprint(scene)
+    added = []
+    add = sun_bounce.add_emitters
+    monkeypatch.setattr(sun_bounce, "add_emitters", lambda *a, **k: added.append(1) or add(*a, **k))
+    when = dt.datetime(2026, 3, 20, 6, 19, 39, tzinfo=dt.timezone.utc)
+    with pytest.raises(MeasurementCancelled):
+        api.sun_study(METERS[:3], (0.0, 0.0, 1.0), [when], latitude_deg=SITE["latitude_deg"],
+                      longitude_deg=SITE["longitude_deg"], scene=scene, quality="preview",
+                      cancelled=lambda: bool(added))
+    assert added
+    scene.view_layers[0].update()
+    assert scene_guard.scene_fingerprint(scene) == fingerprint
+    assert {name: len(getattr(bpy.data, name)) for name in before} == before
