@@ -27,11 +27,27 @@ def _room(pane_renders=True):
     return scene
 
 
-@pytest.mark.parametrize("pane_renders", [True, False])
-def test_emitters_read_what_the_sun_light_reads(pane_renders):
+def _principled(name, **inputs):
+    """A new material: Blender's default Principled BSDF with ``inputs`` set."""
+    mat = bpy.data.materials.new(name)
+    tree = ensure_node_tree(mat)
+    node = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    for key, value in inputs.items():
+        node.inputs[key].default_value = value
+    return mat
+
+
+@pytest.mark.parametrize("pane_renders, principled_floor", [(True, False), (False, False), (True, True)])
+def test_emitters_read_what_the_sun_light_reads(pane_renders, principled_floor):
     """A 9:00 equinox sun (22 deg) lights a floor patch that the meters' rays find easily: the Sun light's
-    own render is the reference. Both readings at a 1 % target; |difference| within 4 combined s.e."""
+    own render is the reference. Both readings at a 1 % target; |difference| within 4 combined s.e. With a
+    Principled BSDF floor whose only layer is its diffuse base (Specular IOR Level 0), read as Lambertian."""
     scene = _room(pane_renders)
+    if principled_floor:
+        floor = bpy.data.objects["Floor"]
+        floor.data.materials.clear()
+        floor.data.materials.append(_principled("matte floor", **{"Base Color": (0.35, 0.3, 0.25, 1.0),
+                                                                  "Specular IOR Level": 0.0, "Roughness": 0.4}))
     info = api.set_sun(scene, SITE["latitude_deg"], SITE["longitude_deg"], daylight.local_time((2026, 3, 20, 9, 0)))
     sun = bpy.data.objects[info["object"]]
     normals = np.tile((0.0, 0.0, 1.0), (len(METERS), 1))
@@ -82,6 +98,29 @@ def test_a_glossy_sunlit_surface_keeps_the_sun_rendered():
 
     bounce = sun_bounce.plan(meter.capture_model(scene, request.view_layer), np.asarray(info["direction"]), 0.0023)
     assert not bounce.proven and "not Lambertian" in bounce.reason and "glossy floor" in bounce.reason
+    assert "Specular IOR Level 0.5" in bounce.reason  # Blender's default: a dielectric layer over the diffuse
+
+
+def test_a_principled_bsdf_is_lambertian_only_with_its_diffuse_base_alone():
+    """``shader_kinds.lambertian_albedo``: each Principled layer or lobe turned on, or a texture on the base
+    colour, refuses; with all off the base colour is the albedo."""
+    from radiometer.measure.capture import shader_kinds
+
+    matte = {"Base Color": (0.6, 0.5, 0.4, 1.0), "Specular IOR Level": 0.0}
+    rgb, why = shader_kinds.lambertian_albedo(_principled("matte", **matte))
+    assert why == "" and rgb == pytest.approx((0.6, 0.5, 0.4))
+    for name, value in (("Metallic", 1.0), ("Transmission Weight", 0.5), ("Coat Weight", 0.2),
+                        ("Sheen Weight", 0.3), ("Alpha", 0.5), ("Emission Strength", 2.0),
+                        ("Diffuse Roughness", 0.5), ("Subsurface Weight", 0.1), ("Thin Film Thickness", 300.0)):
+        rgb, why = shader_kinds.lambertian_albedo(_principled(name, **dict(matte, **{name: value})))
+        assert rgb is None and name in why, (name, why)
+    textured = _principled("textured", **matte)
+    tree = textured.node_tree
+    tex = tree.nodes.new("ShaderNodeTexChecker")
+    tree.links.new(tex.outputs["Color"], next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+                   .inputs["Base Color"])
+    rgb, why = shader_kinds.lambertian_albedo(textured)
+    assert rgb is None and "linked" in why
 
 
 def test_with_a_sky_the_step_reads_the_sun_as_emitters_and_the_parts_add_up():
