@@ -244,7 +244,7 @@ def test_annual_against_radiance_in_a_room_that_does_not_saturate(clean_blender,
                                    request=request_of.build(scene, quality="preview", samples=2))
         return
     r = annual.annual_daylight(room.POINTS, (0, 0, 1), epw_path,
-                               request=request_of.build(scene, quality="preview", samples=2, seed=1))
+                               request=request_of.build(scene, quality="preview", samples=8, seed=1))
     print("sDA", r.sda, r.sda_range, ref["sda"], "ASE", r.ase, ref["ase"])
     assert abs(r.sda - ref["sda"]) <= 0.03 and abs(r.ase - ref["ase"]) <= 0.03
     assert r.sda_range[0] - 0.03 <= ref["sda"] <= r.sda_range[1] + 0.03
