@@ -213,7 +213,9 @@ def _build_dome(scene, view_layer, patches, centre, radius):
     return names, objects
 
 
-def _file_output(scene, folder, names):
+def _file_output(scene, folder, names, weights):
+    """A compositor that writes each patch's light-group pass as one float channel, its luminance
+    (``weights`` . RGB, a Vector Math dot product): a quarter of the RGBA passes' bytes through the EXR."""
     import bpy
 
     tree = bpy.data.node_groups.new("radiometer_patch_passes", "CompositorNodeTree")
@@ -226,13 +228,18 @@ def _file_output(scene, folder, names):
     out.format.exr_codec = "ZIP"
     out.directory = folder
     out.file_name = "patches"
+    w = [float(v) for v in weights]
     for name in names:
-        out.file_output_items.new("RGBA", name)
-        tree.links.new(layers.outputs["Combined_" + name], out.inputs[name])
+        out.file_output_items.new("FLOAT", name)
+        dot = tree.nodes.new("ShaderNodeVectorMath")
+        dot.operation = "DOT_PRODUCT"
+        dot.inputs[1].default_value = w
+        tree.links.new(layers.outputs["Combined_" + name], dot.inputs[0])
+        tree.links.new(dot.outputs["Value"], out.inputs[name])
     return tree
 
 
-def _read_passes(folder, names, weights):
+def _read_passes(folder, names):
     """(P, H, W) luminance-weighted passes (top row first) from the File Output's EXR."""
     import OpenEXR
 
@@ -247,7 +254,9 @@ def _read_passes(folder, names, weights):
             if part is None:
                 raise RadiometerError(f"the render has no pass for sky patch {i}")
             ch = part.channels
-            y = sum(w * np.asarray(ch[f"{name}.{c}"].pixels, np.float64) for w, c in zip(weights, "RGB"))
+            if len(ch) != 1:
+                raise RadiometerError(f"the pass for sky patch {i} has {len(ch)} channels, not 1")
+            y = np.asarray(next(iter(ch.values())).pixels, np.float64)
             if out is None:
                 out = np.empty((len(names),) + y.shape)
             out[i] = y
@@ -485,10 +494,9 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
                 for ob in dome:  # new objects, removed with the dome
                     ob.visible_camera = False
             snapshot.remember(scene, "compositing_node_group")
-            scene.compositing_node_group = _file_output(scene, folder, names)
-            weights = request.weights
+            scene.compositing_node_group = _file_output(scene, folder, names, request.weights)
             total, cross = _rounds(request, folder, size, nrounds, "daylight coefficients",
-                                   lambda _img: np.pi * _blocks(_read_passes(folder, names, weights), n, blk, columns),
+                                   lambda _img: np.pi * _blocks(_read_passes(folder, names), n, blk, columns),
                                    compositing=True)
     finally:
         for g in added_groups:
