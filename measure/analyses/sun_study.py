@@ -65,29 +65,44 @@ def disc_directions(direction, radius_deg=SUN_RADIUS_DEG, rings=_DISC_RINGS):
 def rays_blocked(origins, directions, triangles, tol):
     """(P, R) bool: the ray from ``origins[p]`` (P, 3) along ``directions[r]`` (R, 3) meets one of
     ``triangles`` (T, 3, 3) at a distance > ``tol`` (Moller-Trumbore, edges inclusive: a ray through
-    a shared edge counts as blocked). Metres."""
-    o = np.asarray(origins, float)
-    dirs = np.asarray(directions, float)
-    tris = np.asarray(triangles, float)
+    a shared edge counts as blocked). Metres. Vectorised over blocks of points x directions x triangles
+    (the origins' terms are computed once for every direction: an annual run asks ~4400 sun directions)."""
+    o = np.asarray(origins, float).reshape(-1, 3)
+    dirs = np.asarray(directions, float).reshape(-1, 3)
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     blocked = np.zeros((len(o), len(dirs)), bool)
-    if not len(tris) or not len(o):
+    if not len(tris) or not len(o) or not len(dirs):
         return blocked
     v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
-    for r, d in enumerate(dirs):
-        pvec = np.cross(d, e2)                                  # (T, 3)
-        det = np.einsum("tk,tk->t", e1, pvec)
-        ok_t = np.abs(det) > 1e-300
-        inv = np.where(ok_t, 1.0 / np.where(ok_t, det, 1.0), 0.0)
-        for start in range(0, len(o), 256):
-            oc = o[start:start + 256]
-            tvec = oc[:, None, :] - v0[None]                     # (P, T, 3)
-            u = np.einsum("ptk,tk->pt", tvec, pvec) * inv
-            qvec = np.cross(tvec, e1[None])
-            v = np.einsum("ptk,k->pt", qvec, d) * inv
-            t = np.einsum("ptk,tk->pt", qvec, e2) * inv
-            eps = 1e-12
-            hit = ok_t & (u >= -eps) & (v >= -eps) & (u + v <= 1.0 + eps) & (t > tol)
-            blocked[start:start + 256, r] = hit.any(axis=1)
+    eps = 1e-12
+    slack = 1e-9 * (1.0 + max(np.abs(tris).max(), np.abs(o).max()))
+    cells = 2_000_000  # points x directions x triangles per block (~16 MB per float array)
+    pts_block = max(1, min(len(o), cells // len(tris)))
+    for p0 in range(0, len(o), pts_block):
+        tvec = o[p0:p0 + pts_block, None, :] - v0[None]          # (P, T, 3): direction-free
+        qvec = np.cross(tvec, e1[None])                           # (P, T, 3)
+        t_num = np.einsum("ptk,tk->pt", qvec, e2)                 # (P, T)
+        dir_block = max(1, cells // (len(tvec) * len(tris)))
+        lo = o[p0:p0 + pts_block]
+        for r0 in range(0, len(dirs), dir_block):
+            d = dirs[r0:r0 + dir_block]                           # (B, 3)
+            # only triangles with a vertex ahead of some origin along some of these directions can be hit
+            # (a margin of 1e-9 of the scene's extent keeps the edge-inclusive test's borderline hits)
+            ahead = ((tris @ d.T).max(axis=1) > (lo @ d.T).min(axis=0)[None] + tol - slack).any(axis=1)
+            k = np.flatnonzero(ahead)
+            if not k.size:
+                continue
+            pvec = np.cross(d[:, None, :], e2[None, k])           # (B, K, 3)
+            det = np.einsum("btk,tk->bt", pvec, e1[k])
+            ok = np.abs(det) > 1e-300
+            inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)[None]  # (1, B, K)
+            tv = tvec[:, k]
+            u = (tv[:, None, :, 0] * pvec[None, :, :, 0] + tv[:, None, :, 1] * pvec[None, :, :, 1]
+                 + tv[:, None, :, 2] * pvec[None, :, :, 2]) * inv
+            v = np.einsum("ptk,bk->pbt", qvec[:, k], d) * inv
+            t = t_num[:, None, k] * inv
+            hit = ok[None] & (u >= -eps) & (v >= -eps) & (u + v <= 1.0 + eps) & (t > tol)
+            blocked[p0:p0 + pts_block, r0:r0 + dir_block] = hit.any(axis=2)
     return blocked
 
 
