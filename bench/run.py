@@ -1051,6 +1051,8 @@ BENCHES["spectral_demo_eye"] = lambda: __import__("spectral_demo_eye").bench_spe
 BENCHES["annual_large"] = lambda: __import__("annual_large").bench_annual_large(QUICK)
 # Issue 31 (bench/sun_bounce_coverage.py): the sun's first bounce as emitters against the Sun light, 50 seeds.
 BENCHES["sun_bounce_coverage"] = lambda: __import__("sun_bounce_coverage").bench_section(QUICK)
+# Issue 31 (bench/annual_coverage.py): the annual dome's hourly errors over 50 seeds, the configuration before beside.
+BENCHES["annual_coverage"] = lambda: __import__("annual_coverage").run(quick=QUICK)
 
 
 # Issue 18 (bench/coverage_rare_paths_fin.py, its own process): coverage of stated errors in the fin scene
