@@ -164,13 +164,11 @@ def write_md():
     lines += ["", "The reference against Radiance's two-phase coefficients (`rcontrib -ab 8 -ad 262144 -lw 1e-6`, "
               "one run, its error not stated), mean over the skies: "
               + ", ".join(f"{name} {v:.4f}" for name, v in zip(d["meters"], d["reference_over_radiance"])) + "."]
+    text = "\n".join(lines) + "\n"
     with open(os.path.join(HERE, "annual_coverage.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+        f.write(text)
+    print(text, end="")
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] == ["md"]:
-        write_md()
-    else:
-        run(quick="--quick" in sys.argv)
+    write_md() if sys.argv[1:] == ["md"] else run(quick="--quick" in sys.argv)
