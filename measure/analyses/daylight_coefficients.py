@@ -15,8 +15,9 @@ the sky patch where it escapes. Cycles does the same with three of its own featu
   normal (Malley's method). With a one-pixel box filter the samples are uniform over the block, so
   the block's mean radiance times pi is the irradiance: E_k,p = pi mean(L_p), exactly the diffuse
   sensor's estimator, for every patch p.
-* **the compositor's File Output node** writes every light-group pass to one multilayer EXR (bpy
-  5.0 writes only Combined when a render is saved).
+* **the render saved as one multilayer EXR** holds every light-group pass (parts "<view layer>.Combined_<group>").
+  Until 2026-12-07 the compositor's File Output node wrote them: building its 146 (MF:2: 578) inputs cost
+  0.4 s (9.3 s) per render set-up, the render itself no less.
 
 DC[p, k] = pi Y_p,k (lux per cd/m^2: a patch of luminance L_v gives L_v DC lux): the patches emit
 white radiance 1 and Y weighs the pass with the scene's luminance weights, so coloured surfaces
@@ -42,7 +43,6 @@ moved by ~1 %).
 from __future__ import annotations
 
 import dataclasses
-import glob
 import math
 import os
 import shutil
@@ -61,7 +61,7 @@ EPS = 1e-6
 #: Samples per pixel, pixels per block side, rounds per quality (``render_irradiance``: the world as it is).
 PRESETS = {"preview": (8, 16, 8), "standard": (32, 24, 8), "reference": (128, 32, 8)}
 #: The same for the patch dome (``render_coefficients``): as many rays per meter, in 4x fewer pixels. Every pixel
-#: carries all 146 light-group passes to the compositor, the EXR and back, so pixels cost more than samples
+#: carries all 146 light-group passes to the EXR and back, so pixels cost more than samples
 #: there. Measured (the annual room, 200 points, preview, one run each): 16 x 16 px x 8 samples took 16.5 s for
 #: the coefficients, 8 x 8 x 32 8.8 s, with the same hourly errors (median 4.9 % / 4.8 %, 95th percentile
 #: 14.1 % / 14.0 %). A block's pixels still give its variance 64 x 7 degrees of freedom per hourly sum.
@@ -213,54 +213,26 @@ def _build_dome(scene, view_layer, patches, centre, radius):
     return names, objects
 
 
-def _file_output(scene, folder, names, weights):
-    """A compositor that writes each patch's light-group pass as one float channel, its luminance
-    (``weights`` . RGB, a Vector Math dot product): a quarter of the RGBA passes' bytes through the EXR."""
-    import bpy
-
-    tree = bpy.data.node_groups.new("radiometer_patch_passes", "CompositorNodeTree")
-    layers = tree.nodes.new("CompositorNodeRLayers")
-    layers.scene = scene
-    out = tree.nodes.new("CompositorNodeOutputFile")
-    out.format.media_type = "MULTI_LAYER_IMAGE"
-    out.format.file_format = "OPEN_EXR_MULTILAYER"
-    out.format.color_depth = "32"
-    out.format.exr_codec = "ZIP"
-    out.directory = folder
-    out.file_name = "patches"
-    w = [float(v) for v in weights]
-    for name in names:
-        out.file_output_items.new("FLOAT", name)
-        dot = tree.nodes.new("ShaderNodeVectorMath")
-        dot.operation = "DOT_PRODUCT"
-        dot.inputs[1].default_value = w
-        tree.links.new(layers.outputs["Combined_" + name], dot.inputs[0])
-        tree.links.new(dot.outputs["Value"], out.inputs[name])
-    return tree
-
-
-def _read_passes(folder, names):
-    """(P, H, W) luminance-weighted passes (top row first) from the File Output's EXR."""
+def _read_passes(path, names, weights):
+    """(P, H, W) luminance-weighted light-group passes (top row first) from the render's multilayer EXR
+    (parts "<view layer>.Combined_<group>"); the file is removed."""
     import OpenEXR
 
-    files = glob.glob(os.path.join(folder, "patches*.exr"))
-    if len(files) != 1:
-        raise RadiometerError(f"the patch passes were not written ({len(files)} files in {folder})")
+    if not os.path.isfile(path):
+        raise RadiometerError(f"the patch passes were not written ({path})")
     out = None
-    with OpenEXR.File(files[0], separate_channels=True) as f:
-        parts = {p.name(): p for p in f.parts}
+    with OpenEXR.File(path, separate_channels=True) as f:
+        parts = {p.name().rpartition(".Combined_")[2]: p for p in f.parts if ".Combined_" in p.name()}
         for i, name in enumerate(names):
             part = parts.get(name)
             if part is None:
                 raise RadiometerError(f"the render has no pass for sky patch {i}")
-            ch = part.channels
-            if len(ch) != 1:
-                raise RadiometerError(f"the pass for sky patch {i} has {len(ch)} channels, not 1")
-            y = np.asarray(next(iter(ch.values())).pixels, np.float64)
+            ch = {key.rpartition(".")[2]: value for key, value in part.channels.items()}
+            y = sum(w * np.asarray(ch[c].pixels, np.float64) for w, c in zip(weights, "RGB"))
             if out is None:
                 out = np.empty((len(names),) + y.shape)
             out[i] = y
-    os.remove(files[0])
+    os.remove(path)
     return out
 
 
@@ -276,11 +248,12 @@ def _blocks(img, n, block, columns):
 
 
 def supported(scene):
-    """Whether this Blender has what the dome needs: custom cameras and compositor node groups with a
-    File Output node that takes items (Blender 5.0; 4.5 has neither the group nor the items)."""
+    """Whether this Blender has what the dome needs: custom (OSL) cameras and a multilayer save that holds the
+    light-group passes (Blender 5.0, told by its image settings' ``media_type``; measured: 4.5's saved render
+    holds no light-group part)."""
     import bpy
 
-    return hasattr(scene, "compositing_node_group") and "CUSTOM" in \
+    return hasattr(scene.render.image_settings, "media_type") and "CUSTOM" in \
         bpy.types.Camera.bl_rna.properties["type"].enum_items.keys()
 
 
@@ -290,8 +263,9 @@ def require_dome(scene):
     sDA bounds that missed Radiance's by up to 57 points, so the dome is refused and per_patch stays an
     explicit choice (with target_rel_error, which takes the meter's sample floor)."""
     if not supported(scene):
-        raise RadiometerError("the one-render sky-patch dome needs Blender 5.0 (custom cameras and compositor "
-                              "node groups); on this Blender ask for method='per_patch' with target_rel_error "
+        raise RadiometerError("the one-render sky-patch dome needs Blender 5.0 (custom cameras, light-group passes in a "
+                              "saved render); on this Blender "
+                              "ask for method='per_patch' with target_rel_error "
                               "(one adaptive measurement per sky patch: far slower)")
 
 
@@ -334,11 +308,12 @@ def _meter_camera(request, snapshot, model, points, normals, half, *, blk, spp):
     return record, (columns * blk, rows * blk)
 
 
-def _rounds(request, folder, size, nrounds, label, read, compositing=False):
+def _rounds(request, folder, size, nrounds, label, read, multilayer=False):
     """Render ``nrounds`` times (seeds ``seed * 7919 + k``, the request's seed; ``measure.meter.camera.render_exr``);
-    ``read(image)`` -> (N, C, npix) after each; the request's cancel before and progress after each. Returns
-    the per-pixel sums over rounds and the sum over rounds and pixels of x x^T (N, C, C)."""
-    from ..meter.camera import render_exr
+    ``read(image)`` -> (N, C, npix) after each (``multilayer``: ``read(path)`` of the render's multilayer EXR,
+    ``render_multilayer_exr``); the request's cancel before and progress after each. Returns the per-pixel sums
+    over rounds and the sum over rounds and pixels of x x^T (N, C, C)."""
+    from ..meter.camera import render_exr, render_multilayer_exr
 
     scene, seed, cancelled, progress = request.scene, request.seed, request.cancelled, request.progress
     total = cross = None
@@ -346,7 +321,8 @@ def _rounds(request, folder, size, nrounds, label, read, compositing=False):
         if cancelled is not None and cancelled():
             raise MeasurementCancelled(f"{label} cancelled")
         scene.cycles.seed = int(seed) * 7919 + k
-        x = read(render_exr(scene, folder, "combined", size[0], size[1], compositing=compositing))
+        render = render_multilayer_exr if multilayer else render_exr
+        x = read(render(scene, folder, "combined", size[0], size[1]))
         total = x if total is None else total + x
         cross = np.matmul(x, np.swapaxes(x, 1, 2)) + (0.0 if cross is None else cross)  # BLAS, not einsum: 4x
         if progress is not None:
@@ -493,11 +469,10 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
             if direct is not None:
                 for ob in dome:  # new objects, removed with the dome
                     ob.visible_camera = False
-            snapshot.remember(scene, "compositing_node_group")
-            scene.compositing_node_group = _file_output(scene, folder, names, request.weights)
+            weights = request.weights
             total, cross = _rounds(request, folder, size, nrounds, "daylight coefficients",
-                                   lambda _img: np.pi * _blocks(_read_passes(folder, names), n, blk, columns),
-                                   compositing=True)
+                                   lambda path: np.pi * _blocks(_read_passes(path, names, weights), n, blk, columns),
+                                   multilayer=True)
     finally:
         for g in added_groups:
             lg = view_layer.lightgroups.get(g)

@@ -86,6 +86,16 @@ def render_exr(scene, folder, name, width, height, *, compositing=False):
     ``compositing``: write the compositor's output (``luminance_image``'s light passes) instead of the
     render layer. The one temporary render set-up of every camera reading; call it inside the caller's
     ``scene_guard.preserved_scene``, which restores the render settings it changes."""
+    return exr.read_rgb(_render_file(scene, folder, name, width, height, compositing=compositing))
+
+
+def render_multilayer_exr(scene, folder, name, width, height):
+    """As :func:`render_exr`, but every pass of the view layer (light groups included) goes into one multilayer
+    EXR, parts named "<view layer>.<pass>", channels "<part>.R" ...; returns its path (the caller reads it)."""
+    return _render_file(scene, folder, name, width, height, multilayer=True)
+
+
+def _render_file(scene, folder, name, width, height, *, compositing=False, multilayer=False):
     r = scene.render
     r.resolution_x, r.resolution_y, r.resolution_percentage = int(width), int(height), 100
     r.pixel_aspect_x = r.pixel_aspect_y = 1.0
@@ -96,16 +106,19 @@ def render_exr(scene, folder, name, width, height, *, compositing=False):
     r.use_file_extension = True
     ims = r.image_settings
     if hasattr(ims, "media_type"):
-        ims.media_type = "IMAGE"
-    ims.file_format = "OPEN_EXR"
+        ims.media_type = "MULTI_LAYER_IMAGE" if multilayer else "IMAGE"
+    ims.file_format = "OPEN_EXR_MULTILAYER" if multilayer else "OPEN_EXR"
     ims.color_depth = "32"
-    ims.color_mode = "RGBA"
+    if multilayer:
+        ims.exr_codec = "ZIP"
+    else:
+        ims.color_mode = "RGBA"
     path = os.path.join(folder, name)
     r.filepath = path
     result = bpy.ops.render.render(write_still=True, scene=scene.name)
     if result != {"FINISHED"}:
         raise RadiometerError(f"Cycles render did not finish ({result})")
-    return exr.read_rgb(path + ".exr")
+    return path + ".exr"
 
 
 #: Largest radiance-map height (px; the width is twice it): 4096 x 8192 float RGBA is 512 MB.

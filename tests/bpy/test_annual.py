@@ -151,7 +151,7 @@ def test_dome_coefficients_match_the_closed_form_and_leave_the_scene(clean_blend
 
     scene = bpy.context.scene
     if not dcm.supported(scene):
-        pytest.skip("the one-render dome needs Blender 5.0's custom camera and compositor node groups; "
+        pytest.skip("the one-render dome needs Blender 5.0's custom camera; "
                     "this Blender refuses it in one line (tested below)")
     light = build.light(scene, "POINT", (0, 0, 3), energy=100.0)
     world = bpy.data.worlds.new("user world")
