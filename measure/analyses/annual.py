@@ -219,6 +219,7 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, request, m=1, m
                                                             efficacy=request.efficacy)
     else:
         raise RadiometerError(f"unknown daylight-coefficient method {method!r}: 'dome' or 'per_patch'")
+    cov = None
     if client is not None:
         from ...cluster import run_scene_tasks
 
@@ -230,13 +231,22 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, request, m=1, m
             extra = {}
             if method == "dome" and progress is not None:  # per round inside the task
                 extra["progress"] = lambda done, total, _eta, k=k: progress(k * total + done, len(tasks) * total, None)
-            parts.append(func(scene, cancelled=cancelled, **task, **extra))
+            part = func(scene, cancelled=cancelled, **task, **extra)
+            if method == "dome":
+                # each task's covariances straight into the whole array (MF:2 x 1000 points: 2.7 GB, not twice that)
+                if cov is None:
+                    cov = np.empty((sum(len(t["locations"]) for t in tasks),) + part[2].shape[1:])
+                start = sum(len(t["locations"]) for t in tasks[:k])
+                cov[start:start + len(part[2])] = part[2]
+                part = part[:2] + (None,) + part[3:]
+            parts.append(part)
             if progress is not None:
                 progress(k + 1, len(tasks), None)
     if method == "dome":
         dc = np.concatenate([p[0] for p in parts], axis=1)
         se = np.concatenate([p[1] for p in parts], axis=1)
-        cov = np.concatenate([p[2] for p in parts], axis=0)
+        if cov is None:  # from a cluster: every task's result is here already
+            cov = np.concatenate([p[2] for p in parts], axis=0)
         notes = parts[0][3]
     else:
         dc = np.concatenate([p[0] for p in parts])
