@@ -226,7 +226,7 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, request, m=1, m
         parts = run_scene_tasks(scene, func, tasks, client=client, progress=progress, cancelled=cancelled,
                                 label="annual daylight")
     else:
-        parts = []
+        parts, start = [], 0
         for k, task in enumerate(tasks):
             extra = {}
             if method == "dome" and progress is not None:  # per round inside the task
@@ -236,8 +236,8 @@ def daylight_coefficients(locations, normals=(0.0, 0.0, 1.0), *, request, m=1, m
                 # each task's covariances straight into the whole array (MF:2 x 1000 points: 2.7 GB, not twice that)
                 if cov is None:
                     cov = np.empty((sum(len(t["locations"]) for t in tasks),) + part[2].shape[1:])
-                start = sum(len(t["locations"]) for t in tasks[:k])
                 cov[start:start + len(part[2])] = part[2]
+                start += len(part[2])
                 part = part[:2] + (None,) + part[3:]
             parts.append(part)
             if progress is not None:

@@ -316,12 +316,12 @@ def _rounds(request, folder, size, nrounds, label, read, multilayer=False):
     from ..meter.camera import render_exr, render_multilayer_exr
 
     scene, seed, cancelled, progress = request.scene, request.seed, request.cancelled, request.progress
+    render = render_multilayer_exr if multilayer else render_exr
     total = cross = None
     for k in range(nrounds):
         if cancelled is not None and cancelled():
             raise MeasurementCancelled(f"{label} cancelled")
         scene.cycles.seed = int(seed) * 7919 + k
-        render = render_multilayer_exr if multilayer else render_exr
         x = read(render(scene, folder, "combined", size[0], size[1]))
         total = x if total is None else total + x
         cross = np.matmul(x, np.swapaxes(x, 1, 2)) + (0.0 if cross is None else cross)  # BLAS, not einsum: 4x

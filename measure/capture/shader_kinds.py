@@ -141,14 +141,21 @@ def lambertian_albedo(material):
         return _principled_albedo(material, node)
     if node.bl_idname != "ShaderNodeBsdfDiffuse":
         return None, f"material {material.name!r} is not a Diffuse BSDF ({node.bl_idname})"
-    colour, rough, normal = node.inputs["Color"], node.inputs.get("Roughness"), node.inputs.get("Normal")
-    if colour.is_linked or (normal is not None and normal.is_linked):
-        return None, f"material {material.name!r}: its diffuse colour or normal is linked (a texture, a map)"
+    rough = node.inputs.get("Roughness")
     if rough is not None and (rough.is_linked or float(rough.default_value) != 0.0):
         return None, f"material {material.name!r}: diffuse roughness is not 0 (Oren-Nayar, not Lambert)"
+    return _one_colour(material, node, "Color", "diffuse colour")
+
+
+def _one_colour(material, node, colour_name, what):
+    """(RGB, "") of a BSDF node's unlinked colour ``colour_name`` within 0..1 with an unlinked normal; else
+    (None, why)."""
+    colour, normal = node.inputs[colour_name], node.inputs.get("Normal")
+    if colour.is_linked or (normal is not None and normal.is_linked):
+        return None, f"material {material.name!r}: its {what} or normal is linked (a texture, a map)"
     rgb = tuple(float(c) for c in colour.default_value[:3])
     if not all(0.0 <= c <= 1.0 for c in rgb):
-        return None, f"material {material.name!r}: diffuse colour outside 0..1"
+        return None, f"material {material.name!r}: {what} outside 0..1"
     return rgb, ""
 
 
@@ -170,10 +177,4 @@ def _principled_albedo(material, node):
             shown = "linked" if sock.is_linked else f"{float(sock.default_value):g}"
             return None, (f"material {material.name!r}: its Principled BSDF has {name} {shown} (only a Principled "
                           f"BSDF with {name} {value:g} is Lambertian)")
-    colour, normal = node.inputs["Base Color"], node.inputs.get("Normal")
-    if colour.is_linked or (normal is not None and normal.is_linked):
-        return None, f"material {material.name!r}: its base colour or normal is linked (a texture, a map)"
-    rgb = tuple(float(c) for c in colour.default_value[:3])
-    if not all(0.0 <= c <= 1.0 for c in rgb):
-        return None, f"material {material.name!r}: base colour outside 0..1"
-    return rgb, ""
+    return _one_colour(material, node, "Base Color", "base colour")
