@@ -215,23 +215,19 @@ def _build_dome(scene, view_layer, patches, centre, radius):
 
 def _read_passes(path, names, weights):
     """(P, H, W) luminance-weighted light-group passes (top row first) from the render's multilayer EXR
-    (parts "<view layer>.Combined_<group>"); the file is removed."""
-    import OpenEXR
+    (parts "<view layer>.Combined_<group>"; ``measure.blender.exr.read_parts``); the file is removed."""
+    from ..blender import exr
 
-    if not os.path.isfile(path):
-        raise RadiometerError(f"the patch passes were not written ({path})")
+    parts = exr.read_parts(path, lambda part: part.rpartition(".Combined_")[2] if ".Combined_" in part else None)
     out = None
-    with OpenEXR.File(path, separate_channels=True) as f:
-        parts = {p.name().rpartition(".Combined_")[2]: p for p in f.parts if ".Combined_" in p.name()}
-        for i, name in enumerate(names):
-            part = parts.get(name)
-            if part is None:
-                raise RadiometerError(f"the render has no pass for sky patch {i}")
-            ch = {key.rpartition(".")[2]: value for key, value in part.channels.items()}
-            y = sum(w * np.asarray(ch[c].pixels, np.float64) for w, c in zip(weights, "RGB"))
-            if out is None:
-                out = np.empty((len(names),) + y.shape)
-            out[i] = y
+    for i, name in enumerate(names):
+        ch = parts.get(name)
+        if ch is None:
+            raise RadiometerError(f"the render has no pass for sky patch {i}")
+        y = sum(w * np.asarray(ch[c], np.float64) for w, c in zip(weights, "RGB"))
+        if out is None:
+            out = np.empty((len(names),) + y.shape)
+        out[i] = y
     os.remove(path)
     return out
 

@@ -51,3 +51,46 @@ def read_rgb(path):
     if buf.has_error:
         raise RadiometerError(f"cannot read EXR {path}: {buf.geterror()}")
     return np.asarray(buf.get_pixels(oiio.FLOAT), dtype=np.float64)[..., :3]
+
+
+def read_parts(path, select):
+    """{key: {channel letter: (H, W) float32 array, top row first}} of the parts of a multi-part EXR (a
+    multilayer render: parts "<view layer>.<pass>", channels "<part>.R" ...) for which ``select(part name)``
+    returns a key (None: skipped). OpenEXR when installed, else Blender's OpenImageIO (all the extension
+    has inside Blender). Clear error for missing or corrupt files."""
+    if not os.path.isfile(path):
+        raise RadiometerError(f"render output missing: {path}")
+    out = {}
+    try:
+        import OpenEXR
+
+        with OpenEXR.File(path, separate_channels=True) as f:
+            for part in f.parts:
+                key = select(part.name())
+                if key is not None:
+                    out[key] = {name.rpartition(".")[2]: np.asarray(ch.pixels)
+                                for name, ch in part.channels.items()}
+        return out
+    except ImportError:
+        pass
+    except Exception as exc:  # OpenEXR raises RuntimeError/KeyError for broken files
+        raise RadiometerError(f"cannot read EXR {path}: {exc}") from None
+    oiio = _oiio()
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        raise RadiometerError(f"cannot read EXR {path}: {oiio.geterror()}")
+    try:
+        sub = 0
+        while inp.seek_subimage(sub, 0):
+            spec = inp.spec()
+            key = select(str(spec.getattribute("name") or ""))
+            if key is not None:
+                px = inp.read_image(oiio.FLOAT)
+                if px is None:
+                    raise RadiometerError(f"cannot read EXR {path}: {inp.geterror()}")
+                px = np.asarray(px).reshape(spec.height, spec.width, spec.nchannels)
+                out[key] = {name.rpartition(".")[2]: px[..., i] for i, name in enumerate(spec.channelnames)}
+            sub += 1
+    finally:
+        inp.close()
+    return out

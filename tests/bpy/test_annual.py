@@ -278,6 +278,24 @@ def _dome_room():
     return room, scene, points, normals
 
 
+def test_dome_passes_read_the_same_without_openexr(clean_blender, monkeypatch):
+    """Inside Blender the extension has no OpenEXR: the dome's light-group passes are read with Blender's own
+    OpenImageIO (``measure.blender.exr.read_parts``), to the same coefficients bit for bit."""
+    import sys
+
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+
+    room, scene, points, normals = _dome_room()
+    room.room.build_blender(scene, room.quads())
+    req = request_of.build(scene, quality="preview", samples=2, seed=7)
+    with_openexr = dcm.render_coefficients(points[:2], normals[:2], request=req)
+    monkeypatch.setitem(sys.modules, "OpenEXR", None)  # import OpenEXR now raises ImportError
+    without = dcm.render_coefficients(points[:2], normals[:2], request=req)
+    assert np.any(with_openexr.dc > 0)
+    np.testing.assert_array_equal(without.dc, with_openexr.dc)
+    np.testing.assert_array_equal(without.covariance, with_openexr.covariance)
+
+
 def test_dome_direct_part_through_an_open_window_is_the_closed_form(clean_blender):
     """Issue 31: with every point proven to see the world through the open window, the patches' direct light
     is ``patch_aperture``'s closed form and the dome is hidden from the first rays. In a black room the
