@@ -26,26 +26,36 @@ def _oiio():
         return OpenImageIO
 
 
+def _with_openexr(path, read):
+    """``read(OpenEXR)`` where OpenEXR is installed, else None (the caller reads with OpenImageIO); a broken file
+    is one RadiometerError."""
+    try:
+        import OpenEXR
+    except ImportError:
+        return None
+    try:
+        return read(OpenEXR)
+    except Exception as exc:  # OpenEXR raises RuntimeError/KeyError for broken files
+        raise RadiometerError(f"cannot read EXR {path}: {exc}") from None
+
+
 def read_rgb(path):
     """(H, W, 3) float64 array, top row first. Clear error for missing or corrupt files."""
     if not os.path.isfile(path):
         raise RadiometerError(f"render output missing: {path}")
-    try:
-        import OpenEXR
 
-        with OpenEXR.File(path) as f:
+    def read(openexr):
+        with openexr.File(path) as f:
             channels = f.channels()
             if "RGBA" in channels:
-                px = np.array(channels["RGBA"].pixels, dtype=np.float64)[..., :3]
-            elif "RGB" in channels:
-                px = np.array(channels["RGB"].pixels, dtype=np.float64)
-            else:
-                px = np.stack([np.array(channels[c].pixels, dtype=np.float64) for c in ("R", "G", "B")], axis=-1)
+                return np.array(channels["RGBA"].pixels, dtype=np.float64)[..., :3]
+            if "RGB" in channels:
+                return np.array(channels["RGB"].pixels, dtype=np.float64)
+            return np.stack([np.array(channels[c].pixels, dtype=np.float64) for c in ("R", "G", "B")], axis=-1)
+
+    px = _with_openexr(path, read)
+    if px is not None:
         return px
-    except ImportError:
-        pass
-    except Exception as exc:  # OpenEXR raises RuntimeError/KeyError for broken files
-        raise RadiometerError(f"cannot read EXR {path}: {exc}") from None
     oiio = _oiio()
     buf = oiio.ImageBuf(path)
     if buf.has_error:
@@ -60,21 +70,15 @@ def read_parts(path, select):
     has inside Blender). Clear error for missing or corrupt files."""
     if not os.path.isfile(path):
         raise RadiometerError(f"render output missing: {path}")
-    out = {}
-    try:
-        import OpenEXR
+    def read(openexr):
+        with openexr.File(path, separate_channels=True) as f:
+            return {key: {name.rpartition(".")[2]: np.asarray(ch.pixels) for name, ch in part.channels.items()}
+                    for part, key in ((part, select(part.name())) for part in f.parts) if key is not None}
 
-        with OpenEXR.File(path, separate_channels=True) as f:
-            for part in f.parts:
-                key = select(part.name())
-                if key is not None:
-                    out[key] = {name.rpartition(".")[2]: np.asarray(ch.pixels)
-                                for name, ch in part.channels.items()}
+    out = _with_openexr(path, read)
+    if out is not None:
         return out
-    except ImportError:
-        pass
-    except Exception as exc:  # OpenEXR raises RuntimeError/KeyError for broken files
-        raise RadiometerError(f"cannot read EXR {path}: {exc}") from None
+    out = {}
     oiio = _oiio()
     inp = oiio.ImageInput.open(path)
     if inp is None:
