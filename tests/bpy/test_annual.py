@@ -296,6 +296,37 @@ def test_dome_passes_read_the_same_without_openexr(clean_blender, monkeypatch):
     np.testing.assert_array_equal(without.covariance, with_openexr.covariance)
 
 
+def test_dome_cancelled_between_rounds_leaves_the_scene_and_no_file(clean_blender, monkeypatch):
+    """Cancelled after its second render, the dome measurement raises MeasurementCancelled; the scene (settings,
+    nested image settings, light groups, compositor) and the data-block counts are as before, and the render
+    folder with its multilayer EXRs is gone."""
+    import os
+    import tempfile
+
+    from radiometer.errors import MeasurementCancelled
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+    from radiometer.measure.blender import scene_guard
+
+    room, scene, points, normals = _dome_room()
+    room.room.build_blender(scene, room.quads())
+    scene.view_layers[0].update()
+    before = {name: len(getattr(bpy.data, name)) for name in ("objects", "meshes", "materials", "cameras", "texts",
+                                                                "node_groups", "worlds", "images")}
+    fingerprint = scene_guard.scene_fingerprint(scene)
+    folders = []
+    real_mkdtemp = tempfile.mkdtemp
+    monkeypatch.setattr(dcm.tempfile, "mkdtemp", lambda **kw: folders.append(real_mkdtemp(**kw)) or folders[-1])
+    done = []
+    req = request_of.build(scene, quality="preview", samples=1, seed=3, progress=lambda k, n, _eta: done.append(k),
+                           cancelled=lambda: len(done) >= 2)
+    with pytest.raises(MeasurementCancelled):
+        dcm.render_coefficients(points, normals, request=req)
+    assert done == [1, 2]
+    assert scene_guard.scene_fingerprint(scene) == fingerprint
+    assert {name: len(getattr(bpy.data, name)) for name in before} == before
+    assert folders and not any(os.path.exists(f) for f in folders)
+
+
 def test_dome_direct_part_through_an_open_window_is_the_closed_form(clean_blender):
     """Issue 31: with every point proven to see the world through the open window, the patches' direct light
     is ``patch_aperture``'s closed form and the dome is hidden from the first rays. In a black room the
