@@ -295,7 +295,7 @@ def _meter_camera(request, snapshot, model, points, normals, half, *, blk, spp):
     scene.collection.objects.link(cam)
     scene.camera = cam
     record = render_settings.apply(scene, samples=spp, bounces=request.preset()["bounces"], needs=model.needs,
-                                   seed=request.seed, snapshot=snapshot)
+                                   seed=request.seed, snapshot=snapshot, custom_camera=True)
     if model.needs.get("thin_panes"):  # panes read as thin glass, as the meter reads them
         from ..capture import glass
 
@@ -483,6 +483,8 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
     notes = [f"daylight coefficients of {patches.count} patches (Reinhart MF:{m}) from {nrounds} renders of a "
              f"patch dome with one light group per patch: {spp} samples x {blk}x{blk} pixels per meter per "
              f"render ({nrounds * spp * blk * blk} rays per meter), {record.get('engine', 'Cycles')}"]
+    if record.get("device_note"):
+        notes.append(record["device_note"])
     if direct is not None:
         dc = dc + direct.T
         glazed = sum(v["pane"] is not None for v in seen)

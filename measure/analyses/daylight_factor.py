@@ -331,7 +331,8 @@ def _camera_readings(request, points, dirs):
     sd = np.hypot(sd, meter.FLOAT32_FLOOR * np.abs(e))  # a rendered value: never below float32 rounding (issue 32)
     sd_rgb = np.sqrt(np.maximum(np.einsum("ncc->nc", cov), 0.0)) / scale2
     note = (f"meter camera: {record['rays_per_meter']} cosine-weighted rays per point from the point itself "
-            f"(8 rounds; stratified per-pixel error), {record.get('engine', 'Cycles')}")
+            f"(8 rounds; stratified per-pixel error), {record.get('engine', 'Cycles')}"
+            + (f"; {record['device_note']}" if record.get("device_note") else ""))
     seconds = (time.perf_counter() - started) / max(len(points), 1)
     return [IlluminanceReading(irradiance_rgb=tuple(float(v) for v in rgb), irradiance=float(v),
                                illuminance=float(efficacy * v), rel_std_error=float(s / v) if v > 0 else math.inf,

@@ -163,7 +163,7 @@ ROTATED_TABLE = 1.0 - 2.0 ** -20
 MAX_BOUNCES = 1024
 
 
-def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None):
+def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None, custom_camera=False):
     """Write measurement-grade settings; return the record of what was enabled and why.
 
     Rule: render settings (scene.cycles, scene.render, the view layers' render controls) are the
@@ -171,23 +171,25 @@ def apply(scene, *, samples, bounces, needs, seed=0, snapshot=None):
     data-blocks (objects, lights, materials, world, light linking, ray visibility, per-light
     max bounces) are the user's scene and are measured as they are. ``snapshot``: the active
     ``scene_guard.SceneSnapshot``; when given, view-layer pointer overrides are suspended too
-    (bakes do that per bake in ``sensors.run_bake``).
+    (bakes do that per bake in ``sensors.run_bake``). ``custom_camera``: the render looks through the meter
+    camera, an OSL custom camera (``measure.blender.device``: the CPU unless the user's back-end is OptiX).
     """
     writes = _Writes.current = _Writes()
     try:
         return _apply(scene, samples=samples, bounces=bounces, needs=needs, seed=seed, snapshot=snapshot,
-                      writes=writes)
+                      writes=writes, custom_camera=custom_camera)
     finally:
         _Writes.current = None
 
 
-def _apply(scene, *, samples, bounces, needs, seed, snapshot, writes):
+def _apply(scene, *, samples, bounces, needs, seed, snapshot, writes, custom_camera=False):
     cy = _Recorder(scene.cycles)
     r = _Recorder(scene.render)
     r.engine = "CYCLES"
     from ..blender.device import measurement_device
 
-    device, device_label, device_note = measurement_device(scene)  # the user's GPU where it can (issue 17)
+    # the user's GPU where it can (issue 17); a custom (OSL) camera only on the CPU or OptiX
+    device, device_label, device_note = measurement_device(scene, custom_camera)
     cy.device = device
     cy.samples = int(samples)
     # A view layer's own sample count (view_layer.samples != 0) overrides scene samples in camera

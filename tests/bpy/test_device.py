@@ -68,3 +68,54 @@ def test_gpu_readings_agree_with_cpu_readings(clean_blender, build):
     for c, g in zip(cpu, gpu):
         combined = np.hypot(c.rel_std_error * c.irradiance, g.rel_std_error * g.irradiance)
         assert abs(c.irradiance - g.irradiance) <= 4.0 * combined, (c.irradiance, g.irradiance, combined)
+
+
+def test_choice_for_the_meter_camera():
+    """The meter camera is an OSL custom camera: Cycles runs those on the CPU and OptiX only."""
+    cpu, label, note = device.choose("CUDA", ["RTX A"], False, custom_camera=True)
+    assert (cpu, label) == ("CPU", "CPU") and "custom camera" in note and "CUDA" in note
+    assert device.choose("OPTIX", ["RTX A"], False, custom_camera=True) == ("GPU", "GPU OPTIX: RTX A", None)
+    assert device.choose("NONE", [], False, custom_camera=True) == ("CPU", "CPU", None)
+
+
+class _FakeDevice:
+    def __init__(self, name, kind, use=True):
+        self.name, self.type, self.use = name, kind, use
+
+
+class _FakeCyclesPreferences:
+    """A user who ticked a CUDA card in Preferences > System (this machine may have none)."""
+    compute_device_type = "CUDA"
+
+    def get_devices_for_type(self, backend):
+        return [_FakeDevice("RTX A", "CUDA"), _FakeDevice("CPU", "CPU", use=False)]
+
+
+def test_meter_camera_renders_on_the_cpu_where_the_users_gpu_cannot_run_it(clean_blender, build, monkeypatch):
+    """With CUDA chosen in the preferences, bakes would go to the GPU, but the meter camera (an OSL custom camera)
+    renders on the CPU and its readings say why; the scene's device is the user's afterwards."""
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+    from radiometer.measure.blender import request as request_of
+
+    scene = bpy.context.scene
+    if "CUSTOM" not in bpy.types.Camera.bl_rna.properties["type"].enum_items.keys():
+        pytest.skip("this Blender has no custom cameras")
+    build.plane(scene, size=4.0, name="floor")
+    world = bpy.data.worlds.new("grey sky")
+    scene.world = world
+    from radiometer.compat import ensure_node_tree
+
+    bg = next(nd for nd in ensure_node_tree(world).nodes if nd.type == "BACKGROUND")
+    bg.inputs["Strength"].default_value = 1.0
+    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    monkeypatch.setattr(device, "_cycles_preferences", lambda: _FakeCyclesPreferences())
+    assert device.measurement_device(scene)[0] == "GPU"  # what a bake would use
+    before = scene.cycles.device
+    e_rgb, _cov, record = dcm.render_irradiance([(0.0, 0.0, 0.5)], [(0.0, 0.0, 1.0)],
+                                                request=request_of.build(scene, quality="preview", seed=1),
+                                                rounds=2)
+    assert record["device"] == "CPU" and record["engine"] == "CYCLES (CPU)"
+    assert "custom camera" in record["device_note"] and "CUDA" in record["device_note"]
+    assert scene.cycles.device == before
+    # a white sky of radiance 1 over an unobstructed up-facing point: E = pi (the camera really rendered)
+    assert abs(float(e_rgb[0, 1]) - np.pi) < 0.01 * np.pi, e_rgb
