@@ -59,8 +59,8 @@ import numpy as np
 from ..scene import visibility
 
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
-           "pane_bounded_illuminances", "polygon_plane", "aperture_clear", "apertures_clear", "coplanar_outside",
-           "find_apertures", "is_convex", "enclosure_closed", "closed_components", "enclosure_closed_part",
+           "pane_bounded_illuminances", "polygon_plane", "aperture_clear", "apertures_clear", "apertures_blockers",
+           "coplanar_outside", "find_apertures", "is_convex", "enclosure_closed", "closed_components", "enclosure_closed_part",
            "inside_enclosure", "inside_enclosures", "plane_axes", "triangle_parts", "SKIES"]
 
 #: Sky models with a closed form over a polygon: name -> (constant, z-coefficient) of L / Lz = c0 + c1 u_z.
@@ -428,14 +428,26 @@ def aperture_clear(point, vertices, triangles, tol, reach, *, sky_only=True, ign
 def apertures_clear(points, vertices, triangles, tol, reach, *, sky_only=True, ignore=None, coplanar_checked=False):
     """:func:`aperture_clear` for many points (P, 3) through one aperture: (P,) bool, True a proof for that
     point. The points' pyramids meet the scene's triangles in one batched separating-axis test."""
+    blockers = apertures_blockers(points, vertices, triangles, tol, reach, sky_only=sky_only, ignore=ignore,
+                                  coplanar_checked=coplanar_checked)
+    return np.array([b is not None and b.size == 0 for b in blockers], bool)
+
+
+def apertures_blockers(points, vertices, triangles, tol, reach, *, sky_only=True, ignore=None,
+                       coplanar_checked=False):
+    """What may stand in each point's pyramid through one aperture (the region of :func:`aperture_clear`): a
+    list over the points (P, 3) of the indices into ``triangles`` of those that meet it (conservative: one
+    within ``tol`` of it counts), or None where the point lies on the aperture (within ``tol``: no pyramid).
+    An empty array is :func:`aperture_clear`'s proof."""
     pts = np.atleast_2d(np.asarray(points, float))
     poly = np.asarray(vertices, float)
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     skip = np.zeros(len(tris), bool) if coplanar_checked else coplanar_outside(tris, poly, tol)
     if ignore is not None:
         skip |= np.asarray(ignore, bool)
-    rest = tris[~skip]
-    out = np.ones(len(pts), bool)
+    kept = np.flatnonzero(~skip)
+    rest = tris[kept]
+    out = [np.zeros(0, int) for _ in range(len(pts))]
     rmin, rmax = rest.min(axis=1), rest.max(axis=1)
     apexes, bases, pairs_point, pairs_tri = [], [], [], []
     for i, p in enumerate(pts):
@@ -446,7 +458,7 @@ def apertures_clear(points, vertices, triangles, tol, reach, *, sky_only=True, i
                 continue
         dist = np.linalg.norm(rel, axis=1)
         if np.any(dist <= tol):
-            out[i] = False
+            out[i] = None
             continue
         if not len(rest):
             continue
@@ -467,8 +479,10 @@ def apertures_clear(points, vertices, triangles, tol, reach, *, sky_only=True, i
     verts, normals, edges = visibility.pyramids(np.array([p for _i, p in apexes]), bases)
     which, tri = np.concatenate(pairs_point), np.concatenate(pairs_tri)
     meets = visibility.triangles_meet_polytopes(rest[tri], verts[which], normals[which], edges[which], tol)
-    hit = np.bincount(which[meets], minlength=len(apexes)) > 0
-    out[[i for i, _p in apexes]] &= ~hit
+    hit_point, hit_tri = which[meets], tri[meets]  # grouped by pyramid (the pairs were appended in its order)
+    ends = np.searchsorted(hit_point, np.arange(len(apexes) + 1))
+    for a, (i, _p) in enumerate(apexes):
+        out[i] = kept[hit_tri[ends[a]:ends[a + 1]]]
     return out
 
 

@@ -1,0 +1,120 @@
+"""The sky seen through an opening past obstructions, in closed form (pure numpy; issue 31).
+
+Where opaque triangles stand in the directions from a point through a convex opening (a building across
+the street, a cabinet between the point and the window), the directions that still reach the world are the
+opening minus the obstructions' silhouettes. Each direction through the opening is one point of the
+opening's plane (the ray from the point meets the plane there), so in that plane:
+
+* a triangle wholly on the opening's side of the point (every vertex farther along the opening's normal
+  than the point, by more than the tolerance) projects from the point to a triangle of the plane, its
+  silhouette: exactly the directions through the plane that it blocks (a triangle seen edge-on blocks no
+  solid angle and is skipped);
+* the opening minus each silhouette, cut edge by edge, is a union of disjoint convex polygons
+  (``unblocked_pieces``; a convex polygon minus a triangle is at most three convex pieces);
+* on each piece ``sky_aperture.aperture_illuminance`` is the closed form (Lambert and its first-moment
+  extension), and the pieces add up.
+
+The silhouettes are exact; the pieces are exact up to floating-point rounding (slivers with an area below
+``SLIVER`` of the opening's are dropped: each is below 1e-12 of the opening's solid angle there). A triangle
+that reaches the point's side of the opening's plane (it may pass over the point) is refused with a reason:
+the caller then renders that point whole. What the blocking triangles reflect (the externally reflected
+component) is not here: it is rendered. Which triangles may block: ``sky_aperture.apertures_blockers``.
+"""
+
+import numpy as np
+
+from . import sky_aperture
+
+__all__ = ["unblocked_pieces", "SLIVER"]
+
+#: Pieces with an area below this share of the opening's are dropped.
+SLIVER = 1e-12
+
+
+def _area(q):
+    """Signed area of a 2D polygon (K, 2); positive when counter-clockwise."""
+    x, y = q[:, 0], q[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _clip(q, a, b, keep_left):
+    """Convex 2D polygon ``q`` (K, 2) clipped to the left (``keep_left``) or the right of the line a -> b
+    (Sutherland-Hodgman; points on the line are kept on both sides)."""
+    d = b - a
+    side = d[0] * (q[:, 1] - a[1]) - d[1] * (q[:, 0] - a[0])
+    if not keep_left:
+        side = -side
+    if np.all(side >= 0.0):
+        return q
+    if np.all(side <= 0.0):
+        return q[:0]
+    out = []
+    for k in range(len(q)):
+        j = (k + 1) % len(q)
+        if side[k] >= 0.0:
+            out.append(q[k])
+        if (side[k] > 0.0 and side[j] < 0.0) or (side[k] < 0.0 and side[j] > 0.0):
+            out.append(q[k] + (side[k] / (side[k] - side[j])) * (q[j] - q[k]))
+    return np.asarray(out, float).reshape(-1, 2)
+
+
+def unblocked_pieces(point, vertices, blockers, tol):
+    """The part of the convex planar opening ``vertices`` (K, 3) through which ``point`` (3,) sees past the
+    triangles ``blockers`` (B, 3, 3): a list of disjoint convex polygons (M, 3) in the opening's plane whose
+    union is the opening minus the blockers' silhouettes seen from the point; or a str, why not (the point
+    lies in the opening's plane, or a blocker reaches the point's side of it). Metres throughout."""
+    p = np.asarray(point, float)
+    poly = np.asarray(vertices, float)
+    blockers = np.asarray(blockers, float).reshape(-1, 3, 3)
+    normal, offset = sky_aperture.polygon_plane(poly)
+    h = offset - float(normal @ p)
+    if abs(h) <= tol:
+        return "the point lies in the opening's plane"
+    m = normal if h > 0.0 else -normal           # from the point towards the opening
+    depth = abs(h)
+    e1, e2 = sky_aperture.plane_axes(normal)
+    origin = poly[0]
+
+    def flat(x):
+        rel = x - origin
+        return np.c_[rel @ e1, rel @ e2]
+
+    base = flat(poly)
+    if _area(base) < 0.0:
+        base = base[::-1]
+    smallest = SLIVER * abs(_area(base))
+    pieces = [base]
+    for tri in blockers:
+        along = (tri - p) @ m
+        if np.any(along <= tol):
+            return "an obstruction in the view through an opening reaches the point's side of the opening's plane"
+        sil = flat(p + (tri - p) * (depth / along)[:, None])  # central projection onto the opening's plane
+        area = _area(sil)
+        if abs(area) <= smallest:
+            continue  # seen edge-on: no solid angle
+        if area < 0.0:
+            sil = sil[::-1]
+        kept = []
+        for piece in pieces:
+            rest = piece
+            for k in range(3):
+                a, b = sil[k], sil[(k + 1) % 3]
+                outside = _clip(rest, a, b, keep_left=False)
+                if len(outside) >= 3 and _area(outside) > smallest:
+                    kept.append(outside)
+                rest = _clip(rest, a, b, keep_left=True)
+                if len(rest) < 3:
+                    break
+            # what is left of ``rest`` lies inside the silhouette: blocked
+        pieces = kept
+        if not pieces:
+            break
+    return [origin + q[:, :1] * e1 + q[:, 1:] * e2 for q in map(_without_repeats, pieces)]
+
+
+def _without_repeats(q):
+    """A clipped polygon without consecutive repeated vertices (a vertex on a cutting line comes back as an
+    intersection too)."""
+    step = np.linalg.norm(q - np.roll(q, 1, axis=0), axis=1)
+    scale = float(np.max(np.abs(q))) if len(q) else 0.0
+    return q[step > 1e-15 * max(scale, 1.0)]
