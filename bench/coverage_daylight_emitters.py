@@ -406,11 +406,22 @@ def markdown(data):
         op = data["scenes"].get("open")
         ratio = (f" ({o['auto']['s_per_call_mean'] / op['auto']['s_per_call_mean']:.0f}x the open room's "
                  f"{op['auto']['s_per_call_mean']:.2f} s)") if op else ""
-        L += ["Reading the obstruction row: the block lies in front of the window, so the openings' emitter proof "
-              "does not apply and `auto` took "
-              f"{', '.join(o['auto']['methods'])} at every point (SC and ERC not stated as fields; the notes: "
-              f"'{o['auto']['notes_seed0'][0][-1]}'), {o['auto']['s_per_call_mean']:.2f} s per call{ratio}. Its "
-              "stated errors hold against Radiance (the block's 5 faces, reflectance 0.2, in both).", ""]
+        if o["auto"].get("sc_proven_share", 0.0) > 0.0:
+            L += ["Reading the obstruction row: the block lies in front of the window, so the openings' emitter proof "
+                  "does not apply; `auto` took "
+                  f"{', '.join(o['auto']['methods'])}: the sky past the block in closed form, its silhouette clipped "
+                  "exactly (radiometry/skies/obstructed_aperture.py; SC stated at "
+                  f"{100 * o['auto']['sc_proven_share']:.0f} % of readings, 0 where the block hides all the sky), the "
+                  "rest (the block's and the room's reflections, the ground) rendered with the sky's direct emission "
+                  f"gated off; ERC not stated. {o['auto']['s_per_call_mean']:.2f} s per call{ratio}; until "
+                  "2026-12-07 `auto` rendered the whole here, 3.97 s per call in the run then. Its stated errors are "
+                  "checked against Radiance (the block's 5 faces, reflectance 0.2, in both).", ""]
+        else:
+            L += ["Reading the obstruction row: the block lies in front of the window, so the openings' emitter "
+                  "proof does not apply and `auto` took "
+                  f"{', '.join(o['auto']['methods'])} at every point (SC and ERC not stated as fields; the notes: "
+                  f"'{o['auto']['notes_seed0'][0][-1]}'), {o['auto']['s_per_call_mean']:.2f} s per call{ratio}. Its "
+                  "stated errors hold against Radiance (the block's 5 faces, reflectance 0.2, in both).", ""]
     if "roof" in data["scenes"] and "coverage_thin" in data["scenes"]["roof"]["auto"]:
         r = data["scenes"]["roof"]
         thin_over = [100 * (t / d - 1) for t, d in zip(r["radiance_thin"]["df"], r["radiance"]["df"])]

@@ -193,6 +193,14 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, request, ground_refle
     return out[0] if single else out
 
 
+def _in_the_way(sc):
+    """What a proven sky component's note says stands between the point and the sky."""
+    if not sc.clipped:
+        return "nothing outside in the way"
+    return (f"the sky past the obstructions in the view through {sc.clipped} of them, their silhouettes clipped "
+            "exactly (radiometry/skies/obstructed_aperture.py; what they reflect is rendered)")
+
+
 def _split_readings(request, points, dirs, rho, sky_info):
     """``method="auto"`` inside the caller's guard (the overcast sky set). Where the openings look out on the
     world alone (``sky_component.openings_to_world``) they become emitters of its radiance: at points
@@ -264,7 +272,8 @@ def _split_readings(request, points, dirs, rho, sky_info):
 
             def linked_note(k):
                 c = scs[k]
-                through = (f"{c.apertures} convex opening(s) in a closed opaque shell, nothing outside in the way"
+                through = (f"{c.apertures} convex opening(s) in a closed opaque shell, "
+                           + _in_the_way(c)
                            + (f"; {c.glazed} seen through a colour-neutral thin pane, its T(theta) integrated with a "
                               f"hard bound of {c.bound_lux:.3g} lx (sky_aperture.pane_bounded_illuminance)"
                               if c.glazed else ""))
@@ -301,8 +310,9 @@ def _split_readings(request, points, dirs, rho, sky_info):
     sc_lux = np.array([scs[k].sky_lux for k in take], float)
     grey = np.repeat((sc_lux / efficacy)[:, None], 3, axis=1)  # the sky is white: W/m^2 per channel
     measure_at(take, lambda k: [
-        f"sky component proven ({scs[k].apertures} convex open opening(s) in a closed opaque shell, nothing outside "
-        "in the way): the CIE overcast sky through them in closed form (radiometry/skies/sky_aperture.py), exact; "
+        f"sky component proven ({scs[k].apertures} convex open opening(s) in a closed opaque shell, "
+        f"{_in_the_way(scs[k])}): the CIE overcast sky through them in closed form (radiometry/skies/sky_aperture.py), "
+        "exact; "
         "Cycles rendered only the rest (the sky's direct emission gated off by Light Path Ray Depth, the ground seen "
         "through the openings and every reflection kept; the openings were not made emitters: "
         f"{why_gate})", gate_note], seed=seed, proven=meter.ProvenPart(grey, "sky component (closed form)"))

@@ -14,7 +14,10 @@ only when all of these are proven:
    without triangles and no participating medium: so every sky direction from the point leaves
    through an aperture or meets that opaque surface;
 3. for each aperture, nothing stands in the directions from the point through it above the point's
-   horizontal plane, out past every triangle of the scene (``aperture_clear``).
+   horizontal plane, out past every triangle of the scene (``aperture_clear``); or only opaque triangles
+   wholly on the aperture's side of the point do (a building across the street, a cabinet by the window):
+   then the sky is integrated over the aperture minus their silhouettes, exactly
+   (``radiometry.skies.obstructed_aperture``), and the ground seen through that aperture is not stated.
 
 Then SC = sum over apertures of the closed form (``aperture_illuminance``), and the world's ground
 seen directly through the apertures (its luminance rho_g E_h / pi below the sharp horizon) is stated
@@ -53,6 +56,9 @@ class SkyComponent:
     bound_lux: float = 0.0
     #: openings seen through a recognised thin pane
     glazed: int = 0
+    #: openings whose sky is seen past obstructions, their silhouettes clipped exactly
+    #: (``radiometry.skies.obstructed_aperture``)
+    clipped: int = 0
 
 
 def _scene_refusal(model):
@@ -119,6 +125,36 @@ def _clear_proofs(points_m, inner, loops, tris, tol, reach):
     return clear_at
 
 
+def _sky_past_obstructions(points_m, normals, inner, loops, tris, tol, reach, see_through, zenith_luminance):
+    """``past(i, k, wall)``: the overcast sky's direct light at point i through opening k past the opaque
+    triangles in the way, their silhouettes clipped (``obstructed_aperture.unblocked_pieces``), or the reason
+    (str) why not. What meets each point's pyramid above its horizon is found for every point of ``inner``
+    at once, the first time an opening is asked, and remembered."""
+    from ...radiometry.skies import obstructed_aperture
+
+    found = {}
+
+    def past(i, k, wall):
+        if k not in found:
+            found[k] = dict(zip(inner.tolist(), sky_aperture.apertures_blockers(
+                points_m[inner], loops[k], tris, tol, reach, sky_only=True, ignore=wall, coplanar_checked=True)))
+        blockers = found[k].get(i)
+        if blockers is None:
+            return "the point lies at an opening's edge"
+        if np.any(see_through[blockers]):
+            return "a surface may stand between the point and the sky through an opening (see-through ones among it)"
+        pieces = obstructed_aperture.unblocked_pieces(points_m[i], loops[k], tris[blockers], tol)
+        if isinstance(pieces, str):
+            return pieces
+        if not pieces:
+            return 0.0
+        e = sky_aperture.aperture_illuminance(pieces, [points_m[i]] * len(pieces), [normals[i]] * len(pieces),
+                                              zenith_luminance=zenith_luminance, ground_luminance=0.0)[0]
+        return float(np.sum(e))
+
+    return past
+
+
 def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_lux, model=None, target_rel_error=0.01):
     """One :class:`SkyComponent` per point (``points_m`` (N, 3) in metres, unit ``normals`` (N, 3)) for the
     CIE overcast sky of unobstructed horizontal illuminance ``horizontal_lux`` over a ground of
@@ -150,6 +186,7 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     insides = sky_aperture.inside_enclosures(points_m, shell, loops, tol)
     inner = np.flatnonzero([v is True for v in insides])
     clear_at = _clear_proofs(points_m, inner, loops, tris, tol, reach)
+    past = _sky_past_obstructions(points_m, normals, inner, loops, tris, tol, reach, see_through, lz)
 
     for i, (p, n) in enumerate(zip(points_m, normals)):
         inside = insides[i]
@@ -157,7 +194,7 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
             states.append(SkyComponent(None, None, "the point is not proven inside the room holding the openings"
                                        if inside is None else "the point is outside the room holding the openings", 0))
             continue
-        sky, ground, why, pending = 0.0, 0.0, "", []
+        sky, ground, why, pending, clipped = 0.0, 0.0, "", [], 0
         for k, ((poly, wall), (s_all, g_all)) in enumerate(zip(zip(loops, around), open_lux)):
             s, gr = float(s_all[i]), float(g_all[i])
 
@@ -175,12 +212,20 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
                     pending.append((len(jobs), gr > 0.0))  # its T(theta) bound: all points' together, below
                     jobs.append((i, pane, poly))
                     continue
-                sky, why = None, "a surface may stand between the point and the sky through an opening"
-                break
+                # opaque triangles in the way: the sky past their silhouettes, exactly; the ground seen through
+                # this opening is then not stated (what they reflect, and the ground around them, is rendered)
+                seen = past(i, k, wall)
+                if isinstance(seen, str):
+                    sky, why = None, seen
+                    break
+                sky, clipped = sky + seen, clipped + 1
+                if gr > 0.0:
+                    ground = None
+                continue
             sky += s
             if ground is not None and gr > 0.0:
                 ground = ground + gr if whole else None
-        states.append([sky, ground, why, 0.0, 0, pending if sky is not None else []])
+        states.append([sky, ground, why, 0.0, 0, pending if sky is not None else [], clipped])
     wanted = sorted({j for st in states if isinstance(st, list) for j, _g in st[5]})
     through = _through_panes([jobs[j] for j in wanted], points_m, normals, lz, lg, pane_tol)
     through = dict(zip(wanted, through))
@@ -189,7 +234,7 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
         if isinstance(st, SkyComponent):
             out.append(st)
             continue
-        sky, ground, why, bound, glazed, pending = st
+        sky, ground, why, bound, glazed, pending, clipped = st
         for j, ground_seen in pending:
             (e_sky, h_sky), (e_ground, h_ground) = through[j]
             sky, bound, glazed = sky + e_sky, bound + h_sky + h_ground, glazed + 1
@@ -199,7 +244,7 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
             ground = None
         elif ground is None:
             why = "a surface outside may stand in front of the world's ground seen through an opening"
-        out.append(SkyComponent(sky, ground, why, len(loops), True, bound, glazed))
+        out.append(SkyComponent(sky, ground, why, len(loops), True, bound, glazed, clipped if sky is not None else 0))
     return out
 
 

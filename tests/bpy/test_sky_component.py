@@ -44,6 +44,30 @@ def test_black_room_render_equals_the_closed_form_sky_component(clean_blender, m
         assert c.ground_lux == 0.0
 
 
+def test_black_room_behind_an_obstruction_render_equals_the_clipped_closed_form(clean_blender, monkeypatch):
+    """A black room facing a black block: the rendered daylight factor IS the sky seen past the block through
+    the window, so the closed form over the window minus the block's silhouette must lie within the render's
+    stated error (points that see sky above the block, one that sees none)."""
+    room = _room()
+    monkeypatch.setattr(room, "RHO", {"floor": 0.0, "ceiling": 0.0, "walls": 0.0})
+    monkeypatch.setattr(room, "RHO_EXTRA", {"obstruction": 0.0})
+    scene = bpy.context.scene
+    room.build_blender(scene, room.quads() + room.obstruction_quads())
+    points = [(2.0, 0.4, 0.85), (2.0, 0.75, 0.85), (1.2, 0.4, 1.6), (2.0, 2.5, 0.85)]
+    sc = _components(scene, points)
+    rs = api.daylight_factor(points, ground_reflectance=0.0, target_rel_error=0.01, seed=3, method="render")
+    for r, c in zip(rs, sc):
+        assert c.sky_lux is not None and c.clipped == 1, c.reason
+        df_sc = 100.0 * c.sky_lux / SKY_HORIZONTAL_LUX
+        if df_sc == 0.0:  # the block hides all the sky seen through the window from there: no light at all
+            assert r.daylight_factor == 0.0
+            continue
+        se = r.rel_std_error * r.daylight_factor
+        print(f"black room, block: rendered DF {r.daylight_factor:.5f} % +- {se:.5f}, clipped closed form {df_sc:.5f} %")
+        assert abs(r.daylight_factor - df_sc) <= 4.0 * se
+    assert sc[-1].sky_lux == 0.0 and all(c.sky_lux > 0.0 for c in sc[:-1])
+
+
 def test_refusals_say_why(clean_blender):
     room = _room()
     scene = bpy.context.scene
@@ -53,12 +77,21 @@ def test_refusals_say_why(clean_blender):
     assert out[1].sky_lux > 0 and out[1].ground_lux == 0.0  # the point at 0.85 m sees no ground through the window
     high = _components(scene, [(2.0, 2.5, 2.0)], ground_reflectance=0.2, normal=(0.0, -1.0, 0.0))[0]
     assert high.sky_lux > 0 and high.ground_lux > 0  # facing the window from 2 m: its lower part shows the ground
-    # an obstruction outside in front of the window: the sky component is not proven
+    # an obstruction outside in front of the window: the sky past its silhouette (issue 31), less than the open sky
+    open_lux = _components(scene, [(2.0, 1.5, 0.85)])[0].sky_lux
     me = bpy.data.meshes.new("block")
     me.from_pydata([(0.0, -3.0, 0.0), (4.0, -3.0, 0.0), (4.0, -3.0, 6.0), (0.0, -3.0, 6.0)], [], [(0, 1, 2, 3)])
     scene.collection.objects.link(bpy.data.objects.new("block", me))
     blocked = _components(scene, [(2.0, 1.5, 0.85)])[0]
-    assert blocked.sky_lux is None and "between the point and the sky" in blocked.reason
+    assert blocked.clipped == 1 and 0.0 < blocked.sky_lux < 0.8 * open_lux and blocked.ground_lux == 0.0
+    # one reaching from outside through the window back over the point: refused, not clipped
+    me = bpy.data.meshes.new("awning")
+    me.from_pydata([(1.5, -3.0, 1.0), (2.5, -3.0, 1.0), (2.5, 2.5, 1.9), (1.5, 2.5, 1.9)], [], [(0, 1, 2, 3)])
+    awning = bpy.data.objects.new("awning", me)
+    scene.collection.objects.link(awning)
+    refused = _components(scene, [(2.0, 1.5, 0.85)])[0]
+    assert refused.sky_lux is None and "reaches the point's side" in refused.reason, refused.reason
+    bpy.data.objects.remove(awning)
     # a colour-neutral pane in the opening: its T(theta) weighs the sky, with a hard bound (issue 31); the
     # open window's closed form times the pane's T at normal incidence bounds it from above, and times its
     # T at the steepest incidence the point sees from below (T falls with the angle)
