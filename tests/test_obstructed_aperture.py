@@ -87,6 +87,13 @@ CASES = {
     "box outside": (np.array([2.0, 1.0, 0.85]), np.array([0.0, 0.0, 1.0]), _box((-2.0, -6.0, 0.0), (1.8, -3.0, 4.0))),
     # a cabinet inside, between the point and the window
     "inside": (np.array([2.0, 3.0, 0.85]), np.array([0.0, -1.0, 0.0]), _box((1.6, 1.0, 0.0), (2.4, 1.5, 1.8))),
+    # an awning from outside through the window back over the point: its part in front of the point clipped
+    "awning": (np.array([2.0, 1.5, 0.85]), np.array([0.0, 0.0, 1.0]), _quad((1.5, -3.0, 1.0), (2.5, -3.0, 1.0),
+                                                                            (2.5, 2.5, 1.9), (1.5, 2.5, 1.9))),
+    # a ground plane under everything, behind the point too, seen below the horizon (the sky part: all)
+    "ground": (np.array([2.0, 2.5, 1.6]), np.array([0.0, -1.0, 0.0]), np.r_[_quad((-50, -50, 0), (50, -50, 0),
+                                                                                  (50, 50, 0), (-50, 50, 0)),
+                                                                            _box((-2.0, -6.0, 0.0), (1.8, -3.0, 4.0))]),
     # a tilted receiver and a tilted triangle
     "tilted": (np.array([1.2, 1.0, 1.2]), np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]),
                np.array([[[0.0, -2.0, 1.0], [4.0, -3.0, 2.5], [1.5, -1.5, 4.0]]])),
@@ -145,10 +152,13 @@ def test_whole_window_blocked_and_refusals():
     p, n = np.array([2.0, 1.5, 0.85]), np.array([0.0, 0.0, 1.0])
     wall = _quad((-50, -2, -1), (50, -2, -1), (50, -2, 50), (-50, -2, 50))
     assert oa.unblocked_pieces(p, WINDOW, wall, TOL) == []
-    # a triangle reaching back over the point: refused, not clipped
-    over = np.array([[[0.0, -3.0, 3.0], [4.0, -3.0, 3.0], [2.0, 4.0, 3.0]]])
-    assert "reaches the point's side" in oa.unblocked_pieces(p, WINDOW, over, TOL)
-    assert "plane" in oa.unblocked_pieces(np.array([2.0, 0.0, 1.5]), WINDOW, over, TOL)
+    # a triangle through the point itself: refused, not clipped
+    through = np.array([[[0.0, -3.0, 0.85], [4.0, -3.0, 0.85], [2.0, 4.0, 0.85]]])
+    assert "passes within" in oa.unblocked_pieces(p, WINDOW, through, TOL)
+    assert "plane" in oa.unblocked_pieces(np.array([2.0, 0.0, 1.5]), WINDOW, through, TOL)
+    # wholly behind the point: blocks nothing through the window
+    behind = np.array([[[0.0, 3.0, 0.0], [4.0, 3.0, 0.0], [2.0, 3.0, 4.0]]])
+    assert len(oa.unblocked_pieces(p, WINDOW, behind, TOL)) == 1
     # seen edge-on: blocks nothing
     edge = np.array([[[2.0, -1.0, 0.0], [2.0, -3.0, 0.0], [2.0, -2.0, 6.0]]])  # in the plane x = 2, through p
     flat = oa.unblocked_pieces(p, WINDOW, edge, TOL)

@@ -14,9 +14,9 @@ only when all of these are proven:
    without triangles and no participating medium: so every sky direction from the point leaves
    through an aperture or meets that opaque surface;
 3. for each aperture, nothing stands in the directions from the point through it above the point's
-   horizontal plane, out past every triangle of the scene (``aperture_clear``); or only opaque triangles
-   wholly on the aperture's side of the point do (a building across the street, a cabinet by the window):
-   then the sky is integrated over the aperture minus their silhouettes, exactly
+   horizontal plane, out past every triangle of the scene (``aperture_clear``); or only opaque, shadow-casting
+   triangles do (a building across the street, a cabinet by the window, an awning), none passing too near the
+   point: then the sky is integrated over the aperture minus their silhouettes, exactly
    (``radiometry.skies.obstructed_aperture``), and the ground seen through that aperture is not stated.
 
 Then SC = sum over apertures of the closed form (``aperture_illuminance``), and the world's ground

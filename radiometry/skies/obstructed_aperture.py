@@ -5,10 +5,13 @@ the street, a cabinet between the point and the window), the directions that sti
 opening minus the obstructions' silhouettes. Each direction through the opening is one point of the
 opening's plane (the ray from the point meets the plane there), so in that plane:
 
-* a triangle wholly on the opening's side of the point (every vertex farther along the opening's normal
-  than the point, by more than the tolerance) projects from the point to a triangle of the plane, its
-  silhouette: exactly the directions through the plane that it blocks (a triangle seen edge-on blocks no
-  solid angle and is skipped);
+* a triangle's part on the opening's side of the point (farther along the opening's normal than the point
+  by at least the tolerance t) projects from the point to a convex polygon of the plane, its silhouette:
+  exactly the directions through the opening that this part blocks (seen edge-on it blocks no solid angle
+  and is skipped). The rest of the triangle blocks no direction through the opening: such a direction
+  gains at least depth / D along the normal per metre (depth the point's distance to the opening's plane,
+  D its farthest vertex), so a blocking point nearer than t along the normal lies within t D / depth of
+  the point, and the triangle's plane is checked to be farther than that (else: refused);
 * the opening minus each silhouette, cut edge by edge, is a union of disjoint convex polygons
   (``unblocked_pieces``; a convex polygon minus a triangle is at most three convex pieces);
 * on each piece ``sky_aperture.aperture_illuminance`` is the closed form (Lambert and its first-moment
@@ -16,8 +19,8 @@ opening's plane (the ray from the point meets the plane there), so in that plane
 
 The silhouettes are exact; the pieces are exact up to floating-point rounding (slivers with an area below
 ``SLIVER`` of the opening's are dropped: each is below 1e-12 of the opening's solid angle there). A triangle
-that reaches the point's side of the opening's plane (it may pass over the point) is refused with a reason:
-the caller then renders that point whole. What the blocking triangles reflect (the externally reflected
+whose plane passes within t D / depth of the point is refused with a reason: the caller then renders that
+point whole. What the blocking triangles reflect (the externally reflected
 component) is not here: it is rendered. Which triangles may block: ``sky_aperture.apertures_blockers``.
 """
 
@@ -62,7 +65,7 @@ def unblocked_pieces(point, vertices, blockers, tol):
     """The part of the convex planar opening ``vertices`` (K, 3) through which ``point`` (3,) sees past the
     triangles ``blockers`` (B, 3, 3): a list of disjoint convex polygons (M, 3) in the opening's plane whose
     union is the opening minus the blockers' silhouettes seen from the point; or a str, why not (the point
-    lies in the opening's plane, or a blocker reaches the point's side of it). Metres throughout."""
+    lies in the opening's plane, or a blocker's plane passes too near it). Metres throughout."""
     p = np.asarray(point, float)
     poly = np.asarray(vertices, float)
     blockers = np.asarray(blockers, float).reshape(-1, 3, 3)
@@ -83,12 +86,24 @@ def unblocked_pieces(point, vertices, blockers, tol):
     if _area(base) < 0.0:
         base = base[::-1]
     smallest = SLIVER * abs(_area(base))
+    near = tol * float(np.max(np.linalg.norm(poly - p, axis=1))) / depth  # see the module docstring
     pieces = [base]
     for tri in blockers:
         along = (tri - p) @ m
-        if np.any(along <= tol):
-            return "an obstruction in the view through an opening reaches the point's side of the opening's plane"
-        sil = flat(p + (tri - p) * (depth / along)[:, None])  # central projection onto the opening's plane
+        if np.all(along < tol):
+            front = tri[:0]
+        else:
+            front = tri if np.all(along >= tol) else \
+                p + sky_aperture.clip_polygon(tri - p - tol * m, m) + tol * m  # its part with along >= tol
+        if np.any(along < tol):
+            tri_normal = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+            size = float(np.linalg.norm(tri_normal))
+            if size == 0.0 or abs(float((p - tri[0]) @ tri_normal)) / size <= near:
+                return ("an obstruction in the view through an opening passes within "
+                        f"{near:.3g} m of the point, behind it as seen from the opening")
+        if len(front) < 3:
+            continue  # wholly behind: it blocks no direction through the opening
+        sil = flat(p + (front - p) * (depth / ((front - p) @ m))[:, None])  # central projection onto the plane
         area = _area(sil)
         if abs(area) <= smallest:
             continue  # seen edge-on: no solid angle
@@ -97,8 +112,8 @@ def unblocked_pieces(point, vertices, blockers, tol):
         kept = []
         for piece in pieces:
             rest = piece
-            for k in range(3):
-                a, b = sil[k], sil[(k + 1) % 3]
+            for k in range(len(sil)):
+                a, b = sil[k], sil[(k + 1) % len(sil)]
                 outside = _clip(rest, a, b, keep_left=False)
                 if len(outside) >= 3 and _area(outside) > smallest:
                     kept.append(outside)

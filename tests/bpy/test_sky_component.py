@@ -84,14 +84,22 @@ def test_refusals_say_why(clean_blender):
     scene.collection.objects.link(bpy.data.objects.new("block", me))
     blocked = _components(scene, [(2.0, 1.5, 0.85)])[0]
     assert blocked.clipped == 1 and 0.0 < blocked.sky_lux < 0.8 * open_lux and blocked.ground_lux == 0.0
-    # one reaching from outside through the window back over the point: refused, not clipped
+    # one reaching from outside through the window back over the point: its part in front of the point clipped
     me = bpy.data.meshes.new("awning")
     me.from_pydata([(1.5, -3.0, 1.0), (2.5, -3.0, 1.0), (2.5, 2.5, 1.9), (1.5, 2.5, 1.9)], [], [(0, 1, 2, 3)])
     awning = bpy.data.objects.new("awning", me)
     scene.collection.objects.link(awning)
-    refused = _components(scene, [(2.0, 1.5, 0.85)])[0]
-    assert refused.sky_lux is None and "reaches the point's side" in refused.reason, refused.reason
+    under = _components(scene, [(2.0, 1.5, 0.85)])[0]
+    assert under.clipped == 1 and 0.0 <= under.sky_lux < blocked.sky_lux
     bpy.data.objects.remove(awning)
+    # a board through the point itself: refused, not clipped
+    me = bpy.data.meshes.new("board")
+    me.from_pydata([(1.8, 1.5, 0.5), (2.2, 1.5, 0.5), (2.2, 1.5, 1.5), (1.8, 1.5, 1.5)], [], [(0, 1, 2, 3)])
+    board = bpy.data.objects.new("board", me)
+    scene.collection.objects.link(board)
+    refused = _components(scene, [(2.0, 1.5, 0.85)])[0]
+    assert refused.sky_lux is None and "passes within" in refused.reason, refused.reason
+    bpy.data.objects.remove(board)
     # a colour-neutral pane in the opening: its T(theta) weighs the sky, with a hard bound (issue 31); the
     # open window's closed form times the pane's T at normal incidence bounds it from above, and times its
     # T at the steepest incidence the point sees from below (T falls with the angle)
