@@ -149,7 +149,7 @@ def test_pieces_are_disjoint_convex_and_inside_the_window():
 
 
 def test_whole_window_blocked_and_refusals():
-    p, n = np.array([2.0, 1.5, 0.85]), np.array([0.0, 0.0, 1.0])
+    p = np.array([2.0, 1.5, 0.85])
     wall = _quad((-50, -2, -1), (50, -2, -1), (50, -2, 50), (-50, -2, 50))
     assert oa.unblocked_pieces(p, WINDOW, wall, TOL) == []
     # a triangle through the point itself: refused, not clipped
