@@ -384,6 +384,22 @@ def _settings(quality, samples, block, rounds, presets=PRESETS):
 PANE_REL_TOL = 5e-3
 
 
+def _slots(pieces):
+    """Per-point lists of convex polygons as ``patch_aperture`` openings: slot j holds each point's j-th polygon,
+    ((N, K, 3) padded by repeating the last vertex, counts (N,), 0 where a point has fewer)."""
+    width = max((len(q) for ps in pieces for q in ps), default=3)
+    slots = []
+    for j in range(max((len(ps) for ps in pieces), default=0)):
+        polys, counts = np.zeros((len(pieces), width, 3)), np.zeros(len(pieces), int)
+        for i, ps in enumerate(pieces):
+            if j < len(ps):
+                q = ps[j]
+                polys[i] = np.concatenate([q, np.repeat(q[-1:], width - len(q), axis=0)])
+                counts[i] = len(q)
+        slots.append((polys, counts))
+    return slots
+
+
 def _direct_part(views, points_m, normals, patches):
     """(direct (N, P), its hard bound (N, P)) through the openings ``sky_component.openings_seen_whole`` found."""
     from ...radiometry.skies import patch_aperture
@@ -391,6 +407,9 @@ def _direct_part(views, points_m, normals, patches):
     dome = patch_aperture.dome_triangles(patches)
     direct, bound = np.zeros((len(points_m), patches.count)), np.zeros((len(points_m), patches.count))
     for view in views:
+        if view.get("pieces") is not None:  # past obstructions: each point's pieces of the opening
+            direct += patch_aperture.patch_coefficients(_slots(view["pieces"]), points_m, normals, patches, dome=dome)
+            continue
         if view["pane"] is None:
             direct += patch_aperture.patch_coefficients([view["opening"]], points_m, normals, patches, dome=dome)
             continue
@@ -488,18 +507,21 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
     if direct is not None:
         dc = dc + direct.T
         glazed = sum(v["pane"] is not None for v in seen)
+        clipped = sum(v.get("pieces") is not None for v in seen)
         if glazed:
             # the panes' T(theta) bound (hard), counted as one sigma and as fully correlated over patches (an hour's
             # sum of patches adds the bounds up)
             cov = cov + np.einsum("np,nq->npq", bound, bound)
             se = np.sqrt(np.maximum(np.einsum("npp->pn", cov), 0.0))
         notes.append(f"the patches' direct light through {len(seen)} opening(s) ({glazed} glazed with a recognised "
-                     "thin pane), proven clear from every meter (sky and ground, nothing inside or outside in the way), "
+                     "thin pane), proven from every meter (sky and ground: "
+                     + (f"only opaque obstructions in the way through {clipped} of them, the world past their "
+                        "silhouettes clipped exactly, radiometry/skies/obstructed_aperture.py" if clipped else
+                        "nothing inside or outside in the way") + "), "
                      "in closed form (radiometry/skies/patch_aperture.py: each patch's triangles of the dome clipped "
                      "to the openings, Lambert's formula" + ("; a pane's T(theta) bounded per piece, the bound counted "
                                                               "in the errors" if glazed else "") + "); the dome was "
-                     "hidden from the meters' first rays, so Cycles rendered only the light the room's surfaces "
-                     "reflect")
+                     "hidden from the meters' first rays, so Cycles rendered only the light the surfaces reflect")
     elif proven_direct:
         notes.append(f"the patches' direct light rendered with the rest ({seen})")
     return Coefficients(dc, se, cov, nrounds * spp * blk * blk, time.perf_counter() - start, notes,

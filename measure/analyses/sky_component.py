@@ -253,7 +253,9 @@ def openings_seen_whole(model, points_m):
     whole pyramid clear, below the horizontal plane too): a list over openings of dicts ``opening`` ((K, 3)
     metres), ``pane`` (None where open, else the recognised colour-neutral thin pane in it) and ``cores`` (with a
     pane: per point the part of the opening whose directions enter its near face, ((N, K, 3) padded, counts (N,)),
-    ``_pane_core``); or the reason (str) why not at some point. Daylight coefficients take the patches' direct
+    ``_pane_core``), and where opaque triangles stand in some point's view through an open opening ``pieces``:
+    per point the list of convex polygons through which it sees past them (``_pieces_past_obstructions``); or
+    the reason (str) why not at some point. Daylight coefficients take the patches' direct
     light from them in closed form (``radiometry.skies.patch_aperture``)."""
     points_m = np.atleast_2d(np.asarray(points_m, float))
     shell = _closed_shell(model, points_m)
@@ -265,11 +267,16 @@ def openings_seen_whole(model, points_m):
     if outside:
         return f"{outside} point(s) not proven inside the room holding the openings"
     clear_at = _clear_proofs(points_m, np.arange(len(points_m)), loops, tris, tol, reach)
+    see_through = ~opaque_mask(model)
     views = []
     for k, poly in enumerate(loops):
         around = sky_aperture.coplanar_outside(tris, poly, tol)
         if all(clear_at(i, k, False, around) for i in range(len(points_m))):
             views.append({"opening": poly, "pane": None, "cores": None})
+            continue
+        pieces = _pieces_past_obstructions(points_m, poly, tris, tol, reach, around, see_through)
+        if not isinstance(pieces, str):
+            views.append({"opening": poly, "pane": None, "cores": None, "pieces": pieces})
             continue
         glazings = []
         for i, p in enumerate(points_m):
@@ -290,6 +297,28 @@ def openings_seen_whole(model, points_m):
         views.append({"opening": poly, "pane": glazings[0].pane,
                       "cores": (cores, np.array([len(g.core) for g in glazings]))})
     return views
+
+
+def _pieces_past_obstructions(points_m, poly, tris, tol, reach, wall, see_through):
+    """Per point the convex pieces of opening ``poly`` through which it sees the world, sky and ground, past the
+    opaque triangles in its whole pyramid (``obstructed_aperture.unblocked_pieces``; the opening itself where
+    nothing is in the way), or the reason (str) why not at some point (a see-through triangle among them: the
+    caller's pane proof decides)."""
+    from ...radiometry.skies import obstructed_aperture
+
+    blockers = sky_aperture.apertures_blockers(points_m, poly, tris, tol, reach, sky_only=False, ignore=wall,
+                                               coplanar_checked=True)
+    out = []
+    for p, b in zip(points_m, blockers):
+        if b is None:
+            return "a point lies at an opening's edge"
+        if np.any(see_through[b]):
+            return "a see-through surface stands in a view through an opening"
+        pieces = obstructed_aperture.unblocked_pieces(p, poly, tris[b], tol)
+        if isinstance(pieces, str):
+            return pieces
+        out.append(pieces)
+    return out
 
 
 @dataclasses.dataclass
