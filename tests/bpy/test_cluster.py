@@ -100,7 +100,9 @@ def test_in_process_and_cluster_agree_and_every_worker_gets_tasks(clean_blender,
     assert np.all(np.abs(a - b) <= 3 * np.hypot(sa, sb)), (a, b)
     # The second light is twice the first: the readings say so within their errors.
     assert np.allclose(b[1] / b[0], 2.0, rtol=3 * 0.02)
-    assert len(stats["workers"]) == 2 and {t["worker"] for t in stats["tasks"]} == stats["workers"]
+    # Both workers got tasks. A worker its nanny replaced mid-run (seen once in a loaded full-suite run,
+    # 2026-12-07: 3 worker addresses, the lost task run again, the readings as above) adds an address.
+    assert len({t["worker"] for t in stats["tasks"]}) >= 2 and {t["worker"] for t in stats["tasks"]} == stats["workers"]
     assert seen[-1] == (4, 4) and [d for d, _ in seen] == [1, 2, 3, 4]
     # The scene went once to each worker: each worker opened each of the 2 files at most once.
     loads = [(t["worker"], t["index"] % 2) for t in stats["tasks"] if t["load_s"] > 0]
