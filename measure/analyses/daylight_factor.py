@@ -309,13 +309,19 @@ def _split_readings(request, points, dirs, rho, sky_info):
     request.view_layer.update()
     sc_lux = np.array([scs[k].sky_lux for k in take], float)
     grey = np.repeat((sc_lux / efficacy)[:, None], 3, axis=1)  # the sky is white: W/m^2 per channel
+    # a pane's T(theta) bound (hard) joins the reading's error, as on the emitters' path
+    sc_bound = np.repeat((np.array([scs[k].bound_lux for k in take], float) / efficacy)[:, None], 3, axis=1)
     measure_at(take, lambda k: [
-        f"sky component proven ({scs[k].apertures} convex open opening(s) in a closed opaque shell, "
-        f"{_in_the_way(scs[k])}): the CIE overcast sky through them in closed form (radiometry/skies/sky_aperture.py), "
-        "exact; "
-        "Cycles rendered only the rest (the sky's direct emission gated off by Light Path Ray Depth, the ground seen "
-        "through the openings and every reflection kept; the openings were not made emitters: "
-        f"{why_gate})", gate_note], seed=seed, proven=meter.ProvenPart(grey, "sky component (closed form)"))
+        f"sky component proven ({scs[k].apertures} convex opening(s) in a closed opaque shell, "
+        f"{_in_the_way(scs[k])}" + (f"; {scs[k].glazed} seen through a colour-neutral thin pane, its T(theta) "
+                                    f"integrated with a hard bound of {scs[k].bound_lux:.3g} lx "
+                                    "(sky_aperture.pane_bounded_illuminance)" if scs[k].glazed else "")
+        + "): the CIE overcast sky through them in closed form (radiometry/skies/sky_aperture.py), "
+        + ("bounded; " if scs[k].glazed else "exact; ")
+        + "Cycles rendered only the rest (the sky's direct emission gated off by Light Path Ray Depth, the ground "
+        "seen through the openings and every reflection kept; the openings were not made emitters: "
+        f"{why_gate})", gate_note], seed=seed, proven=meter.ProvenPart(grey, "sky component (closed form)",
+                                                                       bound_rgb=sc_bound))
     for k in take:
         sky[k] = float(scs[k].sky_lux)
     return out, sky, grd

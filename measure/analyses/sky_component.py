@@ -125,34 +125,46 @@ def _clear_proofs(points_m, inner, loops, tris, tol, reach):
     return clear_at
 
 
-def _sky_past_obstructions(points_m, normals, inner, loops, tris, tol, reach, see_through, zenith_luminance):
-    """``past(i, k, wall)``: the overcast sky's direct light at point i through opening k past the opaque
-    triangles in the way, their silhouettes clipped (``obstructed_aperture.unblocked_pieces``), or the reason
-    (str) why not. What meets each point's pyramid above its horizon is found for every point of ``inner``
-    at once, the first time an opening is asked, and remembered."""
-    from ...radiometry.skies import obstructed_aperture
+class _PastObstructions:
+    """The overcast sky's direct light at a point through an opening past the triangles in the way, their
+    silhouettes clipped (``obstructed_aperture.unblocked_pieces``). What meets each point's pyramid above its
+    horizon is found for every point of ``inner`` at once, the first time an opening is asked, and remembered."""
 
-    found = {}
+    def __init__(self, points_m, normals, inner, loops, tris, tol, reach, see_through, zenith_luminance):
+        self.points_m, self.normals, self.inner, self.loops = points_m, normals, inner, loops
+        self.tris, self.tol, self.reach, self.see_through, self.lz = tris, tol, reach, see_through, zenith_luminance
+        self._found = {}
 
-    def past(i, k, wall):
-        if k not in found:
-            found[k] = dict(zip(inner.tolist(), sky_aperture.apertures_blockers(
-                points_m[inner], loops[k], tris, tol, reach, sky_only=True, ignore=wall, coplanar_checked=True)))
-        blockers = found[k].get(i)
+    def blockers(self, i, k, wall):
+        """Indices of the triangles that meet point i's pyramid through opening k (None: no pyramid)."""
+        if k not in self._found:
+            self._found[k] = dict(zip(self.inner.tolist(), sky_aperture.apertures_blockers(
+                self.points_m[self.inner], self.loops[k], self.tris, self.tol, self.reach, sky_only=True,
+                ignore=wall, coplanar_checked=True)))
+        return self._found[k].get(i)
+
+    def see_through_among(self, i, k, wall):
+        b = self.blockers(i, k, wall)
+        return b is not None and bool(np.any(self.see_through[b]))
+
+    def sky(self, i, k, wall):
+        """lux past the opaque triangles in the way, or the reason (str) why not."""
+        from ...radiometry.skies import obstructed_aperture
+
+        blockers = self.blockers(i, k, wall)
         if blockers is None:
             return "the point lies at an opening's edge"
-        if np.any(see_through[blockers]):
+        if np.any(self.see_through[blockers]):
             return "a surface may stand between the point and the sky through an opening (see-through ones among it)"
-        pieces = obstructed_aperture.unblocked_pieces(points_m[i], loops[k], tris[blockers], tol)
+        pieces = obstructed_aperture.unblocked_pieces(self.points_m[i], self.loops[k], self.tris[blockers], self.tol)
         if isinstance(pieces, str):
             return pieces
         if not pieces:
             return 0.0
-        e = sky_aperture.aperture_illuminance(pieces, [points_m[i]] * len(pieces), [normals[i]] * len(pieces),
-                                              zenith_luminance=zenith_luminance, ground_luminance=0.0)[0]
+        p, n = self.points_m[i], self.normals[i]
+        e = sky_aperture.aperture_illuminance(pieces, [p] * len(pieces), [n] * len(pieces),
+                                              zenith_luminance=self.lz, ground_luminance=0.0)[0]
         return float(np.sum(e))
-
-    return past
 
 
 def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_lux, model=None, target_rel_error=0.01):
@@ -186,7 +198,7 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     insides = sky_aperture.inside_enclosures(points_m, shell, loops, tol)
     inner = np.flatnonzero([v is True for v in insides])
     clear_at = _clear_proofs(points_m, inner, loops, tris, tol, reach)
-    past = _sky_past_obstructions(points_m, normals, inner, loops, tris, tol, reach, see_through, lz)
+    past = _PastObstructions(points_m, normals, inner, loops, tris, tol, reach, see_through, lz)
 
     for i, (p, n) in enumerate(zip(points_m, normals)):
         inside = insides[i]
@@ -214,7 +226,19 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
                     continue
                 # opaque triangles in the way: the sky past their silhouettes, exactly; the ground seen through
                 # this opening is then not stated (what they reflect, and the ground around them, is rendered)
-                seen = past(i, k, wall)
+                if past.see_through_among(i, k, wall):  # a pane in the opening, opaque obstructions beyond it
+                    pane = _pane_in_opening(model, p, poly, tol, clear, wall, sky_only=True,
+                                            beyond=(past.blockers(i, k, wall), tris))
+                    if isinstance(pane, str):
+                        sky, why = None, pane
+                        break
+                    pending.append((len(jobs), False))
+                    jobs.append((i, pane, poly))
+                    clipped += 1
+                    if gr > 0.0:
+                        ground = None
+                    continue
+                seen = past.sky(i, k, wall)
                 if isinstance(seen, str):
                     sky, why = None, seen
                     break
@@ -331,6 +355,10 @@ class _Glazing:
     pane: object
     whole: bool  #: the whole pyramid (below the horizon too) is proven, else only its sky part
     core: np.ndarray = None
+    #: past opaque obstructions beyond the pane: the core's and the opening's convex pieces seen past their
+    #: silhouettes (``obstructed_aperture.unblocked_pieces``); None: the core and the opening whole
+    core_pieces: list = None
+    opening_pieces: list = None
 
 
 def _shrunk_hull(geom, margin):
@@ -379,10 +407,12 @@ def _pane_core(geom, point, poly, margin):
 PANE_TOL_SHARE = 0.25
 
 
-def _pane_in_opening(model, point, poly, tol, clear, wall, sky_only):
+def _pane_in_opening(model, point, poly, tol, clear, wall, sky_only, beyond=None):
     """The :class:`_Glazing` of an opening whose view from ``point`` is clear but for one recognised,
     colour-neutral thin pane whose near face the directions through it enter (``_pane_core``), or the
-    reason (str) why not."""
+    reason (str) why not. ``beyond``: (indices of the triangles in the point's view through the opening, all
+    triangles): besides the pane only opaque ones may be among them, and the glazing's pieces are what the
+    point sees past their silhouettes (sky only)."""
     g = model.geometry
     pane_of = np.asarray(g.pane_of if g.pane_of is not None else np.full(g.count, -1), int)
     p = np.asarray(point, float)
@@ -393,13 +423,40 @@ def _pane_in_opening(model, point, poly, tol, clear, wall, sky_only):
         core = _pane_core(pane.geometry, p, poly, margin)
         if core is None:
             continue
-        if not clear(True, wall | (pane_of == index)):
-            return "a surface besides the pane may stand between the point and the sky through an opening"
+        pieces = (None, None)
+        if beyond is None:
+            if not clear(True, wall | (pane_of == index)):
+                return "a surface besides the pane may stand between the point and the sky through an opening"
+        else:
+            pieces = _past_beyond_pane(model, p, poly, core, beyond, pane_of == index, tol)
+            if isinstance(pieces, str):
+                return pieces
         if len({float(v) for v in pane.tint_t}) > 1 or len({float(v) for v in pane.absorption}) > 1 \
                 or len({float(v) for v in pane.tint_r}) > 1:
             return f"the pane {pane.source or pane.name!r} in an opening is tinted (its T differs by colour: rendered)"
-        return _Glazing(pane, bool(not sky_only and clear(False, wall | (pane_of == index))), core)
+        whole = beyond is None and not sky_only and clear(False, wall | (pane_of == index))
+        return _Glazing(pane, bool(whole), core, *pieces)
     return "a see-through surface in an opening is not a recognised thin pane (rendered)"
+
+
+def _past_beyond_pane(model, point, poly, core, beyond, of_pane, tol):
+    """(core's pieces, opening's pieces) seen from ``point`` past the opaque triangles beyond the pane, or the
+    reason (str) why not (``_pane_in_opening``'s ``beyond``)."""
+    from ...radiometry.skies import obstructed_aperture
+
+    idx, tris = beyond
+    if idx is None:
+        return "the point lies at an opening's edge"
+    others = idx[~of_pane[idx]]
+    if np.any(~opaque_mask(model)[others]):
+        return "a see-through surface besides the pane stands between the point and the sky through an opening"
+    out = []
+    for polygon in (core, poly):
+        pieces = obstructed_aperture.unblocked_pieces(point, polygon, tris[others], tol)
+        if isinstance(pieces, str):
+            return pieces
+        out.append(pieces)
+    return tuple(out)
 
 
 def _through_panes(jobs, points_m, normals, lz, lg, rel_tol):
@@ -421,9 +478,15 @@ def _through_panes(jobs, points_m, normals, lz, lg, rel_tol):
         nrm = normals[[jobs[k][0] for k in ks]]
         cores = [jobs[k][1].core for k in ks]
         whole = np.array([jobs[k][1].whole for k in ks], bool)
-        sky_est, sky_half, _pieces = sky_aperture.pane_bounded_illuminances(
-            cores, pts, nrm, transmittance, pane.geometry.normal, zenith_luminance=lz, ground_luminance=0.0,
-            rel_tol=rel_tol)
+        # past obstructions beyond the pane a job's core is its pieces (each bounded on its own, the bounds added)
+        parts = [jobs[k][1].core_pieces if jobs[k][1].core_pieces is not None else [jobs[k][1].core] for k in ks]
+        owner = np.array([j for j, ps in enumerate(parts) for _q in ps], int)
+        sky_est, sky_half = np.zeros(len(ks)), np.zeros(len(ks))
+        if owner.size:
+            est, half, _pieces = sky_aperture.pane_bounded_illuminances(
+                [q for ps in parts for q in ps], pts[owner], nrm[owner], transmittance, pane.geometry.normal,
+                zenith_luminance=lz, ground_luminance=0.0, rel_tol=rel_tol)
+            sky_est, sky_half = (np.bincount(owner, v, minlength=len(ks)) for v in (est, half))
         ground_est, ground_half = np.zeros(len(ks)), np.zeros(len(ks))
         if lg != 0.0 and whole.any():
             sel = np.flatnonzero(whole)
@@ -432,15 +495,25 @@ def _through_panes(jobs, points_m, normals, lz, lg, rel_tol):
                 zenith_luminance=0.0, ground_luminance=lg, rel_tol=rel_tol)
             ground_est[sel], ground_half[sel] = e, h
         # the rim of the opening outside the core: its rays cross the pane's edge; between 0 and the open sky
-        rim = sky_aperture.aperture_illuminance([jobs[k][2] for k in ks], pts, nrm, zenith_luminance=lz,
-                                                ground_luminance=lg)
-        core = sky_aperture.aperture_illuminance(cores, pts, nrm, zenith_luminance=lz, ground_luminance=lg)
+        rim = _open_over([jobs[k][1].opening_pieces if jobs[k][1].opening_pieces is not None else [jobs[k][2]]
+                          for k in ks], pts, nrm, lz, lg)
+        core = _open_over(parts, pts, nrm, lz, lg)
         band_sky = np.maximum(rim[0] - core[0], 0.0)
         band_ground = np.where(whole & (lg != 0.0), np.maximum(rim[1] - core[1], 0.0), 0.0)
         for j, k in enumerate(ks):
             results[k] = ((float(sky_est[j] + 0.5 * band_sky[j]), float(sky_half[j] + 0.5 * band_sky[j])),
                           (float(ground_est[j] + 0.5 * band_ground[j]), float(ground_half[j] + 0.5 * band_ground[j])))
     return results
+
+
+def _open_over(polygons, pts, nrm, lz, lg):
+    """(sky (J,), ground (J,)) lux of the open closed form over each job's list of convex polygons."""
+    owner = np.array([j for j, ps in enumerate(polygons) for _q in ps], int)
+    if not owner.size:
+        return np.zeros(len(polygons)), np.zeros(len(polygons))
+    sky, ground = sky_aperture.aperture_illuminance([q for ps in polygons for q in ps], pts[owner], nrm[owner],
+                                                    zenith_luminance=lz, ground_luminance=lg)
+    return np.bincount(owner, sky, minlength=len(polygons)), np.bincount(owner, ground, minlength=len(polygons))
 
 
 # --- the openings as emitters (issue 31 item 1) -------------------------------------------------------

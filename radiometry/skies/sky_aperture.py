@@ -60,8 +60,8 @@ from ..scene import visibility
 
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
            "pane_bounded_illuminances", "polygon_plane", "aperture_clear", "apertures_clear", "apertures_blockers",
-           "coplanar_outside", "find_apertures", "is_convex", "enclosure_closed", "closed_components", "enclosure_closed_part",
-           "inside_enclosure", "inside_enclosures", "plane_axes", "triangle_parts", "SKIES"]
+           "coplanar_outside", "find_apertures", "is_convex", "enclosure_closed", "closed_components",
+           "enclosure_closed_part", "inside_enclosure", "inside_enclosures", "plane_axes", "triangle_parts", "SKIES"]
 
 #: Sky models with a closed form over a polygon: name -> (constant, z-coefficient) of L / Lz = c0 + c1 u_z.
 SKIES = {"uniform": (1.0, 0.0), "overcast": (1.0 / 3.0, 2.0 / 3.0)}

@@ -135,6 +135,24 @@ def test_obstruction_split_agrees_with_the_whole_render(clean_blender):
     assert _state(scene) == before
 
 
+def test_pane_and_obstruction_split_agrees_with_the_whole_render(clean_blender):
+    """A 6 mm pane in the window and the block outside: the sky past the block through the pane, weighted by its
+    T(theta) with a hard bound, plus the rest rendered through the gate, against the whole render."""
+    scene = bpy.context.scene
+    room.build_blender(scene, room.quads() + room.obstruction_quads())
+    room.add_pane_blender(scene)
+    before = _state(scene)
+    points = [(2.0, 0.4, 0.85), (2.0, 0.75, 0.85), (1.2, 0.4, 1.6)]
+    auto = api.daylight_factor(points, target_rel_error=0.01, seed=5)
+    whole = api.daylight_factor(points, target_rel_error=0.01, seed=6, method="render")
+    for a, w in zip(auto, whole):
+        assert a.method.startswith("hybrid") and 0.0 < a.sky_component < a.daylight_factor
+        assert any("silhouettes clipped exactly" in n and "thin pane" in n and "bounded;" in n for n in a.notes)
+        combined = math.hypot(a.rel_std_error * a.daylight_factor, w.rel_std_error * w.daylight_factor)
+        assert abs(a.daylight_factor - w.daylight_factor) <= 4.0 * combined, (a.daylight_factor, w.daylight_factor)
+    assert _state(scene) == before
+
+
 def test_grid_reports_the_sky_component(clean_blender, build):
     scene = bpy.context.scene
     room.build_blender(scene)

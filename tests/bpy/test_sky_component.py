@@ -63,9 +63,34 @@ def test_black_room_behind_an_obstruction_render_equals_the_clipped_closed_form(
             assert r.daylight_factor == 0.0
             continue
         se = r.rel_std_error * r.daylight_factor
-        print(f"black room, block: rendered DF {r.daylight_factor:.5f} % +- {se:.5f}, clipped closed form {df_sc:.5f} %")
+        print(f"black room, block: rendered DF {r.daylight_factor:.5f} % +- {se:.5f}, clipped closed form "
+              f"{df_sc:.5f} %")
         assert abs(r.daylight_factor - df_sc) <= 4.0 * se
     assert sc[-1].sky_lux == 0.0 and all(c.sky_lux > 0.0 for c in sc[:-1])
+
+
+def test_black_room_behind_a_pane_and_an_obstruction_render_equals_the_bounded_closed_form(clean_blender, monkeypatch):
+    """The same black room and block, a 6 mm pane in the window: the sky past the block's silhouette weighted by
+    the pane's T(theta), with its hard bound, against the whole render."""
+    room = _room()
+    monkeypatch.setattr(room, "RHO", {"floor": 0.0, "ceiling": 0.0, "walls": 0.0})
+    monkeypatch.setattr(room, "RHO_EXTRA", {"obstruction": 0.0})
+    scene = bpy.context.scene
+    room.build_blender(scene, room.quads() + room.obstruction_quads())
+    points = [(2.0, 0.4, 0.85), (2.0, 0.75, 0.85), (1.2, 0.4, 1.6)]
+    bare = _components(scene, points)
+    room.add_pane_blender(scene)
+    sc = _components(scene, points)
+    rs = api.daylight_factor(points, ground_reflectance=0.0, target_rel_error=0.01, seed=3, method="render")
+    for r, c, b in zip(rs, sc, bare):
+        assert c.sky_lux is not None and c.clipped == 1 and c.glazed == 1, c.reason
+        assert c.ground_lux == 0.0  # these points see no ground through the window
+        assert 0.0 < c.bound_lux < 0.02 * c.sky_lux and c.sky_lux < 0.93 * b.sky_lux  # the pane passes < 93 %
+        df_sc, df_bound = (100.0 * v / SKY_HORIZONTAL_LUX for v in (c.sky_lux, c.bound_lux))
+        se = r.rel_std_error * r.daylight_factor
+        print(f"black room, pane, block: rendered DF {r.daylight_factor:.5f} % +- {se:.5f}, closed form {df_sc:.5f} "
+              f"+- {df_bound:.5f} % (bound)")
+        assert abs(r.daylight_factor - df_sc) <= 4.0 * se + df_bound
 
 
 def test_refusals_say_why(clean_blender):
