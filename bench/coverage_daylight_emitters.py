@@ -17,11 +17,14 @@ Scenes (tests/bpy/daylight_room.py: the same quads in Blender and in Radiance):
 4. ``deep``: the side-lit room 8 m deep, points at its back, where the internally reflected light dominates;
 5. ``obstruction``: the open side-lit room facing an opaque block outside (``obstruction_quads``: 10 m wide,
    6 m tall, 1 m thick, its near face 4 m in front of the window wall, reflectance 0.2): nothing may lie in
-   front of an opening for the emitters' proof, so ``auto`` takes its other path;
+   front of an opening for the emitters' proof, so ``auto`` takes its other path (the sky past the block's
+   silhouette in closed form, the rest through the gate);
 6. ``roof``: a closed 4 x 4 m room under a mono-pitch roof tilted 30 deg (3 m high at y = 0), a 1 x 1 m
    opening in the sloped ceiling holding a solid 6 mm pane tilted with it (``roof_quads``, ``roof_pane``);
    against Radiance's ``dielectric`` box and its thin ``glass`` (every glazed scene gets both), and the
-   whole render on ``--render-seeds`` seeds.
+   whole render on ``--render-seeds`` seeds;
+7. ``pane_obstruction``: the obstruction room with the 6 mm pane in its window (the sky past the block through
+   the pane, its T(theta) bounded).
 
 Radiance: ``radiance_daylight_factor`` (rtrace -I, -aa 0 -ad 1 -as 0 -ab 32: one hemisphere ray per input
 line). A pilot process gives each point's per-sample spread; then each point runs alone in at least 4 separate
@@ -29,7 +32,8 @@ processes, enough samples in all that its s.e. is ``--ref-fraction`` (0.3) of th
 there. rtrace -u+ seeds from the clock's second, so each process starts in a later second than the last ended,
 and the processes' means are checked to differ (distinct means; their spread over their stated errors ~1).
 
-    PYTHONPATH=... python bench/coverage_daylight_emitters.py [--scenes open pane skylight deep obstruction roof]
+    PYTHONPATH=... python bench/coverage_daylight_emitters.py [--scenes open pane skylight deep obstruction roof
+        pane_obstruction]
         [--seeds 100]
         [--target 0.02] [--render-seeds 20] [--probe]
 Writes bench/coverage_daylight_emitters.{json,md} after every scene (scenes already there are kept).
@@ -87,6 +91,11 @@ def scene_specs(room):
                         False,
                         [(2.0, 0.4, 0.85), (2.0, 0.75, 0.85), (2.0, 1.5, 0.85), (2.0, 2.5, 0.85), (1.2, 0.4, 1.6)],
                         [UP] * 5),
+        # the same block with a 6 mm pane in the window: the sky past the block through the pane (T(theta) bounded)
+        "pane_obstruction": ("the obstruction room with a solid 6 mm pane (IOR 1.52) in the window",
+                             room.quads() + room.obstruction_quads(), True,
+                             [(2.0, 0.4, 0.85), (2.0, 0.75, 0.85), (2.0, 1.5, 0.85), (2.0, 2.5, 0.85),
+                              (1.2, 0.4, 1.6)], [UP] * 5),
         "roof": ("closed room 4 x 4 m under a roof tilted 30 deg (3 m at y = 0, 5.31 m at y = 4 m), a 1 x 1 m "
                  "opening in it (centre (2, 2, 4.15) m) with a solid 6 mm pane (IOR 1.52) tilted with the roof",
                  room.roof_quads(), True,
