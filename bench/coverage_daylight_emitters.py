@@ -431,6 +431,18 @@ def markdown(data):
                   f"{', '.join(o['auto']['methods'])} at every point (SC and ERC not stated as fields; the notes: "
                   f"'{o['auto']['notes_seed0'][0][-1]}'), {o['auto']['s_per_call_mean']:.2f} s per call{ratio}. Its "
                   "stated errors hold against Radiance (the block's 5 faces, reflectance 0.2, in both).", ""]
+    if "pane_obstruction" in data["scenes"] and "coverage_thin" in data["scenes"]["pane_obstruction"]["auto"]:
+        po = data["scenes"]["pane_obstruction"]
+        obs = data["scenes"].get("obstruction")
+        L += ["Reading the pane_obstruction rows: the sky past the block through the pane (each point's core of the "
+              "pane and its opening cut past the block's silhouette, the core's pieces weighted by T(theta) with a "
+              "hard bound), the rest through the gate; "
+              f"{po['auto']['s_per_call_mean']:.2f} s per call"
+              + (f" (the open obstruction room's {obs['auto']['s_per_call_mean']:.2f} s)" if obs else "")
+              + ". As in the pane rows, Radiometer reads above Radiance's `dielectric` box (z mean "
+              f"{po['auto']['coverage']['z_mean']:+.2f}) and holds against its thin `glass` (z mean "
+              f"{po['auto']['coverage_thin']['z_mean']:+.2f}, {100 * po['auto']['coverage_thin']['coverage']:.1f} % "
+              "of 95 % intervals), the model Radiometer measures with.", ""]
     if "roof" in data["scenes"] and "coverage_thin" in data["scenes"]["roof"]["auto"]:
         r = data["scenes"]["roof"]
         thin_over = [100 * (t / d - 1) for t, d in zip(r["radiance_thin"]["df"], r["radiance"]["df"])]

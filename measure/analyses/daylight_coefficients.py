@@ -414,8 +414,10 @@ def _direct_part(views, points_m, normals, patches):
             direct += patch_aperture.patch_coefficients([view["opening"]], points_m, normals, patches, dome=dome)
             continue
         pane = view["pane"]
+        past = view.get("core_pieces") is not None  # opaque obstructions beyond the pane: each point's pieces
         est, half = patch_aperture.pane_patch_coefficients(
-            view["opening"], view["cores"], points_m, normals, patches,
+            _slots(view["opening_pieces"]) if past else view["opening"],
+            _slots(view["core_pieces"]) if past else view["cores"], points_m, normals, patches,
             lambda c: pane.optics(np.asarray(c, float))[0][..., 1], pane.geometry.normal, dome=dome,
             rel_tol=PANE_REL_TOL)
         direct += est
@@ -507,7 +509,7 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
     if direct is not None:
         dc = dc + direct.T
         glazed = sum(v["pane"] is not None for v in seen)
-        clipped = sum(v.get("pieces") is not None for v in seen)
+        clipped = sum(v.get("pieces") is not None or v.get("core_pieces") is not None for v in seen)
         if glazed:
             # the panes' T(theta) bound (hard), counted as one sigma and as fully correlated over patches (an hour's
             # sum of patches adds the bounds up)

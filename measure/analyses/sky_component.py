@@ -278,8 +278,9 @@ def openings_seen_whole(model, points_m):
     metres), ``pane`` (None where open, else the recognised colour-neutral thin pane in it) and ``cores`` (with a
     pane: per point the part of the opening whose directions enter its near face, ((N, K, 3) padded, counts (N,)),
     ``_pane_core``), and where opaque triangles stand in some point's view through an open opening ``pieces``:
-    per point the list of convex polygons through which it sees past them (``_pieces_past_obstructions``); or
-    the reason (str) why not at some point. Daylight coefficients take the patches' direct
+    per point the list of convex polygons through which it sees past them (``_pieces_past_obstructions``); behind
+    a pane with opaque triangles beyond it ``core_pieces`` and ``opening_pieces``: per point the core's and the
+    opening's pieces past them; or the reason (str) why not at some point. Daylight coefficients take the patches' direct
     light from them in closed form (``radiometry.skies.patch_aperture``)."""
     points_m = np.atleast_2d(np.asarray(points_m, float))
     shell = _closed_shell(model, points_m)
@@ -303,11 +304,17 @@ def openings_seen_whole(model, points_m):
             views.append({"opening": poly, "pane": None, "cores": None, "pieces": pieces})
             continue
         glazings = []
+        beyond = None
+        if any(not clear_at(i, k, False, around | see_through) for i in range(len(points_m))):
+            # opaque triangles besides the pane in some view: each point's pieces past them (sky and ground)
+            beyond = sky_aperture.apertures_blockers(points_m, poly, tris, tol, reach, sky_only=False, ignore=around,
+                                                     coplanar_checked=True)
         for i, p in enumerate(points_m):
             def clear(sky_only, ignore, i=i, k=k):
                 return clear_at(i, k, sky_only, ignore)
 
-            glazing = _pane_in_opening(model, p, poly, tol, clear, around, sky_only=False)
+            glazing = _pane_in_opening(model, p, poly, tol, clear, around, sky_only=False,
+                                       beyond=None if beyond is None else (beyond[i], tris))
             if isinstance(glazing, str):
                 return glazing
             if not glazing.whole:
@@ -320,6 +327,9 @@ def openings_seen_whole(model, points_m):
                           for g in glazings])
         views.append({"opening": poly, "pane": glazings[0].pane,
                       "cores": (cores, np.array([len(g.core) for g in glazings]))})
+        if beyond is not None:
+            views[-1]["core_pieces"] = [g.core_pieces for g in glazings]
+            views[-1]["opening_pieces"] = [g.opening_pieces for g in glazings]
     return views
 
 
@@ -410,9 +420,9 @@ PANE_TOL_SHARE = 0.25
 def _pane_in_opening(model, point, poly, tol, clear, wall, sky_only, beyond=None):
     """The :class:`_Glazing` of an opening whose view from ``point`` is clear but for one recognised,
     colour-neutral thin pane whose near face the directions through it enter (``_pane_core``), or the
-    reason (str) why not. ``beyond``: (indices of the triangles in the point's view through the opening, all
-    triangles): besides the pane only opaque ones may be among them, and the glazing's pieces are what the
-    point sees past their silhouettes (sky only)."""
+    reason (str) why not. ``beyond``: (indices of the triangles in the point's view through the opening, above
+    its horizon where ``sky_only``, else the whole pyramid; all triangles): besides the pane only opaque ones
+    may be among them, and the glazing's pieces are what the point sees past their silhouettes."""
     g = model.geometry
     pane_of = np.asarray(g.pane_of if g.pane_of is not None else np.full(g.count, -1), int)
     p = np.asarray(point, float)
@@ -434,7 +444,8 @@ def _pane_in_opening(model, point, poly, tol, clear, wall, sky_only, beyond=None
         if len({float(v) for v in pane.tint_t}) > 1 or len({float(v) for v in pane.absorption}) > 1 \
                 or len({float(v) for v in pane.tint_r}) > 1:
             return f"the pane {pane.source or pane.name!r} in an opening is tinted (its T differs by colour: rendered)"
-        whole = beyond is None and not sky_only and clear(False, wall | (pane_of == index))
+        # with ``beyond`` the caller found the triangles in the pyramid it asks for (the whole one where not sky_only)
+        whole = not sky_only and (beyond is not None or clear(False, wall | (pane_of == index)))
         return _Glazing(pane, bool(whole), core, *pieces)
     return "a see-through surface in an opening is not a recognised thin pane (rendered)"
 

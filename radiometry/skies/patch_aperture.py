@@ -165,15 +165,30 @@ def pane_patch_coefficients(opening, cores, points, normals, patches, transmitta
     the opening whose directions enter the pane's near face inside its outline (``sky_component._pane_core``);
     on each piece T lies between its values at the piece's exact cosine extremes (``sky_aperture._cos_range``),
     pieces halved up to ``max_splits`` times until their bound is within ``rel_tol`` of their light. The rim
-    (the opening outside the core: rays that may pass beside the pane) lies between 0 and its open closed form."""
+    (the opening outside the core: rays that may pass beside the pane) lies between 0 and its open closed form.
+    Past obstructions beyond the pane (``measure.analyses.sky_component``): ``cores`` a list of such per-point
+    slots (each point's pieces of its core, counts 0 where it has fewer) and ``opening`` the list of slots of
+    each point's pieces of the opening (``patch_coefficients``' per-point form)."""
     points = np.atleast_2d(np.asarray(points, float))
     normals = np.broadcast_to(np.asarray(normals, float), points.shape)
     dome = _dome(patches, step_deg, dome)
     table = sky_aperture._transmittance_table(transmittance)
-    last = len(table) - 1
     m = np.asarray(pane_normal, float) / np.linalg.norm(pane_normal)
     est, half, core = (np.zeros((len(points), patches.count)) for _ in range(3))
-    core_polys, core_counts = np.asarray(cores[0], float), np.asarray(cores[1], int)
+    for core_polys, core_counts in (cores if isinstance(cores, list) else [cores]):
+        _bounded_core(np.asarray(core_polys, float), np.asarray(core_counts, int), points, normals, dome, table, m,
+                      chunk, rel_tol, max_splits, est, half, core)
+    whole = patch_coefficients(opening if isinstance(opening, list) else [opening], points, normals, patches,
+                               dome=dome[:2], chunk=chunk)
+    rim = np.maximum(whole - core, 0.0)
+    return est + 0.5 * rim, half + 0.5 * rim
+
+
+def _bounded_core(core_polys, core_counts, points, normals, dome, table, m, chunk, rel_tol, max_splits, est, half,
+                  core):
+    """One slot of cores (``pane_patch_coefficients``): adds its T-weighted estimate, half-width and unweighted
+    light to ``est``, ``half`` and ``core`` (N, P) in place."""
+    last = len(table) - 1
     above, above_count = _cones((core_polys, core_counts), points, normals)
     for lo in range(0, len(points), chunk):
         sl = slice(lo, lo + chunk)
@@ -199,6 +214,3 @@ def pane_patch_coefficients(opening, cores, points, normals, patches, transmitta
             halves = sky_aperture._split(pieces[wide])                            # [first halves, second halves]
             count = int(wide.sum())
             pieces = np.stack([halves[:count], halves[count:]], axis=1).reshape(-1, 3, 3)
-    whole = patch_coefficients([opening], points, normals, patches, dome=dome[:2], chunk=chunk)
-    rim = np.maximum(whole - core, 0.0)
-    return est + 0.5 * rim, half + 0.5 * rim

@@ -467,3 +467,41 @@ def test_dome_direct_part_past_an_obstruction_is_the_clipped_closed_form(clean_b
     z = np.array(z)
     print("block: hourly z mean", z.mean(), "RMS", np.sqrt(np.mean(z ** 2)), "max", np.abs(z).max())
     assert np.sqrt(np.mean(z ** 2)) < 1.5 and np.abs(z).max() < 5.0 and abs(z.mean()) < 0.5
+
+
+def test_dome_direct_part_behind_a_pane_past_an_obstruction(clean_blender):
+    """Issue 31: the black annual room with a 6 mm pane in its window and a black block outside: each meter's core
+    of the pane and its opening are cut past the block's silhouette, the core's pieces weighted by T(theta) with a
+    hard bound; nothing is rendered, and each patch agrees with the whole render within its error and the bound."""
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+
+    room, scene, points, normals = _dome_room()
+    block = room.room.obstruction_quads(gap=4.0, width=10.0, height=3.0, x_mid=room.W / 2)
+    saved, extra, window = dict(room.room.RHO), dict(room.room.RHO_EXTRA), room.room.WINDOW
+    try:
+        room.room.RHO.update({k: 0.0 for k in room.room.RHO})
+        room.room.RHO_EXTRA.update({k: 0.0 for k in room.room.RHO_EXTRA})
+        room.room.build_blender(scene, room.quads() + block)
+        room.room.WINDOW = room.WINDOW  # the pane fills the annual room's opening
+        room.room.add_pane_blender(scene)
+        req = request_of.build(scene, quality="preview", seed=2)
+        proven = dcm.render_coefficients(points, normals, request=req)
+        whole = dcm.render_coefficients(points, normals, request=req.but(seed=3), proven_direct=False)
+    finally:
+        room.room.RHO.clear()
+        room.room.RHO.update(saved)
+        room.room.RHO_EXTRA.clear()
+        room.room.RHO_EXTRA.update(extra)
+        room.room.WINDOW = window
+    assert proven.direct is not None, proven.notes
+    assert any("1 glazed" in n and "silhouettes clipped exactly" in n for n in proven.notes), proven.notes
+    np.testing.assert_array_equal(proven.dc, proven.direct)  # nothing rendered reaches the meters
+    bound = proven.std_error  # here only the pane's bound
+    seen = proven.direct.sum(axis=0)
+    assert np.all(seen[:2] > 0.0) and np.all(bound.sum(axis=0) <= 0.05 * np.maximum(seen, 1e-9) + 1e-12)
+    z = (np.abs(proven.dc - whole.dc) - bound) / np.maximum(whole.std_error, 1e-12)
+    big = proven.direct > 0.02 * proven.direct.max(axis=0, keepdims=True)
+    print("black room, pane, block: per-patch z max", np.max(z[big]))
+    assert np.max(z[big]) < 5.0 and np.sqrt(np.mean(np.clip(z[big], 0, None) ** 2)) < 1.5
+    sum_se = np.sqrt(np.einsum("npq->n", whole.covariance)) + bound.sum(axis=0)
+    assert np.all(np.abs(whole.dc.sum(axis=0) - seen) <= 4.0 * sum_se), (whole.dc.sum(axis=0), seen, sum_se)
