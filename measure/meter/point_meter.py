@@ -946,8 +946,13 @@ def measure_illuminance(location, normal, request, *, method="auto", exclude=(),
     direct = decision["direct"]
     closed = np.asarray(decision["closed_points"], bool)
     if proven is not None:
-        closed = np.zeros(n, bool)
         proven = proven.per_meter(n)
+        # Every meter is rendered (the meter's own closed forms would count the proven part again), except one
+        # sealed off from every source (radiometry/scene/sealed.py): exactly 0, when the caller's part is 0 there
+        # too (a part the caller proved non-zero behind a shell that the proof says no light crosses: rendered).
+        sealed = np.array([str(r).startswith("sealed off") for r in direct.indirect_reason], bool)
+        closed = (sealed & ~np.any(proven.rgb != 0.0, axis=1) & ~np.any(proven.bound_rgb != 0.0, axis=1)
+                  & np.asarray(decision["exact_points"], bool))
     mean_rgb, bound_rgb = np.zeros((n, 3)), np.zeros((n, 3))
     se_rgb, scalar_se, spent = np.zeros((n, 3)), np.zeros(n), np.zeros(n)
     upper = np.full(n, np.nan)  # one-sided 95 % bound (W/m^2) of a meter that found no light (issue 31)

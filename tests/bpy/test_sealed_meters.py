@@ -161,3 +161,29 @@ def test_closed_components_are_closed_surfaces_only():
     assert len(comps) == 1 and sorted(comps[0].tolist()) == list(range(12))
     inside = sky_aperture.inside_enclosures([(0.5, 0.5, 0.5), (2.0, 0.5, 0.5)], closed, [], 1e-6)
     assert inside == [True, False]
+
+
+@pytest.mark.parametrize("outside", ["open", "obstruction"])
+def test_a_closed_cupboard_in_a_daylit_room_reads_zero_in_the_daylight_factor(clean_blender, outside):
+    """The daylight factor's split path (the proven sky component plus a render of the rest, issue 31): a meter in a
+    closed box on the floor of the side-lit room reads exactly 0 with no sample spent, whether the opening is made an
+    emitter (open window) or the sky's direct emission is gated off (a block outside); one in the room does not."""
+    import importlib.util
+    import pathlib
+
+    from radiometer import api
+
+    spec = importlib.util.spec_from_file_location("daylight_room",
+                                                  pathlib.Path(__file__).with_name("daylight_room.py"))
+    room = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(room)
+    scene = bpy.context.scene
+    room.build_blender(scene, room.quads() + (room.obstruction_quads() if outside == "obstruction" else []))
+    bpy.ops.mesh.primitive_cube_add(size=0.8, location=(3.0, 2.3, 0.41))  # 1 cm above the floor, closed
+    rs = api.daylight_factor([(3.0, 2.3, 0.4), (2.0, 1.5, 0.85)], target_rel_error=0.02, seed=4)
+    boxed, open_ = rs
+    assert boxed.daylight_factor == 0.0 and boxed.exact and boxed.rel_std_error == 0.0
+    assert boxed.sky_component == 0.0
+    assert any("sealed off" in note for note in boxed.notes), boxed.notes
+    assert open_.daylight_factor > 0.5 and not open_.exact and math.isfinite(open_.rel_std_error)
+    assert open_.sky_component is not None  # the split path ran (the sky component proven there)
