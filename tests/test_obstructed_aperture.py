@@ -177,3 +177,88 @@ def test_blockers_are_what_the_pyramid_meets():
     assert found <= set(range(len(tris)))  # never the coplanar wall nor the far box
     assert found  # the box is in the way
     assert sa.apertures_clear([p], WINDOW, far, 1e-9, reach=100.0, sky_only=False)[0]
+
+
+# --- every direction past every surface: a room of separate boxes (open_directions) ----------------------------
+
+T_WALL = 0.2
+
+
+def _box_room(mullion=False):
+    """A 4 x 5 x 2.8 m room of nine boxes that touch (no single closed surface), walls T_WALL thick, a
+    window x 1..3, z 0.9..2.2 through the wall y in [-T_WALL, 0]; a mullion splits it in two."""
+    t = T_WALL
+    boxes = [((-t, -t, -t), (4 + t, 5 + t, 0)), ((-t, -t, 2.8), (4 + t, 5 + t, 2.8 + t)), ((-t, 0, 0), (0, 5, 2.8)),
+             ((4, 0, 0), (4 + t, 5, 2.8)), ((-t, 5, 0), (4 + t, 5 + t, 2.8)), ((-t, -t, 0), (1, 0, 2.8)),
+             ((3, -t, 0), (4 + t, 0, 2.8)), ((1, -t, 0), (3, 0, 0.9)), ((1, -t, 2.2), (3, 0, 2.8))]
+    if mullion:
+        boxes.append(((1.95, -t, 0.9), (2.05, 0, 2.2)))
+    return np.concatenate([_box(lo, hi) for lo, hi in boxes])
+
+
+def _through_tunnel(p, x0, x1):
+    """The directions from p (inside the room) through the opening x0..x1, z 0.9..2.2 of the thick wall: its
+    outer rectangle clipped by the planes through p and each edge of its inner rectangle (an independent
+    construction: both faces' rectangles, nothing else)."""
+    outer = np.array([[x0, -T_WALL, 0.9], [x1, -T_WALL, 0.9], [x1, -T_WALL, 2.2], [x0, -T_WALL, 2.2]])
+    inner = outer + np.array([0.0, T_WALL, 0.0])
+    poly = outer - p
+    centre = inner.mean(axis=0) - p
+    for j in range(4):
+        nrm = np.cross(inner[j] - p, inner[(j + 1) % 4] - p)
+        poly = sa.clip_polygon(poly, nrm, 1.0 if nrm @ centre >= 0.0 else -1.0)
+    return poly + p
+
+
+def _sky(p, n, pieces):
+    if not pieces:
+        return 0.0
+    return float(np.sum(sa.aperture_illuminance(pieces, [p] * len(pieces), [n] * len(pieces), zenith_luminance=1.0)[0]))
+
+
+@pytest.mark.parametrize("mullion", [False, True])
+def test_open_directions_in_a_room_of_boxes_are_the_tunnels_through_its_thick_wall(mullion):
+    """Nine boxes that touch (floor, roof, walls): from points inside, the directions meeting no triangle are
+    exactly those through the window's tunnel in the thick wall (inner and outer rectangles), whatever the
+    point's height and tilt; with a mullion, the two tunnels beside it."""
+    tris = _box_room(mullion)
+    rng = np.random.default_rng(5)
+    for _ in range(12):
+        p = np.array([rng.uniform(0.1, 3.9), rng.uniform(0.1, 4.9), rng.uniform(0.1, 2.7)])
+        n = rng.normal(size=3)
+        n = n / np.linalg.norm(n) if rng.random() < 0.5 else np.array([0.0, 0.0, 1.0])
+        pieces = oa.open_directions(p, n, tris, 1e-7)
+        assert not isinstance(pieces, str), pieces
+        tunnels = [(1.0, 1.95), (2.05, 3.0)] if mullion else [(1.0, 3.0)]
+        want = sum(_sky(p, n, [q]) for q in (_through_tunnel(p, a, b) for a, b in tunnels) if len(q) >= 3)
+        got = _sky(p, n, pieces)
+        assert abs(got - want) <= 1e-9 * max(want, 1e-3), (p, n, got, want)
+
+
+def test_open_directions_past_boxes_outside_match_sampled_directions():
+    """The room of boxes with a block outside across the window and a slab over it: the closed form over the
+    open directions against cosine-weighted sampled directions (each tested against every triangle)."""
+    tris = np.concatenate([_box_room(), _box((-3.0, -6.0, 0.0), (2.2, -4.0, 3.5)), _box((0.5, -1.2, 2.3), (3.5, -0.2, 2.4))])
+    rng = np.random.default_rng(9)
+    m = 200_000
+    for p in (np.array([2.0, 0.8, 0.85]), np.array([1.2, 2.5, 1.6])):
+        n = np.array([0.0, 0.0, 1.0])
+        pieces = oa.open_directions(p, n, tris, 1e-7)
+        assert not isinstance(pieces, str), pieces
+        u1, u2 = rng.random(m), rng.random(m)
+        r, phi = np.sqrt(u1), 2.0 * np.pi * u2
+        d = np.c_[r * np.cos(phi), r * np.sin(phi), np.sqrt(1.0 - u1)]
+        value = np.where(_blocked(p, p + d, tris), 0.0, np.pi * _overcast(d))
+        mean, se = value.mean(), value.std() / np.sqrt(m)
+        got = _sky(p, n, pieces)
+        assert 0.0 < got and abs(got - mean) <= 5.0 * se, (p, got, mean, se)
+
+
+def test_open_directions_inside_a_closed_box_and_refusal():
+    """A point inside a closed box sees no direction; a triangle whose plane passes next to the point (behind
+    it, as seen along a face) is refused, not guessed."""
+    tris = _box((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
+    assert oa.open_directions(np.array([0.5, 0.5, 0.5]), np.array([0.0, 0.0, 1.0]), tris, 1e-7) == []
+    board = _quad((0.0, -1.0, 0.0), (0.0, 1.0, 0.0), (0.0, 1.0, 2.0), (0.0, -1.0, 2.0))  # the plane x = 0
+    why = oa.open_directions(np.array([1e-9, 0.0, 0.5]), np.array([0.0, 0.0, 1.0]), board, 1e-7)
+    assert isinstance(why, str) and "passes within" in why

@@ -260,3 +260,14 @@ def test_a_furniture_piece_does_not_break_closure():
     assert len(loops) == 1
     closed, comp, _ = sa.enclosure_closed(np.r_[tris, table], loops, 1e-6)
     assert closed and comp[:len(tris)].all() and not comp[len(tris):].any()
+
+
+def test_an_aperture_wholly_behind_every_point_gives_zero():
+    """Points that face away from the aperture (a vertical meter with its back to the window, one facing up above
+    the window's head) read 0 from it, alone or together (it raised a numpy error when no point saw it)."""
+    window = np.array([[1.0, 0.0, 0.9], [3.0, 0.0, 0.9], [3.0, 0.0, 2.1], [1.0, 0.0, 2.1]])
+    for points, normals in ((np.array([[2.0, 1.5, 0.85]]), np.array([[0.0, 1.0, 0.0]])),
+                            (np.array([[2.0, 1.5, 0.85], [2.0, 1.5, 2.5]]), np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]))):
+        sky, ground = sa.aperture_illuminance(window, points, normals, zenith_luminance=1.0,
+                                                        ground_luminance=0.3)
+        assert sky.dtype == float and np.all(sky == 0.0) and np.all(ground == 0.0)

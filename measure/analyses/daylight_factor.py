@@ -201,6 +201,16 @@ def _in_the_way(sc):
             "exactly (radiometry/skies/obstructed_aperture.py; what they reflect is rendered)")
 
 
+def _where_from(sc):
+    """How a proven sky component was found, for its note (the gate path)."""
+    if sc.past_every_surface:
+        return ("no closed room holds the openings: " + sc.past_every_surface + "; so the sky over every direction "
+                "from the point that meets no surface at all, the surfaces' silhouettes clipped exactly on the faces "
+                "of a cube round the point, every one of them opaque: radiometry/skies/obstructed_aperture.py "
+                "open_directions")
+    return f"{sc.apertures} convex opening(s) in a closed opaque shell, {_in_the_way(sc)}"
+
+
 def _split_readings(request, points, dirs, rho, sky_info):
     """``method="auto"`` inside the caller's guard (the overcast sky set). Where the openings look out on the
     world alone (``sky_component.openings_to_world``) they become emitters of its radiance: at points
@@ -231,9 +241,15 @@ def _split_readings(request, points, dirs, rho, sky_info):
     full = np.array([c.sky_lux is not None and c.ground_lux is not None for c in scs]) & ~wide
     openings = sky_component.openings_to_world(model)
     emitting = np.array([c.inside for c in scs]) if openings.loops else np.zeros(len(points), bool)
-    under_sky = ~emitting & ~proven  # measured whole under the sky itself, before anything is changed
+    gated = proven & ~wide  # where the gate path (below) reads the proven part; a wide pane bound: rendered whole
+    under_sky = ~emitting & ~gated  # measured whole under the sky itself, before anything is changed
     out = [None] * len(points)
     sky, grd = [None] * len(points), [None] * len(points)
+
+    def unproven(k):
+        if scs[k].sky_lux is not None:
+            return (f"the bound on the light through a pane ({scs[k].bound_lux:.3g} lx) exceeds half the target")
+        return scs[k].reason
 
     def measure_at(idx, note, seed, **kwargs):
         if not idx.size:
@@ -244,7 +260,7 @@ def _split_readings(request, points, dirs, rho, sky_info):
             r.notes += note(k)
             out[k] = r
 
-    measure_at(np.flatnonzero(under_sky), lambda k: [f"sky component not proven ({scs[k].reason}): the daylight "
+    measure_at(np.flatnonzero(under_sky), lambda k: [f"sky component not proven ({unproven(k)}): the daylight "
                                                       "factor is measured whole"], seed=seed + 1)
     efficacy = request.efficacy
     if emitting.any():
@@ -293,7 +309,7 @@ def _split_readings(request, points, dirs, rho, sky_info):
                 if wide[k] else "the meters could not be linked out of the emitters: " + link_note)) + ")"],
                    seed=seed + 2)
         return out, sky, grd
-    take = np.flatnonzero(proven)
+    take = np.flatnonzero(gated)
     if not take.size:
         return out, sky, grd
     factor = sky_component.gate_world(scene)
@@ -312,8 +328,7 @@ def _split_readings(request, points, dirs, rho, sky_info):
     # a pane's T(theta) bound (hard) joins the reading's error, as on the emitters' path
     sc_bound = np.repeat((np.array([scs[k].bound_lux for k in take], float) / efficacy)[:, None], 3, axis=1)
     measure_at(take, lambda k: [
-        f"sky component proven ({scs[k].apertures} convex opening(s) in a closed opaque shell, "
-        f"{_in_the_way(scs[k])}" + (f"; {scs[k].glazed} seen through a colour-neutral thin pane, its T(theta) "
+        f"sky component proven ({_where_from(scs[k])}" + (f"; {scs[k].glazed} seen through a colour-neutral thin pane, its T(theta) "
                                     f"integrated with a hard bound of {scs[k].bound_lux:.3g} lx "
                                     "(sky_aperture.pane_bounded_illuminance)" if scs[k].glazed else "")
         + "): the CIE overcast sky through them in closed form (radiometry/skies/sky_aperture.py), "

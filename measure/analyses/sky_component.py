@@ -59,6 +59,9 @@ class SkyComponent:
     #: openings whose sky is seen past obstructions, their silhouettes clipped exactly
     #: (``radiometry.skies.obstructed_aperture``)
     clipped: int = 0
+    #: no closed room holds the openings (this says why): the sky was integrated over every direction from the
+    #: point that meets no surface at all (``obstructed_aperture.open_directions``); "" where the room's proof held
+    past_every_surface: str = ""
 
 
 def _scene_refusal(model):
@@ -181,10 +184,12 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
         return [SkyComponent(None, None, why, 0) for _ in range(len(points_m))]
 
     shell = _closed_shell(model, points_m)
-    if isinstance(shell, str):
-        return refuse(shell)
-    loops, shell, tris, tol, reach = shell
     lz = 9.0 * horizontal_lux / (7.0 * math.pi)            # overcast: E_h = 7 pi Lz / 9
+    if isinstance(shell, str):
+        why = _scene_refusal(model)
+        return refuse(shell) if why else _sky_past_every_surface(
+            model, points_m, normals, lz, shell, PANE_TOL_SHARE * float(target_rel_error or 0.01))
+    loops, shell, tris, tol, reach = shell
     lg = ground_reflectance * horizontal_lux / math.pi
     # The wall around each opening, coplanar with it, cannot block a direction through it: found once per
     # opening, not per point (``aperture_clear``'s ``ignore``).
@@ -272,7 +277,124 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     return out
 
 
-def openings_seen_whole(model, points_m):
+#: Opaque triangles above which ``_sky_past_every_surface`` is not tried (its cost grows with them, about
+#: 40 ms a point for a room of nine boxes): a scene whose room is not one closed shell is then rendered whole.
+PAST_EVERY_SURFACE_MAX_TRIANGLES = 5000
+
+
+def _sky_past_every_surface(model, points_m, normals, lz, no_shell, rel_tol):
+    """Where no closed room holds the openings (``no_shell`` says why; e.g. walls, floor and roof built of
+    separate boxes): per point the CIE overcast sky over every direction above the point's plane that meets no
+    triangle that stops every kind of ray (``SceneGeometry.sealing_triangles``: the meter's first ray too;
+    ``obstructed_aperture.open_directions``), exact, when every other triangle in those directions belongs to a
+    recognised colour-neutral thin pane: the directions entering a pane's near face
+    (``_pane_core``) carry its T(theta), bounded by subdivision to ``rel_tol`` (``pane_bounded_illuminances``), the
+    rest of its silhouette (its rim) lies between 0 and the open sky (half of it stated, half the bound), and the
+    directions beside it are open sky. The ground seen straight is not stated (the caller renders it)."""
+    from ...radiometry.skies import obstructed_aperture
+
+    g = model.geometry
+    opaque = g.sealing_triangles()  # they stop every kind of ray: the meter's first ray too
+    n_points = len(points_m)
+    if int(np.count_nonzero(opaque)) > PAST_EVERY_SURFACE_MAX_TRIANGLES:
+        return [SkyComponent(None, None, f"{no_shell}; the sky past every surface is not tried above "
+                                         f"{PAST_EVERY_SURFACE_MAX_TRIANGLES} opaque triangles", 0)
+                for _ in range(n_points)]
+    lo, hi = g.bounds()
+    tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, np.asarray(points_m, float).ravel()])
+    pane_of = np.asarray(g.pane_of if g.pane_of is not None else np.full(g.count, -1), int)
+    panes = {i: pane for i, pane in (model.panes or {}).items() if pane.geometry is not None and not pane.trick}
+    in_pane = ~opaque & np.isin(pane_of, list(panes))
+    tris, others = g.triangles[opaque], g.triangles[~opaque & ~in_pane]
+    pane_tris = {i: g.triangles[in_pane & (pane_of == i)] for i in panes}
+    out, jobs = [], {}  # jobs: pane index -> [(point, core polygon)]
+
+    def area(polys):
+        return sum(_area3(q) for q in polys)
+
+    for i, (p, n) in enumerate(zip(points_m, normals)):
+        pieces = obstructed_aperture.open_directions(p, n, tris, tol)
+        why = pieces if isinstance(pieces, str) else ""
+        if not why and len(others) and pieces:
+            # a see-through surface that is not a recognised pane (or casts no shadow) in any of those directions
+            kept = area(pieces)
+            rest = [obstructed_aperture.unblocked_pieces(p, q, others, tol) for q in pieces]
+            if any(isinstance(r, str) for r in rest) or kept - sum(area(r) for r in rest) > 1e-9 * kept:
+                why = ("a see-through surface that is not a recognised thin pane (or one that casts no shadow) stands "
+                       "in the point's view of the sky")
+        sky, bound, glazed = 0.0, 0.0, set()
+        free, banded = [], []  # open sky; (whole piece, its part beside the pane) of pieces a pane meets
+        for q in ([] if why else pieces):
+            met = []
+            for k, pt in pane_tris.items():
+                rest = obstructed_aperture.unblocked_pieces(p, q, pt, tol)
+                if isinstance(rest, str):
+                    why = rest
+                    break
+                if area(rest) < area([q]) * (1.0 - 1e-12):
+                    met.append((k, rest))
+            if why:
+                break
+            if not met:
+                free.append(q)
+                continue
+            if len(met) > 1:
+                why = "directions to the sky pass through two panes (rendered)"
+                break
+            k, rest = met[0]
+            pane = panes[k]
+            if len({float(v) for v in pane.tint_t}) > 1 or len({float(v) for v in pane.absorption}) > 1 \
+                    or len({float(v) for v in pane.tint_r}) > 1:
+                why = f"the pane {pane.source or pane.name!r} is tinted (its T differs by colour: rendered)"
+                break
+            margin = 2.0 * max(float(tol), float(getattr(pane.geometry, "tol", 0.0)))
+            core = _pane_core(pane.geometry, p, q, margin)
+            banded.append((q, rest, core))
+            free += rest
+            glazed.add(k)
+            if core is not None:
+                jobs.setdefault(k, []).append((i, core))
+        if why:
+            out.append(SkyComponent(None, None, f"{no_shell}; past every surface: {why}", 0))
+            continue
+        if free:
+            sky = float(np.sum(sky_aperture.aperture_illuminance(free, [p] * len(free), [n] * len(free),
+                                                                 zenith_luminance=lz, ground_luminance=0.0)[0]))
+        for q, rest, core in banded:  # the rim: the pane's silhouette outside its core, between 0 and the open sky
+            whole = [q] + ([core] if core is not None else [])
+            e = sky_aperture.aperture_illuminance(whole, [p] * len(whole), [n] * len(whole), zenith_luminance=lz,
+                                                  ground_luminance=0.0)[0]
+            beside = float(np.sum(sky_aperture.aperture_illuminance(rest, [p] * len(rest), [n] * len(rest),
+                                                                    zenith_luminance=lz, ground_luminance=0.0)[0])) \
+                if rest else 0.0
+            band = max(float(e[0]) - beside - (float(e[1]) if core is not None else 0.0), 0.0)
+            sky, bound = sky + 0.5 * band, bound + 0.5 * band
+        out.append(SkyComponent(sky, None, "the world's ground seen straight is not stated past every surface", 0,
+                                False, bound, len(glazed), past_every_surface=no_shell))
+    for k, items in jobs.items():  # each pane's cores, every point at once: T(theta) by bounding subdivision
+        pane = panes[k]
+
+        def transmittance(c, pane=pane):
+            return pane.optics(np.asarray(c, float))[0][..., 1]  # colour-neutral: every channel alike
+
+        idx = [i for i, _core in items]
+        est, half, _pieces = sky_aperture.pane_bounded_illuminances(
+            [core for _i, core in items], points_m[idx], normals[idx], transmittance, pane.geometry.normal,
+            zenith_luminance=lz, ground_luminance=0.0, rel_tol=rel_tol)
+        for i, e, h in zip(idx, est, half):
+            if out[i].sky_lux is not None:
+                out[i].sky_lux += float(e)
+                out[i].bound_lux += float(h)
+    return out
+
+
+def _area3(poly):
+    """Area (m^2) of a planar polygon (K, 3)."""
+    q = np.asarray(poly, float)
+    return 0.5 * float(np.linalg.norm(np.sum(np.cross(q, np.roll(q, -1, axis=0)), axis=0)))
+
+
+def openings_seen_whole(model, points_m, normals=None):
     """How every point sees the world through the convex openings, sky and ground (conditions 1-3 above with the
     whole pyramid clear, below the horizontal plane too): a list over openings of dicts ``opening`` ((K, 3)
     metres), ``pane`` (None where open, else the recognised colour-neutral thin pane in it) and ``cores`` (with a
@@ -281,11 +403,14 @@ def openings_seen_whole(model, points_m):
     per point the list of convex polygons through which it sees past them (``_pieces_past_obstructions``); behind
     a pane with opaque triangles beyond it ``core_pieces`` and ``opening_pieces``: per point the core's and the
     opening's pieces past them; or the reason (str) why not at some point. Daylight coefficients take the patches' direct
-    light from them in closed form (``radiometry.skies.patch_aperture``)."""
+    light from them in closed form (``radiometry.skies.patch_aperture``). Where no closed room holds the
+    openings (a room of separate boxes), with ``normals`` (N, 3): one view of ``pieces`` per point, every direction
+    above its plane that meets no surface (``obstructed_aperture.open_directions`` past the triangles that stop
+    every kind of ray), when no other surface stands in any of them; else the reason."""
     points_m = np.atleast_2d(np.asarray(points_m, float))
     shell = _closed_shell(model, points_m)
     if isinstance(shell, str):
-        return shell
+        return shell if normals is None or _scene_refusal(model) else _open_views(model, points_m, normals, shell)
     loops, shell, tris, tol, reach = shell
     inside = sky_aperture.inside_enclosures(points_m, shell, loops, tol)
     outside = sum(v is not True for v in inside)
@@ -331,6 +456,33 @@ def openings_seen_whole(model, points_m):
             views[-1]["core_pieces"] = [g.core_pieces for g in glazings]
             views[-1]["opening_pieces"] = [g.opening_pieces for g in glazings]
     return views
+
+
+def _open_views(model, points_m, normals, no_shell):
+    """``openings_seen_whole`` where no closed room holds the openings: [{"opening": None, "pane": None, "cores":
+    None, "pieces": per point its open directions}] or the reason (str) why not at some point."""
+    from ...radiometry.skies import obstructed_aperture
+
+    g = model.geometry
+    opaque = g.sealing_triangles()  # they stop every kind of ray: the meter's first ray too
+    if int(np.count_nonzero(opaque)) > PAST_EVERY_SURFACE_MAX_TRIANGLES:
+        return f"{no_shell}; the directions past every surface are not tried above {PAST_EVERY_SURFACE_MAX_TRIANGLES} " \
+               "opaque triangles"
+    lo, hi = g.bounds()
+    tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, points_m.ravel()])
+    tris, others = g.triangles[opaque], g.triangles[~opaque]
+    pieces = []
+    for p, n in zip(points_m, np.broadcast_to(np.asarray(normals, float), points_m.shape)):
+        found = obstructed_aperture.open_directions(p, n, tris, tol)
+        if isinstance(found, str):
+            return f"{no_shell}; past every surface: {found}"
+        if len(others) and found:
+            kept = sum(_area3(q) for q in found)
+            rest = [obstructed_aperture.unblocked_pieces(p, q, others, tol) for q in found]
+            if any(isinstance(r, str) for r in rest) or kept - sum(_area3(x) for r in rest for x in r) > 1e-9 * kept:
+                return f"{no_shell}; a see-through surface (a pane) stands in a point's view of the world"
+        pieces.append(found)
+    return [{"opening": None, "pane": None, "cores": None, "pieces": pieces}]
 
 
 def _pieces_past_obstructions(points_m, poly, tris, tol, reach, wall, see_through):

@@ -22,13 +22,21 @@ The silhouettes are exact; the pieces are exact up to floating-point rounding (s
 whose plane passes within t D / depth of the point is refused with a reason: the caller then renders that
 point whole. What the blocking triangles reflect (the externally reflected
 component) is not here: it is rendered. Which triangles may block: ``sky_aperture.apertures_blockers``.
+
+Where no closed room holds the openings (walls, floor and roof built of separate boxes that touch or overlap:
+no single closed surface), ``open_directions`` finds every direction from a point above its plane that meets
+no triangle at all: the six faces of a cube round the point, each clipped to the point's side of its plane, are
+openings of their own, and each minus every triangle's silhouette is a set of convex pieces. A direction above
+the point's plane cannot meet a triangle whose vertices all lie on or below that plane, so those are left out
+exactly; the rest are culled per face by the face's pyramid (a triangle wholly outside one of its four side
+planes meets none of its directions).
 """
 
 import numpy as np
 
 from . import sky_aperture
 
-__all__ = ["unblocked_pieces", "SLIVER"]
+__all__ = ["unblocked_pieces", "open_directions", "SLIVER"]
 
 #: Pieces with an area below this share of the opening's are dropped.
 SLIVER = 1e-12
@@ -110,7 +118,11 @@ def unblocked_pieces(point, vertices, blockers, tol):
         if area < 0.0:
             sil = sil[::-1]
         kept = []
+        lo, hi = sil.min(axis=0), sil.max(axis=0)
         for piece in pieces:
+            if np.any(piece.max(axis=0) < lo) or np.any(piece.min(axis=0) > hi):
+                kept.append(piece)  # their boxes are apart: the silhouette cuts nothing of this piece
+                continue
             rest = piece
             for k in range(len(sil)):
                 a, b = sil[k], sil[(k + 1) % len(sil)]
@@ -133,3 +145,57 @@ def _without_repeats(q):
     step = np.linalg.norm(q - np.roll(q, 1, axis=0), axis=1)
     scale = float(np.max(np.abs(q))) if len(q) else 0.0
     return q[step > 1e-15 * max(scale, 1.0)]
+
+
+def _solid_angles(rel):
+    """Solid angles (T,) sr of triangles ``rel`` (T, 3, 3) seen from the origin (Van Oosterom and Strackee)."""
+    a, b, c = rel[:, 0], rel[:, 1], rel[:, 2]
+    la, lb, lc = (np.linalg.norm(x, axis=1) for x in (a, b, c))
+    num = np.abs(np.einsum("tk,tk->t", a, np.cross(b, c)))
+    den = la * lb * lc + np.einsum("tk,tk->t", a, b) * lc + np.einsum("tk,tk->t", a, c) * lb \
+        + np.einsum("tk,tk->t", b, c) * la
+    return 2.0 * np.arctan2(num, den)
+
+
+def _face_squares(point, d):
+    """The six faces of the cube of half-side ``d`` round ``point``: (axis (3,), square (4, 3), side axes (2, 3))."""
+    p = np.asarray(point, float)
+    out = []
+    for k in range(3):
+        for sign in (1.0, -1.0):
+            a = np.zeros(3)
+            a[k] = sign
+            u, v = np.zeros(3), np.zeros(3)
+            u[(k + 1) % 3], v[(k + 2) % 3] = 1.0, 1.0
+            c = p + d * a
+            sq = np.array([c - d * u - d * v, c + d * u - d * v, c + d * u + d * v, c - d * u + d * v])
+            out.append((a, sq, (u, v)))
+    return out
+
+
+def open_directions(point, normal, triangles, tol):
+    """The directions from ``point`` (3,) above its plane (``normal`` (3,), unit) that meet none of
+    ``triangles`` (T, 3, 3): a list of disjoint convex polygons (M, 3) on the faces of a cube round the point
+    (each direction is one point of them), or a str, why not (``unblocked_pieces`` refused: a triangle's
+    plane passes too near the point). Metres throughout; see the module docstring."""
+    p = np.asarray(point, float)
+    n = np.asarray(normal, float)
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    rel = tris - p
+    tris, rel = tris[np.max(rel @ n, axis=1) > 0.0], rel[np.max(rel @ n, axis=1) > 0.0]
+    d = max(1.0, 1e3 * tol)  # the cube's size changes nothing but the pieces' scale
+    pieces = []
+    for axis, square, (u, v) in _face_squares(p, d):
+        face = p + sky_aperture.clip_polygon(square - p, n)
+        if len(face) < 3:
+            continue
+        along = rel @ axis                                      # (T, 3)
+        inside = np.max(along, axis=1) > 0.0                    # some part in front of the face's plane
+        for side in (u, -u, v, -v):  # wholly beyond a side plane of the face's pyramid: meets none of its directions
+            inside &= ~np.all(rel @ side > along, axis=1)
+        # the largest solid angles first: the pieces are used up sooner (the order changes nothing else)
+        found = unblocked_pieces(p, face, tris[inside][np.argsort(-_solid_angles(rel[inside]))], tol)
+        if isinstance(found, str):
+            return found
+        pieces += found
+    return pieces

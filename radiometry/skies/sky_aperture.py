@@ -223,8 +223,9 @@ def aperture_illuminance(vertices, points, normals, *, zenith_luminance=1.0, gro
     tris, owner, is_sky = _pieces_of(polys, p, n)
     w_sky = _weights(tris, owner, is_sky, n, zenith_luminance, 0.0, sky)
     w_ground = _weights(tris, owner, is_sky, n, 0.0, ground_luminance, sky)
-    e_sky = np.bincount(owner, w_sky, minlength=len(p))
-    e_ground = np.bincount(owner, w_ground, minlength=len(p))
+    # float even where no point sees its aperture (numpy's bincount of no weights is an int array)
+    e_sky = np.bincount(owner, w_sky, minlength=len(p)).astype(float)
+    e_ground = np.bincount(owner, w_ground, minlength=len(p)).astype(float)
     bad = ~(np.all(np.isfinite(p), axis=1) & np.all(np.isfinite(n), axis=1))
     e_sky[bad] = e_ground[bad] = np.nan
     with np.errstate(invalid="ignore"):

@@ -184,6 +184,73 @@ def add_pane_blender(scene, pane=None):
     return ob
 
 
+def boxes_room_boxes(t=0.2, W=4.0, D=5.0, H=2.8, window=(1.0, 3.0, 0.9, 2.2), mullion=None):  # noqa: N803
+    """A W x D x H room built as a user builds one in Blender: nine separate boxes [(lo, hi)] that touch (floor,
+    roof, three walls, the window wall as four boxes round a window x0..x1, z0..z1 in the wall y in [-t, 0]);
+    no single closed surface. ``mullion``: (x0, x1) a post splitting the window."""
+    x0, x1, z0, z1 = window
+    boxes = [((-t, -t, -t), (W + t, D + t, 0.0)), ((-t, -t, H), (W + t, D + t, H + t)), ((-t, 0.0, 0.0), (0.0, D, H)),
+             ((W, 0.0, 0.0), (W + t, D, H)), ((-t, D, 0.0), (W + t, D + t, H)), ((-t, -t, 0.0), (x0, 0.0, H)),
+             ((x1, -t, 0.0), (W + t, 0.0, H)), ((x0, -t, 0.0), (x1, 0.0, z0)), ((x0, -t, z1), (x1, 0.0, H))]
+    if mullion is not None:
+        boxes.append(((mullion[0], -t, z0), (mullion[1], 0.0, z1)))
+    return boxes
+
+
+def boxes_quads(boxes):
+    """``boxes_room_boxes`` as named quads (``build_blender``, ``radiance_daylight_factor``): each box's 6 faces,
+    outward normals; the floor box "floor", the roof box "ceiling", the rest "walls"."""
+    out = []
+    for k, ((x0, y0, z0), (x1, y1, z1)) in enumerate(boxes):
+        v = [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0), (x0, y0, z1), (x1, y0, z1), (x1, y1, z1),
+             (x0, y1, z1)]
+        name = "floor" if k == 0 else "ceiling" if k == 1 else "walls"
+        out += [(name, [v[i] for i in f]) for f in ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6),
+                                                     (3, 0, 4, 7))]
+    return out
+
+
+def boxes_pane(window=(1.0, 3.0, 0.9, 2.2)):
+    """A 6 mm pane at the room side of the boxes room's window (y from -PANE to 0, touching the reveals): its 6
+    faces for the solid and its mid-plane polygon for Radiance's thin ``glass``."""
+    x0, x1, z0, z1 = window
+    rect = [(x0, 0.0, z0), (x0, 0.0, z1), (x1, 0.0, z1), (x1, 0.0, z0)]  # counter-clockwise seen from outside (-y)
+    n = np.array([0.0, -1.0, 0.0])
+    mid = [tuple(float(c) for c in np.asarray(p) + 0.5 * PANE * n) for p in rect]
+    return slab_quads(rect, n, PANE), mid
+
+
+def build_boxes_blender(scene, boxes):
+    """``boxes_room_boxes`` as separate objects, each a closed box with a Diffuse BSDF: the floor RHO["floor"],
+    the roof RHO["ceiling"], the rest RHO["walls"]."""
+    import bpy
+
+    from radiometer.compat import ensure_node_tree
+
+    def material(name):
+        m = bpy.data.materials.new(name)
+        t = ensure_node_tree(m)
+        t.nodes.clear()
+        out = t.nodes.new("ShaderNodeOutputMaterial")
+        bsdf = t.nodes.new("ShaderNodeBsdfDiffuse")
+        bsdf.inputs["Color"].default_value = (RHO[name],) * 3 + (1.0,)
+        t.links.new(bsdf.outputs[0], out.inputs[0])
+        return m
+
+    mats = {name: material(name) for name in RHO}
+    out = []
+    for k, ((x0, y0, z0), (x1, y1, z1)) in enumerate(boxes):
+        me = bpy.data.meshes.new(f"box {k}")
+        v = [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0), (x0, y0, z1), (x1, y0, z1), (x1, y1, z1),
+             (x0, y1, z1)]
+        me.from_pydata(v, [], [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)])
+        me.materials.append(mats["floor" if k == 0 else "ceiling" if k == 1 else "walls"])
+        ob = bpy.data.objects.new(f"box {k}", me)
+        scene.collection.objects.link(ob)
+        out.append(ob)
+    return out
+
+
 def build_blender(scene, room_quads=None):
     """The room's quads (default ``quads()``) as one mesh with a Diffuse BSDF per name in RHO."""
     import bpy
