@@ -76,8 +76,11 @@ def _scene_refusal(model):
 
 
 def opaque_mask(model):
-    """The captured triangles that are opaque and cast shadows (what closes a room and blocks the sky)."""
-    return np.asarray(model.geometry.opaque, bool) & model.geometry.shadow_triangles()
+    """The captured triangles that close a room and block the sky: opaque, of objects that stop every kind of ray
+    (the meter's first ray, diffuse, glossy, shadow: an object hidden from diffuse rays but casting shadows would
+    let the meter see the sky through it) and of a material that lets no light through
+    (``SceneGeometry.sealing_triangles``)."""
+    return model.geometry.sealing_triangles()
 
 
 def _closed_shell(model, points_m=()):
@@ -312,8 +315,9 @@ def _sky_past_every_surface(model, points_m, normals, lz, no_shell, rel_tol):
     def area(polys):
         return sum(_area3(q) for q in polys)
 
+    solids = obstructed_aperture.closed_solids(tris, tol, g.object_index[opaque])  # far faces hidden by near ones
     for i, (p, n) in enumerate(zip(points_m, normals)):
-        pieces = obstructed_aperture.open_directions(p, n, tris, tol)
+        pieces = obstructed_aperture.open_directions(p, n, tris, tol, solids)
         why = pieces if isinstance(pieces, str) else ""
         if not why and len(others) and pieces:
             # a see-through surface that is not a recognised pane (or casts no shadow) in any of those directions
@@ -472,8 +476,9 @@ def _open_views(model, points_m, normals, no_shell):
     tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, points_m.ravel()])
     tris, others = g.triangles[opaque], g.triangles[~opaque]
     pieces = []
+    solids = obstructed_aperture.closed_solids(tris, tol, g.object_index[opaque])
     for p, n in zip(points_m, np.broadcast_to(np.asarray(normals, float), points_m.shape)):
-        found = obstructed_aperture.open_directions(p, n, tris, tol)
+        found = obstructed_aperture.open_directions(p, n, tris, tol, solids)
         if isinstance(found, str):
             return f"{no_shell}; past every surface: {found}"
         if len(others) and found:

@@ -36,7 +36,7 @@ import numpy as np
 
 from . import sky_aperture
 
-__all__ = ["unblocked_pieces", "open_directions", "SLIVER"]
+__all__ = ["unblocked_pieces", "open_directions", "closed_solids", "SLIVER"]
 
 #: Pieces with an area below this share of the opening's are dropped.
 SLIVER = 1e-12
@@ -136,7 +136,7 @@ def unblocked_pieces(point, vertices, blockers, tol):
         pieces = kept
         if not pieces:
             break
-    return [origin + q[:, :1] * e1 + q[:, 1:] * e2 for q in map(_without_repeats, pieces)]
+    return [origin + q[:, :1] * e1 + q[:, 1:] * e2 for q in map(_without_repeats, pieces) if len(q) >= 3]
 
 
 def _without_repeats(q):
@@ -144,7 +144,9 @@ def _without_repeats(q):
     intersection too)."""
     step = np.linalg.norm(q - np.roll(q, 1, axis=0), axis=1)
     scale = float(np.max(np.abs(q))) if len(q) else 0.0
-    return q[step > 1e-15 * max(scale, 1.0)]
+    # 1e-10 of the scale: many silhouette edges' lines meet near the point straight ahead, where rounding leaves
+    # vertices 1e-15 apart whose edge has no direction (patch_aperture's edge planes need one)
+    return q[step > 1e-10 * max(scale, 1.0)]
 
 
 def _solid_angles(rel):
@@ -173,14 +175,54 @@ def _face_squares(point, d):
     return out
 
 
-def open_directions(point, normal, triangles, tol):
+def closed_solids(triangles, tol, groups=None):
+    """The closed surfaces among ``triangles`` (T, 3, 3) wound consistently (every edge of it met once each way,
+    vertices welded within ``tol``), each within one of ``groups`` (T,) (e.g. the objects: boxes that touch share
+    vertices, so together they close nothing): a list of (triangle indices, +1 where their winding normals point
+    out of the solid, -1 into it). ``open_directions`` leaves out their faces turned away from a point outside
+    them: a ray from outside a closed surface meets a face turned towards it first."""
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    groups = np.zeros(len(tris), int) if groups is None else np.asarray(groups)
+    found = []
+    for value in np.unique(groups):
+        members = np.flatnonzero(groups == value)
+        found += [members[idx] for idx in sky_aperture.closed_components(tris[members], tol)]
+    out = []
+    for idx in found:
+        part = tris[idx]
+        _pts, inv = sky_aperture._weld(part.reshape(-1, 3), tol)
+        ids = inv.reshape(-1, 3)
+        directed = np.stack([ids, np.roll(ids, -1, axis=1)], axis=-1).reshape(-1, 2)
+        uniq, counts = np.unique(directed, axis=0, return_counts=True)
+        if np.any(counts != 1) or len(uniq) != len(np.unique(np.sort(directed, axis=1), axis=0)) * 2:
+            continue  # an edge twice the same way (wound inconsistently), or one met only one way
+        volume = float(np.sum(np.einsum("tk,tk->t", part[:, 0], np.cross(part[:, 1], part[:, 2]))))
+        if volume != 0.0:
+            out.append((np.asarray(idx, int), 1 if volume > 0.0 else -1))
+    return out
+
+
+def open_directions(point, normal, triangles, tol, solids=None):
     """The directions from ``point`` (3,) above its plane (``normal`` (3,), unit) that meet none of
     ``triangles`` (T, 3, 3): a list of disjoint convex polygons (M, 3) on the faces of a cube round the point
     (each direction is one point of them), or a str, why not (``unblocked_pieces`` refused: a triangle's
-    plane passes too near the point). Metres throughout; see the module docstring."""
+    plane passes too near the point). ``solids``: ``closed_solids(triangles, tol)``, to leave out their faces
+    turned away from the point (no direction at all where the point is inside one). Metres throughout; see the
+    module docstring."""
     p = np.asarray(point, float)
     n = np.asarray(normal, float)
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    if solids:
+        keep = np.ones(len(tris), bool)
+        for idx, sign in solids:
+            inside = sky_aperture.inside_enclosures([p], tris[idx], [], tol)[0]
+            if inside is True:
+                return []  # inside a closed surface of triangles that stop every ray: every direction meets it
+            if inside is False:
+                t = tris[idx]
+                facing = sign * np.einsum("tk,tk->t", np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), p - t[:, 0])
+                keep[idx[facing < 0.0]] = False
+        tris = tris[keep]
     rel = tris - p
     tris, rel = tris[np.max(rel @ n, axis=1) > 0.0], rel[np.max(rel @ n, axis=1) > 0.0]
     d = max(1.0, 1e3 * tol)  # the cube's size changes nothing but the pieces' scale

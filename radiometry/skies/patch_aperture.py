@@ -60,8 +60,14 @@ def _edge_planes(poly, count):
     ``count`` vertices (rows past the count: 0, which every point satisfies)."""
     k = np.arange(poly.shape[1])
     nxt = (k[None, :] + 1) % np.maximum(count[:, None], 1)
-    edge = sky_aperture._unit(np.cross(poly, np.take_along_axis(poly, nxt[..., None], axis=1)))
-    edge = np.where((k[None, :] < count[:, None])[..., None], edge, 0.0)
+    following = np.take_along_axis(poly, nxt[..., None], axis=1)
+    raw = np.cross(poly, following)
+    # an edge between two (nearly) coincident vertices has no plane of its own (its cross product is rounding):
+    # left out, which every point satisfies (the polygon's other edges bound it)
+    size = np.linalg.norm(raw, axis=-1)
+    real = size > 1e-12 * np.linalg.norm(poly, axis=-1) * np.linalg.norm(following, axis=-1)
+    edge = sky_aperture._unit(raw)
+    edge = np.where(((k[None, :] < count[:, None]) & real)[..., None], edge, 0.0)
     # a convex polygon lies on one side of each edge: the side of its vertex centroid
     valid = (k[None, :] < count[:, None])[..., None]
     inward = np.sign(np.einsum("bek,bk->be", edge, np.where(valid, poly, 0.0).sum(axis=1)))
@@ -78,7 +84,10 @@ def _caps(directions, valid=None):
     cos = np.einsum("...vk,...k->...v", u, c)
     if valid is not None:
         cos = np.where(valid, cos, 1.0)
-    return c, np.arccos(np.clip(cos.min(axis=-1), -1.0, 1.0))
+    radius = np.arccos(np.clip(cos.min(axis=-1), -1.0, 1.0))
+    # a cap wider than a hemisphere is not convex: it holds the vertices but not the arcs between them (a point
+    # next to its opening sees it over more than 180 degrees), so such a set's cap is the whole sphere
+    return c, np.where(radius >= 0.5 * np.pi, np.pi, radius)
 
 
 def _pieces(above, count, tris, owner, planes, caps):
@@ -95,6 +104,8 @@ def _pieces(above, count, tris, owner, planes, caps):
     tris, owner, planes = tris[keep], owner[keep], planes[keep]
     edge = _edge_planes(above, count)                                                # (n, K, 3)
     n, t_count = len(above), len(tris)
+    if not t_count or not n:  # no cone here (a slot that no point of this chunk fills), or none near the dome's
+        return np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3, 3))
     # corners against the cone's edges (n, E, T, 3), as one matrix product
     d = np.matmul(edge, tris.reshape(-1, 3).T).reshape(n, edge.shape[1], t_count, 3)
     inside = np.all(d >= 0.0, axis=(1, 3)) & (count >= 3)[:, None]
