@@ -16,7 +16,6 @@ def side_lit_scene():
     import bpy
 
     import radiometer
-    from radiometer import api
     from scenes import load_test_module
     from radiometer.compat import ensure_node_tree
 
@@ -29,8 +28,17 @@ def side_lit_scene():
     world = bpy.data.worlds.new("black")
     ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
+    return scene, plane_and_panel(scene, (3.75, 2.75), (2.0, 1.5, 2.65))
+
+
+def plane_and_panel(scene, corner, lamp_at):
+    """A hidden work plane from (0.25, 0.25) to ``corner`` (x, y) m at 0.85 m and one 0.6 m area light of 200 W at
+    ``lamp_at``; returns the plane."""
+    import bpy
+
     me = bpy.data.meshes.new("work plane")
-    me.from_pydata([(0.25, 0.25, 0), (3.75, 0.25, 0), (3.75, 2.75, 0), (0.25, 2.75, 0)], [], [(0, 1, 2, 3)])
+    x1, y1 = corner
+    me.from_pydata([(0.25, 0.25, 0), (x1, 0.25, 0), (x1, y1, 0), (0.25, y1, 0)], [], [(0, 1, 2, 3)])
     plane = bpy.data.objects.new("work plane", me)
     plane.location = (0, 0, 0.85)
     plane.hide_render = True
@@ -38,9 +46,9 @@ def side_lit_scene():
     light = bpy.data.lights.new("panel", "AREA")
     light.size, light.energy = 0.6, 200.0
     lamp = bpy.data.objects.new("panel", light)
-    lamp.location = (2.0, 1.5, 2.65)
+    lamp.location = lamp_at
     scene.collection.objects.link(lamp)
-    return scene, plane
+    return plane
 
 
 def bench_daylight_factor(quick=False):

@@ -1053,6 +1053,10 @@ BENCHES["annual_large"] = lambda: __import__("annual_large").bench_annual_large(
 BENCHES["sun_bounce_coverage"] = lambda: __import__("sun_bounce_coverage").bench_section(QUICK)
 # Issue 31 (bench/annual_coverage.py): the annual dome's hourly errors over 50 seeds, the configuration before beside.
 BENCHES["annual_coverage"] = lambda: __import__("annual_coverage").run(quick=QUICK)
+# Issue 31 (bench/boxes_room_split.py): the DF grid in a room of separate boxes vs electric and vs rendered whole;
+# quick: 3 x 3 at 5 % into a temporary folder (quick runs never overwrite results).
+BENCHES["boxes_room_split"] = lambda: __import__("boxes_room_split").run(
+    *((3, 0.05, 3, __import__("tempfile").mkdtemp(prefix="radiometer-bench-")) if QUICK else ()))
 
 
 # Issue 18 (bench/coverage_rare_paths_fin.py, its own process): coverage of stated errors in the fin scene

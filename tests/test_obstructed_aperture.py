@@ -262,3 +262,39 @@ def test_open_directions_inside_a_closed_box_and_refusal():
     board = _quad((0.0, -1.0, 0.0), (0.0, 1.0, 0.0), (0.0, 1.0, 2.0), (0.0, -1.0, 2.0))  # the plane x = 0
     why = oa.open_directions(np.array([1e-9, 0.0, 0.5]), np.array([0.0, 0.0, 1.0]), board, 1e-7)
     assert isinstance(why, str) and "passes within" in why
+
+
+def _outward_box(lo, hi):
+    """A box's 12 triangles wound outward (``_box`` winds its faces as they come)."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    v = [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0), (x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    return np.concatenate([_quad(*[v[i] for i in f]) for f in faces])
+
+
+def test_closed_solids_leave_out_far_faces_and_change_nothing():
+    """Each box of the room is a closed surface wound outward: leaving out its faces turned away from a point
+    changes no open direction's closed form; a point inside a box sees nothing; a box wound inconsistently (its
+    own ``_box``: faces as they come) is no solid."""
+    t = T_WALL
+    boxes = [((-t, -t, -t), (4 + t, 5 + t, 0)), ((-t, -t, 2.8), (4 + t, 5 + t, 2.8 + t)), ((-t, 0, 0), (0, 5, 2.8)),
+             ((4, 0, 0), (4 + t, 5, 2.8)), ((-t, 5, 0), (4 + t, 5 + t, 2.8)), ((-t, -t, 0), (1, 0, 2.8)),
+             ((3, -t, 0), (4 + t, 0, 2.8)), ((1, -t, 0), (3, 0, 0.9)), ((1, -t, 2.2), (3, 0, 2.8)),
+             ((1.95, -t, 0.9), (2.05, 0, 2.2))]
+    tris = np.concatenate([_outward_box(lo, hi) for lo, hi in boxes])
+    assert oa.closed_solids(_box_room(mullion=True), 1e-7, np.repeat(np.arange(10), 12)) == []
+    groups = np.repeat(np.arange(len(tris) // 12), 12)
+    solids = oa.closed_solids(tris, 1e-7, groups)
+    assert len(solids) == len(tris) // 12 and all(sign == 1 for _idx, sign in solids)
+    rng = np.random.default_rng(11)
+    for _ in range(8):
+        p = np.array([rng.uniform(0.1, 3.9), rng.uniform(0.1, 4.9), rng.uniform(0.1, 2.7)])
+        n = np.array([0.0, 0.0, 1.0])
+        with_solids, without = oa.open_directions(p, n, tris, 1e-7, solids), oa.open_directions(p, n, tris, 1e-7)
+        # equal up to the pieces' rounding (vertices within 1e-10 of the cube's size are merged): 1e-8 of a face's sky
+        assert _sky(p, n, with_solids) == pytest.approx(_sky(p, n, without), rel=1e-9, abs=1e-8)
+    assert oa.open_directions(np.array([2.0, -0.1, 0.5]), np.array([0.0, 0.0, 1.0]), tris, 1e-7, solids) == []
+    flipped = _outward_box((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
+    assert len(oa.closed_solids(flipped, 1e-7)) == 1
+    flipped[:2] = flipped[:2, ::-1]  # one face turned inward
+    assert oa.closed_solids(flipped, 1e-7) == []

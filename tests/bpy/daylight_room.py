@@ -214,7 +214,7 @@ def boxes_pane(window=(1.0, 3.0, 0.9, 2.2)):
     """A 6 mm pane at the room side of the boxes room's window (y from -PANE to 0, touching the reveals): its 6
     faces for the solid and its mid-plane polygon for Radiance's thin ``glass``."""
     x0, x1, z0, z1 = window
-    rect = [(x0, 0.0, z0), (x0, 0.0, z1), (x1, 0.0, z1), (x1, 0.0, z0)]  # counter-clockwise seen from outside (-y)
+    rect = [(x0, 0.0, z0), (x1, 0.0, z0), (x1, 0.0, z1), (x0, 0.0, z1)]  # counter-clockwise seen from outside (-y)
     n = np.array([0.0, -1.0, 0.0])
     mid = [tuple(float(c) for c in np.asarray(p) + 0.5 * PANE * n) for p in rect]
     return slab_quads(rect, n, PANE), mid
@@ -225,19 +225,7 @@ def build_boxes_blender(scene, boxes):
     the roof RHO["ceiling"], the rest RHO["walls"]."""
     import bpy
 
-    from radiometer.compat import ensure_node_tree
-
-    def material(name):
-        m = bpy.data.materials.new(name)
-        t = ensure_node_tree(m)
-        t.nodes.clear()
-        out = t.nodes.new("ShaderNodeOutputMaterial")
-        bsdf = t.nodes.new("ShaderNodeBsdfDiffuse")
-        bsdf.inputs["Color"].default_value = (RHO[name],) * 3 + (1.0,)
-        t.links.new(bsdf.outputs[0], out.inputs[0])
-        return m
-
-    mats = {name: material(name) for name in RHO}
+    mats = {name: diffuse_material(name, RHO[name]) for name in RHO}
     out = []
     for k, ((x0, y0, z0), (x1, y1, z1)) in enumerate(boxes):
         me = bpy.data.meshes.new(f"box {k}")
@@ -251,11 +239,25 @@ def build_boxes_blender(scene, boxes):
     return out
 
 
-def build_blender(scene, room_quads=None):
-    """The room's quads (default ``quads()``) as one mesh with a Diffuse BSDF per name in RHO."""
+def diffuse_material(name, rho):
+    """A new material ``name``: a Diffuse BSDF of grey reflectance ``rho``."""
     import bpy
 
     from radiometer.compat import ensure_node_tree
+
+    m = bpy.data.materials.new(name)
+    t = ensure_node_tree(m)
+    t.nodes.clear()
+    out = t.nodes.new("ShaderNodeOutputMaterial")
+    bsdf = t.nodes.new("ShaderNodeBsdfDiffuse")
+    bsdf.inputs["Color"].default_value = (rho,) * 3 + (1.0,)
+    t.links.new(bsdf.outputs[0], out.inputs[0])
+    return m
+
+
+def build_blender(scene, room_quads=None):
+    """The room's quads (default ``quads()``) as one mesh with a Diffuse BSDF per name in RHO."""
+    import bpy
 
     room_quads = room_quads if room_quads is not None else quads()
     order = list(RHO) + sorted({name for name, _ in room_quads} - set(RHO))
@@ -268,14 +270,7 @@ def build_blender(scene, room_quads=None):
         index.append(order.index(name))
     me.from_pydata(verts, [], faces)
     for name in order:
-        m = bpy.data.materials.new(name)
-        t = ensure_node_tree(m)
-        t.nodes.clear()
-        out = t.nodes.new("ShaderNodeOutputMaterial")
-        bsdf = t.nodes.new("ShaderNodeBsdfDiffuse")
-        bsdf.inputs["Color"].default_value = (rho[name],) * 3 + (1.0,)
-        t.links.new(bsdf.outputs[0], out.inputs[0])
-        me.materials.append(m)
+        me.materials.append(diffuse_material(name, rho[name]))
     for poly, k in zip(me.polygons, index):
         poly.material_index = k
     ob = bpy.data.objects.new("room", me)

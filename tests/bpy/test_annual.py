@@ -29,6 +29,17 @@ def perez_vectors(patches, count, seed):
         yield perez.sky_vector(patches, sun, rng.uniform(0, 800), rng.uniform(20, 300), 180)[0]
 
 
+def hourly_z(a, b, skies=60, seed=2):
+    """(z (skies, N), a line to print): a's hourly values minus b's over random Perez skies with a sun, in their
+    combined standard errors (each from its covariance over patches)."""
+    z = []
+    for vec in perez_vectors(sky_patches.reinhart_patches(1), skies, seed):
+        sd = np.hypot(*(np.sqrt(np.einsum("p,npq,q->n", vec, c.covariance, vec)) for c in (a, b)))
+        z.append((vec @ a.dc - vec @ b.dc) / sd)
+    z = np.array(z)
+    return z, f"hourly z: mean {z.mean():.3f}, RMS {np.sqrt(np.mean(z ** 2)):.3f}, max {np.abs(z).max():.3f}"
+
+
 def closed_form(p, patches, normal):
     """Integral over patch p of max(0, n . w) dw by a fine midpoint rule (lux per cd/m^2)."""
     a0, a1 = (-math.pi / 2, 0.0) if p == 0 else (patches.alt_lo[p], patches.alt_hi[p])
@@ -460,12 +471,8 @@ def test_dome_direct_part_past_an_obstruction_is_the_clipped_closed_form(clean_b
     proven = dcm.render_coefficients(points, normals, request=req)
     whole = dcm.render_coefficients(points, normals, request=req.but(seed=5), proven_direct=False)
     assert proven.direct is not None and whole.direct is None
-    z = []
-    for vec in perez_vectors(sky_patches.reinhart_patches(1), 60, 3):
-        sd = np.hypot(*(np.sqrt(np.einsum("p,npq,q->n", vec, c.covariance, vec)) for c in (proven, whole)))
-        z.append((vec @ proven.dc - vec @ whole.dc) / sd)
-    z = np.array(z)
-    print("block: hourly z mean", z.mean(), "RMS", np.sqrt(np.mean(z ** 2)), "max", np.abs(z).max())
+    z, line = hourly_z(proven, whole, seed=3)
+    print("block:", line)
     assert np.sqrt(np.mean(z ** 2)) < 1.5 and np.abs(z).max() < 5.0 and abs(z.mean()) < 0.5
 
 
@@ -541,10 +548,6 @@ def test_dome_direct_part_in_a_room_of_boxes_is_the_closed_form(clean_blender):
     proven = dcm.render_coefficients(points, normals, request=req)
     whole = dcm.render_coefficients(points, normals, request=req.but(seed=5), proven_direct=False)
     assert proven.direct is not None
-    z = []
-    for vec in perez_vectors(sky_patches.reinhart_patches(1), 60, 2):
-        sd = np.hypot(*(np.sqrt(np.einsum("p,npq,q->n", vec, c.covariance, vec)) for c in (proven, whole)))
-        z.append((vec @ proven.dc - vec @ whole.dc) / sd)
-    z = np.array(z)
-    print("hourly z: mean", z.mean(), "RMS", np.sqrt(np.mean(z ** 2)), "max", np.abs(z).max())
+    z, line = hourly_z(proven, whole)
+    print("room of boxes:", line)
     assert np.sqrt(np.mean(z ** 2)) < 1.5 and np.abs(z).max() < 5.0 and abs(z.mean()) < 0.5
