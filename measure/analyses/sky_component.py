@@ -316,8 +316,9 @@ def _sky_past_every_surface(model, points_m, normals, lz, no_shell, rel_tol):
         return sum(_area3(q) for q in polys)
 
     solids = obstructed_aperture.closed_solids(tris, tol, g.object_index[opaque])  # far faces hidden by near ones
+    partners = obstructed_aperture.quad_partners(tris, tol)  # a box face's two triangles subtracted as one quad
     for i, (p, n) in enumerate(zip(points_m, normals)):
-        pieces = obstructed_aperture.open_directions(p, n, tris, tol, solids)
+        pieces = obstructed_aperture.open_directions(p, n, tris, tol, solids, partners)
         why = pieces if isinstance(pieces, str) else ""
         if not why and len(others) and pieces:
             # a see-through surface that is not a recognised pane (or casts no shadow) in any of those directions
@@ -477,8 +478,9 @@ def _open_views(model, points_m, normals, no_shell):
     tris, others = g.triangles[opaque], g.triangles[~opaque]
     pieces = []
     solids = obstructed_aperture.closed_solids(tris, tol, g.object_index[opaque])
+    partners = obstructed_aperture.quad_partners(tris, tol)
     for p, n in zip(points_m, np.broadcast_to(np.asarray(normals, float), points_m.shape)):
-        found = obstructed_aperture.open_directions(p, n, tris, tol, solids)
+        found = obstructed_aperture.open_directions(p, n, tris, tol, solids, partners)
         if isinstance(found, str):
             return f"{no_shell}; past every surface: {found}"
         if len(others) and found:

@@ -36,7 +36,7 @@ import numpy as np
 
 from . import sky_aperture
 
-__all__ = ["unblocked_pieces", "open_directions", "closed_solids", "SLIVER"]
+__all__ = ["unblocked_pieces", "open_directions", "closed_solids", "quad_partners", "SLIVER"]
 
 #: Pieces with an area below this share of the opening's are dropped.
 SLIVER = 1e-12
@@ -71,12 +71,14 @@ def _clip(q, a, b, keep_left):
 
 def unblocked_pieces(point, vertices, blockers, tol):
     """The part of the convex planar opening ``vertices`` (K, 3) through which ``point`` (3,) sees past the
-    triangles ``blockers`` (B, 3, 3): a list of disjoint convex polygons (M, 3) in the opening's plane whose
+    triangles ``blockers`` (B, 3, 3), or a list of convex planar polygons (K_b, 3): a list of disjoint convex
+    polygons (M, 3) in the opening's plane whose
     union is the opening minus the blockers' silhouettes seen from the point; or a str, why not (the point
     lies in the opening's plane, or a blocker's plane passes too near it). Metres throughout."""
     p = np.asarray(point, float)
     poly = np.asarray(vertices, float)
-    blockers = np.asarray(blockers, float).reshape(-1, 3, 3)
+    blockers = [np.asarray(b, float) for b in blockers] if isinstance(blockers, list) else \
+        np.asarray(blockers, float).reshape(-1, 3, 3)
     normal, offset = sky_aperture.polygon_plane(poly)
     h = offset - float(normal @ p)
     if abs(h) <= tol:
@@ -202,29 +204,77 @@ def closed_solids(triangles, tol, groups=None):
     return out
 
 
-def open_directions(point, normal, triangles, tol, solids=None):
+def quad_partners(triangles, tol):
+    """(T,) for each triangle the index of the triangle it makes a convex planar quad with (they share an edge, wound
+    the same way, in one plane within ``tol``), or -1: the two triangles of a box's face, whose silhouettes
+    ``open_directions`` subtracts as one (half the cuts, and no piece split along the diagonal)."""
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    partner = np.full(len(tris), -1)
+    if not len(tris):
+        return partner
+    _pts, inv = sky_aperture._weld(tris.reshape(-1, 3), tol)
+    ids = inv.reshape(-1, 3)
+    nrm = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    size = np.linalg.norm(nrm, axis=1)
+    owner = {}
+    for t, (a, b, c) in enumerate(ids.tolist()):
+        for x, y in ((a, b), (b, c), (c, a)):
+            owner.setdefault((x, y), []).append(t)
+    for t, row in enumerate(ids.tolist()):
+        if partner[t] >= 0 or size[t] == 0.0:
+            continue
+        for k in range(3):
+            x, y = row[k], row[(k + 1) % 3]
+            for u in owner.get((y, x), []):  # the neighbour across this edge, wound the same way
+                if u == t or partner[u] >= 0 or size[u] == 0.0:
+                    continue
+                if float(nrm[t] @ nrm[u]) < (1.0 - 1e-12) * size[t] * size[u]:
+                    continue  # not parallel
+                opposite = next(v for v in range(3) if ids[u, v] not in (x, y))
+                quad = _quad(tris, t, u)
+                if quad is None or abs(float((tris[u, opposite] - tris[t, 0]) @ nrm[t])) > tol * size[t] or \
+                        not sky_aperture.is_convex(quad, tol):
+                    continue
+                partner[t], partner[u] = u, t
+                break
+            if partner[t] >= 0:
+                break
+    return partner
+
+
+def _quad(tris, t, u):
+    """The convex quad of triangle ``t`` and its partner ``u`` (``quad_partners``), wound as ``t``."""
+    a = tris[t]
+    for k in range(3):
+        x, y = a[k], a[(k + 1) % 3]
+        rest = [v for v in tris[u] if not (np.array_equal(v, x) or np.array_equal(v, y))]
+        if len(rest) == 1:
+            return np.insert(a, k + 1, rest[0], axis=0)
+    return None
+
+
+def open_directions(point, normal, triangles, tol, solids=None, partners=None):
     """The directions from ``point`` (3,) above its plane (``normal`` (3,), unit) that meet none of
     ``triangles`` (T, 3, 3): a list of disjoint convex polygons (M, 3) on the faces of a cube round the point
     (each direction is one point of them), or a str, why not (``unblocked_pieces`` refused: a triangle's
     plane passes too near the point). ``solids``: ``closed_solids(triangles, tol)``, to leave out their faces
-    turned away from the point (no direction at all where the point is inside one). Metres throughout; see the
-    module docstring."""
+    turned away from the point (no direction at all where the point is inside one); ``partners``:
+    ``quad_partners(triangles, tol)``, to subtract each pair's quad at once. Metres throughout; see the module
+    docstring."""
     p = np.asarray(point, float)
     n = np.asarray(normal, float)
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
-    if solids:
-        keep = np.ones(len(tris), bool)
-        for idx, sign in solids:
-            inside = sky_aperture.inside_enclosures([p], tris[idx], [], tol)[0]
-            if inside is True:
-                return []  # inside a closed surface of triangles that stop every ray: every direction meets it
-            if inside is False:
-                t = tris[idx]
-                facing = sign * np.einsum("tk,tk->t", np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), p - t[:, 0])
-                keep[idx[facing < 0.0]] = False
-        tris = tris[keep]
+    keep = np.ones(len(tris), bool)
+    for idx, sign in solids or ():
+        inside = sky_aperture.inside_enclosures([p], tris[idx], [], tol)[0]
+        if inside is True:
+            return []  # inside a closed surface of triangles that stop every ray: every direction meets it
+        if inside is False:
+            t = tris[idx]
+            facing = sign * np.einsum("tk,tk->t", np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), p - t[:, 0])
+            keep[idx[facing < 0.0]] = False
     rel = tris - p
-    tris, rel = tris[np.max(rel @ n, axis=1) > 0.0], rel[np.max(rel @ n, axis=1) > 0.0]
+    keep &= np.max(rel @ n, axis=1) > 0.0
     d = max(1.0, 1e3 * tol)  # the cube's size changes nothing but the pieces' scale
     pieces = []
     for axis, square, (u, v) in _face_squares(p, d):
@@ -232,12 +282,38 @@ def open_directions(point, normal, triangles, tol, solids=None):
         if len(face) < 3:
             continue
         along = rel @ axis                                      # (T, 3)
-        inside = np.max(along, axis=1) > 0.0                    # some part in front of the face's plane
+        inside = keep & (np.max(along, axis=1) > 0.0)           # some part in front of the face's plane
         for side in (u, -u, v, -v):  # wholly beyond a side plane of the face's pyramid: meets none of its directions
             inside &= ~np.all(rel @ side > along, axis=1)
-        # the largest solid angles first: the pieces are used up sooner (the order changes nothing else)
-        found = unblocked_pieces(p, face, tris[inside][np.argsort(-_solid_angles(rel[inside]))], tol)
+        found = unblocked_pieces(p, face, _blockers(tris, rel, np.flatnonzero(inside), partners), tol)
         if isinstance(found, str):
             return found
         pieces += found
     return pieces
+
+
+def _blockers(tris, rel, idx, partners):
+    """The triangles ``idx`` as polygons to subtract, the largest solid angles first (the pieces are used up sooner;
+    the order changes nothing else); a pair of ``partners`` both among them as its quad."""
+    omega = _solid_angles(rel[idx])
+    polys, weights = [], []
+    if partners is None:
+        order = np.argsort(-omega)
+        return [tris[k] for k in idx[order]]
+    where = {int(k): j for j, k in enumerate(idx)}
+    done = set()
+    for j, k in enumerate(idx.tolist()):
+        if k in done:
+            continue
+        mate = int(partners[k])
+        if mate >= 0 and mate in where and mate not in done:
+            quad = _quad(tris, k, mate)
+            if quad is not None:
+                polys.append(quad)
+                weights.append(omega[j] + omega[where[mate]])
+                done.update((k, mate))
+                continue
+        polys.append(tris[k])
+        weights.append(omega[j])
+        done.add(k)
+    return [polys[j] for j in np.argsort(-np.asarray(weights))]
