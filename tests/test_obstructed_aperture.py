@@ -274,7 +274,7 @@ def _outward_box(lo, hi):
 
 def test_closed_solids_leave_out_far_faces_and_change_nothing():
     """Each box of the room is a closed surface wound outward: leaving out its faces turned away from a point, and
-    subtracting each face's two triangles as one quad (``quad_partners``), change no open direction's closed form; a point inside a box sees nothing; a box wound inconsistently (its
+    subtracting each face's two triangles as one quad (``quad_pairs``), change no open direction's closed form; a point inside a box sees nothing; a box wound inconsistently (its
     own ``_box``: faces as they come) is no solid."""
     t = T_WALL
     boxes = [((-t, -t, -t), (4 + t, 5 + t, 0)), ((-t, -t, 2.8), (4 + t, 5 + t, 2.8 + t)), ((-t, 0, 0), (0, 5, 2.8)),
@@ -286,7 +286,8 @@ def test_closed_solids_leave_out_far_faces_and_change_nothing():
     groups = np.repeat(np.arange(len(tris) // 12), 12)
     solids = oa.closed_solids(tris, 1e-7, groups)
     assert len(solids) == len(tris) // 12 and all(sign == 1 for _idx, sign in solids)
-    partners = oa.quad_partners(tris, 1e-7)
+    pairs = oa.quad_pairs(tris, 1e-7)
+    partners = pairs[0]
     assert np.sum(partners >= 0) >= len(tris) - 12  # nearly every face's two triangles pair up as its quad
     paired = np.flatnonzero(partners >= 0)
     assert np.all(partners[partners[paired]] == paired)  # pairs, each the other's
@@ -296,9 +297,13 @@ def test_closed_solids_leave_out_far_faces_and_change_nothing():
         n = np.array([0.0, 0.0, 1.0])
         without = _sky(p, n, oa.open_directions(p, n, tris, 1e-7))
         # equal up to the pieces' rounding (vertices within 1e-10 of the cube's size are merged): 1e-8 of a face's sky
-        for pieces in (oa.open_directions(p, n, tris, 1e-7, solids), oa.open_directions(p, n, tris, 1e-7, solids, partners)):
+        sides = [sa.inside_enclosures([p], tris[idx], [], 1e-7)[0] for idx, _sign in solids]  # as a grid's caller
+        for pieces in (oa.open_directions(p, n, tris, 1e-7, solids), oa.open_directions(p, n, tris, 1e-7, solids, pairs),
+                       oa.open_directions(p, n, tris, 1e-7, solids, pairs, sides)):
             assert _sky(p, n, pieces) == pytest.approx(without, rel=1e-9, abs=1e-8)
     assert oa.open_directions(np.array([2.0, -0.1, 0.5]), np.array([0.0, 0.0, 1.0]), tris, 1e-7, solids) == []
+    within = [sa.inside_enclosures([(2.0, -0.1, 0.5)], tris[idx], [], 1e-7)[0] for idx, _sign in solids]
+    assert oa.open_directions(np.array([2.0, -0.1, 0.5]), np.array([0.0, 0.0, 1.0]), tris, 1e-7, solids, None, within) == []
     flipped = _outward_box((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
     assert len(oa.closed_solids(flipped, 1e-7)) == 1
     flipped[:2] = flipped[:2, ::-1]  # one face turned inward

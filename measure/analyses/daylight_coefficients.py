@@ -515,24 +515,22 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
             # sum of patches adds the bounds up)
             cov = cov + np.einsum("np,nq->npq", bound, bound)
             se = np.sqrt(np.maximum(np.einsum("npp->pn", cov), 0.0))
+        closed_form = ("in closed form (radiometry/skies/patch_aperture.py: each patch's triangles of the dome clipped "
+                       "to the {}, Lambert's formula{}); the dome was hidden from the meters' first rays, so Cycles "
+                       "rendered only the light the surfaces reflect")
         if seen[0]["opening"] is None:  # no closed room: every direction that meets no surface
             notes.append("the patches' direct light over every direction from each meter that meets no surface at all "
                          "(no closed room holds the openings; each meter's open directions as convex pieces on the "
-                         "faces of a cube round it, radiometry/skies/obstructed_aperture.py open_directions), in "
-                         "closed form (radiometry/skies/patch_aperture.py: each patch's triangles of the dome clipped "
-                         "to the pieces, Lambert's formula); the dome was hidden from the meters' first rays, so "
-                         "Cycles rendered only the light the surfaces reflect")
+                         "faces of a cube round it, radiometry/skies/obstructed_aperture.py open_directions), "
+                         + closed_form.format("pieces", ""))
         else:
             notes.append(f"the patches' direct light through {len(seen)} opening(s) ({glazed} glazed with a recognised "
                          "thin pane), proven from every meter (sky and ground: "
                          + (f"only opaque obstructions in the way through {clipped} of them, the world past their "
                             "silhouettes clipped exactly, radiometry/skies/obstructed_aperture.py" if clipped else
                             "nothing inside or outside in the way") + "), "
-                         "in closed form (radiometry/skies/patch_aperture.py: each patch's triangles of the dome "
-                         "clipped to the openings, Lambert's formula" + (
-                             "; a pane's T(theta) bounded per piece, the bound counted in the errors" if glazed else "")
-                         + "); the dome was hidden from the meters' first rays, so Cycles rendered only the light the "
-                         "surfaces reflect")
+                         + closed_form.format("openings", "; a pane's T(theta) bounded per piece, the bound counted in "
+                                                          "the errors" if glazed else ""))
     elif proven_direct:
         notes.append(f"the patches' direct light rendered with the rest ({seen})")
     return Coefficients(dc, se, cov, nrounds * spp * blk * blk, time.perf_counter() - start, notes,

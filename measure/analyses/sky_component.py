@@ -89,13 +89,18 @@ def _closed_shell(model, points_m=()):
     why = _scene_refusal(model)
     if why:
         return why
-    g = model.geometry
-    lo, hi = g.bounds()
-    tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, np.asarray(points_m, float).ravel()])
+    lo, hi = model.geometry.bounds()
+    tol = _proof_tolerance(model, points_m)
     key = ("closed_shell", tol)
     if key not in model.derived:
         model.derived[key] = _find_shell(model, tol, float(np.linalg.norm(hi - lo)) + 1.0)
     return model.derived[key]
+
+
+def _proof_tolerance(model, points_m):
+    """The proofs' length tolerance (m): ten float32 steps of the largest coordinate, the scene's or the points'."""
+    lo, hi = model.geometry.bounds()
+    return 10.0 * scene_model.length_tolerance(np.r_[lo, hi, np.asarray(points_m, float).ravel()])
 
 
 def _find_shell(model, tol, reach):
@@ -288,45 +293,24 @@ PAST_EVERY_SURFACE_MAX_TRIANGLES = 5000
 def _sky_past_every_surface(model, points_m, normals, lz, no_shell, rel_tol):
     """Where no closed room holds the openings (``no_shell`` says why; e.g. walls, floor and roof built of
     separate boxes): per point the CIE overcast sky over every direction above the point's plane that meets no
-    triangle that stops every kind of ray (``SceneGeometry.sealing_triangles``: the meter's first ray too;
-    ``obstructed_aperture.open_directions``), exact, when every other triangle in those directions belongs to a
-    recognised colour-neutral thin pane: the directions entering a pane's near face
+    triangle that stops every kind of ray (``_open_directions``), exact, when every other triangle in those
+    directions belongs to a recognised colour-neutral thin pane: the directions entering a pane's near face
     (``_pane_core``) carry its T(theta), bounded by subdivision to ``rel_tol`` (``pane_bounded_illuminances``), the
     rest of its silhouette (its rim) lies between 0 and the open sky (half of it stated, half the bound), and the
     directions beside it are open sky. The ground seen straight is not stated (the caller renders it)."""
     from ...radiometry.skies import obstructed_aperture
 
     g = model.geometry
-    opaque = g.sealing_triangles()  # they stop every kind of ray: the meter's first ray too
-    n_points = len(points_m)
-    if int(np.count_nonzero(opaque)) > PAST_EVERY_SURFACE_MAX_TRIANGLES:
-        return [SkyComponent(None, None, f"{no_shell}; the sky past every surface is not tried above "
-                                         f"{PAST_EVERY_SURFACE_MAX_TRIANGLES} opaque triangles", 0)
-                for _ in range(n_points)]
-    lo, hi = g.bounds()
-    tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, np.asarray(points_m, float).ravel()])
     pane_of = np.asarray(g.pane_of if g.pane_of is not None else np.full(g.count, -1), int)
     panes = {i: pane for i, pane in (model.panes or {}).items() if pane.geometry is not None and not pane.trick}
-    in_pane = ~opaque & np.isin(pane_of, list(panes))
-    tris, others = g.triangles[opaque], g.triangles[~opaque & ~in_pane]
+    in_pane = ~opaque_mask(model) & np.isin(pane_of, list(panes))
     pane_tris = {i: g.triangles[in_pane & (pane_of == i)] for i in panes}
+    found, tol = _open_directions(model, points_m, normals, in_pane)
+    if isinstance(found, str):
+        return [SkyComponent(None, None, f"{no_shell}; {found}", 0) for _ in range(len(points_m))]
     out, jobs = [], {}  # jobs: pane index -> [(point, core polygon)]
-
-    def area(polys):
-        return sum(_area3(q) for q in polys)
-
-    solids = obstructed_aperture.closed_solids(tris, tol, g.object_index[opaque])  # far faces hidden by near ones
-    partners = obstructed_aperture.quad_partners(tris, tol)  # a box face's two triangles subtracted as one quad
-    for i, (p, n) in enumerate(zip(points_m, normals)):
-        pieces = obstructed_aperture.open_directions(p, n, tris, tol, solids, partners)
+    for i, (p, n, pieces) in enumerate(zip(points_m, normals, found)):
         why = pieces if isinstance(pieces, str) else ""
-        if not why and len(others) and pieces:
-            # a see-through surface that is not a recognised pane (or casts no shadow) in any of those directions
-            kept = area(pieces)
-            rest = [obstructed_aperture.unblocked_pieces(p, q, others, tol) for q in pieces]
-            if any(isinstance(r, str) for r in rest) or kept - sum(area(r) for r in rest) > 1e-9 * kept:
-                why = ("a see-through surface that is not a recognised thin pane (or one that casts no shadow) stands "
-                       "in the point's view of the sky")
         sky, bound, glazed = 0.0, 0.0, set()
         free, banded = [], []  # open sky; (whole piece, its part beside the pane) of pieces a pane meets
         for q in ([] if why else pieces):
@@ -336,7 +320,7 @@ def _sky_past_every_surface(model, points_m, normals, lz, no_shell, rel_tol):
                 if isinstance(rest, str):
                     why = rest
                     break
-                if area(rest) < area([q]) * (1.0 - 1e-12):
+                if _area(rest) < _area([q]) * (1.0 - 1e-12):
                     met.append((k, rest))
             if why:
                 break
@@ -393,10 +377,44 @@ def _sky_past_every_surface(model, points_m, normals, lz, no_shell, rel_tol):
     return out
 
 
-def _area3(poly):
-    """Area (m^2) of a planar polygon (K, 3)."""
-    q = np.asarray(poly, float)
-    return 0.5 * float(np.linalg.norm(np.sum(np.cross(q, np.roll(q, -1, axis=0)), axis=0)))
+def _area(polys):
+    """Total area (m^2) of planar polygons (K, 3)."""
+    return sum(0.5 * float(np.linalg.norm(np.sum(np.cross(q, np.roll(q, -1, axis=0)), axis=0)))
+               for q in map(np.asarray, polys))
+
+
+def _open_directions(model, points_m, normals, see_through_allowed):
+    """(per point its directions above its plane that meet no triangle that stops every kind of ray: convex pieces
+    (``obstructed_aperture.open_directions``), or the reason (str) why not there; the tolerance), or (the reason
+    (str) why not at all, None). A point where any other triangle cuts those directions is refused, except
+    triangles marked ``see_through_allowed`` (T,) bool (the caller's recognised panes)."""
+    from ...radiometry.skies import obstructed_aperture
+
+    g = model.geometry
+    opaque = opaque_mask(model)
+    if int(np.count_nonzero(opaque)) > PAST_EVERY_SURFACE_MAX_TRIANGLES:
+        return f"the sky past every surface is not tried above {PAST_EVERY_SURFACE_MAX_TRIANGLES} opaque triangles", None
+    tol = _proof_tolerance(model, points_m)
+    tris, others = g.triangles[opaque], g.triangles[~opaque & ~np.asarray(see_through_allowed, bool)]
+    solids = obstructed_aperture.closed_solids(tris, tol, g.object_index[opaque])  # far faces hidden by near ones
+    pairs = obstructed_aperture.quad_pairs(tris, tol)  # a box face's two triangles subtracted as one quad
+    # each point's side of each solid, all points at once (a ray-parity test per point would repeat the set-up)
+    sides = [sky_aperture.inside_enclosures(points_m, tris[idx], [], tol) for idx, _sign in solids]
+    out = []
+    for i, (p, n) in enumerate(zip(points_m, np.broadcast_to(np.asarray(normals, float), np.shape(points_m)))):
+        pieces = obstructed_aperture.open_directions(p, n, tris, tol, solids, pairs, [side[i] for side in sides])
+        if isinstance(pieces, str):
+            out.append(pieces)
+            continue
+        if len(others) and pieces:
+            kept = _area(pieces)
+            rest = [obstructed_aperture.unblocked_pieces(p, q, others, tol) for q in pieces]
+            if any(isinstance(r, str) for r in rest) or kept - sum(_area(r) for r in rest) > 1e-9 * kept:
+                out.append("a see-through surface that is not a recognised thin pane (or one that casts no shadow) "
+                           "stands in the point's view of the sky")
+                continue
+        out.append(pieces)
+    return out, tol
 
 
 def openings_seen_whole(model, points_m, normals=None):
@@ -465,31 +483,15 @@ def openings_seen_whole(model, points_m, normals=None):
 
 def _open_views(model, points_m, normals, no_shell):
     """``openings_seen_whole`` where no closed room holds the openings: [{"opening": None, "pane": None, "cores":
-    None, "pieces": per point its open directions}] or the reason (str) why not at some point."""
-    from ...radiometry.skies import obstructed_aperture
-
-    g = model.geometry
-    opaque = g.sealing_triangles()  # they stop every kind of ray: the meter's first ray too
-    if int(np.count_nonzero(opaque)) > PAST_EVERY_SURFACE_MAX_TRIANGLES:
-        return f"{no_shell}; the directions past every surface are not tried above {PAST_EVERY_SURFACE_MAX_TRIANGLES} " \
-               "opaque triangles"
-    lo, hi = g.bounds()
-    tol = 10.0 * scene_model.length_tolerance(np.r_[lo, hi, points_m.ravel()])
-    tris, others = g.triangles[opaque], g.triangles[~opaque]
-    pieces = []
-    solids = obstructed_aperture.closed_solids(tris, tol, g.object_index[opaque])
-    partners = obstructed_aperture.quad_partners(tris, tol)
-    for p, n in zip(points_m, np.broadcast_to(np.asarray(normals, float), points_m.shape)):
-        found = obstructed_aperture.open_directions(p, n, tris, tol, solids, partners)
-        if isinstance(found, str):
-            return f"{no_shell}; past every surface: {found}"
-        if len(others) and found:
-            kept = sum(_area3(q) for q in found)
-            rest = [obstructed_aperture.unblocked_pieces(p, q, others, tol) for q in found]
-            if any(isinstance(r, str) for r in rest) or kept - sum(_area3(x) for r in rest for x in r) > 1e-9 * kept:
-                return f"{no_shell}; a see-through surface (a pane) stands in a point's view of the world"
-        pieces.append(found)
-    return [{"opening": None, "pane": None, "cores": None, "pieces": pieces}]
+    None, "pieces": per point its open directions}] or the reason (str) why not at some point (no surface but those
+    that stop every kind of ray in any point's view: ``_open_directions``)."""
+    found, _tol = _open_directions(model, points_m, normals, np.zeros(model.geometry.count, bool))
+    if isinstance(found, str):
+        return f"{no_shell}; {found}"
+    why = next((f for f in found if isinstance(f, str)), None)
+    if why is not None:
+        return f"{no_shell}; past every surface: {why}"
+    return [{"opening": None, "pane": None, "cores": None, "pieces": found}]
 
 
 def _pieces_past_obstructions(points_m, poly, tris, tol, reach, wall, see_through):

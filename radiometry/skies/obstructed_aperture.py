@@ -36,7 +36,7 @@ import numpy as np
 
 from . import sky_aperture
 
-__all__ = ["unblocked_pieces", "open_directions", "closed_solids", "quad_partners", "SLIVER"]
+__all__ = ["unblocked_pieces", "open_directions", "closed_solids", "quad_pairs", "SLIVER"]
 
 #: Pieces with an area below this share of the opening's are dropped.
 SLIVER = 1e-12
@@ -204,14 +204,16 @@ def closed_solids(triangles, tol, groups=None):
     return out
 
 
-def quad_partners(triangles, tol):
-    """(T,) for each triangle the index of the triangle it makes a convex planar quad with (they share an edge, wound
-    the same way, in one plane within ``tol``), or -1: the two triangles of a box's face, whose silhouettes
-    ``open_directions`` subtracts as one (half the cuts, and no piece split along the diagonal)."""
+def quad_pairs(triangles, tol):
+    """(partner (T,), quads (T, 4, 3)): for each triangle the index of the triangle it makes a convex planar quad
+    with (they share an edge, wound the same way, in one plane within ``tol``), or -1, and that quad, wound as both
+    (zeros where none): the two triangles of a box's face, whose silhouettes ``open_directions`` subtracts
+    as one (half the cuts, and no piece split along the diagonal)."""
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     partner = np.full(len(tris), -1)
+    quads = np.zeros((len(tris), 4, 3))
     if not len(tris):
-        return partner
+        return partner, quads
     _pts, inv = sky_aperture._weld(tris.reshape(-1, 3), tol)
     ids = inv.reshape(-1, 3)
     nrm = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
@@ -230,46 +232,36 @@ def quad_partners(triangles, tol):
                     continue
                 if float(nrm[t] @ nrm[u]) < (1.0 - 1e-12) * size[t] * size[u]:
                     continue  # not parallel
-                opposite = next(v for v in range(3) if ids[u, v] not in (x, y))
-                quad = _quad(tris, t, u)
-                if quad is None or abs(float((tris[u, opposite] - tris[t, 0]) @ nrm[t])) > tol * size[t] or \
-                        not sky_aperture.is_convex(quad, tol):
+                opposite = tris[u, next(v for v in range(3) if ids[u, v] not in (x, y))]
+                quad = np.insert(tris[t], k + 1, opposite, axis=0)  # its vertex between the shared edge's two
+                if abs(float((opposite - tris[t, 0]) @ nrm[t])) > tol * size[t] or not sky_aperture.is_convex(quad, tol):
                     continue
                 partner[t], partner[u] = u, t
+                quads[t] = quads[u] = quad
                 break
             if partner[t] >= 0:
                 break
-    return partner
+    return partner, quads
 
 
-def _quad(tris, t, u):
-    """The convex quad of triangle ``t`` and its partner ``u`` (``quad_partners``), wound as ``t``."""
-    a = tris[t]
-    for k in range(3):
-        x, y = a[k], a[(k + 1) % 3]
-        rest = [v for v in tris[u] if not (np.array_equal(v, x) or np.array_equal(v, y))]
-        if len(rest) == 1:
-            return np.insert(a, k + 1, rest[0], axis=0)
-    return None
-
-
-def open_directions(point, normal, triangles, tol, solids=None, partners=None):
+def open_directions(point, normal, triangles, tol, solids=None, pairs=None, inside=None):
     """The directions from ``point`` (3,) above its plane (``normal`` (3,), unit) that meet none of
     ``triangles`` (T, 3, 3): a list of disjoint convex polygons (M, 3) on the faces of a cube round the point
     (each direction is one point of them), or a str, why not (``unblocked_pieces`` refused: a triangle's
     plane passes too near the point). ``solids``: ``closed_solids(triangles, tol)``, to leave out their faces
-    turned away from the point (no direction at all where the point is inside one); ``partners``:
-    ``quad_partners(triangles, tol)``, to subtract each pair's quad at once. Metres throughout; see the module
-    docstring."""
+    turned away from the point (no direction at all where the point is inside one); ``pairs``:
+    ``quad_pairs(triangles, tol)``, to subtract each pair's quad at once; ``inside``: per solid whether the point is
+    inside it (True / False / None: ``sky_aperture.inside_enclosures``), when the caller found it for many points at
+    once. Metres throughout; see the module docstring."""
     p = np.asarray(point, float)
     n = np.asarray(normal, float)
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     keep = np.ones(len(tris), bool)
-    for idx, sign in solids or ():
-        inside = sky_aperture.inside_enclosures([p], tris[idx], [], tol)[0]
-        if inside is True:
+    for j, (idx, sign) in enumerate(solids or ()):
+        within = sky_aperture.inside_enclosures([p], tris[idx], [], tol)[0] if inside is None else inside[j]
+        if within is True:
             return []  # inside a closed surface of triangles that stop every ray: every direction meets it
-        if inside is False:
+        if within is False:
             t = tris[idx]
             facing = sign * np.einsum("tk,tk->t", np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), p - t[:, 0])
             keep[idx[facing < 0.0]] = False
@@ -285,35 +277,29 @@ def open_directions(point, normal, triangles, tol, solids=None, partners=None):
         inside = keep & (np.max(along, axis=1) > 0.0)           # some part in front of the face's plane
         for side in (u, -u, v, -v):  # wholly beyond a side plane of the face's pyramid: meets none of its directions
             inside &= ~np.all(rel @ side > along, axis=1)
-        found = unblocked_pieces(p, face, _blockers(tris, rel, np.flatnonzero(inside), partners), tol)
+        found = unblocked_pieces(p, face, _blockers(tris, rel, np.flatnonzero(inside), pairs), tol)
         if isinstance(found, str):
             return found
         pieces += found
     return pieces
 
 
-def _blockers(tris, rel, idx, partners):
+def _blockers(tris, rel, idx, pairs):
     """The triangles ``idx`` as polygons to subtract, the largest solid angles first (the pieces are used up sooner;
-    the order changes nothing else); a pair of ``partners`` both among them as its quad."""
+    the order changes nothing else); a pair of ``pairs`` (``quad_pairs``) both among them as its quad."""
     omega = _solid_angles(rel[idx])
+    if pairs is None:
+        return [tris[k] for k in idx[np.argsort(-omega)]]
+    partner, quads = pairs
+    where = dict(zip(idx.tolist(), omega))
     polys, weights = [], []
-    if partners is None:
-        order = np.argsort(-omega)
-        return [tris[k] for k in idx[order]]
-    where = {int(k): j for j, k in enumerate(idx)}
-    done = set()
-    for j, k in enumerate(idx.tolist()):
-        if k in done:
+    for k, w in where.items():
+        mate = int(partner[k])
+        if mate in where:  # both halves in view: the quad once, from the lower index
+            if k < mate:
+                polys.append(quads[k])
+                weights.append(w + where[mate])
             continue
-        mate = int(partners[k])
-        if mate >= 0 and mate in where and mate not in done:
-            quad = _quad(tris, k, mate)
-            if quad is not None:
-                polys.append(quad)
-                weights.append(omega[j] + omega[where[mate]])
-                done.update((k, mate))
-                continue
         polys.append(tris[k])
-        weights.append(omega[j])
-        done.add(k)
+        weights.append(w)
     return [polys[j] for j in np.argsort(-np.asarray(weights))]

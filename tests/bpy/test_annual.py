@@ -375,13 +375,8 @@ def test_dome_direct_part_through_an_open_window_is_the_closed_form(clean_blende
     req = request_of.build(scene, quality="preview", seed=4)
     proven = dcm.render_coefficients(points, normals, request=req)
     whole = dcm.render_coefficients(points, normals, request=req.but(seed=5), proven_direct=False)
-    patches = sky_patches.reinhart_patches(1)
-    z = []
-    for vec in perez_vectors(patches, 60, 2):
-        sd = np.hypot(*(np.sqrt(np.einsum("p,npq,q->n", vec, c.covariance, vec)) for c in (proven, whole)))
-        z.append((vec @ proven.dc - vec @ whole.dc) / sd)
-    z = np.array(z)
-    print("hourly z: mean", z.mean(), "RMS", np.sqrt(np.mean(z ** 2)), "max", np.abs(z).max())
+    z, line = hourly_z(proven, whole)
+    print(line)
     assert np.sqrt(np.mean(z ** 2)) < 1.5 and np.abs(z).max() < 5.0 and abs(z.mean()) < 0.5
 
 
