@@ -322,6 +322,19 @@ def _split_readings(request, points, dirs, rho, sky_info):
         measure_at(take, lambda k: [gate_note, "so the sky component was not used: the whole daylight factor is "
                                                "rendered"], seed=seed)
         return out, sky, grd
+    # The windows of a room of boxes as emitters (gaps in the scene's bounding faces, nothing in front of them), gated
+    # like the world: the rest is then found by sampling them as lights, not by the paths' own bounces alone.
+    factors, envelope, area = sky_component.add_envelope_emitters(request, model, sky_info)
+    how = ""
+    if envelope:
+        ok, envelope_note = sky_component.check_envelope_gate(request, [factor] + factors, model, sky_info,
+                                                             horizontal_lux=SKY_HORIZONTAL_LUX)
+        if not ok:  # without them the gate path is as before: the world found by the paths' bounces
+            envelope = sky_component.remove_objects(envelope)
+        how = (f"{len(envelope)} gap(s) in the scene's bounding faces ({area:.3g} m^2: the windows of a room of boxes) "
+               "emitted the sky's and ground's radiance, gated like the world "
+               "(sky_component.add_envelope_emitters)" if envelope else "")
+        gate_note = gate_note + "; " + envelope_note
     request.view_layer.update()
     sc_lux = np.array([scs[k].sky_lux for k in take], float)
     grey = np.repeat((sc_lux / efficacy)[:, None], 3, axis=1)  # the sky is white: W/m^2 per channel
@@ -334,8 +347,9 @@ def _split_readings(request, points, dirs, rho, sky_info):
         + "): the CIE overcast sky through them in closed form (radiometry/skies/sky_aperture.py), "
         + ("bounded; " if scs[k].glazed else "exact; ")
         + "Cycles rendered only the rest (the sky's direct emission gated off by Light Path Ray Depth, the ground "
-        "seen through the openings and every reflection kept; the openings were not made emitters: "
-        f"{why_gate})", gate_note], seed=seed, proven=meter.ProvenPart(grey, "sky component (closed form)",
+        "seen through the openings and every reflection kept; "
+        + (how + "; no closed room holds the openings: " if envelope else "the openings were not made emitters: ")
+        + f"{why_gate})", gate_note], seed=seed, proven=meter.ProvenPart(grey, "sky component (closed form)",
                                                                        bound_rgb=sc_bound))
     for k in take:
         sky[k] = float(scs[k].sky_lux)

@@ -267,9 +267,32 @@ def test_room_of_boxes_split_agrees_with_the_whole_render(clean_blender, mullion
     for a, w in zip(auto, whole):
         assert a.method.startswith("hybrid") and 0.0 < a.sky_component < a.daylight_factor, a.notes
         assert any("meets no surface at all" in note for note in a.notes)
+        # its window found as a gap in the scene's bounding faces and made an emitter, its gate checked
+        assert any(f"{1 if mullion is None else 2} gap(s) in the scene's bounding faces" in note for note in a.notes)
+        assert any("envelope emitters' gate was checked" in note and "does NOT" not in note for note in a.notes)
         combined = math.hypot(a.rel_std_error * a.daylight_factor, w.rel_std_error * w.daylight_factor)
         assert abs(a.daylight_factor - w.daylight_factor) <= 4.0 * combined, (a.daylight_factor, w.daylight_factor)
     assert _state(scene) == before
+
+
+def test_envelope_emitters_that_fail_their_check_are_not_used(clean_blender, monkeypatch):
+    # As if Cycles reported another Ray Depth for the light an emitting mesh sends a sensor straight: the check sees
+    # the direct band read a fraction of the sky, the window's emitter is taken away again and the rest is rendered
+    # through the world's gate alone, as before (said so); the reading still agrees with the whole render.
+    monkeypatch.setattr(sky_component, "EMITTER_DIRECT_DEPTH", 2.0)
+    monkeypatch.setattr(sky_component, "_ENVELOPE_CHECKS", {})
+    scene = bpy.context.scene
+    room.build_boxes_blender(scene, room.boxes_room_boxes())
+    before = _state(scene)
+    a = api.daylight_factor((2.0, 2.5, 0.85), target_rel_error=0.02, seed=3)
+    w = api.daylight_factor((2.0, 2.5, 0.85), target_rel_error=0.02, seed=4, method="render")
+    assert a.method.startswith("hybrid") and a.sky_component > 0.0
+    assert any("envelope emitters' gate" in n and "does NOT hold" in n for n in a.notes)
+    assert not any("gap(s) in the scene's bounding faces" in n for n in a.notes)
+    combined = math.hypot(a.rel_std_error * a.daylight_factor, w.rel_std_error * w.daylight_factor)
+    assert abs(a.daylight_factor - w.daylight_factor) <= 4.0 * combined, (a.daylight_factor, w.daylight_factor)
+    assert _state(scene) == before
+    monkeypatch.setattr(sky_component, "_ENVELOPE_CHECKS", {})  # the next test proves it again
 
 
 def test_room_of_boxes_behind_a_pane_split_agrees_with_the_whole_render(clean_blender, monkeypatch):

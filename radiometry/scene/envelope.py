@@ -1,0 +1,113 @@
+"""Gaps in the faces of the scene's bounding box: where a ray from inside may leave (pure numpy, no bpy; issue 31).
+
+A room built of separate boxes (walls, floor and roof that touch) has no single closed surface, so its openings
+cannot be proven as holes of one (``measure.analyses.sky_component``). Its windows still show where the boxes'
+outer faces leave the bounding box's faces uncovered. :func:`bounding_face_gaps` finds those parts: on each face
+of the box around every render-visible triangle, the cells of a grid (its lines through every coplanar opaque
+triangle's vertices, so axis-aligned boxes are met exactly) whose centre no coplanar opaque triangle covers,
+merged into rectangles.
+
+What the caller may rely on, whatever the gaps found: each rectangle lies a little outside the bounding box, so
+the half-space in front of it holds no surface, and a ray that crosses it would have met nothing but the world
+(Radiance's ``mkillum`` secondary sources rest on the same: light leaving through a window is the sky's). A gap
+missed, or a rectangle over a covered part, changes only how well a renderer samples the light, never what it
+adds up to (``measure.analyses.sky_component.add_envelope_emitters``).
+"""
+
+import numpy as np
+
+#: Most grid lines per axis on one face; past it the lines are evenly spaced (a rectangle may then straddle a
+#: covered part: allowed, see the module's docstring).
+MAX_LINES = 256
+
+
+def _unique(values, tol):
+    values = np.sort(np.asarray(values, float))
+    if not len(values):
+        return values
+    keep = np.r_[True, np.diff(values) > tol]
+    return values[keep]
+
+
+def _covered(centres, tris2d, tol):
+    """(M,) bool: cell centres (M, 2) inside any of the triangles (T, 3, 2) (edges widened by ``tol``)."""
+    out = np.zeros(len(centres), bool)
+    for start in range(0, len(tris2d), 2048):
+        t = tris2d[start:start + 2048]
+        a, b, c = t[:, 0], t[:, 1], t[:, 2]
+        area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+        ok = np.abs(area) > tol * tol
+        if not ok.any():
+            continue
+        a, b, c, sign = a[ok], b[ok], c[ok], np.sign(area[ok])
+        inside = np.ones((len(centres), len(a)), bool)
+        for p, q in ((a, b), (b, c), (c, a)):
+            edge = q - p
+            length = np.maximum(np.hypot(edge[:, 0], edge[:, 1]), 1e-300)
+            cross = (edge[:, 0] * (centres[:, None, 1] - p[:, 1]) - edge[:, 1] * (centres[:, None, 0] - p[:, 0]))
+            inside &= cross * sign / length >= -tol
+        out |= inside.any(axis=1)
+    return out
+
+
+def _rectangles(free, us, vs):
+    """Merge free cells (nu, nv) into rectangles [(u0, u1, v0, v1)]: runs along u per row, equal runs of
+    consecutive rows joined."""
+    runs = {}
+    out = []
+    for j in range(free.shape[1]):
+        row, i, now = free[:, j], 0, {}
+        while i < len(row):
+            if row[i]:
+                k = i
+                while k + 1 < len(row) and row[k + 1]:
+                    k += 1
+                now[(i, k)] = runs.pop((i, k), j)  # the row where this run started
+                i = k + 1
+            else:
+                i += 1
+        out += [(us[i], us[k + 1], vs[start], vs[j]) for (i, k), start in runs.items()]  # runs that ended
+        runs = now
+    out += [(us[i], us[k + 1], vs[start], vs[free.shape[1]]) for (i, k), start in runs.items()]
+    return out
+
+
+def bounding_face_gaps(triangles, opaque, tol, offset):
+    """[(quad (4, 3) m, outward unit normal (3,))]: the parts of the faces of the bounding box of ``triangles``
+    (T, 3, 3) m that no coplanar ``opaque`` (T,) triangle covers (within ``tol`` m), each moved ``offset`` m out
+    of the box; a quad's vertices run counter-clockwise seen from outside."""
+    triangles = np.asarray(triangles, float).reshape(-1, 3, 3)
+    opaque = np.asarray(opaque, bool)
+    if not len(triangles):
+        return []
+    lo, hi = triangles.reshape(-1, 3).min(axis=0), triangles.reshape(-1, 3).max(axis=0)
+    out = []
+    for axis in range(3):
+        u_axis, v_axis = (axis + 1) % 3, (axis + 2) % 3
+        if hi[u_axis] - lo[u_axis] <= tol or hi[v_axis] - lo[v_axis] <= tol:
+            continue  # a flat scene: no face to leave by
+        for side, plane in ((-1.0, lo[axis]), (1.0, hi[axis])):
+            on = opaque & np.all(np.abs(triangles[:, :, axis] - plane) <= tol, axis=1)
+            flat = triangles[on][:, :, [u_axis, v_axis]]
+            us = _unique(np.r_[lo[u_axis], hi[u_axis], np.clip(flat[:, :, 0].ravel(), lo[u_axis], hi[u_axis])], tol)
+            vs = _unique(np.r_[lo[v_axis], hi[v_axis], np.clip(flat[:, :, 1].ravel(), lo[v_axis], hi[v_axis])], tol)
+            if len(us) > MAX_LINES + 1:
+                us = np.linspace(lo[u_axis], hi[u_axis], MAX_LINES + 1)
+            if len(vs) > MAX_LINES + 1:
+                vs = np.linspace(lo[v_axis], hi[v_axis], MAX_LINES + 1)
+            cu, cv = 0.5 * (us[1:] + us[:-1]), 0.5 * (vs[1:] + vs[:-1])
+            centres = np.stack(np.meshgrid(cu, cv, indexing="ij"), axis=-1).reshape(-1, 2)
+            free = ~_covered(centres, flat, tol) if len(flat) else np.ones(len(centres), bool)
+            free = free.reshape(len(cu), len(cv))
+            normal = np.zeros(3)
+            normal[axis] = side
+            for u0, u1, v0, v1 in _rectangles(free, us, vs):
+                if (u1 - u0) <= tol or (v1 - v0) <= tol:
+                    continue
+                quad = np.zeros((4, 3))
+                quad[:, axis] = plane + side * offset
+                quad[:, u_axis] = (u0, u1, u1, u0)
+                quad[:, v_axis] = (v0, v0, v1, v1)
+                # (u, v, n) is right-handed, so this order runs counter-clockwise seen from +axis
+                out.append((quad if side > 0 else quad[::-1].copy(), normal))
+    return out

@@ -1,0 +1,103 @@
+"""Gaps in the faces of the scene's bounding box (radiometry.scene.envelope): rooms of boxes with random windows,
+checked point by point against an independent point-in-triangle test on random points of every face."""
+
+import numpy as np
+import pytest
+
+from radiometer.radiometry.scene import envelope
+
+FACES = [(0, 2, 1), (0, 3, 2), (4, 5, 6), (4, 6, 7), (0, 1, 5), (0, 5, 4), (1, 2, 6), (1, 6, 5), (2, 3, 7), (2, 7, 6),
+         (3, 0, 4), (3, 4, 7)]
+
+
+def box(lo, hi):
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    v = np.array([(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0), (x0, y0, z1), (x1, y0, z1), (x1, y1, z1),
+                  (x0, y1, z1)], float)
+    return v[np.array(FACES)]
+
+
+def room_of_boxes(rng, t=0.2, size=(4.0, 5.0, 2.8), roof=True):
+    """Floor, roof, three walls and a window wall of boxes round 1-2 random windows (x ranges in the wall y = -t..0)."""
+    w, d, h = size
+    boxes = [((-t, -t, -t), (w + t, d + t, 0.0)), ((-t, 0.0, 0.0), (0.0, d, h)), ((w, 0.0, 0.0), (w + t, d, h)),
+             ((-t, d, 0.0), (w + t, d + t, h))] + ([((-t, -t, h), (w + t, d + t, h + t))] if roof else [])
+    cuts = np.sort(rng.uniform(0.2, w - 0.2, 2 * rng.integers(1, 3)))
+    z0, z1 = np.sort(rng.uniform(0.3, h - 0.3, 2))
+    edges = np.r_[-t, cuts, w + t]
+    windows = []
+    for k in range(len(edges) - 1):
+        a, b = edges[k], edges[k + 1]
+        if k % 2 == 0:  # wall between windows, full height
+            boxes.append(((a, -t, 0.0), (b, 0.0, h)))
+        else:  # a window: wall below and above it
+            boxes += [((a, -t, 0.0), (b, 0.0, z0)), ((a, -t, z1), (b, 0.0, h))]
+            windows.append((a, b, z0, z1))
+    return np.concatenate([box(lo, hi) for lo, hi in boxes]), windows
+
+
+def _in_triangle(p, tri):
+    """Independent of the module: barycentric coordinates of 2D points p (M, 2) in tri (3, 2)."""
+    a, b, c = tri
+    m = np.array([b - a, c - a]).T
+    if abs(np.linalg.det(m)) < 1e-12:
+        return np.zeros(len(p), bool)
+    uv = np.linalg.solve(m, (p - a).T).T
+    return (uv[:, 0] >= 0) & (uv[:, 1] >= 0) & (uv.sum(axis=1) <= 1)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_gaps_are_exactly_the_uncovered_parts_of_the_faces(seed):
+    rng = np.random.default_rng(seed)
+    tris, windows = room_of_boxes(rng)
+    tol, offset = 1e-7, 1e-3
+    gaps = envelope.bounding_face_gaps(tris, np.ones(len(tris), bool), tol, offset)
+    lo, hi = tris.reshape(-1, 3).min(axis=0), tris.reshape(-1, 3).max(axis=0)
+    # every gap stands offset out of the box, counter-clockwise seen from outside
+    for quad, normal in gaps:
+        axis = int(np.argmax(np.abs(normal)))
+        plane = hi[axis] if normal[axis] > 0 else lo[axis]
+        assert np.allclose(quad[:, axis], plane + normal[axis] * offset)
+        assert np.cross(quad[1] - quad[0], quad[2] - quad[0]) @ normal > 0
+    # the windows are the only gaps here (the wall y = -t), and the gaps' area is theirs
+    assert all(n[1] == -1 for _q, n in gaps)
+    area = sum(np.linalg.norm(np.cross(q[1] - q[0], q[3] - q[0])) for q, _n in gaps)
+    assert area == pytest.approx(sum((b - a) * (z1 - z0) for a, b, z0, z1 in windows), rel=1e-9)
+    # random points of the face: inside a gap exactly where no coplanar triangle covers them
+    face = np.all(np.abs(tris[:, :, 1] - lo[1]) <= tol, axis=1)
+    pts = np.c_[rng.uniform(lo[0], hi[0], 4000), rng.uniform(lo[2], hi[2], 4000)]
+    covered = np.zeros(len(pts), bool)
+    for tri in tris[face][:, :, [0, 2]]:
+        covered |= _in_triangle(pts, tri)
+    in_gap = np.zeros(len(pts), bool)
+    for quad, _n in gaps:
+        qlo, qhi = quad[:, [0, 2]].min(axis=0), quad[:, [0, 2]].max(axis=0)
+        in_gap |= np.all((pts > qlo) & (pts < qhi), axis=1)
+    assert np.array_equal(in_gap, ~covered)
+
+
+def test_a_closed_box_has_no_gap_and_a_pane_does_not_close_one():
+    assert envelope.bounding_face_gaps(box((0, 0, 0), (1, 2, 3)), np.ones(12, bool), 1e-9, 1e-3) == []
+    rng = np.random.default_rng(3)
+    tris, windows = room_of_boxes(rng)
+    a, b, z0, z1 = windows[0]
+    pane = np.array([[(a, -0.2, z0), (b, -0.2, z0), (b, -0.2, z1)], [(a, -0.2, z0), (b, -0.2, z1), (a, -0.2, z1)]])
+    both = np.concatenate([tris, pane])
+    opaque = np.r_[np.ones(len(tris), bool), False, False]
+    with_pane = envelope.bounding_face_gaps(both, opaque, 1e-7, 1e-3)
+    without = envelope.bounding_face_gaps(tris, np.ones(len(tris), bool), 1e-7, 1e-3)
+    assert len(with_pane) == len(without) and all(np.allclose(p[0], q[0]) for p, q in zip(with_pane, without))
+    # an opaque one in the same place closes it
+    closed = envelope.bounding_face_gaps(both, np.ones(len(both), bool), 1e-7, 1e-3)
+    assert len(closed) == len(without) - 1
+
+
+def test_an_open_top_is_one_gap_over_the_room():
+    roofless, _windows = room_of_boxes(np.random.default_rng(0), roof=False)
+    lo = roofless.reshape(-1, 3).min(axis=0)
+    gaps = envelope.bounding_face_gaps(roofless, np.ones(len(roofless), bool), 1e-7, 1e-3)
+    top = [(q, n) for q, n in gaps if n[2] == 1]
+    assert len(top) >= 1
+    area = sum(np.linalg.norm(np.cross(q[1] - q[0], q[3] - q[0])) for q, _n in top)
+    assert area == pytest.approx(4.0 * 5.0, rel=1e-9)  # the walls' tops cover the rest of the face
+    assert lo[2] == pytest.approx(-0.2)
