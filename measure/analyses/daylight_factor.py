@@ -324,7 +324,7 @@ def _split_readings(request, points, dirs, rho, sky_info):
         return out, sky, grd
     # The windows of a room of boxes as emitters (gaps in the scene's bounding faces, nothing in front of them), gated
     # like the world: the rest is then found by sampling them as lights, not by the paths' own bounces alone.
-    factors, envelope, area = sky_component.add_envelope_emitters(request, model, sky_info)
+    factors, envelope, area, why_not = sky_component.add_envelope_emitters(request, model, sky_info)
     how = ""
     if envelope:
         ok, envelope_note = sky_component.check_envelope_gate(request, [factor] + factors, model, sky_info,
@@ -349,7 +349,8 @@ def _split_readings(request, points, dirs, rho, sky_info):
         + "Cycles rendered only the rest (the sky's direct emission gated off by Light Path Ray Depth, the ground "
         "seen through the openings and every reflection kept; "
         + (how + "; no closed room holds the openings: " if envelope else "the openings were not made emitters: ")
-        + f"{why_gate})", gate_note], seed=seed, proven=meter.ProvenPart(grey, "sky component (closed form)",
+        + f"{why_gate}" + (f"; nor the gaps in the scene's bounding faces: {why_not}" if why_not else "") + ")",
+        gate_note], seed=seed, proven=meter.ProvenPart(grey, "sky component (closed form)",
                                                                        bound_rgb=sc_bound))
     for k in take:
         sky[k] = float(scs[k].sky_lux)
