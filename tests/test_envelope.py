@@ -101,3 +101,35 @@ def test_an_open_top_is_one_gap_over_the_room():
     area = sum(np.linalg.norm(np.cross(q[1] - q[0], q[3] - q[0])) for q, _n in top)
     assert area == pytest.approx(4.0 * 5.0, rel=1e-9)  # the walls' tops cover the rest of the face
     assert lo[2] == pytest.approx(-0.2)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_stood_off_gaps_move_out_grow_and_never_overlap_in_one_plane(seed):
+    rng = np.random.default_rng(10 + seed)
+    tris, _windows = room_of_boxes(rng)
+    gaps = envelope.bounding_face_gaps(tris, np.ones(len(tris), bool), 1e-7, 1e-3)
+    moved = envelope.stood_off(gaps, 0.3, 1.5)
+    assert len(moved) == len(gaps)
+    rects = []
+    for (q0, n0), (q1, n1) in zip(gaps, moved):
+        assert np.array_equal(n0, n1)
+        axis = int(np.argmax(np.abs(n0)))
+        side = min(np.linalg.norm(q0[1] - q0[0]), np.linalg.norm(q0[3] - q0[0]))
+        assert np.allclose(q1[:, axis], q0[:, axis] + 0.3 * side * n0[axis])  # further out: nothing in front still
+        lo0, hi0, lo1, hi1 = q0.min(0), q0.max(0), q1.min(0), q1.max(0)
+        others = [a for a in range(3) if a != axis]
+        grow = lo0[others] - lo1[others]
+        assert np.all(grow >= -1e-12) and np.allclose(hi1[others] - hi0[others], grow)  # grown alike on every side
+        assert np.all(grow <= 1.5 * 0.3 * side + 1e-12)
+        assert np.cross(q1[1] - q1[0], q1[2] - q1[0]) @ n0 > 0
+        rects.append((axis, q1[0, axis], lo1[others], hi1[others]))
+    for i in range(len(rects)):  # coplanar ones stay apart
+        for j in range(i + 1, len(rects)):
+            a, b = rects[i], rects[j]
+            if a[0] == b[0] and abs(a[1] - b[1]) < 1e-12:
+                apart = np.any((a[3] <= b[2] + 1e-12) | (b[3] <= a[2] + 1e-12))
+                assert apart
+    if len(gaps) == 1:  # alone on its face: the whole growth
+        q0, q1 = gaps[0][0], moved[0][0]
+        side = min(np.linalg.norm(q0[1] - q0[0]), np.linalg.norm(q0[3] - q0[0]))
+        assert np.linalg.norm(q1[1] - q1[0]) == pytest.approx(np.linalg.norm(q0[1] - q0[0]) + 2 * 1.5 * 0.3 * side)

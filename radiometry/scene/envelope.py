@@ -111,3 +111,33 @@ def bounding_face_gaps(triangles, opaque, tol, offset):
                 # (u, v, n) is right-handed, so this order runs counter-clockwise seen from +axis
                 out.append((quad if side > 0 else quad[::-1].copy(), normal))
     return out
+
+
+def stood_off(gaps, standoff, grow):
+    """``bounding_face_gaps`` moved further out, each by ``standoff`` x its shorter side, and grown on every side by
+    ``grow`` x that distance (a ray leaving through the gap at an angle still meets it), but never into another gap of
+    the same plane: gaps whose planes coincide must stay apart (where two coplanar emitters overlap, a renderer's
+    shadow ray to one may stop on the other). Still outside the bounding box, so still with nothing in front."""
+    moved = []
+    for quad, normal in gaps:
+        side = min(np.linalg.norm(quad[1] - quad[0]), np.linalg.norm(quad[3] - quad[0]))
+        moved.append((quad + standoff * side * normal, normal, standoff * side))
+    out = []
+    for k, (quad, normal, d) in enumerate(moved):
+        axis = int(np.argmax(np.abs(normal)))
+        lo, hi = quad.min(axis=0), quad.max(axis=0)
+        g = grow * d
+        for j, (other, n2, _d2) in enumerate(moved):
+            if j == k or not np.array_equal(n2, normal) or abs(other[0, axis] - quad[0, axis]) > 1e-12 * max(
+                    1.0, abs(quad[0, axis])):
+                continue
+            olo, ohi = other.min(axis=0), other.max(axis=0)
+            gap = max(max(olo[a] - hi[a], lo[a] - ohi[a]) for a in range(3) if a != axis)
+            g = min(g, 0.5 * max(gap, 0.0))
+        grown = quad.copy()
+        centre = quad.mean(axis=0)
+        for a in range(3):
+            if a != axis:
+                grown[:, a] = np.where(quad[:, a] > centre[a], quad[:, a] + g, quad[:, a] - g)
+        out.append((grown, normal))
+    return out
