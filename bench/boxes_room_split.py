@@ -1,6 +1,7 @@
 """Issue 31 on a room as users build one: walls, floor and roof as nine separate boxes that touch (no single
 closed surface, so no room's openings to prove). The daylight factor's sky component is then the sky over every
-direction that meets no surface (``obstructed_aperture.open_directions``), the rest rendered through the gate;
+direction that meets no surface (``obstructed_aperture.open_directions``), the rest rendered through the gate (since
+the same day the window an emitter where no pane stands: ``sky_component.add_envelope_emitters``);
 before 2026-12-07 such a room was rendered whole.
 
 The room of tests/bpy/daylight_room.py ``boxes_room_boxes`` (4 x 5 x 2.8 m inside, walls 0.2 m thick, a 2 x 1.3 m
