@@ -43,30 +43,40 @@ SLIVER = 1e-12
 
 
 def _area(q):
-    """Signed area of a 2D polygon (K, 2); positive when counter-clockwise."""
-    x, y = q[:, 0], q[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    """Signed area of a 2D polygon (K, 2) or a list of (x, y); positive when counter-clockwise."""
+    n = len(q)
+    return 0.5 * sum(q[k][0] * q[(k + 1) % n][1] - q[(k + 1) % n][0] * q[k][1] for k in range(n))
 
 
 def _clip(q, a, b, keep_left):
-    """Convex 2D polygon ``q`` (K, 2) clipped to the left (``keep_left``) or the right of the line a -> b
-    (Sutherland-Hodgman; points on the line are kept on both sides)."""
-    d = b - a
-    side = d[0] * (q[:, 1] - a[1]) - d[1] * (q[:, 0] - a[0])
+    """Convex 2D polygon ``q`` (a list of (x, y)) clipped to the left (``keep_left``) or the right of the line a -> b
+    (Sutherland-Hodgman; points on the line are kept on both sides). Plain floats: the polygons have a handful of
+    vertices, where numpy's per-call cost was most of the proof's time."""
+    ax, ay = a
+    dx, dy = b[0] - ax, b[1] - ay
+    side = [dx * (y - ay) - dy * (x - ax) for x, y in q]
     if not keep_left:
-        side = -side
-    if np.all(side >= 0.0):
+        side = [-v for v in side]
+    if min(side) >= 0.0:
         return q
-    if np.all(side <= 0.0):
-        return q[:0]
+    if max(side) <= 0.0:
+        return []
     out = []
-    for k in range(len(q)):
-        j = (k + 1) % len(q)
-        if side[k] >= 0.0:
+    n = len(q)
+    for k in range(n):
+        j = (k + 1) % n
+        sk, sj = side[k], side[j]
+        if sk >= 0.0:
             out.append(q[k])
-        if (side[k] > 0.0 and side[j] < 0.0) or (side[k] < 0.0 and side[j] > 0.0):
-            out.append(q[k] + (side[k] / (side[k] - side[j])) * (q[j] - q[k]))
-    return np.asarray(out, float).reshape(-1, 2)
+        if (sk > 0.0 and sj < 0.0) or (sk < 0.0 and sj > 0.0):
+            t = sk / (sk - sj)
+            out.append((q[k][0] + t * (q[j][0] - q[k][0]), q[k][1] + t * (q[j][1] - q[k][1])))
+    return out
+
+
+def _box(q):
+    xs, ys = [v[0] for v in q], [v[1] for v in q]
+    return min(xs), min(ys), max(xs), max(ys)
 
 
 def unblocked_pieces(point, vertices, blockers, tol):
@@ -92,7 +102,7 @@ def unblocked_pieces(point, vertices, blockers, tol):
         rel = x - origin
         return np.c_[rel @ e1, rel @ e2]
 
-    base = flat(poly)
+    base = [tuple(v) for v in flat(poly).tolist()]
     if _area(base) < 0.0:
         base = base[::-1]
     smallest = SLIVER * abs(_area(base))
@@ -113,16 +123,17 @@ def unblocked_pieces(point, vertices, blockers, tol):
                         f"{near:.3g} m of the point, behind it as seen from the opening")
         if len(front) < 3:
             continue  # wholly behind: it blocks no direction through the opening
-        sil = flat(p + (front - p) * (depth / ((front - p) @ m))[:, None])  # central projection onto the plane
+        sil = [tuple(v) for v in flat(p + (front - p) * (depth / ((front - p) @ m))[:, None]).tolist()]  # central projection
         area = _area(sil)
         if abs(area) <= smallest:
             continue  # seen edge-on: no solid angle
         if area < 0.0:
             sil = sil[::-1]
         kept = []
-        lo, hi = sil.min(axis=0), sil.max(axis=0)
+        lox, loy, hix, hiy = _box(sil)
         for piece in pieces:
-            if np.any(piece.max(axis=0) < lo) or np.any(piece.min(axis=0) > hi):
+            px0, py0, px1, py1 = _box(piece)
+            if px1 < lox or py1 < loy or px0 > hix or py0 > hiy:
                 kept.append(piece)  # their boxes are apart: the silhouette cuts nothing of this piece
                 continue
             rest = piece
@@ -138,6 +149,7 @@ def unblocked_pieces(point, vertices, blockers, tol):
         pieces = kept
         if not pieces:
             break
+    pieces = [np.asarray(q, float).reshape(-1, 2) for q in pieces]
     return [origin + q[:, :1] * e1 + q[:, 1:] * e2 for q in map(_without_repeats, pieces) if len(q) >= 3]
 
 
