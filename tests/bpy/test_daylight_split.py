@@ -275,6 +275,32 @@ def test_room_of_boxes_split_agrees_with_the_whole_render(clean_blender, mullion
     assert _state(scene) == before
 
 
+@pytest.mark.parametrize("second", ["back window", "skylight"])
+def test_room_of_boxes_with_two_openings_agrees_with_the_whole_render(clean_blender, second):
+    """Two gaps in the bounding box's faces, on two faces: a second window in the back wall, or a skylight in the
+    roof (the gap on the top face). Both become emitters; auto against the whole render (another seed)."""
+    t, w, d, h = 0.2, 4.0, 5.0, 2.8
+    boxes = [b for b in room.boxes_room_boxes() if not (b[0][1] == d or b[0][2] == h)]  # no back wall, no roof
+    if second == "back window":
+        boxes += [((-t, d, 0.0), (1.2, d + t, h)), ((2.8, d, 0.0), (w + t, d + t, h)), ((1.2, d, 0.0), (2.8, d + t, 1.0)),
+                  ((1.2, d, 2.0), (2.8, d + t, h)), ((-t, -t, h), (w + t, d + t, h + t))]
+    else:
+        boxes += [((-t, d, 0.0), (w + t, d + t, h)), ((-t, -t, h), (1.4, d + t, h + t)), ((2.6, -t, h), (w + t, d + t, h + t)),
+                  ((1.4, -t, h), (2.6, 1.9, h + t)), ((1.4, 3.1, h), (2.6, d + t, h + t))]
+    scene = bpy.context.scene
+    room.build_boxes_blender(scene, boxes)
+    before = _state(scene)
+    points = [(2.0, 2.5, 0.85), (0.8, 4.2, 0.85)]
+    auto = api.daylight_factor(points, target_rel_error=0.02, seed=11)
+    whole = api.daylight_factor(points, target_rel_error=0.02, seed=12, method="render")
+    for a, w_ in zip(auto, whole):
+        assert a.method.startswith("hybrid") and 0.0 < a.sky_component < a.daylight_factor
+        assert any("2 gap(s) in the scene's bounding faces" in n for n in a.notes), a.notes
+        combined = math.hypot(a.rel_std_error * a.daylight_factor, w_.rel_std_error * w_.daylight_factor)
+        assert abs(a.daylight_factor - w_.daylight_factor) <= 4.0 * combined, (a.daylight_factor, w_.daylight_factor)
+    assert _state(scene) == before
+
+
 def test_envelope_emitters_that_fail_their_check_are_not_used(clean_blender, monkeypatch):
     # As if Cycles reported another Ray Depth for the light an emitting mesh sends a sensor straight: the check sees
     # the direct band read a fraction of the sky, the window's emitter is taken away again and the rest is rendered
