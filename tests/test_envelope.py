@@ -133,3 +133,26 @@ def test_stood_off_gaps_move_out_grow_and_never_overlap_in_one_plane(seed):
         q0, q1 = gaps[0][0], moved[0][0]
         side = min(np.linalg.norm(q0[1] - q0[0]), np.linalg.norm(q0[3] - q0[0]))
         assert np.linalg.norm(q1[1] - q1[0]) == pytest.approx(np.linalg.norm(q0[1] - q0[0]) + 2 * 1.5 * 0.3 * side)
+
+
+def test_a_facade_of_many_small_triangles_keeps_its_window_exactly():
+    """A wall meshed as 120 x 120 quads with a 20 x 20 hole (the window), a floor and a back wall: every cell is
+    tested only against the triangles whose box meets it, and the hole comes out exactly."""
+    n = 120
+    xs, zs = np.linspace(0.0, 12.0, n + 1), np.linspace(0.0, 6.0, n + 1)
+    tris = []
+    for i in range(n):
+        for j in range(n):
+            if 40 <= i < 60 and 30 <= j < 50:
+                continue
+            a, b, c, d = (xs[i], 0, zs[j]), (xs[i + 1], 0, zs[j]), (xs[i + 1], 0, zs[j + 1]), (xs[i], 0, zs[j + 1])
+            tris += [(a, b, c), (a, c, d)]
+    tris += [((0, 0, 0), (12, 5, 0), (12, 0, 0)), ((0, 0, 0), (0, 5, 0), (12, 5, 0)),
+             ((0, 5, 0), (12, 5, 6), (12, 5, 0)), ((0, 5, 0), (0, 5, 6), (12, 5, 6))]
+    tris = np.array(tris, float)
+    gaps = envelope.bounding_face_gaps(tris, np.ones(len(tris), bool), 1e-7, 1e-3)
+    front = [q for q, n_ in gaps if n_[1] == -1]
+    assert len(front) == 1
+    assert np.allclose(front[0].min(axis=0), (4.0, -1e-3, 1.5)) and np.allclose(front[0].max(axis=0), (6.0, -1e-3, 2.5))
+    # the open sides and top of this box-less scene are gaps too (the whole of each face)
+    assert sorted(tuple(n_.astype(int)) for _q, n_ in gaps) == [(-1, 0, 0), (0, -1, 0), (0, 0, 1), (1, 0, 0)]

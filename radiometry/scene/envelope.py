@@ -19,6 +19,8 @@ import numpy as np
 #: Most grid lines per axis on one face; past it the lines are evenly spaced (a rectangle may then straddle a
 #: covered part: allowed, see the module's docstring).
 MAX_LINES = 256
+#: Most cell-triangle pairs tested at once by ``_covered``.
+PAIRS = 2_000_000
 
 
 def _unique(values, tol):
@@ -29,24 +31,38 @@ def _unique(values, tol):
     return values[keep]
 
 
-def _covered(centres, tris2d, tol):
-    """(M,) bool: cell centres (M, 2) inside any of the triangles (T, 3, 2) (edges widened by ``tol``)."""
-    out = np.zeros(len(centres), bool)
-    for start in range(0, len(tris2d), 2048):
-        t = tris2d[start:start + 2048]
-        a, b, c = t[:, 0], t[:, 1], t[:, 2]
-        area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-        ok = np.abs(area) > tol * tol
-        if not ok.any():
-            continue
-        a, b, c, sign = a[ok], b[ok], c[ok], np.sign(area[ok])
-        inside = np.ones((len(centres), len(a)), bool)
+def _covered(cu, cv, tris2d, tol):
+    """(len(cu), len(cv)) bool: the cell centres (cu[i], cv[j]) (both sorted) inside any of the triangles (T, 3, 2)
+    (edges widened by ``tol``). Each triangle tests only the cells in its bounding box: a face of many small
+    triangles costs what its cells do."""
+    out = np.zeros((len(cu), len(cv)), bool)
+    a, b, c = tris2d[:, 0], tris2d[:, 1], tris2d[:, 2]
+    area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    keep = np.abs(area) > tol * tol
+    lo, hi = tris2d.min(axis=1) - tol, tris2d.max(axis=1) + tol
+    i0, i1 = np.searchsorted(cu, lo[:, 0], "left"), np.searchsorted(cu, hi[:, 0], "right")
+    j0, j1 = np.searchsorted(cv, lo[:, 1], "left"), np.searchsorted(cv, hi[:, 1], "right")
+    tris = np.flatnonzero(keep & (i1 > i0) & (j1 > j0))
+    counts = (i1[tris] - i0[tris]) * (j1[tris] - j0[tris])
+    ends = np.cumsum(counts)
+    start = 0
+    while start < len(tris):  # triangles in chunks of at most PAIRS cell-triangle pairs (one triangle at least)
+        stop = max(start + 1, int(np.searchsorted(ends, (ends[start - 1] if start else 0) + PAIRS, "right")))
+        t, n = tris[start:stop], counts[start:stop]
+        owner = np.repeat(np.arange(len(t)), n)
+        k = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
+        width = (j1[t] - j0[t])[owner]
+        ci, cj = i0[t][owner] + k // width, j0[t][owner] + k % width
+        x, y = cu[ci], cv[cj]
+        inside = np.ones(len(k), bool)
+        sign = np.sign(area[t])[owner]
         for p, q in ((a, b), (b, c), (c, a)):
+            p, q = p[t][owner], q[t][owner]
             edge = q - p
             length = np.maximum(np.hypot(edge[:, 0], edge[:, 1]), 1e-300)
-            cross = (edge[:, 0] * (centres[:, None, 1] - p[:, 1]) - edge[:, 1] * (centres[:, None, 0] - p[:, 0]))
-            inside &= cross * sign / length >= -tol
-        out |= inside.any(axis=1)
+            inside &= (edge[:, 0] * (y - p[:, 1]) - edge[:, 1] * (x - p[:, 0])) * sign / length >= -tol
+        out[ci[inside], cj[inside]] = True
+        start = stop
     return out
 
 
@@ -96,9 +112,7 @@ def bounding_face_gaps(triangles, opaque, tol, offset):
             if len(vs) > MAX_LINES + 1:
                 vs = np.linspace(lo[v_axis], hi[v_axis], MAX_LINES + 1)
             cu, cv = 0.5 * (us[1:] + us[:-1]), 0.5 * (vs[1:] + vs[:-1])
-            centres = np.stack(np.meshgrid(cu, cv, indexing="ij"), axis=-1).reshape(-1, 2)
-            free = ~_covered(centres, flat, tol) if len(flat) else np.ones(len(centres), bool)
-            free = free.reshape(len(cu), len(cv))
+            free = ~_covered(cu, cv, flat, tol) if len(flat) else np.ones((len(cu), len(cv)), bool)
             normal = np.zeros(3)
             normal[axis] = side
             for u0, u1, v0, v1 in _rectangles(free, us, vs):
