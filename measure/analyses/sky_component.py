@@ -995,8 +995,6 @@ def add_envelope_emitters(request, model, info):
                              "(more than a building's windows: they would be sampled as lights where they cannot be "
                              "seen)")
     gaps = envelope.stood_off(gaps, ENVELOPE_STANDOFF, ENVELOPE_GROW)
-    if not gaps:
-        return [], [], 0.0
     factors, objects, materials, area = [], [], {}, 0.0
     for k, (quad, normal) in enumerate(gaps):
         key = tuple(int(v) for v in normal)
