@@ -34,6 +34,7 @@ planes meets none of its directions).
 
 import numpy as np
 
+from ..metrics.glare import triangle_solid_angles
 from . import sky_aperture
 
 __all__ = ["unblocked_pieces", "open_directions", "closed_solids", "quad_pairs", "SLIVER"]
@@ -163,16 +164,6 @@ def _without_repeats(q):
     return q[step > 1e-10 * max(scale, 1.0)]
 
 
-def _solid_angles(rel):
-    """Solid angles (T,) sr of triangles ``rel`` (T, 3, 3) seen from the origin (Van Oosterom and Strackee)."""
-    a, b, c = rel[:, 0], rel[:, 1], rel[:, 2]
-    la, lb, lc = (np.linalg.norm(x, axis=1) for x in (a, b, c))
-    num = np.abs(np.einsum("tk,tk->t", a, np.cross(b, c)))
-    den = la * lb * lc + np.einsum("tk,tk->t", a, b) * lc + np.einsum("tk,tk->t", a, c) * lb \
-        + np.einsum("tk,tk->t", b, c) * la
-    return 2.0 * np.arctan2(num, den)
-
-
 def _face_squares(point, d):
     """The six faces of the cube of half-side ``d`` round ``point``: (axis (3,), square (4, 3), side axes (2, 3))."""
     p = np.asarray(point, float)
@@ -299,7 +290,7 @@ def open_directions(point, normal, triangles, tol, solids=None, pairs=None, insi
 def _blockers(tris, rel, idx, pairs):
     """The triangles ``idx`` as polygons to subtract, the largest solid angles first (the pieces are used up sooner;
     the order changes nothing else); a pair of ``pairs`` (``quad_pairs``) both among them as its quad."""
-    omega = _solid_angles(rel[idx])
+    omega = triangle_solid_angles(np.zeros(3), rel[idx])
     if pairs is None:
         return [tris[k] for k in idx[np.argsort(-omega)]]
     partner, quads = pairs
