@@ -904,34 +904,50 @@ def check_world_gate(request, factor, model, *, horizontal_lux, samples=1024):
     direct hits have Ray Depth 2, within 5 %: a wrong depth reads 0 or a fraction), and with the
     remainder exactly 0 (no direct hit deeper than the band). A reflection adds one to the depth, so the
     remainder keeps every reflected path. Returns (ok, note); leaves the gate in mode "remainder"."""
-    import bpy
-
-    from ..render import adaptive
-
-    scene = request.scene
-    key = (bpy.app.version_string, str(getattr(scene.cycles, "device", "CPU")))
+    key = _device_key(request)
     if key in _GATE_CHECKS:
         set_gate_mode(factor, "remainder")
         return _GATE_CHECKS[key]
-    scale = request.scale_length
-    lo, hi = model.geometry.bounds()
-    top = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 1.0]) / scale
-    weights, efficacy = request.weights, request.efficacy
-    check = request.but(seed=0, progress=None, cancelled=None)  # as the check always ran: seed 0, no progress
-    read = {}
-    for mode in ("direct", "remainder"):
-        set_gate_mode(factor, mode)
-        request.view_layer.update()
-        run = adaptive.render_hybrid(check, top[None, :], np.array([[0.0, 0.0, 1.0]]),
-                                     needs=model.needs, bounces=4, fixed_samples=samples)
-        read[mode] = efficacy * float(run["mean_rgb"][0] @ weights)
-    set_gate_mode(factor, "remainder")
-    ok = abs(read["direct"] - horizontal_lux) <= 0.05 * horizontal_lux and read["remainder"] == 0.0
+    ok, read = _read_bands(request, [factor], model, _top_sensor(request, model), horizontal_lux, samples)
     note = (f"the light-path gate was checked on this Blender ({key[0]}, {key[1]}): a sensor above every surface, "
             f"facing up, read {read['direct']:.6g} lx from the direct band alone (the sky gives {horizontal_lux:g} lx) "
             f"and {read['remainder']:.3g} lx from the rest" + ("" if ok else ": the gate does NOT hold here"))
     _GATE_CHECKS[key] = (ok, note)
     return ok, note
+
+
+def _device_key(request):
+    """What a gate's proof holds for: (Blender version, Cycles device)."""
+    import bpy
+
+    return bpy.app.version_string, str(getattr(request.scene.cycles, "device", "CPU"))
+
+
+def _top_sensor(request, model):
+    """(3,) metres: 1 m above the middle of the scene's top, where a sensor facing up sees only sky."""
+    lo, hi = model.geometry.bounds()
+    return np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 1.0])
+
+
+def _read_bands(request, factors, model, top, horizontal_lux, samples):
+    """(ok, {"direct": lx, "remainder": lx}) of a sensor at ``top`` (m) facing up, every gate of ``factors`` in
+    each mode in turn (seed 0, no progress: as the checks always ran), then left in "remainder". ok: the direct
+    band reads the unobstructed sky within 5 % and the remainder exactly 0."""
+    from ..render import adaptive
+
+    check = request.but(seed=0, progress=None, cancelled=None)
+    read = {}
+    for mode in ("direct", "remainder"):
+        for f in factors:
+            set_gate_mode(f, mode)
+        request.view_layer.update()
+        run = adaptive.render_hybrid(check, (top / request.scale_length)[None, :], np.array([[0.0, 0.0, 1.0]]),
+                                     needs=model.needs, bounces=4, fixed_samples=samples)
+        read[mode] = request.efficacy * float(run["mean_rgb"][0] @ request.weights)
+    for f in factors:
+        set_gate_mode(f, "remainder")
+    ok = abs(read["direct"] - horizontal_lux) <= 0.05 * horizontal_lux and read["remainder"] == 0.0
+    return ok, read
 
 
 # --- a room of separate boxes: its windows as emitters (issue 31 item 1) -------------------------------
@@ -1052,14 +1068,11 @@ def check_envelope_gate(request, factors, model, info, *, horizontal_lux, sample
     ``factors``: the world's gate and the emitters'. Returns (ok, note); leaves every gate in mode "remainder"."""
     import bpy
 
-    from ..render import adaptive
-
     scene = request.scene
-    key = (bpy.app.version_string, str(getattr(scene.cycles, "device", "CPU")))
+    key = _device_key(request)
     if key not in _ENVELOPE_CHECKS:
         scale = request.scale_length
-        lo, hi = model.geometry.bounds()
-        top = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 1.0])
+        top = _top_sensor(request, model)
         square = top + np.array([[-4.0, -4.0, 0.5], [4.0, -4.0, 0.5], [4.0, 4.0, 0.5], [-4.0, 4.0, 0.5]])
         mat, factor = envelope_emitter_material("radiometer_envelope check", info, np.array([0.0, 0.0, 1.0]))
         mesh = bpy.data.meshes.new("radiometer_envelope check")
@@ -1067,22 +1080,12 @@ def check_envelope_gate(request, factors, model, info, *, horizontal_lux, sample
         mesh.materials.append(mat)
         obj = bpy.data.objects.new("radiometer_envelope check", mesh)
         scene.collection.objects.link(obj)
-        weights, efficacy = request.weights, request.efficacy
-        check = request.but(seed=0, progress=None, cancelled=None)
-        read = {}
         try:
-            for mode in ("direct", "remainder"):
-                for f in list(factors) + [factor]:
-                    set_gate_mode(f, mode)
-                request.view_layer.update()
-                run = adaptive.render_hybrid(check, (top / scale)[None, :], np.array([[0.0, 0.0, 1.0]]),
-                                             needs=model.needs, bounces=4, fixed_samples=samples)
-                read[mode] = efficacy * float(run["mean_rgb"][0] @ weights)
+            ok, read = _read_bands(request, list(factors) + [factor], model, top, horizontal_lux, samples)
         finally:
             bpy.data.objects.remove(obj)
             bpy.data.meshes.remove(mesh)
             bpy.data.materials.remove(mat)
-        ok = abs(read["direct"] - horizontal_lux) <= 0.05 * horizontal_lux and read["remainder"] == 0.0
         note = (f"the envelope emitters' gate was checked on this Blender ({key[0]}, {key[1]}): a sensor above "
                 f"every surface, facing up under an emitter square, read {read['direct']:.6g} lx from the direct band "
                 f"alone (the sky gives {horizontal_lux:g} lx) and {read['remainder']:.3g} lx from the rest"
