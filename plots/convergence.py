@@ -33,6 +33,11 @@ def _percent_axis(ax):
     ax.xaxis.set_minor_formatter(NullFormatter())
 
 
+def _power(prefactor, x, slope):
+    """prefactor * x**slope in logs: a steep fit over a narrow x has factors beyond a float, not its values."""
+    return np.exp(np.log(prefactor) + slope * np.log(x))
+
+
 def convergence_plot(path, samples, seconds, errors, std_errors=None, *, fit=None, target=None, title=""):
     """Two panels: relative error vs samples per estimate and vs seconds, log-log, with fits."""
     plt = pyplot()
@@ -50,13 +55,14 @@ def convergence_plot(path, samples, seconds, errors, std_errors=None, *, fit=Non
         ax.grid(True, which="both", alpha=0.3)
     if fit is not None:
         xn = np.geomspace(n.min(), n.max(), 50)
-        ax1.loglog(xn, 100 * fit["prefactor"] * xn ** fit["slope"], "-", color="0.4",
+        ax1.loglog(xn, 100 * _power(fit["prefactor"], xn, fit["slope"]), "-", color="0.4",
                    label=f"fit: {fit_in_words(fit['slope'], 'samples') or 'no convergence'} "
                          f"(error ∝ N^{fit['slope']:.2f}±{fit['slope_se']:.2f})")
         xt = np.geomspace(t.min(), t.max(), 50)
-        ax2.loglog(xt, 100 * fit["time_prefactor"] * xt ** fit["time_slope"], "-", color="0.4",
-                   label=f"fit: {fit_in_words(fit['time_slope'], 'time') or 'no convergence'} "
-                         f"(error ∝ t^{fit['time_slope']:.2f}±{fit['time_slope_se']:.2f})")
+        if 0.0 < fit["time_prefactor"] < np.inf:  # else the times barely varied: no line to draw
+            ax2.loglog(xt, 100 * _power(fit["time_prefactor"], xt, fit["time_slope"]), "-", color="0.4",
+                       label=f"fit: {fit_in_words(fit['time_slope'], 'time') or 'no convergence'} "
+                             f"(error ∝ t^{fit['time_slope']:.2f}±{fit['time_slope_se']:.2f})")
     if target:
         for ax in (ax1, ax2):
             ax.axhline(100 * target, ls="--", color="C3", label=f"target {100 * target:g} %")

@@ -161,3 +161,22 @@ def test_convergence_time_fit_inverts_for_targets():
     assert fit.seconds_for_by_time(0.001) == pytest.approx(0.64, rel=1e-9)  # 1e-4 s x (0.08/0.001)^2
     flat = convergence.fit_convergence(n, t, np.full(4, 0.01))
     assert flat.seconds_for_by_time(0.001) == float("inf")
+
+
+@pytest.mark.parametrize("seconds", [3.0, 0.5])
+def test_convergence_time_fit_over_times_that_barely_vary_is_not_extrapolated(seconds, tmp_path):
+    """Two levels whose renders cost the same to 0.1 % (a fixed cost dominating, a busy machine): the time
+    fit's line is too steep for its value at 1 s to be a float. No overflow warning (a CI run failed on one),
+    no extrapolation from it (nan: not measured), the samples fit and its time model unaffected, and the
+    plot drawn."""
+    from radiometer.plots.convergence import convergence_plot
+
+    n, err = np.array([16.0, 256.0]), np.array([0.1, 0.025])
+    t = seconds * np.array([1.0, 1.001])
+    fit = convergence.fit_convergence(n, t, err)          # pytest.ini turns RuntimeWarnings into errors
+    assert fit.time_prefactor in (0.0, float("inf"))
+    assert math.isnan(fit.seconds_for_by_time(0.01))
+    assert fit.samples_for(0.01) == pytest.approx(1600.0, rel=1e-9)   # 16 x (0.1 / 0.01)^2
+    assert fit.seconds_for(0.01) == pytest.approx(t[0] + (t[1] - t[0]) / 240.0 * (1600.0 - 16.0), rel=1e-9)
+    convergence_plot(tmp_path / "c.png", n, t, err, fit=fit.to_dict(), target=0.01)
+    assert (tmp_path / "c.png").stat().st_size > 0

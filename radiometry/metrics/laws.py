@@ -48,7 +48,8 @@ class PowerLawFit:
     exponent_se : float, standard error of the exponent: the larger of the residual-based value
         (Draper & Smith eq. 1.4.5; 0 for n = 2 or a perfect fit) and the one propagated from the
         points' own relative standard errors.
-    prefactor : float, in the units of y times x**-exponent
+    prefactor : float, in the units of y times x**-exponent: y at x = 1; inf or 0 where that value is beyond
+        a float (x far from 1 and barely varying: a line too steep to extrapolate)
     residual_rms : float, RMS of the log residuals (dimensionless)
     count : int, number of points used
     """
@@ -105,7 +106,11 @@ def fit_power_law(x, y, rel_std_error=None):
             raise ValueError("rel_std_error must have one value per point")
         c = (lx - mx) / sxx  # b = sum c_i log y_i
         se_meas = float(np.sqrt(np.sum(c**2 * s**2)))
-    return PowerLawFit(float(b), float(max(se_resid, se_meas)), float(np.exp(a)),
+    with np.errstate(over="ignore", under="ignore"):
+        # x far from 1 and barely varying (wall times of ~3 s that differ by 0.1 %) gives a steep line whose
+        # value at x = 1 is beyond a float: inf or 0, which PowerLawFit.prefactor documents
+        prefactor = np.exp(a)
+    return PowerLawFit(float(b), float(max(se_resid, se_meas)), float(prefactor),
                        float(np.sqrt(np.mean(resid**2))), int(x.size))
 
 

@@ -31,7 +31,8 @@ class ConvergenceFit:
     slope, slope_se : exponent of error vs samples per estimate (dimensionless, expect -0.5)
     prefactor : error at N = 1 (fraction)
     time_slope, time_slope_se : exponent of error vs seconds
-    time_prefactor : error at t = 1 s (fraction)
+    time_prefactor : error at t = 1 s (fraction); inf or 0 where the wall times barely varied (then
+        :meth:`seconds_for_by_time` is nan: not measured)
     t0_s : fixed cost per measurement (s); c_s_per_sample : cost per sample (s)
     """
 
@@ -51,12 +52,12 @@ class ConvergenceFit:
             raise ValueError("target error must be > 0")
         if self.slope >= 0:
             return float("inf")  # no convergence measured: no sample count reaches the target
-        return float((t / self.prefactor) ** (1.0 / self.slope))
+        return _solve(t, self.prefactor, self.slope)
 
     def seconds_for(self, target):
         """Seconds for a relative error ``target``: t0 + c N(target) from the linear time model."""
         n = self.samples_for(target)
-        return float(self.t0_s + self.c_s_per_sample * n) if np.isfinite(n) else float("inf")
+        return float(self.t0_s + self.c_s_per_sample * n) if np.isfinite(n) else n
 
     def seconds_for_by_time(self, target):
         """Seconds for a relative error ``target`` (fraction) from the fit of log error vs log seconds.
@@ -69,10 +70,19 @@ class ConvergenceFit:
             raise ValueError("target error must be > 0")
         if not self.time_slope < 0:
             return float("inf")
-        return float((t / self.time_prefactor) ** (1.0 / self.time_slope))
+        return _solve(t, self.time_prefactor, self.time_slope)
 
     def to_dict(self):
         return {k: float(v) for k, v in self.__dict__.items()}
+
+
+def _solve(target, prefactor, slope):
+    """x where prefactor * x**slope = target (slope < 0); nan where the fit is too steep for its prefactor
+    to be a float (inf or 0: x barely varied), so it cannot be extrapolated."""
+    if not 0.0 < prefactor < float("inf"):
+        return float("nan")
+    with np.errstate(over="ignore"):
+        return float(np.exp((np.log(target) - np.log(prefactor)) / slope))
 
 
 def rms_relative_error(estimates, reference, axis=-1):
