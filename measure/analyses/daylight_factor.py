@@ -241,7 +241,9 @@ def _split_readings(request, points, dirs, rho, sky_info):
     full = np.array([c.sky_lux is not None and c.ground_lux is not None for c in scs]) & ~wide
     openings = sky_component.openings_to_world(model)
     emitting = np.array([c.inside for c in scs]) if openings.loops else np.zeros(len(points), bool)
-    gated = proven & ~wide  # where the gate path (below) reads the proven part; a wide pane bound: rendered whole
+    # where the gate path (below) reads the proven part; a wide pane bound: rendered whole. The gate path is not
+    # taken beside the openings' emitters: a proven point outside their room (outdoors) is then rendered whole.
+    gated = proven & ~wide & ~emitting.any()
     under_sky = ~emitting & ~gated  # measured whole under the sky itself, before anything is changed
     out = [None] * len(points)
     sky, grd = [None] * len(points), [None] * len(points)
@@ -260,8 +262,13 @@ def _split_readings(request, points, dirs, rho, sky_info):
             r.notes += note(k)
             out[k] = r
 
-    measure_at(np.flatnonzero(under_sky), lambda k: [f"sky component not proven ({unproven(k)}): the daylight "
-                                                      "factor is measured whole"], seed=seed + 1)
+    def measured_whole(k):
+        if proven[k] and not wide[k]:  # outside the room whose openings emit
+            return [f"sky component proven ({scs[k].past_every_surface}) but not used: the gate path that would take "
+                    "it is not taken beside the openings' emitters, so the daylight factor is measured whole"]
+        return [f"sky component not proven ({unproven(k)}): the daylight factor is measured whole"]
+
+    measure_at(np.flatnonzero(under_sky), measured_whole, seed=seed + 1)
     efficacy = request.efficacy
     if emitting.any():
         keys = sky_component.add_opening_emitters(request, openings, sky_info)
@@ -324,7 +331,8 @@ def _split_readings(request, points, dirs, rho, sky_info):
         return out, sky, grd
     # The windows of a room of boxes as emitters (gaps in the scene's bounding faces, nothing in front of them), gated
     # like the world: the rest is then found by sampling them as lights, not by the paths' own bounces alone.
-    factors, envelope, area, why_not = sky_component.add_envelope_emitters(request, model, sky_info)
+    factors, envelope, area, why_not = sky_component.add_envelope_emitters(request, model, sky_info,
+                                                                           sensors[take] * scale)
     how = ""
     if envelope:
         ok, envelope_note = sky_component.check_envelope_gate(request, [factor] + factors, model, sky_info,

@@ -210,14 +210,23 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     states, jobs = [], []  # per point [sky, ground, why, bound, glazed, pane jobs]; jobs (point, glazing, opening)
     insides = sky_aperture.inside_enclosures(points_m, shell, loops, tol)
     inner = np.flatnonzero([v is True for v in insides])
+    # A point outside the closed shell is not in the dark for that: the shell may be the solid of thick walls whose
+    # window is a tunnel through it (one mesh, walls with depth), the room's air outside it. Such points take the
+    # proof that needs no room: the sky over every direction that meets no surface (``_sky_past_every_surface``).
+    outer = np.flatnonzero([v is not True for v in insides])
+    past_shell = {}
+    if outer.size:
+        where = "the point is outside the only closed shell with openings (the solid of thick walls, or a point outdoors)"
+        found = _sky_past_every_surface(model, points_m[outer], normals[outer], lz, where,
+                                        PANE_TOL_SHARE * float(target_rel_error or 0.01))
+        past_shell = dict(zip(outer.tolist(), found))
     clear_at = _clear_proofs(points_m, inner, loops, tris, tol, reach)
     past = _PastObstructions(points_m, normals, inner, loops, tris, tol, reach, see_through, lz)
 
     for i, (p, n) in enumerate(zip(points_m, normals)):
         inside = insides[i]
         if inside is not True:
-            states.append(SkyComponent(None, None, "the point is not proven inside the room holding the openings"
-                                       if inside is None else "the point is outside the room holding the openings", 0))
+            states.append(past_shell[i])
             continue
         sky, ground, why, pending, clipped = 0.0, 0.0, "", [], 0
         for k, ((poly, wall), (s_all, g_all)) in enumerate(zip(zip(loops, around), open_lux)):
@@ -437,6 +446,11 @@ def openings_seen_whole(model, points_m, normals=None):
     loops, shell, tris, tol, reach = shell
     inside = sky_aperture.inside_enclosures(points_m, shell, loops, tol)
     outside = sum(v is not True for v in inside)
+    if outside == len(points_m) and normals is not None:
+        # every point outside the closed shell: the solid of thick walls whose window is a tunnel through it (the
+        # room's air outside it), as ``sky_components`` takes it: the view that needs no room
+        return _open_views(model, points_m, normals, "the points are outside the only closed shell with openings "
+                                                     "(the solid of thick walls, or points outdoors)")
     if outside:
         return f"{outside} point(s) not proven inside the room holding the openings"
     clear_at = _clear_proofs(points_m, np.arange(len(points_m)), loops, tris, tol, reach)
@@ -483,7 +497,8 @@ def openings_seen_whole(model, points_m, normals=None):
 
 def _open_views(model, points_m, normals, no_shell):
     """``openings_seen_whole`` where no closed room holds the openings: [{"opening": None, "pane": None, "cores":
-    None, "pieces": per point its open directions}] or the reason (str) why not at some point (no surface but those
+    None, "pieces": per point its open directions, "no_room": why no closed room holds them}] or the reason (str) why
+    not at some point (no surface but those
     that stop every kind of ray in any point's view: ``_open_directions``)."""
     found, _tol = _open_directions(model, points_m, normals, np.zeros(model.geometry.count, bool))
     if isinstance(found, str):
@@ -491,7 +506,7 @@ def _open_views(model, points_m, normals, no_shell):
     why = next((f for f in found if isinstance(f, str)), None)
     if why is not None:
         return f"{no_shell}; past every surface: {why}"
-    return [{"opening": None, "pane": None, "cores": None, "pieces": found}]
+    return [{"opening": None, "pane": None, "cores": None, "pieces": found, "no_room": no_shell}]
 
 
 def _pieces_past_obstructions(points_m, poly, tris, tol, reach, wall, see_through):
@@ -971,7 +986,7 @@ ENVELOPE_MAX_SHARE = 0.1
 ENVELOPE_GROW = 1.5
 
 
-def add_envelope_emitters(request, model, info):
+def add_envelope_emitters(request, model, info, points_m=None):
     """Inside the caller's guard, on the gate path (no closed room holds the openings, the world gated by
     ``gate_world``): an emitter on every gap of the faces of the scene's bounding box
     (``radiometry.scene.envelope.bounding_face_gaps``: for a room of boxes, its windows; each moved out
@@ -982,8 +997,11 @@ def add_envelope_emitters(request, model, info):
     sky component stays the closed form's alone). Nothing lies in front of a gap, so a ray that meets an emitter
     would have met the world in the same direction: the light adds up as before whatever the gaps found, and
     Cycles now samples the windows as lights, where the world was found only by the paths' own bounces. Returns
-    (the gates' factor nodes, the emitter objects, their area in m^2, ""), or ([], [], 0.0, why not): no gap, or
-    gaps over ``ENVELOPE_MAX_SHARE`` of the box's faces."""
+    (the gates' factor nodes, the emitter objects, their area in m^2, ""), or ([], [], 0.0, why not): no gap, gaps
+    over ``ENVELOPE_MAX_SHARE`` of the box's faces, or a meter of ``points_m`` ((N, 3) m) in front of an emitter's
+    plane. An emitter is right for rays that cross it outwards (from the box); one that crosses it inwards, from a
+    meter outside the box in front of it, would meet an emitter dark from that side where the wall or the room lay
+    behind it. Every surface is inside the box, so only a meter's first ray can do that."""
     import bpy
 
     from ...radiometry.scene import envelope
@@ -1011,6 +1029,13 @@ def add_envelope_emitters(request, model, info):
                              "(more than a building's windows: they would be sampled as lights where they cannot be "
                              "seen)")
     gaps = envelope.stood_off(gaps, ENVELOPE_STANDOFF, ENVELOPE_GROW)
+    if points_m is not None and len(points_m):
+        pts = np.asarray(points_m, float).reshape(-1, 3)
+        ahead = [int(np.count_nonzero(pts @ np.asarray(n, float) >= float(np.dot(n, quad[0])) - tol))
+                 for quad, n in gaps]
+        if any(ahead):
+            return [], [], 0.0, (f"{max(ahead)} meter(s) stand outside the scene's bounding box in front of a gap, "
+                                 "where an emitter there would hide what lies behind it")
     factors, objects, materials, area = [], [], {}, 0.0
     for k, (quad, normal) in enumerate(gaps):
         key = tuple(int(v) for v in normal)

@@ -239,6 +239,37 @@ def build_boxes_blender(scene, boxes):
     return out
 
 
+def build_solid_blender(scene, boxes):
+    """``boxes_room_boxes`` joined into one closed solid (a Boolean union, each box's material kept): walls, floor
+    and roof with depth as one mesh whose window is a tunnel through it, as a solidified or imported room is. The
+    room's air lies outside that closed shell. Returns the object."""
+    import bmesh
+    import bpy
+
+    parts = build_boxes_blender(scene, boxes)
+    base = parts[0]
+    for k, other in enumerate(parts[1:]):
+        mod = base.modifiers.new(f"union {k}", "BOOLEAN")
+        mod.operation, mod.solver, mod.object = "UNION", "EXACT", other
+        mod.material_mode = "TRANSFER"
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    me = bpy.data.meshes.new_from_object(base.evaluated_get(depsgraph), preserve_all_data_layers=True,
+                                         depsgraph=depsgraph)
+    bm = bmesh.new()
+    bm.from_mesh(me)
+    bmesh.ops.remove_doubles(bm, verts=bm.verts, dist=1e-6)
+    bm.to_mesh(me)
+    bm.free()
+    for ob in parts:
+        old = ob.data
+        bpy.data.objects.remove(ob)
+        bpy.data.meshes.remove(old)
+    me.name = "room solid"
+    solid = bpy.data.objects.new("room solid", me)
+    scene.collection.objects.link(solid)
+    return solid
+
+
 def diffuse_material(name, rho):
     """A new material ``name``: a Diffuse BSDF of grey reflectance ``rho``."""
     import bpy

@@ -493,6 +493,30 @@ def test_dome_direct_part_behind_a_pane_past_an_obstruction(clean_blender):
     assert np.all(np.abs(whole.dc.sum(axis=0) - seen) <= 4.0 * sum_se), (whole.dc.sum(axis=0), seen, sum_se)
 
 
+def test_dome_direct_part_in_a_room_as_one_solid_is_the_boxes_closed_form(clean_blender):
+    """The room of boxes joined into one closed solid (thick walls, the window a tunnel through them: a solidified or
+    imported room). Its closed shell holds openings but the meters lie outside it, so the dome was rendered whole;
+    now the meters' open directions hold the patches' direct light as in the room of boxes: per patch the same
+    closed form as the boxes give (the same geometry), and with everything black nothing rendered beside it."""
+    from radiometer.measure.analyses import daylight_coefficients as dcm
+
+    room, scene, _points, _normals = _dome_room()
+    points = np.array([(2.0, 1.0, 0.85), (1.0, 2.5, 0.85), (3.0, 4.2, 0.85)])
+    normals = np.array([(0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0)])
+    with _black(room):
+        room.room.build_solid_blender(scene, room.room.boxes_room_boxes())
+        solid = dcm.render_coefficients(points, normals, request=request_of.build(scene, quality="preview", seed=2))
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        scene = bpy.context.scene
+        room.room.build_boxes_blender(scene, room.room.boxes_room_boxes())
+        boxes = dcm.render_coefficients(points, normals, request=request_of.build(scene, quality="preview", seed=2))
+    assert solid.direct is not None, solid.notes
+    assert any("outside the only closed shell" in n and "meets no surface at all" in n for n in solid.notes)
+    np.testing.assert_array_equal(solid.dc, solid.direct)  # black: nothing rendered reaches the meters
+    assert solid.direct.sum() > 0.0
+    np.testing.assert_allclose(solid.direct, boxes.direct, rtol=1e-9, atol=1e-12 * boxes.direct.max())
+
+
 def test_dome_direct_part_in_a_room_of_boxes_is_the_closed_form(clean_blender):
     """Issue 31: a room of nine separate boxes that touch (no single closed surface, as users build thick walls).
     Every meter's open directions (those that meet no surface) hold the patches' direct light in closed form and the

@@ -90,11 +90,13 @@ def test_unproven_points_fall_back_and_say_why(clean_blender):
     scene = bpy.context.scene
     room.build_blender(scene)
     before = _state(scene)
-    # inside (proven) and outside the room in front of its wall (not proven: rendered whole)
+    # inside (proven) and outside the room in front of its wall (its sky proven past every surface, but the gate path
+    # is not taken beside the openings' emitters: rendered whole)
     inside, outside = api.daylight_factor([(2.0, 1.5, 0.85), (2.0, -2.0, 1.0)], seed=2)
     assert inside.sky_component > 0 and inside.method.startswith("hybrid")
     assert outside.sky_component is None and not outside.exact and outside.method == "render"
-    assert any("not proven (the point is outside" in n for n in outside.notes)
+    assert any("proven (the point is outside the only closed shell" in n and "not taken beside the openings' "
+               "emitters" in n for n in outside.notes), outside.notes
     # an obstruction outside in front of the window: the sky past its silhouette in closed form (issue 31), the
     # rest (its reflection too) rendered; a board through the point itself: no proof, the whole is rendered
     me = bpy.data.meshes.new("block")
@@ -272,6 +274,59 @@ def test_room_of_boxes_split_agrees_with_the_whole_render(clean_blender, mullion
         assert any("envelope emitters' gate was checked" in note and "does NOT" not in note for note in a.notes)
         combined = math.hypot(a.rel_std_error * a.daylight_factor, w.rel_std_error * w.daylight_factor)
         assert abs(a.daylight_factor - w.daylight_factor) <= 4.0 * combined, (a.daylight_factor, w.daylight_factor)
+    assert _state(scene) == before
+
+
+def test_room_as_one_solid_with_thick_walls_split_agrees_with_the_whole_render(clean_blender):
+    """The room of boxes joined into one closed solid (a Boolean union: walls, floor and roof with depth, the window a
+    tunnel through them), as a solidified or imported room is. Its closed shell holds openings but the room's air lies
+    outside it: each point was refused ("outside the room holding the openings") and the room rendered whole, 45x
+    slower. Now such a point takes the proof that needs no room (the sky past every surface), and the window is an
+    emitter as in the room of boxes; auto against the whole render (another seed)."""
+    scene = bpy.context.scene
+    solid = room.build_solid_blender(scene, room.boxes_room_boxes())
+    assert len(solid.data.materials) == 3 and len(scene.objects) == 1
+    before = _state(scene)
+    points = [(2.0, 1.0, 0.85), (1.0, 4.0, 0.85)]
+    auto = api.daylight_factor(points, target_rel_error=0.015, seed=5)
+    whole = api.daylight_factor(points, target_rel_error=0.015, seed=6, method="render")
+    for a, w in zip(auto, whole):
+        assert a.method.startswith("hybrid") and 0.0 < a.sky_component < a.daylight_factor, a.notes
+        assert any("outside the only closed shell with openings" in note and "meets no surface at all" in note
+                   for note in a.notes), a.notes
+        assert any("1 gap(s) in the scene's bounding faces" in note for note in a.notes)
+        combined = math.hypot(_se(a), _se(w))
+        assert abs(a.daylight_factor - w.daylight_factor) <= 4.0 * combined, (a.daylight_factor, w.daylight_factor)
+    # the closed form alone: the same sky component as the room of boxes it was joined from (the same geometry)
+    pts = np.array(points)
+    joined = sky_component.sky_components(scene, pts, np.broadcast_to((0.0, 0.0, 1.0), pts.shape),
+                                          ground_reflectance=0.2, horizontal_lux=SKY_HORIZONTAL_LUX)
+    assert _state(scene) == before
+    bpy.data.objects.remove(solid)
+    room.build_boxes_blender(scene, room.boxes_room_boxes())
+    boxes = sky_component.sky_components(scene, pts, np.broadcast_to((0.0, 0.0, 1.0), pts.shape),
+                                         ground_reflectance=0.2, horizontal_lux=SKY_HORIZONTAL_LUX)
+    for j, b in zip(joined, boxes):
+        assert j.sky_lux == pytest.approx(b.sky_lux, rel=1e-9) and j.sky_lux > 0.0
+
+
+def test_a_meter_outdoors_in_front_of_the_window_keeps_the_emitters_away(clean_blender):
+    """An envelope emitter is dark to rays that cross it inwards: a meter outside the room of boxes, in front of its
+    window and facing it, would see the emitter where the wall and the room lie behind it. So with such a meter the
+    window is not made an emitter (said why), and the reading agrees with the whole render (another seed); a meter
+    beside the room, behind the emitter's plane, keeps them."""
+    scene = bpy.context.scene
+    room.build_boxes_blender(scene, room.boxes_room_boxes())
+    before = _state(scene)
+    front = [(2.0, -1.5, 1.2)]
+    a = api.daylight_factor(front, (0.0, 1.0, 0.0), target_rel_error=0.015, seed=21)[0]
+    w = api.daylight_factor(front, (0.0, 1.0, 0.0), target_rel_error=0.015, seed=22, method="render")[0]
+    assert a.method.startswith("hybrid") and 0.0 < a.sky_component < a.daylight_factor
+    assert any("stand outside the scene's bounding box in front of a gap" in n for n in a.notes), a.notes
+    assert abs(a.daylight_factor - w.daylight_factor) <= 4.0 * math.hypot(_se(a), _se(w)), (a.daylight_factor,
+                                                                                            w.daylight_factor)
+    beside = api.daylight_factor([(-1.5, 2.5, 1.2)], (1.0, 0.0, 0.0), target_rel_error=0.05, seed=23)[0]
+    assert any("1 gap(s) in the scene's bounding faces" in n for n in beside.notes), beside.notes
     assert _state(scene) == before
 
 

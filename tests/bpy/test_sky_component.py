@@ -7,6 +7,7 @@ import pathlib
 
 import bpy
 import numpy as np
+import pytest
 
 from radiometer import api
 from radiometer.measure.analyses import sky_component
@@ -97,8 +98,12 @@ def test_refusals_say_why(clean_blender):
     room = _room()
     scene = bpy.context.scene
     room.build_blender(scene)
-    out = _components(scene, [(2.0, -2.0, 1.0), (2.0, 1.5, 0.85)], ground_reflectance=0.2)
-    assert out[0].sky_lux is None and "outside" in out[0].reason
+    out = _components(scene, [(2.0, -2.0, 1.0), (2.0, 1.5, 0.85), (2.0, 2.0, 10.0)], ground_reflectance=0.2)
+    # outdoors, in front of the wall: outside the room's closed shell, so the sky over the directions that meet no
+    # surface (the room hides part of it); high above the room nothing does: the overcast sky's E_h, 10 000 lx
+    assert "outside the only closed shell" in out[0].past_every_surface and out[0].ground_lux is None
+    assert 0.5 * SKY_HORIZONTAL_LUX < out[0].sky_lux < SKY_HORIZONTAL_LUX
+    assert out[2].sky_lux == pytest.approx(SKY_HORIZONTAL_LUX, rel=1e-9)
     assert out[1].sky_lux > 0 and out[1].ground_lux == 0.0  # the point at 0.85 m sees no ground through the window
     high = _components(scene, [(2.0, 2.5, 2.0)], ground_reflectance=0.2, normal=(0.0, -1.0, 0.0))[0]
     assert high.sky_lux > 0 and high.ground_lux > 0  # facing the window from 2 m: its lower part shows the ground
