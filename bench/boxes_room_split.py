@@ -2,7 +2,9 @@
 closed surface, so no room's openings to prove). The daylight factor's sky component is then the sky over every
 direction that meets no surface (``obstructed_aperture.open_directions``), the rest rendered through the gate (since
 the same day the window an emitter where no pane stands: ``sky_component.add_envelope_emitters``);
-before 2026-12-07 such a room was rendered whole.
+before 2026-12-07 such a room was rendered whole. The same boxes joined into one closed solid (a Boolean union, as a
+solidified or imported room is: the window a tunnel through thick walls, the room's air outside the closed shell) take
+the same path since 2026-12-07 (rendered whole before: each point was outside 'the room holding the openings').
 
 The room of tests/bpy/daylight_room.py ``boxes_room_boxes`` (4 x 5 x 2.8 m inside, walls 0.2 m thick, a 2 x 1.3 m
 window), open and with a solid 6 mm pane at the room side of its window (``boxes_pane``); a hidden work plane
@@ -26,7 +28,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 
-def build(glass):
+def build(glass, solid=False):
     import bpy
 
     import radiometer
@@ -39,7 +41,10 @@ def build(glass):
     if not hasattr(bpy.types.Scene, "radiometer"):
         radiometer.register()
     scene = bpy.context.scene
-    room.build_boxes_blender(scene, room.boxes_room_boxes())
+    if solid:  # the boxes joined into one closed solid: the window a tunnel through thick walls
+        room.build_solid_blender(scene, room.boxes_room_boxes())
+    else:
+        room.build_boxes_blender(scene, room.boxes_room_boxes())
     if glass:
         room.add_pane_blender(scene, room.boxes_pane()[0])
     world = bpy.data.worlds.new("black")
@@ -54,13 +59,14 @@ def _timed(fn):
     return out, time.perf_counter() - t0
 
 
-def bench_room(glass, n, target, whole, repeats=3):
+def bench_room(glass, n, target, whole, repeats=3, solid=False):
     import numpy as np
 
     from radiometer import api
 
-    scene, plane = build(glass)
-    out = {"room": "room of boxes, 6 mm pane" if glass else "room of boxes, open window", "glass": glass,
+    scene, plane = build(glass, solid)
+    out = {"room": ("room as one solid, open window" if solid else "room of boxes, 6 mm pane" if glass
+                    else "room of boxes, open window"), "glass": glass, "solid": solid,
            "points": n * n, "target_rel_error": target, "load_before": os.getloadavg()}
     api.illuminance_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)  # warm-up
     api.daylight_factor_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)
@@ -106,7 +112,9 @@ def bench_room(glass, n, target, whole, repeats=3):
 def markdown(rooms):
     lines = ["## Daylight factor in a room of separate boxes (issue 31)", "",
              "`bench/boxes_room_split.py`: walls, floor and roof as nine boxes that touch (4 x 5 x 2.8 m inside, "
-             "0.2 m thick, a 2 x 1.3 m window; no single closed surface), a work plane at 0.85 m; one run on the "
+             "0.2 m thick, a 2 x 1.3 m window; no single closed surface), a work plane at 0.85 m; the last row the "
+             "same boxes joined into one closed solid (a Boolean union: the window a tunnel through thick walls, as a "
+             "solidified or imported room; rendered whole before 2026-12-07); one run on the "
              "2-core machine shared with other work (ratios within the run).", "",
              "| room | grid | auto (s, median) | x electric (median; each pair) | sky component proven | worst stated "
              "error | whole render per point / auto's | auto - whole (combined s.e.) |",
@@ -126,7 +134,8 @@ def markdown(rooms):
 
 
 def run(n=10, target=0.01, whole=12, out_dir=HERE):
-    rooms = [bench_room(glass, n, target, whole) for glass in (False, True)]
+    rooms = [bench_room(glass, n, target, whole, solid=solid) for glass, solid in ((False, False), (True, False),
+                                                                                 (False, True))]
     with open(os.path.join(out_dir, "boxes_room_split.json"), "w") as f:
         json.dump({"rooms": rooms}, f, indent=1)
     text = markdown(rooms)
