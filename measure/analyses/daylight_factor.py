@@ -238,8 +238,11 @@ def _split_readings(request, points, dirs, rho, sky_info):
     # a lower bound on the reading) the point is rendered whole through the emitters instead (measured
     # behind a 6 mm pane the size of its opening: the rim where rays cross the pane's edge took up to 1.7 %).
     wide = np.array([c.bound_lux > 0.5 * target * ((c.sky_lux or 0.0) + (c.ground_lux or 0.0)) for c in scs])
-    full = np.array([c.sky_lux is not None and c.ground_lux is not None for c in scs]) & ~wide
     openings = sky_component.openings_to_world(model)
+    # what the linked meters' proven part holds: the sky and the world's ground seen through the openings, or with
+    # sky-only emitters (a ground plane in front, below them) the sky alone, the ground plane seen through them
+    # rendered with the rest
+    full = np.array([c.sky_lux is not None and (openings.sky_only or c.ground_lux is not None) for c in scs]) & ~wide
     emitting = np.array([c.inside for c in scs]) if openings.loops else np.zeros(len(points), bool)
     # where the gate path (below) reads the proven part; a wide pane bound: rendered whole. The gate path is not
     # taken beside the openings' emitters: a proven point outside their room (outdoors) is then rendered whole.
@@ -271,25 +274,34 @@ def _split_readings(request, points, dirs, rho, sky_info):
     measure_at(np.flatnonzero(under_sky), measured_whole, seed=seed + 1)
     efficacy = request.efficacy
     if emitting.any():
-        keys = sky_component.add_opening_emitters(request, openings, sky_info)
+        keys, dark_world = sky_component.add_opening_emitters(request, openings, sky_info)
         request.view_layer.update()
         glazed = sum(d > 0.0 for d in openings.depth)
-        how = (f"the {len(openings.loops)} opening(s) emitted the sky's and ground's radiance into the room "
+        sky_only = openings.sky_only
+
+        def seen(k):  # lux of the proven part at point k
+            return scs[k].sky_lux + (0.0 if sky_only else scs[k].ground_lux)
+
+        how = ((f"the {len(openings.loops)} opening(s) emitted the sky's radiance into the room, upwards, and let "
+                "every other ray through " if sky_only else
+                f"the {len(openings.loops)} opening(s) emitted the sky's and ground's radiance into the room ")
                + (f"({glazed} from just outside its pane) " if glazed else "")
-               + "(nothing else lies in front of them: sky_component.openings_to_world)")
+               + ("(only surfaces below them, a ground plane, lie in front of them, which a ray leaving upwards "
+                  "never meets: sky_component.openings_to_world)" if sky_only else
+                  "(nothing else lies in front of them: sky_component.openings_to_world)"))
         linked = np.flatnonzero(emitting & full)
         link_note = ""
         if linked.size:
             # the check's meter: the brightest, preferring one that sees an opening without glass
-            lux = np.array([(scs[k].sky_lux + scs[k].ground_lux) * (1.0 if scs[k].glazed else 1e6) for k in linked])
+            lux = np.array([seen(k) * (1.0 if scs[k].glazed else 1e6) for k in linked])
             brightest = linked[int(np.argmax(lux))]
             ok, link_note = sky_component.check_emitter_linking(request, keys, sensors[brightest], dirs[brightest],
-                                                                model)
+                                                                model, dark_world=dark_world)
             if not ok:  # render those points whole too, through the emitters, and say why
                 linked = linked[:0]
         whole = np.flatnonzero(emitting & ~np.isin(np.arange(len(points)), linked))
         if linked.size:
-            lux = np.array([scs[k].sky_lux + scs[k].ground_lux for k in linked])
+            lux = np.array([seen(k) for k in linked])
             grey = np.repeat((lux / efficacy)[:, None], 3, axis=1)  # a white sky and ground: W/m^2 per channel
             bound = np.repeat((np.array([scs[k].bound_lux for k in linked]) / efficacy)[:, None], 3, axis=1)
 
@@ -300,15 +312,18 @@ def _split_readings(request, points, dirs, rho, sky_info):
                            + (f"; {c.glazed} seen through a colour-neutral thin pane, its T(theta) integrated with a "
                               f"hard bound of {c.bound_lux:.3g} lx (sky_aperture.pane_bounded_illuminance)"
                               if c.glazed else ""))
-                return [f"sky component proven ({through}): the CIE sky and the ground seen straight through them "
+                return [f"sky component proven ({through}): the CIE sky "
+                        + ("" if sky_only else "and the ground ") + "seen straight through them "
                         "in closed form (radiometry/skies/sky_aperture.py)" + (", bounded" if c.glazed else ", exact")
+                        + ("; the ground plane seen through them rendered with the rest" if sky_only else "")
                         + f"; {how}, linked out of the meters, and Cycles rendered only the light the room's "
                         "surfaces reflect, sampling the openings as lights", link_note]
 
             measure_at(linked, linked_note, seed=seed,
-                       proven=meter.ProvenPart(grey, "sky and ground through the openings (closed form)", keys, bound))
+                       proven=meter.ProvenPart(grey, "sky through the openings (closed form)" if sky_only else
+                                               "sky and ground through the openings (closed form)", keys, bound))
             for k in linked:
-                sky[k], grd[k] = float(scs[k].sky_lux), float(scs[k].ground_lux)
+                sky[k], grd[k] = float(scs[k].sky_lux), None if sky_only else float(scs[k].ground_lux)
         measure_at(whole, lambda k: [
             f"{how}; Cycles rendered all the light here, sampling the openings as lights (the sky and ground seen "
             "straight are not proven here: " + (scs[k].reason or (

@@ -715,6 +715,10 @@ class Openings:
     outward: list
     depth: list = dataclasses.field(default_factory=list)
     reason: str = ""
+    #: opaque surfaces stand in front of some opening, all of them below its lowest point (a ground plane): a ray
+    #: leaving upwards still meets the world's sky alone, one leaving downwards may meet them, so the emitters carry
+    #: the sky alone (``sky.opening_emitter_material(sky_only=True)``) and the ground seen through them is rendered
+    sky_only: bool = False
 
 
 def _inside_prism(vertices, poly, centre, normal, tol):
@@ -741,7 +745,11 @@ def openings_to_world(model):
     each opening's plane (within ``tol``), except see-through triangles lying wholly inside the opening's
     prism (a pane in the opening, up to ``depth`` in front of it). A ray through an opening then runs on
     in that open half-space, which holds nothing else. The outward side is the one every shell vertex
-    lies behind; where neither side is (something of the building stands in front) it is refused."""
+    lies behind; where neither side is (something of the building stands in front) it is refused.
+
+    Opaque triangles in front that lie wholly at or below the opening's lowest point (a ground plane round the
+    building) are allowed with ``sky_only``: a ray leaving the opening upwards never comes down to them, so the
+    sky it meets is still the world's alone."""
     found = _closed_shell(model)
     if isinstance(found, str):
         return Openings([], [], [], found)
@@ -749,7 +757,7 @@ def openings_to_world(model):
     tris = np.asarray(tris, float)
     see_through = ~np.asarray(model.geometry.opaque, bool)
     shell_vertices = np.asarray(shell, float).reshape(-1, 3)
-    outward, depth = [], []
+    outward, depth, sky_only = [], [], False
     for k, poly in enumerate(loops):
         centre = poly.mean(axis=0)
         normal, _offset = sky_aperture.polygon_plane(poly)  # Newell's normal of the loop
@@ -761,15 +769,17 @@ def openings_to_world(model):
         ahead = (tris - centre) @ normal                                   # (T, 3) m in front of the plane
         front = np.any(ahead > tol, axis=1)
         held = see_through & front
-        if np.any(front & ~see_through):
+        below = np.all(tris[..., 2] <= float(poly[:, 2].min()) + tol, axis=1)  # under the opening's lowest point
+        if np.any(front & ~see_through & ~below):
             return Openings([], [], [], f"a surface of the scene lies in front of opening {k + 1} (outside the "
                                         "room): what the opening looks out on is rendered")
+        sky_only |= bool(np.any(front & ~see_through & below))
         if held.any() and not np.all(_inside_prism(tris[held].reshape(-1, 3), poly, centre, normal, tol)):
             return Openings([], [], [], f"a see-through surface in front of opening {k + 1} reaches beyond it: "
                                         "what the opening looks out on is rendered")
         outward.append(normal)
         depth.append(float(ahead[held].max()) if held.any() else 0.0)
-    return Openings(list(loops), outward, depth)
+    return Openings(list(loops), outward, depth, sky_only=sky_only)
 
 
 def add_opening_emitters(request, openings, info):
@@ -778,7 +788,10 @@ def add_opening_emitters(request, openings, info):
     sampling is off (the openings now carry all of the sky's light into the room). An open opening
     gets its own polygon; a glazed one a shallow cup around its pane (the polygon moved out past the
     pane, with sides back to the opening's rim), so that every ray through the pane meets the emitter.
-    Returns the emitters' object identities (session uid, library) for light linking."""
+    With ``openings.sky_only`` (a ground plane in front, below them) the emitters carry the sky alone and let the
+    other rays through, and the world stays the sky (its light sampling off): it lights the ground plane, which
+    the room sees through the openings. Returns (the emitters' object identities (session uid, library) for light
+    linking, the black world: ``check_emitter_linking`` reads under it)."""
     import bpy
 
     from ..authoring import sky
@@ -798,26 +811,30 @@ def add_opening_emitters(request, openings, info):
         name = f"radiometer_opening {k + 1}"
         mesh = bpy.data.meshes.new(name)
         mesh.from_pydata([tuple(float(c) / scale for c in v) for v in verts], [], faces)
-        mesh.materials.append(sky.opening_emitter_material(name, info, normal))
+        mesh.materials.append(sky.opening_emitter_material(name, info, normal, sky_only=openings.sky_only))
         obj = bpy.data.objects.new(name, mesh)
         scene.collection.objects.link(obj)
         keys.append(identity.object_identity(obj))
     world = bpy.data.worlds.new("radiometer_black")
     ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     world.cycles.sampling_method = "NONE"
-    scene.world = world
-    return frozenset(keys)
+    if openings.sky_only:
+        scene.world.cycles.sampling_method = "NONE"  # the temporary sky: the ground plane finds it by its bounces
+    else:
+        scene.world = world
+    return frozenset(keys), world
 
 
 #: The verdicts of ``check_emitter_linking``: (Blender version, Cycles device) -> (ok, note).
 _LINK_CHECKS = {}
 
 
-def check_emitter_linking(request, keys, sensor, normal, model, *, samples=256):
+def check_emitter_linking(request, keys, sensor, normal, model, *, samples=256, dark_world=None):
     """Prove on this Blender and device (cached per session) that light linking keeps an emitting mesh's
     light out of a baked sensor entirely, by next-event estimation and by rays that hit it: at a point
     lit by the openings, a direct-only bake (0 bounces) must read more than 0 without the exclusion and
-    exactly 0 with it. Returns (ok, note)."""
+    exactly 0 with it. ``dark_world``: read under it (the world that stays the sky beside sky-only emitters would
+    be seen through them, beyond a ground plane's edge). Returns (ok, note)."""
     import bpy
 
     from ..render import adaptive
@@ -829,11 +846,17 @@ def check_emitter_linking(request, keys, sensor, normal, model, *, samples=256):
     weights, efficacy = request.weights, request.efficacy
     check = request.but(seed=0, progress=None, cancelled=None)  # as the check always ran: seed 0, no progress
     read = {}
-    for name, ex in (("open", frozenset()), ("linked out", frozenset(keys))):
-        run = adaptive.render_hybrid(check, np.asarray(sensor, float)[None, :],
-                                     np.asarray(normal, float)[None, :], needs=model.needs, bounces=0,
-                                     fixed_samples=samples, exclusions=[ex], panes=model.panes)
-        read[name] = efficacy * float(run["mean_rgb"][0] @ weights)
+    world = scene.world
+    if dark_world is not None:
+        scene.world = dark_world
+    try:
+        for name, ex in (("open", frozenset()), ("linked out", frozenset(keys))):
+            run = adaptive.render_hybrid(check, np.asarray(sensor, float)[None, :],
+                                         np.asarray(normal, float)[None, :], needs=model.needs, bounces=0,
+                                         fixed_samples=samples, exclusions=[ex], panes=model.panes)
+            read[name] = efficacy * float(run["mean_rgb"][0] @ weights)
+    finally:
+        scene.world = world
     ok = read["open"] > 0.0 and read["linked out"] == 0.0
     note = (f"light linking was checked on this Blender ({key[0]}, {key[1]}): direct light from the openings' "
             f"emitters read {read['open']:.6g} lx at a meter and {read['linked out']:.3g} lx with the meter linked "

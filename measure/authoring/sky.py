@@ -91,13 +91,17 @@ def build_sky_tree(tree, sky_type, sun, zenith_radiance, ground_radiance):
     return bg
 
 
-def opening_emitter_material(name, info, outward):
+def opening_emitter_material(name, info, outward, sky_only=False):
     """A new material that emits, towards the room, the radiance of the CIE sky ``info`` (the world's
     tag as ``set_cie_sky`` wrote it) that a ray leaving through an opening would meet: the sky above the
     horizon, the ground below, in the ray's direction (-Incoming, world space; the same formula as the
     world, ``sky_radiance``), and nothing for rays arriving from outside (``outward``: the opening's
     outward unit normal). Issue 31: an opening becomes a light source whose light Cycles samples by
-    next-event estimation, as Radiance's mkillum does for windows."""
+    next-event estimation, as Radiance's mkillum does for windows.
+
+    ``sky_only``: where a ground plane (or anything else below the opening) lies in front of it, only a ray leaving
+    upwards meets the sky alone: the material emits the sky to those rays and stops them, and lets every other ray
+    through (a Transparent BSDF): downwards to the ground plane, and inwards from outside."""
     import bpy
 
     from ...compat import ensure_node_tree
@@ -121,6 +125,15 @@ def opening_emitter_material(name, info, outward):
     tree.links.new(unit, facing.inputs[0])
     facing.inputs[1].default_value = tuple(float(v) for v in outward)
     leaves = _math(tree, "GREATER_THAN", facing.outputs["Value"], 0.0)  # rays from inside only
+    if sky_only:
+        up = tree.nodes.new("ShaderNodeSeparateXYZ")
+        tree.links.new(unit, up.inputs[0])
+        leaves = _math(tree, "MULTIPLY", leaves, _math(tree, "GREATER_THAN", up.outputs["Z"], 0.0))
+        mix = tree.nodes.new("ShaderNodeMixShader")
+        tree.links.new(leaves, mix.inputs["Fac"])
+        tree.links.new(tree.nodes.new("ShaderNodeBsdfTransparent").outputs[0], mix.inputs[1])
+        tree.links.new(emission.outputs["Emission"], mix.inputs[2])
+        tree.links.new(mix.outputs["Shader"], out.inputs["Surface"])
     tree.links.new(_math(tree, "MULTIPLY", value, leaves), emission.inputs["Strength"])
     return mat
 

@@ -39,7 +39,7 @@ def _se(r):
 
 def _ground_mesh(scene):
     """A ground plane outside the room, just below its floor: nothing of it stands between a point in the
-    room and the sky, but it lies in front of the window, so the openings are not made emitters."""
+    room and the sky, but it lies in front of the window, below it: the openings emit the sky alone."""
     me = bpy.data.meshes.new("ground")
     me.from_pydata([(-20.0, -20.0, -0.01), (24.0, -20.0, -0.01), (24.0, 23.0, -0.01), (-20.0, 23.0, -0.01)], [],
                    [(0, 1, 2, 3)])
@@ -78,9 +78,10 @@ def test_split_agrees_with_the_whole_render(clean_blender, outside):
             assert math.isclose(a.internally_reflected_component,
                                 a.reflected_component - a.externally_reflected_component, rel_tol=1e-12)
             assert a.internally_reflected_component > 0
-        else:
-            assert any("light-path gate was checked" in n and "does NOT" not in n for n in a.notes)
-            assert any("not made emitters: a surface of the scene lies in front of opening 1" in n for n in a.notes)
+        else:  # a ground plane in front, below the opening: it emits the sky alone, upwards; the ground is rendered
+            assert any("light linking was checked" in n and "does NOT" not in n for n in a.notes)
+            assert any("emitted the sky's radiance into the room, upwards" in n and "ground plane seen through them "
+                       "rendered" in n for n in a.notes), a.notes
             assert a.externally_reflected_component is None and a.internally_reflected_component is None
         assert w.sky_component is None and w.reflected_component is None
     assert _state(scene) == before
@@ -181,7 +182,9 @@ def test_a_gate_that_fails_its_check_is_not_used(clean_blender, monkeypatch):
     monkeypatch.setattr(sky_component, "_GATE_CHECKS", {})
     scene = bpy.context.scene
     room.build_blender(scene)
-    _ground_mesh(scene)  # the gate, not the openings' emitters
+    me = bpy.data.meshes.new("block")  # a block outside, in front of the window: the gate, not the openings' emitters
+    me.from_pydata([(0.0, -3.0, 0.0), (4.0, -3.0, 0.0), (4.0, -3.0, 6.0), (0.0, -3.0, 6.0)], [], [(0, 1, 2, 3)])
+    scene.collection.objects.link(bpy.data.objects.new("block", me))
     before = _state(scene)
     r = api.daylight_factor((2.0, 1.5, 0.85), quality="preview", seed=1)
     assert r.sky_component is None and r.method == "render" and r.daylight_factor > 5.0
@@ -212,11 +215,13 @@ def test_linking_that_fails_its_check_renders_through_the_emitters(clean_blender
     assert _state(scene) == before
 
 
-@pytest.mark.parametrize("pane", [False, True])
-def test_opening_emitters_carry_the_closed_form(clean_blender, pane):
+@pytest.mark.parametrize("pane,ground", [(False, False), (True, False), (False, True)])
+def test_opening_emitters_carry_the_closed_form(clean_blender, pane, ground):
     # The openings' emitters, rendered straight (0 bounces, nothing linked out), against the closed form
     # of the sky and ground through the opening (radiometry/skies/sky_aperture.py): the same radiance by
-    # direction, so the same illuminance at points facing up, sideways and at the window.
+    # direction, so the same illuminance at points facing up, sideways and at the window. With a ground plane in
+    # front (below the opening) the emitters carry the sky alone and let the rest through: under the black world
+    # (as the linking check reads) the ground plane is dark at 0 bounces, so they read the sky's closed form alone.
     import json
 
     from radiometer.measure.analyses import daylight_factor as dfm
@@ -230,6 +235,8 @@ def test_opening_emitters_carry_the_closed_form(clean_blender, pane):
     room.build_blender(scene)
     if pane:  # the 6 mm pane: its T(theta) by bounding subdivision against the thin-pane stand-in's render
         room.add_pane_blender(scene)
+    if ground:
+        _ground_mesh(scene)
     pts = np.array([(2.0, 1.5, 0.85), (2.0, 0.75, 1.2), (0.5, 2.0, 1.5)])
     dirs = np.array([(0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (1.0, 0.0, 0.0)])
     with scene_guard.preserved_scene(scene) as snapshot:
@@ -240,7 +247,9 @@ def test_opening_emitters_carry_the_closed_form(clean_blender, pane):
                                               horizontal_lux=SKY_HORIZONTAL_LUX, model=model)
         openings = sky_component.openings_to_world(model)
         assert len(openings.loops) == 1 and np.allclose(openings.outward[0], (0.0, -1.0, 0.0))
-        sky_component.add_opening_emitters(request, openings, json.loads(scene.world[CIE_SKY_TAG]))
+        assert openings.sky_only == ground
+        _keys, dark = sky_component.add_opening_emitters(request, openings, json.loads(scene.world[CIE_SKY_TAG]))
+        scene.world = dark
         bpy.context.view_layer.update()
         _space, weights, efficacy = request.photometry
         run = adaptive.render_hybrid(request, pts, dirs, needs=model.needs, bounces=0, fixed_samples=65536,
@@ -248,7 +257,7 @@ def test_opening_emitters_carry_the_closed_form(clean_blender, pane):
     lux = efficacy * (run["mean_rgb"] @ weights)
     se = efficacy * run["se"]
     for k, c in enumerate(closed):
-        expected = c.sky_lux + c.ground_lux
+        expected = c.sky_lux + (0.0 if ground else c.ground_lux)
         print(f"emitters {lux[k]:.3f} +- {se[k]:.3f} lx; closed form {expected:.3f} +- {c.bound_lux:.3f} lx (bound)")
         assert (c.glazed == 1) == pane and (c.bound_lux > 0) == pane
         assert expected > 50.0 and abs(lux[k] - expected) <= 4.0 * se[k] + c.bound_lux + 1e-4 * expected
