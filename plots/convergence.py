@@ -55,9 +55,10 @@ def convergence_plot(path, samples, seconds, errors, std_errors=None, *, fit=Non
         ax.grid(True, which="both", alpha=0.3)
     if fit is not None:
         xn = np.geomspace(n.min(), n.max(), 50)
-        ax1.loglog(xn, 100 * _power(fit["prefactor"], xn, fit["slope"]), "-", color="0.4",
-                   label=f"fit: {fit_in_words(fit['slope'], 'samples') or 'no convergence'} "
-                         f"(error ∝ N^{fit['slope']:.2f}±{fit['slope_se']:.2f})")
+        if 0.0 < fit["prefactor"] < np.inf:  # else the sample counts barely varied: no line to draw
+            ax1.loglog(xn, 100 * _power(fit["prefactor"], xn, fit["slope"]), "-", color="0.4",
+                       label=f"fit: {fit_in_words(fit['slope'], 'samples') or 'no convergence'} "
+                             f"(error ∝ N^{fit['slope']:.2f}±{fit['slope_se']:.2f})")
         xt = np.geomspace(t.min(), t.max(), 50)
         if 0.0 < fit["time_prefactor"] < np.inf:  # else the times barely varied: no line to draw
             ax2.loglog(xt, 100 * _power(fit["time_prefactor"], xt, fit["time_slope"]), "-", color="0.4",

@@ -152,6 +152,8 @@ def convergence_study(target=None, *, request, location=None, normal=(0.0, 0.0, 
     fit = conv_math.fit_convergence([r.samples for r in rows], [r.seconds for r in rows], errors)
     notes.append(f"{bounces} light bounces in every render; seconds are bakes of the target alone (scene sync "
                  f"included: t0 = {fit.t0_s:.3g} s, {1e6 * fit.c_s_per_sample:.3g} us per sample)")
+    if not 0.0 < fit.prefactor < float("inf"):
+        notes.append("the sample counts barely varied: the fit of error against samples cannot be extrapolated")
     if not 0.0 < fit.time_prefactor < float("inf"):
         notes.append(f"the wall times barely varied ({min(r.seconds for r in rows):.3g}-"
                      f"{max(r.seconds for r in rows):.3g} s): the fit of error against time cannot be extrapolated")

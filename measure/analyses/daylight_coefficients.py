@@ -520,7 +520,7 @@ def render_coefficients(points_scene, normals, *, request, m=1, block=None, roun
                        "rendered only the light the surfaces reflect")
         if seen[0]["opening"] is None:  # no closed room: every direction that meets no surface
             notes.append("the patches' direct light over every direction from each meter that meets no surface at all "
-                         f"(no closed room holds the openings: {seen[0].get('no_room') or 'none found'}; each meter's "
+                         f"({seen[0]['no_room']}; each meter's "
                          "open directions as convex pieces on the "
                          "faces of a cube round it, radiometry/skies/obstructed_aperture.py open_directions), "
                          + closed_form.format("pieces", ""))

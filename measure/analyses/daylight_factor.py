@@ -45,7 +45,8 @@ class DaylightFactorReading:
     ``sky_component`` (%): the direct sky through the openings, proven in closed form (no error), and
     ``reflected_component`` (%): the rest, rendered (externally + internally reflected light, the
     ground seen through the openings); both None where the sky component was not proven.
-    The BRE split-flux parts where the openings were made emitters (nothing outside them): the
+    The BRE split-flux parts where the openings were made emitters of the sky and ground (nothing outside them; with
+    a ground plane in front, below them, they emit the sky alone and these are None): the
     ``externally_reflected_component`` (%, ERC: the ground seen straight through the openings, closed
     form, exact) and the ``internally_reflected_component`` (%, IRC: the rest, rendered; it carries the
     reading's whole error); None otherwise (then the reflected component holds both)."""
@@ -204,7 +205,7 @@ def _in_the_way(sc):
 def _where_from(sc):
     """How a proven sky component was found, for its note (the gate path)."""
     if sc.past_every_surface:
-        return ("no closed room holds the openings: " + sc.past_every_surface + "; so the sky over every direction "
+        return (sc.past_every_surface + "; so the sky over every direction "
                 "from the point that meets no surface at all, the surfaces' silhouettes clipped exactly on the faces "
                 "of a cube round the point, every one of them opaque: radiometry/skies/obstructed_aperture.py "
                 "open_directions")
@@ -217,7 +218,9 @@ def _split_readings(request, points, dirs, rho, sky_info):
     where the sky and ground seen straight through them are proven (``sky_component``) the reading is
     that closed form plus a render of the rest, the meters linked out of the emitters; at the other
     points inside the room (a pane in the opening, something inside in the way) the whole is rendered,
-    sampling the emitters as lights. Otherwise, where the sky component (SC) alone is proven, the
+    sampling the emitters as lights (with a ground plane in front of the openings, below them, the emitters carry the
+    sky alone, the proven part is the sky alone, and the ground plane seen through them is rendered; a point proven
+    outside that room, outdoors, is rendered whole). Otherwise, where the sky component (SC) alone is proven, the
     reading is SC plus a render of the rest with the sky's direct emission gated off
     (``sky_component.gate_world``). Elsewhere the whole is rendered under the sky. Returns (readings,
     SC lux per point or None, ground seen straight lux per point or None). The request carries the
@@ -296,7 +299,8 @@ def _split_readings(request, points, dirs, rho, sky_info):
             lux = np.array([seen(k) * (1.0 if scs[k].glazed else 1e6) for k in linked])
             brightest = linked[int(np.argmax(lux))]
             ok, link_note = sky_component.check_emitter_linking(request, keys, sensors[brightest], dirs[brightest],
-                                                                model, dark_world=dark_world)
+                                                                model, dark_world=dark_world,
+                                                                sky_only=sky_info if sky_only else None)
             if not ok:  # render those points whole too, through the emitters, and say why
                 linked = linked[:0]
         whole = np.flatnonzero(emitting & ~np.isin(np.arange(len(points)), linked))
@@ -336,7 +340,9 @@ def _split_readings(request, points, dirs, rho, sky_info):
         return out, sky, grd
     factor = sky_component.gate_world(scene)
     ok, gate_note = sky_component.check_world_gate(request, factor, model, horizontal_lux=SKY_HORIZONTAL_LUX)
-    why_gate = openings.reason
+    # why the room's openings were not made emitters: none proven, or (proven, but no meter inside that room) the
+    # meters are outside the closed shell that holds them
+    why_gate = openings.reason or "no meter is inside the closed room that holds the openings"
     if not ok:  # the gate failed its check: render those points whole too, and say why
         sky_component.set_gate_mode(factor, "off")
         scene.world.cycles.sampling_method = "AUTOMATIC"  # the temporary sky's own setting again
@@ -371,7 +377,8 @@ def _split_readings(request, points, dirs, rho, sky_info):
         + ("bounded; " if scs[k].glazed else "exact; ")
         + "Cycles rendered only the rest (the sky's direct emission gated off by Light Path Ray Depth, the ground "
         "seen through the openings and every reflection kept; "
-        + (how + "; no closed room holds the openings: " if envelope else "the openings were not made emitters: ")
+        + (how + "; the openings were not made emitters themselves: " if envelope else
+           "the openings were not made emitters: ")
         + f"{why_gate}" + (f"; nor the gaps in the scene's bounding faces: {why_not}" if why_not else "") + ")",
         gate_note], seed=seed, proven=meter.ProvenPart(grey, "sky component (closed form)",
                                                                        bound_rgb=sc_bound))

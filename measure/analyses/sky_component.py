@@ -59,9 +59,22 @@ class SkyComponent:
     #: openings whose sky is seen past obstructions, their silhouettes clipped exactly
     #: (``radiometry.skies.obstructed_aperture``)
     clipped: int = 0
-    #: no closed room holds the openings (this says why): the sky was integrated over every direction from the
-    #: point that meets no surface at all (``obstructed_aperture.open_directions``); "" where the room's proof held
+    #: why the room's proof was not used (no closed room holds the openings, or the point is outside the closed shell
+    #: that holds them): the sky was integrated over every direction from the point that meets no surface at all
+    #: (``obstructed_aperture.open_directions``); "" where the room's proof held
     past_every_surface: str = ""
+
+
+#: Why a point's sky was taken past every surface where a closed shell with openings was found (``past_every_surface``):
+#: outside it (the solid of thick walls whose window is a tunnel through it: the room's air lies outside), or where
+#: the ray-parity test could not tell.
+OUTSIDE_SHELL = "the point is outside the only closed shell with openings (the solid of thick walls, or a point outdoors)"
+UNDECIDED_SHELL = "the point is not proven inside the closed shell with openings"
+
+
+def _no_room(why):
+    """``past_every_surface`` where no closed shell with openings was found (``why``: ``_closed_shell``'s reason)."""
+    return f"no closed room holds the openings: {why}"
 
 
 def _scene_refusal(model):
@@ -196,7 +209,7 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     if isinstance(shell, str):
         why = _scene_refusal(model)
         return refuse(shell) if why else _sky_past_every_surface(
-            model, points_m, normals, lz, shell, PANE_TOL_SHARE * float(target_rel_error or 0.01))
+            model, points_m, normals, lz, _no_room(shell), PANE_TOL_SHARE * float(target_rel_error or 0.01))
     loops, shell, tris, tol, reach = shell
     lg = ground_reflectance * horizontal_lux / math.pi
     # The wall around each opening, coplanar with it, cannot block a direction through it: found once per
@@ -211,15 +224,15 @@ def sky_components(scene, points_m, normals, *, ground_reflectance, horizontal_l
     insides = sky_aperture.inside_enclosures(points_m, shell, loops, tol)
     inner = np.flatnonzero([v is True for v in insides])
     # A point outside the closed shell is not in the dark for that: the shell may be the solid of thick walls whose
-    # window is a tunnel through it (one mesh, walls with depth), the room's air outside it. Such points take the
-    # proof that needs no room: the sky over every direction that meets no surface (``_sky_past_every_surface``).
-    outer = np.flatnonzero([v is not True for v in insides])
+    # window is a tunnel through it (one mesh, walls with depth), the room's air outside it. Such points, and those
+    # the parity test could not place, take the proof that needs no room: the sky over every direction that meets no
+    # surface (``_sky_past_every_surface``).
     past_shell = {}
-    if outer.size:
-        where = "the point is outside the only closed shell with openings (the solid of thick walls, or a point outdoors)"
-        found = _sky_past_every_surface(model, points_m[outer], normals[outer], lz, where,
-                                        PANE_TOL_SHARE * float(target_rel_error or 0.01))
-        past_shell = dict(zip(outer.tolist(), found))
+    for state, where in ((False, OUTSIDE_SHELL), (None, UNDECIDED_SHELL)):
+        idx = np.flatnonzero([v is state for v in insides])
+        if idx.size:
+            found = _sky_past_every_surface(model, points_m[idx], normals[idx], lz, where, pane_tol)
+            past_shell.update(zip(idx.tolist(), found))
     clear_at = _clear_proofs(points_m, inner, loops, tris, tol, reach)
     past = _PastObstructions(points_m, normals, inner, loops, tris, tol, reach, see_through, lz)
 
@@ -300,7 +313,7 @@ PAST_EVERY_SURFACE_MAX_TRIANGLES = 5000
 
 
 def _sky_past_every_surface(model, points_m, normals, lz, no_shell, rel_tol):
-    """Where no closed room holds the openings (``no_shell`` says why; e.g. walls, floor and roof built of
+    """Where no closed room holds the openings or the point (``no_shell`` says why; e.g. walls, floor and roof built of
     separate boxes): per point the CIE overcast sky over every direction above the point's plane that meets no
     triangle that stops every kind of ray (``_open_directions``), exact, when every other triangle in those
     directions belongs to a recognised colour-neutral thin pane: the directions entering a pane's near face
@@ -442,15 +455,17 @@ def openings_seen_whole(model, points_m, normals=None):
     points_m = np.atleast_2d(np.asarray(points_m, float))
     shell = _closed_shell(model, points_m)
     if isinstance(shell, str):
-        return shell if normals is None or _scene_refusal(model) else _open_views(model, points_m, normals, shell)
+        return shell if normals is None or _scene_refusal(model) else _open_views(model, points_m, normals,
+                                                                                  _no_room(shell))
     loops, shell, tris, tol, reach = shell
     inside = sky_aperture.inside_enclosures(points_m, shell, loops, tol)
     outside = sum(v is not True for v in inside)
-    if outside == len(points_m) and normals is not None:
+    if all(v is False for v in inside) and normals is not None:
         # every point outside the closed shell: the solid of thick walls whose window is a tunnel through it (the
-        # room's air outside it), as ``sky_components`` takes it: the view that needs no room
-        return _open_views(model, points_m, normals, "the points are outside the only closed shell with openings "
-                                                     "(the solid of thick walls, or points outdoors)")
+        # room's air outside it), as ``sky_components`` takes it: the view that needs no room. Points inside and
+        # outside at once are refused: one dome render takes one kind of proof for all its meters.
+        return _open_views(model, points_m, normals, OUTSIDE_SHELL.replace("the point is", "the points are")
+                           .replace("a point outdoors", "points outdoors"))
     if outside:
         return f"{outside} point(s) not proven inside the room holding the openings"
     clear_at = _clear_proofs(points_m, np.arange(len(points_m)), loops, tris, tol, reach)
@@ -769,17 +784,25 @@ def openings_to_world(model):
         ahead = (tris - centre) @ normal                                   # (T, 3) m in front of the plane
         front = np.any(ahead > tol, axis=1)
         held = see_through & front
-        below = np.all(tris[..., 2] <= float(poly[:, 2].min()) + tol, axis=1)  # under the opening's lowest point
+        if held.any() and not np.all(_inside_prism(tris[held].reshape(-1, 3), poly, centre, normal, tol)):
+            return Openings([], [], [], f"a see-through surface in front of opening {k + 1} reaches beyond it: "
+                                        "what the opening looks out on is rendered")
+        d = float(ahead[held].max()) if held.any() else 0.0
+        # under the emitter's lowest point (a glazed opening's cup stands out past its pane: ``add_opening_emitters``)
+        lowest = float(poly[:, 2].min()) + min(0.0, float(normal[2])) * (_cup_offset(d) if d > 0.0 else 0.0)
+        below = np.all(tris[..., 2] <= lowest + tol, axis=1)
         if np.any(front & ~see_through & ~below):
             return Openings([], [], [], f"a surface of the scene lies in front of opening {k + 1} (outside the "
                                         "room): what the opening looks out on is rendered")
         sky_only |= bool(np.any(front & ~see_through & below))
-        if held.any() and not np.all(_inside_prism(tris[held].reshape(-1, 3), poly, centre, normal, tol)):
-            return Openings([], [], [], f"a see-through surface in front of opening {k + 1} reaches beyond it: "
-                                        "what the opening looks out on is rendered")
         outward.append(normal)
-        depth.append(float(ahead[held].max()) if held.any() else 0.0)
+        depth.append(d)
     return Openings(list(loops), outward, depth, sky_only=sky_only)
+
+
+def _cup_offset(depth):
+    """How far out (m) a glazed opening's emitter stands: past its pane (``depth`` in front), 1 mm at least."""
+    return depth + max(1e-3, 0.1 * depth)
 
 
 def add_opening_emitters(request, openings, info):
@@ -803,7 +826,7 @@ def add_opening_emitters(request, openings, info):
     for k, (poly, normal, depth) in enumerate(zip(openings.loops, openings.outward, openings.depth)):
         n = len(poly)
         if depth > 0.0:
-            out = poly + (depth + max(1e-3, 0.1 * depth)) * normal  # 1 mm past the pane at least
+            out = poly + _cup_offset(depth) * normal
             verts = np.r_[poly, out]
             faces = [tuple(range(n, 2 * n))] + [(j, (j + 1) % n, n + (j + 1) % n, n + j) for j in range(n)]
         else:
@@ -829,28 +852,36 @@ def add_opening_emitters(request, openings, info):
 _LINK_CHECKS = {}
 
 
-def check_emitter_linking(request, keys, sensor, normal, model, *, samples=256, dark_world=None):
-    """Prove on this Blender and device (cached per session) that light linking keeps an emitting mesh's
-    light out of a baked sensor entirely, by next-event estimation and by rays that hit it: at a point
-    lit by the openings, a direct-only bake (0 bounces) must read more than 0 without the exclusion and
-    exactly 0 with it. ``dark_world``: read under it (the world that stays the sky beside sky-only emitters would
-    be seen through them, beyond a ground plane's edge). Returns (ok, note)."""
+def check_emitter_linking(request, keys, sensor, normal, model, *, samples=256, dark_world=None, sky_only=None):
+    """Prove on this Blender and device (cached per session and kind of emitter) that light linking keeps an
+    emitting mesh's light out of a baked sensor entirely, by next-event estimation and by rays that hit it: at a
+    point lit by the openings, a direct-only bake (0 bounces) must read more than 0 without the exclusion and exactly
+    0 with it, both under ``dark_world`` (the black world). ``sky_only``: the CIE sky ``info`` of sky-only emitters
+    (``Openings.sky_only``), which let rays through downwards: the linked-out bake then reads under that sky with a
+    black ground, so that it also proves that a ray leaving upwards stops on the emitter (else the sensor would see
+    the world's sky, already in the proven part) while the one going downwards meets nothing lit. Returns (ok, note)."""
     import bpy
 
+    from ..authoring import sky
     from ..render import adaptive
 
     scene = request.scene
-    key = (bpy.app.version_string, str(getattr(scene.cycles, "device", "CPU")))
+    key = (bpy.app.version_string, str(getattr(scene.cycles, "device", "CPU")), sky_only is not None)
     if key in _LINK_CHECKS:
         return _LINK_CHECKS[key]
     weights, efficacy = request.weights, request.efficacy
     check = request.but(seed=0, progress=None, cancelled=None)  # as the check always ran: seed 0, no progress
     read = {}
     world = scene.world
-    if dark_world is not None:
-        scene.world = dark_world
     try:
         for name, ex in (("open", frozenset()), ("linked out", frozenset(keys))):
+            if dark_world is not None:
+                scene.world = dark_world
+            if name == "linked out" and sky_only is not None:  # the sky above a black ground, in the guard
+                sky.set_cie_sky(request, sky_only["sky_type"], sun_direction=sky_only["sun_direction"],
+                                horizontal_illuminance_lux=sky_only["horizontal_illuminance_lux"],
+                                ground_reflectance=0.0)
+                scene.world.cycles.sampling_method = "NONE"
             run = adaptive.render_hybrid(check, np.asarray(sensor, float)[None, :],
                                          np.asarray(normal, float)[None, :], needs=model.needs, bounces=0,
                                          fixed_samples=samples, exclusions=[ex], panes=model.panes)
@@ -860,7 +891,8 @@ def check_emitter_linking(request, keys, sensor, normal, model, *, samples=256, 
     ok = read["open"] > 0.0 and read["linked out"] == 0.0
     note = (f"light linking was checked on this Blender ({key[0]}, {key[1]}): direct light from the openings' "
             f"emitters read {read['open']:.6g} lx at a meter and {read['linked out']:.3g} lx with the meter linked "
-            "out" + ("" if ok else ": linking does NOT keep them out here"))
+            "out" + (" under the sky (its ground black): the emitters stop the rays that leave upwards"
+                     if sky_only is not None else "") + ("" if ok else ": linking does NOT keep them out here"))
     _LINK_CHECKS[key] = (ok, note)
     return ok, note
 
@@ -1054,10 +1086,10 @@ def add_envelope_emitters(request, model, info, points_m=None):
     gaps = envelope.stood_off(gaps, ENVELOPE_STANDOFF, ENVELOPE_GROW)
     if points_m is not None and len(points_m):
         pts = np.asarray(points_m, float).reshape(-1, 3)
-        ahead = [int(np.count_nonzero(pts @ np.asarray(n, float) >= float(np.dot(n, quad[0])) - tol))
-                 for quad, n in gaps]
-        if any(ahead):
-            return [], [], 0.0, (f"{max(ahead)} meter(s) stand outside the scene's bounding box in front of a gap, "
+        ahead = np.any([pts @ np.asarray(n, float) >= float(np.dot(n, quad[0])) - tol for quad, n in gaps], axis=0)
+        if ahead.any():
+            return [], [], 0.0, (f"{int(np.count_nonzero(ahead))} meter(s) stand outside the scene's bounding box in "
+                                 "front of a gap, "
                                  "where an emitter there would hide what lies behind it")
     factors, objects, materials, area = [], [], {}, 0.0
     for k, (quad, normal) in enumerate(gaps):

@@ -1,7 +1,7 @@
 """The daylight factor split (issue 31): where the sky component (SC) is proven in closed form
 (measure/analyses/sky_component.py), ``method="auto"`` reads SC + a render of the rest: with the openings
-as emitters linked out of the meters where nothing lies outside them, else with the sky's direct
-emission gated off. Independent of that split: the render of everything (``method="render"``, another
+as emitters linked out of the meters where nothing lies outside them (or only a ground plane below them: then they
+emit the sky alone), else with the sky's direct emission gated off. Independent of that split: the render of everything (``method="render"``, another
 seed; Radiance against it in test_daylight_factor.py), and the closed form alone."""
 
 import importlib.util
@@ -47,7 +47,8 @@ def _ground_mesh(scene):
 
 
 @pytest.mark.parametrize("outside", ["nothing", "ground"])
-def test_split_agrees_with_the_whole_render(clean_blender, outside):
+def test_split_agrees_with_the_whole_render(clean_blender, outside, monkeypatch):
+    monkeypatch.setattr(sky_component, "_LINK_CHECKS", {})  # each kind of emitter's own linking check, run here
     scene = bpy.context.scene
     room.build_blender(scene)
     if outside == "ground":
@@ -82,6 +83,8 @@ def test_split_agrees_with_the_whole_render(clean_blender, outside):
             assert any("light linking was checked" in n and "does NOT" not in n for n in a.notes)
             assert any("emitted the sky's radiance into the room, upwards" in n and "ground plane seen through them "
                        "rendered" in n for n in a.notes), a.notes
+            assert any("0 lx with the meter linked out under the sky (its ground black)" in n for n in a.notes), \
+                [n for n in a.notes if "linking" in n]
             assert a.externally_reflected_component is None and a.internally_reflected_component is None
         assert w.sky_component is None and w.reflected_component is None
     assert _state(scene) == before
@@ -235,10 +238,11 @@ def test_opening_emitters_carry_the_closed_form(clean_blender, pane, ground):
     room.build_blender(scene)
     if pane:  # the 6 mm pane: its T(theta) by bounding subdivision against the thin-pane stand-in's render
         room.add_pane_blender(scene)
-    if ground:
-        _ground_mesh(scene)
     pts = np.array([(2.0, 1.5, 0.85), (2.0, 0.75, 1.2), (0.5, 2.0, 1.5)])
     dirs = np.array([(0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (1.0, 0.0, 0.0)])
+    if ground:  # the world's ground seen through the opening in closed form, before the ground plane is there
+        bare = sky_component.sky_components(scene, pts, dirs, ground_reflectance=0.2, horizontal_lux=SKY_HORIZONTAL_LUX)
+        _ground_mesh(scene)
     with scene_guard.preserved_scene(scene) as snapshot:
         request = request_of.build(scene)
         dfm.overcast_only(request, snapshot, 0.2)
@@ -248,14 +252,30 @@ def test_opening_emitters_carry_the_closed_form(clean_blender, pane, ground):
         openings = sky_component.openings_to_world(model)
         assert len(openings.loops) == 1 and np.allclose(openings.outward[0], (0.0, -1.0, 0.0))
         assert openings.sky_only == ground
-        _keys, dark = sky_component.add_opening_emitters(request, openings, json.loads(scene.world[CIE_SKY_TAG]))
+        sky_world = scene.world
+        keys, dark = sky_component.add_opening_emitters(request, openings, json.loads(scene.world[CIE_SKY_TAG]))
         scene.world = dark
         bpy.context.view_layer.update()
         _space, weights, efficacy = request.photometry
         run = adaptive.render_hybrid(request, pts, dirs, needs=model.needs, bounces=0, fixed_samples=65536,
                                      panes=model.panes)
+        if ground:  # the rays the sky-only emitters let through: downwards, they meet the world's ground
+            plane = bpy.data.objects["ground"]
+            plane.hide_render = True
+            scene.world = sky_world
+            bpy.context.view_layer.update()
+            through = adaptive.render_hybrid(request, pts, dirs, needs=model.needs, bounces=0, fixed_samples=65536,
+                                             panes=model.panes, exclusions=[keys] * len(pts))
     lux = efficacy * (run["mean_rgb"] @ weights)
     se = efficacy * run["se"]
+    if ground:  # linked out of the emitters (the sky), the meters see the world's ground through them: its closed form
+        down, down_se = efficacy * (through["mean_rgb"] @ weights), efficacy * through["se"]
+        for k, c in enumerate(bare):
+            print(f"through the emitters {down[k]:.3f} +- {down_se[k]:.3f} lx; the ground's closed form "
+                  f"{c.ground_lux:.3f} lx")
+        for k, c in enumerate(bare):
+            assert abs(down[k] - c.ground_lux) <= 4.0 * down_se[k] + 1e-4 * c.ground_lux
+        assert max(c.ground_lux for c in bare) > 50.0  # the sideways meter sees the ground through the window
     for k, c in enumerate(closed):
         expected = c.sky_lux + (0.0 if ground else c.ground_lux)
         print(f"emitters {lux[k]:.3f} +- {se[k]:.3f} lx; closed form {expected:.3f} +- {c.bound_lux:.3f} lx (bound)")
