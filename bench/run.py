@@ -1058,6 +1058,11 @@ BENCHES["annual_coverage"] = lambda: __import__("annual_coverage").run(quick=QUI
 BENCHES["boxes_room_split"] = lambda: __import__("boxes_room_split").run(
     *((3, 0.05, 3, __import__("tempfile").mkdtemp(prefix="radiometer-bench-")) if QUICK else ()))
 
+# Issue 31 (bench/ground_plane_split.py): the DF grid of the side-lit room and the room of boxes on a ground plane vs
+# electric, and vs the path before 2026-12-07; quick: 3 x 3 at 5 % into a temporary folder.
+BENCHES["ground_plane_split"] = lambda: __import__("ground_plane_split").run(
+    *((3, 0.05, 3, __import__("tempfile").mkdtemp(prefix="radiometer-bench-")) if QUICK else ()))
+
 
 # Issue 18 (bench/coverage_rare_paths_fin.py, its own process): coverage of stated errors in the fin scene
 # (50 seeds per meter; the Sobol-Burley rows are an experiment on the sampler); quick: 5 seeds at preview.
