@@ -19,7 +19,6 @@ window), open and with a solid 6 mm pane at the room side of its window (``boxes
     # default 10 x 10 at 1 %, 12 points rendered whole; writes bench/boxes_room_split.{json,md}
 """
 
-import json
 import os
 import sys
 import time
@@ -136,11 +135,10 @@ def markdown(rooms):
 def run(n=10, target=0.01, whole=12, out_dir=HERE):
     rooms = [bench_room(glass, n, target, whole, solid=solid) for glass, solid in ((False, False), (True, False),
                                                                                  (False, True))]
-    with open(os.path.join(out_dir, "boxes_room_split.json"), "w") as f:
-        json.dump({"rooms": rooms}, f, indent=1)
+    from scenes import write_results
+
     text = markdown(rooms)
-    with open(os.path.join(out_dir, "boxes_room_split.md"), "w") as f:
-        f.write(text)
+    write_results(out_dir, "boxes_room_split", {"rooms": rooms}, text.rstrip("\n"))
     print(text)
     return rooms
 

@@ -14,7 +14,6 @@ seed): auto minus the whole render in combined standard errors.
     # default 10 x 10 at 1 %, 12 points rendered whole; writes bench/ground_plane_split.{json,md}
 """
 
-import json
 import os
 import sys
 import time
@@ -148,11 +147,10 @@ def markdown(rooms):
 
 def run(n=10, target=0.01, whole=12, out_dir=HERE):
     rooms = [bench_room(kind, n, target, whole) for kind in ("thin", "boxes")]
-    with open(os.path.join(out_dir, "ground_plane_split.json"), "w") as f:
-        json.dump({"rooms": rooms}, f, indent=1)
+    from scenes import write_results
+
     text = markdown(rooms)
-    with open(os.path.join(out_dir, "ground_plane_split.md"), "w") as f:
-        f.write(text)
+    write_results(out_dir, "ground_plane_split", {"rooms": rooms}, text.rstrip("\n"))
     print(text)
     return rooms
 
