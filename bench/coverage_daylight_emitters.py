@@ -28,7 +28,9 @@ Scenes (tests/bpy/daylight_room.py: the same quads in Blender and in Radiance):
 8. ``boxes``: a room built of nine separate boxes that touch (walls, floor and roof 0.2 m thick; no single closed
    surface, so no room's openings): the sky over every direction that meets no surface in closed form
    (``obstructed_aperture.open_directions``), the rest through the gate;
-9. ``boxes_pane``: the same with a solid 6 mm pane at the room side of its window.
+9. ``boxes_pane``: the same with a solid 6 mm pane at the room side of its window;
+10. ``ground``: the open side-lit room on a ground plane (reflectance 0.2): the openings emit the sky alone,
+   upwards, and the ground plane seen through them is rendered (``Openings.sky_only``).
 
 Radiance: ``radiance_daylight_factor`` (rtrace -I, -aa 0 -ad 1 -as 0 -ab 32: one hemisphere ray per input
 line). A pilot process gives each point's per-sample spread; then each point runs alone in at least 4 separate
@@ -37,7 +39,7 @@ there. rtrace -u+ seeds from the clock's second, so each process starts in a lat
 and the processes' means are checked to differ (distinct means; their spread over their stated errors ~1).
 
     PYTHONPATH=... python bench/coverage_daylight_emitters.py [--scenes open pane skylight deep obstruction roof
-        pane_obstruction boxes boxes_pane]
+        pane_obstruction boxes boxes_pane ground]
         [--seeds 100]
         [--target 0.02] [--render-seeds 20] [--probe]
 Writes bench/coverage_daylight_emitters.{json,md} after every scene (scenes already there are kept).
@@ -109,6 +111,11 @@ def scene_specs(room):
                        room.boxes_quads(room.boxes_room_boxes()), True,
                        [(2.0, 1.0, 0.85), (2.0, 2.5, 0.85), (1.0, 4.0, 0.85), (3.5, 0.5, 1.5), (0.3, 0.3, 0.85)],
                        [UP] * 5, room.boxes_pane()),
+        # on a ground plane (since 2026-12-07 the openings emit the sky alone, upwards; the ground plane is rendered)
+        "ground": ("the open side-lit room on a 64 x 63 m ground plane (reflectance 0.2) 1 cm below its floor",
+                   room.quads() + room.ground_quads(), False,
+                   [(2.0, 0.4, 0.85), (2.0, 0.75, 0.85), (2.0, 1.5, 0.85), (2.0, 2.5, 0.85), (1.2, 0.4, 1.6),
+                    (2.0, 1.0, 1.6)], [UP] * 5 + [(0.0, -1.0, 0.0)]),
         "roof": ("closed room 4 x 4 m under a roof tilted 30 deg (3 m at y = 0, 5.31 m at y = 4 m), a 1 x 1 m "
                  "opening in it (centre (2, 2, 4.15) m) with a solid 6 mm pane (IOR 1.52) tilted with the roof",
                  room.roof_quads(), True,

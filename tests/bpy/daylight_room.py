@@ -11,7 +11,7 @@ WINDOW = (1.0, 3.0, 0.9, 2.1)      # x0, x1, z0, z1 of the opening (m)
 RHO = {"floor": 0.2, "ceiling": 0.7, "walls": 0.5}
 # surfaces only some scenes have (an obstruction outside): a material is made only where a quad names it, so
 # the scenes without them are built and written for Radiance byte for byte as before (the cache keys hold)
-RHO_EXTRA = {"obstruction": 0.2}
+RHO_EXTRA = {"obstruction": 0.2, "ground": 0.2}
 POINTS = [(2.0, 0.75, 0.85), (2.0, 1.5, 0.85), (2.0, 2.5, 0.85)]
 
 
@@ -42,6 +42,12 @@ def skylight_quads(W=4.0, D=4.0, H=3.0, SKYLIGHT=(1.5, 2.5, 1.5, 2.5)):  # noqa:
             ("walls", [(0, D, 0), (W, D, 0), (W, D, H), (0, D, H)]),
             ("walls", [(0, 0, 0), (0, D, 0), (0, D, H), (0, 0, H)]),
             ("walls", [(W, 0, 0), (W, 0, H), (W, D, H), (W, D, 0)])]
+
+
+def ground_quads(z=-0.01, reach=30.0):
+    """A square ground plane ``reach`` m round the room, just below its floor (named "ground": RHO_EXTRA)."""
+    return [("ground", [(-reach, -reach, z), (W + reach, -reach, z), (W + reach, D + reach, z),
+                        (-reach, D + reach, z)])]
 
 
 def box_triangles(lo, hi):
