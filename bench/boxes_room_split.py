@@ -58,6 +58,27 @@ def _timed(fn):
     return out, time.perf_counter() - t0
 
 
+def against_whole(scene, grid, target, whole):
+    """The daylight-factor ``grid`` (``method="auto"``) against the whole render (``method="render"``, seed 2, the
+    same ``target``) at ``whole`` points spread over it: its seconds and auto minus render in combined s.e."""
+    import numpy as np
+
+    from radiometer import api
+
+    df = np.asarray(grid.daylight_factor, float).ravel()
+    rel = np.asarray(grid.rel_std_error, float).ravel()
+    pts = np.asarray(grid.points, float).reshape(-1, 3)
+    idx = np.unique(np.linspace(0, df.size - 1, whole).round().astype(int))
+    rendered, whole_s = _timed(lambda: api.daylight_factor(pts[idx], (0.0, 0.0, 1.0), scene=scene,
+                                                           target_rel_error=target, seed=2, method="render"))
+    w_df = np.array([r.daylight_factor for r in rendered])
+    w_se = np.array([r.rel_std_error * r.daylight_factor for r in rendered])
+    z = (df[idx] - w_df) / np.hypot(rel[idx] * df[idx], w_se)
+    return {"whole_points": int(idx.size), "whole_s": whole_s, "whole_s_per_point": whole_s / idx.size,
+            "z_auto_minus_whole": np.round(z, 3).tolist(), "z_mean": float(z.mean()),
+            "z_worst": float(np.abs(z).max()), "z_within_2": float(np.mean(np.abs(z) <= 2.0))}
+
+
 def bench_room(glass, n, target, whole, repeats=3, solid=False):
     import numpy as np
 
@@ -82,25 +103,15 @@ def bench_room(glass, n, target, whole, repeats=3, solid=False):
         e_s = _timed(electric)[1]
         grid, a_s = _timed(auto)
         pairs.append((e_s, a_s))
-    df = np.asarray(grid.daylight_factor, float).ravel()
-    rel = np.asarray(grid.rel_std_error, float).ravel()
     sc = np.asarray(grid.sky_component, float).ravel()
-    pts = np.asarray(grid.points, float).reshape(-1, 3)
-    idx = np.unique(np.linspace(0, n * n - 1, whole).round().astype(int))
-    rendered, whole_s = _timed(lambda: api.daylight_factor(pts[idx], (0.0, 0.0, 1.0), scene=scene,
-                                                           target_rel_error=target, seed=2, method="render"))
-    w_df = np.array([r.daylight_factor for r in rendered])
-    w_se = np.array([r.rel_std_error * r.daylight_factor for r in rendered])
-    z = (df[idx] - w_df) / np.hypot(rel[idx] * df[idx], w_se)
     ratios = [a / e for e, a in pairs]
     out.update({"electric_s": [e for e, _a in pairs], "auto_s": [a for _e, a in pairs],
                 "auto_x_electric": ratios, "auto_x_electric_median": float(np.median(ratios)),
-                "sky_component_points": int(np.sum(np.isfinite(sc))), "auto_max_rel_std_error": float(rel.max()),
-                "auto_average_df": float(grid.stats["average"]), "whole_points": int(idx.size),
-                "whole_s": whole_s, "whole_s_per_point": whole_s / idx.size,
+                "sky_component_points": int(np.sum(np.isfinite(sc))),
+                "auto_max_rel_std_error": float(np.max(grid.rel_std_error)),
+                "auto_average_df": float(grid.stats["average"]),
                 "auto_s_per_point": float(np.median([a for _e, a in pairs])) / (n * n),
-                "z_auto_minus_whole": np.round(z, 3).tolist(), "z_mean": float(z.mean()),
-                "z_worst": float(np.abs(z).max()), "z_within_2": float(np.mean(np.abs(z) <= 2.0)),
+                **against_whole(scene, grid, target, whole),
                 "notes": [note for note in grid.notes if "sky component" in note][:1],
                 "load_after": os.getloadavg()})
     out["whole_over_auto_per_point"] = out["whole_s_per_point"] / out["auto_s_per_point"]

@@ -16,7 +16,6 @@ seed): auto minus the whole render in combined standard errors.
 
 import os
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
@@ -48,12 +47,6 @@ def build(kind):
     return scene, plane
 
 
-def _timed(fn):
-    t0 = time.perf_counter()
-    out = fn()
-    return out, time.perf_counter() - t0
-
-
 def _gate_only():
     """As before 2026-12-07: openings with anything in front of them (here the ground plane) not made emitters."""
     from radiometer.measure.analyses import sky_component
@@ -72,6 +65,8 @@ def _gate_only():
 
 def bench_room(kind, n, target, whole):
     import numpy as np
+
+    from boxes_room_split import _timed, against_whole
 
     from radiometer import api
     from radiometer.measure.analyses import sky_component
@@ -99,22 +94,12 @@ def bench_room(kind, n, target, whole):
     finally:
         sky_component.openings_to_world = real
     e_s.append(_timed(electric)[1])
-    df = np.asarray(grid.daylight_factor, float).ravel()
-    rel = np.asarray(grid.rel_std_error, float).ravel()
-    pts = np.asarray(grid.points, float).reshape(-1, 3)
-    idx = np.unique(np.linspace(0, n * n - 1, whole).round().astype(int))
-    rendered, whole_s = _timed(lambda: api.daylight_factor(pts[idx], (0.0, 0.0, 1.0), scene=scene,
-                                                           target_rel_error=target, seed=2, method="render"))
-    w_df = np.array([r.daylight_factor for r in rendered])
-    w_se = np.array([r.rel_std_error * r.daylight_factor for r in rendered])
-    z = (df[idx] - w_df) / np.hypot(rel[idx] * df[idx], w_se)
     electric_s = float(np.mean(e_s))
     out.update({"electric_s": e_s, "auto_s": a_s, "before_s": b_s, "auto_x_electric": a_s / electric_s,
                 "before_x_electric": b_s / electric_s, "auto_average_df": float(grid.stats["average"]),
-                "before_average_df": float(old.stats["average"]), "auto_max_rel_std_error": float(rel.max()),
-                "whole_points": int(idx.size), "whole_s_per_point": whole_s / idx.size,
-                "z_auto_minus_whole": np.round(z, 3).tolist(), "z_mean": float(z.mean()),
-                "z_worst": float(np.abs(z).max()), "z_within_2": float(np.mean(np.abs(z) <= 2.0)),
+                "before_average_df": float(old.stats["average"]),
+                "auto_max_rel_std_error": float(np.max(grid.rel_std_error)),
+                **against_whole(scene, grid, target, whole),
                 "notes": [note for note in grid.notes if "emitted" in note or "gap(s)" in note][:1],
                 "load_after": os.getloadavg()})
     print(out["room"], {k: v for k, v in out.items() if k not in ("z_auto_minus_whole", "notes")}, flush=True)

@@ -70,6 +70,7 @@ class SkyComponent:
 #: the ray-parity test could not tell.
 OUTSIDE_SHELL = "the point is outside the only closed shell with openings (the solid of thick walls, or a point outdoors)"
 UNDECIDED_SHELL = "the point is not proven inside the closed shell with openings"
+OUTSIDE_SHELL_ALL = "the points are outside the only closed shell with openings (the solid of thick walls, or outdoors)"
 
 
 def _no_room(why):
@@ -464,8 +465,7 @@ def openings_seen_whole(model, points_m, normals=None):
         # every point outside the closed shell: the solid of thick walls whose window is a tunnel through it (the
         # room's air outside it), as ``sky_components`` takes it: the view that needs no room. Points inside and
         # outside at once are refused: one dome render takes one kind of proof for all its meters.
-        return _open_views(model, points_m, normals, OUTSIDE_SHELL.replace("the point is", "the points are")
-                           .replace("a point outdoors", "points outdoors"))
+        return _open_views(model, points_m, normals, OUTSIDE_SHELL_ALL)
     if outside:
         return f"{outside} point(s) not proven inside the room holding the openings"
     clear_at = _clear_proofs(points_m, np.arange(len(points_m)), loops, tris, tol, reach)
@@ -1126,14 +1126,9 @@ def envelope_emitter_material(name, info, outward):
     mat.cycles.emission_sampling = "FRONT_BACK"
     tree = mat.node_tree
     emission = next(node for node in tree.nodes if node.bl_idname == "ShaderNodeEmission")
-    geometry = next(node for node in tree.nodes if node.bl_idname == "ShaderNodeNewGeometry")
-    leaving = tree.nodes.new("ShaderNodeVectorMath")
-    leaving.operation = "SCALE"
-    leaving.inputs["Scale"].default_value = -1.0
-    tree.links.new(geometry.outputs["Incoming"], leaving.inputs[0])
-    sep = tree.nodes.new("ShaderNodeSeparateXYZ")
-    tree.links.new(leaving.outputs["Vector"], sep.inputs[0])
-    return mat, _gate(tree, emission.inputs["Strength"], sep.outputs["Z"], EMITTER_DIRECT_DEPTH)
+    # the z of the ray's unit direction, as ``sky.sky_radiance`` separated it for the sky's own horizon
+    leaving_z = next(node for node in tree.nodes if node.bl_idname == "ShaderNodeSeparateXYZ").outputs["Z"]
+    return mat, _gate(tree, emission.inputs["Strength"], leaving_z, EMITTER_DIRECT_DEPTH)
 
 
 #: The verdicts of ``check_envelope_gate``: (Blender version, Cycles device) -> (ok, note).

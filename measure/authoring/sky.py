@@ -36,7 +36,7 @@ def _math(tree, op, a=None, b=None, c=None, x=0):
 def sky_radiance(tree, direction, sky_type, sun, zenith_radiance, ground_radiance):
     """Nodes in ``tree`` giving the sky's radiance for the ``direction`` socket (any length; normalised
     here): zenith_radiance x L/Lz above the horizon, ground_radiance below. Returns (the radiance socket,
-    the unit direction socket). Shared by the world (``build_sky_tree``) and the openings' emitters
+    the unit direction socket, its z socket: the cosine of the zenith angle). Shared by the world (``build_sky_tree``) and the openings' emitters
     (``opening_emitter_material``) so that both evaluate one formula; the world's nodes come out as
     before (names, order and links: its fingerprint, measured equal for overcast and types 1, 5, 12, 15)."""
     norm = tree.nodes.new("ShaderNodeVectorMath")
@@ -72,7 +72,7 @@ def sky_radiance(tree, direction, sky_type, sun, zenith_radiance, ground_radianc
             sky = _math(tree, "MULTIPLY", _math(tree, "MULTIPLY", f, phi), k)
     above = _math(tree, "GREATER_THAN", cos_z, 0.0)
     value = _math(tree, "MULTIPLY_ADD", above, _math(tree, "SUBTRACT", sky, ground_radiance), ground_radiance)
-    return value, direction
+    return value, direction, cos_z
 
 
 def build_sky_tree(tree, sky_type, sun, zenith_radiance, ground_radiance):
@@ -86,7 +86,8 @@ def build_sky_tree(tree, sky_type, sun, zenith_radiance, ground_radiance):
     tree.links.new(bg.outputs["Background"], out.inputs["Surface"])
     coord = tree.nodes.new("ShaderNodeTexCoord")
     coord.location = (-900, 0)
-    value, _unit = sky_radiance(tree, coord.outputs["Generated"], sky_type, sun, zenith_radiance, ground_radiance)
+    value, _unit, _cos_z = sky_radiance(tree, coord.outputs["Generated"], sky_type, sun, zenith_radiance,
+                                        ground_radiance)
     tree.links.new(value, bg.inputs["Strength"])
     return bg
 
@@ -118,17 +119,16 @@ def opening_emitter_material(name, info, outward, sky_only=False):
     leaving.operation = "SCALE"
     leaving.inputs["Scale"].default_value = -1.0
     tree.links.new(geometry.outputs["Incoming"], leaving.inputs[0])
-    value, unit = sky_radiance(tree, leaving.outputs["Vector"], info["sky_type"],
-                               [float(v) for v in info["sun_direction"]], info["zenith_radiance"], info["ground_radiance"])
+    value, unit, cos_z = sky_radiance(tree, leaving.outputs["Vector"], info["sky_type"],
+                                      [float(v) for v in info["sun_direction"]], info["zenith_radiance"],
+                                      info["ground_radiance"])
     facing = tree.nodes.new("ShaderNodeVectorMath")
     facing.operation = "DOT_PRODUCT"
     tree.links.new(unit, facing.inputs[0])
     facing.inputs[1].default_value = tuple(float(v) for v in outward)
     leaves = _math(tree, "GREATER_THAN", facing.outputs["Value"], 0.0)  # rays from inside only
     if sky_only:
-        up = tree.nodes.new("ShaderNodeSeparateXYZ")
-        tree.links.new(unit, up.inputs[0])
-        leaves = _math(tree, "MULTIPLY", leaves, _math(tree, "GREATER_THAN", up.outputs["Z"], 0.0))
+        leaves = _math(tree, "MULTIPLY", leaves, _math(tree, "GREATER_THAN", cos_z, 0.0))
         mix = tree.nodes.new("ShaderNodeMixShader")
         tree.links.new(leaves, mix.inputs["Fac"])
         tree.links.new(tree.nodes.new("ShaderNodeBsdfTransparent").outputs[0], mix.inputs[1])
