@@ -55,20 +55,26 @@ def convergence_plot(path, samples, seconds, errors, std_errors=None, *, fit=Non
         ax.grid(True, which="both", alpha=0.3)
     if fit is not None:
         xn = np.geomspace(n.min(), n.max(), 50)
-        if 0.0 < fit["prefactor"] < np.inf:  # else the sample counts barely varied: no line to draw
+        if not 0.0 < fit["prefactor"] < np.inf:  # the sample counts barely varied: no line to draw
+            ax1.plot([], [], " ", label="no fit: the sample counts barely varied")
+        else:
             ax1.loglog(xn, 100 * _power(fit["prefactor"], xn, fit["slope"]), "-", color="0.4",
                        label=f"fit: {fit_in_words(fit['slope'], 'samples') or 'no convergence'} "
                              f"(error ∝ N^{fit['slope']:.2f}±{fit['slope_se']:.2f})")
         xt = np.geomspace(t.min(), t.max(), 50)
-        if 0.0 < fit["time_prefactor"] < np.inf:  # else the times barely varied: no line to draw
+        if not 0.0 < fit["time_prefactor"] < np.inf:  # the times barely varied: no line to draw
+            ax2.plot([], [], " ", label="no fit of error against time: the times barely varied")
+        else:
             ax2.loglog(xt, 100 * _power(fit["time_prefactor"], xt, fit["time_slope"]), "-", color="0.4",
                        label=f"fit: {fit_in_words(fit['time_slope'], 'time') or 'no convergence'} "
                              f"(error ∝ t^{fit['time_slope']:.2f}±{fit['time_slope_se']:.2f})")
     if target:
         for ax in (ax1, ax2):
             ax.axhline(100 * target, ls="--", color="C3", label=f"target {100 * target:g} %")
-    for ax in (ax1, ax2):
+    for ax, x in ((ax1, n), (ax2, t)):
         _percent_axis(ax)  # after every loglog call: setting the scale resets the formatters
+        if not np.any((10.0 ** np.arange(-12, 13) >= x.min()) & (10.0 ** np.arange(-12, 13) <= x.max())):
+            ax.set_xticks([x.min(), x.max()], [f"{x.min():.4g}", f"{x.max():.4g}"])  # no decade inside: the ends
         ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), frameon=False)
     fig.suptitle("\n".join(textwrap.fill(p, 110) for p in str(title).split("\n")), fontsize=9)
     fig.tight_layout()
