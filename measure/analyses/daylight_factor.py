@@ -187,6 +187,8 @@ def daylight_factor(locations, normals=(0.0, 0.0, 1.0), *, request, ground_refle
         sc_df = None if sc is None else 100.0 * sc / SKY_HORIZONTAL_LUX
         erc = None if gr is None else 100.0 * gr / SKY_HORIZONTAL_LUX
         how = r.method if sc is None else r.method.replace("render", "hybrid", 1)  # closed-form SC + render
+        if sc is not None and erc is not None and r.samples == 0:
+            df = sc_df + erc  # nothing rendered (a black room): the proven parts are the reading, without rounding
         out.append(DaylightFactorReading(tuple(map(float, p)), tuple(map(float, n)), df, float(r.rel_std_error),
                                          float(r.illuminance), SKY_HORIZONTAL_LUX, bool(r.exact), how,
                                          notes + list(r.notes), sc_df, None if sc is None else df - sc_df,
@@ -325,7 +327,8 @@ def _split_readings(request, points, dirs, rho, sky_info):
 
             measure_at(linked, linked_note, seed=seed,
                        proven=meter.ProvenPart(grey, "sky through the openings (closed form)" if sky_only else
-                                               "sky and ground through the openings (closed form)", keys, bound))
+                                               "sky and ground through the openings (closed form)", keys, bound,
+                                               covers_world=not sky_only))  # sky-only: the ground is rendered
             for k in linked:
                 sky[k], grd[k] = float(scs[k].sky_lux), None if sky_only else float(scs[k].ground_lux)
         measure_at(whole, lambda k: [

@@ -56,12 +56,13 @@ class _Capture:
 
 
 def _material_traits(material):
-    """(opaque, emissive, glossy, transmission, volume, null surface, seals) of a material as Cycles shades
-    it. A null surface: the active output has a Volume and no Surface (a fog box): Cycles renders the
+    """(opaque, emissive, glossy, transmission, volume, null surface, seals, black) of a material as Cycles
+    shades it. A null surface: the active output has a Volume and no Surface (a fog box): Cycles renders the
     boundary as a null interface that neither blocks nor reflects light; the medium is in ``volumes``.
-    ``seals``: only shader nodes through which no light passes (``shader_kinds.seals``: sealed shells)."""
+    ``seals``: only shader nodes through which no light passes (``shader_kinds.seals``: sealed shells).
+    ``black``: provably sends no light at all (``_black_surface``)."""
     if material is None:  # Cycles' default surface: grey diffuse
-        return True, False, False, False, False, False, True
+        return True, False, False, False, False, False, True, False
     from ...compat import active_node_tree
 
     tree = active_node_tree(material)
@@ -70,7 +71,28 @@ def _material_traits(material):
     volume = shader_kinds.uses_volume(tree)
     return (not transmissive and not volume, bool(types & shader_kinds.EMISSIVE_NODES),
             bool(types & shader_kinds.GLOSSY_NODES), transmissive, volume, volume and _volume_only(tree),
-            not volume and shader_kinds.seals(types))
+            not volume and shader_kinds.seals(types), _black_surface(tree))
+
+
+def _black_surface(tree):
+    """True when the material provably reflects, transmits and emits nothing: its one active output takes a
+    Surface from one Diffuse BSDF whose Color is unlinked and (0, 0, 0), and no Volume (a black room's walls,
+    a black card). Cycles drops a closure of zero weight, so such a surface only stops rays. Anything else
+    (a Principled BSDF keeps its specular layer at base colour 0) may reflect."""
+    if tree is None:
+        return False
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial" and not n.mute]
+    active = [n for n in outputs if n.is_active_output] or outputs
+    if len(active) != 1:
+        return False
+    live = (lambda socket: [link for link in socket.links if link.is_valid and not link.is_muted]
+            if socket is not None else [])
+    surface, volume = live(active[0].inputs.get("Surface")), live(active[0].inputs.get("Volume"))
+    if len(surface) != 1 or volume:
+        return False
+    node = surface[0].from_node
+    colour = node.inputs.get("Color") if node.bl_idname == "ShaderNodeBsdfDiffuse" and not node.mute else None
+    return colour is not None and not colour.is_linked and all(float(c) == 0.0 for c in colour.default_value[:3])
 
 
 def _volume_only(tree):
@@ -230,7 +252,7 @@ def _collect(depsgraph):
             if k not in material_cache:
                 material_cache[k] = _material_traits(material)
             traits.append(material_cache[k])
-            _o, emits, glossy, transmission, volume, _null, _seals = material_cache[k]
+            _o, emits, glossy, transmission, volume, _null, _seals, _black = material_cache[k]
             needs["glossy"] |= glossy
             needs["transmission"] |= transmission
             needs["volume"] |= volume
@@ -265,8 +287,10 @@ def _collect(depsgraph):
         # Faces of a volume-only object are null interfaces (issue 18, F5): no shadow, no reflection;
         # its medium (in ``volumes``) is what attenuates and scatters, and the planner renders it.
         null = bool(traits[used, 5].all())
+        black = bool(traits[used, 7].all())  # every face provably sends nothing: it only blocks (issue 31)
         shadow.append(bool(obj.visible_shadow) and not null)
-        reflects.append(bool(obj.visible_diffuse or obj.visible_glossy or obj.visible_transmission) and not null)
+        reflects.append(bool(obj.visible_diffuse or obj.visible_glossy or obj.visible_transmission) and not null
+                        and not black)
         # every kind of ray stops at it (no holdout, no ray type switched off): what may close a sealed shell
         seals.append(bool(obj.visible_diffuse and obj.visible_glossy and obj.visible_transmission and obj.visible_shadow
                           and obj.visible_volume_scatter) and not bool(getattr(obj, "is_holdout", False)) and not null)

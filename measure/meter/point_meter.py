@@ -662,12 +662,16 @@ class ProvenPart:
     gated off, or the openings' emitters). ``rgb`` (N, 3) W/m^2 SI, ``name`` for the reading's parts,
     ``linked_out``: identities (session uid, library) of the objects linked out of every sensor (the
     openings' emitters), ``bound_rgb`` (N, 3) W/m^2: the part's own hard bound (a pane's T(theta) by
-    subdivision), counted in the error as the meter's other bounds."""
+    subdivision), counted in the error as the meter's other bounds. ``covers_world``: the part is ALL the light
+    that comes straight from the world to each meter (the sky and the ground through proven openings): where
+    no light is rendered and nothing can reflect or emit towards a meter (every surface above its horizon
+    black, a quiet pane, no medium), the render would read exactly 0 and the reading is this part alone."""
 
     rgb: object
     name: str
     linked_out: frozenset = frozenset()
     bound_rgb: object = 0.0
+    covers_world: bool = False
 
     def per_meter(self, n):
         """This part with ``rgb`` and ``bound_rgb`` as (n, 3) arrays."""
@@ -945,6 +949,7 @@ def measure_illuminance(location, normal, request, *, method="auto", exclude=(),
     n = len(points_scene)
     direct = decision["direct"]
     closed = np.asarray(decision["closed_points"], bool)
+    alone = np.zeros(n, bool)  # the caller's proven part is all the light there (ProvenPart.covers_world)
     if proven is not None:
         proven = proven.per_meter(n)
         # Every meter is rendered (the meter's own closed forms would count the proven part again), except one
@@ -953,6 +958,12 @@ def measure_illuminance(location, normal, request, *, method="auto", exclude=(),
         sealed = np.array([str(r).startswith("sealed off") for r in direct.indirect_reason], bool)
         closed = (sealed & ~np.any(proven.rgb != 0.0, axis=1) & ~np.any(proven.bound_rgb != 0.0, axis=1)
                   & np.asarray(decision["exact_points"], bool))
+        if proven.covers_world:  # issue 31: a black room's daylight is the proven part alone
+            from ...radiometry.scene import scene_model
+
+            quiet_lights = (np.all(direct.status == scene_model.ZERO, axis=0) if len(model.lights)
+                            else np.ones(n, bool))
+            alone = quiet_lights & ~np.asarray(direct.indirect, bool) & ~closed
     mean_rgb, bound_rgb = np.zeros((n, 3)), np.zeros((n, 3))
     se_rgb, scalar_se, spent = np.zeros((n, 3)), np.zeros(n), np.zeros(n)
     upper = np.full(n, np.nan)  # one-sided 95 % bound (W/m^2) of a meter that found no light (issue 31)
@@ -965,6 +976,14 @@ def measure_illuminance(location, normal, request, *, method="auto", exclude=(),
         mean_rgb[closed], bound_rgb[closed] = c_mean[closed], c_bound[closed]
         for k in np.flatnonzero(closed):
             own_notes[k], parts[k] = c_notes[k], c_parts[k]
+    for k in np.flatnonzero(alone):
+        # nothing is left to render: no light is, and no surface above the meter's horizon can send light
+        mean_rgb[k], bound_rgb[k] = proven.rgb[k], np.abs(proven.bound_rgb[k])
+        own_notes[k] = [f"{proven.name} is all the light here: no light is rendered and nothing above the meter's "
+                        "horizon can reflect or emit (its surfaces are black: a Diffuse BSDF of colour 0, or quiet "
+                        "panes), so what Cycles would render is exactly 0 and nothing was rendered"]
+        parts[k] = {"analytic": [proven.name], "rendered": []}
+    closed = closed | alone
     rendered = np.flatnonzero(~closed)
     if rendered.size:
         run = _render_part(request, model, decision, _plan_at(direct, rendered),
@@ -979,7 +998,8 @@ def measure_illuminance(location, normal, request, *, method="auto", exclude=(),
         methods[rendered], record = run["method"], run["record"]
         for j, k in enumerate(rendered):
             own_notes[k], parts[k] = list(run["notes"]) + run["meter_notes"][j], run["parts"][j]
-    exact_points = closed & np.asarray(decision["exact_points"], bool)
+    exact_points = ((closed & ~alone & np.asarray(decision["exact_points"], bool))
+                    | (alone & ~np.any(bound_rgb != 0.0, axis=1)))  # the proven part alone: exact but for its bound
     seconds = time.perf_counter() - started
     scalar_mean = mean_rgb @ weights
     scalar_bound = np.abs(bound_rgb) @ np.abs(weights)

@@ -426,3 +426,40 @@ def test_room_of_boxes_behind_a_pane_split_agrees_with_the_whole_render(clean_bl
         assert a.method.startswith("hybrid") and a.sky_component == pytest.approx(100.0 * c.sky_lux / SKY_HORIZONTAL_LUX)
         combined = math.hypot(a.rel_std_error * a.daylight_factor, w.rel_std_error * w.daylight_factor)
         assert abs(a.daylight_factor - w.daylight_factor) <= 4.0 * combined, (a.daylight_factor, w.daylight_factor)
+
+
+def _blacken(ob):
+    for m in ob.data.materials:
+        next(n for n in m.node_tree.nodes if n.type == "BSDF_DIFFUSE").inputs["Color"].default_value = (0, 0, 0, 1)
+
+
+@pytest.mark.parametrize("pane", [False, True])
+def test_black_room_reads_its_proven_part_alone(clean_blender, pane):
+    """Issue 31: in a room whose every surface is a black Diffuse BSDF nothing reflects, so the daylight factor is
+    the sky and the ground seen through the opening alone: exact (or, behind a pane, within the pane's T(theta)
+    bound), nothing rendered. Before, each meter took 65 536 samples of nothing and stated an infinite error. The
+    whole render (another seed, no proof) agrees; greying the walls again (a material edit) renders the rest."""
+    scene = bpy.context.scene
+    ob = room.build_blender(scene)
+    if pane:
+        room.add_pane_blender(scene)
+    _blacken(ob)
+    before = _state(scene)
+    points = [(2.0, 1.5, 0.85), (2.0, 2.9, 0.85), (0.5, 0.5, 1.5)]
+    auto = api.daylight_factor(points, target_rel_error=0.01, seed=3)
+    assert _state(scene) == before
+    whole = api.daylight_factor(points, target_rel_error=0.01, seed=11, method="render")
+    for a, w in zip(auto, whole):
+        print(f"black room: {a.daylight_factor:.4f} +- {_se(a):.5f} % ({a.method}, exact {a.exact}); whole render "
+              f"{w.daylight_factor:.4f} +- {_se(w):.4f} %")
+        assert a.method == "analytic" and a.exact is (not pane)
+        assert a.rel_std_error == 0.0 if not pane else 0.0 < a.rel_std_error < 0.005
+        assert a.internally_reflected_component == 0.0
+        assert a.daylight_factor == a.sky_component + a.externally_reflected_component
+        assert any("is all the light here" in n for n in a.notes)
+        assert abs(a.daylight_factor - w.daylight_factor) <= 3.0 * math.hypot(_se(a), _se(w))
+    _blacken_undo = next(m for m in ob.data.materials if m.name.startswith("walls"))
+    next(n for n in _blacken_undo.node_tree.nodes if n.type == "BSDF_DIFFUSE").inputs["Color"].default_value = \
+        (0.5, 0.5, 0.5, 1)
+    grey = api.daylight_factor(points[0], target_rel_error=0.02, seed=3)
+    assert grey.method.startswith("hybrid") and not grey.exact and grey.internally_reflected_component > 0
