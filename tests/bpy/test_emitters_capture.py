@@ -137,3 +137,33 @@ def test_an_ies_text_is_parsed_once_for_every_capture(clean_blender, tmp_path, m
     # The emitter's flux is the file's: 4 pi x 123 cd over K (the importer's energy gives I / K W/sr).
     efficacy = luminaires.scene_efficacy(scene)
     assert light.emitter.luminous_flux_lm(np.full(3, 1 / 3), efficacy) == pytest.approx(4 * math.pi * 123, rel=1e-6)
+
+
+@pytest.mark.parametrize("kind, black", [("diffuse 0", True), ("diffuse 0.1", False), ("diffuse linked", False),
+                                         ("diffuse muted", False), ("principled 0", False), ("no material", False)])
+def test_only_a_black_diffuse_surface_counts_as_sending_nothing(clean_blender, kind, black):
+    """Issue 31: an object 'reflects' unless its every material is one unmuted Diffuse BSDF of colour (0, 0, 0)
+    (Cycles drops a closure of zero weight); a Principled BSDF at base colour 0 keeps its specular layer."""
+    me = bpy.data.meshes.new("card")
+    me.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
+    ob = bpy.data.objects.new("card", me)
+    bpy.context.scene.collection.objects.link(ob)
+    if kind != "no material":
+        m = bpy.data.materials.new("m")
+        tree = ensure_node_tree(m)
+        tree.nodes.clear()
+        out = tree.nodes.new("ShaderNodeOutputMaterial")
+        bsdf = tree.nodes.new("ShaderNodeBsdfPrincipled" if kind.startswith("principled") else "ShaderNodeBsdfDiffuse")
+        bsdf.inputs["Base Color" if kind.startswith("principled") else "Color"].default_value = \
+            (0.1, 0.1, 0.1, 1) if kind == "diffuse 0.1" else (0, 0, 0, 1)
+        tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+        if kind == "diffuse linked":
+            rgb = tree.nodes.new("ShaderNodeRGB")
+            rgb.outputs[0].default_value = (0, 0, 0, 1)
+            tree.links.new(rgb.outputs[0], bsdf.inputs["Color"])
+        bsdf.mute = kind == "diffuse muted"
+        me.materials.append(m)
+    model = scene_capture.capture(bpy.context.scene)
+    k = model.geometry.object_names.index("card")
+    assert bool(model.geometry.reflects[k]) is (not black)
+    assert bool(model.geometry.casts_shadow[k])  # black or not, it blocks
