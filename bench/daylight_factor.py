@@ -10,9 +10,15 @@ lights off, temporary overcast world).
 import time
 
 
-def side_lit_scene():
+#: Issue 31's own room (its "side-lit room, 4 x 6 x 3 m inside, with one open 2 x 1.2 m window"): width, depth,
+#: height (m), the same window as tests/bpy/daylight_room.py's (x 1-3 m, z 0.9-2.1 m in the wall y = 0).
+ISSUE_ROOM = (4.0, 6.0, 3.0)
+
+
+def side_lit_scene(deep=False):
     """The room, a hidden 3.5 x 2.5 m work plane at 0.85 m, one 0.6 m area light, a black world:
-    (scene, plane)."""
+    (scene, plane). ``deep``: issue 31's own room (``ISSUE_ROOM``) instead, its work plane 3.5 x 5.5 m, the
+    light under the middle of its ceiling."""
     import bpy
 
     import radiometer
@@ -24,10 +30,13 @@ def side_lit_scene():
     if not hasattr(bpy.types.Scene, "radiometer"):
         radiometer.register()
     scene = bpy.context.scene
-    room.build_blender(scene)
+    W, D, H = ISSUE_ROOM  # noqa: N806 - the room module's names
+    room.build_blender(scene, room.quads(W, D, H) if deep else None)
     world = bpy.data.worlds.new("black")
     ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
+    if deep:
+        return scene, plane_and_panel(scene, (W - 0.25, D - 0.25), (W / 2, D / 2, H - 0.05))
     return scene, plane_and_panel(scene, (3.75, 2.75), (2.0, 1.5, 2.65))
 
 

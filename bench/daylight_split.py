@@ -4,7 +4,8 @@ same points, the whole render (``method="render"``) and Radiance path tracing pe
 open AND behind a 6 mm pane, as ratios of times taken in one run.
 
 The side-lit room of tests/bpy/daylight_room.py (4 x 3 x 2.7 m, a 2 x 1.2 m window), an n x n grid on an
-imaginary work plane at 0.85 m (bench/daylight_factor.py's scene); the pane room adds
+imaginary work plane at 0.85 m (bench/daylight_factor.py's scene), then issue 31's own room (4 x 6 x 3 m, the same
+window, ``side_lit_scene(deep=True)``) the same two ways; the pane room adds
 ``add_pane_blender`` (a solid 6 mm pane of Glass BSDF, IOR 1.52). Electric light: one 0.6 m square area
 light under the ceiling, a black world. Per room a 2 x 2 warm-up of each Radiometer grid runs first.
 
@@ -32,7 +33,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
-from daylight_factor import side_lit_scene  # noqa: E402 - the bench's sibling module
+from daylight_factor import ISSUE_ROOM, side_lit_scene  # noqa: E402 - the bench's sibling module
 
 CORES = 2  # this machine's; Cycles renders on all of them
 
@@ -77,18 +78,21 @@ def _spread_indices(count, k):
     return np.unique(np.round(np.linspace(0, count - 1, k)).astype(int))
 
 
-def bench_room(glass, n, target, whole_points=None, rad_points=None, rad_samples=10000, rad_runs=4, repeats=3):
+def bench_room(glass, n, target, whole_points=None, rad_points=None, rad_samples=10000, rad_runs=4, repeats=3,
+               deep=False):
     import numpy as np
 
     from radiometer import api
     from scenes import load_test_module
 
     room = load_test_module("daylight_room")
-    scene, plane = side_lit_scene()
+    scene, plane = side_lit_scene(deep)
     if glass:
         room.add_pane_blender(scene)
-    out = {"room": "side-lit room behind a 6 mm pane" if glass else "side-lit room, open window",
-           "glass": glass, "points": n * n, "target_rel_error": target, "load_average_before": os.getloadavg()}
+    name = "side-lit room behind a 6 mm pane" if glass else "side-lit room, open window"
+    if deep:
+        name = name.replace("side-lit room", "issue 31's room (4 x 6 x 3 m)")
+    out = {"room": name, "glass": glass, "deep": deep, "points": n * n, "target_rel_error": target, "load_average_before": os.getloadavg()}
     # warm-up: kernels, the emitters' linking check, captures
     api.illuminance_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)
     api.daylight_factor_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)
@@ -147,7 +151,8 @@ def bench_room(glass, n, target, whole_points=None, rad_points=None, rad_samples
     means, rels = [], []
     c0, t0 = _cpu_children(), time.perf_counter()
     for _ in range(rad_runs):
-        m, r = room.radiance_daylight_factor(folder, pts[ridx], normals=normal, samples=rad_samples, glass=glass)
+        m, r = room.radiance_daylight_factor(folder, pts[ridx], normals=normal, samples=rad_samples, glass=glass,
+                                             room_quads=room.quads(*ISSUE_ROOM) if deep else None)
         means.append(m)
         rels.append(r)
         # rtrace -u+ seeds its random numbers from the clock's second (measured: processes started in the same
@@ -196,18 +201,22 @@ def bench_room(glass, n, target, whole_points=None, rad_points=None, rad_samples
 
 def bench_daylight_split(n=6, target=0.01, whole_points=(None, 25), rad_points=None, rad_samples=10000, rad_runs=4,
                          repeats=3):
-    """Both rooms; ``whole_points``: (open, pane) how many of the grid's points the whole render measures
-    (None: all); Radiance on ``rad_points`` (None: all) with ``rad_runs`` x ``rad_samples`` repeats each."""
+    """Both rooms, open and glazed, then issue 31's own deeper room the same two ways; ``whole_points``: (open,
+    pane) how many of the grid's points the whole render measures (None: all); Radiance on ``rad_points`` (None:
+    all) with ``rad_runs`` x ``rad_samples`` repeats each."""
     t0 = time.perf_counter()
     rooms = [bench_room(glass, n, target, whole_points=whole_points[glass], rad_points=rad_points,
-                        rad_samples=rad_samples, rad_runs=rad_runs, repeats=repeats) for glass in (False, True)]
+                        rad_samples=rad_samples, rad_runs=rad_runs, repeats=repeats, deep=deep)
+             for deep in (False, True) for glass in (False, True)]
     return {"points": n * n, "target_rel_error": target, "cores": CORES, "rooms": rooms,
             "total_s": time.perf_counter() - t0}
 
 
 def markdown(s):
     lines = ["## Daylight factor: the openings as emitters (issue 31)", "",
-             f"Side-lit room (tests/bpy/daylight_room.py), {s['points']} points on the work plane at 0.85 m, target "
+             "Side-lit room (tests/bpy/daylight_room.py, 4 x 3 x 2.7 m, a 2 x 1.2 m window), and issue 31's own room "
+             "(4 x 6 x 3 m, the same window; the electric light under the middle of its ceiling), "
+             f"{s['points']} points on the work plane at 0.85 m, target "
              f"{100 * s['target_rel_error']:.2g} % (1 s.e.) each; each room's rows from one run of "
              f"{s['total_s']:.0f} s in all on a {s['cores']}-core machine shared with other work (ratios within the "
              "run; absolute seconds are not comparable across runs). Per core: Radiometer's wall time x "
