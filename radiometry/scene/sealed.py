@@ -9,6 +9,11 @@ from a source wholly on the other side. A meter for which every source of the sc
 shell reads exactly 0 with no sample spent (a box outside a closed room whose lights are all inside, a
 meter in a closed cupboard of a daylit room).
 
+A shell with openings proves the same for meters outside it where the openings look out on nothing (issue 31: a
+grid that runs past a lit room's walls): every light source inside, the world black, every surface of the scene
+behind or on each opening's plane. Light leaving through an opening then travels on in front of it and never comes
+back, so a meter outside the shell and behind every opening's plane reads exactly 0 (``_behind_open_shell``).
+
 What is proven, and what is refused (then nothing is proven and the meter is measured as before):
 * the sources: every light's emitter answers ``extent()`` (points and reach), the emissive meshes by
   their triangles; the sun and the world lie at infinity, outside every shell; a light that casts no
@@ -98,8 +103,6 @@ def sealed_off(model, points_m):
     # were float32): a gap wider than that is a gap.
     shell_tol = WELD_FLOAT32_STEPS * np.finfo(np.float32).eps * max(1.0, float(np.max(np.abs(sealing))))
     shells = sky_aperture.closed_components(sealing, shell_tol)
-    if not shells:
-        return none, ""
     # cut[s] (N,) bool: source s is cut off from each meter by some shell
     cut = np.zeros((len(sources), len(points_m)), bool)
     for idx in shells:
@@ -119,8 +122,79 @@ def sealed_off(model, points_m):
                     continue
                 side = int(inside)
             cut[s] |= (meter_side >= 0) & (meter_side != side)
-    dark = np.all(cut, axis=0)
-    if not dark.any():
-        return dark, ""
-    return dark, ("sealed off: a closed opaque shell of surfaces that stop every ray lies between the meter and "
-                  "every light source: exactly 0, nothing rendered (radiometry/scene/sealed.py)")
+    dark = np.all(cut, axis=0) if shells else none.copy()
+    why = ("sealed off: a closed opaque shell of surfaces that stop every ray lies between the meter and every light "
+           "source: exactly 0, nothing rendered (radiometry/scene/sealed.py)") if dark.any() else ""
+    if not dark.all():
+        behind = _behind_open_shell(model, sealing, sources, points_m[~dark], shell_tol)
+        if behind.any():
+            dark[np.flatnonzero(~dark)[behind]] = True
+            why = (why + "; " if why else "") + (
+                "sealed off: every light source lies inside a closed opaque shell whose openings look out on nothing "
+                "(every surface of the scene lies behind each opening's plane, the world is black), and the meter is "
+                "outside it, behind every opening's plane: light leaving an opening travels on in front of it and "
+                "never returns; exactly 0, nothing rendered (radiometry/scene/sealed.py)")
+    return dark, why
+
+
+def _open_shell(model, sealing, tol):
+    """(shell triangles, opening loops, their outward normals) of the closed shell of ``sealing`` triangles with
+    convex openings whose front half-spaces hold nothing of the scene (``_behind_open_shell``), or None; found
+    once per capture (``model.derived``)."""
+    key = ("open shell", tol)
+    if key in model.derived:
+        return model.derived[key]
+    model.derived[key] = found = _find_open_shell(model.geometry, sealing, tol)
+    return found
+
+
+def _find_open_shell(g, sealing, tol):
+    if len(sealing) > sky_aperture.CLOSURE_MAX_TRIANGLES:
+        return None  # the search's cost grows faster than the scene: not proven
+    loops = [poly for poly, _normal in sky_aperture.find_apertures(sealing, tol)]
+    if not loops or not all(sky_aperture.is_convex(poly, tol) for poly in loops):
+        return None  # (a cap of a concave loop, fanned, may not close it for the parity test)
+    closed, comp, _why = sky_aperture.enclosure_closed(sealing, loops, tol)
+    if not closed:
+        return None
+    shell = sealing[comp]
+    shell_vertices, everything = shell.reshape(-1, 3), g.triangles.reshape(-1, 3)
+    normals = []
+    for poly in loops:
+        centre = poly.mean(axis=0)
+        normal, _offset = sky_aperture.polygon_plane(poly)
+        if np.max((shell_vertices - centre) @ normal) > tol:
+            normal = -normal
+        if np.max((everything - centre) @ normal) > tol:
+            return None  # something (of the shell or outside it) stands in front of this opening
+        normals.append(normal)
+    return shell, loops, normals
+
+
+def _behind_open_shell(model, sealing, sources, points_m, tol):
+    """(N,) bool: meters that no light reaches because every source lies inside a closed shell of ``sealing``
+    triangles with openings (holes of planar faces, ``sky_aperture.find_apertures``; convex, so that their caps
+    close it for the parity test) whose front half-spaces hold nothing: every triangle of the scene lies behind or
+    on each opening's plane (within ``tol``), and no source is at infinity (the world, the sun). A path from a
+    source to a point outside crosses the shell only through an opening, moving into its open front half-space; it
+    meets nothing there and never comes back. So a meter outside the shell and behind every opening's plane (by
+    more than ``tol``) receives nothing. Every doubt proves nothing."""
+    none = np.zeros(len(points_m), bool)
+    if not len(points_m) or any(isinstance(source, str) for source in sources):
+        return none  # the world or the sun lights the outside
+    found = _open_shell(model, sealing, tol)
+    if found is None:
+        return none
+    shell, loops, normals = found
+    front = np.zeros(len(points_m), bool)  # a meter in front of some opening may see it
+    for poly, normal in zip(loops, normals):
+        front |= (points_m - poly.mean(axis=0)) @ normal >= -tol
+    caps = np.concatenate([sky_aperture.fan_triangles(poly) for poly in loops])
+    for points, reach in sources:  # every source wholly inside, clear of the shell and of its openings
+        centre, box = _box(np.asarray(points, float).reshape(-1, 3), float(reach) + tol)
+        if np.any(visibility.triangles_meet_polytope(np.concatenate([shell, caps]), box, tol)):
+            return none
+        if sky_aperture.inside_enclosure(centre, shell, loops, tol) is not True:
+            return none
+    outside = np.array([v is False for v in sky_aperture.inside_enclosures(points_m, shell, loops, tol)], bool)
+    return outside & ~front

@@ -187,3 +187,74 @@ def test_a_closed_cupboard_in_a_daylit_room_reads_zero_in_the_daylight_factor(cl
     assert any("sealed off" in note for note in boxed.notes), boxed.notes
     assert open_.daylight_factor > 0.5 and not open_.exact and math.isfinite(open_.rel_std_error)
     assert open_.sky_component is not None  # the split path ran (the sky component proven there)
+
+
+def _daylight_room():
+    import importlib.util
+    import pathlib
+
+    spec = importlib.util.spec_from_file_location("daylight_room", pathlib.Path(__file__).with_name("daylight_room.py"))
+    room = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(room)
+    return room
+
+
+# the side-lit room (4 x 3 x 2.7 m, its window in the wall y = 0): meters outside it, behind the window's plane
+BEHIND = [(-1.0, 1.5, 0.85), (5.0, 2.0, 1.5), (2.0, 4.0, 3.5), (-1.0, 0.5, 0.5)]
+BEHIND_NORMALS = [(0.0, 0.0, 1.0), (-1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -0.6, -0.8)]
+FRONT, FRONT_NORMAL = (2.0, -1.0, 1.5), (0.0, 1.0, 0.0)  # outside, facing the window
+
+
+def _lit_room_with_a_window(build, extra=()):
+    room = _daylight_room()
+    scene = bpy.context.scene
+    build.black_world(scene)
+    room.build_blender(scene, room.quads() + list(extra))
+    build.light(scene, "AREA", location=(2.0, 1.5, 2.6), energy=200.0, size=0.6)
+    return scene, room
+
+
+def test_meters_behind_the_window_of_a_lit_room_read_exactly_zero(clean_blender, build):
+    """Issue 31 (dark meters): every light inside a closed room whose one opening looks out on nothing, the world
+    black: light leaving the window travels on in front of it and never returns, so a meter outside the room and
+    behind the window's plane reads exactly 0 with no sample (before: 65 536 samples each, an infinite error).
+    One in front of the window, and one in the room, are lit and measured. A whole render at a proven meter,
+    with no proof, finds nothing either."""
+    from radiometer import api
+
+    _lit_room_with_a_window(build)
+    readings = api.measure_illuminance(BEHIND + [FRONT, (2.0, 1.5, 0.85)],
+                                       BEHIND_NORMALS + [FRONT_NORMAL, (0.0, 0.0, 1.0)], quality="preview")
+    for r in readings[:len(BEHIND)]:
+        assert r.illuminance == 0.0 and r.exact and r.samples == 0 and r.rel_std_error == 0.0
+        assert any("openings look out on nothing" in note for note in r.notes), r.notes
+    front, inside = readings[len(BEHIND):]
+    for r in (front, inside):
+        assert r.illuminance > 1.0 and not any("sealed off" in note for note in r.notes)
+    rendered = api.measure_illuminance(BEHIND[3], BEHIND_NORMALS[3], method="render", samples=65536)
+    assert rendered.illuminance == 0.0 and rendered.samples == 65536
+
+
+@pytest.mark.parametrize("breach", ["ground", "world", "lamp_outside", "lamp_in_the_window"])
+def test_no_proof_behind_the_window_where_light_may_come_back(clean_blender, build, breach):
+    """A ground plane in front of the window (it sends the window's light back behind the window's plane), an
+    emitting world, a lamp outside, a lamp in the opening (part of it in front): nothing is proven behind the
+    window; where light does arrive there it is measured."""
+    from radiometer import api
+    from radiometer.compat import ensure_node_tree
+
+    room = _daylight_room()
+    scene, room = _lit_room_with_a_window(build, room.ground_quads() if breach == "ground" else ())
+    if breach == "world":
+        background = ensure_node_tree(scene.world).nodes["Background"]
+        background.inputs["Color"].default_value, background.inputs["Strength"].default_value = (0.5, 0.5, 0.5, 1), 1.0
+    elif breach == "lamp_outside":
+        build.light(scene, "POINT", location=(-3.0, 1.5, 1.0), energy=50.0, shadow_soft_size=0.05)
+    elif breach == "lamp_in_the_window":
+        build.light(scene, "POINT", location=(2.0, 0.0, 1.5), energy=50.0, shadow_soft_size=0.05)
+    readings = api.measure_illuminance(BEHIND, BEHIND_NORMALS, quality="preview")
+    for r in readings:  # (the meter above the roof, facing up, sees no surface: exact 0 by the plan's own proof)
+        assert not any("openings look out on nothing" in note for note in r.notes), (r.location, r.notes)
+    assert all(r.illuminance > 0 or not r.exact for r in readings[:2] + readings[3:])  # no zero proven
+    if breach != "lamp_in_the_window":  # the downward meter beside the room sees the lit ground, the world, the lamp
+        assert readings[3].illuminance > 0.0
