@@ -118,6 +118,14 @@ def test_occluder_blocks_light_both_methods(clean_blender, build):
     # the whole reading, exact. A lamp under the plane lights its underside: rendered then.
     assert r.method == "analytic" and r.exact and r.irradiance == 0.0, r.notes
     low = build.light(scene, "POINT", location=(0.3, 0.0, 0.5), name="low", energy=1.0)
+    # the plane is black (a Diffuse BSDF of colour 0): lit from below it still sends nothing, so the low lamp's
+    # closed form is the whole reading (issue 31); grey, it reflects the low lamp's light: rendered then
+    r = api.measure_illuminance((0, 0, 0), method="auto")
+    assert r.method == "analytic" and r.exact
+    assert r.irradiance == pytest.approx(api.measure_illuminance((0, 0, 0), method="analytic").irradiance, rel=1e-12)
+    plane = bpy.data.objects["plane"]
+    next(n for n in plane.data.materials[0].node_tree.nodes if n.type == "BSDF_DIFFUSE").inputs["Color"] \
+        .default_value = (0.5, 0.5, 0.5, 1.0)
     r = api.measure_illuminance((0, 0, 0), method="auto")
     assert r.method == "hybrid" and not r.exact
     bpy.data.objects.remove(low)

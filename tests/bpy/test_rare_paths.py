@@ -9,6 +9,16 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 
+def _black_by_link(card):
+    """The card's Diffuse colour (0) through an RGB node: black as rendered, but not a plain colour 0 that the
+    capture proves sends nothing (``scene_capture._black_surface``): the pilot's 0 stays no proof."""
+    tree = card.data.materials[0].node_tree
+    rgb = tree.nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0.0, 0.0, 0.0, 1.0)
+    tree.links.new(rgb.outputs[0], next(n for n in tree.nodes if n.type == "BSDF_DIFFUSE").inputs["Color"])
+    return card
+
+
 def test_dark_meter_facing_a_surface_states_no_zero_error(clean_blender, build):
     from radiometer import api
     from radiometer.radiometry.sampling import allocation
@@ -17,8 +27,9 @@ def test_dark_meter_facing_a_surface_states_no_zero_error(clean_blender, build):
     build.black_world(scene)
     build.light(scene, "POINT", location=(0.0, 0.0, 2.0), energy=100.0, shadow_soft_size=0.0)
     # A black card above a meter that faces it, away from the lamp: nothing reaches the meter, but
-    # the card lies above its horizon, so the pilot's 0 is not proof.
-    build.plane(scene, size=0.5, location=(0.0, 0.0, -0.5), albedo=0.0, name="card")
+    # the card lies above its horizon, so the pilot's 0 is not proof (its black comes through a link, which
+    # the capture does not read: a Diffuse BSDF of colour 0 would be proven to send nothing, issue 31).
+    _black_by_link(build.plane(scene, size=0.5, location=(0.0, 0.0, -0.5), albedo=0.0, name="card"))
     # With no absolute floor the meter samples on to DARK_FLOOR and states its error unknown (issue 18).
     r = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), quality="preview", target_abs_error=0)
     assert r.illuminance == 0.0 and r.method in ("render", "hybrid")
@@ -147,7 +158,7 @@ def test_a_dark_meters_unknown_error_is_not_hidden_by_a_panes_quadrature_bound(c
     mesh.materials.append(glass)
     scene.collection.objects.link(bpy.data.objects.new("pane", mesh))
     # a black card above the meter's horizon, off the lamp's way: the render finds nothing, the pilot's 0 is no proof
-    build.plane(scene, size=0.5, location=(1.5, 0.0, 0.5), albedo=0.0, name="card")
+    _black_by_link(build.plane(scene, size=0.5, location=(1.5, 0.0, 0.5), albedo=0.0, name="card"))
     r = api.measure_illuminance((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), quality="preview", target_abs_error=0)
     assert r.method == "hybrid" and not r.exact and r.illuminance > 0.0
     assert any("thin glass" in note for note in r.notes)
