@@ -463,3 +463,40 @@ def test_black_room_reads_its_proven_part_alone(clean_blender, pane):
         (0.5, 0.5, 0.5, 1)
     grey = api.daylight_factor(points[0], target_rel_error=0.02, seed=3)
     assert grey.method.startswith("hybrid") and not grey.exact and grey.internally_reflected_component > 0
+
+
+@pytest.mark.parametrize("kind", ["openings", "ground", "solid"])
+def test_cancelled_part_way_the_scene_is_as_before(clean_blender, kind):
+    """A daylight factor cancelled part-way, on each emitter path (the openings as emitters; the sky-only emitters
+    with a ground plane in front; the envelope emitters of a room as one solid), leaves the scene as it was: every
+    setting, the world, the data-blocks (no emitter, world or material left behind). The cancel is asked at the
+    first and at the last of the checks that a whole run makes (one before each bake, after the emitters are made)."""
+    from radiometer.errors import MeasurementCancelled
+    from radiometer.measure.blender.scene_guard import scene_fingerprint
+
+    scene = bpy.context.scene
+    if kind == "solid":
+        room.build_solid_blender(scene, room.boxes_room_boxes())
+        points = [(2.0, 1.0, 0.85), (2.0, 3.5, 0.85)]
+    else:
+        room.build_blender(scene)
+        if kind == "ground":
+            _ground_mesh(scene)
+        points = [(2.0, 1.0, 0.85), (2.0, 2.5, 0.85)]
+    scene.world = bpy.data.worlds.new("user world")
+    calls = {"n": 0, "stop": None}
+
+    def cancelled():
+        calls["n"] += 1
+        return calls["stop"] is not None and calls["n"] >= calls["stop"]
+
+    before = scene_fingerprint(scene)
+    api.daylight_factor(points, target_rel_error=0.01, seed=3, cancelled=cancelled)
+    whole = calls["n"]
+    assert whole >= 2 and scene_fingerprint(scene) == before
+    for stop in sorted({1, whole}):
+        calls.update(n=0, stop=stop)
+        with pytest.raises(MeasurementCancelled):
+            api.daylight_factor(points, target_rel_error=0.01, seed=3, cancelled=cancelled)
+        assert calls["n"] == stop
+        assert scene_fingerprint(scene) == before
