@@ -74,20 +74,27 @@ def _material_traits(material):
             not volume and shader_kinds.seals(types), _black_surface(tree))
 
 
+def _active_output(tree):
+    """The material's one active, unmuted Material Output node, or None (none, or more than one)."""
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial" and not n.mute]
+    active = [n for n in outputs if n.is_active_output] or outputs
+    return active[0] if len(active) == 1 else None
+
+
+def _live_links(socket):
+    """The valid, unmuted links into ``socket`` (none for a missing socket)."""
+    return [link for link in socket.links if link.is_valid and not link.is_muted] if socket is not None else []
+
+
 def _black_surface(tree):
     """True when the material provably reflects, transmits and emits nothing: its one active output takes a
     Surface from one Diffuse BSDF whose Color is unlinked and (0, 0, 0), and no Volume (a black room's walls,
     a black card). Cycles drops a closure of zero weight, so such a surface only stops rays. Anything else
     (a Principled BSDF keeps its specular layer at base colour 0) may reflect."""
-    if tree is None:
+    output = _active_output(tree) if tree is not None else None
+    if output is None:
         return False
-    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial" and not n.mute]
-    active = [n for n in outputs if n.is_active_output] or outputs
-    if len(active) != 1:
-        return False
-    live = (lambda socket: [link for link in socket.links if link.is_valid and not link.is_muted]
-            if socket is not None else [])
-    surface, volume = live(active[0].inputs.get("Surface")), live(active[0].inputs.get("Volume"))
+    surface, volume = _live_links(output.inputs.get("Surface")), _live_links(output.inputs.get("Volume"))
     if len(surface) != 1 or volume:
         return False
     node = surface[0].from_node
@@ -97,13 +104,10 @@ def _black_surface(tree):
 
 def _volume_only(tree):
     """True when the material's active output takes a Volume and no Surface (issue 18, F5)."""
-    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial" and not n.mute]
-    active = [n for n in outputs if n.is_active_output] or outputs
-    if len(active) != 1:
+    output = _active_output(tree)
+    if output is None:
         return False
-    surface, volume = active[0].inputs.get("Surface"), active[0].inputs.get("Volume")
-    live = (lambda socket: socket is not None and any(link.is_valid and not link.is_muted for link in socket.links))
-    return live(volume) and not live(surface)
+    return bool(_live_links(output.inputs.get("Volume"))) and not _live_links(output.inputs.get("Surface"))
 
 
 def _emission_radiance(material):
@@ -113,14 +117,10 @@ def _emission_radiance(material):
     from ...compat import active_node_tree
 
     tree = active_node_tree(material) if material is not None else None
-    if tree is None:
+    output = _active_output(tree) if tree is not None else None
+    if output is None:
         return None
-    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial" and not n.mute]
-    active = [n for n in outputs if n.is_active_output] or outputs
-    if len(active) != 1:
-        return None
-    surface = active[0].inputs.get("Surface")
-    links = [link for link in surface.links if link.is_valid and not link.is_muted] if surface is not None else []
+    links = _live_links(output.inputs.get("Surface"))
     if len(links) != 1:
         return None
     node = links[0].from_node
