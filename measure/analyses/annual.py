@@ -48,15 +48,11 @@ def _value(tree, v, x, y):
 
 
 def _math(tree, op, a, b, x, y):
-    node = tree.nodes.new("ShaderNodeMath")
-    node.operation = op
-    node.location = (x, y)
-    for i, v in enumerate((a, b)):
-        if isinstance(v, (int, float)):
-            node.inputs[i].default_value = float(v)
-        else:
-            tree.links.new(v, node.inputs[i])
-    return node.outputs[0]
+    from ..authoring.sky import math_socket
+
+    out = math_socket(tree, op, a, b)
+    out.node.location = (x, y)
+    return out
 
 
 def build_patch_world(world):

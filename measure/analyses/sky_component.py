@@ -939,26 +939,15 @@ def _gate(tree, strength, up, depth):
     emitting mesh (its svm light-path node; measured on bpy 5.0.1 and proven per session by ``check_world_gate``
     and ``check_envelope_gate``): a world found by the paths' bounces only reads 2 there (``DIRECT_DEPTH``), an
     emitting mesh 1, whether its light was sampled from the sensor or hit by a ray from it."""
+    from ..authoring.sky import math_socket
+
     source = strength.links[0].from_socket
-
-    def math_node(op, *inputs):
-        node = tree.nodes.new("ShaderNodeMath")
-        node.operation = op
-        for i, v in enumerate(inputs):
-            if isinstance(v, (int, float)):
-                node.inputs[i].default_value = float(v)
-            else:
-                tree.links.new(v, node.inputs[i])
-        return node
-
     path = tree.nodes.new("ShaderNodeLightPath")
-    band = math_node("COMPARE", path.outputs["Ray Depth"], float(depth), 0.5)  # 1 where |depth - d| <= 0.5
-    above = math_node("GREATER_THAN", up, 0.0)
-    mask = math_node("MULTIPLY", band.outputs[0], above.outputs[0])
-    factor = math_node("MULTIPLY_ADD", mask.outputs[0], -1.0, 1.0)  # 1 - mask (mode "remainder")
-    out = math_node("MULTIPLY", source, factor.outputs[0])
-    tree.links.new(out.outputs[0], strength)
-    return factor
+    band = math_socket(tree, "COMPARE", path.outputs["Ray Depth"], float(depth), 0.5)  # 1 where |depth - d| <= 0.5
+    mask = math_socket(tree, "MULTIPLY", band, math_socket(tree, "GREATER_THAN", up, 0.0))
+    factor = math_socket(tree, "MULTIPLY_ADD", mask, -1.0, 1.0)  # 1 - mask (mode "remainder")
+    tree.links.new(math_socket(tree, "MULTIPLY", source, factor), strength)
+    return factor.node
 
 
 def set_gate_mode(factor, mode):

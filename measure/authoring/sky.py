@@ -19,7 +19,9 @@ from ...radiometry.skies import cie_sky, sky_models
 from ..capture.world_capture import CIE_SKY_SCHEMA, CIE_SKY_TAG, sky_fingerprint
 
 
-def _math(tree, op, a=None, b=None, c=None, x=0):
+def math_socket(tree, op, a=None, b=None, c=None, x=0):
+    """A Math node ``op`` in ``tree`` on up to three inputs (numbers, or sockets linked in; None left as is);
+    returns its output socket (its node: ``.node``)."""
     node = tree.nodes.new("ShaderNodeMath")
     node.operation = op
     node.location = (x, -60 * len(tree.nodes))
@@ -49,29 +51,29 @@ def sky_radiance(tree, direction, sky_type, sun, zenith_radiance, ground_radianc
     direction, cos_z = norm.outputs["Vector"], sep.outputs["Z"]
     params = cie_sky.parameters(sky_type)
     if params is None:  # traditional overcast: Lz (1 + 2 cos Z) / 3
-        sky = _math(tree, "MULTIPLY_ADD", cos_z, 2.0 * zenith_radiance / 3.0, zenith_radiance / 3.0)
+        sky = math_socket(tree, "MULTIPLY_ADD", cos_z, 2.0 * zenith_radiance / 3.0, zenith_radiance / 3.0)
     else:
         a, b, c, d, e = params
         zeta = float(cie_sky.zenith_shape(cie_sky.parse_sky_type(sky_type), sun))
         k = zenith_radiance / zeta
-        cz = _math(tree, "MAXIMUM", cos_z, 1e-6)
-        phi = _math(tree, "MULTIPLY_ADD", _math(tree, "EXPONENT", _math(tree, "DIVIDE", b, cz)), a, 1.0)
+        cz = math_socket(tree, "MAXIMUM", cos_z, 1e-6)
+        phi = math_socket(tree, "MULTIPLY_ADD", math_socket(tree, "EXPONENT", math_socket(tree, "DIVIDE", b, cz)), a, 1.0)
         if c == 0.0 and e == 0.0:
-            sky = _math(tree, "MULTIPLY", phi, k)
+            sky = math_socket(tree, "MULTIPLY", phi, k)
         else:
             dot = tree.nodes.new("ShaderNodeVectorMath")
             dot.operation = "DOT_PRODUCT"
             dot.location = (-500, -300)
             tree.links.new(direction, dot.inputs[0])
             dot.inputs[1].default_value = tuple(float(v) for v in sun)
-            cos_chi = _math(tree, "MAXIMUM", _math(tree, "MINIMUM", dot.outputs["Value"], 1.0), -1.0)
-            chi = _math(tree, "ARCCOSINE", cos_chi)
-            ind = _math(tree, "MULTIPLY_ADD", _math(tree, "EXPONENT", _math(tree, "MULTIPLY", chi, d)), c,
+            cos_chi = math_socket(tree, "MAXIMUM", math_socket(tree, "MINIMUM", dot.outputs["Value"], 1.0), -1.0)
+            chi = math_socket(tree, "ARCCOSINE", cos_chi)
+            ind = math_socket(tree, "MULTIPLY_ADD", math_socket(tree, "EXPONENT", math_socket(tree, "MULTIPLY", chi, d)), c,
                         1.0 - c * math.exp(d * math.pi / 2))
-            f = _math(tree, "MULTIPLY_ADD", _math(tree, "MULTIPLY", cos_chi, cos_chi), e, ind)
-            sky = _math(tree, "MULTIPLY", _math(tree, "MULTIPLY", f, phi), k)
-    above = _math(tree, "GREATER_THAN", cos_z, 0.0)
-    value = _math(tree, "MULTIPLY_ADD", above, _math(tree, "SUBTRACT", sky, ground_radiance), ground_radiance)
+            f = math_socket(tree, "MULTIPLY_ADD", math_socket(tree, "MULTIPLY", cos_chi, cos_chi), e, ind)
+            sky = math_socket(tree, "MULTIPLY", math_socket(tree, "MULTIPLY", f, phi), k)
+    above = math_socket(tree, "GREATER_THAN", cos_z, 0.0)
+    value = math_socket(tree, "MULTIPLY_ADD", above, math_socket(tree, "SUBTRACT", sky, ground_radiance), ground_radiance)
     return value, direction, cos_z
 
 
@@ -126,15 +128,15 @@ def opening_emitter_material(name, info, outward, sky_only=False):
     facing.operation = "DOT_PRODUCT"
     tree.links.new(unit, facing.inputs[0])
     facing.inputs[1].default_value = tuple(float(v) for v in outward)
-    leaves = _math(tree, "GREATER_THAN", facing.outputs["Value"], 0.0)  # rays from inside only
+    leaves = math_socket(tree, "GREATER_THAN", facing.outputs["Value"], 0.0)  # rays from inside only
     if sky_only:
-        leaves = _math(tree, "MULTIPLY", leaves, _math(tree, "GREATER_THAN", cos_z, 0.0))
+        leaves = math_socket(tree, "MULTIPLY", leaves, math_socket(tree, "GREATER_THAN", cos_z, 0.0))
         mix = tree.nodes.new("ShaderNodeMixShader")
         tree.links.new(leaves, mix.inputs["Fac"])
         tree.links.new(tree.nodes.new("ShaderNodeBsdfTransparent").outputs[0], mix.inputs[1])
         tree.links.new(emission.outputs["Emission"], mix.inputs[2])
         tree.links.new(mix.outputs["Shader"], out.inputs["Surface"])
-    tree.links.new(_math(tree, "MULTIPLY", value, leaves), emission.inputs["Strength"])
+    tree.links.new(math_socket(tree, "MULTIPLY", value, leaves), emission.inputs["Strength"])
     return mat
 
 
