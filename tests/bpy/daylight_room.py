@@ -277,19 +277,10 @@ def build_solid_blender(scene, boxes):
 
 
 def diffuse_material(name, rho):
-    """A new material ``name``: a Diffuse BSDF of grey reflectance ``rho``."""
-    import bpy
+    """A new material ``name``: a Diffuse BSDF of grey reflectance ``rho`` (the package's scene builder)."""
+    from radiometer.demo.builders import diffuse_material as builder
 
-    from radiometer.compat import ensure_node_tree
-
-    m = bpy.data.materials.new(name)
-    t = ensure_node_tree(m)
-    t.nodes.clear()
-    out = t.nodes.new("ShaderNodeOutputMaterial")
-    bsdf = t.nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (rho,) * 3 + (1.0,)
-    t.links.new(bsdf.outputs[0], out.inputs[0])
-    return m
+    return builder(name, rho)
 
 
 def build_blender(scene, room_quads=None):
