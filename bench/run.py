@@ -1064,6 +1064,12 @@ BENCHES["ground_plane_split"] = lambda: __import__("ground_plane_split").run(
     *((3, 0.05, 3, __import__("tempfile").mkdtemp(prefix="radiometer-bench-")) if QUICK else ()))
 
 
+# Issue 31 (bench/dark_meters.py): a grid past a lit room's walls, the meters outside proven dark vs sampled to the
+# dark floor; quick: the same at 5 % into a temporary folder.
+BENCHES["dark_meters"] = lambda: __import__("dark_meters").run(
+    *((0.05, __import__("tempfile").mkdtemp(prefix="radiometer-bench-")) if QUICK else ()))
+
+
 # Issue 18 (bench/coverage_rare_paths_fin.py, its own process): coverage of stated errors in the fin scene
 # (50 seeds per meter; the Sobol-Burley rows are an experiment on the sampler); quick: 5 seeds at preview.
 def bench_coverage_fin():

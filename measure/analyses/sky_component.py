@@ -736,21 +736,6 @@ class Openings:
     sky_only: bool = False
 
 
-def _inside_prism(vertices, poly, centre, normal, tol):
-    """(V,) bool: ``vertices`` whose projection on the convex loop's plane lies inside it (within ``tol``)."""
-    rel = vertices - centre
-    flat = rel - np.outer(rel @ normal, normal)
-    ok = np.ones(len(vertices), bool)
-    for j in range(len(poly)):
-        edge = poly[(j + 1) % len(poly)] - poly[j]
-        inward = np.cross(normal, edge)
-        if inward @ (centre - poly[j]) < 0.0:
-            inward = -inward
-        inward = inward / np.linalg.norm(inward)
-        ok &= (flat + centre - poly[j]) @ inward >= -tol
-    return ok
-
-
 def openings_to_world(model):
     """:class:`Openings` where a ray leaving the room through any opening meets nothing but the world,
     or a see-through surface standing in the opening (a pane) and then the world.
@@ -784,7 +769,7 @@ def openings_to_world(model):
         ahead = (tris - centre) @ normal                                   # (T, 3) m in front of the plane
         front = np.any(ahead > tol, axis=1)
         held = see_through & front
-        if held.any() and not np.all(_inside_prism(tris[held].reshape(-1, 3), poly, centre, normal, tol)):
+        if held.any() and not np.all(sky_aperture.inside_prism(tris[held].reshape(-1, 3), poly, centre, normal, tol)):
             return Openings([], [], [], f"a see-through surface in front of opening {k + 1} reaches beyond it: "
                                         "what the opening looks out on is rendered")
         d = float(ahead[held].max()) if held.any() else 0.0

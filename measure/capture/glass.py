@@ -260,6 +260,9 @@ def thin_pane_material(pane, name, stack=None):
     glossy = tree.nodes.new("ShaderNodeBsdfGlossy")
     glossy.inputs["Roughness"].default_value = 0.0
     tree.links.new(combine(channels_r), glossy.inputs["Color"])
+    # the mirror is the pane's plane, whatever the mesh's smooth shading: a smoothed normal would tilt it at the
+    # pane's edges (the closed forms and the dark-meter proof, radiometry/scene/sealed.py, take the plane)
+    tree.links.new(geo.outputs["True Normal"], glossy.inputs["Normal"])
     add = tree.nodes.new("ShaderNodeAddShader")
     tree.links.new(transparent.outputs[0], add.inputs[0])
     tree.links.new(glossy.outputs[0], add.inputs[1])

@@ -137,6 +137,12 @@ def sealed_off(model, points_m):
     return dark, why
 
 
+#: How far a pane's face in front of an opening may lean towards the room (its winding normal's cosine with the
+#: opening's outward normal, at least minus this) and still count as not facing it: ten float32 steps (the faces'
+#: own coordinates are float32).
+FACE_COS_TOL = 10.0 * float(np.finfo(np.float32).eps)
+
+
 def _open_shell(model, sealing, tol):
     """(shell triangles, opening loops, their outward normals) of the closed shell of ``sealing`` triangles with
     convex openings whose front half-spaces hold nothing of the scene (``_behind_open_shell``), or None; found
@@ -144,11 +150,25 @@ def _open_shell(model, sealing, tol):
     key = ("open shell", tol)
     if key in model.derived:
         return model.derived[key]
-    model.derived[key] = found = _find_open_shell(model.geometry, sealing, tol)
+    model.derived[key] = found = _find_open_shell(model.geometry, set(model.panes), sealing, tol)
     return found
 
 
-def _find_open_shell(g, sealing, tol):
+def _keeps_going(tris, poly, centre, normal, tol):
+    """True when the thin-pane triangles ``tris`` (T, 3, 3) in front of an opening send no light back: each lies in
+    the opening's prism and does not face the room (its winding normal m has m . ``normal`` >= 0, within
+    ``FACE_COS_TOL``). The thin-pane stand-in (``measure.capture.glass.thin_pane_material``) passes a ray straight
+    on, or mirrors it about the face's plane where the ray meets the face's front (d . m < 0); the mirrored ray's
+    d . n = d . n - 2 (d . m)(m . n) is then no smaller, so a ray leaving the room keeps moving away. A face
+    turned towards the room, in front of the plane, could mirror light back past the wall."""
+    if not np.all(sky_aperture.inside_prism(tris.reshape(-1, 3), poly, centre, normal, tol)):
+        return False
+    m = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    m = m / np.maximum(np.linalg.norm(m, axis=1, keepdims=True), 1e-300)
+    return bool(np.all(m @ normal >= -FACE_COS_TOL))
+
+
+def _find_open_shell(g, panes, sealing, tol):
     if len(sealing) > sky_aperture.CLOSURE_MAX_TRIANGLES:
         return None  # the search's cost grows faster than the scene: not proven
     loops = [poly for poly, _normal in sky_aperture.find_apertures(sealing, tol)]
@@ -158,14 +178,16 @@ def _find_open_shell(g, sealing, tol):
     if not closed:
         return None
     shell = sealing[comp]
-    shell_vertices, everything = shell.reshape(-1, 3), g.triangles.reshape(-1, 3)
+    shell_vertices = shell.reshape(-1, 3)
+    thin_pane = np.isin(g.pane_of, list(panes)) & (g.pane_of >= 0)
     normals = []
     for poly in loops:
         centre = poly.mean(axis=0)
         normal, _offset = sky_aperture.polygon_plane(poly)
         if np.max((shell_vertices - centre) @ normal) > tol:
             normal = -normal
-        if np.max((everything - centre) @ normal) > tol:
+        front = np.any((g.triangles - centre) @ normal > tol, axis=1)
+        if np.any(front & ~thin_pane) or not _keeps_going(g.triangles[front], poly, centre, normal, tol):
             return None  # something (of the shell or outside it) stands in front of this opening
         normals.append(normal)
     return shell, loops, normals
@@ -175,7 +197,8 @@ def _behind_open_shell(model, sealing, sources, points_m, tol):
     """(N,) bool: meters that no light reaches because every source lies inside a closed shell of ``sealing``
     triangles with openings (holes of planar faces, ``sky_aperture.find_apertures``; convex, so that their caps
     close it for the parity test) whose front half-spaces hold nothing: every triangle of the scene lies behind or
-    on each opening's plane (within ``tol``), and no source is at infinity (the world, the sun). A path from a
+    on each opening's plane (within ``tol``) but a thin pane's in the opening that sends nothing back
+    (``_keeps_going``), and no source is at infinity (the world, the sun). A path from a
     source to a point outside crosses the shell only through an opening, moving into its open front half-space; it
     meets nothing there and never comes back. So a meter outside the shell and behind every opening's plane (by
     more than ``tol``) receives nothing. Every doubt proves nothing."""

@@ -60,7 +60,7 @@ from ..scene import visibility
 
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
            "pane_bounded_illuminances", "polygon_plane", "aperture_clear", "apertures_clear", "apertures_blockers",
-           "coplanar_outside", "find_apertures", "is_convex", "enclosure_closed", "closed_components",
+           "coplanar_outside", "find_apertures", "inside_prism", "is_convex", "enclosure_closed", "closed_components",
            "enclosure_closed_part", "inside_enclosure", "inside_enclosures", "plane_axes", "triangle_parts", "SKIES"]
 
 #: Sky models with a closed form over a polygon: name -> (constant, z-coefficient) of L / Lz = c0 + c1 u_z.
@@ -485,6 +485,21 @@ def apertures_blockers(points, vertices, triangles, tol, reach, *, sky_only=True
     for a, (i, _p) in enumerate(apexes):
         out[i] = kept[hit_tri[ends[a]:ends[a + 1]]]
     return out
+
+
+def inside_prism(vertices, poly, centre, normal, tol):
+    """(V,) bool: ``vertices`` whose projection on the convex loop's plane lies inside it (within ``tol``)."""
+    rel = vertices - centre
+    flat = rel - np.outer(rel @ normal, normal)
+    ok = np.ones(len(vertices), bool)
+    for j in range(len(poly)):
+        edge = poly[(j + 1) % len(poly)] - poly[j]
+        inward = np.cross(normal, edge)
+        if inward @ (centre - poly[j]) < 0.0:
+            inward = -inward
+        inward = inward / np.linalg.norm(inward)
+        ok &= (flat + centre - poly[j]) @ inward >= -tol
+    return ok
 
 
 def find_apertures(triangles, tol=1e-6):

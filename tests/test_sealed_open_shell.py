@@ -1,0 +1,67 @@
+"""The dark-meter proof's pane rule (radiometry/scene/sealed.py ``_keeps_going``, issue 31): a thin pane standing
+in front of an opening's plane keeps the proof only while every face of it in front lies in the opening's prism
+and does not face the room, so that the thin-pane stand-in (a ray passed on, or mirrored where it meets a face's
+front) never turns a ray leaving the room back towards the plane."""
+
+import numpy as np
+
+from radiometer.radiometry.scene import sealed
+
+OPENING = np.array([(1.0, 0.0, 0.9), (3.0, 0.0, 0.9), (3.0, 0.0, 2.1), (1.0, 0.0, 2.1)])
+OUT = np.array([0.0, -1.0, 0.0])  # the room is at y > 0
+TOL = 1e-6
+
+
+def _slab(depth=0.006, x0=1.0, x1=3.0, z0=0.9, z1=2.1):
+    """The pane's faces in front of the plane (outer face and four sides), outward winding, as triangles."""
+    y0, y1 = -depth, 0.0
+    quads = [[(x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1)],   # outer face: normal -y, along OUT
+             [(x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)],   # -x side
+             [(x1, y0, z0), (x1, y1, z0), (x1, y1, z1), (x1, y0, z1)],   # +x side
+             [(x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)],   # -z side
+             [(x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]]   # +z side
+    return np.array([[q[0], q[1], q[2]] for q in quads] + [[q[0], q[2], q[3]] for q in quads], float)
+
+
+def _keeps(tris):
+    return sealed._keeps_going(tris, OPENING, OPENING.mean(axis=0), OUT, TOL)
+
+
+def test_a_pane_in_front_that_sends_nothing_back():
+    slab = _slab()
+    normals = np.cross(slab[:, 1] - slab[:, 0], slab[:, 2] - slab[:, 0])
+    assert np.allclose(normals[0] / np.linalg.norm(normals[0]), OUT)  # the outer face as built faces away
+    assert _keeps(slab)
+
+
+def test_a_face_turned_towards_the_room_or_one_outside_the_prism_breaks_it():
+    slab = _slab()
+    turned = slab.copy()
+    turned[[0, 5]] = turned[[0, 5]][:, ::-1]  # the outer face's two triangles, winding reversed: facing the room
+    assert not _keeps(turned)
+    leaning = slab.copy()
+    leaning[1, 2, 0] += 1e-3  # the -x side's far corner 1 mm out: that face now leans towards the room
+    m = np.cross(leaning[1, 1] - leaning[1, 0], leaning[1, 2] - leaning[1, 0])
+    assert m @ OUT < -1e-5
+    assert not _keeps(leaning)
+    away = slab.copy()
+    away[1, 1, 0] += 1e-3  # its outer corner 1 mm in instead: leaning away from the room, a mirrored ray moves away
+    m = np.cross(away[1, 1] - away[1, 0], away[1, 2] - away[1, 0])
+    assert m @ OUT > 1e-5
+    assert _keeps(away)
+    assert not _keeps(_slab(x1=3.2))  # wider than the opening: it reaches past the rim
+
+
+def test_a_mirror_facing_away_never_turns_a_leaving_ray_back():
+    """The rule's reason, sampled: rays moving away from the plane (d . n > 0) mirrored by faces that do not face
+    the room (m . n >= 0), where they meet the face's front (d . m < 0), keep d . n > 0."""
+    rng = np.random.default_rng(7)
+    d = rng.normal(size=(20000, 3))
+    m = rng.normal(size=(20000, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    m /= np.linalg.norm(m, axis=1, keepdims=True)
+    d[d @ OUT < 0] *= -1.0
+    m[m @ OUT < 0] *= -1.0
+    front = np.einsum("ij,ij->i", d, m) < 0
+    mirrored = d - 2.0 * np.einsum("ij,ij->i", d, m)[:, None] * m
+    assert front.sum() > 1000 and np.all(mirrored[front] @ OUT >= d[front] @ OUT - 1e-12)
