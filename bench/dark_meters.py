@@ -1,14 +1,16 @@
 """Issue 31's dark meters: a grid that runs past a lit room's walls. Issue 31's room (4 x 6 x 3 m, one open
 2 x 1.2 m window in the wall y = 0, reflectances 0.2 / 0.5 / 0.7), one 0.6 m area light under the middle of its
-ceiling, a black world; a 10 x 10 grid at 0.85 m from x = -4.5 to 8.5 m and y = 0.3 to 5.7 m, so 80 of the 100
+ceiling, a black world; a 10 x 10 grid at 0.85 m from x = -5 to 9 m and y = 0.3 to 5.7 m, so 80 of the 100
 meters stand outside the room, all behind the window's plane. Per variant, in one run (ratios within it):
 
 * the electric grid at 1 % as shipped: the meters outside proven dark (``radiometry/scene/sealed.py``: a closed
   shell whose openings look out on nothing, every light inside, the world black);
-* the same with that proof switched off (as before 2026-12-07): the outside meters sample to ``DARK_FLOOR``;
+* the same with those proofs switched off (as before 2026-12-07): the outside meters sample to ``DARK_FLOOR``;
 * the room with a 6 mm pane standing 6 mm in front of the window's plane (as tests/bpy/daylight_room.py puts it):
   the proof holds while the pane, rendered as thin glass, sends nothing back (no face of it in front faces the
-  room: ``sealed._keeps_going``).
+  room: ``sealed._keeps_going``);
+* the same room built of nine separate boxes 0.2 m thick that touch (no single closed surface): the walls' outer
+  faces cover the box round the scene but for the window (``sealed._behind_covered_faces``).
 
     PYTHONPATH=<dir holding radiometer> python bench/dark_meters.py   # writes bench/dark_meters.{json,md}
 """
@@ -21,7 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 
-def build(glass):
+def build(glass, boxes=False):
     import bpy
     import numpy as np
 
@@ -36,14 +38,17 @@ def build(glass):
         radiometer.register()
     scene = bpy.context.scene
     W, D, H = ISSUE_ROOM  # noqa: N806 - the room module's names
-    room.build_blender(scene, room.quads(W, D, H))
+    if boxes:  # the same room of nine separate boxes 0.2 m thick that touch, as the demo room and most users build one
+        room.build_boxes_blender(scene, room.boxes_room_boxes(W=W, D=D, H=H, window=(1.0, 3.0, 0.9, 2.1)))
+    else:
+        room.build_blender(scene, room.quads(W, D, H))
     if glass:
         room.add_pane_blender(scene)
     world = bpy.data.worlds.new("black")
     ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
     plane_and_panel(scene, (W - 0.25, D - 0.25), (W / 2, D / 2, H - 0.05))
-    points = np.array([(x, y, 0.85) for y in np.linspace(0.3, 5.7, 10) for x in np.linspace(-4.5, 8.5, 10)])
+    points = np.array([(x, y, 0.85) for y in np.linspace(0.3, 5.7, 10) for x in np.linspace(-5.0, 9.0, 10)])
     return scene, points, (points[:, 0] > 0.0) & (points[:, 0] < W)
 
 
@@ -55,24 +60,25 @@ def _grid(scene, points, target):
     return readings, time.perf_counter() - t0
 
 
-def variant(name, glass, proof, target):
+def variant(name, glass, proof, target, boxes=False):
     import math
 
     import numpy as np
 
     from radiometer.radiometry.scene import sealed
 
-    scene, points, inside = build(glass)
-    real = sealed._behind_open_shell
+    scene, points, inside = build(glass, boxes)
+    real = sealed._behind_open_shell, sealed._behind_covered_faces
     if not proof:
         sealed._behind_open_shell = lambda model, sealing, sources, pts, tol: np.zeros(len(pts), bool)
+        sealed._behind_covered_faces = lambda model, sources, pts, tol: np.zeros(len(pts), bool)
     try:
         _grid(scene, points[:4], 0.05)  # warm-up: kernels, capture
         readings, seconds = _grid(scene, points, target)
     finally:
-        sealed._behind_open_shell = real
+        sealed._behind_open_shell, sealed._behind_covered_faces = real
     out = [r for r, i in zip(readings, inside) if not i]
-    return {"variant": name, "glass": glass, "proof": proof, "seconds": seconds, "outside": len(out),
+    return {"variant": name, "glass": glass, "proof": proof, "boxes": boxes, "seconds": seconds, "outside": len(out),
             "outside_exact_zero": sum(r.exact and r.illuminance == 0.0 for r in out),
             "outside_infinite_error": sum(math.isinf(r.rel_std_error) for r in out),
             "outside_samples_mean": float(np.mean([r.samples for r in out])),
@@ -91,10 +97,11 @@ def markdown(rows, target):
     for r in rows:
         lines.append(f"| {r['variant']} | {r['seconds']:.2f} | {r['outside_exact_zero']} of {r['outside']} | "
                      f"{r['outside_infinite_error']} | {r['outside_samples_mean']:.0f} | {r['inside_mean_lux']:.1f} |")
-    first, before, glazed = rows
-    lines += ["", f"As shipped against the proof switched off: {before['seconds'] / first['seconds']:.0f}x faster. "
+    first, before, glazed, boxes = rows
+    lines += ["", f"As shipped against the proofs switched off: {before['seconds'] / first['seconds']:.0f}x faster. "
               f"With the 6 mm pane in front of the window's plane: {glazed['outside_exact_zero']} of "
-              f"{glazed['outside']} outside meters proven dark.", ""]
+              f"{glazed['outside']} outside meters proven dark; in the room of boxes {boxes['outside_exact_zero']} of "
+              f"{boxes['outside']}.", ""]
     return "\n".join(lines)
 
 
@@ -103,7 +110,8 @@ def run(target=0.01, out_dir=HERE):
 
     rows = [variant("open window, as shipped", False, True, target),
             variant("open window, the proof switched off (as before 2026-12-07)", False, False, target),
-            variant("6 mm pane in front of the window's plane", True, True, target)]
+            variant("6 mm pane in front of the window's plane", True, True, target),
+            variant("the same room as nine separate boxes 0.2 m thick, open window", False, True, target, boxes=True)]
     text = markdown(rows, target)
     write_results(out_dir, "dark_meters", {"target_rel_error": target, "rows": rows}, text.rstrip("\n"))
     print(text)

@@ -134,7 +134,116 @@ def sealed_off(model, points_m):
                 "(every surface of the scene lies behind each opening's plane, the world is black), and the meter is "
                 "outside it, behind every opening's plane: light leaving an opening travels on in front of it and "
                 "never returns; exactly 0, nothing rendered (radiometry/scene/sealed.py)")
+    if not dark.all():
+        behind = _behind_covered_faces(model, sources, points_m[~dark], shell_tol)
+        if behind.any():
+            dark[np.flatnonzero(~dark)[behind]] = True
+            why = (why + "; " if why else "") + (
+                "sealed off: every light source lies inside the box round the scene's surfaces, the world is black, "
+                "and the meter is outside that box, in front only of faces of it that opaque surfaces cover whole "
+                "(a room of boxes: its walls' outer faces): light leaves the box only through the other faces and "
+                "never returns; exactly 0, nothing rendered (radiometry/scene/sealed.py)")
     return dark, why
+
+
+#: Most distinct grid lines per axis on one face of the bounding box for ``_face_covered`` (else: not proven).
+FACE_GRID_MAX = 512
+
+
+def _half_rectangles(flat, tol):
+    """Axis-aligned rectangles (R, 4) (u0, u1, v0, v1) that pairs of the 2-D triangles ``flat`` (T, 3, 2) cover
+    whole: two right triangles with axis-aligned legs on the same rectangle, missing opposite corners (a quad split
+    along a diagonal, as every box face is). Other triangles are left out (they may cover more: never counted)."""
+    lo, hi = flat.min(axis=1), flat.max(axis=1)
+    area2 = np.abs((flat[:, 1, 0] - flat[:, 0, 0]) * (flat[:, 2, 1] - flat[:, 0, 1])
+                   - (flat[:, 1, 1] - flat[:, 0, 1]) * (flat[:, 2, 0] - flat[:, 0, 0]))
+    box2 = (hi[:, 0] - lo[:, 0]) * (hi[:, 1] - lo[:, 1])
+    half = (box2 > tol * tol) & (np.abs(area2 - box2) <= 4.0 * tol * (hi - lo).sum(axis=1))
+    # the corner each half misses: (is u at lo?, is v at lo?) of the corner none of its vertices sits on
+    corners = {}
+    for t in np.flatnonzero(half):
+        at = {(bool(abs(x - lo[t, 0]) <= tol), bool(abs(y - lo[t, 1]) <= tol)) for x, y in flat[t]
+              if (abs(x - lo[t, 0]) <= tol or abs(x - hi[t, 0]) <= tol) and (abs(y - lo[t, 1]) <= tol
+                                                                             or abs(y - hi[t, 1]) <= tol)}
+        if len(at) != 3:
+            continue
+        missing = ({(a, b) for a in (True, False) for b in (True, False)} - at).pop()
+        key = tuple(np.round(np.r_[lo[t], hi[t]] / tol).astype(np.int64))
+        corners.setdefault(key, []).append((missing, (lo[t, 0], hi[t, 0], lo[t, 1], hi[t, 1])))
+    out = []
+    for halves in corners.values():
+        missing = {m for m, _r in halves}
+        if any((not a, not b) in missing for a, b in missing):  # two halves missing opposite corners
+            out.append(halves[0][1])
+    return np.array(out, float).reshape(-1, 4)
+
+
+def _face_covered(rects, u_range, v_range, tol):
+    """True when the axis-aligned ``rects`` (R, 4) cover the face u_range x v_range whole: the grid through every
+    rectangle's sides cuts the face into cells each inside or outside every rectangle; each cell's centre must lie
+    in one of them."""
+    if not len(rects):
+        return False
+    us = np.unique(np.clip(np.r_[u_range, rects[:, 0], rects[:, 1]], *u_range))
+    vs = np.unique(np.clip(np.r_[v_range, rects[:, 2], rects[:, 3]], *v_range))
+    if len(us) > FACE_GRID_MAX or len(vs) > FACE_GRID_MAX:
+        return False
+    cu, cv = 0.5 * (us[1:] + us[:-1]), 0.5 * (vs[1:] + vs[:-1])
+    cu, cv = cu[np.diff(us) > tol], cv[np.diff(vs) > tol]  # slivers narrower than the tolerance are cracks welded
+    inside_u = (rects[:, 0, None] <= cu[None] + tol) & (cu[None] <= rects[:, 1, None] + tol)   # (R, U)
+    inside_v = (rects[:, 2, None] <= cv[None] + tol) & (cv[None] <= rects[:, 3, None] + tol)   # (R, V)
+    return bool(np.all(np.einsum("ru,rv->uv", inside_u.astype(np.int64), inside_v.astype(np.int64)) > 0))
+
+
+def _behind_covered_faces(model, sources, points_m, tol):
+    """(N,) bool: meters that no light reaches because every source lies inside the box round the scene's
+    triangles, the world is black (no source at infinity; ``source_extents`` refuses media), and the meter is
+    outside the box and in front only of faces that opaque sealing triangles lying in them cover whole: light
+    crossing the box's boundary meets such a face's triangles, or leaves through another face into that face's
+    open front half-space, where nothing is, and never returns (a room of separate boxes, whose walls' outer faces
+    cover the box's faces but for its windows). Coverage is counted from pairs of triangles that make axis-aligned
+    rectangles (``_half_rectangles``) only. Every doubt proves nothing."""
+    none = np.zeros(len(points_m), bool)
+    g = model.geometry
+    if not len(points_m) or not g.count or any(isinstance(source, str) for source in sources):
+        return none
+    key = ("covered faces", tol)
+    if key not in model.derived:
+        model.derived[key] = _covered_faces(g, tol)
+    lo, hi, covered = model.derived[key]
+    for points, reach in sources:  # every source wholly inside the box
+        pts = np.asarray(points, float).reshape(-1, 3)
+        if np.any(pts.min(axis=0) - reach < lo + tol) or np.any(pts.max(axis=0) + reach > hi - tol):
+            return none
+    ok = np.zeros(len(points_m), bool)
+    outside = np.any((points_m < lo - tol) | (points_m > hi + tol), axis=1)
+    ok |= outside
+    for axis in range(3):
+        for side, plane in ((0, lo[axis]), (1, hi[axis])):
+            if covered[axis][side]:
+                continue
+            ahead = (plane - points_m[:, axis]) if side == 0 else (points_m[:, axis] - plane)
+            ok &= ahead < -tol  # strictly behind this face's plane (inside its half-space of the box)
+    return ok
+
+
+def _covered_faces(g, tol):
+    """(lo (3,), hi (3,), covered [axis][side] bool) of the box round ``g``'s triangles: whether opaque sealing
+    triangles lying in each face cover it whole (``_face_covered``)."""
+    tris = g.triangles
+    flat_all = tris.reshape(-1, 3)
+    lo, hi = flat_all.min(axis=0), flat_all.max(axis=0)
+    sealing = tris[g.sealing_triangles()]
+    covered = [[False, False] for _ in range(3)]
+    for axis in range(3):
+        u_axis, v_axis = (axis + 1) % 3, (axis + 2) % 3
+        for side, plane in ((0, lo[axis]), (1, hi[axis])):
+            on = np.all(np.abs(sealing[:, :, axis] - plane) <= tol, axis=1)
+            if not on.any():
+                continue
+            rects = _half_rectangles(sealing[on][:, :, [u_axis, v_axis]], tol)
+            covered[axis][side] = _face_covered(rects, (lo[u_axis], hi[u_axis]), (lo[v_axis], hi[v_axis]), tol)
+    return lo, hi, covered
 
 
 #: How far a pane's face in front of an opening may lean towards the room (its winding normal's cosine with the

@@ -287,3 +287,36 @@ def test_a_glazed_window_keeps_the_proof_while_its_pane_sends_nothing_back(clean
         assert rendered.illuminance == 0.0 and rendered.samples == 65536
     else:
         assert not any(proven)
+
+
+@pytest.mark.parametrize("breach", [None, "lamp outside", "ground"])
+def test_meters_outside_a_lit_room_of_boxes_read_exactly_zero(clean_blender, build, breach):
+    """A room of nine separate boxes that touch (no single closed surface; tests/bpy/daylight_room.py), lit inside,
+    the world black: the walls' outer faces cover the box round the scene but for the window, so light leaves only
+    through the face holding the window and never returns, and meters outside beside or behind the room read exactly
+    0 with no sample; a whole render of 65 536 samples at one reads 0. A lamp outside the room, or a ground plane
+    (it widens the box, whose faces it leaves uncovered, and sends the window's light back), prove nothing."""
+    from radiometer import api
+
+    room = _daylight_room()
+    scene = bpy.context.scene
+    build.black_world(scene)
+    room.build_boxes_blender(scene, room.boxes_room_boxes())
+    build.light(scene, "AREA", location=(2.0, 2.5, 2.7), energy=200.0, size=0.6)
+    if breach == "lamp outside":
+        build.light(scene, "POINT", location=(-3.0, 2.0, 1.0), energy=50.0, shadow_soft_size=0.05)
+    elif breach == "ground":
+        room.build_blender(scene, room.ground_quads(z=-0.21))
+    outside = [(-1.5, 2.0, 0.85), (5.5, 1.0, 1.5), (2.0, 6.5, 0.5)]
+    normals = [(0.0, 0.0, 1.0), (-1.0, 0.0, 0.0), (0.0, -0.6, -0.8)]
+    readings = api.measure_illuminance(outside + [(2.0, -1.5, 1.5)], normals + [(0.0, 1.0, 0.0)], quality="preview")
+    proven = [any("in front only of faces of it that opaque surfaces cover whole" in n for n in r.notes)
+              for r in readings]
+    front = readings[-1]
+    assert front.illuminance > 1.0 and not proven[-1]  # it sees the window
+    if breach is None:
+        assert all(proven[:-1]) and all(r.exact and r.illuminance == 0.0 and r.samples == 0 for r in readings[:-1])
+        rendered = api.measure_illuminance(outside[2], normals[2], method="render", samples=65536)
+        assert rendered.illuminance == 0.0 and rendered.samples == 65536
+    else:
+        assert not any(proven) and readings[0].illuminance + readings[2].illuminance > 0.0
