@@ -110,9 +110,10 @@ def test_one_patch_world_takes_the_sample_floor(clean_blender):
 
 def test_meters_outside_an_open_room_stop_after_their_pilot(clean_blender, build):
     """Issue 31 (dark meters, ``stop_dark=True``): in one batch, meters outside a lit box open at the top
-    (its light escapes upwards into a black world; no proof that it cannot reach them, unlike a closed box:
-    test_sealed_meters.py) read 0 and state a finite one-sided bound (the preset's absolute floor) after
-    their pilot's samples only; the meter inside is measured as before."""
+    (its light escapes upwards into a black world) read 0 and state a finite one-sided bound (the preset's absolute
+    floor) after their pilot's samples only; the meter inside is measured as before. The box is turned 30 degrees
+    about z, so no proof reaches them: it is no closed shell, and its faces do not lie in the faces of the box round
+    the scene (upright, they would: test_sealed_meters.py proves such meters exactly 0)."""
     import bmesh
 
     from radiometer import api
@@ -124,6 +125,7 @@ def test_meters_outside_an_open_room_stop_after_their_pilot(clean_blender, build
     build.light(scene, "POINT", location=(0.0, 0.0, 1.5), energy=100.0, shadow_soft_size=0.0)
     box = bpy.context.scene.objects["Cube"]
     assert box.type == "MESH"
+    box.rotation_euler = (0.0, 0.0, math.radians(30.0))
     mesh = bmesh.new()
     mesh.from_mesh(box.data)
     bmesh.ops.delete(mesh, geom=[f for f in mesh.faces if f.normal.z > 0.5], context="FACES_ONLY")

@@ -320,3 +320,28 @@ def test_meters_outside_a_lit_room_of_boxes_read_exactly_zero(clean_blender, bui
         assert rendered.illuminance == 0.0 and rendered.samples == 65536
     else:
         assert not any(proven) and readings[0].illuminance + readings[2].illuminance > 0.0
+
+
+def test_meters_beside_a_lit_box_open_at_the_top_read_exactly_zero(clean_blender, build):
+    """A lit box with its top face deleted (no hole in a face, so no opening of a shell): its four sides and bottom
+    cover the faces of the box round the scene, so its light leaves upwards only; meters beside it, below the top,
+    read exactly 0 with no sample, and one above it, looking down into it, is lit."""
+    import bmesh
+
+    from radiometer import api
+
+    build.black_world(bpy.context.scene)
+    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(0.0, 0.0, 1.0))
+    build.light(bpy.context.scene, "POINT", location=(0.0, 0.0, 1.5), energy=100.0, shadow_soft_size=0.0)
+    box = bpy.context.scene.objects["Cube"]
+    mesh = bmesh.new()
+    mesh.from_mesh(box.data)
+    bmesh.ops.delete(mesh, geom=[f for f in mesh.faces if f.normal.z > 0.5], context="FACES_ONLY")
+    mesh.to_mesh(box.data)
+    mesh.free()
+    readings = api.measure_illuminance([(3.0, 0.0, 1.0), (0.0, -3.0, 1.9), (0.5, 0.5, 3.0)],
+                                       [(-1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, -1.0)], quality="preview")
+    for r in readings[:2]:
+        assert r.illuminance == 0.0 and r.exact and r.samples == 0
+        assert any("cover whole" in note for note in r.notes)
+    assert readings[2].illuminance > 1.0 and not readings[2].exact
