@@ -65,3 +65,23 @@ def test_a_mirror_facing_away_never_turns_a_leaving_ray_back():
     front = np.einsum("ij,ij->i", d, m) < 0
     mirrored = d - 2.0 * np.einsum("ij,ij->i", d, m)[:, None] * m
     assert front.sum() > 1000 and np.all(mirrored[front] @ OUT >= d[front] @ OUT - 1e-12)
+
+
+def _quad_triangles(u0, u1, v0, v1, diagonal=0):
+    a, b, c, d = (u0, v0), (u1, v0), (u1, v1), (u0, v1)
+    return [(a, b, c), (a, c, d)] if diagonal == 0 else [(a, b, d), (b, c, d)]
+
+
+def test_the_box_faces_cover_proof_counts_whole_rectangles_only():
+    """``_behind_covered_faces``' coverage: a face tiled by quads (each split along either diagonal) is covered;
+    one quad short, or a quad's one triangle alone (half of it), leaves it uncovered."""
+    quads = [(0, 4, 0, 1), (0, 1, 1, 2.2), (3, 4, 1, 2.2), (0, 4, 2.2, 3)]  # a wall round a 2 x 1.2 window
+    window = (1, 3, 1, 2.2)
+    tris = np.array([t for k, q in enumerate(quads) for t in _quad_triangles(*q, diagonal=k % 2)], float)
+    rects = sealed._half_rectangles(tris, 1e-9)
+    assert sorted(map(tuple, rects)) == sorted(map(tuple, np.array(quads, float)))
+    assert not sealed._face_covered(rects, (0, 4), (0, 3), 1e-9)  # the window is a gap
+    closed = np.concatenate([tris, np.array(_quad_triangles(*window), float)])
+    assert sealed._face_covered(sealed._half_rectangles(closed, 1e-9), (0, 4), (0, 3), 1e-9)
+    half = np.concatenate([tris, np.array(_quad_triangles(*window)[:1], float)])  # the window half glazed over
+    assert not sealed._face_covered(sealed._half_rectangles(half, 1e-9), (0, 4), (0, 3), 1e-9)

@@ -190,9 +190,12 @@ def _face_covered(rects, u_range, v_range, tol):
         return False
     cu, cv = 0.5 * (us[1:] + us[:-1]), 0.5 * (vs[1:] + vs[:-1])
     cu, cv = cu[np.diff(us) > tol], cv[np.diff(vs) > tol]  # slivers narrower than the tolerance are cracks welded
-    inside_u = (rects[:, 0, None] <= cu[None] + tol) & (cu[None] <= rects[:, 1, None] + tol)   # (R, U)
-    inside_v = (rects[:, 2, None] <= cv[None] + tol) & (cv[None] <= rects[:, 3, None] + tol)   # (R, V)
-    return bool(np.all(np.einsum("ru,rv->uv", inside_u.astype(np.int64), inside_v.astype(np.int64)) > 0))
+    covered = np.zeros((len(cu), len(cv)), bool)
+    for u0, u1, v0, v1 in rects:  # the cells whose centres each rectangle holds
+        i0, i1 = np.searchsorted(cu, u0 - tol, "left"), np.searchsorted(cu, u1 + tol, "right")
+        j0, j1 = np.searchsorted(cv, v0 - tol, "left"), np.searchsorted(cv, v1 + tol, "right")
+        covered[i0:i1, j0:j1] = True
+    return bool(covered.all())
 
 
 def _behind_covered_faces(model, sources, points_m, tol):
