@@ -24,19 +24,13 @@ sys.path.insert(0, HERE)
 
 
 def build(glass, boxes=False):
-    import bpy
     import numpy as np
 
-    import radiometer
     from daylight_factor import ISSUE_ROOM, plane_and_panel
-    from radiometer.compat import ensure_node_tree
-    from scenes import load_test_module
+    from scenes import fresh, load_test_module
 
     room = load_test_module("daylight_room")
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    if not hasattr(bpy.types.Scene, "radiometer"):
-        radiometer.register()
-    scene = bpy.context.scene
+    scene = fresh()  # an empty factory scene, registered, a black world
     W, D, H = ISSUE_ROOM  # noqa: N806 - the room module's names
     if boxes:  # the same room of nine separate boxes 0.2 m thick that touch, as the demo room and most users build one
         room.build_boxes_blender(scene, room.boxes_room_boxes(W=W, D=D, H=H, window=(1.0, 3.0, 0.9, 2.1)))
@@ -44,9 +38,6 @@ def build(glass, boxes=False):
         room.build_blender(scene, room.quads(W, D, H))
     if glass:
         room.add_pane_blender(scene)
-    world = bpy.data.worlds.new("black")
-    ensure_node_tree(world).nodes["Background"].inputs["Strength"].default_value = 0.0
-    scene.world = world
     plane_and_panel(scene, (W - 0.25, D - 0.25), (W / 2, D / 2, H - 0.05))
     points = np.array([(x, y, 0.85) for y in np.linspace(0.3, 5.7, 10) for x in np.linspace(-5.0, 9.0, 10)])
     return scene, points, (points[:, 0] > 0.0) & (points[:, 0] < W)

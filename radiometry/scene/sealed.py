@@ -125,24 +125,23 @@ def sealed_off(model, points_m):
     dark = np.all(cut, axis=0) if shells else none.copy()
     why = ("sealed off: a closed opaque shell of surfaces that stop every ray lies between the meter and every light "
            "source: exactly 0, nothing rendered (radiometry/scene/sealed.py)") if dark.any() else ""
-    if not dark.all():
-        behind = _behind_open_shell(model, sealing, sources, points_m[~dark], shell_tol)
+    proofs = ((lambda pts: _behind_open_shell(model, sealing, sources, pts, shell_tol),
+               "sealed off: every light source lies inside a closed opaque shell whose openings look out on nothing "
+               "(every surface of the scene lies behind each opening's plane, the world is black), and the meter is "
+               "outside it, behind every opening's plane: light leaving an opening travels on in front of it and never "
+               "returns; exactly 0, nothing rendered (radiometry/scene/sealed.py)"),
+              (lambda pts: _behind_covered_faces(model, sources, pts, shell_tol),
+               "sealed off: every light source lies inside the box round the scene's surfaces, the world is black, "
+               "and the meter is outside that box, in front only of faces of it that opaque surfaces cover whole (a "
+               "room of boxes: its walls' outer faces): light leaves the box only through the other faces and never "
+               "returns; exactly 0, nothing rendered (radiometry/scene/sealed.py)"))
+    for proof, reason in proofs:  # the meters still in doubt, each proof in turn
+        if dark.all():
+            break
+        behind = proof(points_m[~dark])
         if behind.any():
             dark[np.flatnonzero(~dark)[behind]] = True
-            why = (why + "; " if why else "") + (
-                "sealed off: every light source lies inside a closed opaque shell whose openings look out on nothing "
-                "(every surface of the scene lies behind each opening's plane, the world is black), and the meter is "
-                "outside it, behind every opening's plane: light leaving an opening travels on in front of it and "
-                "never returns; exactly 0, nothing rendered (radiometry/scene/sealed.py)")
-    if not dark.all():
-        behind = _behind_covered_faces(model, sources, points_m[~dark], shell_tol)
-        if behind.any():
-            dark[np.flatnonzero(~dark)[behind]] = True
-            why = (why + "; " if why else "") + (
-                "sealed off: every light source lies inside the box round the scene's surfaces, the world is black, "
-                "and the meter is outside that box, in front only of faces of it that opaque surfaces cover whole "
-                "(a room of boxes: its walls' outer faces): light leaves the box only through the other faces and "
-                "never returns; exactly 0, nothing rendered (radiometry/scene/sealed.py)")
+            why = (why + "; " if why else "") + reason
     return dark, why
 
 
