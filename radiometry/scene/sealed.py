@@ -153,28 +153,23 @@ def _half_rectangles(flat, tol):
     """Axis-aligned rectangles (R, 4) (u0, u1, v0, v1) that pairs of the 2-D triangles ``flat`` (T, 3, 2) cover
     whole: two right triangles with axis-aligned legs on the same rectangle, missing opposite corners (a quad split
     along a diagonal, as every box face is). Other triangles are left out (they may cover more: never counted)."""
-    lo, hi = flat.min(axis=1), flat.max(axis=1)
-    area2 = np.abs((flat[:, 1, 0] - flat[:, 0, 0]) * (flat[:, 2, 1] - flat[:, 0, 1])
-                   - (flat[:, 1, 1] - flat[:, 0, 1]) * (flat[:, 2, 0] - flat[:, 0, 0]))
-    box2 = (hi[:, 0] - lo[:, 0]) * (hi[:, 1] - lo[:, 1])
-    half = (box2 > tol * tol) & (np.abs(area2 - box2) <= 4.0 * tol * (hi - lo).sum(axis=1))
-    # the corner each half misses: (is u at lo?, is v at lo?) of the corner none of its vertices sits on
-    corners = {}
-    for t in np.flatnonzero(half):
-        at = {(bool(abs(x - lo[t, 0]) <= tol), bool(abs(y - lo[t, 1]) <= tol)) for x, y in flat[t]
-              if (abs(x - lo[t, 0]) <= tol or abs(x - hi[t, 0]) <= tol) and (abs(y - lo[t, 1]) <= tol
-                                                                             or abs(y - hi[t, 1]) <= tol)}
-        if len(at) != 3:
-            continue
-        missing = ({(a, b) for a in (True, False) for b in (True, False)} - at).pop()
-        key = tuple(np.round(np.r_[lo[t], hi[t]] / tol).astype(np.int64))
-        corners.setdefault(key, []).append((missing, (lo[t, 0], hi[t, 0], lo[t, 1], hi[t, 1])))
-    out = []
-    for halves in corners.values():
-        missing = {m for m, _r in halves}
-        if any((not a, not b) in missing for a, b in missing):  # two halves missing opposite corners
-            out.append(halves[0][1])
-    return np.array(out, float).reshape(-1, 4)
+    lo, hi = flat.min(axis=1), flat.max(axis=1)                                          # (T, 2)
+    near_lo, near_hi = np.abs(flat - lo[:, None]) <= tol, np.abs(flat - hi[:, None]) <= tol  # (T, 3, 2)
+    at_corner = np.all(near_lo | near_hi, axis=2)                                        # (T, 3)
+    code = 2 * near_lo[..., 0] + near_lo[..., 1]                                         # corner 0..3 of each vertex
+    distinct = ((code[:, 0] != code[:, 1]) & (code[:, 1] != code[:, 2]) & (code[:, 0] != code[:, 2]))
+    sized = np.all(hi - lo > tol, axis=1)
+    half = np.flatnonzero(np.all(at_corner, axis=1) & distinct & sized)  # a right triangle on 3 corners of its box
+    if not half.size:
+        return np.zeros((0, 4))
+    missing = 6 - code[half].sum(axis=1)                                                 # the corner it leaves
+    keys = np.round(np.c_[lo[half], hi[half]] / tol).astype(np.int64)
+    _uniq, first, group = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    masks = np.zeros(group.max() + 1, np.int64)
+    np.bitwise_or.at(masks, group.ravel(), np.left_shift(1, missing))
+    whole = ((masks & 0b1001) == 0b1001) | ((masks & 0b0110) == 0b0110)                 # opposite corners: 0-3, 1-2
+    take = half[first[whole]]
+    return np.c_[lo[take, 0], hi[take, 0], lo[take, 1], hi[take, 1]]
 
 
 def _face_covered(rects, u_range, v_range, tol):
@@ -189,12 +184,13 @@ def _face_covered(rects, u_range, v_range, tol):
         return False
     cu, cv = 0.5 * (us[1:] + us[:-1]), 0.5 * (vs[1:] + vs[:-1])
     cu, cv = cu[np.diff(us) > tol], cv[np.diff(vs) > tol]  # slivers narrower than the tolerance are cracks welded
-    covered = np.zeros((len(cu), len(cv)), bool)
-    for u0, u1, v0, v1 in rects:  # the cells whose centres each rectangle holds
-        i0, i1 = np.searchsorted(cu, u0 - tol, "left"), np.searchsorted(cu, u1 + tol, "right")
-        j0, j1 = np.searchsorted(cv, v0 - tol, "left"), np.searchsorted(cv, v1 + tol, "right")
-        covered[i0:i1, j0:j1] = True
-    return bool(covered.all())
+    # the cells whose centres each rectangle holds, counted by a 2-D difference array (one pass for all rectangles)
+    i0, i1 = np.searchsorted(cu, rects[:, 0] - tol, "left"), np.searchsorted(cu, rects[:, 1] + tol, "right")
+    j0, j1 = np.searchsorted(cv, rects[:, 2] - tol, "left"), np.searchsorted(cv, rects[:, 3] + tol, "right")
+    count = np.zeros((len(cu) + 1, len(cv) + 1), np.int64)
+    for i, j, sign in ((i0, j0, 1), (i1, j0, -1), (i0, j1, -1), (i1, j1, 1)):
+        np.add.at(count, (i, j), sign)
+    return bool(np.all(count.cumsum(axis=0).cumsum(axis=1)[:-1, :-1] > 0))
 
 
 def _behind_covered_faces(model, sources, points_m, tol):
@@ -209,17 +205,19 @@ def _behind_covered_faces(model, sources, points_m, tol):
     g = model.geometry
     if not len(points_m) or not g.count or any(isinstance(source, str) for source in sources):
         return none
-    key = ("covered faces", tol)
-    if key not in model.derived:
-        model.derived[key] = _covered_faces(g, tol)
-    lo, hi, covered = model.derived[key]
+    flat = g.triangles.reshape(-1, 3)
+    lo, hi = flat.min(axis=0), flat.max(axis=0)
+    ok = np.any((points_m < lo - tol) | (points_m > hi + tol), axis=1)  # outside the box
+    if not ok.any():
+        return none  # (meters in a room: the faces' coverage is not needed)
     for points, reach in sources:  # every source wholly inside the box
         pts = np.asarray(points, float).reshape(-1, 3)
         if np.any(pts.min(axis=0) - reach < lo + tol) or np.any(pts.max(axis=0) + reach > hi - tol):
             return none
-    ok = np.zeros(len(points_m), bool)
-    outside = np.any((points_m < lo - tol) | (points_m > hi + tol), axis=1)
-    ok |= outside
+    key = ("covered faces", tol)
+    if key not in model.derived:
+        model.derived[key] = _covered_faces(g, lo, hi, tol)
+    covered = model.derived[key]
     for axis in range(3):
         for side, plane in ((0, lo[axis]), (1, hi[axis])):
             if covered[axis][side]:
@@ -229,13 +227,10 @@ def _behind_covered_faces(model, sources, points_m, tol):
     return ok
 
 
-def _covered_faces(g, tol):
-    """(lo (3,), hi (3,), covered [axis][side] bool) of the box round ``g``'s triangles: whether opaque sealing
-    triangles lying in each face cover it whole (``_face_covered``)."""
-    tris = g.triangles
-    flat_all = tris.reshape(-1, 3)
-    lo, hi = flat_all.min(axis=0), flat_all.max(axis=0)
-    sealing = tris[g.sealing_triangles()]
+def _covered_faces(g, lo, hi, tol):
+    """covered[axis][side] (bool): whether opaque sealing triangles of ``g`` lying in each face of the box ``lo`` ..
+    ``hi`` round its triangles cover that face whole (``_face_covered``)."""
+    sealing = g.triangles[g.sealing_triangles()]
     covered = [[False, False] for _ in range(3)]
     for axis in range(3):
         u_axis, v_axis = (axis + 1) % 3, (axis + 2) % 3
@@ -245,7 +240,7 @@ def _covered_faces(g, tol):
                 continue
             rects = _half_rectangles(sealing[on][:, :, [u_axis, v_axis]], tol)
             covered[axis][side] = _face_covered(rects, (lo[u_axis], hi[u_axis]), (lo[v_axis], hi[v_axis]), tol)
-    return lo, hi, covered
+    return covered
 
 
 #: How far a pane's face in front of an opening may lean towards the room (its winding normal's cosine with the
