@@ -12,7 +12,10 @@ meter in a closed cupboard of a daylit room).
 A shell with openings proves the same for meters outside it where the openings look out on nothing (issue 31: a
 grid that runs past a lit room's walls): every light source inside, the world black, every surface of the scene
 behind or on each opening's plane. Light leaving through an opening then travels on in front of it and never comes
-back, so a meter outside the shell and behind every opening's plane reads exactly 0 (``_behind_open_shell``).
+back, so a meter outside the shell and behind every opening's plane reads exactly 0 (``_behind_open_shell``). A
+room of separate boxes (no single closed surface) proves the same where its walls' outer faces cover the faces of
+the box round the scene but for its windows: light leaves that box only through the uncovered faces, so a meter
+outside it, in front only of covered faces, reads exactly 0 (``_behind_covered_faces``).
 
 What is proven, and what is refused (then nothing is proven and the meter is measured as before):
 * the sources: every light's emitter answers ``extent()`` (points and reach), the emissive meshes by
@@ -89,7 +92,9 @@ def _box(points, grow):
 
 def sealed_off(model, points_m):
     """(N,) bool: meters at ``points_m`` (N, 3) m that no source of ``model`` can reach (every source is
-    cut off from them by a closed shell of sealing triangles); and a note (str) saying how, or ""."""
+    cut off from them by a closed shell of sealing triangles; or, for meters outside the box round the scene, every
+    source lies in a shell whose openings look out on nothing, ``_behind_open_shell``, or inside that box whose faces
+    before the meter are covered whole, ``_behind_covered_faces``); and a note (str) saying how, or ""."""
     points_m = np.atleast_2d(np.asarray(points_m, float))
     none = np.zeros(len(points_m), bool)
     g = model.geometry
