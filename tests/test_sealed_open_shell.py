@@ -1,7 +1,9 @@
 """The dark-meter proof's pane rule (radiometry/scene/sealed.py ``_keeps_going``, issue 31): a thin pane standing
 in front of an opening's plane keeps the proof only while every face of it in front lies in the opening's prism
-and does not face the room, so that the thin-pane stand-in (a ray passed on, or mirrored where it meets a face's
-front) never turns a ray leaving the room back towards the plane."""
+and is perpendicular to the plane, or belongs to a slab whose front side (its winding, reversed for a mirrored
+object) does not face the room, so that the thin-pane stand-in (a ray passed on, or mirrored: a slab's face where
+the ray meets its front, a single face from either side) never turns a ray leaving the room back towards the
+plane."""
 
 import numpy as np
 
@@ -23,8 +25,10 @@ def _slab(depth=0.006, x0=1.0, x1=3.0, z0=0.9, z1=2.1):
     return np.array([[q[0], q[1], q[2]] for q in quads] + [[q[0], q[2], q[3]] for q in quads], float)
 
 
-def _keeps(tris):
-    return sealed._keeps_going(tris, OPENING, OPENING.mean(axis=0), OUT, TOL)
+def _keeps(tris, front_sign=1.0, slab=True):
+    n = len(tris)
+    return sealed._keeps_going(tris, np.full(n, float(front_sign)), np.full(n, slab), OPENING, OPENING.mean(axis=0),
+                               OUT, TOL)
 
 
 def test_a_pane_in_front_that_sends_nothing_back():
@@ -32,6 +36,11 @@ def test_a_pane_in_front_that_sends_nothing_back():
     normals = np.cross(slab[:, 1] - slab[:, 0], slab[:, 2] - slab[:, 0])
     assert np.allclose(normals[0] / np.linalg.norm(normals[0]), OUT)  # the outer face as built faces away
     assert _keeps(slab)
+    assert not _keeps(slab, front_sign=-1.0)  # the same slab in a mirrored object: Cycles' front faces the room
+    assert not _keeps(slab, front_sign=0.0)   # front side not known
+    assert not _keeps(slab, slab=False)       # single faces mirror from both sides: the outer face may send back
+    sides = np.concatenate([slab[1:5], slab[6:10]])  # the four side faces alone: perpendicular, safe either way
+    assert _keeps(sides, front_sign=0.0, slab=False)
 
 
 def test_a_face_turned_towards_the_room_or_one_outside_the_prism_breaks_it():
@@ -53,8 +62,9 @@ def test_a_face_turned_towards_the_room_or_one_outside_the_prism_breaks_it():
 
 
 def test_a_mirror_facing_away_never_turns_a_leaving_ray_back():
-    """The rule's reason, sampled: rays moving away from the plane (d . n > 0) mirrored by faces that do not face
-    the room (m . n >= 0), where they meet the face's front (d . m < 0), keep d . n > 0."""
+    """The slab rule's reason, sampled: rays moving away from the plane (d . n > 0) mirrored by faces that do not
+    face the room (m . n >= 0), where they meet the face's front (d . m < 0), keep d . n > 0; a mirror about a
+    perpendicular face keeps d . n from either side."""
     rng = np.random.default_rng(7)
     d = rng.normal(size=(20000, 3))
     m = rng.normal(size=(20000, 3))
@@ -65,6 +75,10 @@ def test_a_mirror_facing_away_never_turns_a_leaving_ray_back():
     front = np.einsum("ij,ij->i", d, m) < 0
     mirrored = d - 2.0 * np.einsum("ij,ij->i", d, m)[:, None] * m
     assert front.sum() > 1000 and np.all(mirrored[front] @ OUT >= d[front] @ OUT - 1e-12)
+    m[:, 1] = 0.0  # faces perpendicular to the plane (OUT is -y)
+    m /= np.linalg.norm(m, axis=1, keepdims=True)
+    mirrored = d - 2.0 * np.einsum("ij,ij->i", d, m)[:, None] * m
+    assert np.allclose(mirrored @ OUT, d @ OUT)
 
 
 def _quad_triangles(u0, u1, v0, v1, diagonal=0):

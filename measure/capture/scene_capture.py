@@ -75,8 +75,14 @@ def _material_traits(material):
 
 
 def _active_output(tree):
-    """The material's one active, unmuted Material Output node, or None (none, or more than one)."""
-    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial" and not n.mute]
+    """The Material Output node Cycles renders (targeting Cycles or all engines: ``get_output_node("CYCLES")``, not an
+    EEVEE-only one), unmuted, or None."""
+    get = getattr(tree, "get_output_node", None)
+    if get is not None:
+        node = get("CYCLES")
+        return node if node is not None and not node.mute else None
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial" and not n.mute
+               and getattr(n, "target", "ALL") in ("ALL", "CYCLES")]
     active = [n for n in outputs if n.is_active_output] or outputs
     return active[0] if len(active) == 1 else None
 
@@ -179,6 +185,7 @@ def _mesh_triangles(obj):
 def _collect(depsgraph):
     """Walk the render depsgraph; returns a SceneModel (positions still in scene units)."""
     lights, names, shadow, reflects, unmodelled, volumes = [], [], [], [], [], []
+    mirrored = []  # per geometry object: its transform's determinant is negative (SceneGeometry.mirrored)
     seals, seal_chunks = [], []
     ids = []  # per geometry object: its original's identity (measure.blender.identity.object_identity)
     panes, refractors, pane_chunks, meshes = {}, [], [], []
@@ -283,6 +290,7 @@ def _collect(depsgraph):
             _emissive_meshes(meshes, inst, original, name, world, slot, slots, traits, material_cache)
         index = len(names)
         names.append(name)
+        mirrored.append(bool(np.linalg.det(np.asarray(m, float)[:3, :3]) < 0.0))
         ids.append(object_identity(original))
         # Faces of a volume-only object are null interfaces (issue 18, F5): no shadow, no reflection;
         # its medium (in ``volumes``) is what attenuates and scatters, and the planner renders it.
@@ -305,7 +313,7 @@ def _collect(depsgraph):
         triangles=cat(tri_chunks, (0, 3, 3)), object_index=cat(obj_chunks, (0,)).astype(int), object_names=names,
         object_ids=ids,
         casts_shadow=np.array(shadow, bool), opaque=cat(opaque_chunks, (0,)).astype(bool),
-        reflects=np.array(reflects, bool), seals=np.array(seals, bool),
+        reflects=np.array(reflects, bool), seals=np.array(seals, bool), mirrored=np.array(mirrored, bool),
         sealing_material=cat(seal_chunks, (0,)).astype(bool), emissive=cat(emissive_chunks, (0,)).astype(bool), unmodelled=unmodelled,
         pane_of=cat(pane_chunks, (0,)).astype(int), material_slot=cat(slot_chunks, (0,)).astype(int),
         tri_bounds=(cat([b[0] for b in bound_chunks], (0, 3)), cat([b[1] for b in bound_chunks], (0, 3))))

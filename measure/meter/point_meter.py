@@ -963,7 +963,9 @@ def measure_illuminance(location, normal, request, *, method="auto", exclude=(),
 
             quiet_lights = (np.all(direct.status == scene_model.ZERO, axis=0) if len(model.lights)
                             else np.ones(n, bool))
-            alone = quiet_lights & ~np.asarray(direct.indirect, bool) & ~closed
+            # (a meter the sealing proof cuts off while the caller's part is not 0: rendered, as above; the world's
+            # own status is not asked: covers_world says the caller's part is all of the world's direct light)
+            alone = quiet_lights & ~np.asarray(direct.indirect, bool) & ~closed & ~sealed
     mean_rgb, bound_rgb = np.zeros((n, 3)), np.zeros((n, 3))
     se_rgb, scalar_se, spent = np.zeros((n, 3)), np.zeros(n), np.zeros(n)
     upper = np.full(n, np.nan)  # one-sided 95 % bound (W/m^2) of a meter that found no light (issue 31)

@@ -165,8 +165,8 @@ def _geometry(ex, scene, model):
             ex.unmapped.append(f"{obj_name}: {why}; not exported (Radiance would need its solid as dielectric)")
             keep &= opaque[part]
         if not g.reflects[k]:
-            ex.unmapped.append(f"{obj_name}: invisible to diffuse, glossy and transmission rays in Cycles; "
-                               "exported as an ordinary surface")
+            ex.unmapped.append(f"{obj_name}: sends no light in Cycles (invisible to diffuse, glossy and transmission "
+                               "rays, or black: a Diffuse BSDF of colour 0); exported as an ordinary surface")
         obj = objects[k] if k < len(objects) else None
         obj_id = ex.name(obj_name)
         for j in np.unique(slot[keep]):

@@ -83,6 +83,9 @@ class SceneGeometry:
     #: (T,) per triangle: its material slot index in its object (``Object.material_slots``), or None when
     #: the geometry was built by hand (the Radiance export maps each slot's material).
     material_slot: np.ndarray = None
+    #: (O,) per object: its transform mirrors (a negative determinant): Cycles' front side of its faces is then the
+    #: reverse of the captured triangles' winding (it flips them back); None: not known (hand-built geometry)
+    mirrored: np.ndarray = None
     #: optional (tri_min, tri_max) already computed with :func:`triangle_bounds` (a capture keeps them per
     #: object, so a partial capture does not compute them again); not kept after construction
     tri_bounds: tuple = field(default=None, repr=False, compare=False)

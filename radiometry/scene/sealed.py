@@ -140,8 +140,9 @@ def sealed_off(model, points_m):
                "and the meter is outside that box, in front only of faces of it that opaque surfaces cover whole (a "
                "room of boxes: its walls' outer faces): light leaves the box only through the other faces and never "
                "returns; exactly 0, nothing rendered (radiometry/scene/sealed.py)"))
-    # Both proofs below reach only meters outside the box round the scene's triangles (outside the shell or the box,
-    # behind a plane of the scene): others skip their search (seconds for a shell of thousands of triangles).
+    # The proofs below are searched only when some meter stands outside the box round the scene's triangles (for a
+    # batch of meters in a room their search, seconds for a shell of thousands of triangles, is skipped; a meter they
+    # could prove inside that box, e.g. beside a building on a ground plane, is then left to the render).
     flat = g.triangles.reshape(-1, 3)
     beyond = np.any((points_m < flat.min(axis=0) - shell_tol) | (points_m > flat.max(axis=0) + shell_tol), axis=1)
     for proof, reason in proofs:  # the meters still in doubt, each proof in turn
@@ -252,9 +253,8 @@ def _covered_faces(g, lo, hi, tol):
     return covered
 
 
-#: How far a pane's face in front of an opening may lean towards the room (its winding normal's cosine with the
-#: opening's outward normal, at least minus this) and still count as not facing it: ten float32 steps (the faces'
-#: own coordinates are float32).
+#: How far a pane's face in front of an opening may be from perpendicular to its plane, or lean towards the room
+#: (|cos| or -cos of its front normal with the opening's normal): ten float32 steps (the faces' coordinates are float32).
 FACE_COS_TOL = 10.0 * float(np.finfo(np.float32).eps)
 
 
@@ -265,25 +265,33 @@ def _open_shell(model, sealing, tol):
     key = ("open shell", tol)
     if key in model.derived:
         return model.derived[key]
-    model.derived[key] = found = _find_open_shell(model.geometry, set(model.panes), sealing, tol)
+    thickness = {k: float(getattr(pane, "thickness", 0.0)) for k, pane in model.panes.items()}
+    model.derived[key] = found = _find_open_shell(model.geometry, thickness, sealing, tol)
     return found
 
 
-def _keeps_going(tris, poly, centre, normal, tol):
+def _keeps_going(tris, front_sign, slab, poly, centre, normal, tol):
     """True when the thin-pane triangles ``tris`` (T, 3, 3) in front of an opening send no light back: each lies in
-    the opening's prism and does not face the room (its winding normal m has m . ``normal`` >= 0, within
-    ``FACE_COS_TOL``). The thin-pane stand-in (``measure.capture.glass.thin_pane_material``) passes a ray straight
-    on, or mirrors it about the face's plane where the ray meets the face's front (d . m < 0); the mirrored ray's
-    d . n = d . n - 2 (d . m)(m . n) is then no smaller, so a ray leaving the room keeps moving away. A face
-    turned towards the room, in front of the plane, could mirror light back past the wall."""
+    the opening's prism, and, with m its winding normal times ``front_sign`` (T,) (Cycles' front side: -1 for a
+    mirrored object, 0 where not known), either is perpendicular to the plane (|m . ``normal``| <= ``FACE_COS_TOL``)
+    or belongs to a ``slab`` (T,) bool and does not face the room (m . n >= -``FACE_COS_TOL``). The thin-pane
+    stand-in (``measure.capture.glass.thin_pane_material``) passes a ray straight on, or mirrors it about the face:
+    a slab's face only where the ray meets its front (d . m < 0), a single face from either side. A mirror leaves
+    d . n - 2 (d . m)(m . n): unchanged about a perpendicular face, and no smaller about a slab's face that does not
+    face the room where d . m < 0. So a ray leaving the room keeps moving away. Anything else in front (a single
+    face parallel to the plane, a face turned to the room, a slab of unknown front) may mirror leaving light back
+    past the wall."""
     if not np.all(sky_aperture.inside_prism(tris.reshape(-1, 3), poly, centre, normal, tol)):
         return False
     m = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     m = m / np.maximum(np.linalg.norm(m, axis=1, keepdims=True), 1e-300)
-    return bool(np.all(m @ normal >= -FACE_COS_TOL))
+    c = m @ normal
+    facing_away = slab & (front_sign != 0) & (front_sign * c >= -FACE_COS_TOL)
+    return bool(np.all((np.abs(c) <= FACE_COS_TOL) | facing_away))
 
 
-def _find_open_shell(g, panes, sealing, tol):
+def _find_open_shell(g, pane_thickness, sealing, tol):
+    """``_open_shell``'s search; ``pane_thickness``: {object index: thickness m} of the model's thin panes."""
     if len(sealing) > sky_aperture.CLOSURE_MAX_TRIANGLES:
         return None  # the search's cost grows faster than the scene: not proven
     loops = [poly for poly, _normal in sky_aperture.find_apertures(sealing, tol)]
@@ -294,7 +302,16 @@ def _find_open_shell(g, panes, sealing, tol):
         return None
     shell = sealing[comp]
     shell_vertices = shell.reshape(-1, 3)
-    thin_pane = np.isin(g.pane_of, list(panes)) & (g.pane_of >= 0)
+    thin_pane = np.isin(g.pane_of, list(pane_thickness)) & (g.pane_of >= 0)
+    thick = np.zeros(max(len(g.object_names), 1))
+    for k, t in pane_thickness.items():
+        thick[k] = t
+    slab = thin_pane & (thick[np.maximum(g.pane_of, 0)] > 0.0)
+    mirrored = g.mirrored
+    if mirrored is None or len(mirrored) != len(g.object_names):
+        front_sign = np.zeros(g.count)  # Cycles' front side not known: perpendicular faces only
+    else:
+        front_sign = np.where(np.asarray(mirrored, bool)[g.object_index], -1.0, 1.0)
     normals = []
     for poly in loops:
         centre = poly.mean(axis=0)
@@ -302,7 +319,8 @@ def _find_open_shell(g, panes, sealing, tol):
         if np.max((shell_vertices - centre) @ normal) > tol:
             normal = -normal
         front = np.any((g.triangles - centre) @ normal > tol, axis=1)
-        if np.any(front & ~thin_pane) or not _keeps_going(g.triangles[front], poly, centre, normal, tol):
+        if np.any(front & ~thin_pane) or not _keeps_going(g.triangles[front], front_sign[front], slab[front], poly,
+                                                           centre, normal, tol):
             return None  # something (of the shell or outside it) stands in front of this opening
         normals.append(normal)
     return shell, loops, normals
@@ -327,6 +345,8 @@ def _behind_open_shell(model, sealing, sources, points_m, tol):
     front = np.zeros(len(points_m), bool)  # a meter in front of some opening may see it
     for poly, normal in zip(loops, normals):
         front |= (points_m - poly.mean(axis=0)) @ normal >= -tol
+    if front.all():
+        return none
     caps = np.concatenate([sky_aperture.fan_triangles(poly) for poly in loops])
     for points, reach in sources:  # every source wholly inside, clear of the shell and of its openings
         centre, box = _box(np.asarray(points, float).reshape(-1, 3), float(reach) + tol)
@@ -334,5 +354,7 @@ def _behind_open_shell(model, sealing, sources, points_m, tol):
             return none
         if sky_aperture.inside_enclosure(centre, shell, loops, tol) is not True:
             return none
-    outside = np.array([v is False for v in sky_aperture.inside_enclosures(points_m, shell, loops, tol)], bool)
-    return outside & ~front
+    out = none.copy()  # the parity test (arrays of meters x triangles) only where it can prove something
+    candidates = np.flatnonzero(~front)
+    out[candidates] = [v is False for v in sky_aperture.inside_enclosures(points_m[candidates], shell, loops, tol)]
+    return out

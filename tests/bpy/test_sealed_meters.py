@@ -260,20 +260,35 @@ def test_no_proof_behind_the_window_where_light_may_come_back(clean_blender, bui
         assert readings[3].illuminance > 0.0
 
 
-@pytest.mark.parametrize("pane", ["as built", "outer face turned in", "frosted"])
+@pytest.mark.parametrize("pane", ["as built", "mirrored object", "outer face turned in", "mirrored and turned in",
+                                  "single face", "frosted"])
 def test_a_glazed_window_keeps_the_proof_while_its_pane_sends_nothing_back(clean_blender, build, pane):
     """A 6 mm thin pane standing 6 mm in front of the window's plane (tests/bpy/daylight_room.py): rendered as thin
     glass it passes a ray on or mirrors it where the ray meets a face's front, so a ray leaving the room keeps moving
     away (its side faces are perpendicular to the plane, its outer face turned away): the meters behind the plane
-    stay proven dark, and a whole render of 65 536 samples at one of them reads 0. With the outer face turned in (its
-    winding reversed) the pane would mirror light back past the wall: not proven. A frosted pane (roughness 0.5) is
-    a refractor rendered as it is: not proven."""
+    stay proven dark, and a whole render of 65 536 samples at one of them reads 0; so in a mirrored object (scale
+    x -1 over a mirrored mesh whose faces Blender shows outwards: its captured triangles wind inwards, and Cycles
+    takes Blender's side). With the outer face turned in (as Blender shows it,
+    mirrored or not) the pane would mirror light back past the wall: not proven; nor a single face 6 mm out, which
+    mirrors from both sides. A frosted pane (roughness 0.5) is a refractor rendered as it is: not proven."""
     from radiometer import api
 
     _scene, room = _lit_room_with_a_window(build)
-    glass = room.add_pane_blender(bpy.context.scene)
-    if pane == "outer face turned in":
-        glass.data.polygons[0].flip()  # the -y face (outside)
+    if pane == "single face":  # one polygon in the window's plane moved 6 mm out, facing out
+        x0, x1, z0, z1 = room.WINDOW
+        glass = room.add_pane_blender(bpy.context.scene, [[(x0, -0.006, z0), (x1, -0.006, z0), (x1, -0.006, z1),
+                                                            (x0, -0.006, z1)]])
+    else:
+        glass = room.add_pane_blender(bpy.context.scene)
+    if "mirrored" in pane:  # scale x -1 over a mirrored mesh (its faces flipped, so Blender shows them outwards):
+        for v in glass.data.vertices:  # the same slab in the world, through a mirrored transform
+            v.co.x = -v.co.x
+        for poly in glass.data.polygons:
+            poly.flip()
+        glass.scale = (-1.0, 1.0, 1.0)
+        bpy.context.view_layer.update()
+    if "turned in" in pane:
+        glass.data.polygons[0].flip()  # the -y face (outside), as Blender shows it
         glass.data.update()
     elif pane == "frosted":
         next(n for n in glass.data.materials[0].node_tree.nodes if n.type == "BSDF_GLASS").inputs["Roughness"] \
@@ -281,7 +296,7 @@ def test_a_glazed_window_keeps_the_proof_while_its_pane_sends_nothing_back(clean
     readings = api.measure_illuminance(BEHIND[:2] + BEHIND[3:], BEHIND_NORMALS[:2] + BEHIND_NORMALS[3:],
                                        quality="preview")
     proven = [any("openings look out on nothing" in note for note in r.notes) for r in readings]
-    if pane == "as built":
+    if pane in ("as built", "mirrored object"):
         assert all(proven) and all(r.exact and r.illuminance == 0.0 and r.samples == 0 for r in readings)
         rendered = api.measure_illuminance(BEHIND[3], BEHIND_NORMALS[3], method="render", samples=65536)
         assert rendered.illuminance == 0.0 and rendered.samples == 65536
