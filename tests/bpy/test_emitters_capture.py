@@ -140,10 +140,12 @@ def test_an_ies_text_is_parsed_once_for_every_capture(clean_blender, tmp_path, m
 
 
 @pytest.mark.parametrize("kind, black", [("diffuse 0", True), ("diffuse 0.1", False), ("diffuse linked", False),
-                                         ("diffuse muted", False), ("principled 0", False), ("no material", False)])
+                                         ("diffuse muted", False), ("principled 0", False), ("no material", False),
+                                         ("black for EEVEE only", False)])
 def test_only_a_black_diffuse_surface_counts_as_sending_nothing(clean_blender, kind, black):
     """Issue 31: an object 'reflects' unless its every material is one unmuted Diffuse BSDF of colour (0, 0, 0)
-    (Cycles drops a closure of zero weight); a Principled BSDF at base colour 0 keeps its specular layer."""
+    (Cycles drops a closure of zero weight) on the output Cycles renders; a Principled BSDF at base colour 0 keeps its
+    specular layer, and a black surface on an EEVEE-only output says nothing of what Cycles renders."""
     me = bpy.data.meshes.new("card")
     me.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
     ob = bpy.data.objects.new("card", me)
@@ -162,6 +164,13 @@ def test_only_a_black_diffuse_surface_counts_as_sending_nothing(clean_blender, k
             rgb.outputs[0].default_value = (0, 0, 0, 1)
             tree.links.new(rgb.outputs[0], bsdf.inputs["Color"])
         bsdf.mute = kind == "diffuse muted"
+        if kind == "black for EEVEE only":  # that output targets EEVEE; Cycles renders a white Diffuse BSDF
+            out.target = "EEVEE"
+            cycles_out = tree.nodes.new("ShaderNodeOutputMaterial")
+            cycles_out.target = "CYCLES"
+            white = tree.nodes.new("ShaderNodeBsdfDiffuse")
+            white.inputs["Color"].default_value = (1, 1, 1, 1)
+            tree.links.new(white.outputs[0], cycles_out.inputs["Surface"])
         me.materials.append(m)
     model = scene_capture.capture(bpy.context.scene)
     k = model.geometry.object_names.index("card")
