@@ -61,8 +61,8 @@ def variant(name, glass, proof, target, boxes=False):
     scene, points, inside = build(glass, boxes)
     real = sealed._behind_open_shell, sealed._behind_covered_faces
     if not proof:
-        sealed._behind_open_shell = lambda model, sealing, sources, pts, tol: np.zeros(len(pts), bool)
-        sealed._behind_covered_faces = lambda model, sources, pts, tol: np.zeros(len(pts), bool)
+        sealed._behind_open_shell = lambda model, sealing, sources, pts, *_: np.zeros(len(pts), bool)
+        sealed._behind_covered_faces = lambda model, sources, pts, *_: np.zeros(len(pts), bool)
     try:
         _grid(scene, points[:4], 0.05)  # warm-up: kernels, capture
         readings, seconds = _grid(scene, points, target)

@@ -141,5 +141,6 @@ def run(n=10, target=0.01, whole=12, out_dir=HERE):
 
 
 if __name__ == "__main__":
-    args = sys.argv[1:]
-    run(int(args[0]) if args else 10, float(args[1]) if len(args) > 1 else 0.01, int(args[2]) if len(args) > 2 else 12)
+    from scenes import grid_arguments
+
+    run(*grid_arguments(sys.argv[1:]))

@@ -243,6 +243,13 @@ def write_results(folder, stem, data, markdown_text):
     write_text(os.path.join(folder, f"{stem}.md"), markdown_text + "\n")
 
 
+def grid_arguments(args, n=10, target=0.01, whole=12):
+    """(n, target, whole) from a bench script's command line ``args`` ([n] [target] [whole]: an n x n grid at
+    ``target`` relative error, ``whole`` of its points also rendered whole), the defaults where missing."""
+    return (int(args[0]) if args else n, float(args[1]) if len(args) > 1 else target,
+            int(args[2]) if len(args) > 2 else whole)
+
+
 def pop_option(args, flag, default, kind=str):
     """The value after ``flag`` in the list ``args`` (both removed from it) as ``kind``, else ``default``."""
     if flag not in args:

@@ -57,7 +57,8 @@ def sky_radiance(tree, direction, sky_type, sun, zenith_radiance, ground_radianc
         zeta = float(cie_sky.zenith_shape(cie_sky.parse_sky_type(sky_type), sun))
         k = zenith_radiance / zeta
         cz = math_socket(tree, "MAXIMUM", cos_z, 1e-6)
-        phi = math_socket(tree, "MULTIPLY_ADD", math_socket(tree, "EXPONENT", math_socket(tree, "DIVIDE", b, cz)), a, 1.0)
+        phi = math_socket(tree, "MULTIPLY_ADD",
+                          math_socket(tree, "EXPONENT", math_socket(tree, "DIVIDE", b, cz)), a, 1.0)
         if c == 0.0 and e == 0.0:
             sky = math_socket(tree, "MULTIPLY", phi, k)
         else:
@@ -68,12 +69,14 @@ def sky_radiance(tree, direction, sky_type, sun, zenith_radiance, ground_radianc
             dot.inputs[1].default_value = tuple(float(v) for v in sun)
             cos_chi = math_socket(tree, "MAXIMUM", math_socket(tree, "MINIMUM", dot.outputs["Value"], 1.0), -1.0)
             chi = math_socket(tree, "ARCCOSINE", cos_chi)
-            ind = math_socket(tree, "MULTIPLY_ADD", math_socket(tree, "EXPONENT", math_socket(tree, "MULTIPLY", chi, d)), c,
-                        1.0 - c * math.exp(d * math.pi / 2))
+            ind = math_socket(tree, "MULTIPLY_ADD",
+                              math_socket(tree, "EXPONENT", math_socket(tree, "MULTIPLY", chi, d)), c,
+                              1.0 - c * math.exp(d * math.pi / 2))
             f = math_socket(tree, "MULTIPLY_ADD", math_socket(tree, "MULTIPLY", cos_chi, cos_chi), e, ind)
             sky = math_socket(tree, "MULTIPLY", math_socket(tree, "MULTIPLY", f, phi), k)
     above = math_socket(tree, "GREATER_THAN", cos_z, 0.0)
-    value = math_socket(tree, "MULTIPLY_ADD", above, math_socket(tree, "SUBTRACT", sky, ground_radiance), ground_radiance)
+    value = math_socket(tree, "MULTIPLY_ADD", above, math_socket(tree, "SUBTRACT", sky, ground_radiance),
+                        ground_radiance)
     return value, direction, cos_z
 
 

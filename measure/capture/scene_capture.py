@@ -77,14 +77,8 @@ def _material_traits(material):
 def _active_output(tree):
     """The Material Output node Cycles renders (targeting Cycles or all engines: ``get_output_node("CYCLES")``, not an
     EEVEE-only one), unmuted, or None."""
-    get = getattr(tree, "get_output_node", None)
-    if get is not None:
-        node = get("CYCLES")
-        return node if node is not None and not node.mute else None
-    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial" and not n.mute
-               and getattr(n, "target", "ALL") in ("ALL", "CYCLES")]
-    active = [n for n in outputs if n.is_active_output] or outputs
-    return active[0] if len(active) == 1 else None
+    node = tree.get_output_node("CYCLES")
+    return node if node is not None and not node.mute else None
 
 
 def _live_links(socket):
@@ -93,7 +87,7 @@ def _live_links(socket):
 
 
 def _black_surface(tree):
-    """True when the material provably reflects, transmits and emits nothing: its one active output takes a
+    """True when the material provably reflects, transmits and emits nothing: the output Cycles renders takes a
     Surface from one Diffuse BSDF whose Color is unlinked and (0, 0, 0), and no Volume (a black room's walls,
     a black card). Cycles drops a closure of zero weight, so such a surface only stops rays. Anything else
     (a Principled BSDF keeps its specular layer at base colour 0) may reflect."""
@@ -109,7 +103,7 @@ def _black_surface(tree):
 
 
 def _volume_only(tree):
-    """True when the material's active output takes a Volume and no Surface (issue 18, F5)."""
+    """True when the material's output Cycles renders takes a Volume and no Surface (issue 18, F5)."""
     output = _active_output(tree)
     if output is None:
         return False

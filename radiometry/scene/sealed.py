@@ -130,12 +130,13 @@ def sealed_off(model, points_m):
     dark = np.all(cut, axis=0) if shells else none.copy()
     why = ("sealed off: a closed opaque shell of surfaces that stop every ray lies between the meter and every light "
            "source: exactly 0, nothing rendered (radiometry/scene/sealed.py)") if dark.any() else ""
+    lo, hi = g.bounds()  # the box round the scene's triangles
     proofs = ((lambda pts: _behind_open_shell(model, sealing, sources, pts, shell_tol),
                "sealed off: every light source lies inside a closed opaque shell whose openings look out on nothing "
                "(every surface of the scene lies behind each opening's plane, the world is black), and the meter is "
                "outside it, behind every opening's plane: light leaving an opening travels on in front of it and never "
                "returns; exactly 0, nothing rendered (radiometry/scene/sealed.py)"),
-              (lambda pts: _behind_covered_faces(model, sources, pts, shell_tol),
+              (lambda pts: _behind_covered_faces(model, sources, pts, shell_tol, lo, hi),
                "sealed off: every light source lies inside the box round the scene's surfaces, the world is black, "
                "and the meter is outside that box, in front only of faces of it that opaque surfaces cover whole (a "
                "room of boxes: its walls' outer faces): light leaves the box only through the other faces and never "
@@ -143,8 +144,7 @@ def sealed_off(model, points_m):
     # The proofs below are searched only when some meter stands outside the box round the scene's triangles (for a
     # batch of meters in a room their search, seconds for a shell of thousands of triangles, is skipped; a meter they
     # could prove inside that box, e.g. beside a building on a ground plane, is then left to the render).
-    flat = g.triangles.reshape(-1, 3)
-    beyond = np.any((points_m < flat.min(axis=0) - shell_tol) | (points_m > flat.max(axis=0) + shell_tol), axis=1)
+    beyond = np.any((points_m < lo - shell_tol) | (points_m > hi + shell_tol), axis=1)
     for proof, reason in proofs:  # the meters still in doubt, each proof in turn
         if not np.any(beyond & ~dark):
             break
@@ -203,20 +203,19 @@ def _face_covered(rects, u_range, v_range, tol):
     return bool(np.all(count.cumsum(axis=0).cumsum(axis=1)[:-1, :-1] > 0))
 
 
-def _behind_covered_faces(model, sources, points_m, tol):
+def _behind_covered_faces(model, sources, points_m, tol, lo, hi):
     """(N,) bool: meters that no light reaches because every source lies inside the box round the scene's
     triangles, the world is black (no source at infinity; ``source_extents`` refuses media), and the meter is
     outside the box and in front only of faces that opaque sealing triangles lying in them cover whole: light
     crossing the box's boundary meets such a face's triangles, or leaves through another face into that face's
     open front half-space, where nothing is, and never returns (a room of separate boxes, whose walls' outer faces
     cover the box's faces but for its windows). Coverage is counted from pairs of triangles that make axis-aligned
-    rectangles (``_half_rectangles``) only. Every doubt proves nothing."""
+    rectangles (``_half_rectangles``) only. ``lo``, ``hi``: the box (``SceneGeometry.bounds``). Every doubt proves
+    nothing."""
     none = np.zeros(len(points_m), bool)
     g = model.geometry
     if not len(points_m) or not g.count or any(isinstance(source, str) for source in sources):
         return none
-    flat = g.triangles.reshape(-1, 3)
-    lo, hi = flat.min(axis=0), flat.max(axis=0)
     ok = np.any((points_m < lo - tol) | (points_m > hi + tol), axis=1)  # outside the box
     if not ok.any():
         return none  # (meters in a room: the faces' coverage is not needed)
@@ -254,7 +253,8 @@ def _covered_faces(g, lo, hi, tol):
 
 
 #: How far a pane's face in front of an opening may be from perpendicular to its plane, or lean towards the room
-#: (|cos| or -cos of its front normal with the opening's normal): ten float32 steps (the faces' coordinates are float32).
+#: (|cos| or -cos of its front normal with the opening's normal): ten float32 steps (the faces' coordinates are
+#: float32).
 FACE_COS_TOL = 10.0 * float(np.finfo(np.float32).eps)
 
 
