@@ -262,6 +262,26 @@ def test_a_furniture_piece_does_not_break_closure():
     assert closed and comp[:len(tris)].all() and not comp[len(tris):].any()
 
 
+def test_a_cabinet_against_a_wall_keeps_the_room_closed():
+    """A closed box standing in the corner of floor and wall shares their seam (an edge piece used four times):
+    the room stays closed (every piece of edge used an even number of times), points in the room are inside and a
+    point in the box is not. A single board standing on the same seam leaves edges used once: not closed."""
+    room = _room()
+    tris = _room_triangles(room)
+    cabinet = room.box_triangles((3.5, 1.5, 0.0), (4.0, 2.5, 2.0))  # against the wall x = 4 (the room is 4 m wide)
+    both = np.r_[tris, cabinet]
+    loops = [poly for poly, _n in sa.find_apertures(both, tol=1e-6)]
+    assert len(loops) == 1
+    closed, comp, reason = sa.enclosure_closed(both, loops, 1e-6)
+    assert closed and comp.all() and reason == "", reason
+    inside = sa.inside_enclosures([(2.0, 1.5, 0.85), (3.0, 2.0, 0.85), (3.75, 2.0, 0.85)], both[comp], loops, 1e-6)
+    assert inside == [True, True, False]
+    assert [len(part) for part in sa.closed_components(cabinet, 1e-6)] == [12]
+    board = np.array([[[4.0, 1.0, 0.0], [3.5, 1.0, 0.0], [3.5, 1.0, 1.0]], [[4.0, 1.0, 0.0], [3.5, 1.0, 1.0], [4.0, 1.0, 1.0]]])
+    closed, _comp, reason = sa.enclosure_closed(np.r_[tris, board], loops, 1e-6)
+    assert not closed and "used 1 time" in reason
+
+
 def test_an_aperture_wholly_behind_every_point_gives_zero():
     """Points that face away from the aperture (a vertical meter with its back to the window, one facing up above
     the window's head) read 0 from it, alone or together (it raised a numpy error when no point saw it)."""

@@ -551,8 +551,11 @@ def daylight_factor_grid(target, *, request, resolution=None, spacing=None, grou
                          "light rendered there); " + ("every point measured whole" if proven == 0 else
                                                      f"{nx * ny - proven} point(s) measured whole"))
             if proven < nx * ny:
-                notes.append("not proven at the first such point: " + next(
-                    (x for x in readings[int(np.flatnonzero(np.isnan(sc))[0])].notes if "not proven" in x), "?"))
+                # why: the point's own note ("sky component not proven (...)", or proven but not used: a point
+                # outside the room whose openings emit, such as one inside a cabinet against its wall)
+                first = readings[int(np.flatnonzero(np.isnan(sc))[0])]
+                notes.append("at the first such point: " + next(
+                    (x for x in first.notes if x.startswith("sky component")), "no sky component was stated"))
         notes += list(readings[0].notes)
         methods = sorted({r.method for r in readings})
         return DaylightFactorGrid(obj.name, nx, ny, df, se, points, tuple(float(v) for v in normal), stats,

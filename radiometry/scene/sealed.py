@@ -1,6 +1,6 @@
 """Meters sealed off from every source (issue 31, dark meters): a reading that is exactly 0 by proof.
 
-A closed surface (every edge shared by exactly two triangles, ``sky_aperture.closed_components``) parts
+A closed surface (every edge shared by an even number of triangles, ``sky_aperture.closed_components``) parts
 space in two: a path from a point of odd crossing parity to one of even parity crosses it. When its
 triangles are opaque and stop every kind of ray (``SceneGeometry.sealing_triangles``: diffuse, glossy,
 transmission, shadow and volume rays see them, no holdout), no light path crosses it: light is absorbed

@@ -717,7 +717,8 @@ SPLIT_MAX_TRIANGLES = 500
 
 def closed_components(triangles, tol):
     """The connected parts of ``triangles`` (T, 3, 3) that are closed surfaces: a list of index arrays, one
-    per part whose every edge is used by exactly two of its triangles (vertices welded within ``tol`` m;
+    per part whose every edge is used by an even number of its triangles (``enclosure_closed``: two boxes that
+    share an edge are one such part; vertices welded within ``tol`` m;
     degenerate triangles left out). A closed surface parts space in two: a path from a point of odd
     crossing parity to one of even parity crosses it (``inside_enclosures``). Edges are counted as welded;
     a part that is not closed that way is tried again with its edges split at T-junctions (as
@@ -733,7 +734,7 @@ def closed_components(triangles, tol):
     uniq, which, counts = np.unique(edges, axis=0, return_inverse=True, return_counts=True)
     roots = _vertex_parts(len(pts), uniq)
     tri_roots = roots[ids[:, 0]]  # a triangle in its first vertex's part
-    edge_ok = (counts == 2)[which.ravel()].reshape(-1, 3).all(axis=1)      # per triangle: its 3 edges shared by 2
+    edge_ok = (counts % 2 == 0)[which.ravel()].reshape(-1, 3).all(axis=1)  # per triangle: 3 edges used evenly
     out = []
     for r in np.unique(tri_roots):
         part = np.flatnonzero(tri_roots == r)
@@ -746,21 +747,28 @@ def closed_components(triangles, tol):
 
 def enclosure_closed_part(triangles, tol):
     """True when the connected ``triangles`` (T, 3, 3) form a closed surface with their edges split at
-    T-junctions (every piece of edge used exactly twice)."""
+    T-junctions (every piece of edge used an even number of times: two closed surfaces may share an edge,
+    ``enclosure_closed``)."""
     pts, inv = _weld(np.asarray(triangles, float).reshape(-1, 3), tol)
     ids = inv.reshape(-1, 3)
     count = {}
     for a, b in _split_edges(pts, [(t[i], t[(i + 1) % 3]) for t in ids for i in range(3)], tol):
         key = (min(a, b), max(a, b))
         count[key] = count.get(key, 0) + 1
-    return bool(count) and all(c == 2 for c in count.values())
+    return bool(count) and all(c % 2 == 0 for c in count.values())
 
 
 def enclosure_closed(triangles, loops, tol):
     """(closed, component mask (T,), reason): whether the triangles connected to the aperture ``loops``
-    (a list of (K, 3) polygons) form a closed two-manifold surface apart from exactly those holes
-    (vertices welded within ``tol`` m, edges split at T-junctions, every edge used twice except those
-    on an aperture's outline). ``component`` marks those triangles."""
+    (a list of (K, 3) polygons) form a closed surface apart from exactly those holes (vertices welded
+    within ``tol`` m, edges split at T-junctions, every edge used an even number of times except those
+    on an aperture's outline, used once). ``component`` marks those triangles.
+
+    Even, not exactly twice: a cabinet or a column standing against a wall is a closed box whose edges lie
+    on the room's (an edge piece used four times). Closed in this sense (a cycle modulo 2: every piece of
+    edge bounds an even number of triangles) is what the proofs use: a path from a point of odd crossing
+    parity to one of even parity crosses the surface (``inside_enclosures``), and the inside of the box
+    against the wall counts as outside the room, as it is."""
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     none = np.zeros(len(tris), bool)
     if len(tris) > CLOSURE_MAX_TRIANGLES:
@@ -782,7 +790,7 @@ def enclosure_closed(triangles, loops, tol):
             key = (min(a, b), max(a, b))
             count[key] = count.get(key, 0) + 1
     for (a, b), c in count.items():
-        if c == 2:
+        if c % 2 == 0:
             continue
         if c == 1 and _on_polygon_edge(pts[a], pts[b], loops, tol):
             continue
