@@ -123,7 +123,11 @@ def _find_shell(model, tol, reach):
     found = sky_aperture.find_apertures(tris[opaque], tol)  # a pane's faces do not close an opening
     if not found:
         return "no opening found in the scene's surfaces"
-    loops = [poly for poly, _normal in found]
+    # a hole in a plane that other faces close is no opening (a window frame's ring, a tunnel's mouth)
+    loops = sky_aperture.shell_holes(tris[opaque], [poly for poly, _normal in found], tol)
+    if not loops:
+        return ("no opening found in the scene's surfaces (the holes found in planes are closed by other faces: "
+                "a tunnel through a solid, a frame's ring)")
     bent = [k for k, poly in enumerate(loops) if not sky_aperture.is_convex(poly, tol)]
     if bent:
         return f"{len(bent)} opening(s) are not convex (the closed form needs convex ones)"
@@ -756,14 +760,19 @@ def openings_to_world(model):
     loops, shell, tris, tol, _reach = found
     tris = np.asarray(tris, float)
     see_through = ~np.asarray(model.geometry.opaque, bool)
+    sealing = opaque_mask(model)
     shell_vertices = np.asarray(shell, float).reshape(-1, 3)
     outward, depth, sky_only = [], [], False
     for k, poly in enumerate(loops):
         centre = poly.mean(axis=0)
         normal, _offset = sky_aperture.polygon_plane(poly)  # Newell's normal of the loop
-        if np.max((shell_vertices - centre) @ normal) > tol:
+        # the shell's parts within the opening's outline (a frame touching its corners joins the shell) stand on
+        # both sides of its plane: the side is the rest's
+        sides = shell_vertices[~np.repeat(np.all(sky_aperture.inside_prism(
+            shell_vertices, poly, centre, normal, tol).reshape(-1, 3), axis=1), 3)]
+        if np.max((sides - centre) @ normal) > tol:
             normal = -normal
-        if np.max((shell_vertices - centre) @ normal) > tol:
+        if np.max((sides - centre) @ normal) > tol:
             return Openings([], [], [], f"the room's own surfaces stand in front of opening {k + 1} (e.g. a wing "
                                         "of the building or a deep reveal): its view out is not the world alone")
         ahead = (tris - centre) @ normal                                   # (T, 3) m in front of the plane
@@ -772,14 +781,25 @@ def openings_to_world(model):
         if held.any() and not np.all(sky_aperture.inside_prism(tris[held].reshape(-1, 3), poly, centre, normal, tol)):
             return Openings([], [], [], f"a see-through surface in front of opening {k + 1} reaches beyond it: "
                                         "what the opening looks out on is rendered")
+        # opaque parts standing out of the opening within its outline (a window frame, a mullion): the emitter's cup
+        # stands past them too, where every ray that leaves through the opening still moves outwards
+        framed = front & ~see_through & np.all(sky_aperture.inside_prism(tris.reshape(-1, 3), poly, centre, normal,
+                                                                        tol).reshape(-1, 3), axis=1)
+        if framed.any():
+            if not (np.all(sealing[framed]) and sky_aperture.leaving_rays_keep_leaving(
+                    tris[framed], tris[sealing], poly, centre, normal, tol)):
+                return Openings([], [], [], f"a surface standing out of opening {k + 1} may turn the light leaving "
+                                            "through it back (a face towards the room): what the opening looks out "
+                                            "on is rendered")
+            held = held | framed
         d = float(ahead[held].max()) if held.any() else 0.0
         # under the emitter's lowest point (a glazed opening's cup stands out past its pane: ``add_opening_emitters``)
         lowest = float(poly[:, 2].min()) + min(0.0, float(normal[2])) * (_cup_offset(d) if d > 0.0 else 0.0)
         below = np.all(tris[..., 2] <= lowest + tol, axis=1)
-        if np.any(front & ~see_through & ~below):
+        if np.any(front & ~see_through & ~framed & ~below):
             return Openings([], [], [], f"a surface of the scene lies in front of opening {k + 1} (outside the "
                                         "room): what the opening looks out on is rendered")
-        sky_only |= bool(np.any(front & ~see_through & below))
+        sky_only |= bool(np.any(front & ~see_through & ~framed & below))
         outward.append(normal)
         depth.append(d)
     return Openings(list(loops), outward, depth, sky_only=sky_only)

@@ -61,6 +61,7 @@ from ..scene import visibility
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
            "pane_bounded_illuminances", "polygon_plane", "aperture_clear", "apertures_clear", "apertures_blockers",
            "coplanar_outside", "find_apertures", "inside_prism", "is_convex", "enclosure_closed", "closed_components",
+           "shell_holes", "leaving_rays_keep_leaving", "PERPENDICULAR_COS",
            "enclosure_closed_part", "inside_enclosure", "inside_enclosures", "plane_axes", "triangle_parts", "SKIES"]
 
 #: Sky models with a closed form over a polygon: name -> (constant, z-coefficient) of L / Lz = c0 + c1 u_z.
@@ -502,6 +503,42 @@ def inside_prism(vertices, poly, centre, normal, tol):
     return ok
 
 
+#: |cos| between a face's normal and an opening's below which the face counts as perpendicular to the opening's plane
+#: (ten float32 steps: a mesh's float32 coordinates tilt an exactly perpendicular face by about one).
+PERPENDICULAR_COS = 10.0 * float(np.finfo(np.float32).eps)
+
+
+def leaving_rays_keep_leaving(front, solids, poly, centre, normal, tol):
+    """True when the opaque triangles ``front`` (F, 3, 3), all in front of the convex opening ``poly`` (outward unit
+    ``normal``), lie inside its prism and cannot turn a ray that leaves through it back towards the wall: each face is
+    perpendicular to the opening's plane (a reflection there keeps the ray's outward motion), or its side towards the
+    room lies inside a closed solid of ``solids`` (T, 3, 3) (the front face of a window frame or a mullion: a ray
+    moving outwards can only meet it from that side, which no ray reaches). Then every ray that leaves through the
+    opening ends on these faces' outer sides or leaves the prism's cap or sides moving outwards (a window frame, a
+    mullion, the front of a deep reveal's lining)."""
+    front = np.asarray(front, float).reshape(-1, 3, 3)
+    if not len(front):
+        return True
+    if not np.all(inside_prism(front.reshape(-1, 3), poly, centre, normal, tol)):
+        return False
+    m = _unit(np.cross(front[:, 1] - front[:, 0], front[:, 2] - front[:, 0]))
+    c = m @ normal
+    slanted = np.abs(c) > PERPENDICULAR_COS
+    if not slanted.any():
+        return True
+    # a point just on each slanted face's room side: inside a closed solid (odd crossing parity against it)
+    room_side = front[slanted].mean(axis=1) - (20.0 * tol) * np.sign(c[slanted])[:, None] * m[slanted]
+    solids = np.asarray(solids, float).reshape(-1, 3, 3)
+    held = np.zeros(len(room_side), bool)
+    for part in closed_components(solids, tol):
+        todo = np.flatnonzero(~held)
+        if not todo.size:
+            break
+        inside = inside_enclosures(room_side[todo], solids[part], [], tol)
+        held[todo] = [v is True for v in inside]
+    return bool(held.all())
+
+
 def find_apertures(triangles, tol=1e-6):
     """Holes in planar groups of triangles: a list of (vertices (K, 3), plane normal (3,)), each a
     closed boundary loop of its plane's triangles that winds against them (a hole, not an outline).
@@ -756,6 +793,45 @@ def enclosure_closed_part(triangles, tol):
         key = (min(a, b), max(a, b))
         count[key] = count.get(key, 0) + 1
     return bool(count) and all(c % 2 == 0 for c in count.values())
+
+
+def _on_outline(points, poly, tol):
+    """(P,) bool: ``points`` (P, 3) lying on the outline of the polygon ``poly`` (K, 3) within ``tol`` m."""
+    pts = np.asarray(points, float).reshape(-1, 3)
+    a, b = poly, np.roll(poly, -1, axis=0)
+    d = b - a
+    length = np.maximum(np.linalg.norm(d, axis=1), 1e-300)
+    s = np.einsum("pkj,kj->pk", pts[:, None, :] - a[None], d) / length ** 2
+    off = np.linalg.norm(np.cross(pts[:, None, :] - a[None], d[None]), axis=2) / length
+    return np.any((off <= tol) & (s >= -tol / length) & (s <= 1 + tol / length), axis=1)
+
+
+def shell_holes(triangles, loops, tol):
+    """The ``loops`` (from :func:`find_apertures`) that are holes of the surface ``triangles`` (T, 3, 3) makes: each
+    piece of its outline is used by an odd number of triangles (vertices welded within ``tol`` m, edges split at
+    T-junctions). A hole in a plane whose outline other faces close is none: the ring of a window frame's front
+    faces (its inner faces use the same edges), the mouth of a tunnel through a solid wall (its reveal does)."""
+    if not loops:
+        return []
+    tris = np.asarray(triangles, float).reshape(-1, 3, 3)
+    if len(tris) > CLOSURE_MAX_TRIANGLES:
+        return list(loops)  # not checked here: enclosure_closed declines such a scene anyway
+    pts, inv = _weld(tris.reshape(-1, 3), tol)
+    ids = inv.reshape(-1, 3)
+    split = np.array(_split_edges(pts, [(t[i], t[(i + 1) % 3]) for t in ids for i in range(3)], tol), int)
+    if not len(split):
+        return []
+    kept = []
+    for poly in loops:
+        on = _on_outline(pts, poly, tol)
+        pieces = split[on[split[:, 0]] & on[split[:, 1]]]
+        pieces = pieces[_on_outline(0.5 * (pts[pieces[:, 0]] + pts[pieces[:, 1]]), poly, tol)] if len(pieces) else pieces
+        if not len(pieces):
+            continue
+        _keys, counts = np.unique(np.sort(pieces, axis=1), axis=0, return_counts=True)
+        if np.all(counts % 2 == 1):
+            kept.append(poly)
+    return kept
 
 
 def enclosure_closed(triangles, loops, tol):

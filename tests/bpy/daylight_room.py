@@ -59,6 +59,33 @@ def box_triangles(lo, hi):
     return np.array([[v[a], v[b], v[c]] for a, b, c, d in quads] + [[v[a], v[c], v[d]] for a, b, c, d in quads])
 
 
+def window_frame_boxes(width=0.05, depth=0.06, mullion=True, window=WINDOW):
+    """A window frame inside the opening of ``quads()`` (the wall y = 0): four bars ``width`` m wide round its rim
+    and, with ``mullion``, one up its middle, each ``depth`` m deep, half in front of the wall's plane and half
+    behind it. A list of (lo, hi) corners of boxes (``box_triangles``)."""
+    x0, x1, z0, z1 = window
+    y0, y1 = -0.5 * depth, 0.5 * depth
+    boxes = [((x0, y0, z0), (x1, y1, z0 + width)), ((x0, y0, z1 - width), (x1, y1, z1)),
+             ((x0, y0, z0 + width), (x0 + width, y1, z1 - width)), ((x1 - width, y0, z0 + width), (x1, y1, z1 - width))]
+    if mullion:
+        xm = 0.5 * (x0 + x1)
+        boxes.append(((xm - 0.5 * width, y0, z0 + width), (xm + 0.5 * width, y1, z1 - width)))
+    return boxes
+
+
+def build_boxes_objects(scene, boxes, name="frame", rho=0.5):
+    """One mesh object per box of ``boxes`` ((lo, hi) corners), a Diffuse BSDF of reflectance ``rho``."""
+    import bpy
+
+    material = diffuse_material(name, rho)
+    for k, (lo, hi) in enumerate(boxes):
+        me = bpy.data.meshes.new(f"{name} {k}")
+        me.from_pydata([tuple(v) for v in box_triangles(lo, hi).reshape(-1, 3)], [],
+                       [(3 * j, 3 * j + 1, 3 * j + 2) for j in range(12)])
+        me.materials.append(material)
+        scene.collection.objects.link(bpy.data.objects.new(f"{name} {k}", me))
+
+
 def box_room_boxes(t=0.1, hx=2.0, hy=2.0, h=3.0, w=1.0, sill=0.9, head=2.1):
     """The demo's daylit room (demo/daylight.py) as its boxes [(lo, hi)]: floor, roof and walls ``t`` m thick
     round a 2 hx x 2 hy x h m inside, a 2 w wide window from ``sill`` to ``head`` in the wall y = -hy."""

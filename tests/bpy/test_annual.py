@@ -495,7 +495,8 @@ def test_dome_direct_part_behind_a_pane_past_an_obstruction(clean_blender):
 
 def test_dome_direct_part_in_a_room_as_one_solid_is_the_boxes_closed_form(clean_blender):
     """The room of boxes joined into one closed solid (thick walls, the window a tunnel through them: a solidified or
-    imported room). Its closed shell holds openings but the meters lie outside it, so the dome was rendered whole;
+    imported room). Its closed shell has no opening (the tunnel's mouths are closed by its reveal) and the meters lie
+    outside it, so the dome was rendered whole;
     now the meters' open directions hold the patches' direct light as in the room of boxes: per patch the same
     closed form as the boxes give (the same geometry), and with everything black nothing rendered beside it."""
     from radiometer.measure.analyses import daylight_coefficients as dcm
@@ -511,7 +512,9 @@ def test_dome_direct_part_in_a_room_as_one_solid_is_the_boxes_closed_form(clean_
         room.room.build_boxes_blender(scene, room.room.boxes_room_boxes())
         boxes = dcm.render_coefficients(points, normals, request=request_of.build(scene, quality="preview", seed=2))
     assert solid.direct is not None, solid.notes
-    assert any("outside the only closed shell" in n and "meets no surface at all" in n for n in solid.notes)
+    # the tunnel's mouths are holes in the walls' planes that its reveal closes: the solid has no opening
+    assert any("closed by other faces: a tunnel through a solid" in n and "meets no surface at all" in n
+               for n in solid.notes), solid.notes
     np.testing.assert_array_equal(solid.dc, solid.direct)  # black: nothing rendered reaches the meters
     assert solid.direct.sum() > 0.0
     np.testing.assert_allclose(solid.direct, boxes.direct, rtol=1e-9, atol=1e-12 * boxes.direct.max())
