@@ -794,7 +794,8 @@ def openings_to_world(model):
             held = held | framed
         d = float(ahead[held].max()) if held.any() else 0.0
         # under the emitter's lowest point (a glazed opening's cup stands out past its pane: ``add_opening_emitters``)
-        lowest = float(poly[:, 2].min()) + min(0.0, float(normal[2])) * (_cup_offset(d) if d > 0.0 else 0.0)
+        lowest = float((_cup_rim(poly, normal) if d > 0.0 else poly)[:, 2].min()) \
+            + min(0.0, float(normal[2])) * (_cup_offset(d) if d > 0.0 else 0.0)
         below = np.all(tris[..., 2] <= lowest + tol, axis=1)
         if np.any(front & ~see_through & ~framed & ~below):
             return Openings([], [], [], f"a surface of the scene lies in front of opening {k + 1} (outside the "
@@ -808,6 +809,24 @@ def openings_to_world(model):
 def _cup_offset(depth):
     """How far out (m) a glazed opening's emitter stands: past its pane (``depth`` in front), 1 mm at least."""
     return depth + max(1e-3, 0.1 * depth)
+
+
+#: How far (m) outside a convex opening's outline its emitter cup's sides stand, on the wall's outer face. A frame's
+#: bars fill the opening's rim: cup sides on the outline itself lay in the bars' outer faces, where a renderer's
+#: shadow ray to the emitter may stop on the bar or not (float32). Outside the outline the space in front is empty
+#: (``openings_to_world``), so the cup still meets every ray that leaves through the opening, and nothing else.
+CUP_MARGIN_M = 1e-3
+
+
+def _cup_rim(poly, normal):
+    """The convex opening ``poly`` (K, 3) grown in its plane by at least ``CUP_MARGIN_M`` on every side (scaled about
+    its centroid: the nearest edge moves out by the margin, the others by more)."""
+    centre = poly.mean(axis=0)
+    edges = np.roll(poly, -1, axis=0) - poly
+    inward = np.cross(normal, edges)
+    inward /= np.linalg.norm(inward, axis=1, keepdims=True)
+    reach = np.abs(np.einsum("kj,kj->k", centre - poly, inward))  # the centroid's distance to each edge's line
+    return centre + (poly - centre) * (1.0 + CUP_MARGIN_M / float(reach.min()))
 
 
 def add_opening_emitters(request, openings, info):
@@ -831,8 +850,9 @@ def add_opening_emitters(request, openings, info):
     for k, (poly, normal, depth) in enumerate(zip(openings.loops, openings.outward, openings.depth)):
         n = len(poly)
         if depth > 0.0:
-            out = poly + _cup_offset(depth) * normal
-            verts = np.r_[poly, out]
+            rim = _cup_rim(poly, normal)
+            out = rim + _cup_offset(depth) * normal
+            verts = np.r_[rim, out]
             faces = [tuple(range(n, 2 * n))] + [(j, (j + 1) % n, n + (j + 1) % n, n + j) for j in range(n)]
         else:
             verts, faces = poly, [tuple(range(n))]
@@ -840,6 +860,16 @@ def add_opening_emitters(request, openings, info):
         mesh = bpy.data.meshes.new(name)
         mesh.from_pydata([tuple(float(c) / scale for c in v) for v in verts], [], faces)
         mesh.materials.append(sky.opening_emitter_material(name, info, normal, sky_only=openings.sky_only))
+        if len(faces) > 1:
+            # The cup's sides, thin strips seen edge-on from the room, emit like its front to the rays that meet them
+            # but are not sampled as lights: sampled, they tripled the variance of the rest (issue 31's room, a cup
+            # 1 mm deep: 0.87 M samples for 100 points at 1 % against 0.31 M for the flat emitter; 0.32 M with the
+            # sides found by the paths alone). Unbiased either way: what a light sample skips, a ray's hit counts.
+            sides = sky.opening_emitter_material(name + " sides", info, normal, sky_only=openings.sky_only)
+            sides.cycles.emission_sampling = "NONE"
+            mesh.materials.append(sides)
+            for poly in mesh.polygons[1:]:
+                poly.material_index = 1
         obj = bpy.data.objects.new(name, mesh)
         scene.collection.objects.link(obj)
         keys.append(identity.object_identity(obj))
