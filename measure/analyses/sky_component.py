@@ -760,7 +760,6 @@ def openings_to_world(model):
     loops, shell, tris, tol, _reach = found
     tris = np.asarray(tris, float)
     see_through = ~np.asarray(model.geometry.opaque, bool)
-    sealing = opaque_mask(model)
     shell_vertices = np.asarray(shell, float).reshape(-1, 3)
     outward, depth, sky_only = [], [], False
     for k, poly in enumerate(loops):
@@ -781,26 +780,26 @@ def openings_to_world(model):
         if held.any() and not np.all(sky_aperture.inside_prism(tris[held].reshape(-1, 3), poly, centre, normal, tol)):
             return Openings([], [], [], f"a see-through surface in front of opening {k + 1} reaches beyond it: "
                                         "what the opening looks out on is rendered")
-        # opaque parts standing out of the opening within its outline (a window frame, a mullion): the emitter's cup
-        # stands past them too, where every ray that leaves through the opening still moves outwards
+        # opaque parts standing out of the opening within its outline (a window frame's bars, a mullion): Cycles'
+        # next-event estimation from their faces to an emitter a few millimetres away weighs its samples by 1 / r^2,
+        # and the batch means understated those heavy tails (issue 31's room with a frame and a mullion, 30 seeds x 6
+        # points at 1 %: 82 % of 95 % intervals held on the emitters, 95 % on the gate path; with the bars black, 95 %)
         framed = front & ~see_through & np.all(sky_aperture.inside_prism(tris.reshape(-1, 3), poly, centre, normal,
                                                                         tol).reshape(-1, 3), axis=1)
         if framed.any():
-            if not (np.all(sealing[framed]) and sky_aperture.leaving_rays_keep_leaving(
-                    tris[framed], tris[sealing], poly, centre, normal, tol)):
-                return Openings([], [], [], f"a surface standing out of opening {k + 1} may turn the light leaving "
-                                            "through it back (a face towards the room): what the opening looks out "
-                                            "on is rendered")
-            held = held | framed
+            return Openings([], [], [], f"opaque parts stand out of opening {k + 1} within its outline (a frame's bars, "
+                                        "a mullion): next-event estimation from them to an emitter beside them has "
+                                        "tails the stated error would miss, so what the opening looks out on is "
+                                        "rendered")
         d = float(ahead[held].max()) if held.any() else 0.0
         # under the emitter's lowest point (a glazed opening's cup stands out past its pane: ``add_opening_emitters``)
         lowest = float((_cup_rim(poly, normal) if d > 0.0 else poly)[:, 2].min()) \
             + min(0.0, float(normal[2])) * (_cup_offset(d) if d > 0.0 else 0.0)
         below = np.all(tris[..., 2] <= lowest + tol, axis=1)
-        if np.any(front & ~see_through & ~framed & ~below):
+        if np.any(front & ~see_through & ~below):
             return Openings([], [], [], f"a surface of the scene lies in front of opening {k + 1} (outside the "
                                         "room): what the opening looks out on is rendered")
-        sky_only |= bool(np.any(front & ~see_through & ~framed & below))
+        sky_only |= bool(np.any(front & ~see_through & below))
         outward.append(normal)
         depth.append(d)
     return Openings(list(loops), outward, depth, sky_only=sky_only)

@@ -61,7 +61,7 @@ from ..scene import visibility
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
            "pane_bounded_illuminances", "polygon_plane", "aperture_clear", "apertures_clear", "apertures_blockers",
            "coplanar_outside", "find_apertures", "inside_prism", "is_convex", "enclosure_closed", "closed_components",
-           "shell_holes", "leaving_rays_keep_leaving", "PERPENDICULAR_COS",
+           "shell_holes",
            "enclosure_closed_part", "inside_enclosure", "inside_enclosures", "plane_axes", "triangle_parts", "SKIES"]
 
 #: Sky models with a closed form over a polygon: name -> (constant, z-coefficient) of L / Lz = c0 + c1 u_z.
@@ -501,42 +501,6 @@ def inside_prism(vertices, poly, centre, normal, tol):
         inward = inward / np.linalg.norm(inward)
         ok &= (flat + centre - poly[j]) @ inward >= -tol
     return ok
-
-
-#: |cos| between a face's normal and an opening's below which the face counts as perpendicular to the opening's plane
-#: (ten float32 steps: a mesh's float32 coordinates tilt an exactly perpendicular face by about one).
-PERPENDICULAR_COS = 10.0 * float(np.finfo(np.float32).eps)
-
-
-def leaving_rays_keep_leaving(front, solids, poly, centre, normal, tol):
-    """True when the opaque triangles ``front`` (F, 3, 3), all in front of the convex opening ``poly`` (outward unit
-    ``normal``), lie inside its prism and cannot turn a ray that leaves through it back towards the wall: each face is
-    perpendicular to the opening's plane (a reflection there keeps the ray's outward motion), or its side towards the
-    room lies inside a closed solid of ``solids`` (T, 3, 3) (the front face of a window frame or a mullion: a ray
-    moving outwards can only meet it from that side, which no ray reaches). Then every ray that leaves through the
-    opening ends on these faces' outer sides or leaves the prism's cap or sides moving outwards (a window frame, a
-    mullion, the front of a deep reveal's lining)."""
-    front = np.asarray(front, float).reshape(-1, 3, 3)
-    if not len(front):
-        return True
-    if not np.all(inside_prism(front.reshape(-1, 3), poly, centre, normal, tol)):
-        return False
-    m = _unit(np.cross(front[:, 1] - front[:, 0], front[:, 2] - front[:, 0]))
-    c = m @ normal
-    slanted = np.abs(c) > PERPENDICULAR_COS
-    if not slanted.any():
-        return True
-    # a point just on each slanted face's room side: inside a closed solid (odd crossing parity against it)
-    room_side = front[slanted].mean(axis=1) - (20.0 * tol) * np.sign(c[slanted])[:, None] * m[slanted]
-    solids = np.asarray(solids, float).reshape(-1, 3, 3)
-    held = np.zeros(len(room_side), bool)
-    for part in closed_components(solids, tol):
-        todo = np.flatnonzero(~held)
-        if not todo.size:
-            break
-        inside = inside_enclosures(room_side[todo], solids[part], [], tol)
-        held[todo] = [v is True for v in inside]
-    return bool(held.all())
 
 
 def find_apertures(triangles, tol=1e-6):

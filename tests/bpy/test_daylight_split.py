@@ -150,12 +150,13 @@ def test_a_cabinet_against_the_wall_keeps_the_split(clean_blender):
     assert any(n.startswith("sealed off") for n in boxed.notes), boxed.notes
 
 
-def test_a_window_frame_keeps_the_openings_as_emitters(clean_blender):
+def test_a_window_frame_is_one_opening_and_its_sky_is_proven(clean_blender):
     """A window frame with a mullion standing half out of the opening (tests/bpy/daylight_room.py
-    ``window_frame_boxes``): before, the rings of its faces counted as two more openings each side of the mullion (the
-    sky counted again through each: DF 8.4 % for 3.3 % in issue 31's room) and its bars in front of the wall sent
-    every point down the gate path (50-140x the electric grid). Now the room has one opening, whose emitter cup stands
-    past the bars; the sky past the frame's silhouette is proven, and the split agrees with the whole render."""
+    ``window_frame_boxes``): before, the rings of its faces counted as four more openings (the sky counted again
+    through each: DF 8.4 % for 3.3 % in issue 31's room). Now the room has one opening, the sky past the frame's
+    silhouette is proven, and, since next-event estimation from the bars to an emitter beside them has tails the
+    stated error misses, the opening is not made an emitter: the rest is rendered on the gate path, which agrees
+    with the whole render."""
     scene = bpy.context.scene
     room.build_blender(scene)
     points = [(2.0, 0.75, 0.85), (1.2, 0.4, 1.6), (2.0, 2.5, 0.85)]
@@ -171,8 +172,8 @@ def test_a_window_frame_keeps_the_openings_as_emitters(clean_blender):
     for a, w, b, f in zip(auto, whole, bare, framed):
         assert f.apertures == 1 and 0.5 * b.sky_lux < f.sky_lux < b.sky_lux  # the frame's bars hide part of the sky
         assert a.method.startswith("hybrid") and a.sky_component == 100.0 * f.sky_lux / SKY_HORIZONTAL_LUX
-        assert any("1 convex opening(s) in a closed opaque shell" in n for n in a.notes), a.notes
-        assert any("light linking was checked" in n and "does NOT" not in n for n in a.notes), a.notes
+        assert any("1 convex opening(s) in a closed opaque shell" in n and "opaque parts stand out of opening 1" in n
+                   for n in a.notes), a.notes
         assert abs(a.daylight_factor - w.daylight_factor) <= 3.0 * math.hypot(_se(a), _se(w))
 
 
