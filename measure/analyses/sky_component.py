@@ -769,6 +769,8 @@ def openings_to_world(model):
         # both sides of its plane: the side is the rest's
         sides = shell_vertices[~np.repeat(np.all(sky_aperture.inside_prism(
             shell_vertices, poly, centre, normal, tol).reshape(-1, 3), axis=1), 3)]
+        if not len(sides):  # the whole shell within the outline (an open-topped box: the opening is its top)
+            sides = shell_vertices
         if np.max((sides - centre) @ normal) > tol:
             normal = -normal
         if np.max((sides - centre) @ normal) > tol:
