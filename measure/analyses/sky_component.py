@@ -119,22 +119,24 @@ def _proof_tolerance(model, points_m):
 
 def _find_shell(model, tol, reach):
     tris = model.geometry.triangles
-    opaque = opaque_mask(model)
-    found = sky_aperture.find_apertures(tris[opaque], tol)  # a pane's faces do not close an opening
+    sealing = tris[opaque_mask(model)]
+    found = sky_aperture.find_apertures(sealing, tol)  # a pane's faces do not close an opening
     if not found:
         return "no opening found in the scene's surfaces"
+    # the edges' pieces once for both searches below (the costly part: every edge against every vertex)
+    pieces = sky_aperture.edge_pieces(sealing, tol) if len(sealing) <= sky_aperture.CLOSURE_MAX_TRIANGLES else None
     # a hole in a plane that other faces close is no opening (a window frame's ring, a tunnel's mouth)
-    loops = sky_aperture.shell_holes(tris[opaque], [poly for poly, _normal in found], tol)
+    loops = sky_aperture.shell_holes(sealing, [poly for poly, _normal in found], tol, pieces=pieces)
     if not loops:
         return ("no opening found in the scene's surfaces (the holes found in planes are closed by other faces: "
                 "a tunnel through a solid, a frame's ring)")
     bent = [k for k, poly in enumerate(loops) if not sky_aperture.is_convex(poly, tol)]
     if bent:
         return f"{len(bent)} opening(s) are not convex (the closed form needs convex ones)"
-    closed, comp, why = sky_aperture.enclosure_closed(tris[opaque], loops, tol)
+    closed, comp, why = sky_aperture.enclosure_closed(sealing, loops, tol, pieces=pieces)
     if not closed:
         return why
-    return loops, tris[opaque][comp], tris, tol, reach
+    return loops, sealing[comp], tris, tol, reach
 
 
 def _clear_proofs(points_m, inner, loops, tris, tol, reach):
@@ -786,8 +788,9 @@ def openings_to_world(model):
         # next-event estimation from their faces to an emitter a few millimetres away weighs its samples by 1 / r^2,
         # and the batch means understated those heavy tails (issue 31's room with a frame and a mullion, 30 seeds x 6
         # points at 1 %: 82 % of 95 % intervals held on the emitters, 95 % on the gate path; with the bars black, 95 %)
-        framed = front & ~see_through & np.all(sky_aperture.inside_prism(tris.reshape(-1, 3), poly, centre, normal,
-                                                                        tol).reshape(-1, 3), axis=1)
+        ahead_opaque = np.flatnonzero(front & ~see_through)
+        framed = np.all(sky_aperture.inside_prism(tris[ahead_opaque].reshape(-1, 3), poly, centre, normal,
+                                                  tol).reshape(-1, 3), axis=1)
         if framed.any():
             return Openings([], [], [], f"opaque parts stand out of opening {k + 1} within its outline (a frame's bars, "
                                         "a mullion): next-event estimation from them to an emitter beside them has "
@@ -869,8 +872,8 @@ def add_opening_emitters(request, openings, info):
             sides = sky.opening_emitter_material(name + " sides", info, normal, sky_only=openings.sky_only)
             sides.cycles.emission_sampling = "NONE"
             mesh.materials.append(sides)
-            for poly in mesh.polygons[1:]:
-                poly.material_index = 1
+            for side in mesh.polygons[1:]:
+                side.material_index = 1
         obj = bpy.data.objects.new(name, mesh)
         scene.collection.objects.link(obj)
         keys.append(identity.object_identity(obj))

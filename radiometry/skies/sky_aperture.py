@@ -61,7 +61,7 @@ from ..scene import visibility
 __all__ = ["clip_polygon", "fan_triangles", "spherical_moments", "aperture_illuminance", "pane_bounded_illuminance",
            "pane_bounded_illuminances", "polygon_plane", "aperture_clear", "apertures_clear", "apertures_blockers",
            "coplanar_outside", "find_apertures", "inside_prism", "is_convex", "enclosure_closed", "closed_components",
-           "shell_holes",
+           "shell_holes", "edge_pieces",
            "enclosure_closed_part", "inside_enclosure", "inside_enclosures", "plane_axes", "triangle_parts", "SKIES"]
 
 #: Sky models with a closed form over a polygon: name -> (constant, z-coefficient) of L / Lz = c0 + c1 u_z.
@@ -746,17 +746,27 @@ def closed_components(triangles, tol):
     return out
 
 
+def edge_pieces(triangles, tol):
+    """(welded vertices (V, 3), vertex ids (T, 3), {(a, b) with a < b: uses}) of ``triangles`` (T, 3, 3): vertices
+    welded within ``tol`` m, every edge split at the welded vertices lying inside it (T-junctions), and how many
+    triangles use each piece (in the order the pieces first come). O(edges x vertices): the callers bound the count
+    (``CLOSURE_MAX_TRIANGLES``); one search may hand the result to both :func:`shell_holes` and
+    :func:`enclosure_closed`."""
+    pts, inv = _weld(np.asarray(triangles, float).reshape(-1, 3), tol)
+    ids = inv.reshape(-1, 3)
+    uses = {}
+    for a, b in _split_edges(pts, [(t[i], t[(i + 1) % 3]) for t in ids for i in range(3)], tol):
+        key = (min(a, b), max(a, b))
+        uses[key] = uses.get(key, 0) + 1
+    return pts, ids, uses
+
+
 def enclosure_closed_part(triangles, tol):
     """True when the connected ``triangles`` (T, 3, 3) form a closed surface with their edges split at
     T-junctions (every piece of edge used an even number of times: two closed surfaces may share an edge,
     ``enclosure_closed``)."""
-    pts, inv = _weld(np.asarray(triangles, float).reshape(-1, 3), tol)
-    ids = inv.reshape(-1, 3)
-    count = {}
-    for a, b in _split_edges(pts, [(t[i], t[(i + 1) % 3]) for t in ids for i in range(3)], tol):
-        key = (min(a, b), max(a, b))
-        count[key] = count.get(key, 0) + 1
-    return bool(count) and all(c % 2 == 0 for c in count.values())
+    uses = edge_pieces(triangles, tol)[2]
+    return bool(uses) and all(c % 2 == 0 for c in uses.values())
 
 
 def _on_outline(points, poly, tol):
@@ -770,35 +780,33 @@ def _on_outline(points, poly, tol):
     return np.any((off <= tol) & (s >= -tol / length) & (s <= 1 + tol / length), axis=1)
 
 
-def shell_holes(triangles, loops, tol):
+def shell_holes(triangles, loops, tol, pieces=None):
     """The ``loops`` (from :func:`find_apertures`) that are holes of the surface ``triangles`` (T, 3, 3) makes: each
     piece of its outline is used by an odd number of triangles (vertices welded within ``tol`` m, edges split at
-    T-junctions). A hole in a plane whose outline other faces close is none: the ring of a window frame's front
-    faces (its inner faces use the same edges), the mouth of a tunnel through a solid wall (its reveal does)."""
+    T-junctions; ``pieces``: :func:`edge_pieces` of them, when the caller has it). A hole in a plane whose outline
+    other faces close is none: the ring of a window frame's front faces (its inner faces use the same edges), the
+    mouth of a tunnel through a solid wall (its reveal does)."""
     if not loops:
         return []
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     if len(tris) > CLOSURE_MAX_TRIANGLES:
         return list(loops)  # not checked here: enclosure_closed declines such a scene anyway
-    pts, inv = _weld(tris.reshape(-1, 3), tol)
-    ids = inv.reshape(-1, 3)
-    split = np.array(_split_edges(pts, [(t[i], t[(i + 1) % 3]) for t in ids for i in range(3)], tol), int)
-    if not len(split):
+    pts, _ids, uses = edge_pieces(tris, tol) if pieces is None else pieces
+    if not uses:
         return []
+    ends = np.array(list(uses), int)                                      # (E, 2) the pieces
+    odd = np.array(list(uses.values())) % 2 == 1
     kept = []
     for poly in loops:
         on = _on_outline(pts, poly, tol)
-        pieces = split[on[split[:, 0]] & on[split[:, 1]]]
-        pieces = pieces[_on_outline(0.5 * (pts[pieces[:, 0]] + pts[pieces[:, 1]]), poly, tol)] if len(pieces) else pieces
-        if not len(pieces):
-            continue
-        _keys, counts = np.unique(np.sort(pieces, axis=1), axis=0, return_counts=True)
-        if np.all(counts % 2 == 1):
+        outline = np.flatnonzero(on[ends[:, 0]] & on[ends[:, 1]])
+        outline = outline[_on_outline(0.5 * (pts[ends[outline, 0]] + pts[ends[outline, 1]]), poly, tol)]
+        if outline.size and np.all(odd[outline]):
             kept.append(poly)
     return kept
 
 
-def enclosure_closed(triangles, loops, tol):
+def enclosure_closed(triangles, loops, tol, pieces=None):
     """(closed, component mask (T,), reason): whether the triangles connected to the aperture ``loops``
     (a list of (K, 3) polygons) form a closed surface apart from exactly those holes (vertices welded
     within ``tol`` m, edges split at T-junctions, every edge used an even number of times except those
@@ -808,29 +816,22 @@ def enclosure_closed(triangles, loops, tol):
     on the room's (an edge piece used four times). Closed in this sense (a cycle modulo 2: every piece of
     edge bounds an even number of triangles) is what the proofs use: a path from a point of odd crossing
     parity to one of even parity crosses the surface (``inside_enclosures``), and the inside of the box
-    against the wall counts as outside the room, as it is."""
+    against the wall counts as outside the room, as it is. ``pieces``: :func:`edge_pieces` of the triangles, when
+    the caller has it."""
     tris = np.asarray(triangles, float).reshape(-1, 3, 3)
     none = np.zeros(len(tris), bool)
     if len(tris) > CLOSURE_MAX_TRIANGLES:
         return False, none, f"more than {CLOSURE_MAX_TRIANGLES} triangles: closure not checked"
-    pts, inv = _weld(tris.reshape(-1, 3), tol)
-    ids = inv.reshape(-1, 3)
-    raw = [(t[i], t[(i + 1) % 3]) for t in ids for i in range(3)]
-    split = _split_edges(pts, raw, tol)
-    roots = _vertex_parts(len(pts), split)
+    pts, ids, uses = edge_pieces(tris, tol) if pieces is None else pieces
+    roots = _vertex_parts(len(pts), list(uses))
     loop_pts = np.concatenate(loops)
     near = np.flatnonzero(np.min(np.linalg.norm(pts[:, None, :] - loop_pts[None], axis=2), axis=1) <= tol)
     if not near.size:
         return False, none, "the apertures' outlines are not edges of the scene's surfaces"
     chosen = set(roots[near].tolist())
     comp = np.isin(roots[ids[:, 0]], list(chosen))
-    count = {}
-    for a, b in split:
-        if roots[a] in chosen:
-            key = (min(a, b), max(a, b))
-            count[key] = count.get(key, 0) + 1
-    for (a, b), c in count.items():
-        if c % 2 == 0:
+    for (a, b), c in uses.items():
+        if c % 2 == 0 or roots[a] not in chosen:
             continue
         if c == 1 and _on_polygon_edge(pts[a], pts[b], loops, tol):
             continue
