@@ -83,19 +83,13 @@ def bench_room(glass, n, target, whole, repeats=3, solid=False):
     import numpy as np
 
     from radiometer import api
+    from scenes import grid_pair
 
     scene, plane = build(glass, solid)
     out = {"room": ("room as one solid, open window" if solid else "room of boxes, 6 mm pane" if glass
                     else "room of boxes, open window"), "glass": glass, "solid": solid,
            "points": n * n, "target_rel_error": target, "load_before": os.getloadavg()}
-    api.illuminance_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)  # warm-up
-    api.daylight_factor_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)
-
-    def electric():
-        return api.illuminance_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target)
-
-    def auto():
-        return api.daylight_factor_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target, seed=1)
+    electric, auto = grid_pair(api, scene, plane, n, target)  # warmed up
 
     pairs = []
     grid = None

@@ -57,18 +57,12 @@ def bench_variant(variant, n, target, whole_points, repeats):
 
     from radiometer import api
     from radiometer.measure.analyses import sky_component
+    from scenes import grid_pair
 
     scene, plane = side_lit_scene(True)
     furnish(scene, variant)
     out = {"variant": variant, "points": n * n, "target_rel_error": target, "load_average_before": os.getloadavg()}
-    api.illuminance_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)  # warm-up
-    api.daylight_factor_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)
-
-    def electric():
-        return api.illuminance_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target)
-
-    def auto():
-        return api.daylight_factor_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target, seed=1)
+    electric, auto = grid_pair(api, scene, plane, n, target)  # warmed up
 
     pairs, grid = [], None
     for _ in range(repeats):

@@ -70,19 +70,13 @@ def bench_room(kind, n, target, whole):
 
     from radiometer import api
     from radiometer.measure.analyses import sky_component
+    from scenes import grid_pair
 
     scene, plane = build(kind)
     out = {"room": {"thin": "side-lit room (thin walls, one mesh)", "boxes": "room of boxes"}[kind] + " on a ground plane",
            "kind": kind, "points": n * n, "target_rel_error": target, "ground_reflectance": GROUND_REFLECTANCE,
            "load_before": os.getloadavg()}
-    api.illuminance_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)  # warm-up: kernels, checks
-    api.daylight_factor_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)
-
-    def electric():
-        return api.illuminance_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target)
-
-    def auto():
-        return api.daylight_factor_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target, seed=1)
+    electric, auto = grid_pair(api, scene, plane, n, target)  # warmed up
 
     real, before = _gate_only()
     e_s = [_timed(electric)[1]]

@@ -250,6 +250,22 @@ def grid_arguments(args, n=10, target=0.01, whole=12):
             int(args[2]) if len(args) > 2 else whole)
 
 
+def grid_pair(api, scene, plane, n, target):
+    """After a warm-up (a 2 x 2 electric and daylight-factor grid on ``plane``: kernels, captures, the emitters'
+    checks), (electric, auto): callables that run the n x n illuminance grid and the daylight-factor grid (``method``
+    auto, seed 1) at ``target``, the pair the issue-31 benches time against each other."""
+    api.illuminance_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)
+    api.daylight_factor_grid(plane, resolution=(2, 2), scene=scene, target_rel_error=0.05)
+
+    def electric():
+        return api.illuminance_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target)
+
+    def auto():
+        return api.daylight_factor_grid(plane, resolution=(n, n), scene=scene, target_rel_error=target, seed=1)
+
+    return electric, auto
+
+
 def pop_option(args, flag, default, kind=str):
     """The value after ``flag`` in the list ``args`` (both removed from it) as ``kind``, else ``default``."""
     if flag not in args:
