@@ -7,11 +7,10 @@ the gate path (the openings not made emitters: ``sky_component.openings_to_world
 scenes took before the room's closure allowed furniture against its walls and frames in its openings). The whole
 render (``method="render"``, another seed) on a spread subset of the points is the independent check.
 
-    PYTHONPATH=... python bench/daylight_furnished.py [n] [target]   # default 10 x 10 at 1 %; writes
-    bench/daylight_furnished.json and bench/daylight_furnished.md
+    PYTHONPATH=... python bench/daylight_furnished.py [n] [target] [whole]   # default 10 x 10 at 1 %, 16 points
+    also rendered whole; writes bench/daylight_furnished.json and bench/daylight_furnished.md
 """
 
-import json
 import os
 import sys
 import time
@@ -145,11 +144,8 @@ def markdown(s):
 
 
 if __name__ == "__main__":
-    n = int(sys.argv[1]) if len(sys.argv) > 1 else 10
-    target = float(sys.argv[2]) if len(sys.argv) > 2 else 0.01
-    result = bench_daylight_furnished(n, target)
-    with open(os.path.join(HERE, "daylight_furnished.json"), "w", encoding="utf-8") as fh:
-        json.dump(result, fh, indent=2)
-    with open(os.path.join(HERE, "daylight_furnished.md"), "w", encoding="utf-8") as fh:
-        fh.write("\n".join(markdown(result)) + "\n")
+    from scenes import grid_arguments, write_results
+
+    result = bench_daylight_furnished(*grid_arguments(sys.argv[1:], whole=16))
+    write_results(HERE, "daylight_furnished", result, "\n".join(markdown(result)))
     print("\n".join(markdown(result)))
