@@ -299,6 +299,31 @@ def test_a_window_frame_is_no_opening():
     assert sa.shell_holes(tris, [poly for poly, _n in sa.find_apertures(tris, tol=1e-6)], 1e-6)  # the bare room's
 
 
+def test_a_sill_on_the_wall_under_the_window_keeps_the_opening():
+    """An interior sill whose back face lies on the wall, its top at the window's bottom edge: the back face shares
+    that edge with the wall, both from below, so the edge was used twice and the window's outline was lost ("no
+    opening found"). The edge bounds the UNION of the wall's faces (nothing of the plane covers the window's side of
+    it): the opening is found, it is the shell's hole (the edge is used three times: wall, back face, top face) and
+    the room stays closed. A sill raised into the window (its back face covering the opening's bottom strip) crosses
+    the opening's side edges where neither has a vertex: the plane's edges are not cut there, so no loop closes and no
+    opening is claimed (the room then takes the proof that needs none; a loop over the covered strip would be
+    refused by ``_filled`` anyway)."""
+    room = _room()
+    tris = _room_triangles(room)
+    x0, x1, z0, z1 = room.WINDOW
+    sill = room.box_triangles((x0 - 0.1, 0.0, z0 - 0.05), (x1 + 0.1, 0.25, z0))
+    both = np.r_[tris, sill]
+    loops = [poly for poly, _n in sa.find_apertures(both, tol=1e-6)]
+    assert len(loops) == 1
+    assert sorted(map(tuple, np.round(loops[0], 9))) == sorted([(x0, 0, z0), (x1, 0, z0), (x1, 0, z1), (x0, 0, z1)])
+    assert sa.shell_holes(both, loops, 1e-6)
+    closed, comp, reason = sa.enclosure_closed(both, loops, 1e-6)
+    assert closed and comp.all() and reason == "", reason
+    assert sa.inside_enclosures([(2.0, 1.0, 0.85), (2.0, 0.1, z0 - 0.02)], both[comp], loops, 1e-6) == [True, False]
+    raised = room.box_triangles((x0 - 0.1, 0.0, z0), (x1 + 0.1, 0.25, z0 + 0.05))
+    assert sa.find_apertures(np.r_[tris, raised], tol=1e-6) == []
+
+
 def test_an_aperture_wholly_behind_every_point_gives_zero():
     """Points that face away from the aperture (a vertical meter with its back to the window, one facing up above
     the window's head) read 0 from it, alone or together (it raised a numpy error when no point saw it)."""

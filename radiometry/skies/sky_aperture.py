@@ -557,11 +557,7 @@ def _holes(tris, normal, tol):
             on = np.flatnonzero((off <= tol) & (s > 1e-12) & (s < 1 - 1e-12))
             chain = [a] + list(on[np.argsort(s[on])]) + [b]
             edges += list(zip(chain[:-1], chain[1:]))
-    count = {}
-    for a, b in edges:
-        key = (min(a, b), max(a, b))
-        count[key] = count.get(key, 0) + 1
-    boundary = {a: b for a, b in edges if count[(min(a, b), max(a, b))] == 1}
+    boundary = _union_boundary(edges, xy, tris @ e1, tris @ e2, tol)
     loops, seen = [], set()
     for start in list(boundary):
         if start in seen:
@@ -585,6 +581,49 @@ def _holes(tris, normal, tol):
         if len(keep) >= 3 and signed < 0 and not _filled(ring[::-1], tris, e1, e2, tol):
             loops.append(pts[keep])  # winds against the faces and nothing of the plane fills it: a hole
     return loops
+
+
+def _union_boundary(edges, xy, tu, tv, tol):
+    """{a: b}: the pieces of the plane's edges (``edges``: (a, b) welded vertex indices, each with its triangle on
+    its left, the group's triangles counter-clockwise) that bound the UNION of its triangles (``tu``, ``tv``: (T, 3)
+    their 2-D coordinates), each once, directed with the union on its left. A piece with a triangle of its own on
+    each side is inside; otherwise it bounds the union where nothing of the plane covers the point just beside its
+    middle on its open side. Where every edge is used once or twice (a plane of one sheet) these are the pieces
+    used once; a face lying on another (a sill's back face on the wall under a window, up to the window's edge)
+    no longer hides the edge it shares with that hole (the edge is used twice, both times from below)."""
+    sides = {}
+    for a, b in edges:
+        key = (min(a, b), max(a, b))
+        sides.setdefault(key, set()).add(a == key[0])  # True: the triangle lies left of key[0] -> key[1]
+    open_pieces = [(k, s.pop()) for k, s in sides.items() if len(s) == 1]
+    if not open_pieces:
+        return {}
+    a = np.array([xy[k[0]] for k, _ in open_pieces])
+    b = np.array([xy[k[1]] for k, _ in open_pieces])
+    left = np.array([s for _, s in open_pieces])
+    d = b - a
+    normal = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.linalg.norm(d, axis=1, keepdims=True)  # left of a -> b
+    probe = 0.5 * (a + b) - np.where(left[:, None], 1.0, -1.0) * normal * (4.0 * tol)  # the open side
+    covered = _covered(probe, tu, tv, tol)
+    return {(k[0] if s else k[1]): (k[1] if s else k[0]) for (k, s), c in zip(open_pieces, covered) if not c}
+
+
+def _covered(points, tu, tv, tol):
+    """(M,) bool: each 2-D point lies inside some triangle (T, 3) of the plane, more than ``tol`` from its edges."""
+    out = np.zeros(len(points), bool)
+    for s in range(0, len(points), 256):
+        p = points[s:s + 256]
+        inside = np.ones((len(p), len(tu)), bool)
+        area2 = (tu[:, 1] - tu[:, 0]) * (tv[:, 2] - tv[:, 0]) - (tv[:, 1] - tv[:, 0]) * (tu[:, 2] - tu[:, 0])
+        orient = np.sign(area2)
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            eu, ev = tu[:, j] - tu[:, i], tv[:, j] - tv[:, i]
+            length = np.hypot(eu, ev)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                dist = orient * (eu * (p[:, 1:2] - tv[:, i]) - ev * (p[:, 0:1] - tu[:, i])) / length
+            inside &= dist > tol
+        out[s:s + 256] = inside.any(axis=1)
+    return out
 
 
 def _ear_triangles(ring):
@@ -810,7 +849,8 @@ def enclosure_closed(triangles, loops, tol, pieces=None):
     """(closed, component mask (T,), reason): whether the triangles connected to the aperture ``loops``
     (a list of (K, 3) polygons) form a closed surface apart from exactly those holes (vertices welded
     within ``tol`` m, edges split at T-junctions, every edge used an even number of times except those
-    on an aperture's outline, used once). ``component`` marks those triangles.
+    on an aperture's outline, used an odd number of times: once, or three times where a sill's back and top faces
+    meet the wall at the window's edge). ``component`` marks those triangles.
 
     Even, not exactly twice: a cabinet or a column standing against a wall is a closed box whose edges lie
     on the room's (an edge piece used four times). Closed in this sense (a cycle modulo 2: every piece of
@@ -833,8 +873,8 @@ def enclosure_closed(triangles, loops, tol, pieces=None):
     for (a, b), c in uses.items():
         if c % 2 == 0 or roots[a] not in chosen:
             continue
-        if c == 1 and _on_polygon_edge(pts[a], pts[b], loops, tol):
-            continue
+        if _on_polygon_edge(pts[a], pts[b], loops, tol):
+            continue  # odd on an opening's outline: its cap makes it even (3: a sill's faces meet the wall there)
         where = np.round(0.5 * (pts[a] + pts[b]), 3).tolist()
         return False, comp, (f"the surface around the openings is not closed (an edge near {where} m is used {c} "
                              "time(s)): sky may enter elsewhere")
