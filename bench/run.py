@@ -998,7 +998,8 @@ def markdown(res):
                 f"(1000 points x 8760 h) on 16 / 64 / 256 cores: "
                 + " / ".join(f"{r['total_s'] / 60:.1f} min" for r in c["projection"])
                 + ". Overheads and the projection's model: bench/cluster.md (bench/cluster.py).", ""]
-    for key in ("sun_study", "daylight_factor", "daylight_split", "daylight_furnished", "daylight_steps", "annual"):  # bench/<key>.py writes its own section
+    for key in ("sun_study", "daylight_factor", "daylight_split", "daylight_furnished", "daylight_gather", "daylight_steps",
+                "annual"):  # bench/<key>.py writes its own section
         if key in res:
             out += __import__(key).markdown(res[key])
     return "\n".join(out)
@@ -1068,6 +1069,12 @@ BENCHES["ground_plane_split"] = lambda: __import__("ground_plane_split").run(
 # mullion vs electric and vs the gate path; quick: 3 x 3 at 5 % (its result returned, the files left as they are).
 BENCHES["daylight_furnished"] = lambda: __import__("daylight_furnished").bench_daylight_furnished(
     *((3, 0.05) if QUICK else ()))
+
+
+# Issue 31 (bench/daylight_gather.py): the rest of 900 and 100 DF meters gathered from the walls vs rendered per meter;
+# quick: one repeat of a 10 x 10 grid.
+BENCHES["daylight_gather"] = lambda: __import__("daylight_gather").bench_daylight_gather(
+    *((1, (10,)) if QUICK else ()))
 
 
 # Issue 31 (bench/dark_meters.py): a grid past a lit room's walls, the meters outside proven dark vs sampled to the

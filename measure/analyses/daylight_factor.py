@@ -229,6 +229,7 @@ def _split_readings(request, points, dirs, rho, sky_info):
     meter's budget (its absolute floor in lux) and the first seed; ``sky_info`` is the sky as
     :func:`overcast_only` set it (the openings' emitters carry it)."""
     from ..meter import point_meter as meter
+    from ..meter import surface_gather
     from . import sky_component
 
     scene, seed = request.scene, request.seed
@@ -325,10 +326,19 @@ def _split_readings(request, points, dirs, rho, sky_info):
                         + f"; {how}, linked out of the meters, and Cycles rendered only the light the room's "
                         "surfaces reflect, sampling the openings as lights", link_note]
 
-            measure_at(linked, linked_note, seed=seed,
-                       proven=meter.ProvenPart(grey, "sky through the openings (closed form)" if sky_only else
-                                               "sky and ground through the openings (closed form)", keys, bound,
-                                               covers_world=not sky_only))  # sky-only: the ground is rendered
+            name = ("sky through the openings (closed form)" if sky_only else
+                    "sky and ground through the openings (closed form)")
+            # where the room is convex, empty, Lambertian and open, the rest is gathered from bakes on its walls,
+            # shared by all these meters (surface_gather); elsewhere each meter renders its own
+            plan = surface_gather.plan(model, openings, sensors[linked] * scale, dirs[linked],
+                                       sky_component._proof_tolerance(model, sensors[linked] * scale))
+            gathered = plan.usable if not isinstance(plan, str) else np.zeros(len(linked), bool)
+            for use, idx in ((True, np.flatnonzero(gathered)), (False, np.flatnonzero(~gathered))):
+                if idx.size:
+                    measure_at(linked[idx], linked_note, seed=seed,
+                               proven=meter.ProvenPart(grey[idx], name, keys, bound[idx],
+                                                       covers_world=not sky_only,  # sky-only: the ground is rendered
+                                                       gather=plan if use else None))
             for k in linked:
                 sky[k], grd[k] = float(scs[k].sky_lux), None if sky_only else float(scs[k].ground_lux)
         measure_at(whole, lambda k: [

@@ -672,6 +672,9 @@ class ProvenPart:
     linked_out: frozenset = frozenset()
     bound_rgb: object = 0.0
     covers_world: bool = False
+    #: a ``surface_gather.GatherPlan`` whose wall cells every one of these meters sees whole: the rest is gathered
+    #: from bakes on the walls (``surface_gather.measure``), not rendered at the meters
+    gather: object = None
 
     def per_meter(self, n):
         """This part with ``rgb`` and ``bound_rgb`` as (n, 3) arrays."""
@@ -777,14 +780,27 @@ def _render_part(request, model, decision, direct, sensors_scene, sensors_m, nor
               "rendered": ["everything else (reflected light, other lights, world, emitting surfaces)"]}
              for k in range(n)]
     weights = request.weights
-    run = adaptive.render_hybrid(request, sensors_scene, normals, needs=model.needs,
-                                 bounces=0 if direct_only else preset["bounces"], target=target,
-                                 time_budget=budget, fixed_samples=fixed,
-                                 exclusions=[ex | linked_out for ex in split] if linked_out else split,
-                                 offset=offset_rgb @ weights,
-                                 panes=model.panes, may_be_lit=may_be_lit(direct, direct_only),
-                                 min_samples=floor, pooled=pooling, target_abs=target_abs,
-                                 stop_dark=stop_dark)
+    if proven is not None and proven.gather is not None and fixed is None and budget is None and target is not None:
+        from . import surface_gather
+
+        run = surface_gather.measure(request, model, proven.gather, sensors_m, normals, offset_rgb @ weights,
+                                     target=target, target_abs=target_abs)
+        notes.append(f"the light the room's surfaces reflect gathered from {run['cells']:,} cells of its walls: "
+                     f"{run['draws']} independent draws of a random point in each, its irradiance baked there (one "
+                     "sample, the openings' emitters sampled as lights) times rho / pi, weighed by each meter's own "
+                     "cos cos / r^2 x the cell's area; unbiased, the same bakes for every meter, the error from batch "
+                     "means over the draws (radiometry/sampling/surface_gather.py)")
+        parts = [{"analytic": [proven.name], "rendered": ["the light the room's surfaces reflect (gathered)"]}
+                 for _k in range(n)]
+    else:
+        run = adaptive.render_hybrid(request, sensors_scene, normals, needs=model.needs,
+                                     bounces=0 if direct_only else preset["bounces"], target=target,
+                                     time_budget=budget, fixed_samples=fixed,
+                                     exclusions=[ex | linked_out for ex in split] if linked_out else split,
+                                     offset=offset_rgb @ weights,
+                                     panes=model.panes, may_be_lit=may_be_lit(direct, direct_only),
+                                     min_samples=floor, pooled=pooling, target_abs=target_abs,
+                                     stop_dark=stop_dark)
     mean_rgb = run["mean_rgb"] + offset_rgb
     # Issue 18 (F3): Cycles computes and accumulates in float32, so no rendered part is known better
     # than its float32 rounding, even where every sample agrees (one delta light: batch-means s.e. ~0);

@@ -202,6 +202,29 @@ def test_a_sill_at_the_windows_edge_keeps_the_room_and_is_gated(clean_blender):
         assert abs(a.daylight_factor - w.daylight_factor) <= 3.0 * math.hypot(_se(a), _se(w))
 
 
+def test_the_rest_gathered_from_the_walls_agrees_with_the_whole_render(clean_blender, monkeypatch):
+    """Issue 31's room with its window open: the light the walls reflect, gathered from one-sample bakes at random
+    points of their cells and weighed by each meter's cos cos / r^2 (``surface_gather``: normally from 300 meters,
+    here forced for four), agrees with the whole render at each point; the scene is left as it was. A meter nearer
+    a wall than ``MIN_DISTANCE_M`` renders its own rest."""
+    from radiometer.measure.meter import surface_gather
+
+    monkeypatch.setattr(surface_gather, "MIN_METERS", 1)
+    scene = bpy.context.scene
+    room.build_blender(scene, room.quads(4.0, 6.0, 3.0))
+    points = [(2.0, 1.0, 0.85), (2.8, 2.0, 0.85), (0.5, 5.5, 0.85), (3.5, 1.5, 1.6), (2.0, 3.0, 0.05)]
+    before = _state(scene)
+    auto = api.daylight_factor(points, target_rel_error=0.01, seed=3)
+    assert _state(scene) == before
+    whole = api.daylight_factor(points, target_rel_error=0.01, seed=11, method="render")
+    for k, (a, w) in enumerate(zip(auto, whole)):
+        gathered = any("gathered from" in n for n in a.notes)
+        assert gathered == (k < 4), a.notes  # the last meter is 5 cm over the floor
+        assert a.method.startswith("hybrid") and not a.exact
+        assert abs(a.daylight_factor - w.daylight_factor) <= 3.0 * math.hypot(_se(a), _se(w)), (a.daylight_factor,
+                                                                                                w.daylight_factor)
+
+
 def test_obstruction_split_agrees_with_the_whole_render(clean_blender):
     """Facing a block (reflectance 0.2) 4 m outside: the sky past its silhouette in closed form plus the rest
     rendered with the sky's direct emission gated off, against the whole render (another seed), per point within
