@@ -330,7 +330,9 @@ def _split_readings(request, points, dirs, rho, sky_info):
                     "sky and ground through the openings (closed form)")
             # where the room is convex, empty, Lambertian and open, the rest is gathered from bakes on its walls,
             # shared by all these meters (surface_gather); elsewhere each meter renders its own
-            plan = surface_gather.plan(model, openings, sensors[linked] * scale, dirs[linked],
+            found = sky_component._closed_shell(model)
+            plan = surface_gather.plan(model, openings, found if isinstance(found, str) else found[1],
+                                       sky_component.opaque_mask(model), sensors[linked] * scale, dirs[linked],
                                        sky_component._proof_tolerance(model, sensors[linked] * scale))
             gathered = plan.usable if not isinstance(plan, str) else np.zeros(len(linked), bool)
             for use, idx in ((True, np.flatnonzero(gathered)), (False, np.flatnonzero(~gathered))):

@@ -44,13 +44,14 @@ class GatherPlan:
     usable: object
 
 
-def plan(model, openings, sensors_m, normals, tol):
+def plan(model, openings, shell, sealing, sensors_m, normals, tol):
     """A :class:`GatherPlan` for the meters at ``sensors_m`` (N, 3) facing ``normals``, or the reason (str) there is
-    none: the openings must be open (no pane: its reflection is no Lambertian wall's) and emit sky and ground (no
-    ground plane outside, which a meter sees through them); every render-visible triangle opaque; the room's shell
-    convex (every shell vertex on the inner side of every shell triangle's plane) with no opaque triangle inside it;
-    every shell triangle of a Lambertian material of known albedo that emits nothing."""
-    from ..analyses import sky_component
+    none. ``shell``: the closed room's triangles (T, 3, 3) m holding ``openings`` (or the reason, str, there is no
+    such room); ``sealing``: (all triangles,) bool, those that close a room (``sky_component.opaque_mask``). The
+    openings must be open (no pane: its reflection is no Lambertian wall's) and emit sky and ground (no ground plane
+    outside, which a meter sees through them); every render-visible triangle opaque; the shell convex (every shell
+    vertex on the inner side of every shell triangle's plane) with no sealing triangle inside it; every shell
+    triangle of a Lambertian material of known albedo that emits nothing."""
     from . import sun_bounce
 
     if len(sensors_m) < MIN_METERS:
@@ -60,11 +61,10 @@ def plan(model, openings, sensors_m, normals, tol):
     g = model.geometry
     if not np.all(np.asarray(g.opaque, bool)):
         return "see-through surfaces in the scene"
-    found = sky_component._closed_shell(model)
-    if isinstance(found, str):
-        return found
-    _loops, shell, tris, _tol, _reach = found
+    if isinstance(shell, str):
+        return shell
     shell = np.asarray(shell, float)
+    tris = np.asarray(g.triangles, float)
     index = {t.tobytes(): k for k, t in enumerate(np.asarray(g.triangles, float))}
     rows = np.array([index.get(t.tobytes(), -1) for t in shell])
     if np.any(rows < 0):
@@ -85,10 +85,9 @@ def plan(model, openings, sensors_m, normals, tol):
         return "the room is not convex (a surface sees another only in part)"
     normal = np.where((hi > tol)[:, None], normal, -normal)
     offset = np.einsum("tx,tx->t", normal, shell[:, 0])
-    others = np.asarray(tris, float)[sky_component.opaque_mask(model)]
     is_shell = np.zeros(len(g.triangles), bool)
     is_shell[rows] = True
-    others = others[~is_shell[sky_component.opaque_mask(model)]]
+    others = tris[np.asarray(sealing, bool) & ~is_shell]
     if len(others):
         inside = np.all(np.einsum("ovx,tx->ovt", others, normal) - offset[None, None, :] > tol, axis=2)
         if np.any(np.all(inside, axis=1)):
