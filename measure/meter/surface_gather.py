@@ -27,6 +27,9 @@ MAX_ROUNDS = 16
 #: render's grows with them (measured, issue 31's room, 1 %: 900 points 1.74 s against 4.54 s for the pooled
 #: per-meter render; 100 points 0.50 s against 0.57 s there and 0.34 s against 0.22 s in the 4 x 3 m side-lit room).
 MIN_METERS = 300
+#: Most meters x cells for one draw's weights (each an (N, C) array of float64, a few of them at once): above it
+#: (a hall of thousands of square metres under a fine grid) the memory and the time grow past what the gather saves.
+MAX_TRANSFER = 20_000_000
 #: Meters nearer a surface than this (m) are not gathered (J grows as 1 / d^2 there: the spread of the cells' points
 #: would dominate): they are rendered on their own as before.
 MIN_DISTANCE_M = 0.2
@@ -94,7 +97,10 @@ def plan(model, openings, shell, sealing, sensors_m, normals, tol):
             return "opaque surfaces stand inside the room"
     sensors_m = np.asarray(sensors_m, float)
     cells, owner = gather.subdivide(shell, gather.CELL_EDGE_M)
-    cells, owner = gather.refine(cells, owner, sensors_m, gather.SMALLEST_EDGE_M)
+    if len(cells) * len(sensors_m) <= MAX_TRANSFER:  # (refining is a loop over the cells: not for a hall)
+        cells, owner = gather.refine(cells, owner, sensors_m, gather.SMALLEST_EDGE_M)
+    if len(cells) * len(sensors_m) > MAX_TRANSFER:
+        return f"{len(cells):,} wall cells for {len(sensors_m):,} meters: more than the gather's {MAX_TRANSFER:,} weights"
     areas = 0.5 * np.linalg.norm(np.cross(cells[:, 1] - cells[:, 0], cells[:, 2] - cells[:, 0]), axis=1)
     distance = (sensors_m @ normal.T - offset[None, :]).min(axis=1)
     return GatherPlan(cells, areas, normal[owner], albedo[owner], distance >= MIN_DISTANCE_M)
