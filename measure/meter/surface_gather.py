@@ -16,7 +16,7 @@ import dataclasses
 
 import numpy as np
 
-from ...errors import MeasurementCancelled, RadiometerError
+from ...errors import MeasurementCancelled
 from ...radiometry.sampling import surface_gather as gather
 
 #: Independent draws per round (the batches of the batch-means error: 32 give it 31 degrees of freedom), and the
@@ -68,7 +68,7 @@ def plan(model, openings, shell, sealing, sensors_m, normals, tol):
         return shell
     shell = np.asarray(shell, float)
     tris = np.asarray(g.triangles, float)
-    index = {t.tobytes(): k for k, t in enumerate(np.asarray(g.triangles, float))}
+    index = {t.tobytes(): k for k, t in enumerate(tris)}
     rows = np.array([index.get(t.tobytes(), -1) for t in shell])
     if np.any(rows < 0):
         return "the room's triangles could not be matched to the scene's"
@@ -112,21 +112,15 @@ def _bake(request, model, points_m, normals, seed, bounces):
     from ..render import render_settings, sensors
     from ...radiometry.scene import scene_model
 
-    scene, view_layer, scale = request.scene, request.view_layer, request.scale_length
+    scene, scale = request.scene, request.scale_length
     with scene_guard.preserved_scene(scene):
         render_settings.apply(scene, samples=1, bounces=bounces, needs=model.needs)
         # every point lies on a wall: raised off it as a meter placed on a surface is (point_meter.sensor_points)
         at = points_m / scale
         placed = at + normals * scene_model.receiver_offset(at, unit_length=1.0 / scale)[:, None]
-        obj, image, per_row = sensors.build_sensor(scene, placed, normals, 1)
-        scene.cycles.seed = int(seed)
-        scene.cycles.samples = 1
-        view_layer.update()
-        sensors.select_only(view_layer, obj)
-        result = sensors.run_bake(scene, view_layer, obj)
-        if result != {"FINISHED"}:
-            raise RadiometerError(f"the Cycles bake did not finish ({', '.join(sorted(result))}); the scene was restored")
-        return sensors.read_blocks(image, per_row, 1, len(points_m))[:, 0, :] / request.unit_area
+        estimates, _info = sensors.bake_irradiance(scene, request.view_layer, placed, normals, samples=1, texels=1,
+                                                   cancelled=request.cancelled, seed0=int(seed))
+        return estimates[0] / request.unit_area
 
 
 def measure(request, model, plan_, points_m, normals, offset, *, target, target_abs=None):

@@ -610,15 +610,14 @@ def _union_boundary(edges, xy, tu, tv, tol):
 
 def _covered(points, tu, tv, tol):
     """(M,) bool: each 2-D point lies inside some triangle (T, 3) of the plane, more than ``tol`` from its edges."""
+    orient = np.sign((tu[:, 1] - tu[:, 0]) * (tv[:, 2] - tv[:, 0]) - (tv[:, 1] - tv[:, 0]) * (tu[:, 2] - tu[:, 0]))
+    edges = [(i, tu[:, j] - tu[:, i], tv[:, j] - tv[:, i], np.hypot(tu[:, j] - tu[:, i], tv[:, j] - tv[:, i]))
+             for i, j in ((0, 1), (1, 2), (2, 0))]
     out = np.zeros(len(points), bool)
     for s in range(0, len(points), 256):
         p = points[s:s + 256]
         inside = np.ones((len(p), len(tu)), bool)
-        area2 = (tu[:, 1] - tu[:, 0]) * (tv[:, 2] - tv[:, 0]) - (tv[:, 1] - tv[:, 0]) * (tu[:, 2] - tu[:, 0])
-        orient = np.sign(area2)
-        for i, j in ((0, 1), (1, 2), (2, 0)):
-            eu, ev = tu[:, j] - tu[:, i], tv[:, j] - tv[:, i]
-            length = np.hypot(eu, ev)
+        for i, eu, ev, length in edges:
             with np.errstate(divide="ignore", invalid="ignore"):
                 dist = orient * (eu * (p[:, 1:2] - tv[:, i]) - ev * (p[:, 0:1] - tu[:, i])) / length
             inside &= dist > tol
